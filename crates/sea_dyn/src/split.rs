@@ -1,0 +1,85 @@
+//! The centroidal split of the joint dynamics used by the momentum controller (paper,
+//! eq:systemCentroidal and the torque map of section "Balancing control"):
+//!
+//! `Mbar = M_j - M_jb M_b^-1 M_bj` (n x n), `Jbar^T = J_j^T - M_jb M_b^-1 J_b^T` (n x k),
+//! `hbar_j = h_j - M_jb M_b^-1 h_b` (n), from `M` (nv x nv), `h` (nv) and the stacked contact
+//! Jacobian `J` (k x nv, k = 6 per contact). These are the joint dynamics once the base
+//! acceleration is eliminated with the base rows: `Mbar sddot = Jbar^T f - hbar_j + tau`.
+//! They do not depend on the base velocity representation (a Schur complement).
+
+use crate::error::{Error, Result};
+use nalgebra::{DMatrix, DVector, Matrix6};
+
+/// Buffers and results of the centroidal split for `n` joints and `k` constraint rows.
+#[derive(Clone, Debug)]
+pub struct CentroidalSplit {
+    /// `Mbar` (n x n), symmetric positive definite.
+    pub mbar: DMatrix<f64>,
+    /// `Jbar^T` (n x k).
+    pub jbar_t: DMatrix<f64>,
+    /// `hbar_j` (n).
+    pub hbar_j: DVector<f64>,
+    /// `M_b^-1 M_bj` (6 x n).
+    base_inv_coupling: DMatrix<f64>,
+    /// `M_b^-1 J_b^T` (6 x k).
+    base_inv_jacobian_t: DMatrix<f64>,
+}
+
+impl CentroidalSplit {
+    /// Buffers for `n_joints` joints and `k` constraint rows.
+    pub fn new(n_joints: usize, k: usize) -> Self {
+        Self {
+            mbar: DMatrix::zeros(n_joints, n_joints),
+            jbar_t: DMatrix::zeros(n_joints, k),
+            hbar_j: DVector::zeros(n_joints),
+            base_inv_coupling: DMatrix::zeros(6, n_joints),
+            base_inv_jacobian_t: DMatrix::zeros(6, k),
+        }
+    }
+
+    /// Computes the split from `mass_matrix` (nv x nv), `bias` (nv) and `jacobian` (k x nv).
+    pub fn compute(
+        &mut self,
+        mass_matrix: &DMatrix<f64>,
+        bias: &DVector<f64>,
+        jacobian: &DMatrix<f64>,
+    ) -> Result<()> {
+        let n = self.mbar.nrows();
+        let k = self.jbar_t.ncols();
+        let nv = n + 6;
+        if mass_matrix.shape() != (nv, nv) || bias.len() != nv || jacobian.shape() != (k, nv) {
+            return Err(Error::input(format!(
+                "centroidal split expects M ({nv}x{nv}), h ({nv}) and J ({k}x{nv}), got M {:?}, h ({}), J {:?}",
+                mass_matrix.shape(),
+                bias.len(),
+                jacobian.shape()
+            )));
+        }
+        let m_b: Matrix6<f64> = mass_matrix.fixed_view::<6, 6>(0, 0).into_owned();
+        let chol = m_b
+            .cholesky()
+            .ok_or_else(|| Error::input("the base block of M is not positive definite"))?;
+        let m_bj = mass_matrix.view((0, 6), (6, n));
+        let m_jb = mass_matrix.view((6, 0), (n, 6));
+        self.base_inv_coupling.copy_from(&m_bj);
+        for mut column in self.base_inv_coupling.column_iter_mut() {
+            let mut c = nalgebra::Vector6::from_iterator(column.iter().copied());
+            chol.solve_mut(&mut c);
+            column.copy_from(&c);
+        }
+        for (r, mut column) in self.base_inv_jacobian_t.column_iter_mut().enumerate() {
+            let mut c = nalgebra::Vector6::from_iterator((0..6).map(|b| jacobian[(r, b)]));
+            chol.solve_mut(&mut c);
+            column.copy_from(&c);
+        }
+        self.mbar.copy_from(&mass_matrix.view((6, 6), (n, n)));
+        self.mbar.gemm(-1.0, &m_jb, &self.base_inv_coupling, 1.0);
+        self.jbar_t.copy_from(&jacobian.view((0, 6), (k, n)).transpose());
+        self.jbar_t.gemm(-1.0, &m_jb, &self.base_inv_jacobian_t, 1.0);
+        let mut h_b = nalgebra::Vector6::from_iterator(bias.iter().take(6).copied());
+        chol.solve_mut(&mut h_b);
+        self.hbar_j.copy_from(&bias.rows(6, n));
+        self.hbar_j.gemv(-1.0, &m_jb, &h_b, 1.0);
+        Ok(())
+    }
+}

@@ -1,0 +1,400 @@
+//! Building a [`Model`] from URDF (parsed by `urdf-rs`), with every problem reported as
+//! [`Error::Model`] naming the link or joint and the violated condition.
+//!
+//! Steps: parse; check names, numbers, joint types and inertias; build the link tree (one
+//! root, no loops); walk it depth first (children in file order), starting a new body at every
+//! moving joint and merging links attached by fixed or locked joints into their parent body.
+//! Every link stays an addressable frame. URDF axes are normalised; a link without
+//! `<inertial>` is massless.
+
+use crate::error::{Error, Result};
+use crate::model::{joint_motion, Frame, Joint, JointKind, Model};
+use crate::spatial::{BodyInertia, Pose};
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Which joints move, in which order, and where the others are locked.
+#[derive(Clone, Debug, Default)]
+pub struct LoadOptions {
+    /// Moving joints in coordinate order; `None` means every revolute, continuous and prismatic
+    /// joint in depth-first tree order.
+    pub joints: Option<Vec<String>>,
+    /// Values of locked joints (joints not in `joints`); unlisted locked joints are at 0.
+    pub locked: HashMap<String, f64>,
+}
+
+/// Relative tolerance of the inertia triangle inequality (URDF values are printed rounded).
+const TRIANGLE_TOLERANCE: f64 = 1e-6;
+
+impl Model {
+    /// Loads a URDF file; see [`Model::from_urdf_str`].
+    pub fn from_urdf_file(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Model> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::model(format!("cannot read URDF file '{}': {e}", path.display())))?;
+        Self::from_urdf_str(&text, options)
+    }
+
+    /// Builds a model from URDF text.
+    pub fn from_urdf_str(text: &str, options: &LoadOptions) -> Result<Model> {
+        let robot = urdf_rs::read_from_string(text)
+            .map_err(|e| Error::model(format!("cannot parse URDF: {e}")))?;
+        build(&robot, options)
+    }
+}
+
+fn check_finite(what: &str, values: &[f64]) -> Result<()> {
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(Error::model(format!(
+            "{what} has a non-finite number: {values:?}"
+        )));
+    }
+    Ok(())
+}
+
+fn check_pose(what: &str, pose: &urdf_rs::Pose) -> Result<()> {
+    check_finite(&format!("{what} origin xyz"), &pose.xyz.0)?;
+    check_finite(&format!("{what} origin rpy"), &pose.rpy.0)
+}
+
+fn to_pose(pose: &urdf_rs::Pose) -> Pose {
+    Pose::from_xyz_rpy(pose.xyz.0, pose.rpy.0)
+}
+
+/// The link's inertia in the link frame, after checking mass and inertia; `None` if massless.
+fn link_inertia(link: &urdf_rs::Link) -> Result<Option<BodyInertia>> {
+    let inertial = &link.inertial;
+    let i = &inertial.inertia;
+    let what = format!("link '{}'", link.name);
+    check_pose(&format!("{what} inertial"), &inertial.origin)?;
+    check_finite(
+        &format!("{what} inertial"),
+        &[inertial.mass.value, i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz],
+    )?;
+    let inertia = Matrix3::new(i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz);
+    let mass = inertial.mass.value;
+    if mass == 0.0 && inertia.iter().all(|v| *v == 0.0) {
+        return Ok(None);
+    }
+    if mass <= 0.0 {
+        return Err(Error::model(format!(
+            "{what} has non-positive mass {mass} (a massless link must have no <inertial>)"
+        )));
+    }
+    check_inertia(&what, &inertia)?;
+    let frame = to_pose(&inertial.origin);
+    Ok(Some(BodyInertia {
+        mass,
+        com: frame.translation,
+        inertia_com: frame.rotation * inertia * frame.rotation.transpose(),
+    }))
+}
+
+/// Principal moments must be positive and satisfy `I1 + I2 >= I3` for every permutation.
+fn check_inertia(what: &str, inertia: &Matrix3<f64>) -> Result<()> {
+    let moments = SymmetricEigen::new(*inertia).eigenvalues;
+    if moments.iter().any(|m| *m <= 0.0) {
+        return Err(Error::model(format!(
+            "{what} inertia is not positive definite (principal moments {:?})",
+            moments.as_slice()
+        )));
+    }
+    let trace = moments.sum();
+    for k in 0..3 {
+        let others = trace - moments[k];
+        if others < moments[k] - TRIANGLE_TOLERANCE * trace {
+            return Err(Error::model(format!(
+                "{what} inertia violates the triangle inequality (principal moments {:?})",
+                moments.as_slice()
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn joint_kind(joint: &urdf_rs::Joint) -> Result<Option<JointKind>> {
+    use urdf_rs::JointType as T;
+    match joint.joint_type {
+        T::Revolute | T::Continuous => Ok(Some(JointKind::Revolute)),
+        T::Prismatic => Ok(Some(JointKind::Prismatic)),
+        T::Fixed => Ok(None),
+        ref other => Err(Error::model(format!(
+            "joint '{}' has unsupported type {other:?} (supported: revolute, continuous, prismatic, fixed)",
+            joint.name
+        ))),
+    }
+}
+
+/// Checks one joint's numbers and returns its unit axis (meaningful for moving joints).
+fn joint_axis(joint: &urdf_rs::Joint) -> Result<Vector3<f64>> {
+    let what = format!("joint '{}'", joint.name);
+    check_pose(&what, &joint.origin)?;
+    let axis = Vector3::from(joint.axis.xyz.0);
+    check_finite(&format!("{what} axis"), &joint.axis.xyz.0)?;
+    if joint.limit.lower.is_nan() || joint.limit.upper.is_nan() || joint.limit.effort.is_nan() {
+        return Err(Error::model(format!("{what} limit has a NaN")));
+    }
+    let norm = axis.norm();
+    if norm < 1e-12 && joint.joint_type != urdf_rs::JointType::Fixed {
+        return Err(Error::model(format!("{what} has a zero axis")));
+    }
+    Ok(if norm > 0.0 { axis / norm } else { axis })
+}
+
+fn check_unique<'a>(kind: &str, names: impl Iterator<Item = &'a str>) -> Result<()> {
+    let mut seen = std::collections::HashSet::new();
+    for name in names {
+        if !seen.insert(name) {
+            return Err(Error::model(format!("duplicate {kind} name '{name}'")));
+        }
+    }
+    Ok(())
+}
+
+/// Link tree: children joints of each link (file order) and the root link.
+struct Tree {
+    children: Vec<Vec<usize>>,
+    root: usize,
+}
+
+fn build_tree(robot: &urdf_rs::Robot, link_index: &HashMap<&str, usize>) -> Result<Tree> {
+    let n_links = robot.links.len();
+    let mut children = vec![Vec::new(); n_links];
+    let mut parent_joint: Vec<Option<usize>> = vec![None; n_links];
+    for (j, joint) in robot.joints.iter().enumerate() {
+        let find = |role: &str, name: &str| {
+            link_index.get(name).copied().ok_or_else(|| {
+                Error::model(format!(
+                    "joint '{}' names {role} link '{name}', which does not exist",
+                    joint.name
+                ))
+            })
+        };
+        let parent = find("parent", &joint.parent.link)?;
+        let child = find("child", &joint.child.link)?;
+        if let Some(other) = parent_joint[child] {
+            return Err(Error::model(format!(
+                "kinematic loop: link '{}' is the child of joints '{}' and '{}'",
+                robot.links[child].name, robot.joints[other].name, joint.name
+            )));
+        }
+        parent_joint[child] = Some(j);
+        children[parent].push(j);
+    }
+    let roots: Vec<usize> = (0..n_links).filter(|l| parent_joint[*l].is_none()).collect();
+    let root = match roots.as_slice() {
+        [root] => *root,
+        [] => {
+            let name = robot.links.first().map(|l| l.name.as_str()).unwrap_or("");
+            return Err(Error::model(format!(
+                "kinematic loop: every link has a parent joint (e.g. link '{name}'), no root link"
+            )));
+        }
+        many => {
+            let names: Vec<&str> = many.iter().map(|l| robot.links[*l].name.as_str()).collect();
+            return Err(Error::model(format!(
+                "several root links (links without a parent joint): {}",
+                names.join(", ")
+            )));
+        }
+    };
+    Ok(Tree { children, root })
+}
+
+/// Which joints move and their coordinate index; values of locked joints.
+struct Actuation {
+    coordinate: HashMap<usize, usize>,
+    locked_value: HashMap<usize, f64>,
+}
+
+fn resolve_actuation(
+    robot: &urdf_rs::Robot,
+    kinds: &[Option<JointKind>],
+    dfs_joints: &[usize],
+    options: &LoadOptions,
+) -> Result<Actuation> {
+    let joint_index: HashMap<&str, usize> = robot
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(i, j)| (j.name.as_str(), i))
+        .collect();
+    let mut coordinate = HashMap::new();
+    match &options.joints {
+        Some(list) => {
+            for (k, name) in list.iter().enumerate() {
+                let j = *joint_index.get(name.as_str()).ok_or_else(|| {
+                    Error::model(format!("unknown joint '{name}' in the joint list"))
+                })?;
+                if kinds[j].is_none() {
+                    return Err(Error::model(format!(
+                        "joint '{name}' in the joint list is fixed and cannot move"
+                    )));
+                }
+                if coordinate.insert(j, k).is_some() {
+                    return Err(Error::model(format!("joint '{name}' is listed twice")));
+                }
+            }
+        }
+        None => {
+            for &j in dfs_joints.iter().filter(|j| kinds[**j].is_some()) {
+                let k = coordinate.len();
+                coordinate.insert(j, k);
+            }
+        }
+    }
+    let mut locked_value = HashMap::new();
+    for (name, value) in &options.locked {
+        let j = *joint_index
+            .get(name.as_str())
+            .ok_or_else(|| Error::model(format!("unknown locked joint '{name}'")))?;
+        if coordinate.contains_key(&j) || kinds[j].is_none() {
+            return Err(Error::model(format!(
+                "joint '{name}' cannot be locked: it is moving or fixed"
+            )));
+        }
+        if !value.is_finite() {
+            return Err(Error::model(format!(
+                "locked joint '{name}' has a non-finite value {value}"
+            )));
+        }
+        locked_value.insert(j, *value);
+    }
+    Ok(Actuation {
+        coordinate,
+        locked_value,
+    })
+}
+
+/// Joints in depth-first order from the root, children in file order.
+fn depth_first_joints(robot: &urdf_rs::Robot, tree: &Tree, link_index: &HashMap<&str, usize>) -> Vec<usize> {
+    let mut order = Vec::with_capacity(robot.joints.len());
+    let mut stack: Vec<usize> = tree.children[tree.root].iter().rev().copied().collect();
+    while let Some(j) = stack.pop() {
+        order.push(j);
+        let child = link_index[robot.joints[j].child.link.as_str()];
+        stack.extend(tree.children[child].iter().rev());
+    }
+    order
+}
+
+fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
+    check_unique("link", robot.links.iter().map(|l| l.name.as_str()))?;
+    check_unique("joint", robot.joints.iter().map(|j| j.name.as_str()))?;
+    let link_index: HashMap<&str, usize> = robot
+        .links
+        .iter()
+        .enumerate()
+        .map(|(i, l)| (l.name.as_str(), i))
+        .collect();
+    let kinds = robot
+        .joints
+        .iter()
+        .map(joint_kind)
+        .collect::<Result<Vec<_>>>()?;
+    let axes = robot
+        .joints
+        .iter()
+        .map(joint_axis)
+        .collect::<Result<Vec<_>>>()?;
+    let inertias = robot
+        .links
+        .iter()
+        .map(link_inertia)
+        .collect::<Result<Vec<_>>>()?;
+    let tree = build_tree(robot, &link_index)?;
+    let dfs = depth_first_joints(robot, &tree, &link_index);
+    if dfs.len() != robot.joints.len() {
+        let reached: std::collections::HashSet<usize> = dfs.iter().copied().collect();
+        let j = (0..robot.joints.len()).find(|j| !reached.contains(j)).unwrap_or(0);
+        return Err(Error::model(format!(
+            "kinematic loop: joint '{}' (child link '{}') is not reachable from root link '{}'",
+            robot.joints[j].name, robot.joints[j].child.link, robot.links[tree.root].name
+        )));
+    }
+    let actuation = resolve_actuation(robot, &kinds, &dfs, options)?;
+
+    // Walk the tree: each link gets (body, body_H_link).
+    let n_links = robot.links.len();
+    let mut link_body = vec![(0usize, Pose::identity()); n_links];
+    let mut joints = Vec::new();
+    let mut body_inertias = vec![BodyInertia::zero()];
+    for &j in &dfs {
+        let urdf_joint = &robot.joints[j];
+        let parent = link_index[urdf_joint.parent.link.as_str()];
+        let child = link_index[urdf_joint.child.link.as_str()];
+        let (parent_body, body_h_parent_link) = link_body[parent];
+        let body_h_joint = body_h_parent_link.compose(&to_pose(&urdf_joint.origin));
+        match (kinds[j], actuation.coordinate.get(&j)) {
+            (Some(kind), Some(&coordinate)) => {
+                let limit = &urdf_joint.limit;
+                let has_limits = urdf_joint.joint_type != urdf_rs::JointType::Continuous
+                    && limit.lower < limit.upper;
+                joints.push(Joint {
+                    name: urdf_joint.name.clone(),
+                    kind,
+                    parent: parent_body,
+                    coordinate,
+                    parent_h_joint: body_h_joint,
+                    axis: axes[j],
+                    position_limits: if has_limits {
+                        [limit.lower, limit.upper]
+                    } else {
+                        [f64::NEG_INFINITY, f64::INFINITY]
+                    },
+                    effort_limit: if limit.effort > 0.0 {
+                        limit.effort
+                    } else {
+                        f64::INFINITY
+                    },
+                });
+                body_inertias.push(BodyInertia::zero());
+                link_body[child] = (joints.len(), Pose::identity());
+            }
+            (kind, _) => {
+                let motion = match kind {
+                    Some(kind) => {
+                        let value = actuation.locked_value.get(&j).copied().unwrap_or(0.0);
+                        joint_motion(kind, &axes[j], value)
+                    }
+                    None => Pose::identity(),
+                };
+                link_body[child] = (parent_body, body_h_joint.compose(&motion));
+            }
+        }
+    }
+    let mut frames = Vec::with_capacity(n_links);
+    // Frames in tree order (root first), so frame listings read like the robot.
+    let mut ordered_links = vec![tree.root];
+    ordered_links.extend(dfs.iter().map(|j| link_index[robot.joints[*j].child.link.as_str()]));
+    for l in ordered_links {
+        let (body, body_h_link) = link_body[l];
+        if let Some(inertia) = &inertias[l] {
+            let in_body = inertia.transformed(&body_h_link);
+            body_inertias[body] = body_inertias[body].merged(&in_body);
+        }
+        frames.push(Frame {
+            name: robot.links[l].name.clone(),
+            body,
+            body_h_frame: body_h_link,
+        });
+    }
+    let n = joints.len();
+    let mut body_of_coordinate = vec![0; n];
+    let mut joint_names = vec![String::new(); n];
+    for (i, joint) in joints.iter().enumerate() {
+        body_of_coordinate[joint.coordinate] = i + 1;
+        joint_names[joint.coordinate] = joint.name.clone();
+    }
+    Ok(Model {
+        name: robot.name.clone(),
+        joints,
+        body_inertias,
+        frames,
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+        joint_names,
+        body_of_coordinate,
+        base_link: robot.links[tree.root].name.clone(),
+    })
+}

@@ -1,0 +1,69 @@
+//! numpy <-> Rust conversions with argument checking.
+
+use nalgebra::Vector6;
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyAnyMethods;
+
+/// A float64 1-D argument of `expected` entries, all finite, copied out of Python.
+///
+/// Fast path for contiguous float64 arrays; anything else array-like goes through
+/// `numpy.asarray(x, dtype=float)` first.
+pub fn vector_arg(value: &Bound<'_, PyAny>, name: &str, expected: usize, out: &mut Vec<f64>) -> PyResult<()> {
+    let owned;
+    let array = match value.cast::<PyArrayDyn<f64>>() {
+        Ok(array) => array,
+        Err(_) => {
+            let numpy = value.py().import("numpy")?;
+            let converted = numpy
+                .call_method1("asarray", (value, "float64"))
+                .map_err(|e| PyValueError::new_err(format!("{name} must be an array of floats: {e}")))?;
+            owned = converted.cast_into::<PyArrayDyn<f64>>().map_err(|_| {
+                PyValueError::new_err(format!("{name} must be an array of floats"))
+            })?;
+            &owned
+        }
+    };
+    let shape = array.shape();
+    if shape.len() != 1 || shape[0] != expected {
+        return Err(PyValueError::new_err(format!(
+            "{name} must have shape ({expected},), got shape {shape:?}"
+        )));
+    }
+    let readonly = array.readonly();
+    out.clear();
+    match readonly.as_slice() {
+        Ok(slice) => out.extend_from_slice(slice),
+        Err(_) => out.extend(readonly.as_array().iter().copied()),
+    }
+    if let Some(i) = out.iter().position(|v| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "{name}[{i}] is not finite ({})",
+            out[i]
+        )));
+    }
+    Ok(())
+}
+
+/// A 1-D numpy array copied from a slice.
+pub fn vector_out<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_slice(py, values)
+}
+
+/// A 1-D numpy array of a 6-vector.
+pub fn vector6_out<'py>(py: Python<'py>, values: &Vector6<f64>) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_slice(py, values.as_slice())
+}
+
+/// A C-ordered 2-D numpy array copied from a column-major matrix (any view).
+pub fn matrix_out<'py, R, C, S>(py: Python<'py>, m: &nalgebra::Matrix<f64, R, C, S>) -> Bound<'py, PyArray2<f64>>
+where
+    R: nalgebra::Dim,
+    C: nalgebra::Dim,
+    S: nalgebra::RawStorage<f64, R, C>,
+{
+    Array2::from_shape_fn((m.nrows(), m.ncols()), |(i, j)| m[(i, j)]).into_pyarray(py)
+}
+

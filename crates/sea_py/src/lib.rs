@@ -1,0 +1,20 @@
+//! PyO3 bindings of sea-momentum: thin wrappers only, numpy in and out.
+//!
+//! Errors are mapped once, in [`errors`]: model problems raise `sea_momentum.ModelError`
+//! (a `ValueError`), bad arguments raise `ValueError` naming the argument and the expected shape.
+//! Every argument is validated before it reaches the Rust core, so no panic crosses into Python.
+
+use pyo3::prelude::*;
+
+mod arrays;
+mod errors;
+mod model;
+
+/// The native module `sea_momentum._native`.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("ModelError", m.py().get_type::<errors::ModelError>())?;
+    m.add_class::<model::PyModel>()?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

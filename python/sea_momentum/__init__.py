@@ -1,0 +1,13 @@
+"""sea-momentum: momentum-based balancing of humanoid robots with series elastic actuators.
+
+Conventions (the same everywhere):
+
+- configuration ``q = [p_B (3, world), quaternion (w, x, y, z), s (n)]``, ``nq = 7 + n``;
+- velocity ``nu = [pdot_B (3, world), omega_B (3, world axes), sdot (n)]``, ``nv = 6 + n``;
+- spatial vectors and wrenches: linear part first, angular second;
+- ``M(q) nudot + h(q, nu) = B tau + sum_k J_k^T f_k``, gravity -9.81 m/s^2 along world z.
+"""
+
+from ._native import Model, ModelError, __version__
+
+__all__ = ["Model", "ModelError", "__version__"]
