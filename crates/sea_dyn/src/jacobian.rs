@@ -9,19 +9,20 @@
 //! `pddot_x = a_lin + a_ang x x + omega x (v_lin + omega x x)`, `omegadot = a_ang`.
 
 use crate::data::Data;
-use crate::kinematics::{forward_kinematics, forward_velocities, frame_position_rel};
+use crate::kinematics::{forward_kinematics_path, forward_velocities_path, frame_position_rel};
 use crate::model::{FrameId, Model};
 use crate::spatial::{skew, Motion};
 use nalgebra::{DMatrix, Matrix3, Vector6};
 
 /// Frame Jacobian into `data.frame_jacobian` (6 x nv); q has size nq.
 pub fn frame_jacobian<'a>(model: &Model, data: &'a mut Data, q: &[f64], frame: FrameId) -> &'a DMatrix<f64> {
-    forward_kinematics(model, data, q);
+    forward_kinematics_path(model, data, q, model.frames[frame].body);
     frame_jacobian_from_kinematics(model, data, frame);
     &data.frame_jacobian
 }
 
-/// Frame Jacobian from the placements already in `data` (after forward kinematics).
+/// Frame Jacobian from the placements already in `data` (after forward kinematics, at least
+/// along the frame's support).
 pub fn frame_jacobian_from_kinematics(model: &Model, data: &mut Data, frame: FrameId) {
     let x = frame_position_rel(model, data, frame);
     let jac = &mut data.frame_jacobian;
@@ -39,11 +40,12 @@ pub fn frame_jacobian_from_kinematics(model: &Model, data: &mut Data, frame: Fra
 
 /// `Jdot_F(q, nu) nu` for `frame` (6): classical acceleration of the frame at `nudot = 0`.
 pub fn frame_jacobian_dot_v(model: &Model, data: &mut Data, q: &[f64], nu: &[f64], frame: FrameId) -> Vector6<f64> {
-    forward_velocities(model, data, q, nu);
+    forward_velocities_path(model, data, q, nu, model.frames[frame].body);
     frame_bias_acceleration(model, data, frame)
 }
 
-/// `Jdot_F nu` from the velocities already in `data` (after forward velocities); computes the
+/// `Jdot_F nu` from the velocities already in `data` (after forward velocities, at least along
+/// the frame's support); computes the
 /// gravity-free bias accelerations only along the frame's support.
 pub fn frame_bias_acceleration(model: &Model, data: &mut Data, frame: FrameId) -> Vector6<f64> {
     let body = model.frames[frame].body;

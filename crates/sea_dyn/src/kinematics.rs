@@ -16,11 +16,33 @@ use nalgebra::Vector3;
 
 /// Placements `world_R_body`, `p_body_rel` and motion subspaces `S_i` from `q` (size nq).
 pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
+    base_placement(data, q);
+    for i in 1..model.n_bodies() {
+        body_placement(model, data, q, i);
+    }
+}
+
+/// Forward kinematics of the base and of the bodies supporting `body` only (what a frame
+/// Jacobian needs); other bodies keep stale values.
+pub fn forward_kinematics_path(model: &Model, data: &mut Data, q: &[f64], body: usize) {
+    base_placement(data, q);
+    for &i in model.support_path(body) {
+        body_placement(model, data, q, i);
+    }
+}
+
+#[inline]
+fn base_placement(data: &mut Data, q: &[f64]) {
     data.p_base_world = Vector3::new(q[0], q[1], q[2]);
     data.world_r_body[0] = rotation_from_quaternion(q[3], q[4], q[5], q[6]);
     data.p_body_rel[0] = Vector3::zeros();
-    for (k, joint) in model.joints.iter().enumerate() {
-        let i = k + 1;
+}
+
+/// Placement and motion subspace of body `i`, its parent's being up to date.
+#[inline]
+fn body_placement(model: &Model, data: &mut Data, q: &[f64], i: usize) {
+    {
+        let joint = &model.joints[i - 1];
         let p = joint.parent;
         let world_r_parent = data.world_r_body[p];
         let world_r_joint = world_r_parent * joint.parent_h_joint.rotation;
@@ -39,6 +61,17 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
                 data.motion_subspace[i] = Motion::new(axis_world, Vector3::zeros());
             }
         }
+    }
+}
+
+/// Forward kinematics along the support of `body` plus the velocities of those bodies.
+pub fn forward_velocities_path(model: &Model, data: &mut Data, q: &[f64], nu: &[f64], body: usize) {
+    forward_kinematics_path(model, data, q, body);
+    data.body_velocity[0] = base_motion(nu);
+    for &i in model.support_path(body) {
+        let sdot = nu[model.velocity_index(i)];
+        data.body_velocity[i] =
+            data.body_velocity[model.parent(i)] + data.motion_subspace[i].scale(sdot);
     }
 }
 

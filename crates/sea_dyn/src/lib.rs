@@ -49,7 +49,10 @@ pub use crba::crba;
 pub use data::Data;
 pub use error::{Error, Result};
 pub use jacobian::{frame_jacobian, frame_jacobian_dot_v};
-pub use kinematics::{forward_kinematics, forward_velocities, frame_placement};
+pub use kinematics::{
+    forward_kinematics, forward_kinematics_path, forward_velocities, forward_velocities_path,
+    frame_placement,
+};
 pub use model::{Frame, FrameId, Joint, JointKind, Model};
 pub use rnea::{bias_forces, gravity_forces, rnea};
 pub use split::CentroidalSplit;

@@ -75,6 +75,9 @@ pub struct Model {
     pub body_of_coordinate: Vec<usize>,
     /// Name of the root link (the floating base).
     pub base_link: String,
+    /// For each body, the bodies from the base's first child down to the body itself
+    /// (root-to-leaf order, base excluded; empty for the base).
+    pub support_paths: Vec<Vec<usize>>,
 }
 
 impl Model {
@@ -134,6 +137,12 @@ impl Model {
         let mut q = vec![0.0; self.nq()];
         q[3] = 1.0;
         q
+    }
+
+    /// Root-to-leaf support path of `body` (see [`Model::support_paths`]).
+    #[inline]
+    pub fn support_path(&self, body: usize) -> &[usize] {
+        &self.support_paths[body]
     }
 
     /// Bodies on the path from `body` to the base, `body` first, base (0) excluded.

@@ -387,7 +387,14 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
         body_of_coordinate[joint.coordinate] = i + 1;
         joint_names[joint.coordinate] = joint.name.clone();
     }
+    let mut support_paths: Vec<Vec<usize>> = vec![Vec::new()];
+    for (k, joint) in joints.iter().enumerate() {
+        let mut path = support_paths[joint.parent].clone();
+        path.push(k + 1);
+        support_paths.push(path);
+    }
     Ok(Model {
+        support_paths,
         name: robot.name.clone(),
         joints,
         body_inertias,

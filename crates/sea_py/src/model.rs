@@ -151,7 +151,8 @@ impl PyModel {
     fn frame_pose<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>, frame: &str) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let id = self.frame(frame)?;
         self.load_q(q)?;
-        sea_dyn::forward_kinematics(&self.model, &mut self.data, &self.q);
+        let body = self.model.frames[id].body;
+        sea_dyn::forward_kinematics_path(&self.model, &mut self.data, &self.q, body);
         let pose = sea_dyn::frame_placement(&self.model, &self.data, id);
         Ok(matrix_out(py, &pose.to_homogeneous()))
     }

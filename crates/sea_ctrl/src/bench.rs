@@ -1,0 +1,109 @@
+//! Native benchmarks of the dynamics algorithms (`sea-sim bench`).
+//!
+//! Each algorithm runs on a fixed set of random states (seeded), in batches; the figure is the
+//! median over batches of the mean time per call, in microseconds. Medians of batch means are
+//! robust to the scheduler noise of shared machines; compare ratios measured in one run.
+
+use sea_dyn::{Data, Model};
+use std::hint::black_box;
+use std::time::Instant;
+
+/// Number of random states cycled through.
+const STATES: usize = 64;
+
+/// A small deterministic generator (PCG-style LCG), so runs are repeatable without a crate.
+pub struct Lcg(u64);
+
+impl Lcg {
+    /// Generator from a seed.
+    pub fn new(seed: u64) -> Self {
+        Self(seed ^ 0x9E37_79B9_7F4A_7C15)
+    }
+
+    /// Uniform in [-1, 1).
+    pub fn next_signed(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    }
+}
+
+/// A random configuration: base in a 1 m box, random unit quaternion, joints in [-1, 1] rad.
+pub fn random_configuration(model: &Model, rng: &mut Lcg) -> Vec<f64> {
+    let mut q: Vec<f64> = (0..model.nq()).map(|_| rng.next_signed()).collect();
+    let norm = q[3..7].iter().map(|c| c * c).sum::<f64>().sqrt();
+    q[3..7].iter_mut().for_each(|c| *c /= norm);
+    q
+}
+
+/// A random velocity-sized vector with entries in [-1, 1].
+pub fn random_velocity(model: &Model, rng: &mut Lcg) -> Vec<f64> {
+    (0..model.nv()).map(|_| rng.next_signed()).collect()
+}
+
+/// Median over `batches` of the mean microseconds per call of `f(state_index)`.
+pub fn median_us(batches: usize, calls_per_batch: usize, mut f: impl FnMut(usize)) -> f64 {
+    for k in 0..calls_per_batch {
+        f(k % STATES); // warm-up
+    }
+    let mut means: Vec<f64> = (0..batches)
+        .map(|_| {
+            let start = Instant::now();
+            for k in 0..calls_per_batch {
+                f(k % STATES);
+            }
+            start.elapsed().as_secs_f64() * 1e6 / calls_per_batch as f64
+        })
+        .collect();
+    means.sort_by(|a, b| a.total_cmp(b));
+    means[means.len() / 2]
+}
+
+/// Results of [`bench_dynamics`], microseconds per call.
+pub struct DynamicsBench {
+    /// (JSON key, median microseconds) in report order.
+    pub figures: Vec<(&'static str, f64)>,
+    /// Frame used for the frame Jacobian figures.
+    pub frame: String,
+}
+
+/// Benchmarks the dynamics algorithms on `model`.
+pub fn bench_dynamics(model: &Model, batches: usize, calls_per_batch: usize) -> DynamicsBench {
+    let mut rng = Lcg::new(42);
+    let qs: Vec<Vec<f64>> = (0..STATES).map(|_| random_configuration(model, &mut rng)).collect();
+    let nus: Vec<Vec<f64>> = (0..STATES).map(|_| random_velocity(model, &mut rng)).collect();
+    let nudots: Vec<Vec<f64>> = (0..STATES).map(|_| random_velocity(model, &mut rng)).collect();
+    let frame_name = if model.frame_id("l_sole").is_ok() {
+        "l_sole".to_string()
+    } else {
+        model.frames.last().map(|f| f.name.clone()).unwrap_or_default()
+    };
+    let frame = model.frame_id(&frame_name).unwrap_or(0);
+    let mut data = Data::new(model);
+    let mut run = |f: &mut dyn FnMut(&mut Data, usize)| {
+        median_us(batches, calls_per_batch, |k| f(&mut data, k))
+    };
+    let figures = vec![
+        ("rnea_us", run(&mut |d, k| {
+            black_box(sea_dyn::rnea(model, d, &qs[k], &nus[k], &nudots[k]));
+        })),
+        ("crba_us", run(&mut |d, k| {
+            black_box(sea_dyn::crba(model, d, &qs[k]));
+        })),
+        ("centroidal_momentum_matrix_us", run(&mut |d, k| {
+            black_box(sea_dyn::centroidal_momentum_matrix(model, d, &qs[k]));
+        })),
+        ("frame_jacobian_us", run(&mut |d, k| {
+            black_box(sea_dyn::frame_jacobian(model, d, &qs[k], frame));
+        })),
+        ("frame_jacobian_dot_v_us", run(&mut |d, k| {
+            black_box(sea_dyn::frame_jacobian_dot_v(model, d, &qs[k], &nus[k], frame));
+        })),
+    ];
+    DynamicsBench {
+        figures,
+        frame: frame_name,
+    }
+}
