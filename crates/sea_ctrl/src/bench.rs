@@ -72,13 +72,23 @@ pub struct DynamicsBench {
 /// Benchmarks the dynamics algorithms on `model`.
 pub fn bench_dynamics(model: &Model, batches: usize, calls_per_batch: usize) -> DynamicsBench {
     let mut rng = Lcg::new(42);
-    let qs: Vec<Vec<f64>> = (0..STATES).map(|_| random_configuration(model, &mut rng)).collect();
-    let nus: Vec<Vec<f64>> = (0..STATES).map(|_| random_velocity(model, &mut rng)).collect();
-    let nudots: Vec<Vec<f64>> = (0..STATES).map(|_| random_velocity(model, &mut rng)).collect();
+    let qs: Vec<Vec<f64>> = (0..STATES)
+        .map(|_| random_configuration(model, &mut rng))
+        .collect();
+    let nus: Vec<Vec<f64>> = (0..STATES)
+        .map(|_| random_velocity(model, &mut rng))
+        .collect();
+    let nudots: Vec<Vec<f64>> = (0..STATES)
+        .map(|_| random_velocity(model, &mut rng))
+        .collect();
     let frame_name = if model.frame_id("l_sole").is_ok() {
         "l_sole".to_string()
     } else {
-        model.frames.last().map(|f| f.name.clone()).unwrap_or_default()
+        model
+            .frames
+            .last()
+            .map(|f| f.name.clone())
+            .unwrap_or_default()
     };
     let frame = model.frame_id(&frame_name).unwrap_or(0);
     let mut data = Data::new(model);
@@ -86,21 +96,38 @@ pub fn bench_dynamics(model: &Model, batches: usize, calls_per_batch: usize) -> 
         median_us(batches, calls_per_batch, |k| f(&mut data, k))
     };
     let figures = vec![
-        ("rnea_us", run(&mut |d, k| {
-            black_box(sea_dyn::rnea(model, d, &qs[k], &nus[k], &nudots[k]));
-        })),
-        ("crba_us", run(&mut |d, k| {
-            black_box(sea_dyn::crba(model, d, &qs[k]));
-        })),
-        ("centroidal_momentum_matrix_us", run(&mut |d, k| {
-            black_box(sea_dyn::centroidal_momentum_matrix(model, d, &qs[k]));
-        })),
-        ("frame_jacobian_us", run(&mut |d, k| {
-            black_box(sea_dyn::frame_jacobian(model, d, &qs[k], frame));
-        })),
-        ("frame_jacobian_dot_v_us", run(&mut |d, k| {
-            black_box(sea_dyn::frame_jacobian_dot_v(model, d, &qs[k], &nus[k], frame));
-        })),
+        (
+            "rnea_us",
+            run(&mut |d, k| {
+                black_box(sea_dyn::rnea(model, d, &qs[k], &nus[k], &nudots[k]));
+            }),
+        ),
+        (
+            "crba_us",
+            run(&mut |d, k| {
+                black_box(sea_dyn::crba(model, d, &qs[k]));
+            }),
+        ),
+        (
+            "centroidal_momentum_matrix_us",
+            run(&mut |d, k| {
+                black_box(sea_dyn::centroidal_momentum_matrix(model, d, &qs[k]));
+            }),
+        ),
+        (
+            "frame_jacobian_us",
+            run(&mut |d, k| {
+                black_box(sea_dyn::frame_jacobian(model, d, &qs[k], frame));
+            }),
+        ),
+        (
+            "frame_jacobian_dot_v_us",
+            run(&mut |d, k| {
+                black_box(sea_dyn::frame_jacobian_dot_v(
+                    model, d, &qs[k], &nus[k], frame,
+                ));
+            }),
+        ),
     ];
     DynamicsBench {
         figures,

@@ -30,7 +30,11 @@ pub fn com(model: &Model, data: &mut Data, q: &[f64]) -> Vector3<f64> {
 }
 
 /// Centroidal momentum matrix `A_G(q)` into `data.centroidal_matrix` (6 x nv).
-pub fn centroidal_momentum_matrix<'a>(model: &Model, data: &'a mut Data, q: &[f64]) -> &'a DMatrix<f64> {
+pub fn centroidal_momentum_matrix<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+) -> &'a DMatrix<f64> {
     forward_kinematics(model, data, q);
     composite_inertias(model, data);
     let total = data.composite_inertia[0];
@@ -82,7 +86,12 @@ pub fn centroidal_momentum(model: &Model, data: &mut Data, q: &[f64], nu: &[f64]
 }
 
 /// `Adot_G(q, nu) nu`, the rate of the centroidal momentum at `nudot = 0` (6).
-pub fn centroidal_momentum_bias(model: &Model, data: &mut Data, q: &[f64], nu: &[f64]) -> Vector6<f64> {
+pub fn centroidal_momentum_bias(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    nu: &[f64],
+) -> Vector6<f64> {
     forward_velocities(model, data, q, nu);
     rnea_passes(model, data, None, RneaTerms { gravity: false });
     let mut total = SpatialInertia::zero();

@@ -15,7 +15,12 @@ use crate::spatial::{skew, Motion};
 use nalgebra::{DMatrix, Matrix3, Vector6};
 
 /// Frame Jacobian into `data.frame_jacobian` (6 x nv); q has size nq.
-pub fn frame_jacobian<'a>(model: &Model, data: &'a mut Data, q: &[f64], frame: FrameId) -> &'a DMatrix<f64> {
+pub fn frame_jacobian<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    frame: FrameId,
+) -> &'a DMatrix<f64> {
     forward_kinematics_path(model, data, q, model.frames[frame].body);
     frame_jacobian_from_kinematics(model, data, frame);
     &data.frame_jacobian
@@ -27,9 +32,11 @@ pub fn frame_jacobian_from_kinematics(model: &Model, data: &mut Data, frame: Fra
     let x = frame_position_rel(model, data, frame);
     let jac = &mut data.frame_jacobian;
     jac.fill(0.0);
-    jac.fixed_view_mut::<3, 3>(0, 0).copy_from(&Matrix3::identity());
+    jac.fixed_view_mut::<3, 3>(0, 0)
+        .copy_from(&Matrix3::identity());
     jac.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-skew(&x)));
-    jac.fixed_view_mut::<3, 3>(3, 3).copy_from(&Matrix3::identity());
+    jac.fixed_view_mut::<3, 3>(3, 3)
+        .copy_from(&Matrix3::identity());
     for j in model.support(model.frames[frame].body) {
         let s = &data.motion_subspace[j];
         let column = Motion::new(s.point_velocity(&x), s.ang).to_vector();
@@ -39,7 +46,13 @@ pub fn frame_jacobian_from_kinematics(model: &Model, data: &mut Data, frame: Fra
 }
 
 /// `Jdot_F(q, nu) nu` for `frame` (6): classical acceleration of the frame at `nudot = 0`.
-pub fn frame_jacobian_dot_v(model: &Model, data: &mut Data, q: &[f64], nu: &[f64], frame: FrameId) -> Vector6<f64> {
+pub fn frame_jacobian_dot_v(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    nu: &[f64],
+    frame: FrameId,
+) -> Vector6<f64> {
     forward_velocities_path(model, data, q, nu, model.frames[frame].body);
     frame_bias_acceleration(model, data, frame)
 }

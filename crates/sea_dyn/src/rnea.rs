@@ -22,14 +22,25 @@ pub(crate) struct RneaTerms {
 }
 
 /// Inverse dynamics `tau = M nudot + h` into `data.tau`.
-pub fn rnea<'a>(model: &Model, data: &'a mut Data, q: &[f64], nu: &[f64], nudot: &[f64]) -> &'a DVector<f64> {
+pub fn rnea<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    nu: &[f64],
+    nudot: &[f64],
+) -> &'a DVector<f64> {
     forward_velocities(model, data, q, nu);
     rnea_passes(model, data, Some(nudot), RneaTerms { gravity: true });
     &data.tau
 }
 
 /// Bias forces `h(q, nu) = C nu + G` into `data.tau`.
-pub fn bias_forces<'a>(model: &Model, data: &'a mut Data, q: &[f64], nu: &[f64]) -> &'a DVector<f64> {
+pub fn bias_forces<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    nu: &[f64],
+) -> &'a DVector<f64> {
     forward_velocities(model, data, q, nu);
     rnea_passes(model, data, None, RneaTerms { gravity: true });
     &data.tau
@@ -38,7 +49,9 @@ pub fn bias_forces<'a>(model: &Model, data: &'a mut Data, q: &[f64], nu: &[f64])
 /// Gravity forces `G(q)` into `data.tau`.
 pub fn gravity_forces<'a>(model: &Model, data: &'a mut Data, q: &[f64]) -> &'a DVector<f64> {
     crate::kinematics::forward_kinematics(model, data, q);
-    data.body_velocity.iter_mut().for_each(|v| *v = Motion::zero());
+    data.body_velocity
+        .iter_mut()
+        .for_each(|v| *v = Motion::zero());
     rnea_passes(model, data, None, RneaTerms { gravity: true });
     &data.tau
 }
@@ -56,7 +69,11 @@ pub(crate) fn rnea_passes(model: &Model, data: &mut Data, nudot: Option<&[f64]>,
         a0.lin -= model.gravity;
     }
     data.body_acceleration[0] = a0;
-    let base = SpatialInertia::from_body(&model.body_inertias[0], &data.world_r_body[0], &data.p_body_rel[0]);
+    let base = SpatialInertia::from_body(
+        &model.body_inertias[0],
+        &data.world_r_body[0],
+        &data.p_body_rel[0],
+    );
     data.body_inertia[0] = base;
     data.body_force[0] = base.mul_motion(&a0) + v0.cross_force(&base.mul_motion(&v0));
     for i in 1..model.n_bodies() {
@@ -68,7 +85,11 @@ pub(crate) fn rnea_passes(model: &Model, data: &mut Data, nudot: Option<&[f64]>,
         let sdot_s = v - data.body_velocity[model.parent(i)];
         let a = data.body_acceleration[model.parent(i)] + s.scale(sddot) + v.cross_motion(&sdot_s);
         data.body_acceleration[i] = a;
-        let inertia = SpatialInertia::from_body(&model.body_inertias[i], &data.world_r_body[i], &data.p_body_rel[i]);
+        let inertia = SpatialInertia::from_body(
+            &model.body_inertias[i],
+            &data.world_r_body[i],
+            &data.p_body_rel[i],
+        );
         data.body_inertia[i] = inertia;
         data.body_force[i] = inertia.mul_motion(&a) + v.cross_force(&inertia.mul_motion(&v));
     }
@@ -80,4 +101,3 @@ pub(crate) fn rnea_passes(model: &Model, data: &mut Data, nudot: Option<&[f64]>,
     let f0 = data.body_force[0];
     data.tau.fixed_rows_mut::<6>(0).copy_from(&f0.to_vector());
 }
-

@@ -489,8 +489,8 @@ mod tests {
             // Kinetic energy is positive and matches the one computed at the centre of mass.
             let c = i.com();
             let vc = v.point_velocity(&c);
-            let energy_com =
-                0.5 * b.mass * vc.norm_squared() + 0.5 * v.ang.dot(&(r * b.inertia_com * r.transpose() * v.ang));
+            let energy_com = 0.5 * b.mass * vc.norm_squared()
+                + 0.5 * v.ang.dot(&(r * b.inertia_com * r.transpose() * v.ang));
             assert!((0.5 * v.dot(&i.mul_motion(&v)) - energy_com).abs() < 1e-12);
         }
     }

@@ -31,8 +31,9 @@ impl Model {
     /// Loads a URDF file; see [`Model::from_urdf_str`].
     pub fn from_urdf_file(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Model> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Error::model(format!("cannot read URDF file '{}': {e}", path.display())))?;
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Error::model(format!("cannot read URDF file '{}': {e}", path.display()))
+        })?;
         Self::from_urdf_str(&text, options)
     }
 
@@ -70,9 +71,19 @@ fn link_inertia(link: &urdf_rs::Link) -> Result<Option<BodyInertia>> {
     check_pose(&format!("{what} inertial"), &inertial.origin)?;
     check_finite(
         &format!("{what} inertial"),
-        &[inertial.mass.value, i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz],
+        &[
+            inertial.mass.value,
+            i.ixx,
+            i.ixy,
+            i.ixz,
+            i.iyy,
+            i.iyz,
+            i.izz,
+        ],
     )?;
-    let inertia = Matrix3::new(i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz);
+    let inertia = Matrix3::new(
+        i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz,
+    );
     let mass = inertial.mass.value;
     if mass == 0.0 && inertia.iter().all(|v| *v == 0.0) {
         return Ok(None);
@@ -182,7 +193,9 @@ fn build_tree(robot: &urdf_rs::Robot, link_index: &HashMap<&str, usize>) -> Resu
         parent_joint[child] = Some(j);
         children[parent].push(j);
     }
-    let roots: Vec<usize> = (0..n_links).filter(|l| parent_joint[*l].is_none()).collect();
+    let roots: Vec<usize> = (0..n_links)
+        .filter(|l| parent_joint[*l].is_none())
+        .collect();
     let root = match roots.as_slice() {
         [root] => *root,
         [] => {
@@ -268,7 +281,11 @@ fn resolve_actuation(
 }
 
 /// Joints in depth-first order from the root, children in file order.
-fn depth_first_joints(robot: &urdf_rs::Robot, tree: &Tree, link_index: &HashMap<&str, usize>) -> Vec<usize> {
+fn depth_first_joints(
+    robot: &urdf_rs::Robot,
+    tree: &Tree,
+    link_index: &HashMap<&str, usize>,
+) -> Vec<usize> {
     let mut order = Vec::with_capacity(robot.joints.len());
     let mut stack: Vec<usize> = tree.children[tree.root].iter().rev().copied().collect();
     while let Some(j) = stack.pop() {
@@ -307,7 +324,9 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
     let dfs = depth_first_joints(robot, &tree, &link_index);
     if dfs.len() != robot.joints.len() {
         let reached: std::collections::HashSet<usize> = dfs.iter().copied().collect();
-        let j = (0..robot.joints.len()).find(|j| !reached.contains(j)).unwrap_or(0);
+        let j = (0..robot.joints.len())
+            .find(|j| !reached.contains(j))
+            .unwrap_or(0);
         return Err(Error::model(format!(
             "kinematic loop: joint '{}' (child link '{}') is not reachable from root link '{}'",
             robot.joints[j].name, robot.joints[j].child.link, robot.links[tree.root].name
@@ -367,7 +386,10 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
     let mut frames = Vec::with_capacity(n_links);
     // Frames in tree order (root first), so frame listings read like the robot.
     let mut ordered_links = vec![tree.root];
-    ordered_links.extend(dfs.iter().map(|j| link_index[robot.joints[*j].child.link.as_str()]));
+    ordered_links.extend(
+        dfs.iter()
+            .map(|j| link_index[robot.joints[*j].child.link.as_str()]),
+    );
     for l in ordered_links {
         let (body, body_h_link) = link_body[l];
         if let Some(inertia) = &inertias[l] {

@@ -11,7 +11,12 @@ use pyo3::types::PyAnyMethods;
 ///
 /// Fast path for contiguous float64 arrays; anything else array-like goes through
 /// `numpy.asarray(x, dtype=float)` first.
-pub fn vector_arg(value: &Bound<'_, PyAny>, name: &str, expected: usize, out: &mut Vec<f64>) -> PyResult<()> {
+pub fn vector_arg(
+    value: &Bound<'_, PyAny>,
+    name: &str,
+    expected: usize,
+    out: &mut Vec<f64>,
+) -> PyResult<()> {
     let owned;
     let array = match value.cast::<PyArrayDyn<f64>>() {
         Ok(array) => array,
@@ -19,10 +24,12 @@ pub fn vector_arg(value: &Bound<'_, PyAny>, name: &str, expected: usize, out: &m
             let numpy = value.py().import("numpy")?;
             let converted = numpy
                 .call_method1("asarray", (value, "float64"))
-                .map_err(|e| PyValueError::new_err(format!("{name} must be an array of floats: {e}")))?;
-            owned = converted.cast_into::<PyArrayDyn<f64>>().map_err(|_| {
-                PyValueError::new_err(format!("{name} must be an array of floats"))
-            })?;
+                .map_err(|e| {
+                    PyValueError::new_err(format!("{name} must be an array of floats: {e}"))
+                })?;
+            owned = converted
+                .cast_into::<PyArrayDyn<f64>>()
+                .map_err(|_| PyValueError::new_err(format!("{name} must be an array of floats")))?;
             &owned
         }
     };
@@ -58,7 +65,10 @@ pub fn vector6_out<'py>(py: Python<'py>, values: &Vector6<f64>) -> Bound<'py, Py
 }
 
 /// A C-ordered 2-D numpy array copied from a column-major matrix (any view).
-pub fn matrix_out<'py, R, C, S>(py: Python<'py>, m: &nalgebra::Matrix<f64, R, C, S>) -> Bound<'py, PyArray2<f64>>
+pub fn matrix_out<'py, R, C, S>(
+    py: Python<'py>,
+    m: &nalgebra::Matrix<f64, R, C, S>,
+) -> Bound<'py, PyArray2<f64>>
 where
     R: nalgebra::Dim,
     C: nalgebra::Dim,
@@ -66,4 +76,3 @@ where
 {
     Array2::from_shape_fn((m.nrows(), m.ncols()), |(i, j)| m[(i, j)]).into_pyarray(py)
 }
-

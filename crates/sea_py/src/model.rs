@@ -112,13 +112,25 @@ impl PyModel {
     }
 
     /// Joint-space inertia matrix M(q) (nv x nv).
-    fn mass_matrix<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn mass_matrix<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         self.load_q(q)?;
-        Ok(matrix_out(py, sea_dyn::crba(&self.model, &mut self.data, &self.q)))
+        Ok(matrix_out(
+            py,
+            sea_dyn::crba(&self.model, &mut self.data, &self.q),
+        ))
     }
 
     /// Bias forces h(q, nu) = C(q, nu) nu + G(q) (nv).
-    fn bias_forces<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>, nu: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn bias_forces<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        nu: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.load_q(q)?;
         self.load_nu(nu)?;
         let h = sea_dyn::bias_forces(&self.model, &mut self.data, &self.q, &self.nu);
@@ -126,7 +138,11 @@ impl PyModel {
     }
 
     /// Gravity forces G(q) (nv).
-    fn gravity_forces<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn gravity_forces<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.load_q(q)?;
         let g = sea_dyn::gravity_forces(&self.model, &mut self.data, &self.q);
         Ok(vector_out(py, g.as_slice()))
@@ -148,7 +164,12 @@ impl PyModel {
     }
 
     /// world_H_frame (4 x 4) of a link.
-    fn frame_pose<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>, frame: &str) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn frame_pose<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        frame: &str,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let id = self.frame(frame)?;
         self.load_q(q)?;
         let body = self.model.frames[id].body;
@@ -158,10 +179,18 @@ impl PyModel {
     }
 
     /// Frame Jacobian (6 x nv): nu -> [velocity of the frame origin; angular velocity], world axes.
-    fn frame_jacobian<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>, frame: &str) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn frame_jacobian<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        frame: &str,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let id = self.frame(frame)?;
         self.load_q(q)?;
-        Ok(matrix_out(py, sea_dyn::frame_jacobian(&self.model, &mut self.data, &self.q, id)))
+        Ok(matrix_out(
+            py,
+            sea_dyn::frame_jacobian(&self.model, &mut self.data, &self.q, id),
+        ))
     }
 
     /// Jdot nu (6): the frame's classical acceleration at nudot = 0, world axes.
@@ -180,26 +209,49 @@ impl PyModel {
     }
 
     /// Centre of mass in world (3).
-    fn com<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn com<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.load_q(q)?;
         let c = sea_dyn::com(&self.model, &mut self.data, &self.q);
         Ok(vector_out(py, c.as_slice()))
     }
 
     /// CoM Jacobian (3 x nv), world axes.
-    fn com_jacobian<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn com_jacobian<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         self.load_q(q)?;
-        Ok(matrix_out(py, sea_dyn::com_jacobian(&self.model, &mut self.data, &self.q)))
+        Ok(matrix_out(
+            py,
+            sea_dyn::com_jacobian(&self.model, &mut self.data, &self.q),
+        ))
     }
 
     /// Centroidal momentum matrix A_G(q) (6 x nv): H = [m pdot_com; L_com] = A_G nu.
-    fn centroidal_momentum_matrix<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn centroidal_momentum_matrix<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         self.load_q(q)?;
-        Ok(matrix_out(py, sea_dyn::centroidal_momentum_matrix(&self.model, &mut self.data, &self.q)))
+        Ok(matrix_out(
+            py,
+            sea_dyn::centroidal_momentum_matrix(&self.model, &mut self.data, &self.q),
+        ))
     }
 
     /// Centroidal momentum H = [m pdot_com; L_com] (6), world axes.
-    fn centroidal_momentum<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>, nu: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn centroidal_momentum<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        nu: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.load_q(q)?;
         self.load_nu(nu)?;
         let h = sea_dyn::centroidal_momentum(&self.model, &mut self.data, &self.q, &self.nu);
@@ -207,7 +259,12 @@ impl PyModel {
     }
 
     /// Adot_G nu (6): rate of the centroidal momentum at nudot = 0.
-    fn centroidal_momentum_bias<'py>(&mut self, py: Python<'py>, q: &Bound<'py, PyAny>, nu: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn centroidal_momentum_bias<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        nu: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.load_q(q)?;
         self.load_nu(nu)?;
         let h = sea_dyn::centroidal_momentum_bias(&self.model, &mut self.data, &self.q, &self.nu);

@@ -7,7 +7,8 @@
 use sea_dyn::{LoadOptions, Model};
 use std::process::ExitCode;
 
-const USAGE: &str = "usage: sea-sim bench --urdf PATH [--joints a,b,c] [--batches N] [--calls N] [--json]";
+const USAGE: &str =
+    "usage: sea-sim bench --urdf PATH [--joints a,b,c] [--batches N] [--calls N] [--json]";
 
 struct BenchArgs {
     urdf: String,
@@ -35,14 +36,23 @@ fn parse_bench(args: &[String]) -> Result<BenchArgs, String> {
         match arg.as_str() {
             "--urdf" => out.urdf = value("--urdf")?,
             "--joints" => {
-                out.joints = Some(value("--joints")?.split(',').map(|s| s.trim().to_string()).collect())
+                out.joints = Some(
+                    value("--joints")?
+                        .split(',')
+                        .map(|s| s.trim().to_string())
+                        .collect(),
+                )
             }
             "--batches" => {
                 out.batches = value("--batches")?
                     .parse()
                     .map_err(|e| format!("--batches: {e}"))?
             }
-            "--calls" => out.calls = value("--calls")?.parse().map_err(|e| format!("--calls: {e}"))?,
+            "--calls" => {
+                out.calls = value("--calls")?
+                    .parse()
+                    .map_err(|e| format!("--calls: {e}"))?
+            }
             "--json" => out.json = true,
             other => return Err(format!("unknown argument '{other}'")),
         }
@@ -74,7 +84,12 @@ fn run_bench(args: &[String]) -> Result<(), String> {
         }
         println!("{}", serde_json::Value::Object(map));
     } else {
-        println!("{} (nv = {}), frame {}:", args.urdf, model.nv(), result.frame);
+        println!(
+            "{} (nv = {}), frame {}:",
+            args.urdf,
+            model.nv(),
+            result.frame
+        );
         for (key, value) in &result.figures {
             println!("  {key:<32} {value:8.3}");
         }
