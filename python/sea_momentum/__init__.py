@@ -8,6 +8,6 @@ Conventions (the same everywhere):
 - ``M(q) nudot + h(q, nu) = B tau + sum_k J_k^T f_k``, gravity -9.81 m/s^2 along world z.
 """
 
-from ._native import Model, ModelError, __version__
+from ._native import Model, ModelError, Plant, __version__
 
-__all__ = ["Model", "ModelError", "__version__"]
+__all__ = ["Model", "ModelError", "Plant", "__version__"]

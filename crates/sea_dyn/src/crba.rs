@@ -33,6 +33,11 @@ pub(crate) fn composite_inertias(model: &Model, data: &mut Data) {
 /// Joint-space inertia matrix `M(q)` into `data.mass_matrix`; `q` has size nq.
 pub fn crba<'a>(model: &Model, data: &'a mut Data, q: &[f64]) -> &'a DMatrix<f64> {
     forward_kinematics(model, data, q);
+    crba_from_kinematics(model, data)
+}
+
+/// `M(q)` from the placements already in `data` (after any forward kinematics pass).
+pub fn crba_from_kinematics<'a>(model: &Model, data: &'a mut Data) -> &'a DMatrix<f64> {
     composite_inertias(model, data);
     let m = &mut data.mass_matrix;
     m.fixed_view_mut::<6, 6>(0, 0)

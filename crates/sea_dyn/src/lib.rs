@@ -28,15 +28,20 @@
 
 #![forbid(unsafe_code)]
 
+pub mod actuator;
 pub mod centroidal;
 pub mod configuration;
 pub mod crba;
 pub mod data;
+pub mod dense;
 pub mod error;
+pub mod integrator;
 pub mod jacobian;
 pub mod kinematics;
 pub mod model;
+pub mod plant;
 pub mod rnea;
+pub mod simulate;
 pub mod spatial;
 pub mod split;
 pub mod urdf;
@@ -45,7 +50,8 @@ pub use centroidal::{
     centroidal_momentum, centroidal_momentum_bias, centroidal_momentum_matrix, com, com_jacobian,
 };
 pub use configuration::integrate;
-pub use crba::crba;
+pub use actuator::{Actuation, Actuator, ElasticParameters};
+pub use crba::{crba, crba_from_kinematics};
 pub use data::Data;
 pub use error::{Error, Result};
 pub use jacobian::{frame_jacobian, frame_jacobian_dot_v};
@@ -53,7 +59,10 @@ pub use kinematics::{
     forward_kinematics, forward_kinematics_path, forward_velocities, forward_velocities_path,
     frame_placement,
 };
+pub use integrator::{step, Method};
 pub use model::{Frame, FrameId, Joint, JointKind, Model};
+pub use plant::{evaluate, ContactLimits, MotorInput, Plant, PlantData, StateLayout, WrenchMargins};
 pub use rnea::{bias_forces, gravity_forces, rnea};
+pub use simulate::{simulate, SimulationLog, Status};
 pub use split::CentroidalSplit;
 pub use urdf::LoadOptions;

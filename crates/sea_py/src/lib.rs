@@ -9,12 +9,14 @@ use pyo3::prelude::*;
 mod arrays;
 mod errors;
 mod model;
+mod plant;
 
 /// The native module `sea_momentum._native`.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ModelError", m.py().get_type::<errors::ModelError>())?;
     m.add_class::<model::PyModel>()?;
+    m.add_class::<plant::PyPlant>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

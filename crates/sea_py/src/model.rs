@@ -23,6 +23,11 @@ pub struct PyModel {
 }
 
 impl PyModel {
+    /// The Rust model.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
     fn load_q(&mut self, q: &Bound<'_, PyAny>) -> PyResult<()> {
         vector_arg(q, "q", self.model.nq(), &mut self.q)?;
         self.model.check_configuration(&self.q).map_err(to_py)

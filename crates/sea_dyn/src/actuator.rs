@@ -1,0 +1,140 @@
+//! Series elastic actuators (paper, eq:elasticSystem and eq:alpha) and mixed actuation.
+//!
+//! Each joint is rigid (driven by a joint torque) or elastic: a motor of inertia `b` (motor
+//! side) drives the joint through a transmission of ratio `eta` and a spring-damper,
+//! `tau = k_s (eta theta - s) + k_d (eta thetadot - sdot)` and `b thetaddot = tau_m - eta tau`.
+//! `theta` is the motor angle (motor side), so `eta theta` is on the joint side; the reflected
+//! motor inertia is `b / eta^2`. Motor torques may be limited to `|tau_m| <= torque_limit`.
+
+use crate::error::{Error, Result};
+use crate::model::Model;
+use std::collections::HashMap;
+
+/// Parameters of one elastic actuator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ElasticParameters {
+    /// Transmission ratio `eta` (joint angle per motor angle), e.g. 0.01 for 1/100.
+    pub ratio: f64,
+    /// Motor rotor inertia `b` [kg m^2], motor side.
+    pub motor_inertia: f64,
+    /// Spring stiffness `k_s` [Nm/rad], joint side.
+    pub stiffness: f64,
+    /// Spring damping `k_d` [Nms/rad], joint side.
+    pub damping: f64,
+    /// Motor torque limit [Nm], motor side; `None` for no limit.
+    pub torque_limit: Option<f64>,
+}
+
+impl ElasticParameters {
+    /// The iCub SEA of the paper (REFERENCE.md): eta 1/100, b 1e-5 kg m^2, k_s 350 Nm/rad,
+    /// k_d 0.25 Nms/rad, no torque limit.
+    pub fn paper_icub() -> Self {
+        Self {
+            ratio: 0.01,
+            motor_inertia: 1e-5,
+            stiffness: 350.0,
+            damping: 0.25,
+            torque_limit: None,
+        }
+    }
+
+    /// Checks every parameter; `joint` names the actuator in the message.
+    pub fn validate(&self, joint: &str) -> Result<()> {
+        let positive = [
+            ("ratio", self.ratio),
+            ("motor_inertia", self.motor_inertia),
+            ("stiffness", self.stiffness),
+        ];
+        for (name, value) in positive {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(Error::input(format!(
+                    "actuator of joint '{joint}': {name} must be positive and finite, got {value}"
+                )));
+            }
+        }
+        if !(self.damping.is_finite() && self.damping >= 0.0) {
+            return Err(Error::input(format!(
+                "actuator of joint '{joint}': damping must be non-negative and finite, got {}",
+                self.damping
+            )));
+        }
+        if let Some(limit) = self.torque_limit {
+            if limit.is_nan() || limit <= 0.0 {
+                return Err(Error::input(format!(
+                    "actuator of joint '{joint}': torque_limit must be positive, got {limit}"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// How one joint is actuated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Actuator {
+    /// Joint torque applied directly.
+    Rigid,
+    /// Series elastic actuator.
+    Elastic(ElasticParameters),
+}
+
+/// Actuation of every joint of a model: per-joint actuators in coordinate order, and the
+/// elastic ones gathered (their order is the order of `theta`).
+#[derive(Clone, Debug)]
+pub struct Actuation {
+    /// Actuator of each joint, coordinate order (n).
+    pub actuators: Vec<Actuator>,
+    /// Coordinate index of each elastic joint, increasing (n_e).
+    pub elastic_joints: Vec<usize>,
+    /// Parameters of each elastic joint, same order (n_e).
+    pub elastic: Vec<ElasticParameters>,
+}
+
+impl Actuation {
+    /// Every joint rigid.
+    pub fn rigid(model: &Model) -> Self {
+        Self::from_actuators(vec![Actuator::Rigid; model.n_joints()])
+    }
+
+    /// `default` for every joint, then `overrides` by joint name.
+    pub fn new(
+        model: &Model,
+        default: Actuator,
+        overrides: &HashMap<String, Actuator>,
+    ) -> Result<Self> {
+        let mut actuators = vec![default; model.n_joints()];
+        for (name, actuator) in overrides {
+            let index = model.joint_index(name).ok_or_else(|| {
+                Error::input(format!("actuator override names unknown joint '{name}'"))
+            })?;
+            actuators[index] = *actuator;
+        }
+        for (index, actuator) in actuators.iter().enumerate() {
+            if let Actuator::Elastic(p) = actuator {
+                p.validate(&model.joint_names[index])?;
+            }
+        }
+        Ok(Self::from_actuators(actuators))
+    }
+
+    fn from_actuators(actuators: Vec<Actuator>) -> Self {
+        let mut elastic_joints = Vec::new();
+        let mut elastic = Vec::new();
+        for (index, actuator) in actuators.iter().enumerate() {
+            if let Actuator::Elastic(p) = actuator {
+                elastic_joints.push(index);
+                elastic.push(*p);
+            }
+        }
+        Self {
+            actuators,
+            elastic_joints,
+            elastic,
+        }
+    }
+
+    /// Number of elastic joints `n_e`.
+    pub fn n_elastic(&self) -> usize {
+        self.elastic_joints.len()
+    }
+}

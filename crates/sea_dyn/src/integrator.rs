@@ -1,0 +1,125 @@
+//! Fixed-step integrators of the plant on its state manifold.
+//!
+//! The implicit method is ROS2 (Verwer, Spee, Blom, Hundsdorfer, SIAM J. Sci. Comput. 20,
+//! 1999), a two-stage Rosenbrock-W method:
+//! `W k1 = f(x_n)`, `W k2 = f(x_n (+) dt k1) - 2 k1`, `x_{n+1} = x_n (+) dt (1.5 k1 + 0.5 k2)`,
+//! `W = I - gamma dt Jf`, `gamma = 1 + 1/sqrt(2)`.
+//! Why this one: it is L-stable with the exact Jacobian and second order for ANY `W` (a
+//! W-method), so `Jf` may keep only the stiff linear terms (springs, dampers, motor velocity
+//! loop, Baumgarte stabilisation) with `M` and `J` frozen. That makes `W` cheap: the motor
+//! unknowns are eliminated per joint, leaving one Cholesky of an nv x nv matrix and a k x k
+//! Schur complement per step, and no Newton iterations (implicit Euler, SDIRK and Radau IIA
+//! need them, with several evaluations per iteration). Two evaluations of the dynamics per
+//! step. Stages are composed on the manifold with `(+)` (`plant::retract`): for a second-order
+//! method the exponential map needs no commutator correction.
+//!
+//! Also: `LinearlyImplicitEuler` (one stage of the same `W`, first order, L-stable) and the
+//! explicit classical `Rk4` for comparison.
+
+use crate::error::{Error, Result};
+use crate::plant::{evaluate, prepare_implicit, retract, solve_implicit, Plant, PlantData};
+
+/// Integration method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// ROS2 Rosenbrock-W, order 2, L-stable (the default).
+    Ros2,
+    /// Linearly implicit Euler (one stage of the same W), order 1.
+    LinearlyImplicitEuler,
+    /// Classical explicit Runge-Kutta, order 4.
+    Rk4,
+}
+
+impl Method {
+    /// Parses "ros2", "implicit_euler" or "rk4".
+    pub fn parse(name: &str) -> Result<Method> {
+        match name {
+            "ros2" => Ok(Method::Ros2),
+            "implicit_euler" => Ok(Method::LinearlyImplicitEuler),
+            "rk4" => Ok(Method::Rk4),
+            other => Err(Error::input(format!(
+                "unknown integration method '{other}' (expected 'ros2', 'implicit_euler' or 'rk4')"
+            ))),
+        }
+    }
+}
+
+/// `gamma` of ROS2.
+const GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
+
+/// One step of size `dt` from `x` with input `u` held; writes `x_out`. On return `pd` holds the
+/// evaluation at `x` (contact wrenches, torques, drift of the step start).
+pub fn step(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f64, method: Method, x_out: &mut [f64]) -> Result<()> {
+    match method {
+        Method::Ros2 => ros2(plant, pd, x, u, dt, x_out),
+        Method::LinearlyImplicitEuler => implicit_euler(plant, pd, x, u, dt, x_out),
+        Method::Rk4 => rk4(plant, pd, x, u, dt, x_out),
+    }
+}
+
+fn ros2(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f64, x_out: &mut [f64]) -> Result<()> {
+    evaluate(plant, pd, x, u)?;
+    // Keep the step-start outputs: the second evaluation would overwrite them.
+    pd.save_outputs();
+    prepare_implicit(plant, pd, GAMMA * dt)?;
+    let [mut k1, mut k2, mut rhs, combo] = std::mem::take(&mut pd.stage);
+    rhs.copy_from(&pd.xdot);
+    solve_implicit(plant, pd, &rhs, &mut k1);
+    let mut x_stage = std::mem::take(&mut pd.x_stage);
+    retract(plant, x, &k1, dt, &mut x_stage);
+    let second = evaluate(plant, pd, &x_stage, u);
+    if second.is_ok() {
+        rhs.copy_from(&pd.xdot);
+        rhs.axpy(-2.0, &k1, 1.0);
+        solve_implicit(plant, pd, &rhs, &mut k2);
+        rhs.copy_from(&k1);
+        rhs.scale_mut(1.5);
+        rhs.axpy(0.5, &k2, 1.0);
+        retract(plant, x, &rhs, dt, x_out);
+    }
+    pd.stage = [k1, k2, rhs, combo];
+    pd.x_stage = x_stage;
+    pd.restore_outputs();
+    second
+}
+
+fn implicit_euler(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f64, x_out: &mut [f64]) -> Result<()> {
+    evaluate(plant, pd, x, u)?;
+    prepare_implicit(plant, pd, dt)?;
+    let [mut k1, k2, mut rhs, combo] = std::mem::take(&mut pd.stage);
+    rhs.copy_from(&pd.xdot);
+    solve_implicit(plant, pd, &rhs, &mut k1);
+    retract(plant, x, &k1, dt, x_out);
+    pd.stage = [k1, k2, rhs, combo];
+    Ok(())
+}
+
+fn rk4(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f64, x_out: &mut [f64]) -> Result<()> {
+    let [mut k1, mut k2, mut k3, mut sum] = std::mem::take(&mut pd.stage);
+    let mut x_stage = std::mem::take(&mut pd.x_stage);
+    let result = (|| {
+        evaluate(plant, pd, x, u)?;
+        pd.save_outputs();
+        k1.copy_from(&pd.xdot);
+        retract(plant, x, &k1, 0.5 * dt, &mut x_stage);
+        evaluate(plant, pd, &x_stage, u)?;
+        k2.copy_from(&pd.xdot);
+        retract(plant, x, &k2, 0.5 * dt, &mut x_stage);
+        evaluate(plant, pd, &x_stage, u)?;
+        k3.copy_from(&pd.xdot);
+        retract(plant, x, &k3, dt, &mut x_stage);
+        evaluate(plant, pd, &x_stage, u)?;
+        // sum = (k1 + 2 k2 + 2 k3 + k4) / 6
+        sum.copy_from(&k1);
+        sum.axpy(2.0, &k2, 1.0);
+        sum.axpy(2.0, &k3, 1.0);
+        sum.axpy(1.0, &pd.xdot, 1.0);
+        sum.scale_mut(1.0 / 6.0);
+        retract(plant, x, &sum, dt, x_out);
+        pd.restore_outputs();
+        Ok(())
+    })();
+    pd.stage = [k1, k2, k3, sum];
+    pd.x_stage = x_stage;
+    result
+}

@@ -1,0 +1,420 @@
+//! URDF loading: every malformed description is an `Error::Model` naming the offending
+//! element; reduced models (locked joints) and reordered joint lists agree with the full model.
+
+mod common;
+
+use common::*;
+use nalgebra::{DMatrix, DVector};
+use sea_dyn::{
+    bias_forces, centroidal_momentum_matrix, crba, frame_jacobian, frame_placement, gravity_forces,
+    Data, Error, LoadOptions, Model,
+};
+use std::collections::HashMap;
+
+fn link(name: &str) -> String {
+    link_with(name, "1", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0")
+}
+
+#[allow(clippy::too_many_arguments)]
+fn link_with(name: &str, mass: &str, ixx: &str, ixy: &str, ixz: &str, iyy: &str, iyz: &str, izz: &str, xyz: &str) -> String {
+    format!(
+        r#"<link name="{name}"><inertial><origin xyz="{xyz}" rpy="0 0 0"/><mass value="{mass}"/>
+  <inertia ixx="{ixx}" ixy="{ixy}" ixz="{ixz}" iyy="{iyy}" iyz="{iyz}" izz="{izz}"/></inertial></link>"#
+    )
+}
+
+fn massless(name: &str) -> String {
+    format!(r#"<link name="{name}"/>"#)
+}
+
+fn joint(name: &str, kind: &str, parent: &str, child: &str) -> String {
+    joint_with(name, kind, parent, child, "0 0 0.1", "0 0 1")
+}
+
+fn joint_with(name: &str, kind: &str, parent: &str, child: &str, xyz: &str, axis: &str) -> String {
+    format!(
+        r#"<joint name="{name}" type="{kind}"><origin xyz="{xyz}" rpy="0 0 0"/>
+  <parent link="{parent}"/><child link="{child}"/><axis xyz="{axis}"/>
+  <limit lower="-1" upper="1" effort="10" velocity="1"/></joint>"#
+    )
+}
+
+fn robot(parts: &[String]) -> String {
+    format!("<robot name=\"bad\">\n{}\n</robot>", parts.join("\n"))
+}
+
+/// A valid three-link chain torso -> thigh -> shin, plus a massless fixed `sole`.
+fn valid_parts() -> Vec<String> {
+    vec![
+        link("torso"),
+        link("thigh"),
+        link("shin"),
+        massless("sole"),
+        joint("hip", "revolute", "torso", "thigh"),
+        joint("knee", "continuous", "thigh", "shin"),
+        joint("ankle_fixed", "fixed", "shin", "sole"),
+    ]
+}
+
+/// Replaces the part that starts like `prefix` (e.g. `<link name="thigh"`).
+fn replace(parts: &[String], prefix: &str, new: String) -> Vec<String> {
+    let mut out = parts.to_vec();
+    let k = out.iter().position(|p| p.starts_with(prefix)).unwrap_or_else(|| panic!("no part {prefix}"));
+    out[k] = new;
+    out
+}
+
+#[track_caller]
+fn expect_model_error(text: &str, options: &LoadOptions, names: &[&str]) -> String {
+    match Model::from_urdf_str(text, options) {
+        Ok(_) => panic!("accepted a malformed URDF (expected an error naming {names:?}):\n{text}"),
+        Err(Error::Model(msg)) => {
+            for name in names {
+                assert!(msg.contains(name), "message {msg:?} does not name '{name}'");
+            }
+            msg
+        }
+        Err(other) => panic!("expected Error::Model naming {names:?}, got {other:?}"),
+    }
+}
+
+#[track_caller]
+fn expect_error(parts: &[String], names: &[&str]) -> String {
+    expect_model_error(&robot(parts), &LoadOptions::default(), names)
+}
+
+#[test]
+fn the_valid_reference_robot_loads() {
+    let model = Model::from_urdf_str(&robot(&valid_parts()), &LoadOptions::default()).unwrap();
+    assert_eq!(model.joint_names, vec!["hip", "knee"]);
+    assert_eq!(model.frames.len(), 4);
+    assert_eq!(model.base_link, "torso");
+    assert!((model.total_mass() - 3.0).abs() < 1e-15);
+}
+
+#[test]
+fn missing_links_are_named() {
+    let parts = replace(&valid_parts(), r#"<joint name="knee""#, joint("knee", "continuous", "thigh", "ghost_link"));
+    // `shin` then has no parent either; the missing child must be reported, by name.
+    expect_error(&parts, &["ghost_link", "knee"]);
+    let parts = replace(&valid_parts(), r#"<joint name="knee""#, joint("knee", "continuous", "phantom", "shin"));
+    expect_error(&parts, &["phantom", "knee"]);
+}
+
+#[test]
+fn loops_are_rejected() {
+    // A link that is the child of two joints.
+    let mut parts = valid_parts();
+    parts.push(joint("shortcut", "revolute", "torso", "shin"));
+    let msg = expect_error(&parts, &["shin", "shortcut"]);
+    assert!(msg.contains("loop"), "{msg}");
+    // A cycle with no root at all.
+    let parts = vec![
+        link("ring_a"),
+        link("ring_b"),
+        joint("ab", "revolute", "ring_a", "ring_b"),
+        joint("ba", "revolute", "ring_b", "ring_a"),
+    ];
+    let msg = expect_error(&parts, &["ring_a"]);
+    assert!(msg.contains("loop"), "{msg}");
+    // A cycle detached from the root.
+    let mut parts = valid_parts();
+    parts.extend([
+        link("island_a"),
+        link("island_b"),
+        joint("island_ab", "revolute", "island_a", "island_b"),
+        joint("island_ba", "revolute", "island_b", "island_a"),
+    ]);
+    let msg = expect_error(&parts, &["island_"]);
+    assert!(msg.contains("loop"), "{msg}");
+}
+
+#[test]
+fn several_roots_are_named() {
+    let mut parts = valid_parts();
+    parts.push(link("orphan"));
+    expect_error(&parts, &["torso", "orphan"]);
+}
+
+#[test]
+fn bad_masses_and_inertias_are_named() {
+    let base = valid_parts();
+    let key = r#"<link name="thigh""#;
+    let cases: Vec<(&str, String, &str)> = vec![
+        ("negative mass", link_with("thigh", "-1", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"), "non-positive mass"),
+        ("zero mass, nonzero inertia", link_with("thigh", "0", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"), "non-positive mass"),
+        ("negative moment", link_with("thigh", "1", "-0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"), "positive definite"),
+        ("indefinite (off-diagonal)", link_with("thigh", "1", "0.1", "0.2", "0", "0.1", "0", "0.1", "0 0 0"), "positive definite"),
+        ("zero inertia, positive mass", link_with("thigh", "1", "0", "0", "0", "0", "0", "0", "0 0 0"), "positive definite"),
+        ("triangle inequality", link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.5", "0 0 0"), "triangle"),
+        // Rotated version of principal moments (0.1, 0.1, 0.5): still violates it.
+        ("triangle inequality, rotated", link_with("thigh", "1", "0.3", "0.2", "0", "0.3", "0", "0.1", "0 0 0"), "triangle"),
+        ("NaN mass", link_with("thigh", "nan", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"), "non-finite"),
+        ("NaN inertia", link_with("thigh", "1", "0.1", "NaN", "0", "0.1", "0", "0.1", "0 0 0"), "non-finite"),
+        ("NaN inertial origin", link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.1", "0 nan 0"), "non-finite"),
+        ("infinite inertial origin", link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.1", "inf 0 0"), "non-finite"),
+    ];
+    for (what, new, reason) in cases {
+        let parts = replace(&base, key, new);
+        let msg = std::panic::catch_unwind(|| expect_error(&parts, &["thigh", reason]))
+            .unwrap_or_else(|_| panic!("case '{what}' failed"));
+        eprintln!("{what}: {msg}");
+    }
+    // A massless link with zero inertia is fine; so is a tight but valid inertia.
+    let parts = replace(&base, key, link_with("thigh", "0", "0", "0", "0", "0", "0", "0", "0 0 0"));
+    // thigh is then a massless moving link: allowed to load (it carries shin).
+    Model::from_urdf_str(&robot(&parts), &LoadOptions::default()).unwrap();
+    let parts = replace(&base, key, link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.2", "0 0 0"));
+    Model::from_urdf_str(&robot(&parts), &LoadOptions::default()).unwrap();
+}
+
+#[test]
+fn bad_joint_numbers_are_named() {
+    let base = valid_parts();
+    let key = r#"<joint name="hip""#;
+    let cases = [
+        ("NaN in origin xyz", joint_with("hip", "revolute", "torso", "thigh", "0 NaN 0.1", "0 0 1"), "non-finite"),
+        ("NaN in axis", joint_with("hip", "revolute", "torso", "thigh", "0 0 0.1", "0 nan 1"), "non-finite"),
+        ("zero axis, revolute", joint_with("hip", "revolute", "torso", "thigh", "0 0 0.1", "0 0 0"), "zero axis"),
+        ("zero axis, continuous", joint_with("hip", "continuous", "torso", "thigh", "0 0 0.1", "0 0 0"), "zero axis"),
+        ("zero axis, prismatic", joint_with("hip", "prismatic", "torso", "thigh", "0 0 0.1", "0 0 0"), "zero axis"),
+        ("floating joint", joint("hip", "floating", "torso", "thigh"), "unsupported"),
+        ("planar joint", joint("hip", "planar", "torso", "thigh"), "unsupported"),
+    ];
+    for (what, new, reason) in cases {
+        let parts = replace(&base, key, new);
+        let msg = std::panic::catch_unwind(|| expect_error(&parts, &["hip", reason]))
+            .unwrap_or_else(|_| panic!("case '{what}' failed"));
+        eprintln!("{what}: {msg}");
+    }
+    // NaN in an rpy.
+    let text = robot(&base).replace(r#"<joint name="hip" type="revolute"><origin xyz="0 0 0.1" rpy="0 0 0"/>"#, r#"<joint name="hip" type="revolute"><origin xyz="0 0 0.1" rpy="0 nan 0"/>"#);
+    assert!(text.contains("0 nan 0"));
+    expect_model_error(&text, &LoadOptions::default(), &["hip"]);
+}
+
+#[test]
+fn a_zero_axis_on_a_fixed_joint_is_accepted() {
+    let parts = replace(
+        &valid_parts(),
+        r#"<joint name="ankle_fixed""#,
+        joint_with("ankle_fixed", "fixed", "shin", "sole", "0 0 -0.1", "0 0 0"),
+    );
+    let model = Model::from_urdf_str(&robot(&parts), &LoadOptions::default()).unwrap();
+    assert_eq!(model.n_joints(), 2);
+    assert!(model.frame_id("sole").is_ok());
+}
+
+#[test]
+fn duplicate_names_are_named() {
+    let mut parts = valid_parts();
+    parts.push(link("shin"));
+    let msg = expect_error(&parts, &["shin"]);
+    assert!(msg.contains("duplicate"), "{msg}");
+    let mut parts = valid_parts();
+    parts.push(link("calf"));
+    parts.push(joint("knee", "revolute", "shin", "calf"));
+    let msg = expect_error(&parts, &["knee"]);
+    assert!(msg.contains("duplicate"), "{msg}");
+}
+
+#[test]
+fn bad_joint_lists_are_named() {
+    let text = robot(&valid_parts());
+    let opts = |joints: &[&str], locked: &[(&str, f64)]| LoadOptions {
+        joints: Some(joints.iter().map(|s| s.to_string()).collect()),
+        locked: locked.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
+    };
+    expect_model_error(&text, &opts(&["hip", "elbow"], &[]), &["elbow"]);
+    expect_model_error(&text, &opts(&["hip", "ankle_fixed"], &[]), &["ankle_fixed"]);
+    expect_model_error(&text, &opts(&["knee", "hip", "knee"], &[]), &["knee"]);
+    expect_model_error(&text, &opts(&["hip"], &[("wrist", 0.3)]), &["wrist"]);
+    expect_model_error(&text, &opts(&["hip"], &[("hip", 0.3)]), &["hip"]);
+    expect_model_error(&text, &opts(&["hip"], &[("ankle_fixed", 0.3)]), &["ankle_fixed"]);
+    expect_model_error(&text, &opts(&["hip"], &[("knee", f64::NAN)]), &["knee"]);
+    // Valid: an empty list locks everything; a locked value for an unlisted joint.
+    let model = Model::from_urdf_str(&text, &opts(&[], &[("knee", 0.4)])).unwrap();
+    assert_eq!(model.n_joints(), 0);
+    assert_eq!(model.nv(), 6);
+}
+
+#[test]
+fn unparsable_text_and_missing_files_are_model_errors() {
+    assert!(matches!(Model::from_urdf_str("<robot", &LoadOptions::default()), Err(Error::Model(_))));
+    let path = "/nonexistent/dir/robot_that_is_not_here.urdf";
+    expect_model_error_file(path);
+}
+
+fn expect_model_error_file(path: &str) {
+    match Model::from_urdf_file(path, &LoadOptions::default()) {
+        Err(Error::Model(msg)) => assert!(msg.contains("robot_that_is_not_here.urdf"), "{msg}"),
+        other => panic!("expected Error::Model, got {other:?}"),
+    }
+}
+
+#[test]
+fn shipped_urdf_files_load() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../urdf");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "urdf") {
+            let model = Model::from_urdf_file(&path, &LoadOptions::default())
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            assert!(model.total_mass() > 0.0);
+            n += 1;
+        }
+    }
+    assert!(n > 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Joint lists: order, reduced models.
+
+/// Depth-first joint order of a description (children in file order), written independently.
+fn dfs_moving(desc: &RobotDesc) -> Vec<String> {
+    fn visit(desc: &RobotDesc, link: usize, out: &mut Vec<String>) {
+        for &j in &desc.joint_file_order {
+            let joint = &desc.joints[j];
+            if joint.parent == link {
+                if joint.kind.moves() {
+                    out.push(joint.name.clone());
+                }
+                visit(desc, joint.child, out);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    visit(desc, 0, &mut out);
+    out
+}
+
+#[test]
+fn default_joint_order_is_depth_first_in_file_order() {
+    for seed in seeds() {
+        let desc = random_robot(seed);
+        let model = load(&desc);
+        assert_eq!(model.joint_names, dfs_moving(&desc), "seed {seed}");
+    }
+}
+
+/// Maps reduced-model vectors into the full model: base as is, listed joints at their
+/// coordinates, others at `locked` (configuration) or 0 (velocity).
+fn to_full(full: &Model, reduced: &Model, v: &[f64], head: usize, locked: &HashMap<String, f64>) -> Vec<f64> {
+    let mut out = v[..head].to_vec();
+    for name in &full.joint_names {
+        out.push(match reduced.joint_index(name) {
+            Some(k) => v[head + k],
+            None if head == 7 => locked.get(name).copied().unwrap_or(0.0),
+            None => 0.0,
+        });
+    }
+    out
+}
+
+/// Column/row indices of the reduced model's velocity in the full model's.
+fn velocity_map(full: &Model, reduced: &Model) -> Vec<usize> {
+    (0..6)
+        .chain(reduced.joint_names.iter().map(|n| 6 + full.joint_index(n).unwrap()))
+        .collect()
+}
+
+fn select(m: &DMatrix<f64>, rows: &[usize], cols: &[usize]) -> DMatrix<f64> {
+    DMatrix::from_fn(rows.len(), cols.len(), |i, j| m[(rows[i], cols[j])])
+}
+
+fn select_rows(v: &DVector<f64>, rows: &[usize]) -> DVector<f64> {
+    DVector::from_fn(rows.len(), |i, _| v[rows[i]])
+}
+
+/// Checks that `reduced` equals `full` at the locked values: M, h, G, A_G, every frame
+/// placement and Jacobian.
+fn check_reduced_against_full(seed: u64, desc: &RobotDesc, full: &Model, reduced: &Model, locked: &HashMap<String, f64>) {
+    let mut df = Data::new(full);
+    let mut dr = Data::new(reduced);
+    let mut rng = Lcg::new(seed * 7 + 3);
+    let q_r = random_q(&mut rng, reduced.nq());
+    let nu_r = random_v(&mut rng, reduced.nv(), 1.0);
+    let q_f = to_full(full, reduced, &q_r, 7, locked);
+    let nu_f = to_full(full, reduced, &nu_r, 6, locked);
+    let map = velocity_map(full, reduced);
+    let ctx = format!("seed {seed}, joints {:?}", reduced.joint_names);
+
+    let m_f = crba(full, &mut df, &q_f).clone();
+    let m_r = crba(reduced, &mut dr, &q_r).clone();
+    let scale = m_f.amax();
+    assert_close_mat(&format!("{ctx}: M"), &m_r, &select(&m_f, &map, &map), 1e-12, scale);
+    let h_f = bias_forces(full, &mut df, &q_f, &nu_f).clone();
+    let h_r = bias_forces(reduced, &mut dr, &q_r, &nu_r).clone();
+    assert_close_vec(&format!("{ctx}: h"), &h_r, &select_rows(&h_f, &map), 1e-12, h_f.amax() + 1.0);
+    let g_f = gravity_forces(full, &mut df, &q_f).clone();
+    let g_r = gravity_forces(reduced, &mut dr, &q_r).clone();
+    assert_close_vec(&format!("{ctx}: G"), &g_r, &select_rows(&g_f, &map), 1e-12, g_f.amax() + 1.0);
+    let a_f = centroidal_momentum_matrix(full, &mut df, &q_f).clone();
+    let a_r = centroidal_momentum_matrix(reduced, &mut dr, &q_r).clone();
+    let all6: Vec<usize> = (0..6).collect();
+    assert_close_mat(&format!("{ctx}: A_G"), &a_r, &select(&a_f, &all6, &map), 1e-12, a_f.amax());
+    assert!((full.total_mass() - reduced.total_mass()).abs() < 1e-12 * full.total_mass());
+
+    sea_dyn::forward_kinematics(full, &mut df, &q_f);
+    sea_dyn::forward_kinematics(reduced, &mut dr, &q_r);
+    for link in &desc.links {
+        let (idf, idr) = (full.frame_id(&link.name).unwrap(), reduced.frame_id(&link.name).unwrap());
+        let (pf, pr) = (frame_placement(full, &df, idf), frame_placement(reduced, &dr, idr));
+        assert!(
+            (pf.rotation - pr.rotation).amax() < 1e-12 && (pf.translation - pr.translation).amax() < 1e-12,
+            "{ctx}: placement of {}",
+            link.name
+        );
+    }
+    for link in &desc.links {
+        let (idf, idr) = (full.frame_id(&link.name).unwrap(), reduced.frame_id(&link.name).unwrap());
+        let jf = frame_jacobian(full, &mut df, &q_f, idf).clone();
+        let jr = frame_jacobian(reduced, &mut dr, &q_r, idr).clone();
+        assert_close_mat(&format!("{ctx}: J of {}", link.name), &jr, &select(&jf, &all6, &map), 1e-12, 5.0);
+    }
+}
+
+#[test]
+fn reduced_models_equal_the_full_model_at_the_locked_values() {
+    for seed in seeds() {
+        let desc = random_robot(seed);
+        let full = load(&desc);
+        let mut rng = Lcg::new(20_000 + seed);
+        let mut keep = Vec::new();
+        let mut locked = HashMap::new();
+        for name in desc.moving_joints() {
+            if rng.chance(0.5) {
+                keep.push(name);
+            } else if rng.chance(0.8) {
+                locked.insert(name, rng.range(-1.5, 1.5));
+            } // else: locked at the default 0
+        }
+        shuffle(&mut rng, &mut keep);
+        let options = LoadOptions {
+            joints: Some(keep.clone()),
+            locked: locked.clone(),
+        };
+        let reduced = Model::from_urdf_str(&desc.to_urdf(), &options).unwrap();
+        assert_eq!(reduced.joint_names, keep, "seed {seed}: coordinate order is the list order");
+        check_reduced_against_full(seed, &desc, &full, &reduced, &locked);
+    }
+}
+
+#[test]
+fn reordering_the_joint_list_permutes_the_dynamics() {
+    for seed in seeds() {
+        let desc = random_robot(seed);
+        let full = load(&desc);
+        let mut rng = Lcg::new(30_000 + seed);
+        let mut order = desc.moving_joints();
+        shuffle(&mut rng, &mut order);
+        let options = LoadOptions {
+            joints: Some(order.clone()),
+            locked: HashMap::new(),
+        };
+        let permuted = Model::from_urdf_str(&desc.to_urdf(), &options).unwrap();
+        assert_eq!(permuted.joint_names, order);
+        check_reduced_against_full(seed, &desc, &full, &permuted, &HashMap::new());
+    }
+}

@@ -1,0 +1,336 @@
+//! `sea_momentum.Plant`: the SEA plant with rigid contacts and its integrators.
+
+use crate::arrays::{matrix_rows_out, vector_arg, vector_out};
+use crate::errors::to_py;
+use crate::model::PyModel;
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use sea_dyn::{
+    Actuation, Actuator, ContactLimits, ElasticParameters, Method, MotorInput, Plant, PlantData,
+};
+use std::collections::HashMap;
+
+/// Parameters of an elastic actuator from a dict with keys ratio, motor_inertia, stiffness,
+/// damping and optional torque_limit; `where_` names the dict in errors.
+fn elastic_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<ElasticParameters> {
+    const KEYS: [&str; 5] = ["ratio", "motor_inertia", "stiffness", "damping", "torque_limit"];
+    for key in dict.keys() {
+        let key: String = key.extract()?;
+        if !KEYS.contains(&key.as_str()) {
+            return Err(PyValueError::new_err(format!(
+                "{where_}: unknown actuator key '{key}' (expected one of {KEYS:?})"
+            )));
+        }
+    }
+    let defaults = ElasticParameters::paper_icub();
+    let get = |key: &str, default: f64| -> PyResult<f64> {
+        match dict.get_item(key)? {
+            Some(value) => value
+                .extract::<f64>()
+                .map_err(|_| PyValueError::new_err(format!("{where_}: '{key}' must be a number"))),
+            None => Ok(default),
+        }
+    };
+    let torque_limit = match dict.get_item("torque_limit")? {
+        Some(value) if !value.is_none() => Some(value.extract::<f64>().map_err(|_| {
+            PyValueError::new_err(format!("{where_}: 'torque_limit' must be a number or None"))
+        })?),
+        _ => None,
+    };
+    Ok(ElasticParameters {
+        ratio: get("ratio", defaults.ratio)?,
+        motor_inertia: get("motor_inertia", defaults.motor_inertia)?,
+        stiffness: get("stiffness", defaults.stiffness)?,
+        damping: get("damping", defaults.damping)?,
+        torque_limit,
+    })
+}
+
+/// An actuator from `"rigid"` or a dict of elastic parameters.
+fn actuator_from_py(value: &Bound<'_, PyAny>, where_: &str) -> PyResult<Actuator> {
+    if let Ok(text) = value.extract::<String>() {
+        return match text.as_str() {
+            "rigid" => Ok(Actuator::Rigid),
+            "elastic" => Ok(Actuator::Elastic(ElasticParameters::paper_icub())),
+            other => Err(PyValueError::new_err(format!(
+                "{where_}: expected 'rigid', 'elastic' or a dict of parameters, got '{other}'"
+            ))),
+        };
+    }
+    let dict = value.cast::<PyDict>().map_err(|_| {
+        PyValueError::new_err(format!("{where_}: expected 'rigid', 'elastic' or a dict"))
+    })?;
+    Ok(Actuator::Elastic(elastic_from_dict(dict, where_)?))
+}
+
+/// A floating-base robot with series elastic (or rigid) actuators and rigid contacts.
+///
+/// State x = [q (nq), theta (n_e), nu (nv), thetadot (n_e)]; input u (n), per joint in
+/// coordinate order: rigid joint torque, or for elastic joints the motor torque (default) or
+/// the desired motor velocity when `motor_velocity_gain` is set (the motor velocity loop).
+#[pyclass(name = "Plant", module = "sea_momentum._native")]
+pub struct PyPlant {
+    plant: Plant,
+    data: PlantData,
+    x: Vec<f64>,
+    u: Vec<f64>,
+}
+
+impl PyPlant {
+    fn load(&mut self, x: &Bound<'_, PyAny>, u: &Bound<'_, PyAny>) -> PyResult<()> {
+        vector_arg(x, "x", self.plant.layout().nx(), &mut self.x)?;
+        self.plant.check_state(&self.x).map_err(to_py)?;
+        vector_arg(u, "u", self.plant.model.n_joints(), &mut self.u)
+    }
+}
+
+#[pymethods]
+impl PyPlant {
+    /// Builds a plant.
+    ///
+    /// `actuator`: the default actuator of every joint, "rigid", "elastic" (the paper's iCub
+    /// SEA) or a dict (ratio, motor_inertia, stiffness, damping, torque_limit); `actuators`:
+    /// per-joint overrides by name. `contacts`: frame names held at their pose in `contact_q`.
+    #[new]
+    #[pyo3(signature = (
+        model, *, actuator=None, actuators=None,
+        contacts=Vec::new(), contact_q=None, baumgarte_kp=50.0, baumgarte_kd=None,
+        motor_velocity_gain=None, joint_inertia_regularization=0.0, gravity=None,
+        friction=1.0, foot_x=(-0.05, 0.10), foot_y=(-0.025, 0.025)
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        model: PyRef<'_, PyModel>,
+        actuator: Option<Bound<'_, PyAny>>,
+        actuators: Option<Bound<'_, PyDict>>,
+        contacts: Vec<String>,
+        contact_q: Option<Bound<'_, PyAny>>,
+        baumgarte_kp: f64,
+        baumgarte_kd: Option<f64>,
+        motor_velocity_gain: Option<f64>,
+        joint_inertia_regularization: f64,
+        gravity: Option<(f64, f64, f64)>,
+        friction: f64,
+        foot_x: (f64, f64),
+        foot_y: (f64, f64),
+    ) -> PyResult<Self> {
+        let mut rigid_model = model.model().clone();
+        if let Some((gx, gy, gz)) = gravity {
+            rigid_model.gravity = nalgebra::Vector3::new(gx, gy, gz);
+        }
+        let default = match actuator {
+            Some(actuator) => actuator_from_py(&actuator, "actuator")?,
+            None => Actuator::Rigid,
+        };
+        let mut overrides = HashMap::new();
+        if let Some(actuators) = actuators {
+            for (name, value) in actuators.iter() {
+                let name: String = name.extract()?;
+                let actuator = actuator_from_py(&value, &format!("actuators['{name}']"))?;
+                overrides.insert(name, actuator);
+            }
+        }
+        let actuation = Actuation::new(&rigid_model, default, &overrides).map_err(to_py)?;
+        let mut plant = Plant::new(rigid_model, actuation);
+        plant.baumgarte_kp = baumgarte_kp;
+        plant.baumgarte_kd = baumgarte_kd.unwrap_or(2.0 * baumgarte_kp.max(0.0).sqrt());
+        plant.motor_input = match motor_velocity_gain {
+            Some(gain) => MotorInput::VelocityLoop { gain },
+            None => MotorInput::Torque,
+        };
+        plant.joint_inertia_regularization = joint_inertia_regularization;
+        plant.contact_limits = ContactLimits {
+            friction,
+            foot_x: [foot_x.0, foot_x.1],
+            foot_y: [foot_y.0, foot_y.1],
+        };
+        plant.validate().map_err(to_py)?;
+        if !contacts.is_empty() {
+            let contact_q = contact_q.ok_or_else(|| {
+                PyValueError::new_err("contact_q is required with contacts (the pose to hold)")
+            })?;
+            let mut q = Vec::new();
+            vector_arg(&contact_q, "contact_q", plant.model.nq(), &mut q)?;
+            plant.set_contacts(&contacts, &q).map_err(to_py)?;
+        }
+        let data = PlantData::new(&plant);
+        Ok(Self {
+            plant,
+            data,
+            x: Vec::new(),
+            u: Vec::new(),
+        })
+    }
+
+    /// State size nq + nv + 2 n_e.
+    #[getter]
+    fn nx(&self) -> usize {
+        self.plant.layout().nx()
+    }
+
+    /// Tangent state size 2 nv + 2 n_e.
+    #[getter]
+    fn nd(&self) -> usize {
+        self.plant.layout().nd()
+    }
+
+    /// Input size n (one per joint).
+    #[getter]
+    fn nu_input(&self) -> usize {
+        self.plant.model.n_joints()
+    }
+
+    /// Names of the elastic joints, in the order of theta.
+    #[getter]
+    fn elastic_joints(&self) -> Vec<String> {
+        let names = &self.plant.model.joint_names;
+        self.plant.actuation.elastic_joints.iter().map(|&j| names[j].clone()).collect()
+    }
+
+    /// Contact frame names.
+    #[getter]
+    fn contact_frames(&self) -> Vec<String> {
+        self.plant.contacts.iter().map(|c| c.name.clone()).collect()
+    }
+
+    /// A state from its parts: theta defaults to s / eta (springs at rest), velocities to 0.
+    #[pyo3(signature = (q, nu=None, theta=None, thetadot=None))]
+    fn make_state<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        nu: Option<&Bound<'py, PyAny>>,
+        theta: Option<&Bound<'py, PyAny>>,
+        thetadot: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let layout = self.plant.layout();
+        let mut q_v = Vec::new();
+        vector_arg(q, "q", layout.nq, &mut q_v)?;
+        let mut nu_v = vec![0.0; layout.nv];
+        if let Some(nu) = nu {
+            vector_arg(nu, "nu", layout.nv, &mut nu_v)?;
+        }
+        let mut theta_v = Vec::new();
+        if let Some(theta) = theta {
+            vector_arg(theta, "theta", layout.ne, &mut theta_v)?;
+        }
+        let mut thetadot_v = Vec::new();
+        if let Some(thetadot) = thetadot {
+            vector_arg(thetadot, "thetadot", layout.ne, &mut thetadot_v)?;
+        }
+        let x = self
+            .plant
+            .make_state(
+                &q_v,
+                &nu_v,
+                theta.map(|_| theta_v.as_slice()),
+                thetadot.map(|_| thetadot_v.as_slice()),
+            )
+            .map_err(to_py)?;
+        Ok(vector_out(py, &x))
+    }
+
+    /// Splits a state into a dict with q, theta, nu, thetadot.
+    fn split_state<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+        let layout = self.plant.layout();
+        vector_arg(x, "x", layout.nx(), &mut self.x)?;
+        let dict = PyDict::new(py);
+        let x = &self.x;
+        dict.set_item("q", vector_out(py, &x[..layout.nq]))?;
+        dict.set_item("theta", vector_out(py, &x[layout.theta()..layout.theta() + layout.ne]))?;
+        dict.set_item("nu", vector_out(py, &x[layout.nu()..layout.nu() + layout.nv]))?;
+        dict.set_item("thetadot", vector_out(py, &x[layout.thetadot()..]))?;
+        Ok(dict)
+    }
+
+    /// dx/dt (nx) of the state vector itself (quaternion rate included), for scipy.
+    fn dynamics<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.load(x, u)?;
+        sea_dyn::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
+        let mut out = vec![0.0; self.plant.layout().nx()];
+        sea_dyn::plant::state_derivative(&self.plant, &self.x, &self.data.xdot, &mut out);
+        Ok(PyArray1::from_vec(py, out))
+    }
+
+    /// Outputs at (x, u): contact wrenches (n_contacts x 6, [force; moment about the frame
+    /// origin], world axes), joint torques (n), motor torques (n_e), drift, wrench margins.
+    fn outputs<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+        self.load(x, u)?;
+        sea_dyn::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
+        let d = &self.data;
+        let dict = PyDict::new(py);
+        dict.set_item("contact_wrenches", matrix_rows_out(py, d.contact_wrench.as_slice(), 6))?;
+        dict.set_item("joint_torques", vector_out(py, d.joint_torque.as_slice()))?;
+        dict.set_item("motor_torques", vector_out(py, d.motor_torque.as_slice()))?;
+        dict.set_item("drift_position", d.drift_position)?;
+        dict.set_item("drift_rotation", d.drift_rotation)?;
+        let margins = d.wrench_margins(&self.plant, &self.x);
+        let column = |f: fn(&sea_dyn::WrenchMargins) -> f64| margins.iter().map(f).collect::<Vec<f64>>();
+        dict.set_item("normal_force", vector_out(py, &column(|m| m.normal_force)))?;
+        dict.set_item("friction_margin", vector_out(py, &column(|m| m.friction)))?;
+        dict.set_item("cop_margin", vector_out(py, &column(|m| m.center_of_pressure)))?;
+        Ok(dict)
+    }
+
+    /// One step of size dt with u held: method "ros2" (default), "implicit_euler" or "rk4".
+    #[pyo3(signature = (x, u, dt, method="ros2"))]
+    fn step<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>, dt: f64, method: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let method = Method::parse(method).map_err(to_py)?;
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(PyValueError::new_err(format!("dt must be positive and finite, got {dt}")));
+        }
+        self.load(x, u)?;
+        let mut out = vec![0.0; self.x.len()];
+        sea_dyn::step(&self.plant, &mut self.data, &self.x, &self.u, dt, method, &mut out).map_err(to_py)?;
+        Ok(PyArray1::from_vec(py, out))
+    }
+
+    /// Simulates n_steps of size dt from x0 with u held (GIL released). Returns a dict:
+    /// time (m,), x (m, nx), contact_wrenches (m, n_contacts, 6), motor_torques (m, n_e),
+    /// drift_position (m,), drift_rotation (m,), status ("completed" or "diverged"),
+    /// diverged_at (float or None), message. Data up to a divergence is kept.
+    #[pyo3(signature = (x0, u, dt, n_steps, method="ros2", record_every=1))]
+    #[allow(clippy::too_many_arguments)]
+    fn simulate<'py>(
+        &mut self,
+        py: Python<'py>,
+        x0: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        dt: f64,
+        n_steps: usize,
+        method: &str,
+        record_every: usize,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let method = Method::parse(method).map_err(to_py)?;
+        self.load(x0, u)?;
+        let (plant, data, x, u) = (&self.plant, &mut self.data, &self.x, &self.u);
+        let log = py
+            .detach(|| sea_dyn::simulate(plant, data, x, u, dt, n_steps, method, record_every, |_| {}))
+            .map_err(to_py)?;
+        let dict = PyDict::new(py);
+        let nx = self.plant.layout().nx();
+        let rows = log.time.len();
+        dict.set_item("time", vector_out(py, &log.time))?;
+        dict.set_item("x", matrix_rows_out(py, &log.state, nx))?;
+        let wrenches = matrix_rows_out(py, &log.contact_wrench, 6);
+        dict.set_item("contact_wrenches", wrenches.reshape([rows, self.plant.contacts.len(), 6])?)?;
+        dict.set_item("motor_torques", matrix_rows_out(py, &log.motor_torque, self.plant.actuation.n_elastic()))?;
+        dict.set_item("drift_position", vector_out(py, &log.drift_position))?;
+        dict.set_item("drift_rotation", vector_out(py, &log.drift_rotation))?;
+        match &log.status {
+            sea_dyn::Status::Completed => {
+                dict.set_item("status", "completed")?;
+                dict.set_item("diverged_at", py.None())?;
+                dict.set_item("message", "")?;
+            }
+            sea_dyn::Status::Diverged { time, reason } => {
+                dict.set_item("status", "diverged")?;
+                dict.set_item("diverged_at", *time)?;
+                dict.set_item("message", reason)?;
+            }
+        }
+        Ok(dict)
+    }
+}
