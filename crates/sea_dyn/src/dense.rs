@@ -1,64 +1,114 @@
-//! Small dense linear algebra without allocation: in-place Cholesky `A = L L^T` and solves.
+//! Small dense linear algebra without allocation: in-place Cholesky `A = L L^T`, triangular
+//! solves, and the Schur complement `J A^-1 J^T` through `Y = L^-1 J^T`.
 //!
 //! nalgebra's decompositions take ownership of (or copy) their matrix; the simulator factors
-//! matrices every step, so these work in preallocated buffers instead. Only the lower triangle
-//! of the input is read; the factor overwrites it.
+//! matrices every step, so these work in preallocated buffers instead. They run on the
+//! column-major storage directly so the inner loops are contiguous (vectorisable) and free of
+//! bounds checks. Only the lower triangle of the input is read; the factor overwrites it.
 
 use nalgebra::DMatrix;
 
-/// Factors the symmetric positive definite `a` in place (lower triangle becomes `L`).
-/// Returns the index of the first non-positive pivot on failure.
+/// Factors the symmetric positive definite `a` in place (lower triangle becomes `L`,
+/// left-looking, column by column). Returns the index of the first non-positive pivot.
 pub fn cholesky_in_place(a: &mut DMatrix<f64>) -> Result<(), usize> {
     let n = a.nrows();
+    let s = a.as_mut_slice();
     for j in 0..n {
-        let mut diagonal = a[(j, j)];
+        // Column j from row j down: a[j.., j] -= sum_k a[j.., k] a[j, k].
         for k in 0..j {
-            diagonal -= a[(j, k)] * a[(j, k)];
+            let ajk = s[k * n + j];
+            if ajk != 0.0 {
+                let (left, right) = s.split_at_mut(j * n);
+                let source = &left[k * n + j..k * n + n];
+                let target = &mut right[j..n];
+                for (t, v) in target.iter_mut().zip(source) {
+                    *t -= v * ajk;
+                }
+            }
         }
+        let diagonal = s[j * n + j];
         if diagonal <= 0.0 || !diagonal.is_finite() {
             return Err(j);
         }
         let pivot = diagonal.sqrt();
-        a[(j, j)] = pivot;
-        for i in (j + 1)..n {
-            let mut value = a[(i, j)];
-            for k in 0..j {
-                value -= a[(i, k)] * a[(j, k)];
-            }
-            a[(i, j)] = value / pivot;
+        let inverse = 1.0 / pivot;
+        s[j * n + j] = pivot;
+        for v in &mut s[j * n + j + 1..j * n + n] {
+            *v *= inverse;
         }
     }
     Ok(())
 }
 
+/// Solves `L y = b` in place (forward substitution, column-oriented).
+pub fn forward_substitute(l: &DMatrix<f64>, b: &mut [f64]) {
+    let n = l.nrows();
+    let s = l.as_slice();
+    for j in 0..n {
+        let column = &s[j * n..j * n + n];
+        let yj = b[j] / column[j];
+        b[j] = yj;
+        if yj != 0.0 {
+            for (bi, lij) in b[j + 1..].iter_mut().zip(&column[j + 1..]) {
+                *bi -= lij * yj;
+            }
+        }
+    }
+}
+
+/// Solves `L^T x = y` in place (backward substitution, dot products on columns).
+pub fn backward_substitute(l: &DMatrix<f64>, b: &mut [f64]) {
+    let n = l.nrows();
+    let s = l.as_slice();
+    for j in (0..n).rev() {
+        let column = &s[j * n..j * n + n];
+        let dot: f64 = column[j + 1..]
+            .iter()
+            .zip(&b[j + 1..])
+            .map(|(a, x)| a * x)
+            .sum();
+        b[j] = (b[j] - dot) / column[j];
+    }
+}
+
 /// Solves `L L^T x = b` in place (`b` becomes `x`), with `l` from [`cholesky_in_place`].
 pub fn cholesky_solve_in_place(l: &DMatrix<f64>, b: &mut [f64]) {
-    let n = l.nrows();
-    for i in 0..n {
-        let mut value = b[i];
-        for k in 0..i {
-            value -= l[(i, k)] * b[k];
+    forward_substitute(l, b);
+    backward_substitute(l, b);
+}
+
+/// With `A = L L^T` (n x n) and `J` (k x n): `y = L^-1 J^T` (n x k) and
+/// `schur = J A^-1 J^T = y^T y` (k x k, full).
+pub fn schur_complement(
+    l: &DMatrix<f64>,
+    jacobian: &DMatrix<f64>,
+    y: &mut DMatrix<f64>,
+    schur: &mut DMatrix<f64>,
+) {
+    let (k, n) = jacobian.shape();
+    for r in 0..k {
+        let mut column = y.column_mut(r);
+        for i in 0..n {
+            column[i] = jacobian[(r, i)];
         }
-        b[i] = value / l[(i, i)];
+        forward_substitute(l, column.as_mut_slice());
     }
-    for i in (0..n).rev() {
-        let mut value = b[i];
-        for k in (i + 1)..n {
-            value -= l[(k, i)] * b[k];
-        }
-        b[i] = value / l[(i, i)];
-    }
+    schur.gemm_tr(1.0, y, y, 0.0);
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    fn spd(n: usize) -> DMatrix<f64> {
+        let r = DMatrix::from_fn(n, n, |i, j| ((i * 7 + j * 3) % 5) as f64 - 2.0);
+        &r * r.transpose() + DMatrix::identity(n, n)
+    }
+
     #[test]
     fn solves_spd_system() {
         let n = 7;
-        let r = DMatrix::from_fn(n, n, |i, j| ((i * 7 + j * 3) % 5) as f64 - 2.0);
-        let a = &r * r.transpose() + DMatrix::identity(n, n);
+        let a = spd(n);
         let x_true: Vec<f64> = (0..n).map(|i| i as f64 - 3.0).collect();
         let b = &a * nalgebra::DVector::from_vec(x_true.clone());
         let mut l = a.clone();
@@ -68,6 +118,20 @@ mod tests {
         for (xi, ti) in x.iter().zip(&x_true) {
             assert!((xi - ti).abs() < 1e-10);
         }
+    }
+
+    #[test]
+    fn schur_matches_dense_inverse() {
+        let n = 6;
+        let a = spd(n);
+        let j = DMatrix::from_fn(2, n, |i, c| (i + 2 * c) as f64 * 0.1 - 0.3);
+        let mut l = a.clone();
+        cholesky_in_place(&mut l).unwrap();
+        let mut y = DMatrix::zeros(n, 2);
+        let mut s = DMatrix::zeros(2, 2);
+        schur_complement(&l, &j, &mut y, &mut s);
+        let expected = &j * a.try_inverse().unwrap() * j.transpose();
+        assert!((s - expected).norm() < 1e-10);
     }
 
     #[test]

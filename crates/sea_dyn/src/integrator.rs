@@ -49,7 +49,15 @@ const GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
 
 /// One step of size `dt` from `x` with input `u` held; writes `x_out`. On return `pd` holds the
 /// evaluation at `x` (contact wrenches, torques, drift of the step start).
-pub fn step(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f64, method: Method, x_out: &mut [f64]) -> Result<()> {
+pub fn step(
+    plant: &Plant,
+    pd: &mut PlantData,
+    x: &[f64],
+    u: &[f64],
+    dt: f64,
+    method: Method,
+    x_out: &mut [f64],
+) -> Result<()> {
     match method {
         Method::Ros2 => ros2(plant, pd, x, u, dt, x_out),
         Method::LinearlyImplicitEuler => implicit_euler(plant, pd, x, u, dt, x_out),
@@ -57,7 +65,14 @@ pub fn step(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f64, me
     }
 }
 
-fn ros2(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f64, x_out: &mut [f64]) -> Result<()> {
+fn ros2(
+    plant: &Plant,
+    pd: &mut PlantData,
+    x: &[f64],
+    u: &[f64],
+    dt: f64,
+    x_out: &mut [f64],
+) -> Result<()> {
     evaluate(plant, pd, x, u)?;
     // Keep the step-start outputs: the second evaluation would overwrite them.
     pd.save_outputs();
@@ -83,7 +98,14 @@ fn ros2(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f64, x_out:
     second
 }
 
-fn implicit_euler(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f64, x_out: &mut [f64]) -> Result<()> {
+fn implicit_euler(
+    plant: &Plant,
+    pd: &mut PlantData,
+    x: &[f64],
+    u: &[f64],
+    dt: f64,
+    x_out: &mut [f64],
+) -> Result<()> {
     evaluate(plant, pd, x, u)?;
     prepare_implicit(plant, pd, dt)?;
     let [mut k1, k2, mut rhs, combo] = std::mem::take(&mut pd.stage);
@@ -94,7 +116,14 @@ fn implicit_euler(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f
     Ok(())
 }
 
-fn rk4(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64], dt: f64, x_out: &mut [f64]) -> Result<()> {
+fn rk4(
+    plant: &Plant,
+    pd: &mut PlantData,
+    x: &[f64],
+    u: &[f64],
+    dt: f64,
+    x_out: &mut [f64],
+) -> Result<()> {
     let [mut k1, mut k2, mut k3, mut sum] = std::mem::take(&mut pd.stage);
     let mut x_stage = std::mem::take(&mut pd.x_stage);
     let result = (|| {

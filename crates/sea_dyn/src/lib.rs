@@ -44,24 +44,27 @@ pub mod rnea;
 pub mod simulate;
 pub mod spatial;
 pub mod split;
+pub mod tree_factor;
 pub mod urdf;
 
+pub use actuator::{Actuation, Actuator, ElasticParameters};
 pub use centroidal::{
     centroidal_momentum, centroidal_momentum_bias, centroidal_momentum_matrix, com, com_jacobian,
 };
 pub use configuration::integrate;
-pub use actuator::{Actuation, Actuator, ElasticParameters};
 pub use crba::{crba, crba_from_kinematics};
 pub use data::Data;
 pub use error::{Error, Result};
+pub use integrator::{step, Method};
 pub use jacobian::{frame_jacobian, frame_jacobian_dot_v};
 pub use kinematics::{
     forward_kinematics, forward_kinematics_path, forward_velocities, forward_velocities_path,
     frame_placement,
 };
-pub use integrator::{step, Method};
 pub use model::{Frame, FrameId, Joint, JointKind, Model};
-pub use plant::{evaluate, ContactLimits, MotorInput, Plant, PlantData, StateLayout, WrenchMargins};
+pub use plant::{
+    evaluate, ContactLimits, MotorInput, Plant, PlantData, StateLayout, WrenchMargins,
+};
 pub use rnea::{bias_forces, gravity_forces, rnea};
 pub use simulate::{simulate, SimulationLog, Status};
 pub use split::CentroidalSplit;

@@ -26,6 +26,7 @@ use crate::kinematics::frame_placement;
 use crate::model::{FrameId, Model};
 use crate::rnea::bias_forces;
 use crate::spatial::Pose;
+use crate::tree_factor::TreeFactor;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 /// What the input of an elastic joint means.
@@ -165,7 +166,9 @@ impl Plant {
         for name in frames {
             let frame = self.model.frame_id(name)?;
             if contacts.iter().any(|c: &Contact| c.frame == frame) {
-                return Err(Error::input(format!("contact frame '{name}' is listed twice")));
+                return Err(Error::input(format!(
+                    "contact frame '{name}' is listed twice"
+                )));
             }
             contacts.push(Contact {
                 name: name.clone(),
@@ -182,7 +185,10 @@ impl Plant {
         let gains = [
             ("baumgarte_kp", self.baumgarte_kp),
             ("baumgarte_kd", self.baumgarte_kd),
-            ("joint_inertia_regularization", self.joint_inertia_regularization),
+            (
+                "joint_inertia_regularization",
+                self.joint_inertia_regularization,
+            ),
         ];
         for (name, value) in gains {
             if !(value.is_finite() && value >= 0.0) {
@@ -214,7 +220,13 @@ impl Plant {
 
     /// A state from its parts; `theta = s / eta` (springs at rest) and zero velocities when
     /// `theta`/`thetadot` are `None`.
-    pub fn make_state(&self, q: &[f64], nu: &[f64], theta: Option<&[f64]>, thetadot: Option<&[f64]>) -> Result<Vec<f64>> {
+    pub fn make_state(
+        &self,
+        q: &[f64],
+        nu: &[f64],
+        theta: Option<&[f64]>,
+        thetadot: Option<&[f64]>,
+    ) -> Result<Vec<f64>> {
         let layout = self.layout();
         self.model.check_configuration(q)?;
         self.model.check_velocity("nu", nu)?;
@@ -243,7 +255,11 @@ impl Plant {
 /// Rotation error `vee(R R_ref^T - R_ref R^T) / 2` (the rotation vector for small errors).
 fn rotation_error(r: &Matrix3<f64>, r_ref: &Matrix3<f64>) -> Vector3<f64> {
     let d = r * r_ref.transpose();
-    Vector3::new(d[(2, 1)] - d[(1, 2)], d[(0, 2)] - d[(2, 0)], d[(1, 0)] - d[(0, 1)]) * 0.5
+    Vector3::new(
+        d[(2, 1)] - d[(1, 2)],
+        d[(0, 2)] - d[(2, 0)],
+        d[(1, 0)] - d[(0, 1)],
+    ) * 0.5
 }
 
 /// Margins of one simulated contact wrench (sole frame), negative when violated.
@@ -276,23 +292,25 @@ pub struct PlantData {
     pub drift_position: f64,
     /// Largest contact rotation error [rad] of the last evaluation.
     pub drift_rotation: f64,
-    /// Cholesky factor of `M` (nv x nv, lower triangle).
-    mass_factor: DMatrix<f64>,
+    /// `M = L^T L` with the tree's sparsity.
+    mass_factor: TreeFactor,
+    /// Diagonal added to `M` (joint inertia regularisation), then to `M~` (nv).
+    diagonal: Vec<f64>,
     /// Stacked contact Jacobian (k x nv).
     contact_jacobian: DMatrix<f64>,
-    /// `M^-1 J^T` (nv x k).
-    minv_jt: DMatrix<f64>,
+    /// `Y = L^-T J^T` with `M = L^T L` (nv x k).
+    linv_jt: DMatrix<f64>,
     /// `J M^-1 J^T`, then its factor (k x k).
     schur: DMatrix<f64>,
     /// Constraint acceleration target, then multipliers (k).
     constraint_rhs: DVector<f64>,
     /// Velocity-sized scratch (nv).
     scratch_v: DVector<f64>,
-    /// Implicit step: factor of `M~` (nv x nv), `J` at the step start (k x nv), `M~^-1 J^T`
+    /// Implicit step: factor of `M~` (nv x nv), `J` at the step start (k x nv), `L~^-1 J^T`
     /// (nv x k), Schur factor (k x k), per elastic joint `den`, `a1`, `t1` and flags.
-    w_factor: DMatrix<f64>,
+    w_factor: TreeFactor,
     w_jacobian: DMatrix<f64>,
-    w_minv_jt: DMatrix<f64>,
+    w_linv_jt: DMatrix<f64>,
     w_schur: DMatrix<f64>,
     w_den: Vec<f64>,
     w_a1: Vec<f64>,
@@ -334,15 +352,16 @@ impl PlantData {
             saturated: vec![false; ne],
             drift_position: 0.0,
             drift_rotation: 0.0,
-            mass_factor: DMatrix::zeros(nv, nv),
+            mass_factor: TreeFactor::new(&plant.model),
+            diagonal: vec![0.0; nv],
             contact_jacobian: DMatrix::zeros(k, nv),
-            minv_jt: DMatrix::zeros(nv, k),
+            linv_jt: DMatrix::zeros(nv, k),
             schur: DMatrix::zeros(k, k),
             constraint_rhs: DVector::zeros(k),
             scratch_v: DVector::zeros(nv),
-            w_factor: DMatrix::zeros(nv, nv),
+            w_factor: TreeFactor::new(&plant.model),
             w_jacobian: DMatrix::zeros(k, nv),
-            w_minv_jt: DMatrix::zeros(nv, k),
+            w_linv_jt: DMatrix::zeros(nv, k),
             w_schur: DMatrix::zeros(k, k),
             w_den: vec![1.0; ne],
             w_a1: vec![0.0; ne],
@@ -397,8 +416,10 @@ impl PlantData {
             .map(|(c, contact)| {
                 let rotation = frame_placement(&plant.model, &data, contact.frame).rotation;
                 let w = &self.contact_wrench;
-                let force = rotation.transpose() * Vector3::new(w[6 * c], w[6 * c + 1], w[6 * c + 2]);
-                let moment = rotation.transpose() * Vector3::new(w[6 * c + 3], w[6 * c + 4], w[6 * c + 5]);
+                let force =
+                    rotation.transpose() * Vector3::new(w[6 * c], w[6 * c + 1], w[6 * c + 2]);
+                let moment =
+                    rotation.transpose() * Vector3::new(w[6 * c + 3], w[6 * c + 4], w[6 * c + 5]);
                 sole_margins(&force, &moment, limits)
             })
             .collect()
@@ -406,7 +427,11 @@ impl PlantData {
 }
 
 /// Margins of a wrench `[force; moment about the sole origin]` given in the sole frame.
-pub fn sole_margins(force: &Vector3<f64>, moment: &Vector3<f64>, limits: &ContactLimits) -> WrenchMargins {
+pub fn sole_margins(
+    force: &Vector3<f64>,
+    moment: &Vector3<f64>,
+    limits: &ContactLimits,
+) -> WrenchMargins {
     let fz = force.z;
     let friction = limits.friction * fz - force.xy().norm();
     let center_of_pressure = if fz > 0.0 {
@@ -441,37 +466,35 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
     bias_forces(model, &mut pd.data, q, nu);
     pd.scratch_v.copy_from(&pd.data.tau);
     crba_from_kinematics(model, &mut pd.data);
-    pd.mass_factor.copy_from(&pd.data.mass_matrix);
-    for j in 0..model.n_joints() {
-        pd.mass_factor[(6 + j, 6 + j)] += plant.joint_inertia_regularization;
-    }
-    cholesky_in_place(&mut pd.mass_factor).map_err(|i| {
-        Error::input(format!("mass matrix is not positive definite (pivot {i})"))
-    })?;
+    joint_diagonal(plant, &mut pd.diagonal);
+    pd.mass_factor
+        .factor(&pd.data.mass_matrix, &pd.diagonal)
+        .map_err(|e| Error::input(format!("mass matrix: {e}")))?;
 
     joint_and_motor_torques(plant, pd, q, theta, nu, thetadot, u);
 
-    // Unconstrained acceleration M^-1 (B tau - h), in scratch_v.
+    // Unconstrained acceleration, kept as L^-T (B tau - h) until the multipliers are known:
+    // nudot = L^-1 (L^-T (B tau - h) + Y f), Y = L^-T J^T, S = Y^T Y,
+    // f = S^-1 (a_target - Y^T L^-T (B tau - h)).
     pd.scratch_v.neg_mut();
     for j in 0..model.n_joints() {
         pd.scratch_v[6 + j] += pd.joint_torque[j];
     }
-    cholesky_solve_in_place(&pd.mass_factor, pd.scratch_v.as_mut_slice());
-
+    pd.mass_factor.solve_lt(pd.scratch_v.as_mut_slice());
     if !plant.contacts.is_empty() {
         contact_terms(plant, pd, nu);
-        // Multipliers f = S^-1 (a_target - J nudot_free); nudot += M^-1 J^T f.
         pd.constraint_rhs
-            .gemv(-1.0, &pd.contact_jacobian, &pd.scratch_v, 1.0);
+            .gemv_tr(-1.0, &pd.linv_jt, &pd.scratch_v, 1.0);
         cholesky_in_place(&mut pd.schur).map_err(|i| {
             Error::input(format!(
                 "contact constraints are degenerate (Schur complement pivot {i})"
             ))
         })?;
         cholesky_solve_in_place(&pd.schur, pd.constraint_rhs.as_mut_slice());
-        pd.scratch_v.gemv(1.0, &pd.minv_jt, &pd.constraint_rhs, 1.0);
+        pd.scratch_v.gemv(1.0, &pd.linv_jt, &pd.constraint_rhs, 1.0);
         pd.contact_wrench.copy_from(&pd.constraint_rhs);
     }
+    pd.mass_factor.solve_l(pd.scratch_v.as_mut_slice());
 
     let nd = layout.nd();
     let xdot = &mut pd.xdot;
@@ -481,10 +504,17 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
     for e in 0..ne {
         let p = &plant.actuation.elastic[e];
         let j = plant.actuation.elastic_joints[e];
-        xdot[2 * nv + ne + e] = (pd.motor_torque[e] - p.ratio * pd.joint_torque[j]) / p.motor_inertia;
+        xdot[2 * nv + ne + e] =
+            (pd.motor_torque[e] - p.ratio * pd.joint_torque[j]) / p.motor_inertia;
     }
     debug_assert_eq!(2 * nv + 2 * ne, nd);
     Ok(())
+}
+
+/// The joint inertia regularisation on the joint diagonal (nv; base entries zero).
+fn joint_diagonal(plant: &Plant, diagonal: &mut [f64]) {
+    diagonal[..6].fill(0.0);
+    diagonal[6..].fill(plant.joint_inertia_regularization);
 }
 
 /// Spring-damper torques of elastic joints, inputs of rigid joints, and motor torques.
@@ -503,7 +533,12 @@ fn joint_and_motor_torques(
             pd.joint_torque[j] = u[j];
         }
     }
-    for (e, (&j, p)) in actuation.elastic_joints.iter().zip(&actuation.elastic).enumerate() {
+    for (e, (&j, p)) in actuation
+        .elastic_joints
+        .iter()
+        .zip(&actuation.elastic)
+        .enumerate()
+    {
         let tau = p.stiffness * (p.ratio * theta[e] - q[7 + j])
             + p.damping * (p.ratio * thetadot[e] - nu[6 + j]);
         pd.joint_torque[j] = tau;
@@ -541,21 +576,20 @@ fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64]) {
         pd.drift_position = pd.drift_position.max(position_error.norm());
         pd.drift_rotation = pd.drift_rotation.max(rotation_err.norm());
         for r in 0..6 {
-            let velocity: f64 = (0..nv).map(|i| pd.data.frame_jacobian[(r, i)] * nu[i]).sum();
-            let error = if r < 3 { position_error[r] } else { rotation_err[r - 3] };
+            let velocity: f64 = (0..nv)
+                .map(|i| pd.data.frame_jacobian[(r, i)] * nu[i])
+                .sum();
+            let error = if r < 3 {
+                position_error[r]
+            } else {
+                rotation_err[r - 3]
+            };
             pd.constraint_rhs[6 * c + r] =
                 -(bias[r] + plant.baumgarte_kd * velocity + plant.baumgarte_kp * error);
         }
     }
-    let k = pd.contact_jacobian.nrows();
-    for r in 0..k {
-        for i in 0..nv {
-            pd.minv_jt[(i, r)] = pd.contact_jacobian[(r, i)];
-        }
-        let mut column = pd.minv_jt.column_mut(r);
-        cholesky_solve_in_place(&pd.mass_factor, column.as_mut_slice());
-    }
-    pd.schur.gemm(1.0, &pd.contact_jacobian, &pd.minv_jt, 0.0);
+    pd.mass_factor
+        .schur_complement(&pd.contact_jacobian, &mut pd.linv_jt, &mut pd.schur);
 }
 
 /// Prepares the implicit step's matrix `W = I - g Jf` at the last evaluated state, with `g`
@@ -565,20 +599,19 @@ fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64]) {
 pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Result<()> {
     let actuation = &plant.actuation;
     pd.w_g = g;
-    pd.w_factor.copy_from(&pd.data.mass_matrix);
-    for j in 0..plant.model.n_joints() {
-        pd.w_factor[(6 + j, 6 + j)] += plant.joint_inertia_regularization;
-    }
+    joint_diagonal(plant, &mut pd.diagonal);
     for (e, p) in actuation.elastic.iter().enumerate() {
         let (torque_driven, gain) = match plant.motor_input {
             MotorInput::VelocityLoop { gain } if !pd.saturated[e] => (false, gain),
             _ => (true, 0.0),
         };
-        let coupling = if torque_driven { g / p.motor_inertia } else { 0.0 };
+        let coupling = if torque_driven {
+            g / p.motor_inertia
+        } else {
+            0.0
+        };
         let eta = p.ratio;
-        let den = 1.0
-            + g * gain
-            + coupling * (g * eta * eta * p.stiffness + eta * eta * p.damping);
+        let den = 1.0 + g * gain + coupling * (g * eta * eta * p.stiffness + eta * eta * p.damping);
         let a1 = coupling * eta * (g * p.stiffness + p.damping) / den;
         let t1 = (g * p.stiffness + p.damping) * (eta * a1 - 1.0);
         pd.w_den[e] = den;
@@ -587,24 +620,17 @@ pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Res
         pd.w_torque_driven[e] = torque_driven;
         pd.w_gain[e] = gain;
         let vj = 6 + actuation.elastic_joints[e];
-        pd.w_factor[(vj, vj)] -= g * t1;
+        pd.diagonal[vj] -= g * t1;
     }
-    cholesky_in_place(&mut pd.w_factor).map_err(|i| {
-        Error::input(format!("implicit step matrix is not positive definite (pivot {i})"))
-    })?;
+    pd.w_factor
+        .factor(&pd.data.mass_matrix, &pd.diagonal)
+        .map_err(|e| Error::input(format!("implicit step matrix: {e}")))?;
     if plant.contacts.is_empty() {
         return Ok(());
     }
-    let nv = plant.model.nv();
     pd.w_jacobian.copy_from(&pd.contact_jacobian);
-    for r in 0..pd.w_jacobian.nrows() {
-        for i in 0..nv {
-            pd.w_minv_jt[(i, r)] = pd.w_jacobian[(r, i)];
-        }
-        let mut column = pd.w_minv_jt.column_mut(r);
-        cholesky_solve_in_place(&pd.w_factor, column.as_mut_slice());
-    }
-    pd.w_schur.gemm(1.0, &pd.w_jacobian, &pd.w_minv_jt, 0.0);
+    pd.w_factor
+        .schur_complement(&pd.w_jacobian, &mut pd.w_linv_jt, &mut pd.w_schur);
     cholesky_in_place(&mut pd.w_schur).map_err(|i| {
         Error::input(format!(
             "implicit step: contact constraints are degenerate (pivot {i})"
@@ -619,7 +645,12 @@ pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Res
 /// velocity part solves `[M~ J^T; J 0] [z; -df] = [B (t0 + t1 r_sdot); c]` with
 /// `c = -(K_d J r_nu + K_p J (r_q + g r_nu)) / (1 + g K_d + g^2 K_p)`; then `k_nu = r_nu + g z`,
 /// `k_q = r_q + g k_nu`.
-pub(crate) fn solve_implicit(plant: &Plant, pd: &mut PlantData, r: &DVector<f64>, k: &mut DVector<f64>) {
+pub(crate) fn solve_implicit(
+    plant: &Plant,
+    pd: &mut PlantData,
+    r: &DVector<f64>,
+    k: &mut DVector<f64>,
+) {
     let layout = plant.layout();
     let (nv, ne) = (layout.nv, layout.ne);
     let g = pd.w_g;
@@ -632,14 +663,19 @@ pub(crate) fn solve_implicit(plant: &Plant, pd: &mut PlantData, r: &DVector<f64>
         let vj = 6 + actuation.elastic_joints[e];
         let (r_s, r_theta, r_thetadot) = (r[vj], r[o_theta + e], r[o_thetadot + e]);
         let eta = p.ratio;
-        let coupling = if pd.w_torque_driven[e] { g / p.motor_inertia } else { 0.0 };
-        let a0 = (r_thetadot - coupling * (eta * eta * p.stiffness * r_theta - eta * p.stiffness * r_s))
+        let coupling = if pd.w_torque_driven[e] {
+            g / p.motor_inertia
+        } else {
+            0.0
+        };
+        let a0 = (r_thetadot
+            - coupling * (eta * eta * p.stiffness * r_theta - eta * p.stiffness * r_s))
             / pd.w_den[e];
         let t0 = p.stiffness * (eta * r_theta - r_s) + (g * p.stiffness + p.damping) * eta * a0;
         z[vj] = t0 + pd.w_t1[e] * r[o_nu + vj];
         k[o_thetadot + e] = a0;
     }
-    cholesky_solve_in_place(&pd.w_factor, z.as_mut_slice());
+    pd.w_factor.solve_lt(z.as_mut_slice());
     if !plant.contacts.is_empty() {
         let kp = plant.baumgarte_kp;
         let kd = plant.baumgarte_kd;
@@ -647,18 +683,17 @@ pub(crate) fn solve_implicit(plant: &Plant, pd: &mut PlantData, r: &DVector<f64>
         let rhs = &mut pd.constraint_rhs;
         for row in 0..pd.w_jacobian.nrows() {
             let mut target = 0.0;
-            let mut current = 0.0;
             for i in 0..nv {
-                let jac = pd.w_jacobian[(row, i)];
                 let r_nu = r[o_nu + i];
-                target += jac * (kd * r_nu + kp * (r[i] + g * r_nu));
-                current += jac * z[i];
+                target += pd.w_jacobian[(row, i)] * (kd * r_nu + kp * (r[i] + g * r_nu));
             }
-            rhs[row] = -target * scale - current;
+            rhs[row] = -target * scale;
         }
+        rhs.gemv_tr(-1.0, &pd.w_linv_jt, z, 1.0);
         cholesky_solve_in_place(&pd.w_schur, rhs.as_mut_slice());
-        z.gemv(1.0, &pd.w_minv_jt, rhs, 1.0);
+        z.gemv(1.0, &pd.w_linv_jt, rhs, 1.0);
     }
+    pd.w_factor.solve_l(z.as_mut_slice());
     for i in 0..nv {
         let k_nu = r[o_nu + i] + g * z[i];
         k[o_nu + i] = k_nu;

@@ -59,7 +59,9 @@ pub fn simulate(
     plant.check_state(x0)?;
     plant.check_input(u)?;
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(crate::Error::input(format!("dt must be positive and finite, got {dt}")));
+        return Err(crate::Error::input(format!(
+            "dt must be positive and finite, got {dt}"
+        )));
     }
     let record_every = record_every.max(1);
     let rows = n_steps / record_every + 2;
@@ -92,8 +94,10 @@ pub fn simulate(
         if k % record_every == 0 || last {
             log.time.push(time);
             log.state.extend_from_slice(&x);
-            log.contact_wrench.extend_from_slice(pd.contact_wrench.as_slice());
-            log.motor_torque.extend_from_slice(pd.motor_torque.as_slice());
+            log.contact_wrench
+                .extend_from_slice(pd.contact_wrench.as_slice());
+            log.motor_torque
+                .extend_from_slice(pd.motor_torque.as_slice());
             log.drift_position.push(pd.drift_position);
             log.drift_rotation.push(pd.drift_rotation);
         }

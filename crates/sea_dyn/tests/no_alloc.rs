@@ -63,7 +63,13 @@ fn count_all(seed: u64) -> Vec<(&'static str, usize)> {
     let mut rng = Lcg::new(40_000 + seed);
     let (nq, nv, n) = (model.nq(), model.nv(), model.n_joints());
     let states: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (0..2)
-        .map(|_| (random_q(&mut rng, nq), random_v(&mut rng, nv, 1.0), random_v(&mut rng, nv, 1.0)))
+        .map(|_| {
+            (
+                random_q(&mut rng, nq),
+                random_v(&mut rng, nv, 1.0),
+                random_v(&mut rng, nv, 1.0),
+            )
+        })
         .collect();
     let frame = model.frames.len() - 1;
     let mut q_out = vec![0.0; nq];
@@ -76,14 +82,35 @@ fn count_all(seed: u64) -> Vec<(&'static str, usize)> {
                 out.push((name, count));
             }
         };
-        record("rnea", allocations(|| rnea(&model, &mut data, q, nu, nudot)[0]));
-        record("bias_forces", allocations(|| bias_forces(&model, &mut data, q, nu)[0]));
-        record("gravity_forces", allocations(|| gravity_forces(&model, &mut data, q)[0]));
+        record(
+            "rnea",
+            allocations(|| rnea(&model, &mut data, q, nu, nudot)[0]),
+        );
+        record(
+            "bias_forces",
+            allocations(|| bias_forces(&model, &mut data, q, nu)[0]),
+        );
+        record(
+            "gravity_forces",
+            allocations(|| gravity_forces(&model, &mut data, q)[0]),
+        );
         record("crba", allocations(|| crba(&model, &mut data, q)[(0, 0)]));
-        record("forward_kinematics", allocations(|| forward_kinematics(&model, &mut data, q)));
-        record("forward_velocities", allocations(|| forward_velocities(&model, &mut data, q, nu)));
-        record("frame_placement", allocations(|| frame_placement(&model, &data, frame)));
-        record("frame_jacobian", allocations(|| frame_jacobian(&model, &mut data, q, frame)[(0, 0)]));
+        record(
+            "forward_kinematics",
+            allocations(|| forward_kinematics(&model, &mut data, q)),
+        );
+        record(
+            "forward_velocities",
+            allocations(|| forward_velocities(&model, &mut data, q, nu)),
+        );
+        record(
+            "frame_placement",
+            allocations(|| frame_placement(&model, &data, frame)),
+        );
+        record(
+            "frame_jacobian",
+            allocations(|| frame_jacobian(&model, &mut data, q, frame)[(0, 0)]),
+        );
         record(
             "frame_jacobian_dot_v",
             allocations(|| frame_jacobian_dot_v(&model, &mut data, q, nu, frame)),
@@ -93,19 +120,32 @@ fn count_all(seed: u64) -> Vec<(&'static str, usize)> {
             "centroidal_momentum_matrix",
             allocations(|| centroidal_momentum_matrix(&model, &mut data, q)[(0, 0)]),
         );
-        record("centroidal_momentum", allocations(|| centroidal_momentum(&model, &mut data, q, nu)));
+        record(
+            "centroidal_momentum",
+            allocations(|| centroidal_momentum(&model, &mut data, q, nu)),
+        );
         record(
             "centroidal_momentum_bias",
             allocations(|| centroidal_momentum_bias(&model, &mut data, q, nu)),
         );
-        record("com_jacobian", allocations(|| com_jacobian(&model, &mut data, q)[(0, 0)]));
-        record("integrate", allocations(|| integrate(&model, q, nu, 1e-3, &mut q_out)));
+        record(
+            "com_jacobian",
+            allocations(|| com_jacobian(&model, &mut data, q)[(0, 0)]),
+        );
+        record(
+            "integrate",
+            allocations(|| integrate(&model, q, nu, 1e-3, &mut q_out)),
+        );
         // Inputs of the split, computed outside the counted call.
         crba(&model, &mut data, q);
         let data_ref = &data;
         record(
             "CentroidalSplit::compute",
-            allocations(|| split.compute(&data_ref.mass_matrix, &data_ref.tau, &jacobian).is_ok()),
+            allocations(|| {
+                split
+                    .compute(&data_ref.mass_matrix, &data_ref.tau, &jacobian)
+                    .is_ok()
+            }),
         );
     }
     out
@@ -114,7 +154,10 @@ fn count_all(seed: u64) -> Vec<(&'static str, usize)> {
 #[test]
 fn hot_paths_allocate_nothing_after_warm_up() {
     // Sanity check of the counter itself.
-    assert!(allocations(|| vec![1u8; 16]) >= 1, "the counting allocator is not active");
+    assert!(
+        allocations(|| vec![1u8; 16]) >= 1,
+        "the counting allocator is not active"
+    );
     for seed in [1, 7, 13] {
         let counts = count_all(seed);
         let hot = [
@@ -133,8 +176,14 @@ fn hot_paths_allocate_nothing_after_warm_up() {
             "centroidal_momentum_bias",
             "integrate",
         ];
-        let offenders: Vec<_> = counts.iter().filter(|(name, c)| hot.contains(name) && *c > 0).collect();
-        assert!(offenders.is_empty(), "seed {seed}: allocations in {offenders:?} (all: {counts:?})");
+        let offenders: Vec<_> = counts
+            .iter()
+            .filter(|(name, c)| hot.contains(name) && *c > 0)
+            .collect();
+        assert!(
+            offenders.is_empty(),
+            "seed {seed}: allocations in {offenders:?} (all: {counts:?})"
+        );
     }
 }
 

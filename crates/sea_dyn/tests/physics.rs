@@ -35,7 +35,13 @@ fn bias(model: &Model, data: &mut Data, q: &[f64], nu: &[f64]) -> DVector<f64> {
 }
 
 /// `nudot = M^-1 (tau - h)`.
-fn forward_dynamics(model: &Model, data: &mut Data, q: &[f64], nu: &[f64], tau: &DVector<f64>) -> DVector<f64> {
+fn forward_dynamics(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    nu: &[f64],
+    tau: &DVector<f64>,
+) -> DVector<f64> {
     let m = mass_matrix(model, data, q);
     let h = bias(model, data, q, nu);
     m.cholesky().expect("M positive definite").solve(&(tau - h))
@@ -56,7 +62,9 @@ fn link_sums(model: &Model, data: &mut Data, desc: &RobotDesc, q: &[f64], nu: &[
     let nu_v = dv(nu);
     let mut parts = Vec::new();
     for link in &desc.links {
-        let Some(inertial) = &link.inertial else { continue };
+        let Some(inertial) = &link.inertial else {
+            continue;
+        };
         let id = model.frame_id(&link.name).unwrap();
         sea_dyn::forward_kinematics(model, data, q);
         let pose = frame_placement(model, data, id);
@@ -97,7 +105,11 @@ fn kinematics_and_com_match_an_independent_evaluation_of_the_urdf() {
         let desc = random_robot(seed);
         let model = load(&desc);
         let mut data = Data::new(&model);
-        assert_eq!(model.frames.len(), desc.links.len(), "seed {seed}: one frame per link");
+        assert_eq!(
+            model.frames.len(),
+            desc.links.len(),
+            "seed {seed}: one frame per link"
+        );
         assert_eq!(model.n_joints(), desc.moving_joints().len(), "seed {seed}");
         assert!((model.total_mass() - desc.total_mass()).abs() < 1e-12 * desc.total_mass());
         let mut rng = Lcg::new(1000 + seed);
@@ -130,7 +142,10 @@ fn kinematics_and_com_match_an_independent_evaluation_of_the_urdf() {
             }
             c /= mass;
             let c_lib = com(&model, &mut data, &q);
-            assert!((c - c_lib).amax() < 1e-12, "seed {seed}: com {c_lib} vs {c}");
+            assert!(
+                (c - c_lib).amax() < 1e-12,
+                "seed {seed}: com {c_lib} vs {c}"
+            );
         }
     }
 }
@@ -158,25 +173,61 @@ fn mass_matrix_equals_rnea_columns_and_is_symmetric_positive_definite() {
             let column = rnea(&model, &mut data, &q, &zero, &e).clone() - &g0;
             from_rnea.set_column(k, &column);
         }
-        assert_close_mat(&format!("seed {seed}: M vs RNEA columns"), &m, &from_rnea, 1e-12, scale);
-        assert_close_mat(&format!("seed {seed}: M symmetric"), &m, &m.transpose(), 1e-14, scale);
+        assert_close_mat(
+            &format!("seed {seed}: M vs RNEA columns"),
+            &m,
+            &from_rnea,
+            1e-12,
+            scale,
+        );
+        assert_close_mat(
+            &format!("seed {seed}: M symmetric"),
+            &m,
+            &m.transpose(),
+            1e-14,
+            scale,
+        );
         let eig = m.clone().symmetric_eigen().eigenvalues;
-        assert!(eig.min() > 1e-9 * scale, "seed {seed}: M not positive definite: {eig}");
+        assert!(
+            eig.min() > 1e-9 * scale,
+            "seed {seed}: M not positive definite: {eig}"
+        );
 
         // G, h and the full inverse dynamics.
         let g = gravity_forces(&model, &mut data, &q).clone();
-        assert_close_vec(&format!("seed {seed}: G = rnea(q, 0, 0)"), &g, &g0, 1e-13, g0.amax());
+        assert_close_vec(
+            &format!("seed {seed}: G = rnea(q, 0, 0)"),
+            &g,
+            &g0,
+            1e-13,
+            g0.amax(),
+        );
         let h = bias(&model, &mut data, &q, &nu);
         let h_rnea = rnea(&model, &mut data, &q, &nu, &zero).clone();
-        assert_close_vec(&format!("seed {seed}: h = rnea(q, nu, 0)"), &h, &h_rnea, 1e-13, h.amax());
+        assert_close_vec(
+            &format!("seed {seed}: h = rnea(q, nu, 0)"),
+            &h,
+            &h_rnea,
+            1e-13,
+            h.amax(),
+        );
         let tau = rnea(&model, &mut data, &q, &nu, &nudot).clone();
         let expected = &m * dv(&nudot) + &h;
-        assert_close_vec(&format!("seed {seed}: rnea = M nudot + h"), &tau, &expected, 1e-12, tau.amax());
+        assert_close_vec(
+            &format!("seed {seed}: rnea = M nudot + h"),
+            &tau,
+            &expected,
+            1e-12,
+            tau.amax(),
+        );
         // Gravity: the base force is m g, and G is linear in g.
         let total = model.total_mass();
         let gvec = model.gravity;
         for k in 0..3 {
-            assert!((g[k] + total * gvec[k]).abs() < 1e-12 * total * 10.0, "seed {seed}: G base force {g}");
+            assert!(
+                (g[k] + total * gvec[k]).abs() < 1e-12 * total * 10.0,
+                "seed {seed}: G base force {g}"
+            );
         }
 
         // Kinetic energy 0.5 nu^T M nu equals the sum over the URDF links.
@@ -202,7 +253,9 @@ fn mdot_minus_two_c_is_skew_along_the_motion_and_power_balance_holds() {
         let nu = random_v(&mut rng, model.nv(), 1.0);
         let nu_v = dv(&nu);
 
-        let mdot = central_diff_mat(h, |t| mass_matrix(&model, &mut data, &flow(&model, &q, &nu, t)));
+        let mdot = central_diff_mat(h, |t| {
+            mass_matrix(&model, &mut data, &flow(&model, &q, &nu, t))
+        });
         let c_nu = bias(&model, &mut data, &q, &nu) - gravity_forces(&model, &mut data, &q).clone();
         let quad_mdot = nu_v.dot(&(&mdot * &nu_v));
         let quad_c = nu_v.dot(&c_nu);
@@ -236,7 +289,13 @@ fn dexp_inv(theta: &Vector3<f64>, omega: &Vector3<f64>) -> Vector3<f64> {
 }
 
 /// One RKMK4 step of `qdot = nu` (through `integrate`), `nudot = M^-1 (tau - h)`, `tau = 0`.
-fn rk4_step(model: &Model, data: &mut Data, q: &[f64], nu: &DVector<f64>, dt: f64) -> (Vec<f64>, DVector<f64>) {
+fn rk4_step(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    nu: &DVector<f64>,
+    dt: f64,
+) -> (Vec<f64>, DVector<f64>) {
     let nv = model.nv();
     let zero = DVector::zeros(nv);
     let stages: [(f64, usize); 4] = [(0.0, 0), (0.5, 0), (0.5, 1), (1.0, 2)];
@@ -254,7 +313,8 @@ fn rk4_step(model: &Model, data: &mut Data, q: &[f64], nu: &DVector<f64>, dt: f6
         let theta = Vector3::new(increment[3], increment[4], increment[5]);
         let omega = Vector3::new(nu_stage[3], nu_stage[4], nu_stage[5]);
         let mut k = nu_stage.clone();
-        k.fixed_rows_mut::<3>(3).copy_from(&dexp_inv(&theta, &omega));
+        k.fixed_rows_mut::<3>(3)
+            .copy_from(&dexp_inv(&theta, &omega));
         ks.push(k);
         accs.push(acc);
     }
@@ -296,8 +356,14 @@ fn free_flight_without_gravity_conserves_energy_and_centroidal_momentum() {
         }
         let moved = (dv(&q) - dv(&random_q(&mut Lcg::new(4000 + seed), model.nq()))).amax();
         assert!(moved > 1e-3, "seed {seed}: the robot did not move");
-        assert!(max_energy_drift < 1e-6, "seed {seed}: relative energy drift {max_energy_drift:e}");
-        assert!(max_momentum_drift < 1e-6, "seed {seed}: relative momentum drift {max_momentum_drift:e}");
+        assert!(
+            max_energy_drift < 1e-6,
+            "seed {seed}: relative energy drift {max_energy_drift:e}"
+        );
+        assert!(
+            max_momentum_drift < 1e-6,
+            "seed {seed}: relative momentum drift {max_momentum_drift:e}"
+        );
     }
 }
 
@@ -326,14 +392,20 @@ fn free_fall_with_gravity_conserves_total_energy_and_angular_momentum() {
             if step % 100 == 99 {
                 let time = (step + 1) as f64 * dt;
                 let e = energy(&mut data, &q, &nu);
-                assert!((e - e0).abs() < 1e-6 * (t0 + mass * 9.81 * 1.0), "seed {seed}: energy {e} vs {e0}");
+                assert!(
+                    (e - e0).abs() < 1e-6 * (t0 + mass * 9.81 * 1.0),
+                    "seed {seed}: energy {e} vs {e0}"
+                );
                 let h = centroidal_momentum(&model, &mut data, &q, nu.as_slice());
                 let mut expected = h0;
                 for k in 0..3 {
                     expected[k] += mass * g[k] * time;
                 }
                 let err = (h - expected).amax();
-                assert!(err < 1e-6 * (h0.amax() + mass), "seed {seed}: momentum {h} expected {expected}");
+                assert!(
+                    err < 1e-6 * (h0.amax() + mass),
+                    "seed {seed}: momentum {h} expected {expected}"
+                );
             }
         }
     }
@@ -352,11 +424,26 @@ fn centroidal_momentum_equals_a_g_nu_and_the_sum_over_links() {
         let h_matrix = &a_g * dv(&nu);
         let h = v6(&centroidal_momentum(&model, &mut data, &q, &nu));
         let scale = h.amax() + 1.0;
-        assert_close_vec(&format!("seed {seed}: H vs A_G nu"), &h, &h_matrix, 1e-12, scale);
+        assert_close_vec(
+            &format!("seed {seed}: H vs A_G nu"),
+            &h,
+            &h_matrix,
+            1e-12,
+            scale,
+        );
 
         let sums = link_sums(&model, &mut data, &desc, &q, &nu);
-        let independent = DVector::from_iterator(6, sums.linear.iter().chain(sums.angular_com.iter()).copied());
-        assert_close_vec(&format!("seed {seed}: H vs links"), &h, &independent, 1e-12, scale);
+        let independent = DVector::from_iterator(
+            6,
+            sums.linear.iter().chain(sums.angular_com.iter()).copied(),
+        );
+        assert_close_vec(
+            &format!("seed {seed}: H vs links"),
+            &h,
+            &independent,
+            1e-12,
+            scale,
+        );
         assert!((sums.com - com(&model, &mut data, &q)).amax() < 1e-12);
         assert!((sums.mass - model.total_mass()).abs() < 1e-12);
 
@@ -370,21 +457,46 @@ fn centroidal_momentum_equals_a_g_nu_and_the_sum_over_links() {
             1e-12,
             scale,
         );
-        let fd = central_diff(1e-3, |t| v3(&com(&model, &mut data, &flow(&model, &q, &nu, t))));
-        assert_close_vec(&format!("seed {seed}: J_com nu vs d/dt com"), &v_com, &fd, 1e-7, v_com.amax() + 1.0);
+        let fd = central_diff(1e-3, |t| {
+            v3(&com(&model, &mut data, &flow(&model, &q, &nu, t)))
+        });
+        assert_close_vec(
+            &format!("seed {seed}: J_com nu vs d/dt com"),
+            &v_com,
+            &fd,
+            1e-7,
+            v_com.amax() + 1.0,
+        );
     }
 }
 
 /// Placement of frame `id` at `integrate(q, nu, t)`.
-fn placement_along(model: &Model, data: &mut Data, q: &[f64], nu: &[f64], t: f64, id: usize) -> sea_dyn::spatial::Pose {
+fn placement_along(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    nu: &[f64],
+    t: f64,
+    id: usize,
+) -> sea_dyn::spatial::Pose {
     sea_dyn::forward_kinematics(model, data, &flow(model, q, nu, t));
     frame_placement(model, data, id)
 }
 
 /// `[d/dt p; omega]` of frame `id` along `integrate(q, nu, t)` by finite differences.
-fn twist_by_differences(model: &Model, data: &mut Data, q: &[f64], nu: &[f64], id: usize) -> DVector<f64> {
-    let v = central_diff(1e-3, |t| v3(&placement_along(model, data, q, nu, t, id).translation));
-    let w = angular_velocity(1e-3, |t| placement_along(model, data, q, nu, t, id).rotation);
+fn twist_by_differences(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    nu: &[f64],
+    id: usize,
+) -> DVector<f64> {
+    let v = central_diff(1e-3, |t| {
+        v3(&placement_along(model, data, q, nu, t, id).translation)
+    });
+    let w = angular_velocity(1e-3, |t| {
+        placement_along(model, data, q, nu, t, id).rotation
+    });
     DVector::from_iterator(6, v.iter().chain(w.iter()).copied())
 }
 
@@ -414,7 +526,13 @@ fn frame_jacobians_match_finite_differences_of_the_placements() {
                 e[k] = 1.0;
                 let col = j.column(k).into_owned();
                 let fd = twist_by_differences(&model, &mut data, &q, &e, id);
-                assert_close_vec(&format!("seed {seed}: base column {k}"), &col, &fd, 1e-7, 5.0);
+                assert_close_vec(
+                    &format!("seed {seed}: base column {k}"),
+                    &col,
+                    &fd,
+                    1e-7,
+                    5.0,
+                );
             }
         }
     }
@@ -447,7 +565,10 @@ fn jdot_nu_matches_the_derivative_of_j_nu_at_constant_nu() {
             let (p0, p1, m1, p2, m2) = (p(0.0), p(h), p(-h), p(2.0 * h), p(-2.0 * h));
             let acc = ((p1 + m1) * 16.0 - (p2 + m2) - p0 * 30.0) / (12.0 * h * h);
             let err = (acc - Vector3::new(jdot_nu[0], jdot_nu[1], jdot_nu[2])).amax();
-            assert!(err < 1e-5 * (jdot_nu.amax() + 1.0), "seed {seed}: pddot {acc} vs Jdot nu {jdot_nu}");
+            assert!(
+                err < 1e-5 * (jdot_nu.amax() + 1.0),
+                "seed {seed}: pddot {acc} vs Jdot nu {jdot_nu}"
+            );
         }
     }
 }
@@ -463,9 +584,16 @@ fn centroidal_momentum_bias_matches_the_derivative_of_a_g_nu() {
         let nu = random_v(&mut rng, model.nv(), 1.0);
         let bias = v6(&centroidal_momentum_bias(&model, &mut data, &q, &nu));
         let fd = central_diff(1e-3, |t| {
-            centroidal_momentum_matrix(&model, &mut data, &flow(&model, &q, &nu, t)).clone() * dv(&nu)
+            centroidal_momentum_matrix(&model, &mut data, &flow(&model, &q, &nu, t)).clone()
+                * dv(&nu)
         });
-        assert_close_vec(&format!("seed {seed}: Adot_G nu"), &bias, &fd, 1e-7, bias.amax() + 1.0);
+        assert_close_vec(
+            &format!("seed {seed}: Adot_G nu"),
+            &bias,
+            &fd,
+            1e-7,
+            bias.amax() + 1.0,
+        );
 
         // Without gravity the base rows of RNEA are the rate of the total momentum (force, and
         // moment about the base origin): Hdot = A_G nudot + Adot_G nu.
@@ -478,7 +606,13 @@ fn centroidal_momentum_bias_matches_the_derivative_of_a_g_nu() {
         let force = Vector3::new(hdot[0], hdot[1], hdot[2]);
         let moment = Vector3::new(hdot[3], hdot[4], hdot[5]) + c_rel.cross(&force);
         let expected = DVector::from_iterator(6, force.iter().chain(moment.iter()).copied());
-        assert_close_vec(&format!("seed {seed}: base wrench vs Hdot"), &tau.rows(0, 6).into_owned(), &expected, 1e-12, tau.amax() + 1.0);
+        assert_close_vec(
+            &format!("seed {seed}: base wrench vs Hdot"),
+            &tau.rows(0, 6).into_owned(),
+            &expected,
+            1e-12,
+            tau.amax() + 1.0,
+        );
     }
 }
 
@@ -498,8 +632,10 @@ fn centroidal_split_matches_the_dense_schur_complement() {
         let f1 = rng.below(model.frames.len());
         let f2 = (f1 + 1 + rng.below(model.frames.len() - 1)) % model.frames.len();
         let mut j = DMatrix::zeros(12, nv);
-        j.rows_mut(0, 6).copy_from(frame_jacobian(&model, &mut data, &q, f1));
-        j.rows_mut(6, 6).copy_from(frame_jacobian(&model, &mut data, &q, f2));
+        j.rows_mut(0, 6)
+            .copy_from(frame_jacobian(&model, &mut data, &q, f1));
+        j.rows_mut(6, 6)
+            .copy_from(frame_jacobian(&model, &mut data, &q, f2));
 
         let mut split = CentroidalSplit::new(n, 12);
         split.compute(&m, &h, &j).unwrap();
@@ -508,14 +644,42 @@ fn centroidal_split_matches_the_dense_schur_complement() {
         let m_jb = m.view((6, 0), (n, 6)).into_owned();
         let m_bj = m.view((0, 6), (6, n)).into_owned();
         let mbar = m.view((6, 6), (n, n)) - &m_jb * &m_b_inv * &m_bj;
-        let jbar_t = j.view((0, 6), (12, n)).transpose() - &m_jb * &m_b_inv * j.view((0, 0), (12, 6)).transpose();
+        let jbar_t = j.view((0, 6), (12, n)).transpose()
+            - &m_jb * &m_b_inv * j.view((0, 0), (12, 6)).transpose();
         let hbar = h.rows(6, n) - &m_jb * &m_b_inv * h.rows(0, 6);
         let scale = m.amax();
-        assert_close_mat(&format!("seed {seed}: Mbar"), &split.mbar, &mbar, 1e-10, scale);
-        assert_close_mat(&format!("seed {seed}: Jbar^T"), &split.jbar_t, &jbar_t, 1e-10, j.amax() + 1.0);
-        assert_close_vec(&format!("seed {seed}: hbar"), &split.hbar_j, &hbar, 1e-10, h.amax() + 1.0);
-        assert_close_mat(&format!("seed {seed}: Mbar symmetric"), &split.mbar, &split.mbar.transpose(), 1e-12, scale);
-        assert!(split.mbar.clone().cholesky().is_some(), "seed {seed}: Mbar not positive definite");
+        assert_close_mat(
+            &format!("seed {seed}: Mbar"),
+            &split.mbar,
+            &mbar,
+            1e-10,
+            scale,
+        );
+        assert_close_mat(
+            &format!("seed {seed}: Jbar^T"),
+            &split.jbar_t,
+            &jbar_t,
+            1e-10,
+            j.amax() + 1.0,
+        );
+        assert_close_vec(
+            &format!("seed {seed}: hbar"),
+            &split.hbar_j,
+            &hbar,
+            1e-10,
+            h.amax() + 1.0,
+        );
+        assert_close_mat(
+            &format!("seed {seed}: Mbar symmetric"),
+            &split.mbar,
+            &split.mbar.transpose(),
+            1e-12,
+            scale,
+        );
+        assert!(
+            split.mbar.clone().cholesky().is_some(),
+            "seed {seed}: Mbar not positive definite"
+        );
 
         // Joint dynamics after eliminating the base: Mbar sddot = Jbar^T f - hbar + tau.
         for _ in 0..3 {
@@ -529,7 +693,13 @@ fn centroidal_split_matches_the_dense_schur_complement() {
             let sddot = nudot.rows(6, n).into_owned();
             let lhs = &split.mbar * &sddot;
             let expected = &split.jbar_t * &f - &split.hbar_j + &tau;
-            assert_close_vec(&format!("seed {seed}: reduced joint dynamics"), &lhs, &expected, 1e-9, expected.amax() + 1.0);
+            assert_close_vec(
+                &format!("seed {seed}: reduced joint dynamics"),
+                &lhs,
+                &expected,
+                1e-9,
+                expected.amax() + 1.0,
+            );
         }
     }
 }
@@ -558,6 +728,12 @@ fn random_trees_cover_every_joint_type_and_massless_leaves() {
     }
     assert!(seen.iter().all(|s| *s), "joint types seen: {seen:?}");
     assert!(massless >= 20);
-    assert!(sizes.iter().all(|n| (6..=15).contains(n)), "sizes {sizes:?}");
-    assert!(sizes.iter().any(|n| *n >= 12) && sizes.iter().any(|n| *n <= 9), "sizes {sizes:?}");
+    assert!(
+        sizes.iter().all(|n| (6..=15).contains(n)),
+        "sizes {sizes:?}"
+    );
+    assert!(
+        sizes.iter().any(|n| *n >= 12) && sizes.iter().any(|n| *n <= 9),
+        "sizes {sizes:?}"
+    );
 }

@@ -16,7 +16,17 @@ fn link(name: &str) -> String {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn link_with(name: &str, mass: &str, ixx: &str, ixy: &str, ixz: &str, iyy: &str, iyz: &str, izz: &str, xyz: &str) -> String {
+fn link_with(
+    name: &str,
+    mass: &str,
+    ixx: &str,
+    ixy: &str,
+    ixz: &str,
+    iyy: &str,
+    iyz: &str,
+    izz: &str,
+    xyz: &str,
+) -> String {
     format!(
         r#"<link name="{name}"><inertial><origin xyz="{xyz}" rpy="0 0 0"/><mass value="{mass}"/>
   <inertia ixx="{ixx}" ixy="{ixy}" ixz="{ixz}" iyy="{iyy}" iyz="{iyz}" izz="{izz}"/></inertial></link>"#
@@ -59,7 +69,10 @@ fn valid_parts() -> Vec<String> {
 /// Replaces the part that starts like `prefix` (e.g. `<link name="thigh"`).
 fn replace(parts: &[String], prefix: &str, new: String) -> Vec<String> {
     let mut out = parts.to_vec();
-    let k = out.iter().position(|p| p.starts_with(prefix)).unwrap_or_else(|| panic!("no part {prefix}"));
+    let k = out
+        .iter()
+        .position(|p| p.starts_with(prefix))
+        .unwrap_or_else(|| panic!("no part {prefix}"));
     out[k] = new;
     out
 }
@@ -94,10 +107,18 @@ fn the_valid_reference_robot_loads() {
 
 #[test]
 fn missing_links_are_named() {
-    let parts = replace(&valid_parts(), r#"<joint name="knee""#, joint("knee", "continuous", "thigh", "ghost_link"));
+    let parts = replace(
+        &valid_parts(),
+        r#"<joint name="knee""#,
+        joint("knee", "continuous", "thigh", "ghost_link"),
+    );
     // `shin` then has no parent either; the missing child must be reported, by name.
     expect_error(&parts, &["ghost_link", "knee"]);
-    let parts = replace(&valid_parts(), r#"<joint name="knee""#, joint("knee", "continuous", "phantom", "shin"));
+    let parts = replace(
+        &valid_parts(),
+        r#"<joint name="knee""#,
+        joint("knee", "continuous", "phantom", "shin"),
+    );
     expect_error(&parts, &["phantom", "knee"]);
 }
 
@@ -141,18 +162,62 @@ fn bad_masses_and_inertias_are_named() {
     let base = valid_parts();
     let key = r#"<link name="thigh""#;
     let cases: Vec<(&str, String, &str)> = vec![
-        ("negative mass", link_with("thigh", "-1", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"), "non-positive mass"),
-        ("zero mass, nonzero inertia", link_with("thigh", "0", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"), "non-positive mass"),
-        ("negative moment", link_with("thigh", "1", "-0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"), "positive definite"),
-        ("indefinite (off-diagonal)", link_with("thigh", "1", "0.1", "0.2", "0", "0.1", "0", "0.1", "0 0 0"), "positive definite"),
-        ("zero inertia, positive mass", link_with("thigh", "1", "0", "0", "0", "0", "0", "0", "0 0 0"), "positive definite"),
-        ("triangle inequality", link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.5", "0 0 0"), "triangle"),
+        (
+            "negative mass",
+            link_with("thigh", "-1", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"),
+            "non-positive mass",
+        ),
+        (
+            "zero mass, nonzero inertia",
+            link_with("thigh", "0", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"),
+            "non-positive mass",
+        ),
+        (
+            "negative moment",
+            link_with("thigh", "1", "-0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"),
+            "positive definite",
+        ),
+        (
+            "indefinite (off-diagonal)",
+            link_with("thigh", "1", "0.1", "0.2", "0", "0.1", "0", "0.1", "0 0 0"),
+            "positive definite",
+        ),
+        (
+            "zero inertia, positive mass",
+            link_with("thigh", "1", "0", "0", "0", "0", "0", "0", "0 0 0"),
+            "positive definite",
+        ),
+        (
+            "triangle inequality",
+            link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.5", "0 0 0"),
+            "triangle",
+        ),
         // Rotated version of principal moments (0.1, 0.1, 0.5): still violates it.
-        ("triangle inequality, rotated", link_with("thigh", "1", "0.3", "0.2", "0", "0.3", "0", "0.1", "0 0 0"), "triangle"),
-        ("NaN mass", link_with("thigh", "nan", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"), "non-finite"),
-        ("NaN inertia", link_with("thigh", "1", "0.1", "NaN", "0", "0.1", "0", "0.1", "0 0 0"), "non-finite"),
-        ("NaN inertial origin", link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.1", "0 nan 0"), "non-finite"),
-        ("infinite inertial origin", link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.1", "inf 0 0"), "non-finite"),
+        (
+            "triangle inequality, rotated",
+            link_with("thigh", "1", "0.3", "0.2", "0", "0.3", "0", "0.1", "0 0 0"),
+            "triangle",
+        ),
+        (
+            "NaN mass",
+            link_with("thigh", "nan", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"),
+            "non-finite",
+        ),
+        (
+            "NaN inertia",
+            link_with("thigh", "1", "0.1", "NaN", "0", "0.1", "0", "0.1", "0 0 0"),
+            "non-finite",
+        ),
+        (
+            "NaN inertial origin",
+            link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.1", "0 nan 0"),
+            "non-finite",
+        ),
+        (
+            "infinite inertial origin",
+            link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.1", "inf 0 0"),
+            "non-finite",
+        ),
     ];
     for (what, new, reason) in cases {
         let parts = replace(&base, key, new);
@@ -161,10 +226,18 @@ fn bad_masses_and_inertias_are_named() {
         eprintln!("{what}: {msg}");
     }
     // A massless link with zero inertia is fine; so is a tight but valid inertia.
-    let parts = replace(&base, key, link_with("thigh", "0", "0", "0", "0", "0", "0", "0", "0 0 0"));
+    let parts = replace(
+        &base,
+        key,
+        link_with("thigh", "0", "0", "0", "0", "0", "0", "0", "0 0 0"),
+    );
     // thigh is then a massless moving link: allowed to load (it carries shin).
     Model::from_urdf_str(&robot(&parts), &LoadOptions::default()).unwrap();
-    let parts = replace(&base, key, link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.2", "0 0 0"));
+    let parts = replace(
+        &base,
+        key,
+        link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.2", "0 0 0"),
+    );
     Model::from_urdf_str(&robot(&parts), &LoadOptions::default()).unwrap();
 }
 
@@ -173,13 +246,41 @@ fn bad_joint_numbers_are_named() {
     let base = valid_parts();
     let key = r#"<joint name="hip""#;
     let cases = [
-        ("NaN in origin xyz", joint_with("hip", "revolute", "torso", "thigh", "0 NaN 0.1", "0 0 1"), "non-finite"),
-        ("NaN in axis", joint_with("hip", "revolute", "torso", "thigh", "0 0 0.1", "0 nan 1"), "non-finite"),
-        ("zero axis, revolute", joint_with("hip", "revolute", "torso", "thigh", "0 0 0.1", "0 0 0"), "zero axis"),
-        ("zero axis, continuous", joint_with("hip", "continuous", "torso", "thigh", "0 0 0.1", "0 0 0"), "zero axis"),
-        ("zero axis, prismatic", joint_with("hip", "prismatic", "torso", "thigh", "0 0 0.1", "0 0 0"), "zero axis"),
-        ("floating joint", joint("hip", "floating", "torso", "thigh"), "unsupported"),
-        ("planar joint", joint("hip", "planar", "torso", "thigh"), "unsupported"),
+        (
+            "NaN in origin xyz",
+            joint_with("hip", "revolute", "torso", "thigh", "0 NaN 0.1", "0 0 1"),
+            "non-finite",
+        ),
+        (
+            "NaN in axis",
+            joint_with("hip", "revolute", "torso", "thigh", "0 0 0.1", "0 nan 1"),
+            "non-finite",
+        ),
+        (
+            "zero axis, revolute",
+            joint_with("hip", "revolute", "torso", "thigh", "0 0 0.1", "0 0 0"),
+            "zero axis",
+        ),
+        (
+            "zero axis, continuous",
+            joint_with("hip", "continuous", "torso", "thigh", "0 0 0.1", "0 0 0"),
+            "zero axis",
+        ),
+        (
+            "zero axis, prismatic",
+            joint_with("hip", "prismatic", "torso", "thigh", "0 0 0.1", "0 0 0"),
+            "zero axis",
+        ),
+        (
+            "floating joint",
+            joint("hip", "floating", "torso", "thigh"),
+            "unsupported",
+        ),
+        (
+            "planar joint",
+            joint("hip", "planar", "torso", "thigh"),
+            "unsupported",
+        ),
     ];
     for (what, new, reason) in cases {
         let parts = replace(&base, key, new);
@@ -188,7 +289,10 @@ fn bad_joint_numbers_are_named() {
         eprintln!("{what}: {msg}");
     }
     // NaN in an rpy.
-    let text = robot(&base).replace(r#"<joint name="hip" type="revolute"><origin xyz="0 0 0.1" rpy="0 0 0"/>"#, r#"<joint name="hip" type="revolute"><origin xyz="0 0 0.1" rpy="0 nan 0"/>"#);
+    let text = robot(&base).replace(
+        r#"<joint name="hip" type="revolute"><origin xyz="0 0 0.1" rpy="0 0 0"/>"#,
+        r#"<joint name="hip" type="revolute"><origin xyz="0 0 0.1" rpy="0 nan 0"/>"#,
+    );
     assert!(text.contains("0 nan 0"));
     expect_model_error(&text, &LoadOptions::default(), &["hip"]);
 }
@@ -230,7 +334,11 @@ fn bad_joint_lists_are_named() {
     expect_model_error(&text, &opts(&["knee", "hip", "knee"], &[]), &["knee"]);
     expect_model_error(&text, &opts(&["hip"], &[("wrist", 0.3)]), &["wrist"]);
     expect_model_error(&text, &opts(&["hip"], &[("hip", 0.3)]), &["hip"]);
-    expect_model_error(&text, &opts(&["hip"], &[("ankle_fixed", 0.3)]), &["ankle_fixed"]);
+    expect_model_error(
+        &text,
+        &opts(&["hip"], &[("ankle_fixed", 0.3)]),
+        &["ankle_fixed"],
+    );
     expect_model_error(&text, &opts(&["hip"], &[("knee", f64::NAN)]), &["knee"]);
     // Valid: an empty list locks everything; a locked value for an unlisted joint.
     let model = Model::from_urdf_str(&text, &opts(&[], &[("knee", 0.4)])).unwrap();
@@ -240,7 +348,10 @@ fn bad_joint_lists_are_named() {
 
 #[test]
 fn unparsable_text_and_missing_files_are_model_errors() {
-    assert!(matches!(Model::from_urdf_str("<robot", &LoadOptions::default()), Err(Error::Model(_))));
+    assert!(matches!(
+        Model::from_urdf_str("<robot", &LoadOptions::default()),
+        Err(Error::Model(_))
+    ));
     let path = "/nonexistent/dir/robot_that_is_not_here.urdf";
     expect_model_error_file(path);
 }
@@ -300,7 +411,13 @@ fn default_joint_order_is_depth_first_in_file_order() {
 
 /// Maps reduced-model vectors into the full model: base as is, listed joints at their
 /// coordinates, others at `locked` (configuration) or 0 (velocity).
-fn to_full(full: &Model, reduced: &Model, v: &[f64], head: usize, locked: &HashMap<String, f64>) -> Vec<f64> {
+fn to_full(
+    full: &Model,
+    reduced: &Model,
+    v: &[f64],
+    head: usize,
+    locked: &HashMap<String, f64>,
+) -> Vec<f64> {
     let mut out = v[..head].to_vec();
     for name in &full.joint_names {
         out.push(match reduced.joint_index(name) {
@@ -315,7 +432,12 @@ fn to_full(full: &Model, reduced: &Model, v: &[f64], head: usize, locked: &HashM
 /// Column/row indices of the reduced model's velocity in the full model's.
 fn velocity_map(full: &Model, reduced: &Model) -> Vec<usize> {
     (0..6)
-        .chain(reduced.joint_names.iter().map(|n| 6 + full.joint_index(n).unwrap()))
+        .chain(
+            reduced
+                .joint_names
+                .iter()
+                .map(|n| 6 + full.joint_index(n).unwrap()),
+        )
         .collect()
 }
 
@@ -329,7 +451,13 @@ fn select_rows(v: &DVector<f64>, rows: &[usize]) -> DVector<f64> {
 
 /// Checks that `reduced` equals `full` at the locked values: M, h, G, A_G, every frame
 /// placement and Jacobian.
-fn check_reduced_against_full(seed: u64, desc: &RobotDesc, full: &Model, reduced: &Model, locked: &HashMap<String, f64>) {
+fn check_reduced_against_full(
+    seed: u64,
+    desc: &RobotDesc,
+    full: &Model,
+    reduced: &Model,
+    locked: &HashMap<String, f64>,
+) {
     let mut df = Data::new(full);
     let mut dr = Data::new(reduced);
     let mut rng = Lcg::new(seed * 7 + 3);
@@ -343,35 +471,75 @@ fn check_reduced_against_full(seed: u64, desc: &RobotDesc, full: &Model, reduced
     let m_f = crba(full, &mut df, &q_f).clone();
     let m_r = crba(reduced, &mut dr, &q_r).clone();
     let scale = m_f.amax();
-    assert_close_mat(&format!("{ctx}: M"), &m_r, &select(&m_f, &map, &map), 1e-12, scale);
+    assert_close_mat(
+        &format!("{ctx}: M"),
+        &m_r,
+        &select(&m_f, &map, &map),
+        1e-12,
+        scale,
+    );
     let h_f = bias_forces(full, &mut df, &q_f, &nu_f).clone();
     let h_r = bias_forces(reduced, &mut dr, &q_r, &nu_r).clone();
-    assert_close_vec(&format!("{ctx}: h"), &h_r, &select_rows(&h_f, &map), 1e-12, h_f.amax() + 1.0);
+    assert_close_vec(
+        &format!("{ctx}: h"),
+        &h_r,
+        &select_rows(&h_f, &map),
+        1e-12,
+        h_f.amax() + 1.0,
+    );
     let g_f = gravity_forces(full, &mut df, &q_f).clone();
     let g_r = gravity_forces(reduced, &mut dr, &q_r).clone();
-    assert_close_vec(&format!("{ctx}: G"), &g_r, &select_rows(&g_f, &map), 1e-12, g_f.amax() + 1.0);
+    assert_close_vec(
+        &format!("{ctx}: G"),
+        &g_r,
+        &select_rows(&g_f, &map),
+        1e-12,
+        g_f.amax() + 1.0,
+    );
     let a_f = centroidal_momentum_matrix(full, &mut df, &q_f).clone();
     let a_r = centroidal_momentum_matrix(reduced, &mut dr, &q_r).clone();
     let all6: Vec<usize> = (0..6).collect();
-    assert_close_mat(&format!("{ctx}: A_G"), &a_r, &select(&a_f, &all6, &map), 1e-12, a_f.amax());
+    assert_close_mat(
+        &format!("{ctx}: A_G"),
+        &a_r,
+        &select(&a_f, &all6, &map),
+        1e-12,
+        a_f.amax(),
+    );
     assert!((full.total_mass() - reduced.total_mass()).abs() < 1e-12 * full.total_mass());
 
     sea_dyn::forward_kinematics(full, &mut df, &q_f);
     sea_dyn::forward_kinematics(reduced, &mut dr, &q_r);
     for link in &desc.links {
-        let (idf, idr) = (full.frame_id(&link.name).unwrap(), reduced.frame_id(&link.name).unwrap());
-        let (pf, pr) = (frame_placement(full, &df, idf), frame_placement(reduced, &dr, idr));
+        let (idf, idr) = (
+            full.frame_id(&link.name).unwrap(),
+            reduced.frame_id(&link.name).unwrap(),
+        );
+        let (pf, pr) = (
+            frame_placement(full, &df, idf),
+            frame_placement(reduced, &dr, idr),
+        );
         assert!(
-            (pf.rotation - pr.rotation).amax() < 1e-12 && (pf.translation - pr.translation).amax() < 1e-12,
+            (pf.rotation - pr.rotation).amax() < 1e-12
+                && (pf.translation - pr.translation).amax() < 1e-12,
             "{ctx}: placement of {}",
             link.name
         );
     }
     for link in &desc.links {
-        let (idf, idr) = (full.frame_id(&link.name).unwrap(), reduced.frame_id(&link.name).unwrap());
+        let (idf, idr) = (
+            full.frame_id(&link.name).unwrap(),
+            reduced.frame_id(&link.name).unwrap(),
+        );
         let jf = frame_jacobian(full, &mut df, &q_f, idf).clone();
         let jr = frame_jacobian(reduced, &mut dr, &q_r, idr).clone();
-        assert_close_mat(&format!("{ctx}: J of {}", link.name), &jr, &select(&jf, &all6, &map), 1e-12, 5.0);
+        assert_close_mat(
+            &format!("{ctx}: J of {}", link.name),
+            &jr,
+            &select(&jf, &all6, &map),
+            1e-12,
+            5.0,
+        );
     }
 }
 
@@ -396,7 +564,10 @@ fn reduced_models_equal_the_full_model_at_the_locked_values() {
             locked: locked.clone(),
         };
         let reduced = Model::from_urdf_str(&desc.to_urdf(), &options).unwrap();
-        assert_eq!(reduced.joint_names, keep, "seed {seed}: coordinate order is the list order");
+        assert_eq!(
+            reduced.joint_names, keep,
+            "seed {seed}: coordinate order is the list order"
+        );
         check_reduced_against_full(seed, &desc, &full, &reduced, &locked);
     }
 }

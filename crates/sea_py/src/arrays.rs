@@ -79,8 +79,16 @@ where
 
 /// A C-ordered (rows x columns) array from row-major data; `columns = 0` gives shape (rows, 0)
 /// with rows taken as 0.
-pub fn matrix_rows_out<'py>(py: Python<'py>, row_major: &[f64], columns: usize) -> Bound<'py, PyArray2<f64>> {
-    let rows = if columns == 0 { 0 } else { row_major.len() / columns };
+pub fn matrix_rows_out<'py>(
+    py: Python<'py>,
+    row_major: &[f64],
+    columns: usize,
+) -> Bound<'py, PyArray2<f64>> {
+    let rows = if columns == 0 {
+        0
+    } else {
+        row_major.len() / columns
+    };
     Array2::from_shape_vec((rows, columns), row_major.to_vec())
         .expect("row-major data matches its shape")
         .into_pyarray(py)

@@ -15,7 +15,13 @@ use std::collections::HashMap;
 /// Parameters of an elastic actuator from a dict with keys ratio, motor_inertia, stiffness,
 /// damping and optional torque_limit; `where_` names the dict in errors.
 fn elastic_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<ElasticParameters> {
-    const KEYS: [&str; 5] = ["ratio", "motor_inertia", "stiffness", "damping", "torque_limit"];
+    const KEYS: [&str; 5] = [
+        "ratio",
+        "motor_inertia",
+        "stiffness",
+        "damping",
+        "torque_limit",
+    ];
     for key in dict.keys() {
         let key: String = key.extract()?;
         if !KEYS.contains(&key.as_str()) {
@@ -186,7 +192,12 @@ impl PyPlant {
     #[getter]
     fn elastic_joints(&self) -> Vec<String> {
         let names = &self.plant.model.joint_names;
-        self.plant.actuation.elastic_joints.iter().map(|&j| names[j].clone()).collect()
+        self.plant
+            .actuation
+            .elastic_joints
+            .iter()
+            .map(|&j| names[j].clone())
+            .collect()
     }
 
     /// Contact frame names.
@@ -233,20 +244,35 @@ impl PyPlant {
     }
 
     /// Splits a state into a dict with q, theta, nu, thetadot.
-    fn split_state<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    fn split_state<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let layout = self.plant.layout();
         vector_arg(x, "x", layout.nx(), &mut self.x)?;
         let dict = PyDict::new(py);
         let x = &self.x;
         dict.set_item("q", vector_out(py, &x[..layout.nq]))?;
-        dict.set_item("theta", vector_out(py, &x[layout.theta()..layout.theta() + layout.ne]))?;
-        dict.set_item("nu", vector_out(py, &x[layout.nu()..layout.nu() + layout.nv]))?;
+        dict.set_item(
+            "theta",
+            vector_out(py, &x[layout.theta()..layout.theta() + layout.ne]),
+        )?;
+        dict.set_item(
+            "nu",
+            vector_out(py, &x[layout.nu()..layout.nu() + layout.nv]),
+        )?;
         dict.set_item("thetadot", vector_out(py, &x[layout.thetadot()..]))?;
         Ok(dict)
     }
 
     /// dx/dt (nx) of the state vector itself (quaternion rate included), for scipy.
-    fn dynamics<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn dynamics<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.load(x, u)?;
         sea_dyn::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
         let mut out = vec![0.0; self.plant.layout().nx()];
@@ -256,34 +282,64 @@ impl PyPlant {
 
     /// Outputs at (x, u): contact wrenches (n_contacts x 6, [force; moment about the frame
     /// origin], world axes), joint torques (n), motor torques (n_e), drift, wrench margins.
-    fn outputs<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    fn outputs<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         self.load(x, u)?;
         sea_dyn::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
         let d = &self.data;
         let dict = PyDict::new(py);
-        dict.set_item("contact_wrenches", matrix_rows_out(py, d.contact_wrench.as_slice(), 6))?;
+        dict.set_item(
+            "contact_wrenches",
+            matrix_rows_out(py, d.contact_wrench.as_slice(), 6),
+        )?;
         dict.set_item("joint_torques", vector_out(py, d.joint_torque.as_slice()))?;
         dict.set_item("motor_torques", vector_out(py, d.motor_torque.as_slice()))?;
         dict.set_item("drift_position", d.drift_position)?;
         dict.set_item("drift_rotation", d.drift_rotation)?;
         let margins = d.wrench_margins(&self.plant, &self.x);
-        let column = |f: fn(&sea_dyn::WrenchMargins) -> f64| margins.iter().map(f).collect::<Vec<f64>>();
+        let column =
+            |f: fn(&sea_dyn::WrenchMargins) -> f64| margins.iter().map(f).collect::<Vec<f64>>();
         dict.set_item("normal_force", vector_out(py, &column(|m| m.normal_force)))?;
         dict.set_item("friction_margin", vector_out(py, &column(|m| m.friction)))?;
-        dict.set_item("cop_margin", vector_out(py, &column(|m| m.center_of_pressure)))?;
+        dict.set_item(
+            "cop_margin",
+            vector_out(py, &column(|m| m.center_of_pressure)),
+        )?;
         Ok(dict)
     }
 
     /// One step of size dt with u held: method "ros2" (default), "implicit_euler" or "rk4".
     #[pyo3(signature = (x, u, dt, method="ros2"))]
-    fn step<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>, dt: f64, method: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        dt: f64,
+        method: &str,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let method = Method::parse(method).map_err(to_py)?;
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(PyValueError::new_err(format!("dt must be positive and finite, got {dt}")));
+            return Err(PyValueError::new_err(format!(
+                "dt must be positive and finite, got {dt}"
+            )));
         }
         self.load(x, u)?;
         let mut out = vec![0.0; self.x.len()];
-        sea_dyn::step(&self.plant, &mut self.data, &self.x, &self.u, dt, method, &mut out).map_err(to_py)?;
+        sea_dyn::step(
+            &self.plant,
+            &mut self.data,
+            &self.x,
+            &self.u,
+            dt,
+            method,
+            &mut out,
+        )
+        .map_err(to_py)?;
         Ok(PyArray1::from_vec(py, out))
     }
 
@@ -307,7 +363,9 @@ impl PyPlant {
         self.load(x0, u)?;
         let (plant, data, x, u) = (&self.plant, &mut self.data, &self.x, &self.u);
         let log = py
-            .detach(|| sea_dyn::simulate(plant, data, x, u, dt, n_steps, method, record_every, |_| {}))
+            .detach(|| {
+                sea_dyn::simulate(plant, data, x, u, dt, n_steps, method, record_every, |_| {})
+            })
             .map_err(to_py)?;
         let dict = PyDict::new(py);
         let nx = self.plant.layout().nx();
@@ -315,8 +373,14 @@ impl PyPlant {
         dict.set_item("time", vector_out(py, &log.time))?;
         dict.set_item("x", matrix_rows_out(py, &log.state, nx))?;
         let wrenches = matrix_rows_out(py, &log.contact_wrench, 6);
-        dict.set_item("contact_wrenches", wrenches.reshape([rows, self.plant.contacts.len(), 6])?)?;
-        dict.set_item("motor_torques", matrix_rows_out(py, &log.motor_torque, self.plant.actuation.n_elastic()))?;
+        dict.set_item(
+            "contact_wrenches",
+            wrenches.reshape([rows, self.plant.contacts.len(), 6])?,
+        )?;
+        dict.set_item(
+            "motor_torques",
+            matrix_rows_out(py, &log.motor_torque, self.plant.actuation.n_elastic()),
+        )?;
         dict.set_item("drift_position", vector_out(py, &log.drift_position))?;
         dict.set_item("drift_rotation", vector_out(py, &log.drift_rotation))?;
         match &log.status {

@@ -89,7 +89,9 @@ pub fn axis_angle(axis: &Vector3<f64>, angle: f64) -> Matrix3<f64> {
 
 /// URDF roll-pitch-yaw: `Rz(yaw) Ry(pitch) Rx(roll)`.
 pub fn rpy(r: [f64; 3]) -> Matrix3<f64> {
-    axis_angle(&Vector3::z(), r[2]) * axis_angle(&Vector3::y(), r[1]) * axis_angle(&Vector3::x(), r[0])
+    axis_angle(&Vector3::z(), r[2])
+        * axis_angle(&Vector3::y(), r[1])
+        * axis_angle(&Vector3::x(), r[0])
 }
 
 /// Rotation matrix of a unit quaternion (w, x, y, z).
@@ -101,7 +103,11 @@ pub fn quat_to_matrix(q: [f64; 4]) -> Matrix3<f64> {
 
 /// Rotation vector of a rotation matrix (angle < pi), accurate for small angles.
 pub fn log_so3(r: &Matrix3<f64>) -> Vector3<f64> {
-    let v = Vector3::new(r[(2, 1)] - r[(1, 2)], r[(0, 2)] - r[(2, 0)], r[(1, 0)] - r[(0, 1)]) * 0.5;
+    let v = Vector3::new(
+        r[(2, 1)] - r[(1, 2)],
+        r[(0, 2)] - r[(2, 0)],
+        r[(1, 0)] - r[(0, 1)],
+    ) * 0.5;
     let s = v.norm();
     let c = 0.5 * (r.trace() - 1.0);
     let angle = s.atan2(c);
@@ -214,7 +220,11 @@ pub fn random_inertia(rng: &mut Lcg, mass: f64) -> Matrix3<f64> {
 
 fn random_rpy(rng: &mut Lcg) -> [f64; 3] {
     let pi = std::f64::consts::PI;
-    [rng.range(-pi, pi), rng.range(-0.5 * pi, 0.5 * pi), rng.range(-pi, pi)]
+    [
+        rng.range(-pi, pi),
+        rng.range(-0.5 * pi, 0.5 * pi),
+        rng.range(-pi, pi),
+    ]
 }
 
 fn random_inertial(rng: &mut Lcg) -> Inertial {
@@ -241,7 +251,11 @@ pub fn random_robot(seed: u64) -> RobotDesc {
     for i in 1..n_massive + n_leaves {
         let leaf = i >= n_massive;
         // Favour recent links (chains) but allow branching anywhere among massive links.
-        let parent = if !leaf && rng.chance(0.5) { i - 1 } else { rng.below(n_massive.min(i)) };
+        let parent = if !leaf && rng.chance(0.5) {
+            i - 1
+        } else {
+            rng.below(n_massive.min(i))
+        };
         let kind = if leaf {
             JointType::Fixed
         } else {
@@ -259,8 +273,16 @@ pub fn random_robot(seed: u64) -> RobotDesc {
         let scale = rng.range(0.3, 3.0);
         let axis = [axis[0] * scale, axis[1] * scale, axis[2] * scale];
         links.push(LinkDesc {
-            name: if leaf { format!("tip_{i}") } else { format!("link_{i}") },
-            inertial: if leaf { None } else { Some(random_inertial(&mut rng)) },
+            name: if leaf {
+                format!("tip_{i}")
+            } else {
+                format!("link_{i}")
+            },
+            inertial: if leaf {
+                None
+            } else {
+                Some(random_inertial(&mut rng))
+            },
         });
         joints.push(JointDesc {
             name: format!("joint_{i}"),
@@ -392,7 +414,9 @@ impl RobotDesc {
             let s = joint_value(j);
             poses[joint.child] = Some(match joint.kind {
                 JointType::Fixed => (r_joint, p_joint),
-                JointType::Revolute | JointType::Continuous => (r_joint * axis_angle(&axis, s), p_joint),
+                JointType::Revolute | JointType::Continuous => {
+                    (r_joint * axis_angle(&axis, s), p_joint)
+                }
                 JointType::Prismatic => (r_joint, p_joint + r_joint * axis * s),
             });
         }
@@ -401,7 +425,11 @@ impl RobotDesc {
 
     /// Total mass.
     pub fn total_mass(&self) -> f64 {
-        self.links.iter().filter_map(|l| l.inertial.as_ref()).map(|i| i.mass).sum()
+        self.links
+            .iter()
+            .filter_map(|l| l.inertial.as_ref())
+            .map(|i| i.mass)
+            .sum()
     }
 }
 
