@@ -4,7 +4,8 @@
 //! median over batches of the mean time per call, in microseconds. Medians of batch means are
 //! robust to the scheduler noise of shared machines; compare ratios measured in one run.
 
-use sea_dyn::{Data, Model};
+use sea_dyn::{Actuation, Actuator, Data, ElasticParameters, Method, Model, Plant, PlantData};
+use std::collections::HashMap;
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -129,8 +130,65 @@ pub fn bench_dynamics(model: &Model, batches: usize, calls_per_batch: usize) -> 
             }),
         ),
     ];
+    let mut figures = figures;
+    if let Some(plant_figures) = bench_plant(model, batches, calls_per_batch / 10 + 1) {
+        figures.extend(plant_figures);
+    }
     DynamicsBench {
         figures,
         frame: frame_name,
     }
+}
+
+/// The paper's plant: every joint a SEA (REFERENCE.md), both soles in contact, standing at the
+/// neutral posture with the springs preloaded against gravity. `None` without `l_sole` and
+/// `r_sole` frames.
+pub fn standing_sea_plant(model: &Model) -> Option<(Plant, Vec<f64>)> {
+    let (left, right) = (
+        model.frame_id("l_sole").ok()?,
+        model.frame_id("r_sole").ok()?,
+    );
+    let mut q = model.neutral();
+    let mut data = Data::new(model);
+    sea_dyn::forward_kinematics(model, &mut data, &q);
+    let sole_height = sea_dyn::frame_placement(model, &data, left).translation.z;
+    let _ = right;
+    q[2] = -sole_height;
+    let sea = ElasticParameters::paper_icub();
+    let actuation = Actuation::new(model, Actuator::Elastic(sea), &HashMap::new()).ok()?;
+    let mut plant = Plant::new(model.clone(), actuation);
+    plant
+        .set_contacts(&["l_sole".to_string(), "r_sole".to_string()], &q)
+        .ok()?;
+    let gravity = sea_dyn::gravity_forces(model, &mut data, &q).clone();
+    let theta: Vec<f64> = (0..model.n_joints())
+        .map(|j| (q[7 + j] + gravity[6 + j] / sea.stiffness) / sea.ratio)
+        .collect();
+    let nu = vec![0.0; model.nv()];
+    let x = plant.make_state(&q, &nu, Some(&theta), None).ok()?;
+    Some((plant, x))
+}
+
+/// `plant_dynamics_us` (one evaluation of the SEA plant on two feet) and `sim_step_us` (one
+/// ROS2 step, dt = 1 ms), on the standing iCub with motor torques balancing gravity.
+fn bench_plant(
+    model: &Model,
+    batches: usize,
+    calls_per_batch: usize,
+) -> Option<Vec<(&'static str, f64)>> {
+    let (plant, x) = standing_sea_plant(model)?;
+    let mut pd = PlantData::new(&plant);
+    let mut data = Data::new(model);
+    let gravity = sea_dyn::gravity_forces(model, &mut data, &x[..model.nq()]).clone();
+    let u: Vec<f64> = (0..model.n_joints())
+        .map(|j| 0.01 * gravity[6 + j])
+        .collect();
+    let mut x_next = x.clone();
+    let dynamics = median_us(batches, calls_per_batch, |_| {
+        black_box(sea_dyn::evaluate(&plant, &mut pd, &x, &u).is_ok());
+    });
+    let step = median_us(batches, calls_per_batch, |_| {
+        black_box(sea_dyn::step(&plant, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut x_next).is_ok());
+    });
+    Some(vec![("plant_dynamics_us", dynamics), ("sim_step_us", step)])
 }

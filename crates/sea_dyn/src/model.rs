@@ -12,6 +12,11 @@ use crate::error::{Error, Result};
 use crate::spatial::{BodyInertia, Pose};
 use nalgebra::{Matrix3, Vector3};
 
+/// How far from 1 a configuration's quaternion norm may be. The algorithms normalise it; the
+/// slack admits external integrators (scipy's finite-difference Jacobians perturb the state by
+/// about 1e-6) while still catching a quaternion that is not one.
+pub const QUATERNION_TOLERANCE: f64 = 1e-4;
+
 /// The motion a joint allows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum JointKind {
@@ -159,11 +164,12 @@ impl Model {
         })
     }
 
-    /// Checks a configuration: size `nq`, finite, quaternion of unit norm within `1e-6`.
+    /// Checks a configuration: size `nq`, finite, quaternion of unit norm within
+    /// [`QUATERNION_TOLERANCE`] (the algorithms normalise it).
     pub fn check_configuration(&self, q: &[f64]) -> Result<()> {
         crate::error::check_vector("q", q, self.nq())?;
         let norm = (q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]).sqrt();
-        if (norm - 1.0).abs() > 1e-6 {
+        if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
             return Err(Error::input(format!(
                 "q[3:7] must be a unit quaternion (w, x, y, z), its norm is {norm}"
             )));
