@@ -86,3 +86,84 @@ class Model:
         """H = [m pdot_com; L_com], (6,)."""
     def centroidal_momentum_bias(self, q: ArrayLike, nu: ArrayLike) -> Vector:
         """Adot_G nu, (6,): rate of the centroidal momentum at nudot = 0."""
+
+ActuatorSpec = str | Mapping[str, float | None]
+
+class Plant:
+    """A floating-base robot with series elastic (or rigid) actuators and rigid contacts.
+
+    State ``x = [q (nq), theta (n_e), nu (nv), thetadot (n_e)]``; input ``u`` (n), per joint
+    in coordinate order: the joint torque of a rigid joint; for an elastic joint the motor
+    torque, or the desired motor velocity when ``motor_velocity_gain`` is set (the motor
+    velocity loop ``tau_m = -b K_m (thetadot - u) + eta tau``, saturated at the torque limit).
+    Elastic joint: ``tau = k_s (eta theta - s) + k_d (eta thetadot - sdot)``,
+    ``b thetaddot = tau_m - eta tau``. Contacts hold frames at their pose in ``contact_q``
+    (Baumgarte ``K_p``, ``K_d``); wrenches are ``[force; moment about the frame origin]``,
+    world axes. Not thread-safe: one Plant per thread.
+    """
+
+    def __init__(
+        self,
+        model: Model,
+        *,
+        actuator: ActuatorSpec | None = None,
+        actuators: Mapping[str, ActuatorSpec] | None = None,
+        contacts: Sequence[str] = (),
+        contact_q: ArrayLike | None = None,
+        baumgarte_kp: float = 50.0,
+        baumgarte_kd: float | None = None,
+        motor_velocity_gain: float | None = None,
+        joint_inertia_regularization: float = 0.0,
+        gravity: tuple[float, float, float] | None = None,
+        friction: float = 1.0,
+        foot_x: tuple[float, float] = (-0.05, 0.10),
+        foot_y: tuple[float, float] = (-0.025, 0.025),
+    ) -> None:
+        """``actuator``: default for every joint, "rigid" (default), "elastic" (the paper's
+        iCub SEA: ratio 0.01, motor_inertia 1e-5, stiffness 350, damping 0.25) or a dict of
+        those keys plus ``torque_limit``; ``actuators``: per-joint overrides by name."""
+    @property
+    def nx(self) -> int:
+        """State size nq + nv + 2 n_e."""
+    @property
+    def nd(self) -> int:
+        """Tangent size 2 nv + 2 n_e."""
+    @property
+    def nu_input(self) -> int:
+        """Input size n."""
+    @property
+    def elastic_joints(self) -> list[str]:
+        """Elastic joint names, in the order of theta."""
+    @property
+    def contact_frames(self) -> list[str]:
+        """Contact frame names."""
+    def make_state(
+        self,
+        q: ArrayLike,
+        nu: ArrayLike | None = None,
+        theta: ArrayLike | None = None,
+        thetadot: ArrayLike | None = None,
+    ) -> Vector:
+        """A state; ``theta`` defaults to ``s / eta`` (springs at rest), velocities to 0."""
+    def split_state(self, x: ArrayLike) -> dict[str, Vector]:
+        """``{"q", "theta", "nu", "thetadot"}``."""
+    def dynamics(self, x: ArrayLike, u: ArrayLike) -> Vector:
+        """dx/dt (nx), quaternion rate included: the right-hand side for scipy."""
+    def outputs(self, x: ArrayLike, u: ArrayLike) -> dict[str, Vector | float]:
+        """Contact wrenches (n_contacts, 6), joint torques (n), motor torques (n_e),
+        drift_position [m], drift_rotation [rad], normal_force, friction_margin, cop_margin
+        (per contact, sole frame, negative when violated)."""
+    def step(self, x: ArrayLike, u: ArrayLike, dt: float, method: str = "ros2") -> Vector:
+        """One step: "ros2" (Rosenbrock-W, order 2, L-stable), "implicit_euler" or "rk4"."""
+    def simulate(
+        self,
+        x0: ArrayLike,
+        u: ArrayLike,
+        dt: float,
+        n_steps: int,
+        method: str = "ros2",
+        record_every: int = 1,
+    ) -> dict[str, object]:
+        """Native loop with ``u`` held (GIL released): time, x, contact_wrenches, motor_torques,
+        drift_position, drift_rotation, status ("completed" | "diverged"), diverged_at, message.
+        Data up to a divergence is kept."""
