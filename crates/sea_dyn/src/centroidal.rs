@@ -62,8 +62,9 @@ pub fn centroidal_momentum_matrix<'a>(
 pub fn com_jacobian<'a>(model: &Model, data: &'a mut Data, q: &[f64]) -> &'a DMatrix<f64> {
     centroidal_momentum_matrix(model, data, q);
     let mass = data.composite_inertia[0].mass;
-    let rows = data.centroidal_matrix.rows(0, 3) / mass;
-    data.com_jacobian.copy_from(&rows);
+    data.com_jacobian
+        .copy_from(&data.centroidal_matrix.rows(0, 3));
+    data.com_jacobian.scale_mut(1.0 / mass);
     &data.com_jacobian
 }
 

@@ -66,6 +66,37 @@ pub fn rotation_from_quaternion(w: f64, x: f64, y: f64, z: f64) -> Matrix3<f64> 
     )
 }
 
+/// Unit quaternion (w, x, y, z) of a rotation matrix (Shepperd's method: pivot on the largest
+/// of the four squared components, so it is accurate for every rotation). `w >= 0`.
+pub fn quaternion_from_rotation(r: &Matrix3<f64>) -> [f64; 4] {
+    let trace = r[(0, 0)] + r[(1, 1)] + r[(2, 2)];
+    let candidates = [trace, r[(0, 0)], r[(1, 1)], r[(2, 2)]];
+    let pivot = (0..4)
+        .max_by(|a, b| candidates[*a].total_cmp(&candidates[*b]))
+        .unwrap_or(0);
+    let q = match pivot {
+        0 => {
+            let s = 2.0 * (1.0 + trace).sqrt();
+            [0.25 * s, (r[(2, 1)] - r[(1, 2)]) / s, (r[(0, 2)] - r[(2, 0)]) / s, (r[(1, 0)] - r[(0, 1)]) / s]
+        }
+        1 => {
+            let s = 2.0 * (1.0 + r[(0, 0)] - r[(1, 1)] - r[(2, 2)]).sqrt();
+            [(r[(2, 1)] - r[(1, 2)]) / s, 0.25 * s, (r[(0, 1)] + r[(1, 0)]) / s, (r[(0, 2)] + r[(2, 0)]) / s]
+        }
+        2 => {
+            let s = 2.0 * (1.0 + r[(1, 1)] - r[(0, 0)] - r[(2, 2)]).sqrt();
+            [(r[(0, 2)] - r[(2, 0)]) / s, (r[(0, 1)] + r[(1, 0)]) / s, 0.25 * s, (r[(1, 2)] + r[(2, 1)]) / s]
+        }
+        _ => {
+            let s = 2.0 * (1.0 + r[(2, 2)] - r[(0, 0)] - r[(1, 1)]).sqrt();
+            [(r[(1, 0)] - r[(0, 1)]) / s, (r[(0, 2)] + r[(2, 0)]) / s, (r[(1, 2)] + r[(2, 1)]) / s, 0.25 * s]
+        }
+    };
+    let sign = if q[0] < 0.0 { -1.0 } else { 1.0 };
+    let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+    q.map(|c| sign * c / norm)
+}
+
 /// A rigid transform `a_H_b`: rotation `a_R_b` and the position of `b`'s origin in `a`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
@@ -446,6 +477,19 @@ mod tests {
         let (s, c) = (angle / 2.0).sin_cos();
         let r = rotation_from_quaternion(c, s * axis.x, s * axis.y, s * axis.z);
         assert!((r - rotation_about_axis(&axis, angle)).norm() < 1e-14);
+    }
+
+    #[test]
+    fn quaternion_round_trip() {
+        let mut seed = 17;
+        for k in 0..50 {
+            // Include rotations near pi, where the trace pivot would lose precision.
+            let angle = if k % 5 == 0 { 3.14159 } else { rnd(&mut seed) * 3.0 };
+            let axis = v3(&mut seed).normalize();
+            let r = rotation_about_axis(&axis, angle);
+            let q = quaternion_from_rotation(&r);
+            assert!((rotation_from_quaternion(q[0], q[1], q[2], q[3]) - r).norm() < 1e-12);
+        }
     }
 
     #[test]
