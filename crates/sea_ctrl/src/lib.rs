@@ -1,6 +1,15 @@
-//! `sea_ctrl`: momentum-based balancing controllers, scenarios, logging and the `sea-sim`
-//! binary. Today it holds the native benchmarks; the controllers build on `sea_dyn`.
+//! `sea_ctrl`: momentum-based balancing controllers (rigid and SEA), the contact-wrench QP,
+//! references, the closed-loop scenario runner, MCAP logging and the `sea-sim` binary.
 
 #![forbid(unsafe_code)]
 
 pub mod bench;
+pub mod closed_loop;
+pub mod controller;
+pub mod error;
+pub mod mcap_log;
+pub mod qp;
+pub mod references;
+pub mod scenario;
+
+pub use error::{Error, Result};

@@ -77,19 +77,39 @@ pub fn quaternion_from_rotation(r: &Matrix3<f64>) -> [f64; 4] {
     let q = match pivot {
         0 => {
             let s = 2.0 * (1.0 + trace).sqrt();
-            [0.25 * s, (r[(2, 1)] - r[(1, 2)]) / s, (r[(0, 2)] - r[(2, 0)]) / s, (r[(1, 0)] - r[(0, 1)]) / s]
+            [
+                0.25 * s,
+                (r[(2, 1)] - r[(1, 2)]) / s,
+                (r[(0, 2)] - r[(2, 0)]) / s,
+                (r[(1, 0)] - r[(0, 1)]) / s,
+            ]
         }
         1 => {
             let s = 2.0 * (1.0 + r[(0, 0)] - r[(1, 1)] - r[(2, 2)]).sqrt();
-            [(r[(2, 1)] - r[(1, 2)]) / s, 0.25 * s, (r[(0, 1)] + r[(1, 0)]) / s, (r[(0, 2)] + r[(2, 0)]) / s]
+            [
+                (r[(2, 1)] - r[(1, 2)]) / s,
+                0.25 * s,
+                (r[(0, 1)] + r[(1, 0)]) / s,
+                (r[(0, 2)] + r[(2, 0)]) / s,
+            ]
         }
         2 => {
             let s = 2.0 * (1.0 + r[(1, 1)] - r[(0, 0)] - r[(2, 2)]).sqrt();
-            [(r[(0, 2)] - r[(2, 0)]) / s, (r[(0, 1)] + r[(1, 0)]) / s, 0.25 * s, (r[(1, 2)] + r[(2, 1)]) / s]
+            [
+                (r[(0, 2)] - r[(2, 0)]) / s,
+                (r[(0, 1)] + r[(1, 0)]) / s,
+                0.25 * s,
+                (r[(1, 2)] + r[(2, 1)]) / s,
+            ]
         }
         _ => {
             let s = 2.0 * (1.0 + r[(2, 2)] - r[(0, 0)] - r[(1, 1)]).sqrt();
-            [(r[(1, 0)] - r[(0, 1)]) / s, (r[(0, 2)] + r[(2, 0)]) / s, (r[(1, 2)] + r[(2, 1)]) / s, 0.25 * s]
+            [
+                (r[(1, 0)] - r[(0, 1)]) / s,
+                (r[(0, 2)] + r[(2, 0)]) / s,
+                (r[(1, 2)] + r[(2, 1)]) / s,
+                0.25 * s,
+            ]
         }
     };
     let sign = if q[0] < 0.0 { -1.0 } else { 1.0 };
@@ -484,7 +504,11 @@ mod tests {
         let mut seed = 17;
         for k in 0..50 {
             // Include rotations near pi, where the trace pivot would lose precision.
-            let angle = if k % 5 == 0 { 3.14159 } else { rnd(&mut seed) * 3.0 };
+            let angle = if k % 5 == 0 {
+                3.14159
+            } else {
+                rnd(&mut seed) * 3.0
+            };
             let axis = v3(&mut seed).normalize();
             let r = rotation_about_axis(&axis, angle);
             let q = quaternion_from_rotation(&r);

@@ -74,8 +74,7 @@ impl CentroidalSplit {
         }
         self.mbar.copy_from(&mass_matrix.view((6, 6), (n, n)));
         self.mbar.gemm(-1.0, &m_jb, &self.base_inv_coupling, 1.0);
-        self.jbar_t
-            .tr_copy_from(&jacobian.view((0, 6), (k, n)));
+        self.jbar_t.tr_copy_from(&jacobian.view((0, 6), (k, n)));
         self.jbar_t
             .gemm(-1.0, &m_jb, &self.base_inv_jacobian_t, 1.0);
         let mut h_b = nalgebra::Vector6::from_iterator(bias.iter().take(6).copied());

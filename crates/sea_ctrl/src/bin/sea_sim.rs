@@ -2,7 +2,12 @@
 //!
 //! ```text
 //! sea-sim bench --urdf PATH [--joints a,b,c] [--batches N] [--calls N] [--json]
+//! sea-sim run SCENARIO.toml [--set key=value ...] [--mcap FILE] [--summary FILE] [--quiet]
 //! ```
+//!
+//! `run` prints progress on stderr, writes the MCAP log incrementally (finished even when the run
+//! diverges) and the summary JSON; the exit status is 0 when the run completed, 3 when it
+//! diverged, 1 on an error.
 
 use sea_dyn::{LoadOptions, Model};
 use std::process::ExitCode;
@@ -97,10 +102,68 @@ fn run_bench(args: &[String]) -> Result<(), String> {
     Ok(())
 }
 
+/// Exit status of a run that diverged (distinct from errors).
+const DIVERGED: u8 = 3;
+
+fn run_scenario(args: &[String]) -> Result<bool, String> {
+    let mut path = None;
+    let mut overrides = Vec::new();
+    let (mut mcap, mut summary_path, mut quiet) = (None, None, false);
+    let mut it = args.iter();
+    while let Some(arg) = it.next() {
+        let mut value = |name: &str| {
+            it.next()
+                .cloned()
+                .ok_or_else(|| format!("{name} needs a value"))
+        };
+        match arg.as_str() {
+            "--set" => {
+                let pair = value("--set")?;
+                let (key, v) = pair
+                    .split_once('=')
+                    .ok_or_else(|| format!("--set expects key=value, got '{pair}'"))?;
+                overrides.push((key.trim().to_string(), v.trim().to_string()));
+            }
+            "--mcap" => mcap = Some(std::path::PathBuf::from(value("--mcap")?)),
+            "--summary" => summary_path = Some(std::path::PathBuf::from(value("--summary")?)),
+            "--quiet" => quiet = true,
+            other if other.starts_with("--") => return Err(format!("unknown argument '{other}'")),
+            other => path = Some(std::path::PathBuf::from(other)),
+        }
+    }
+    let path = path.ok_or("a scenario file is required")?;
+    let scenario =
+        sea_ctrl::scenario::Scenario::from_file(&path, &overrides).map_err(|e| e.to_string())?;
+    if !quiet {
+        eprintln!(
+            "sea-sim: running {} ({} s simulated)",
+            path.display(),
+            scenario.simulation.duration_s
+        );
+    }
+    let (_, summary) = sea_ctrl::closed_loop::run(&scenario, mcap.as_deref(), |t, total| {
+        if !quiet {
+            eprintln!("  t = {t:6.2} / {total:.2} s");
+        }
+    })
+    .map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(&summary.to_json()).map_err(|e| e.to_string())?;
+    if let Some(p) = summary_path {
+        std::fs::write(&p, &json).map_err(|e| format!("{}: {e}", p.display()))?;
+    }
+    println!("{json}");
+    Ok(summary.status == "completed")
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("bench") => run_bench(&args[1..]),
+        Some("run") => match run_scenario(&args[1..]) {
+            Ok(true) => Ok(()),
+            Ok(false) => return ExitCode::from(DIVERGED),
+            Err(e) => Err(e),
+        },
         Some("-h" | "--help") => {
             println!("{USAGE}");
             Ok(())

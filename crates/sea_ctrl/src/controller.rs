@@ -1,0 +1,506 @@
+//! The momentum-based balancing controller, rigid (paper section "Balancing control with robot
+//! rigid transmissions") and SEA (section "The balancing control for series elastic
+//! actuators"), in the implementation form of DESIGN.md ("sea_ctrl"):
+//!
+//! - momentum task `Hdot* = Hdot_d - K_p (H - H_d) - K_i I_H`, `I_H = [m (p_com - p_com_d);
+//!   J_G^omega(s_d) (s - s_d)]` (eq:dotH_f, eq:IhTilde), and `Hdot(f) = A f + m g`,
+//!   `A_k = [[I, 0], [skew(p_k - p_com), I]]`;
+//! - joint torques affine in the wrenches (eq:torques, eq:posturalNew):
+//!   `Lambda = J M^-1 B`, damped `Lambda^+`, `N = I - Lambda^+ Lambda`,
+//!   `tau(f) = Lambda^+ (J M^-1 h - Jdot nu) + N (hbar_j + u0) + Sigma f`,
+//!   `Sigma = -(Lambda^+ J M^-1 J^T + N Jbar^T)`,
+//!   `u0 = -K_p^j N Mbar (s - s_d) - K_d^j N Mbar sdot`;
+//! - the QP (eq:inputTorquesSOT): one foot `min |A f - (Hdot* - m g)|^2`, two feet
+//!   `min |tau(f)|^2` s.t. `A f = Hdot* - m g`; both s.t. the contact constraints;
+//! - SEA (eq:newJointDynamics, eq:inputDesMotVel): `tau` becomes `beta = K_D Gamma thetadot`,
+//!   `h_j` becomes `h_j - p`, `p = K_S (Gamma theta - s) - K_D sdot` (the controller's own
+//!   estimates of `K_S`, `K_D`), and the output is `thetadot_d = Gamma^-1 K_D^-1 beta*`, tracked
+//!   by the motor velocity loop of the plant (eq:tauMotors). Mixed actuation: rigid joints keep
+//!   `tau`, `p = 0`.
+//! - Rigid controller on an SEA robot: the rigid model with the motor reflected inertia
+//!   `Gamma^-1 I_m Gamma^-1` on the joint diagonal (Remark 1), output `tau_m = Gamma tau*`.
+//!
+//! `g` is the gravity vector (`m g = [0, 0, -m 9.81]`), so `Hdot(f) = A f + [m g; 0]`.
+
+use crate::error::{Error, Result};
+use crate::qp::{ContactConstraints, QpStatus, WrenchQp};
+use crate::references::ComSample;
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
+use sea_dyn::spatial::{quaternion_from_rotation, skew};
+use sea_dyn::{Actuation, CentroidalSplit, Data, FrameId, Model, StateLayout};
+
+/// Which controller.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ControllerKind {
+    /// The SEA controller (desired motor velocities).
+    Sea,
+    /// The rigid-joint controller (joint torques, `tau_m = Gamma tau` on elastic joints).
+    Rigid,
+}
+
+/// Settings of the controller.
+#[derive(Clone, Debug)]
+pub struct ControllerSettings {
+    /// Rigid or SEA.
+    pub kind: ControllerKind,
+    /// Contact frames (one or two feet).
+    pub contacts: Vec<String>,
+    /// Momentum proportional gains `K_p` (diagonal, linear then angular).
+    pub momentum_proportional: [f64; 6],
+    /// Momentum integral gains `K_i` (diagonal).
+    pub momentum_integral: [f64; 6],
+    /// Postural stiffness `K_p^j` (n, diagonal).
+    pub postural_stiffness: Vec<f64>,
+    /// Postural damping `K_d^j` (n, diagonal).
+    pub postural_damping: Vec<f64>,
+    /// Contact constraints of the QP.
+    pub constraints: ContactConstraints,
+    /// Controller's damping estimate = true damping x this scale.
+    pub damping_estimate_scale: f64,
+    /// Controller's stiffness estimate = true stiffness x this scale.
+    pub stiffness_estimate_scale: f64,
+    /// Damping of the pseudo-inverse of `Lambda` (REFERENCE.md: 5e-4).
+    pub pinv_damping: f64,
+    /// QP Hessian regulariser (REFERENCE.md: 1e-3).
+    pub qp_regularization: f64,
+    /// Rigid controller: add the motor reflected inertia of elastic joints to `M_j`.
+    pub reflected_inertia: bool,
+    /// Added to the joint diagonal of the controller's `M` [kg m^2].
+    pub joint_inertia_regularization: f64,
+}
+
+/// One tick's outputs.
+#[derive(Clone, Debug)]
+pub struct ControlOutput {
+    /// Plant input (n): rigid joints torque; elastic joints desired motor velocity (SEA
+    /// controller) or motor torque `eta tau*` (rigid controller).
+    pub input: Vec<f64>,
+    /// `tau*` (rigid) or `beta*` (SEA), joint side (n).
+    pub joint_command: Vec<f64>,
+    /// Desired motor velocities of elastic joints (n_e; empty for the rigid controller).
+    pub thetadot_desired: Vec<f64>,
+    /// QP wrenches (6 per contact).
+    pub wrenches: DVector<f64>,
+    /// QP outcome.
+    pub qp_status: QpStatus,
+    /// CoM in world [m].
+    pub com: Vector3<f64>,
+    /// Centroidal momentum `[m pdot_com; L_com]`.
+    pub momentum: Vector6<f64>,
+}
+
+/// The terms of `tau(f) = tau_bias + Sigma f` and of the momentum task at one state.
+struct TaskTerms {
+    tau_bias: DVector<f64>,
+    sigma: DMatrix<f64>,
+    momentum_map: DMatrix<f64>,
+    momentum_target: DVector<f64>,
+    rotations: Vec<Matrix3<f64>>,
+}
+
+/// The momentum controller with its own model and estimates.
+pub struct MomentumController {
+    model: Model,
+    data: Data,
+    actuation: Actuation,
+    settings: ControllerSettings,
+    contact_frames: Vec<FrameId>,
+    /// Reference placements `world_H_contact` (where the feet are held).
+    contact_references: Vec<sea_dyn::spatial::Pose>,
+    qp: WrenchQp,
+    split: CentroidalSplit,
+    /// `J_G^omega(s_d)` (3 x n) and the `s_d` it was computed at.
+    jg_angular: DMatrix<f64>,
+    jg_posture: Vec<f64>,
+    mass: f64,
+}
+
+fn vec_in(x: &[f64], start: usize, len: usize) -> &[f64] {
+    &x[start..start + len]
+}
+
+impl MomentumController {
+    /// A controller for `model` with the plant's `actuation` (true parameters; the estimates
+    /// are scaled from them), holding the contacts at their pose in `q0`.
+    pub fn new(
+        model: &Model,
+        actuation: &Actuation,
+        settings: ControllerSettings,
+        q0: &[f64],
+    ) -> Result<Self> {
+        let n = model.n_joints();
+        if settings.contacts.is_empty() || settings.contacts.len() > 2 {
+            return Err(Error::config(
+                "controller.contacts",
+                "needs one or two contact frames",
+            ));
+        }
+        for (key, v) in [
+            (
+                "controller.damping_estimate_scale",
+                settings.damping_estimate_scale,
+            ),
+            (
+                "controller.stiffness_estimate_scale",
+                settings.stiffness_estimate_scale,
+            ),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::config(key, format!("must be positive, got {v}")));
+            }
+        }
+        let gains = settings
+            .momentum_proportional
+            .iter()
+            .chain(&settings.momentum_integral)
+            .chain(&settings.postural_stiffness)
+            .chain(&settings.postural_damping);
+        if gains.clone().any(|g| !(g.is_finite() && *g >= 0.0)) {
+            return Err(Error::config(
+                "controller gains",
+                "must be finite and non-negative",
+            ));
+        }
+        if settings.postural_stiffness.len() != n || settings.postural_damping.len() != n {
+            return Err(Error::config(
+                "controller.postural_stiffness",
+                format!("needs {n} entries (one per joint)"),
+            ));
+        }
+        let mut data = Data::new(model);
+        sea_dyn::forward_kinematics(model, &mut data, q0);
+        let mut contact_frames = Vec::new();
+        let mut contact_references = Vec::new();
+        for name in &settings.contacts {
+            let id = model.frame_id(name).map_err(|_| {
+                Error::config("controller.contacts", format!("unknown frame '{name}'"))
+            })?;
+            contact_frames.push(id);
+            contact_references.push(sea_dyn::frame_placement(model, &data, id));
+        }
+        let k = 6 * contact_frames.len();
+        let equalities = if contact_frames.len() > 1 { 6 } else { 0 };
+        Ok(Self {
+            model: model.clone(),
+            data,
+            actuation: actuation.clone(),
+            qp: WrenchQp::new(contact_frames.len(), equalities, &settings.constraints),
+            split: CentroidalSplit::new(n, k),
+            jg_angular: DMatrix::zeros(3, n),
+            jg_posture: Vec::new(),
+            mass: model.total_mass(),
+            settings,
+            contact_frames,
+            contact_references,
+        })
+    }
+
+    /// QP solves that fell back to the unconstrained solution so far.
+    pub fn qp_failures(&self) -> usize {
+        self.qp.failures
+    }
+
+    /// Settings.
+    pub fn settings(&self) -> &ControllerSettings {
+        &self.settings
+    }
+
+    /// `J_G^omega(s_d)`: angular rows of the centroidal momentum map restricted to motions that
+    /// keep the contacts fixed, `J_G = A_Gj - A_Gb J_b^+ J_j`, at the configuration with joints
+    /// `s_d` and the first contact at its reference.
+    fn update_jg(&mut self, s_desired: &[f64]) -> Result<()> {
+        if self.jg_posture == s_desired {
+            return Ok(());
+        }
+        let model = &self.model;
+        let n = model.n_joints();
+        let mut q = model.neutral();
+        q[7..].copy_from_slice(s_desired);
+        sea_dyn::forward_kinematics(model, &mut self.data, &q);
+        let base_h_contact = sea_dyn::frame_placement(model, &self.data, self.contact_frames[0]);
+        let world_h_base = self.contact_references[0].compose(&base_h_contact.inverse());
+        let quat = quaternion_from_rotation(&world_h_base.rotation);
+        q[..3].copy_from_slice(world_h_base.translation.as_slice());
+        q[3..7].copy_from_slice(&quat);
+        let a_g = sea_dyn::centroidal_momentum_matrix(model, &mut self.data, &q).clone();
+        let k = 6 * self.contact_frames.len();
+        let mut jacobian = DMatrix::zeros(k, model.nv());
+        for (c, &frame) in self.contact_frames.iter().enumerate() {
+            let j = sea_dyn::frame_jacobian(model, &mut self.data, &q, frame);
+            jacobian.rows_mut(6 * c, 6).copy_from(j);
+        }
+        let j_b = jacobian.columns(0, 6).into_owned();
+        let j_j = jacobian.columns(6, n).into_owned();
+        let jb_pinv = (j_b.transpose() * &j_b).try_inverse().ok_or_else(|| {
+            Error::config(
+                "controller.contacts",
+                "contact Jacobian has no full column rank",
+            )
+        })? * j_b.transpose();
+        let jg = a_g.columns(6, n) - a_g.columns(0, 6) * jb_pinv * j_j;
+        self.jg_angular.copy_from(&jg.rows(3, 3));
+        self.jg_posture = s_desired.to_vec();
+        Ok(())
+    }
+
+    /// Computes the control at plant state `x` (layout `layout`) for the CoM reference and the
+    /// desired posture `s_desired`.
+    pub fn compute(
+        &mut self,
+        x: &[f64],
+        layout: &StateLayout,
+        reference: &ComSample,
+        s_desired: &[f64],
+    ) -> Result<ControlOutput> {
+        self.update_jg(s_desired)?;
+        let terms_and_state = self.task_terms(x, layout, reference, s_desired)?;
+        let (terms, com, momentum) = terms_and_state;
+        let k = 6 * self.contact_frames.len();
+        let reg = self.settings.qp_regularization;
+        let (hessian, gradient, fallback, equality) = if self.contact_frames.len() == 1 {
+            // min |A f - b|^2 + reg |f|^2
+            let a = &terms.momentum_map;
+            let hessian = (a.transpose() * a + DMatrix::identity(k, k) * reg) * 2.0;
+            let gradient = -(a.transpose() * &terms.momentum_target) * 2.0;
+            let fallback = hessian
+                .clone()
+                .cholesky()
+                .map(|c| c.solve(&(-&gradient)))
+                .unwrap_or_else(|| DVector::zeros(k));
+            (hessian, gradient, fallback, None)
+        } else {
+            // min |tau_bias + Sigma f|^2 + reg |f|^2 s.t. A f = b
+            let s = &terms.sigma;
+            let hessian = (s.transpose() * s + DMatrix::identity(k, k) * reg) * 2.0;
+            let gradient = (s.transpose() * &terms.tau_bias) * 2.0;
+            let fallback = equality_constrained_minimum(
+                &hessian,
+                &gradient,
+                &terms.momentum_map,
+                &terms.momentum_target,
+            );
+            (
+                hessian,
+                gradient,
+                fallback,
+                Some((&terms.momentum_map, &terms.momentum_target)),
+            )
+        };
+        let (wrenches, qp_status) =
+            self.qp
+                .solve(&hessian, &gradient, equality, &terms.rotations, &fallback);
+        let command = &terms.tau_bias + &terms.sigma * &wrenches;
+        Ok(self.plant_input(command, wrenches, qp_status, com, momentum))
+    }
+
+    /// Maps the joint-side command to the plant input.
+    fn plant_input(
+        &self,
+        command: DVector<f64>,
+        wrenches: DVector<f64>,
+        qp_status: QpStatus,
+        com: Vector3<f64>,
+        momentum: Vector6<f64>,
+    ) -> ControlOutput {
+        let mut input = command.as_slice().to_vec();
+        let mut thetadot_desired = Vec::new();
+        for (&j, p) in self
+            .actuation
+            .elastic_joints
+            .iter()
+            .zip(&self.actuation.elastic)
+        {
+            match self.settings.kind {
+                ControllerKind::Sea => {
+                    let damping = p.damping * self.settings.damping_estimate_scale;
+                    let velocity = command[j] / (p.ratio * damping);
+                    input[j] = velocity;
+                    thetadot_desired.push(velocity);
+                }
+                ControllerKind::Rigid => input[j] = p.ratio * command[j],
+            }
+        }
+        ControlOutput {
+            input,
+            joint_command: command.as_slice().to_vec(),
+            thetadot_desired,
+            wrenches,
+            qp_status,
+            com,
+            momentum,
+        }
+    }
+
+    /// Model terms, the torque map and the momentum task at the state.
+    fn task_terms(
+        &mut self,
+        x: &[f64],
+        layout: &StateLayout,
+        reference: &ComSample,
+        s_desired: &[f64],
+    ) -> Result<(TaskTerms, Vector3<f64>, Vector6<f64>)> {
+        let model = &self.model;
+        let (nv, n) = (model.nv(), model.n_joints());
+        let q = vec_in(x, 0, layout.nq);
+        let theta = vec_in(x, layout.theta(), layout.ne);
+        let nu = vec_in(x, layout.nu(), nv);
+        let s = &q[7..];
+        let sdot = &nu[6..];
+        let momentum = sea_dyn::centroidal_momentum(model, &mut self.data, q, nu);
+        let com = self.data.p_base_world + self.data.p_com_rel;
+        let mut h = sea_dyn::bias_forces(model, &mut self.data, q, nu).clone();
+        let mut mass_matrix = sea_dyn::crba_from_kinematics(model, &mut self.data).clone();
+        let kind = self.settings.kind;
+        for j in 0..n {
+            mass_matrix[(6 + j, 6 + j)] += self.settings.joint_inertia_regularization;
+        }
+        for (e, (&j, p)) in self
+            .actuation
+            .elastic_joints
+            .iter()
+            .zip(&self.actuation.elastic)
+            .enumerate()
+        {
+            match kind {
+                ControllerKind::Sea => {
+                    // h_j - p, p = K_S (Gamma theta - s) - K_D sdot (the controller's estimates).
+                    let k_s = p.stiffness * self.settings.stiffness_estimate_scale;
+                    let k_d = p.damping * self.settings.damping_estimate_scale;
+                    h[6 + j] -= k_s * (p.ratio * theta[e] - s[j]) - k_d * sdot[j];
+                }
+                ControllerKind::Rigid if self.settings.reflected_inertia => {
+                    mass_matrix[(6 + j, 6 + j)] += p.motor_inertia / (p.ratio * p.ratio);
+                }
+                ControllerKind::Rigid => {}
+            }
+        }
+        let k = 6 * self.contact_frames.len();
+        let mut jacobian = DMatrix::zeros(k, nv);
+        let mut jdot_nu = DVector::zeros(k);
+        let mut rotations = Vec::with_capacity(self.contact_frames.len());
+        let mut momentum_map = DMatrix::zeros(6, k);
+        for (c, &frame) in self.contact_frames.iter().enumerate() {
+            sea_dyn::jacobian::frame_jacobian_from_kinematics(model, &mut self.data, frame);
+            jacobian
+                .rows_mut(6 * c, 6)
+                .copy_from(&self.data.frame_jacobian);
+            let bias = sea_dyn::jacobian::frame_bias_acceleration(model, &mut self.data, frame);
+            jdot_nu.rows_mut(6 * c, 6).copy_from(&bias);
+            let pose = sea_dyn::frame_placement(model, &self.data, frame);
+            rotations.push(pose.rotation);
+            let mut block = DMatrix::<f64>::identity(6, 6);
+            block
+                .view_mut((3, 0), (3, 3))
+                .copy_from(&skew(&(pose.translation - com)));
+            momentum_map.columns_mut(6 * c, 6).copy_from(&block);
+        }
+        let cholesky = mass_matrix.clone().cholesky().ok_or_else(|| {
+            Error::Dynamics(sea_dyn::Error::input(
+                "controller mass matrix is not positive definite",
+            ))
+        })?;
+        let minv_jt = cholesky.solve(&jacobian.transpose()); // nv x k
+        let lambda = minv_jt.rows(6, n).transpose(); // k x n: J M^-1 B
+        let j_minv_h = minv_jt.transpose() * &h;
+        let j_minv_jt = &jacobian * &minv_jt;
+        let damping2 = self.settings.pinv_damping * self.settings.pinv_damping;
+        let gram = &lambda * lambda.transpose() + DMatrix::identity(k, k) * damping2;
+        let gram_inv = gram
+            .try_inverse()
+            .ok_or_else(|| Error::Dynamics(sea_dyn::Error::input("Lambda Lambda^T is singular")))?;
+        let lambda_pinv = lambda.transpose() * gram_inv; // n x k
+        let null = DMatrix::identity(n, n) - &lambda_pinv * &lambda;
+        self.split.compute(&mass_matrix, &h, &jacobian)?;
+        let (mbar, jbar_t, hbar) = (&self.split.mbar, &self.split.jbar_t, &self.split.hbar_j);
+        let posture_error = DVector::from_iterator(n, s.iter().zip(s_desired).map(|(a, b)| a - b));
+        let joint_velocity = DVector::from_column_slice(sdot);
+        let null_mbar = &null * mbar;
+        let mut u0 = DVector::zeros(n);
+        let stiff = &null_mbar * posture_error;
+        let damp = &null_mbar * joint_velocity;
+        for i in 0..n {
+            u0[i] = -self.settings.postural_stiffness[i] * stiff[i]
+                - self.settings.postural_damping[i] * damp[i];
+        }
+        let tau_bias = &lambda_pinv * (j_minv_h - jdot_nu) + &null * (hbar + u0);
+        let sigma = -(&lambda_pinv * j_minv_jt + &null * jbar_t);
+        // Momentum task.
+        let m = self.mass;
+        let desired = Vector6::new(
+            m * reference.velocity.x,
+            m * reference.velocity.y,
+            m * reference.velocity.z,
+            0.0,
+            0.0,
+            0.0,
+        );
+        let angular_integral = &self.jg_angular
+            * DVector::from_iterator(n, s.iter().zip(s_desired).map(|(a, b)| a - b));
+        let integral_error = Vector6::new(
+            m * (com.x - reference.position.x),
+            m * (com.y - reference.position.y),
+            m * (com.z - reference.position.z),
+            angular_integral[0],
+            angular_integral[1],
+            angular_integral[2],
+        );
+        let mut target = DVector::zeros(6);
+        let gravity = model.gravity * m;
+        for r in 0..6 {
+            let feedforward = if r < 3 {
+                m * reference.acceleration[r]
+            } else {
+                0.0
+            };
+            let hdot_star = feedforward
+                - self.settings.momentum_proportional[r] * (momentum[r] - desired[r])
+                - self.settings.momentum_integral[r] * integral_error[r];
+            target[r] = hdot_star - if r < 3 { gravity[r] } else { 0.0 };
+        }
+        Ok((
+            TaskTerms {
+                tau_bias,
+                sigma,
+                momentum_map,
+                momentum_target: target,
+                rotations,
+            },
+            com,
+            momentum,
+        ))
+    }
+
+    /// `tau(f)` terms for tests: `(tau_bias, Sigma, A, b)`.
+    pub fn torque_map(
+        &mut self,
+        x: &[f64],
+        layout: &StateLayout,
+        reference: &ComSample,
+        s_desired: &[f64],
+    ) -> Result<(DVector<f64>, DMatrix<f64>, DMatrix<f64>, DVector<f64>)> {
+        self.update_jg(s_desired)?;
+        let (t, _, _) = self.task_terms(x, layout, reference, s_desired)?;
+        Ok((t.tau_bias, t.sigma, t.momentum_map, t.momentum_target))
+    }
+}
+
+/// `argmin 0.5 f^T P f + c^T f` s.t. `A f = b` (KKT), the QP without its inequalities.
+fn equality_constrained_minimum(
+    p: &DMatrix<f64>,
+    c: &DVector<f64>,
+    a: &DMatrix<f64>,
+    b: &DVector<f64>,
+) -> DVector<f64> {
+    let (m, n) = a.shape();
+    let mut kkt = DMatrix::zeros(n + m, n + m);
+    kkt.view_mut((0, 0), (n, n)).copy_from(p);
+    kkt.view_mut((0, n), (n, m)).copy_from(&a.transpose());
+    kkt.view_mut((n, 0), (m, n)).copy_from(a);
+    let mut rhs = DVector::zeros(n + m);
+    rhs.rows_mut(0, n).copy_from(&(-c));
+    rhs.rows_mut(n, m).copy_from(b);
+    kkt.lu()
+        .solve(&rhs)
+        .map(|x| x.rows(0, n).into_owned())
+        .unwrap_or_else(|| DVector::zeros(n))
+}

@@ -1,0 +1,116 @@
+//! References: the CoM trajectory and the postural reference.
+//!
+//! CoM (REFERENCE.md, the original study): `p_d(t) = p_0 + (1 - exp(-t / T_s)) A sin(2 pi f t) d`,
+//! with amplitude `A`, frequency `f`, unit direction `d` and smooth-start time constant `T_s`
+//! (a constant reference when `A = 0`). Velocity and acceleration are its exact derivatives.
+//! Posture: `s_d(t) = s_0 + step` for `t >= t_step` on the chosen joints, `s_0` before.
+
+use nalgebra::Vector3;
+
+/// A CoM trajectory.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ComTrajectory {
+    /// Initial reference `p_0` in world [m].
+    pub origin: Vector3<f64>,
+    /// Amplitude `A` [m].
+    pub amplitude: f64,
+    /// Frequency `f` [Hz].
+    pub frequency: f64,
+    /// Unit direction `d` (world).
+    pub direction: Vector3<f64>,
+    /// Smooth-start time constant `T_s` [s] (0: no smoothing).
+    pub smooth_start: f64,
+}
+
+/// Position, velocity and acceleration of a reference at one instant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ComSample {
+    /// Position [m].
+    pub position: Vector3<f64>,
+    /// Velocity [m/s].
+    pub velocity: Vector3<f64>,
+    /// Acceleration [m/s^2].
+    pub acceleration: Vector3<f64>,
+}
+
+impl ComTrajectory {
+    /// A constant reference at `origin`.
+    pub fn constant(origin: Vector3<f64>) -> Self {
+        Self {
+            origin,
+            amplitude: 0.0,
+            frequency: 0.0,
+            direction: Vector3::y(),
+            smooth_start: 0.0,
+        }
+    }
+
+    /// The reference at time `t` [s].
+    pub fn sample(&self, t: f64) -> ComSample {
+        let w = 2.0 * std::f64::consts::PI * self.frequency;
+        let (sin, cos) = (w * t).sin_cos();
+        // Envelope e(t) = 1 - exp(-t/T) and its derivatives.
+        let (e, de, dde) = if self.smooth_start > 0.0 {
+            let decay = (-t / self.smooth_start).exp();
+            let tau = self.smooth_start;
+            (1.0 - decay, decay / tau, -decay / (tau * tau))
+        } else {
+            (1.0, 0.0, 0.0)
+        };
+        let a = self.amplitude;
+        let g = a * e * sin;
+        let dg = a * (de * sin + e * w * cos);
+        let ddg = a * (dde * sin + 2.0 * de * w * cos - e * w * w * sin);
+        ComSample {
+            position: self.origin + self.direction * g,
+            velocity: self.direction * dg,
+            acceleration: self.direction * ddg,
+        }
+    }
+}
+
+/// A postural reference with a step on some joints.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PostureReference {
+    /// Posture before the step (n) [rad].
+    pub initial: Vec<f64>,
+    /// Step added to each joint (n) [rad] (zero for joints without a step).
+    pub step: Vec<f64>,
+    /// Time of the step [s].
+    pub step_time: f64,
+}
+
+impl PostureReference {
+    /// The desired posture at `t`.
+    pub fn at(&self, t: f64, out: &mut [f64]) {
+        let stepped = t >= self.step_time;
+        for (k, value) in out.iter_mut().enumerate() {
+            *value = self.initial[k] + if stepped { self.step[k] } else { 0.0 };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn derivatives_match_finite_differences() {
+        let traj = ComTrajectory {
+            origin: Vector3::new(0.1, 0.0, 0.5),
+            amplitude: 0.01,
+            frequency: 0.2,
+            direction: Vector3::y(),
+            smooth_start: 1.0,
+        };
+        let eps = 1e-6;
+        for &t in &[0.0, 0.3, 1.7, 4.0] {
+            let (a, b) = (traj.sample(t + eps), traj.sample((t - eps).max(0.0)));
+            let h = (t + eps) - (t - eps).max(0.0);
+            let s = traj.sample(t);
+            assert!(((a.position - b.position) / h - s.velocity).norm() < 1e-8);
+            assert!(((a.velocity - b.velocity) / h - s.acceleration).norm() < 1e-7);
+        }
+        assert!((traj.sample(0.0).position - traj.origin).norm() < 1e-15);
+    }
+}

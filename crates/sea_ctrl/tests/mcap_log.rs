@@ -1,0 +1,295 @@
+//! The MCAP logger writes a file Foxglove and the `mcap` reader accept, also when dropped
+//! without `finish()`.
+
+use sea_ctrl::mcap_log::{LogSample, McapLogger};
+use sea_dyn::{Data, LoadOptions, Model};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+const URDF: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../urdf/mini_biped.urdf");
+
+const TOPICS: [(&str, &str); 8] = [
+    ("/tf", "foxglove.FrameTransforms"),
+    ("/com", "sea_momentum.Com"),
+    ("/momentum", "sea_momentum.Momentum"),
+    ("/joints", "sea_momentum.JointState"),
+    ("/motors", "sea_momentum.MotorState"),
+    ("/contact_wrenches", "sea_momentum.ContactWrenches"),
+    ("/qp", "sea_momentum.QpStatus"),
+    ("/base", "sea_momentum.BasePose"),
+];
+
+fn model() -> Model {
+    Model::from_urdf_file(URDF, &LoadOptions::default()).expect("mini_biped loads")
+}
+
+/// A unique file in the temporary directory, removed on drop.
+struct TempFile(PathBuf);
+
+impl TempFile {
+    fn new(tag: &str) -> Self {
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .as_nanos();
+        Self(std::env::temp_dir().join(format!(
+            "sea_ctrl_mcap_log_{tag}_{}_{nanos}.mcap",
+            std::process::id()
+        )))
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
+}
+
+/// Configuration of sample `k`: base moving and turning, joints swinging.
+fn configuration(model: &Model, k: usize) -> Vec<f64> {
+    let t = k as f64 * 0.01;
+    let mut q = model.neutral();
+    q[0] = 0.1 * t;
+    q[2] = 0.6 + 0.01 * t.sin();
+    let (angle, axis) = (0.3 * t + 0.2, [0.2_f64, -0.5, 0.84]);
+    let n = axis.iter().map(|a| a * a).sum::<f64>().sqrt();
+    let (s, c) = (angle / 2.0).sin_cos();
+    q[3] = c;
+    for i in 0..3 {
+        q[4 + i] = s * axis[i] / n;
+    }
+    for (j, s) in q[7..].iter_mut().enumerate() {
+        *s = 0.4 * (t + j as f64).sin();
+    }
+    q
+}
+
+/// Logs `count` samples, then returns the logger (unfinished).
+fn log_samples(model: &Model, path: &std::path::Path, count: usize) -> McapLogger {
+    let elastic: Vec<String> = model.joint_names.clone();
+    let contacts = vec!["l_sole".to_string(), "r_sole".to_string()];
+    let mut logger = McapLogger::create(path, model, &elastic, &contacts).expect("create");
+    let n = model.n_joints();
+    for k in 0..count {
+        let q = configuration(model, k);
+        let nu: Vec<f64> = (0..model.nv()).map(|i| 0.01 * (i + k) as f64).collect();
+        let theta: Vec<f64> = q[7..].iter().map(|s| s + 0.01).collect();
+        let thetadot = vec![0.1; n];
+        let thetadot_desired = vec![0.2; n];
+        let wrenches: Vec<f64> = (0..12).map(|i| i as f64 + k as f64).collect();
+        let motor_torques = vec![1.0; n];
+        let joint_torques = vec![2.0; n];
+        let sample = LogSample {
+            time_s: k as f64 * 0.01,
+            q: &q,
+            nu: &nu,
+            theta: &theta,
+            thetadot: &thetadot,
+            thetadot_desired: &thetadot_desired,
+            com: [0.0, 0.0, 0.5],
+            com_reference: [0.01, 0.0, 0.5],
+            momentum: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+            contact_wrenches: &wrenches,
+            motor_torques: &motor_torques,
+            joint_torques: &joint_torques,
+            qp_status: if k % 10 == 9 { "fallback" } else { "solved" },
+            qp_failures: k / 10,
+        };
+        logger.log(&sample).expect("log");
+    }
+    logger
+}
+
+/// Reads every message and checks topics, schemas, counts, times and `/tf` contents.
+fn check_file(model: &Model, bytes: &[u8], count: usize) {
+    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+    let mut last_time: BTreeMap<String, u64> = BTreeMap::new();
+    let mut data = Data::new(model);
+    let mut tf_index = 0;
+    for message in mcap::MessageStream::new(bytes).expect("stream") {
+        let message = message.expect("message");
+        let topic = message.channel.topic.clone();
+        let schema = message.channel.schema.as_ref().expect("schema");
+        let expected = TOPICS
+            .iter()
+            .find(|(t, _)| *t == topic)
+            .unwrap_or_else(|| panic!("unexpected topic {topic}"));
+        assert_eq!(schema.name, expected.1, "schema of {topic}");
+        assert_eq!(schema.encoding, "jsonschema");
+        assert_eq!(message.channel.message_encoding, "json");
+        let _: serde_json::Value = serde_json::from_slice(&schema.data).expect("schema is JSON");
+        assert_eq!(message.log_time, message.publish_time);
+        if let Some(&previous) = last_time.get(&topic) {
+            assert!(message.log_time > previous, "{topic}: time not increasing");
+        }
+        last_time.insert(topic.clone(), message.log_time);
+        *counts.entry(topic.clone()).or_default() += 1;
+
+        let json: serde_json::Value = serde_json::from_slice(&message.data).expect("JSON body");
+        match topic.as_str() {
+            "/tf" => {
+                let transforms = json["transforms"].as_array().expect("transforms");
+                assert_eq!(transforms.len(), model.frames.len());
+                let q = configuration(model, tf_index);
+                sea_dyn::forward_kinematics(model, &mut data, &q);
+                for (frame, tf) in model.frames.iter().zip(transforms) {
+                    assert_eq!(tf["parent_frame_id"], "world");
+                    assert_eq!(tf["child_frame_id"], frame.name.as_str());
+                    let stamp = tf["timestamp"]["sec"].as_u64().unwrap() * 1_000_000_000
+                        + tf["timestamp"]["nsec"].as_u64().unwrap();
+                    assert_eq!(stamp, message.log_time);
+                    let r = &tf["rotation"];
+                    let quat: Vec<f64> = ["w", "x", "y", "z"]
+                        .iter()
+                        .map(|c| r[c].as_f64().unwrap())
+                        .collect();
+                    let norm = quat.iter().map(|c| c * c).sum::<f64>().sqrt();
+                    assert!(
+                        (norm - 1.0).abs() < 1e-12,
+                        "{}: |quat| = {norm}",
+                        frame.name
+                    );
+                    // The quaternion reproduces the frame's rotation, the translation its origin.
+                    let pose = sea_dyn::frame_placement(
+                        model,
+                        &data,
+                        model.frame_id(&frame.name).unwrap(),
+                    );
+                    let rotation = sea_dyn::spatial::rotation_from_quaternion(
+                        quat[0], quat[1], quat[2], quat[3],
+                    );
+                    assert!(
+                        (rotation - pose.rotation).abs().max() < 1e-12,
+                        "{}",
+                        frame.name
+                    );
+                    let t = &tf["translation"];
+                    for (i, c) in ["x", "y", "z"].iter().enumerate() {
+                        assert!((t[c].as_f64().unwrap() - pose.translation[i]).abs() < 1e-12);
+                    }
+                }
+                tf_index += 1;
+            }
+            "/com" => {
+                assert_eq!(json["com"].as_array().unwrap().len(), 3);
+                assert!((json["error"][0].as_f64().unwrap() + 0.01).abs() < 1e-15);
+            }
+            "/momentum" => {
+                assert_eq!(json["linear"], serde_json::json!([1.0, 2.0, 3.0]));
+                assert_eq!(json["angular"], serde_json::json!([4.0, 5.0, 6.0]));
+            }
+            "/joints" => {
+                assert_eq!(json["names"].as_array().unwrap().len(), model.n_joints());
+                assert_eq!(json["position"].as_array().unwrap().len(), model.n_joints());
+                assert_eq!(json["velocity"].as_array().unwrap().len(), model.n_joints());
+                assert_eq!(json["torque"].as_array().unwrap().len(), model.n_joints());
+            }
+            "/motors" => {
+                for key in [
+                    "names",
+                    "position",
+                    "velocity",
+                    "velocity_desired",
+                    "torque",
+                ] {
+                    assert_eq!(
+                        json[key].as_array().unwrap().len(),
+                        model.n_joints(),
+                        "{key}"
+                    );
+                }
+            }
+            "/contact_wrenches" => {
+                let contacts = json["contacts"].as_array().unwrap();
+                assert_eq!(contacts.len(), 2);
+                assert_eq!(contacts[0]["frame"], "l_sole");
+                assert_eq!(contacts[1]["frame"], "r_sole");
+                assert_eq!(contacts[1]["moment"].as_array().unwrap().len(), 3);
+            }
+            "/qp" => {
+                assert!(json["status"].is_string());
+                assert!(json["failures"].is_u64());
+            }
+            "/base" => {
+                assert_eq!(json["orientation_wxyz"].as_array().unwrap().len(), 4);
+            }
+            _ => unreachable!(),
+        }
+    }
+    for (topic, _) in TOPICS {
+        assert_eq!(counts.get(topic), Some(&count), "message count of {topic}");
+    }
+}
+
+#[test]
+fn writes_a_readable_file_with_every_channel() {
+    let model = model();
+    let file = TempFile::new("finished");
+    let logger = log_samples(&model, &file.0, 50);
+    logger.finish().expect("finish");
+    let bytes = std::fs::read(&file.0).unwrap();
+    check_file(&model, &bytes, 50);
+
+    // The summary section is present and counts the messages.
+    let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
+    let stats = summary.stats.expect("statistics");
+    assert_eq!(stats.message_count, 50 * 8);
+    assert_eq!(stats.channel_count, 8);
+    assert_eq!(stats.schema_count, 8);
+    assert_eq!(stats.message_start_time, 0);
+    assert_eq!(stats.message_end_time, 490_000_000);
+    assert!(!summary.chunk_indexes.is_empty());
+    assert!(summary.chunk_indexes.iter().all(|c| c.compression == "lz4"));
+}
+
+#[test]
+fn dropped_logger_still_leaves_a_readable_file() {
+    let model = model();
+    let file = TempFile::new("dropped");
+    {
+        let logger = log_samples(&model, &file.0, 37);
+        drop(logger); // an interrupted run: no finish()
+    }
+    let bytes = std::fs::read(&file.0).unwrap();
+    check_file(&model, &bytes, 37);
+    let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
+    assert_eq!(summary.stats.unwrap().message_count, 37 * 8);
+}
+
+#[test]
+fn bad_sizes_are_errors_and_unwritable_path_is_io_error() {
+    let model = model();
+    let file = TempFile::new("bad");
+    let mut logger = McapLogger::create(&file.0, &model, &[], &[]).unwrap();
+    let q = model.neutral();
+    let nu = vec![0.0; model.nv()];
+    let mut sample = LogSample {
+        time_s: 0.0,
+        q: &q[..5],
+        nu: &nu,
+        theta: &[],
+        thetadot: &[],
+        thetadot_desired: &[],
+        com: [0.0; 3],
+        com_reference: [0.0; 3],
+        momentum: [0.0; 6],
+        contact_wrenches: &[],
+        motor_torques: &[],
+        joint_torques: &[],
+        qp_status: "solved",
+        qp_failures: 0,
+    };
+    assert!(matches!(logger.log(&sample), Err(sea_ctrl::Error::Log(_))));
+    sample.q = &q;
+    sample.contact_wrenches = &[0.0; 7];
+    assert!(matches!(logger.log(&sample), Err(sea_ctrl::Error::Log(_))));
+    sample.contact_wrenches = &[0.0; 6];
+    logger.log(&sample).unwrap();
+    logger.finish().unwrap();
+
+    let missing = std::env::temp_dir().join("sea_ctrl_no_such_dir_4f1c/x.mcap");
+    assert!(matches!(
+        McapLogger::create(&missing, &model, &[], &[]),
+        Err(sea_ctrl::Error::Io { .. })
+    ));
+}
