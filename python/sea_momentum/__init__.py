@@ -9,5 +9,6 @@ Conventions (the same everywhere):
 """
 
 from ._native import Model, ModelError, Plant, __version__
+from .scenario import ScenarioResult, run_scenario
 
-__all__ = ["Model", "ModelError", "Plant", "__version__"]
+__all__ = ["Model", "ModelError", "Plant", "ScenarioResult", "run_scenario", "__version__"]

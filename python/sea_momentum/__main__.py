@@ -2,6 +2,8 @@
 
 Commands:
 
+- ``reproduce [--out DIR]``: runs the paper's experiments (scenarios/paper), writes the
+  figures, MCAP logs, ``summary.json`` and ``outcomes.md``.
 - ``check [--urdf PATH] [--out DIR]``: loads the model and checks the dynamics identities on
   random states (M symmetric positive definite, M nudot + h equal to inverse dynamics,
   H = A_G nu, frame Jacobians and the CoM Jacobian against finite differences). Writes
@@ -25,7 +27,17 @@ def main(argv: list[str] | None = None) -> int:
     check.add_argument("--urdf", default=str(checks.default_urdf()))
     check.add_argument("--out", default="out")
     check.add_argument("--states", type=int, default=20)
+    rep = sub.add_parser("reproduce", help="run the paper's experiments, write figures, logs, table")
+    rep.add_argument("--out", default="out")
+    rep.add_argument("--scenarios", default="scenarios/paper")
+    rep.add_argument("--duration", type=float, default=None, help="override every run's duration [s]")
     args = parser.parse_args(argv)
+
+    if args.command == "reproduce":
+        from .reproduce import reproduce
+
+        reproduce(pathlib.Path(args.scenarios), pathlib.Path(args.out), args.duration)
+        return 0
 
     if args.command == "check":
         report = checks.dynamics_check(args.urdf, n_states=args.states)

@@ -47,6 +47,12 @@ pub struct RunRecord {
     pub joint_error_norm: Vec<f64>,
     /// 1 when the tick's QP was solved, 0 when it fell back (rows).
     pub qp_solved: Vec<f64>,
+    /// `(nq, nv, n_e)` of the state rows.
+    pub layout: (usize, usize, usize),
+    /// Joint names (coordinate order).
+    pub joint_names: Vec<String>,
+    /// Elastic joint names (order of theta).
+    pub elastic_joints: Vec<String>,
 }
 
 /// The summary of a run (also written as JSON by `sea-sim`).
@@ -369,7 +375,12 @@ pub fn run(
     let mut x = setup.x0.clone();
     let mut x_next = x.clone();
     let mut s_desired = vec![0.0; n];
-    let mut record = RunRecord::default();
+    let mut record = RunRecord {
+        layout: (layout.nq, layout.nv, ne),
+        joint_names: setup.model.joint_names.clone(),
+        elastic_joints: setup.elastic_names.clone(),
+        ..Default::default()
+    };
     let mut status: Option<(f64, String)> = None;
     let mut last_progress = 0.0;
     let mut time = 0.0;

@@ -10,6 +10,7 @@ mod arrays;
 mod errors;
 mod model;
 mod plant;
+mod scenario;
 
 /// The native module `sea_momentum._native`.
 #[pymodule]
@@ -17,6 +18,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ModelError", m.py().get_type::<errors::ModelError>())?;
     m.add_class::<model::PyModel>()?;
     m.add_class::<plant::PyPlant>()?;
+    m.add_function(wrap_pyfunction!(scenario::run_scenario_native, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }
