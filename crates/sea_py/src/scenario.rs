@@ -17,6 +17,32 @@ fn to_py(error: sea_ctrl::Error) -> PyErr {
     }
 }
 
+/// A Python value as a TOML literal: str, bool, int, float (numpy scalars too), lists of those.
+fn toml_literal(value: &Bound<'_, PyAny>) -> PyResult<String> {
+    if let Ok(text) = value.extract::<String>() {
+        return Ok(toml::Value::String(text).to_string());
+    }
+    if value.is_instance_of::<pyo3::types::PyBool>() {
+        return Ok(value.extract::<bool>()?.to_string());
+    }
+    if value.is_instance_of::<pyo3::types::PyInt>() {
+        return Ok(value.extract::<i64>()?.to_string());
+    }
+    if let Ok(number) = value.extract::<f64>() {
+        return Ok(toml::Value::Float(number).to_string());
+    }
+    if let Ok(items) = value.try_iter() {
+        let parts = items
+            .map(|item| toml_literal(&item?))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(format!("[{}]", parts.join(", ")));
+    }
+    Err(PyValueError::new_err(format!(
+        "cannot use {} as a scenario value",
+        value.repr()?
+    )))
+}
+
 /// Runs the scenario file `path` with `overrides` ({"controller.kind": "rigid", ...}; values
 /// are TOML literals or bare strings), optionally writing an MCAP log. Returns a dict of arrays
 /// (time, x, thetadot_desired, com, com_reference, momentum, contact_wrenches, motor_torques,
@@ -32,19 +58,8 @@ pub fn run_scenario_native<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut pairs = Vec::new();
     for (key, value) in overrides.unwrap_or_default() {
-        // Python values become TOML literals: strings quoted, bools lower case, lists as TOML.
-        let text = if let Ok(s) = value.extract::<String>() {
-            format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
-        } else if let Ok(b) = value.extract::<bool>() {
-            b.to_string()
-        } else {
-            value
-                .repr()?
-                .to_string()
-                .replace("True", "true")
-                .replace("False", "false")
-                .replace('\'', "\"")
-        };
+        let text = toml_literal(&value)
+            .map_err(|e| PyValueError::new_err(format!("override '{key}': {e}")))?;
         pairs.push((key, text));
     }
     let scenario = sea_ctrl::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
