@@ -167,3 +167,11 @@ class Plant:
         """Native loop with ``u`` held (GIL released): time, x, contact_wrenches, motor_torques,
         drift_position, drift_rotation, status ("completed" | "diverged"), diverged_at, message.
         Data up to a divergence is kept."""
+
+def run_scenario_native(
+    path: str,
+    overrides: Mapping[str, object] | None = None,
+    mcap: str | None = None,
+    progress: bool = False,
+) -> dict[str, object]:
+    """Runs a TOML scenario natively (GIL released); use ``sea_momentum.run_scenario``."""
