@@ -140,6 +140,42 @@ pub fn bench_dynamics(model: &Model, batches: usize, calls_per_batch: usize) -> 
     }
 }
 
+/// `controller_tick_us`: one tick of the SEA controller on the iCub standing on two feet (all
+/// model terms, the QP and the SEA mapping). `None` when `urdf` is not an iCub with the paper's
+/// 25 joints and both soles.
+pub fn bench_controller(urdf: &str, batches: usize, calls_per_batch: usize) -> Option<f64> {
+    let text = format!(
+        "[robot]\nurdf = {urdf:?}\ncontacts = [\"l_sole\", \"r_sole\"]\ninitial_posture = \"two_feet\"\n\
+         [reference]\ncom_origin = \"initial\"\ncom_amplitude = 0.01\ncom_frequency = 0.25\n"
+    );
+    let scenario =
+        crate::scenario::Scenario::from_toml(&text, &[], std::path::Path::new(".")).ok()?;
+    let mut setup = crate::closed_loop::build(&scenario).ok()?;
+    let layout = setup.plant.layout();
+    let mut s_desired = vec![0.0; setup.model.n_joints()];
+    setup.posture.at(0.0, &mut s_desired);
+    let mut rng = Lcg::new(7);
+    // Small random perturbations of the standing state, so the QP is warm but not trivial.
+    let states: Vec<Vec<f64>> = (0..STATES)
+        .map(|_| {
+            let mut x = setup.x0.clone();
+            for v in &mut x[layout.nu()..layout.nu() + layout.nv] {
+                *v = 0.01 * rng.next_signed();
+            }
+            x
+        })
+        .collect();
+    let reference = setup.com_reference.sample(1.0);
+    let mut ok = true;
+    let time = median_us(batches, calls_per_batch, |k| {
+        ok &= setup
+            .controller
+            .compute(&states[k], &layout, &reference, &s_desired)
+            .is_ok();
+    });
+    ok.then_some(time)
+}
+
 /// The paper's plant: every joint a SEA (REFERENCE.md), both soles in contact, standing at the
 /// neutral posture with the springs preloaded against gravity. `None` without `l_sole` and
 /// `r_sole` frames.

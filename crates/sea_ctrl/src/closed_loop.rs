@@ -104,6 +104,32 @@ impl Summary {
     }
 }
 
+/// Plant outputs at the start of a control tick (copied out of `PlantData`).
+#[derive(Default)]
+struct StepOutputs {
+    wrench: Vec<f64>,
+    motor_torque: Vec<f64>,
+    joint_torque: Vec<f64>,
+}
+
+impl StepOutputs {
+    fn copy_from(
+        &mut self,
+        wrench: &nalgebra::DVector<f64>,
+        motor: &nalgebra::DVector<f64>,
+        joint: &nalgebra::DVector<f64>,
+    ) {
+        for (target, source) in [
+            (&mut self.wrench, wrench),
+            (&mut self.motor_torque, motor),
+            (&mut self.joint_torque, joint),
+        ] {
+            target.clear();
+            target.extend_from_slice(source.as_slice());
+        }
+    }
+}
+
 /// A built scenario: model, plant, controller and initial state.
 pub struct Setup {
     /// Robot model.
@@ -385,6 +411,7 @@ pub fn run(
     let mut last_progress = 0.0;
     let mut time = 0.0;
     let mut com_errors: Vec<f64> = Vec::new();
+    let mut first_outputs = StepOutputs::default();
     let mut lateral_after_start = 0.0f64;
     let mut motor_peak = 0.0f64;
     for tick in 0..=ticks {
@@ -408,8 +435,43 @@ pub fn run(
             .map(|(a, b)| (a - b) * (a - b))
             .sum::<f64>()
             .sqrt();
-        // Plant outputs at this state, for the record (wrenches, motor torques).
-        let evaluated = sea_dyn::evaluate(plant, &mut pd, &x, &output.input);
+        // Advance the plant; its step-start evaluation (kept in `pd`) gives the outputs at `x`
+        // for the record (wrenches, motor torques), so nothing is evaluated twice. The last
+        // tick only evaluates.
+        let mut plant_error = None;
+        if tick == ticks {
+            if let Err(e) = sea_dyn::evaluate(plant, &mut pd, &x, &output.input) {
+                plant_error = Some(format!("plant: {e}"));
+            }
+        } else {
+            let mut x_step = x.clone();
+            for k in 0..steps_per_tick {
+                if let Err(e) = sea_dyn::step(
+                    plant,
+                    &mut pd,
+                    &x_step,
+                    &output.input,
+                    scenario.plant.dt,
+                    method,
+                    &mut x_next,
+                ) {
+                    plant_error = Some(format!("plant step: {e}"));
+                    break;
+                }
+                if k == 0 {
+                    first_outputs.copy_from(&pd.contact_wrench, &pd.motor_torque, &pd.joint_torque);
+                }
+                if x_next.iter().any(|v| !v.is_finite()) {
+                    plant_error = Some("non-finite state".into());
+                    break;
+                }
+                std::mem::swap(&mut x_step, &mut x_next);
+            }
+            x_next.copy_from_slice(&x_step);
+        }
+        if tick == ticks || plant_error.is_some() {
+            first_outputs.copy_from(&pd.contact_wrench, &pd.motor_torque, &pd.joint_torque);
+        }
         com_errors.push(com_error);
         if time >= 1.0 {
             lateral_after_start =
@@ -417,7 +479,7 @@ pub fn run(
         }
         let thetadot = &x[layout.thetadot()..layout.thetadot() + ne];
         motor_peak = thetadot.iter().fold(motor_peak, |m, v| m.max(v.abs()));
-        if tick % record_every == 0 || tick == ticks {
+        if tick % record_every == 0 || tick == ticks || plant_error.is_some() {
             record.time.push(time);
             record.state.extend_from_slice(&x);
             if output.thetadot_desired.len() == ne {
@@ -436,10 +498,10 @@ pub fn run(
                 .extend_from_slice(output.momentum.as_slice());
             record
                 .contact_wrenches
-                .extend_from_slice(pd.contact_wrench.as_slice());
+                .extend_from_slice(&first_outputs.wrench);
             record
                 .motor_torques
-                .extend_from_slice(pd.motor_torque.as_slice());
+                .extend_from_slice(&first_outputs.motor_torque);
             record.joint_error_norm.push(joint_error);
             record
                 .qp_solved
@@ -474,16 +536,16 @@ pub fn run(
                         output.momentum[4],
                         output.momentum[5],
                     ],
-                    contact_wrenches: pd.contact_wrench.as_slice(),
-                    motor_torques: pd.motor_torque.as_slice(),
-                    joint_torques: pd.joint_torque.as_slice(),
+                    contact_wrenches: &first_outputs.wrench,
+                    motor_torques: &first_outputs.motor_torque,
+                    joint_torques: &first_outputs.joint_torque,
                     qp_status: &status_text,
                     qp_failures: setup.controller.qp_failures(),
                 })?;
             }
         }
-        if let Err(e) = evaluated {
-            status = Some((time, format!("plant: {e}")));
+        if let Some(reason) = plant_error {
+            status = Some((time, reason));
             break;
         }
         if com_error > scenario.simulation.divergence_com_error_m {
@@ -500,28 +562,7 @@ pub fn run(
         if tick == ticks {
             break;
         }
-        for _ in 0..steps_per_tick {
-            if let Err(e) = sea_dyn::step(
-                plant,
-                &mut pd,
-                &x,
-                &output.input,
-                scenario.plant.dt,
-                method,
-                &mut x_next,
-            ) {
-                status = Some((time, format!("plant step: {e}")));
-                break;
-            }
-            if x_next.iter().any(|v| !v.is_finite()) {
-                status = Some((time, "non-finite state".into()));
-                break;
-            }
-            std::mem::swap(&mut x, &mut x_next);
-        }
-        if status.is_some() {
-            break;
-        }
+        std::mem::swap(&mut x, &mut x_next);
         if time - last_progress >= 1.0 {
             last_progress = time;
             progress(time, scenario.simulation.duration_s);

@@ -9,10 +9,13 @@
 //! facets) F_z`), a minimum normal force, torsional friction `|n_z| <= mu_t F_z`, and the centre
 //! of pressure `(-n_y / F_z, n_x / F_z)` inside the foot rectangle.
 //!
-//! The Clarabel problem is built once with dense (all structural non-zero) matrices, so every
-//! tick only updates values (`update_P`, `update_q`, `update_A`, `update_b`; presolve off). A
-//! solve that does not end `Solved`/`AlmostSolved` is reported and replaced by the
-//! unconstrained solution the caller gives.
+//! Clarabel works on the wrenches in their sole frames, `w = T^T f` with
+//! `T = blockdiag(R_k, R_k)`: the contact constraints are then constant and sparse (at most three
+//! non-zeros a row), and the rotations move into `P' = T^T P T`, `c' = T^T c` and
+//! `A_eq' = A_eq T`. The problem is built once; every tick only updates values (`update_P`,
+//! `update_q`, `update_A`, `update_b`; presolve off). A solve that does not end
+//! `Solved`/`AlmostSolved` is reported and replaced by the unconstrained solution the caller
+//! gives.
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -104,9 +107,13 @@ pub struct WrenchQp {
     n_equalities: usize,
     sole_c: DMatrix<f64>,
     sole_b: DVector<f64>,
-    /// Dense constraint matrix `[A_eq; C]` and right side, refreshed each tick.
-    constraint: DMatrix<f64>,
+    /// Constraint matrix in CSC form: equality rows dense, inequality rows with the sparsity of
+    /// the sole constraints; `constraint_values` follows its storage order.
+    constraint_pattern: CscMatrix<f64>,
+    constraint_values: Vec<f64>,
     rhs: DVector<f64>,
+    /// `T = blockdiag(R_k, R_k)` of the current tick (k x k).
+    rotation: DMatrix<f64>,
     solver: Option<DefaultSolver<f64>>,
     settings: DefaultSettings<f64>,
     /// Solves that fell back to the unconstrained solution.
@@ -130,13 +137,11 @@ fn dense_csc(m: &DMatrix<f64>, upper: bool) -> CscMatrix<f64> {
     CscMatrix::new(rows, cols, colptr, rowval, nzval)
 }
 
-/// Values of [`dense_csc`] in the same order.
-fn dense_values(m: &DMatrix<f64>, upper: bool, out: &mut Vec<f64>) {
+/// Values of the upper triangle of `m` in [`dense_csc`] order.
+fn upper_values(m: &DMatrix<f64>, out: &mut Vec<f64>) {
     out.clear();
-    let (rows, cols) = m.shape();
-    for j in 0..cols {
-        let last = if upper { (j + 1).min(rows) } else { rows };
-        out.extend((0..last).map(|i| m[(i, j)]));
+    for j in 0..m.ncols() {
+        out.extend((0..=j.min(m.nrows() - 1)).map(|i| m[(i, j)]));
     }
 }
 
@@ -144,11 +149,41 @@ impl WrenchQp {
     /// A QP for `n_contacts` wrenches and `n_equalities` equality rows (0 or 6).
     pub fn new(n_contacts: usize, n_equalities: usize, constraints: &ContactConstraints) -> Self {
         let (sole_c, sole_b) = constraints.sole_rows();
-        let rows = n_equalities + n_contacts * sole_c.nrows();
+        let per_contact = sole_c.nrows();
+        let rows = n_equalities + n_contacts * per_contact;
+        let n = 6 * n_contacts;
+        // Pattern: equality rows dense; contact k's rows only on its own six variables, where
+        // the sole constraint is non-zero.
+        let mut colptr = vec![0];
+        let mut rowval = Vec::new();
+        let mut nzval = Vec::new();
+        let mut rhs = DVector::zeros(rows);
+        for j in 0..n {
+            let (contact, component) = (j / 6, j % 6);
+            rowval.extend(0..n_equalities);
+            nzval.extend(std::iter::repeat_n(0.0, n_equalities));
+            for r in 0..per_contact {
+                let value = sole_c[(r, component)];
+                if value != 0.0 {
+                    rowval.push(n_equalities + contact * per_contact + r);
+                    nzval.push(value);
+                }
+            }
+            colptr.push(rowval.len());
+        }
+        for contact in 0..n_contacts {
+            rhs.rows_mut(n_equalities + contact * per_contact, per_contact)
+                .copy_from(&sole_b);
+        }
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
             .presolve_enable(false)
             .max_iter(100)
+            // Wrenches to 1e-7 relative are far below the model's accuracy; the looser gap and
+            // feasibility tolerances save iterations on every tick.
+            .tol_gap_abs(1e-7)
+            .tol_gap_rel(1e-7)
+            .tol_feas(1e-7)
             .build()
             .expect("valid Clarabel settings");
         Self {
@@ -156,8 +191,10 @@ impl WrenchQp {
             n_equalities,
             sole_c,
             sole_b,
-            constraint: DMatrix::zeros(rows, 6 * n_contacts),
-            rhs: DVector::zeros(rows),
+            constraint_values: nzval.clone(),
+            constraint_pattern: CscMatrix::new(rows, n, colptr, rowval, nzval),
+            rhs,
+            rotation: DMatrix::zeros(n, n),
             solver: None,
             settings,
             failures: 0,
@@ -169,34 +206,26 @@ impl WrenchQp {
         6 * self.n_contacts
     }
 
-    /// The inequality rows `C f <= b` in world axes for sole rotations `world_R_sole`.
+    /// The inequality rows `C f <= b` in world axes for sole rotations `world_R_sole`
+    /// (for checks: the solver itself works in the sole frames).
     pub fn inequalities(&self, rotations: &[Matrix3<f64>]) -> (DMatrix<f64>, DVector<f64>) {
         let rows = self.sole_c.nrows();
         let mut c = DMatrix::zeros(rows * self.n_contacts, self.n_variables());
         let mut b = DVector::zeros(rows * self.n_contacts);
         for (k, rotation) in rotations.iter().enumerate() {
-            let rt = rotation.transpose();
-            for r in 0..rows {
-                for part in 0..2 {
-                    // Row r of C_s acting on R^T w_part: (C_s[r, part] R^T) w_part.
-                    let sole = nalgebra::RowVector3::new(
-                        self.sole_c[(r, 3 * part)],
-                        self.sole_c[(r, 3 * part + 1)],
-                        self.sole_c[(r, 3 * part + 2)],
-                    );
-                    let world = sole * rt;
-                    for a in 0..3 {
-                        c[(k * rows + r, 6 * k + 3 * part + a)] = world[a];
-                    }
-                }
-                b[k * rows + r] = self.sole_b[r];
-            }
+            let mut t = DMatrix::zeros(6, 6);
+            t.view_mut((0, 0), (3, 3)).copy_from(&rotation.transpose());
+            t.view_mut((3, 3), (3, 3)).copy_from(&rotation.transpose());
+            c.view_mut((k * rows, 6 * k), (rows, 6))
+                .copy_from(&(&self.sole_c * t));
+            b.rows_mut(k * rows, rows).copy_from(&self.sole_b);
         }
         (c, b)
     }
 
-    /// Solves `min 0.5 f^T P f + c^T f` s.t. `A_eq f = b_eq`, `C f <= b`; on failure returns
-    /// `fallback` with a `Fallback` status. `P` must be symmetric positive definite (n x n).
+    /// Solves `min 0.5 f^T P f + c^T f` s.t. `A_eq f = b_eq`, `C f <= b` (world wrenches); on
+    /// failure returns `fallback` with a `Fallback` status. `P` must be symmetric positive
+    /// definite (n x n).
     pub fn solve(
         &mut self,
         hessian: &DMatrix<f64>,
@@ -205,18 +234,32 @@ impl WrenchQp {
         rotations: &[Matrix3<f64>],
         fallback: &DVector<f64>,
     ) -> (DVector<f64>, QpStatus) {
-        let ne = self.n_equalities;
-        if let Some((a_eq, b_eq)) = equality {
-            self.constraint.rows_mut(0, ne).copy_from(a_eq);
-            self.rhs.rows_mut(0, ne).copy_from(b_eq);
+        self.rotation.fill(0.0);
+        for (k, r) in rotations.iter().enumerate() {
+            self.rotation.view_mut((6 * k, 6 * k), (3, 3)).copy_from(r);
+            self.rotation
+                .view_mut((6 * k + 3, 6 * k + 3), (3, 3))
+                .copy_from(r);
         }
-        let (c, b) = self.inequalities(rotations);
-        let ni = c.nrows();
-        self.constraint.rows_mut(ne, ni).copy_from(&c);
-        self.rhs.rows_mut(ne, ni).copy_from(&b);
-        let outcome = self.solve_clarabel(hessian, gradient);
-        match outcome {
-            Ok(f) => (f, QpStatus::Solved),
+        let t = &self.rotation;
+        let hessian_sole = t.transpose() * hessian * t;
+        let gradient_sole = t.transpose() * gradient;
+        if let Some((a_eq, b_eq)) = equality {
+            let a_sole = a_eq * t;
+            self.rhs.rows_mut(0, self.n_equalities).copy_from(b_eq);
+            // Equality rows are the first n_equalities entries of every column.
+            let mut index = 0;
+            for j in 0..self.n_variables() {
+                let count =
+                    self.constraint_pattern.colptr[j + 1] - self.constraint_pattern.colptr[j];
+                for i in 0..self.n_equalities {
+                    self.constraint_values[index + i] = a_sole[(i, j)];
+                }
+                index += count;
+            }
+        }
+        match self.solve_clarabel(&hessian_sole, &gradient_sole) {
+            Ok(w) => (&self.rotation * w, QpStatus::Solved),
             Err(reason) => {
                 self.failures += 1;
                 (fallback.clone(), QpStatus::Fallback(reason))
@@ -229,17 +272,16 @@ impl WrenchQp {
         hessian: &DMatrix<f64>,
         gradient: &DVector<f64>,
     ) -> Result<DVector<f64>, String> {
-        let q = gradient.as_slice();
-        let b = self.rhs.as_slice();
+        let q = gradient.as_slice().to_vec();
+        let b = self.rhs.as_slice().to_vec();
         let updated = match self.solver.as_mut() {
             Some(solver) => {
                 let mut values = Vec::new();
-                dense_values(hessian, true, &mut values);
-                let mut ok = solver.update_P(&values).is_ok();
-                dense_values(&self.constraint, false, &mut values);
-                ok &= solver.update_A(&values).is_ok();
-                ok &= solver.update_q(&q.to_vec()).is_ok() && solver.update_b(&b.to_vec()).is_ok();
-                ok
+                upper_values(hessian, &mut values);
+                solver.update_P(&values).is_ok()
+                    && solver.update_A(&self.constraint_values).is_ok()
+                    && solver.update_q(&q).is_ok()
+                    && solver.update_b(&b).is_ok()
             }
             None => false,
         };
@@ -253,8 +295,9 @@ impl WrenchQp {
                 vec![SupportedConeT::NonnegativeConeT(self.rhs.len())]
             };
             let p = dense_csc(hessian, true);
-            let a = dense_csc(&self.constraint, false);
-            let solver = DefaultSolver::new(&p, q, &a, b, &cones, self.settings.clone())
+            let mut a = self.constraint_pattern.clone();
+            a.nzval.copy_from_slice(&self.constraint_values);
+            let solver = DefaultSolver::new(&p, &q, &a, &b, &cones, self.settings.clone())
                 .map_err(|e| format!("setup failed: {e}"))?;
             self.solver = Some(solver);
         }

@@ -78,7 +78,12 @@ fn run_bench(args: &[String]) -> Result<(), String> {
         ..Default::default()
     };
     let model = Model::from_urdf_file(&args.urdf, &options).map_err(|e| e.to_string())?;
-    let result = sea_ctrl::bench::bench_dynamics(&model, args.batches, args.calls);
+    let mut result = sea_ctrl::bench::bench_dynamics(&model, args.batches, args.calls);
+    if let Some(tick) =
+        sea_ctrl::bench::bench_controller(&args.urdf, args.batches, args.calls / 20 + 1)
+    {
+        result.figures.push(("controller_tick_us", tick));
+    }
     if args.json {
         let mut map = serde_json::Map::new();
         map.insert("urdf".into(), args.urdf.clone().into());
