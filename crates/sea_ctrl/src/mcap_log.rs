@@ -27,7 +27,7 @@ use crate::error::Error;
 use crate::Result;
 use mcap::records::MessageHeader;
 use mcap::{Compression, WriteOptions, Writer};
-use nalgebra::Matrix3;
+use sea_dyn::spatial::quaternion_from_rotation;
 use sea_dyn::{Data, Model};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -361,49 +361,6 @@ fn nanoseconds(time_s: f64) -> u64 {
     }
 }
 
-/// Unit quaternion `(w, x, y, z)` of a rotation matrix by Shepperd's method (pivoting on the
-/// largest of `w, x, y, z` to avoid cancellation), normalised, with `w >= 0`.
-fn quaternion_from_rotation(r: &Matrix3<f64>) -> [f64; 4] {
-    let (r00, r11, r22) = (r[(0, 0)], r[(1, 1)], r[(2, 2)]);
-    let trace = r00 + r11 + r22;
-    let q = if trace >= r00 && trace >= r11 && trace >= r22 {
-        let s = 2.0 * (1.0 + trace).max(0.0).sqrt();
-        [
-            0.25 * s,
-            (r[(2, 1)] - r[(1, 2)]) / s,
-            (r[(0, 2)] - r[(2, 0)]) / s,
-            (r[(1, 0)] - r[(0, 1)]) / s,
-        ]
-    } else if r00 >= r11 && r00 >= r22 {
-        let s = 2.0 * (1.0 + r00 - r11 - r22).max(0.0).sqrt();
-        [
-            (r[(2, 1)] - r[(1, 2)]) / s,
-            0.25 * s,
-            (r[(0, 1)] + r[(1, 0)]) / s,
-            (r[(0, 2)] + r[(2, 0)]) / s,
-        ]
-    } else if r11 >= r22 {
-        let s = 2.0 * (1.0 + r11 - r00 - r22).max(0.0).sqrt();
-        [
-            (r[(0, 2)] - r[(2, 0)]) / s,
-            (r[(0, 1)] + r[(1, 0)]) / s,
-            0.25 * s,
-            (r[(1, 2)] + r[(2, 1)]) / s,
-        ]
-    } else {
-        let s = 2.0 * (1.0 + r22 - r00 - r11).max(0.0).sqrt();
-        [
-            (r[(1, 0)] - r[(0, 1)]) / s,
-            (r[(0, 2)] + r[(2, 0)]) / s,
-            (r[(1, 2)] + r[(2, 1)]) / s,
-            0.25 * s,
-        ]
-    };
-    let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
-    let sign = if q[0] < 0.0 { -1.0 } else { 1.0 };
-    q.map(|c| sign * c / norm)
-}
-
 impl McapLogger {
     /// Creates the file and writes schemas/channels. `elastic_joint_names` labels theta entries,
     /// `contact_names` the wrenches (contacts beyond the names are called `contact_<k>`).
@@ -709,29 +666,6 @@ mod erased {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sea_dyn::spatial::rotation_from_quaternion;
-
-    #[test]
-    fn shepperd_round_trip() {
-        // Cover every pivot branch: identity-like, and near-180-degree turns about x, y, z.
-        let quaternions = [
-            [1.0, 0.0, 0.0, 0.0],
-            [0.9, 0.1, -0.3, 0.2],
-            [0.01, 0.99, 0.1, -0.05],
-            [0.02, -0.1, 0.98, 0.1],
-            [0.0, 0.1, -0.2, 0.97],
-            [-0.5, 0.5, 0.5, -0.5],
-        ];
-        for q in quaternions {
-            let n = q.iter().map(|c: &f64| c * c).sum::<f64>().sqrt();
-            let r = rotation_from_quaternion(q[0], q[1], q[2], q[3]);
-            let p = quaternion_from_rotation(&r);
-            let sign = if q[0] < 0.0 { -1.0 } else { 1.0 };
-            for k in 0..4 {
-                assert!((p[k] - sign * q[k] / n).abs() < 1e-12, "{q:?} -> {p:?}");
-            }
-        }
-    }
 
     #[test]
     fn time_conversion() {
