@@ -104,13 +104,17 @@ mod tests {
             smooth_start: 1.0,
         };
         let eps = 1e-6;
-        for &t in &[0.0, 0.3, 1.7, 4.0] {
-            let (a, b) = (traj.sample(t + eps), traj.sample((t - eps).max(0.0)));
-            let h = (t + eps) - (t - eps).max(0.0);
+        // Central differences away from t = 0 (the envelope starts there).
+        for &t in &[0.3, 1.7, 4.0] {
+            let (a, b) = (traj.sample(t + eps), traj.sample(t - eps));
             let s = traj.sample(t);
-            assert!(((a.position - b.position) / h - s.velocity).norm() < 1e-8);
-            assert!(((a.velocity - b.velocity) / h - s.acceleration).norm() < 1e-7);
+            assert!(((a.position - b.position) / (2.0 * eps) - s.velocity).norm() < 1e-8);
+            assert!(((a.velocity - b.velocity) / (2.0 * eps) - s.acceleration).norm() < 1e-7);
         }
+        // One-sided at the start: first-order accurate.
+        let (a, s) = (traj.sample(eps), traj.sample(0.0));
+        assert!(((a.position - s.position) / eps - s.velocity).norm() < 1e-6);
+        assert!(((a.velocity - s.velocity) / eps - s.acceleration).norm() < 1e-4);
         assert!((traj.sample(0.0).position - traj.origin).norm() < 1e-15);
     }
 }
