@@ -89,13 +89,18 @@ pub struct ControlOutput {
     pub momentum: Vector6<f64>,
 }
 
-/// The terms of `tau(f) = tau_bias + Sigma f` and of the momentum task at one state.
-struct TaskTerms {
-    tau_bias: DVector<f64>,
-    sigma: DMatrix<f64>,
-    momentum_map: DMatrix<f64>,
-    momentum_target: DVector<f64>,
-    rotations: Vec<Matrix3<f64>>,
+/// The terms of `tau(f) = tau_bias + Sigma f` and of the momentum task `A f = b` at one state.
+pub struct TaskTerms {
+    /// `tau_bias` (n).
+    pub tau_bias: DVector<f64>,
+    /// `Sigma` (n x 6 n_contacts).
+    pub sigma: DMatrix<f64>,
+    /// `A` (6 x 6 n_contacts).
+    pub momentum_map: DMatrix<f64>,
+    /// `b = Hdot* - m g` (6).
+    pub momentum_target: DVector<f64>,
+    /// `world_R_contact` of each contact.
+    pub rotations: Vec<Matrix3<f64>>,
 }
 
 /// The momentum controller with its own model and estimates.
@@ -470,17 +475,16 @@ impl MomentumController {
         ))
     }
 
-    /// `tau(f)` terms for tests: `(tau_bias, Sigma, A, b)`.
+    /// The torque map and momentum task at a state (what the QP of [`Self::compute`] uses).
     pub fn torque_map(
         &mut self,
         x: &[f64],
         layout: &StateLayout,
         reference: &ComSample,
         s_desired: &[f64],
-    ) -> Result<(DVector<f64>, DMatrix<f64>, DMatrix<f64>, DVector<f64>)> {
+    ) -> Result<TaskTerms> {
         self.update_jg(s_desired)?;
-        let (t, _, _) = self.task_terms(x, layout, reference, s_desired)?;
-        Ok((t.tau_bias, t.sigma, t.momentum_map, t.momentum_target))
+        Ok(self.task_terms(x, layout, reference, s_desired)?.0)
     }
 }
 

@@ -63,3 +63,97 @@ fn rigid_controller_at_rest_keeps_the_rigid_robot_at_rest() {
         assert!(wrench_error < 1e-6 * setup.model.total_mass() * 9.81);
     }
 }
+
+fn two_feet(extra: &[(&str, &str)]) -> sea_ctrl::closed_loop::Setup {
+    let mut overrides = vec![
+        ("robot.contacts", "[\"l_sole\", \"r_sole\"]"),
+        ("robot.initial_posture", "two_feet"),
+        ("reference.com_origin", "initial"),
+        ("reference.com_amplitude", "0.02"),
+        ("reference.com_frequency", "0.5"),
+    ];
+    overrides.extend_from_slice(extra);
+    build(&scenario(&overrides)).unwrap()
+}
+
+#[test]
+fn qp_wrenches_satisfy_the_constraints_and_the_momentum_task() {
+    let mut setup = two_feet(&[]);
+    let layout = setup.plant.layout();
+    let mut s_d = vec![0.0; setup.model.n_joints()];
+    setup.posture.at(0.0, &mut s_d);
+    // A moving reference and a perturbed velocity, so the task is not trivial.
+    let mut x = setup.x0.clone();
+    for (k, v) in x[layout.nu()..layout.nu() + layout.nv]
+        .iter_mut()
+        .enumerate()
+    {
+        *v = 0.02 * ((k as f64) * 0.7).sin();
+    }
+    let reference = setup.com_reference.sample(1.3);
+    let out = setup
+        .controller
+        .compute(&x, &layout, &reference, &s_d)
+        .unwrap();
+    assert_eq!(out.qp_status, sea_ctrl::qp::QpStatus::Solved);
+    let terms = setup
+        .controller
+        .torque_map(&x, &layout, &reference, &s_d)
+        .unwrap();
+    let residual = (&terms.momentum_map * &out.wrenches - &terms.momentum_target).amax();
+    assert!(
+        residual < 1e-5 * terms.momentum_target.amax(),
+        "A f - b = {residual}"
+    );
+    let qp = sea_ctrl::qp::WrenchQp::new(2, 6, &sea_ctrl::qp::ContactConstraints::default());
+    let (c, b) = qp.inequalities(&terms.rotations);
+    let violation = (&c * &out.wrenches - b).max();
+    assert!(violation < 1e-6, "C f - b max {violation}");
+    // The command is tau(f) of the reported wrenches.
+    let tau = &terms.tau_bias + &terms.sigma * &out.wrenches;
+    assert!((tau - nalgebra::DVector::from_vec(out.joint_command.clone())).amax() < 1e-9);
+}
+
+/// Paper, Lemma 1: with Lambda of full row rank, the closed-loop joint accelerations do not
+/// depend on the wrench redundancy f0 (f = f1 + N_b f0 with A N_b = 0).
+#[test]
+fn lemma_1_joint_accelerations_do_not_depend_on_the_wrench_redundancy() {
+    let mut setup = two_feet(&[
+        ("actuators.kind", "rigid"),
+        ("controller.kind", "rigid"),
+        ("controller.pinv_damping", "1e-12"),
+    ]);
+    let layout = setup.plant.layout();
+    let mut s_d = vec![0.0; setup.model.n_joints()];
+    setup.posture.at(0.0, &mut s_d);
+    let x = setup.x0.clone();
+    let reference = setup.com_reference.sample(0.8);
+    let terms = setup
+        .controller
+        .torque_map(&x, &layout, &reference, &s_d)
+        .unwrap();
+    let a = &terms.momentum_map;
+    let f1 = a.clone().pseudo_inverse(1e-12).unwrap() * &terms.momentum_target;
+    let null = nalgebra::DMatrix::identity(12, 12) - a.clone().pseudo_inverse(1e-12).unwrap() * a;
+    let f0 = nalgebra::DVector::from_fn(12, |i, _| 5.0 * ((i as f64) * 1.3).cos());
+    let f2 = &f1 + &null * f0;
+    assert!((a * &f2 - a * &f1).amax() < 1e-8);
+    assert!((&f2 - &f1).amax() > 1.0);
+    let mut joint_accelerations = Vec::new();
+    for f in [&f1, &f2] {
+        let tau = &terms.tau_bias + &terms.sigma * f;
+        let mut pd = sea_dyn::PlantData::new(&setup.plant);
+        sea_dyn::evaluate(&setup.plant, &mut pd, &x, tau.as_slice()).unwrap();
+        joint_accelerations.push(
+            pd.xdot
+                .rows(layout.nv + 6, setup.model.n_joints())
+                .into_owned(),
+        );
+    }
+    let difference = (&joint_accelerations[0] - &joint_accelerations[1]).amax();
+    println!(
+        "Lemma 1: |sddot(f1) - sddot(f1 + N f0)| = {difference:.2e}, |sddot| = {:.2e}",
+        joint_accelerations[0].amax()
+    );
+    assert!(difference < 1e-6 * joint_accelerations[0].amax().max(1.0));
+}

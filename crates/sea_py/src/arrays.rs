@@ -84,11 +84,7 @@ pub fn matrix_rows_out<'py>(
     row_major: &[f64],
     columns: usize,
 ) -> Bound<'py, PyArray2<f64>> {
-    let rows = if columns == 0 {
-        0
-    } else {
-        row_major.len() / columns
-    };
+    let rows = row_major.len().checked_div(columns).unwrap_or(0);
     Array2::from_shape_vec((rows, columns), row_major.to_vec())
         .expect("row-major data matches its shape")
         .into_pyarray(py)
