@@ -400,6 +400,7 @@ pub fn run(
     let mut pd = PlantData::new(plant);
     let mut x = setup.x0.clone();
     let mut x_next = x.clone();
+    let mut x_step = x.clone();
     let mut s_desired = vec![0.0; n];
     let mut record = RunRecord {
         layout: (layout.nq, layout.nv, ne),
@@ -444,7 +445,7 @@ pub fn run(
                 plant_error = Some(format!("plant: {e}"));
             }
         } else {
-            let mut x_step = x.clone();
+            x_step.copy_from_slice(&x);
             for k in 0..steps_per_tick {
                 if let Err(e) = sea_dyn::step(
                     plant,

@@ -1,5 +1,5 @@
-//! Small dense linear algebra without allocation: in-place Cholesky `A = L L^T`, triangular
-//! solves, and the Schur complement `J A^-1 J^T` through `Y = L^-1 J^T`.
+//! Small dense linear algebra without allocation: in-place Cholesky `A = L L^T` and triangular
+//! solves (the k x k contact Schur complements; joint-space matrices use `tree_factor`).
 //!
 //! nalgebra's decompositions take ownership of (or copy) their matrix; the simulator factors
 //! matrices every step, so these work in preallocated buffers instead. They run on the
@@ -77,25 +77,6 @@ pub fn cholesky_solve_in_place(l: &DMatrix<f64>, b: &mut [f64]) {
     backward_substitute(l, b);
 }
 
-/// With `A = L L^T` (n x n) and `J` (k x n): `y = L^-1 J^T` (n x k) and
-/// `schur = J A^-1 J^T = y^T y` (k x k, full).
-pub fn schur_complement(
-    l: &DMatrix<f64>,
-    jacobian: &DMatrix<f64>,
-    y: &mut DMatrix<f64>,
-    schur: &mut DMatrix<f64>,
-) {
-    let (k, n) = jacobian.shape();
-    for r in 0..k {
-        let mut column = y.column_mut(r);
-        for i in 0..n {
-            column[i] = jacobian[(r, i)];
-        }
-        forward_substitute(l, column.as_mut_slice());
-    }
-    schur.gemm_tr(1.0, y, y, 0.0);
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -118,20 +99,6 @@ mod tests {
         for (xi, ti) in x.iter().zip(&x_true) {
             assert!((xi - ti).abs() < 1e-10);
         }
-    }
-
-    #[test]
-    fn schur_matches_dense_inverse() {
-        let n = 6;
-        let a = spd(n);
-        let j = DMatrix::from_fn(2, n, |i, c| (i + 2 * c) as f64 * 0.1 - 0.3);
-        let mut l = a.clone();
-        cholesky_in_place(&mut l).unwrap();
-        let mut y = DMatrix::zeros(n, 2);
-        let mut s = DMatrix::zeros(2, 2);
-        schur_complement(&l, &j, &mut y, &mut s);
-        let expected = &j * a.try_inverse().unwrap() * j.transpose();
-        assert!((s - expected).norm() < 1e-10);
     }
 
     #[test]
