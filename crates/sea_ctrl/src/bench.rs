@@ -141,16 +141,42 @@ pub fn bench_dynamics(model: &Model, batches: usize, calls_per_batch: usize) -> 
 }
 
 /// `controller_tick_us`: one tick of the SEA controller on the iCub standing on two feet (all
-/// model terms, the QP and the SEA mapping). `None` when `urdf` is not an iCub with the paper's
-/// 25 joints and both soles.
-pub fn bench_controller(urdf: &str, batches: usize, calls_per_batch: usize) -> Option<f64> {
-    let text = format!(
-        "[robot]\nurdf = {urdf:?}\ncontacts = [\"l_sole\", \"r_sole\"]\ninitial_posture = \"two_feet\"\n\
-         [reference]\ncom_origin = \"initial\"\ncom_amplitude = 0.01\ncom_frequency = 0.25\n"
-    );
-    let scenario =
-        crate::scenario::Scenario::from_toml(&text, &[], std::path::Path::new(".")).ok()?;
-    let mut setup = crate::closed_loop::build(&scenario).ok()?;
+/// model terms, the QP and the SEA mapping), as it runs in the closed loop; and
+/// `controller_tick_clarabel_us`, the same tick with Clarabel solving the QP every time (no
+/// shortcut through the minimiser without inequalities). `None` when `urdf` is not an iCub
+/// with the paper's 25 joints and both soles.
+pub fn bench_controller(
+    urdf: &str,
+    batches: usize,
+    calls_per_batch: usize,
+) -> Option<Vec<(&'static str, f64)>> {
+    let mut figures = Vec::new();
+    for (key, unconstrained_first) in [
+        ("controller_tick_us", true),
+        ("controller_tick_clarabel_us", false),
+    ] {
+        let text = format!(
+            "[robot]\nurdf = {urdf:?}\ncontacts = [\"l_sole\", \"r_sole\"]\ninitial_posture = \"two_feet\"\n\
+             [reference]\ncom_origin = \"initial\"\ncom_amplitude = 0.01\ncom_frequency = 0.25\n\
+             [controller]\nqp_unconstrained_first = {unconstrained_first}\n"
+        );
+        let scenario =
+            crate::scenario::Scenario::from_toml(&text, &[], std::path::Path::new(".")).ok()?;
+        figures.push((
+            key,
+            controller_tick_us(&scenario, batches, calls_per_batch)?,
+        ));
+    }
+    Some(figures)
+}
+
+/// Median microseconds of one controller tick of `scenario` on perturbed initial states.
+fn controller_tick_us(
+    scenario: &crate::scenario::Scenario,
+    batches: usize,
+    calls_per_batch: usize,
+) -> Option<f64> {
+    let mut setup = crate::closed_loop::build(scenario).ok()?;
     let layout = setup.plant.layout();
     let mut s_desired = vec![0.0; setup.model.n_joints()];
     setup.posture.at(0.0, &mut s_desired);

@@ -78,6 +78,9 @@ pub struct Summary {
     pub motor_velocity_peak_rad_s: f64,
     /// QP solves that fell back.
     pub qp_failures: usize,
+    /// QP solves done by Clarabel (the others: the minimiser without inequalities was
+    /// feasible, hence optimal).
+    pub qp_clarabel_solves: usize,
     /// Wall-clock time [s].
     pub wall_time_s: f64,
     /// Simulated time / wall time.
@@ -98,6 +101,7 @@ impl Summary {
             "joint_error_norm_final_rad": self.joint_error_norm_final_rad,
             "motor_velocity_peak_rad_s": self.motor_velocity_peak_rad_s,
             "qp_failures": self.qp_failures,
+            "qp_clarabel_solves": self.qp_clarabel_solves,
             "wall_time_s": self.wall_time_s,
             "realtime_factor": self.realtime_factor,
         })
@@ -590,6 +594,7 @@ pub fn run(
         joint_error_norm_final_rad: record.joint_error_norm.last().copied().unwrap_or(0.0),
         motor_velocity_peak_rad_s: motor_peak,
         qp_failures: setup.controller.qp_failures(),
+        qp_clarabel_solves: setup.controller.qp_solves().0,
         wall_time_s: wall,
         realtime_factor: if wall > 0.0 { time / wall } else { 0.0 },
     };

@@ -25,9 +25,10 @@
 use crate::error::{Error, Result};
 use crate::qp::{ContactConstraints, QpStatus, WrenchQp};
 use crate::references::ComSample;
+use crate::torque_map::{PosturalTask, TorqueMap};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 use sea_dyn::spatial::{quaternion_from_rotation, skew};
-use sea_dyn::{Actuation, CentroidalSplit, Data, FrameId, Model, StateLayout};
+use sea_dyn::{Actuation, Data, FrameId, Model, StateLayout};
 
 /// Which controller.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,6 +68,9 @@ pub struct ControllerSettings {
     pub reflected_inertia: bool,
     /// Added to the joint diagonal of the controller's `M` [kg m^2].
     pub joint_inertia_regularization: f64,
+    /// Try the QP's minimiser without inequalities first: when it satisfies them all it is the
+    /// QP's optimum (the KKT conditions hold with zero multipliers) and Clarabel is not called.
+    pub qp_unconstrained_first: bool,
 }
 
 /// One tick's outputs.
@@ -90,6 +94,7 @@ pub struct ControlOutput {
 }
 
 /// The terms of `tau(f) = tau_bias + Sigma f` and of the momentum task `A f = b` at one state.
+#[derive(Clone, Debug)]
 pub struct TaskTerms {
     /// `tau_bias` (n).
     pub tau_bias: DVector<f64>,
@@ -103,6 +108,26 @@ pub struct TaskTerms {
     pub rotations: Vec<Matrix3<f64>>,
 }
 
+impl TaskTerms {
+    /// Zeroed terms for `n` joints and `n_contacts` contacts (the identity blocks of `A` set).
+    fn new(n: usize, n_contacts: usize) -> Self {
+        let k = 6 * n_contacts;
+        let mut momentum_map = DMatrix::zeros(6, k);
+        for c in 0..n_contacts {
+            momentum_map
+                .view_mut((0, 6 * c), (6, 6))
+                .fill_with_identity();
+        }
+        Self {
+            tau_bias: DVector::zeros(n),
+            sigma: DMatrix::zeros(n, k),
+            momentum_map,
+            momentum_target: DVector::zeros(6),
+            rotations: vec![Matrix3::identity(); n_contacts],
+        }
+    }
+}
+
 /// The momentum controller with its own model and estimates.
 pub struct MomentumController {
     model: Model,
@@ -113,10 +138,19 @@ pub struct MomentumController {
     /// Reference placements `world_H_contact` (where the feet are held).
     contact_references: Vec<sea_dyn::spatial::Pose>,
     qp: WrenchQp,
-    split: CentroidalSplit,
+    /// The torque map's inputs, buffers and results.
+    torque_map: TorqueMap,
+    /// This tick's `tau(f) = tau_bias + Sigma f` and momentum task `A f = b`.
+    terms: TaskTerms,
+    /// `s - s_d` (n) [rad].
+    posture_error: Vec<f64>,
+    /// QP Hessian `P` (k x k) and gradient `c` (k) of `0.5 f^T P f + c^T f`.
+    qp_hessian: DMatrix<f64>,
+    qp_gradient: DVector<f64>,
     /// `J_G^omega(s_d)` (3 x n) and the `s_d` it was computed at.
     jg_angular: DMatrix<f64>,
     jg_posture: Vec<f64>,
+    /// Total mass [kg].
     mass: f64,
 }
 
@@ -185,12 +219,27 @@ impl MomentumController {
         }
         let k = 6 * contact_frames.len();
         let equalities = if contact_frames.len() > 1 { 6 } else { 0 };
+        let mut torque_map = TorqueMap::new(model, k);
+        for j in 0..n {
+            torque_map.diagonal[6 + j] = settings.joint_inertia_regularization;
+        }
+        if settings.kind == ControllerKind::Rigid && settings.reflected_inertia {
+            for (&j, p) in actuation.elastic_joints.iter().zip(&actuation.elastic) {
+                torque_map.diagonal[6 + j] += p.motor_inertia / (p.ratio * p.ratio);
+            }
+        }
+        let mut qp = WrenchQp::new(contact_frames.len(), equalities, &settings.constraints);
+        qp.unconstrained_first = settings.qp_unconstrained_first;
         Ok(Self {
             model: model.clone(),
             data,
             actuation: actuation.clone(),
-            qp: WrenchQp::new(contact_frames.len(), equalities, &settings.constraints),
-            split: CentroidalSplit::new(n, k),
+            qp,
+            torque_map,
+            terms: TaskTerms::new(n, contact_frames.len()),
+            posture_error: vec![0.0; n],
+            qp_hessian: DMatrix::zeros(k, k),
+            qp_gradient: DVector::zeros(k),
             jg_angular: DMatrix::zeros(3, n),
             jg_posture: Vec::new(),
             mass: model.total_mass(),
@@ -203,6 +252,12 @@ impl MomentumController {
     /// QP solves that fell back to the unconstrained solution so far.
     pub fn qp_failures(&self) -> usize {
         self.qp.failures
+    }
+
+    /// QP solves so far: `(by Clarabel, skipped because the minimiser without inequalities
+    /// was feasible)`.
+    pub fn qp_solves(&self) -> (usize, usize) {
+        (self.qp.clarabel_solves, self.qp.unconstrained_solves)
     }
 
     /// Settings.
@@ -258,43 +313,40 @@ impl MomentumController {
         s_desired: &[f64],
     ) -> Result<ControlOutput> {
         self.update_jg(s_desired)?;
-        let terms_and_state = self.task_terms(x, layout, reference, s_desired)?;
-        let (terms, com, momentum) = terms_and_state;
-        let k = 6 * self.contact_frames.len();
+        let (com, momentum) = self.task_terms(x, layout, reference, s_desired)?;
+        let terms = &self.terms;
+        let k = self.qp_gradient.len();
         let reg = self.settings.qp_regularization;
-        let (hessian, gradient, fallback, equality) = if self.contact_frames.len() == 1 {
-            // min |A f - b|^2 + reg |f|^2
-            let a = &terms.momentum_map;
-            let hessian = (a.transpose() * a + DMatrix::identity(k, k) * reg) * 2.0;
-            let gradient = -(a.transpose() * &terms.momentum_target) * 2.0;
-            let fallback = hessian
-                .clone()
-                .cholesky()
-                .map(|c| c.solve(&(-&gradient)))
-                .unwrap_or_else(|| DVector::zeros(k));
-            (hessian, gradient, fallback, None)
+        let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
+        let two_feet = self.contact_frames.len() > 1;
+        if two_feet {
+            // min |tau_bias + Sigma f|^2 + reg |f|^2 s.t. A f = b:
+            // P = 2 (Sigma^T Sigma + reg I), c = 2 Sigma^T tau_bias.
+            hessian.gemm_tr(2.0, &terms.sigma, &terms.sigma, 0.0);
+            gradient.gemv_tr(2.0, &terms.sigma, &terms.tau_bias, 0.0);
         } else {
-            // min |tau_bias + Sigma f|^2 + reg |f|^2 s.t. A f = b
-            let s = &terms.sigma;
-            let hessian = (s.transpose() * s + DMatrix::identity(k, k) * reg) * 2.0;
-            let gradient = (s.transpose() * &terms.tau_bias) * 2.0;
-            let fallback = equality_constrained_minimum(
-                &hessian,
-                &gradient,
-                &terms.momentum_map,
-                &terms.momentum_target,
-            );
-            (
-                hessian,
-                gradient,
-                fallback,
-                Some((&terms.momentum_map, &terms.momentum_target)),
-            )
+            // min |A f - b|^2 + reg |f|^2: P = 2 (A^T A + reg I), c = -2 A^T b.
+            let a = &terms.momentum_map;
+            hessian.gemm_tr(2.0, a, a, 0.0);
+            gradient.gemv_tr(-2.0, a, &terms.momentum_target, 0.0);
+        }
+        for i in 0..k {
+            hessian[(i, i)] += 2.0 * reg;
+        }
+        let equality = two_feet.then_some((&terms.momentum_map, &terms.momentum_target));
+        let unconstrained = match equality {
+            Some((a, b)) => equality_constrained_minimum(hessian, gradient, a, b),
+            None => unconstrained_minimum(hessian, gradient),
         };
-        let (wrenches, qp_status) =
-            self.qp
-                .solve(&hessian, &gradient, equality, &terms.rotations, &fallback);
-        let command = &terms.tau_bias + &terms.sigma * &wrenches;
+        let (wrenches, qp_status) = self.qp.solve(
+            hessian,
+            gradient,
+            equality,
+            &terms.rotations,
+            unconstrained.as_ref(),
+        );
+        let mut command = terms.tau_bias.clone();
+        command.gemv(1.0, &terms.sigma, &wrenches, 1.0);
         Ok(self.plant_input(command, wrenches, qp_status, com, momentum))
     }
 
@@ -336,143 +388,111 @@ impl MomentumController {
         }
     }
 
-    /// Model terms, the torque map and the momentum task at the state.
+    /// Model terms, the torque map and the momentum task at the state, into `self.terms`;
+    /// returns the CoM [m] and the centroidal momentum.
     fn task_terms(
         &mut self,
         x: &[f64],
         layout: &StateLayout,
         reference: &ComSample,
         s_desired: &[f64],
-    ) -> Result<(TaskTerms, Vector3<f64>, Vector6<f64>)> {
+    ) -> Result<(Vector3<f64>, Vector6<f64>)> {
         let model = &self.model;
-        let (nv, n) = (model.nv(), model.n_joints());
+        let nv = model.nv();
         let q = vec_in(x, 0, layout.nq);
         let theta = vec_in(x, layout.theta(), layout.ne);
         let nu = vec_in(x, layout.nu(), nv);
-        let s = &q[7..];
-        let sdot = &nu[6..];
-        let momentum = sea_dyn::centroidal_momentum(model, &mut self.data, q, nu);
-        let com = self.data.p_base_world + self.data.p_com_rel;
-        let mut h = sea_dyn::bias_forces(model, &mut self.data, q, nu).clone();
-        let mut mass_matrix = sea_dyn::crba_from_kinematics(model, &mut self.data).clone();
-        let kind = self.settings.kind;
-        for j in 0..n {
-            mass_matrix[(6 + j, 6 + j)] += self.settings.joint_inertia_regularization;
-        }
-        for (e, (&j, p)) in self
-            .actuation
-            .elastic_joints
-            .iter()
-            .zip(&self.actuation.elastic)
-            .enumerate()
-        {
-            match kind {
-                ControllerKind::Sea => {
-                    // h_j - p, p = K_S (Gamma theta - s) - K_D sdot (the controller's estimates).
-                    let k_s = p.stiffness * self.settings.stiffness_estimate_scale;
-                    let k_d = p.damping * self.settings.damping_estimate_scale;
-                    h[6 + j] -= k_s * (p.ratio * theta[e] - s[j]) - k_d * sdot[j];
-                }
-                ControllerKind::Rigid if self.settings.reflected_inertia => {
-                    mass_matrix[(6 + j, 6 + j)] += p.motor_inertia / (p.ratio * p.ratio);
-                }
-                ControllerKind::Rigid => {}
+        let (s, sdot) = (&q[7..], &nu[6..]);
+        let data = &mut self.data;
+        let map = &mut self.torque_map;
+        // One kinematic pass: the bias forces leave the body velocities and inertias the
+        // momentum needs; CRBA reuses the placements.
+        map.bias.copy_from(sea_dyn::bias_forces(model, data, q, nu));
+        let momentum = sea_dyn::centroidal_momentum_from_dynamics(data);
+        let com = data.p_base_world + data.p_com_rel;
+        sea_dyn::crba_from_kinematics(model, data);
+        if self.settings.kind == ControllerKind::Sea {
+            for (e, (&j, p)) in self
+                .actuation
+                .elastic_joints
+                .iter()
+                .zip(&self.actuation.elastic)
+                .enumerate()
+            {
+                // h_j - p, p = K_S (Gamma theta - s) - K_D sdot (the controller's estimates).
+                let k_s = p.stiffness * self.settings.stiffness_estimate_scale;
+                let k_d = p.damping * self.settings.damping_estimate_scale;
+                map.bias[6 + j] -= k_s * (p.ratio * theta[e] - s[j]) - k_d * sdot[j];
             }
         }
-        let k = 6 * self.contact_frames.len();
-        let mut jacobian = DMatrix::zeros(k, nv);
-        let mut jdot_nu = DVector::zeros(k);
-        let mut rotations = Vec::with_capacity(self.contact_frames.len());
-        let mut momentum_map = DMatrix::zeros(6, k);
+        let terms = &mut self.terms;
         for (c, &frame) in self.contact_frames.iter().enumerate() {
-            sea_dyn::jacobian::frame_jacobian_from_kinematics(model, &mut self.data, frame);
-            jacobian
+            sea_dyn::jacobian::frame_jacobian_from_kinematics(model, data, frame);
+            map.jacobian
                 .rows_mut(6 * c, 6)
-                .copy_from(&self.data.frame_jacobian);
-            let bias = sea_dyn::jacobian::frame_bias_acceleration(model, &mut self.data, frame);
-            jdot_nu.rows_mut(6 * c, 6).copy_from(&bias);
-            let pose = sea_dyn::frame_placement(model, &self.data, frame);
-            rotations.push(pose.rotation);
-            let mut block = DMatrix::<f64>::identity(6, 6);
-            block
-                .view_mut((3, 0), (3, 3))
+                .copy_from(&data.frame_jacobian);
+            let bias = sea_dyn::jacobian::frame_bias_acceleration(model, data, frame);
+            map.jdot_nu.fixed_rows_mut::<6>(6 * c).copy_from(&bias);
+            let pose = sea_dyn::frame_placement(model, data, frame);
+            terms.rotations[c] = pose.rotation;
+            // A_c = [[I, 0], [skew(p_c - p_com), I]]; the identity blocks never change.
+            terms
+                .momentum_map
+                .fixed_view_mut::<3, 3>(3, 6 * c)
                 .copy_from(&skew(&(pose.translation - com)));
-            momentum_map.columns_mut(6 * c, 6).copy_from(&block);
         }
-        let cholesky = mass_matrix.clone().cholesky().ok_or_else(|| {
-            Error::Dynamics(sea_dyn::Error::input(
-                "controller mass matrix is not positive definite",
-            ))
-        })?;
-        let minv_jt = cholesky.solve(&jacobian.transpose()); // nv x k
-        let lambda = minv_jt.rows(6, n).transpose(); // k x n: J M^-1 B
-        let j_minv_h = minv_jt.transpose() * &h;
-        let j_minv_jt = &jacobian * &minv_jt;
-        let damping2 = self.settings.pinv_damping * self.settings.pinv_damping;
-        let gram = &lambda * lambda.transpose() + DMatrix::identity(k, k) * damping2;
-        let gram_inv = gram
-            .try_inverse()
-            .ok_or_else(|| Error::Dynamics(sea_dyn::Error::input("Lambda Lambda^T is singular")))?;
-        let lambda_pinv = lambda.transpose() * gram_inv; // n x k
-        let null = DMatrix::identity(n, n) - &lambda_pinv * &lambda;
-        self.split.compute(&mass_matrix, &h, &jacobian)?;
-        let (mbar, jbar_t, hbar) = (&self.split.mbar, &self.split.jbar_t, &self.split.hbar_j);
-        let posture_error = DVector::from_iterator(n, s.iter().zip(s_desired).map(|(a, b)| a - b));
-        let joint_velocity = DVector::from_column_slice(sdot);
-        let null_mbar = &null * mbar;
-        let mut u0 = DVector::zeros(n);
-        let stiff = &null_mbar * posture_error;
-        let damp = &null_mbar * joint_velocity;
-        for i in 0..n {
-            u0[i] = -self.settings.postural_stiffness[i] * stiff[i]
-                - self.settings.postural_damping[i] * damp[i];
+        for (e, value) in self.posture_error.iter_mut().enumerate() {
+            *value = s[e] - s_desired[e];
         }
-        let tau_bias = &lambda_pinv * (j_minv_h - jdot_nu) + &null * (hbar + u0);
-        let sigma = -(&lambda_pinv * j_minv_jt + &null * jbar_t);
-        // Momentum task.
+        let posture = PosturalTask {
+            error: &self.posture_error,
+            velocity: sdot,
+            stiffness: &self.settings.postural_stiffness,
+            damping: &self.settings.postural_damping,
+        };
+        map.compute(&data.mass_matrix, &posture, self.settings.pinv_damping)?;
+        terms.tau_bias.copy_from(&map.tau_bias);
+        terms.sigma.copy_from(&map.sigma);
+        self.momentum_target(reference, com, &momentum);
+        Ok((com, momentum))
+    }
+
+    /// `b = Hdot* - m g` into `self.terms.momentum_target`, `Hdot* = Hdot_d - K_p (H - H_d) -
+    /// K_i I_H`, `I_H = [m (p_com - p_com_d); J_G^omega(s_d) (s - s_d)]`.
+    fn momentum_target(
+        &mut self,
+        reference: &ComSample,
+        com: Vector3<f64>,
+        momentum: &Vector6<f64>,
+    ) {
         let m = self.mass;
-        let desired = Vector6::new(
-            m * reference.velocity.x,
-            m * reference.velocity.y,
-            m * reference.velocity.z,
-            0.0,
-            0.0,
-            0.0,
-        );
-        let angular_integral = &self.jg_angular
-            * DVector::from_iterator(n, s.iter().zip(s_desired).map(|(a, b)| a - b));
-        let integral_error = Vector6::new(
-            m * (com.x - reference.position.x),
-            m * (com.y - reference.position.y),
-            m * (com.z - reference.position.z),
-            angular_integral[0],
-            angular_integral[1],
-            angular_integral[2],
-        );
-        let mut target = DVector::zeros(6);
-        let gravity = model.gravity * m;
+        let desired_linear = reference.velocity * m;
+        let angular_integral = Vector3::from_fn(|r, _| {
+            let row = self.jg_angular.row(r);
+            row.iter()
+                .zip(&self.posture_error)
+                .map(|(a, b)| a * b)
+                .sum()
+        });
+        let linear_integral = (com - reference.position) * m;
+        let gravity = self.model.gravity * m;
+        let settings = &self.settings;
         for r in 0..6 {
-            let feedforward = if r < 3 {
-                m * reference.acceleration[r]
+            let (feedforward, desired, integral, weight) = if r < 3 {
+                (
+                    m * reference.acceleration[r],
+                    desired_linear[r],
+                    linear_integral[r],
+                    gravity[r],
+                )
             } else {
-                0.0
+                (0.0, 0.0, angular_integral[r - 3], 0.0)
             };
             let hdot_star = feedforward
-                - self.settings.momentum_proportional[r] * (momentum[r] - desired[r])
-                - self.settings.momentum_integral[r] * integral_error[r];
-            target[r] = hdot_star - if r < 3 { gravity[r] } else { 0.0 };
+                - settings.momentum_proportional[r] * (momentum[r] - desired)
+                - settings.momentum_integral[r] * integral;
+            self.terms.momentum_target[r] = hdot_star - weight;
         }
-        Ok((
-            TaskTerms {
-                tau_bias,
-                sigma,
-                momentum_map,
-                momentum_target: target,
-                rotations,
-            },
-            com,
-            momentum,
-        ))
     }
 
     /// The torque map and momentum task at a state (what the QP of [`Self::compute`] uses).
@@ -484,27 +504,33 @@ impl MomentumController {
         s_desired: &[f64],
     ) -> Result<TaskTerms> {
         self.update_jg(s_desired)?;
-        Ok(self.task_terms(x, layout, reference, s_desired)?.0)
+        self.task_terms(x, layout, reference, s_desired)?;
+        Ok(self.terms.clone())
     }
 }
 
-/// `argmin 0.5 f^T P f + c^T f` s.t. `A f = b` (KKT), the QP without its inequalities.
+/// `argmin 0.5 f^T P f + c^T f` (`P` positive definite): `-P^-1 c`; `None` if `P` is not.
+fn unconstrained_minimum(p: &DMatrix<f64>, c: &DVector<f64>) -> Option<DVector<f64>> {
+    p.clone().cholesky().map(|chol| -chol.solve(c))
+}
+
+/// `argmin 0.5 f^T P f + c^T f` s.t. `A f = b` (the KKT system), the QP without its
+/// inequalities; `None` if the KKT matrix is singular.
 fn equality_constrained_minimum(
     p: &DMatrix<f64>,
     c: &DVector<f64>,
     a: &DMatrix<f64>,
     b: &DVector<f64>,
-) -> DVector<f64> {
+) -> Option<DVector<f64>> {
     let (m, n) = a.shape();
     let mut kkt = DMatrix::zeros(n + m, n + m);
     kkt.view_mut((0, 0), (n, n)).copy_from(p);
-    kkt.view_mut((0, n), (n, m)).copy_from(&a.transpose());
+    kkt.view_mut((0, n), (n, m)).tr_copy_from(a);
     kkt.view_mut((n, 0), (m, n)).copy_from(a);
     let mut rhs = DVector::zeros(n + m);
     rhs.rows_mut(0, n).copy_from(&(-c));
     rhs.rows_mut(n, m).copy_from(b);
-    kkt.lu()
-        .solve(&rhs)
-        .map(|x| x.rows(0, n).into_owned())
-        .unwrap_or_else(|| DVector::zeros(n))
+    let solution = kkt.lu().solve(&rhs)?;
+    let f = solution.rows(0, n).into_owned();
+    f.iter().all(|v| v.is_finite()).then_some(f)
 }

@@ -11,5 +11,6 @@ pub mod mcap_log;
 pub mod qp;
 pub mod references;
 pub mod scenario;
+pub mod torque_map;
 
 pub use error::{Error, Result};

@@ -267,6 +267,10 @@ pub struct ControllerConfig {
     /// QP Hessian regulariser.
     #[serde(default = "default_reg")]
     pub qp_regularization: f64,
+    /// Skip Clarabel when the QP's minimiser without inequalities satisfies them (it is then
+    /// the optimum); `false` runs Clarabel every tick.
+    #[serde(default = "yes")]
+    pub qp_unconstrained_first: bool,
     /// Rigid controller: include the motor reflected inertia (Remark 1).
     #[serde(default = "yes")]
     pub reflected_inertia: bool,
@@ -673,6 +677,7 @@ impl Scenario {
             qp_regularization: self.controller.qp_regularization,
             reflected_inertia: self.controller.reflected_inertia,
             joint_inertia_regularization: self.controller.joint_inertia_regularization,
+            qp_unconstrained_first: self.controller.qp_unconstrained_first,
         })
     }
 }

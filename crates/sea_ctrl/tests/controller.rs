@@ -157,3 +157,86 @@ fn lemma_1_joint_accelerations_do_not_depend_on_the_wrench_redundancy() {
     );
     assert!(difference < 1e-6 * joint_accelerations[0].amax().max(1.0));
 }
+
+/// A two-feet tick with a moving reference and velocities perturbed by `velocity` [rad/s].
+fn two_feet_tick(
+    extra: &[(&str, &str)],
+    velocity: f64,
+) -> (
+    sea_ctrl::closed_loop::Setup,
+    Vec<f64>,
+    sea_ctrl::references::ComSample,
+    Vec<f64>,
+) {
+    let setup = two_feet(extra);
+    let layout = setup.plant.layout();
+    let mut s_d = vec![0.0; setup.model.n_joints()];
+    setup.posture.at(0.0, &mut s_d);
+    let mut x = setup.x0.clone();
+    for (k, v) in x[layout.nu()..layout.nu() + layout.nv]
+        .iter_mut()
+        .enumerate()
+    {
+        *v = velocity * ((k as f64) * 0.7).sin();
+    }
+    let reference = setup.com_reference.sample(1.3);
+    (setup, x, reference, s_d)
+}
+
+/// When no inequality binds, the minimiser without inequalities (accepted without calling
+/// Clarabel) is the QP's optimum: Clarabel, forced, finds the same wrenches.
+#[test]
+fn skipping_clarabel_when_no_constraint_binds_gives_clarabel_s_optimum() {
+    let mut wrenches = Vec::new();
+    for (unconstrained_first, solves) in [("true", (0, 1)), ("false", (1, 0))] {
+        let (mut setup, x, reference, s_d) = two_feet_tick(
+            &[
+                ("controller.qp_unconstrained_first", unconstrained_first),
+                ("reference.com_amplitude", "0.005"),
+            ],
+            0.002,
+        );
+        let layout = setup.plant.layout();
+        let out = setup
+            .controller
+            .compute(&x, &layout, &reference, &s_d)
+            .unwrap();
+        assert_eq!(out.qp_status, sea_ctrl::qp::QpStatus::Solved);
+        assert_eq!(setup.controller.qp_solves(), solves);
+        wrenches.push(out.wrenches);
+    }
+    let difference = (&wrenches[0] - &wrenches[1]).amax();
+    println!(
+        "|f_skip - f_clarabel| = {difference:.2e}, |f| = {:.1}",
+        wrenches[0].amax()
+    );
+    assert!(difference < 1e-5 * wrenches[0].amax(), "{difference}");
+}
+
+/// When a constraint binds (a 2 cm square foot for the centre of pressure), the minimiser
+/// without inequalities violates it, Clarabel is called, and its wrenches satisfy it.
+#[test]
+fn a_binding_constraint_goes_to_clarabel() {
+    let (mut setup, x, reference, s_d) = two_feet_tick(
+        &[
+            ("controller.contact.foot_x", "[-0.01, 0.01]"),
+            ("controller.contact.foot_y", "[-0.01, 0.01]"),
+        ],
+        0.002,
+    );
+    let layout = setup.plant.layout();
+    let out = setup
+        .controller
+        .compute(&x, &layout, &reference, &s_d)
+        .unwrap();
+    assert_eq!(out.qp_status, sea_ctrl::qp::QpStatus::Solved);
+    assert_eq!(setup.controller.qp_solves(), (1, 0));
+    let terms = setup
+        .controller
+        .torque_map(&x, &layout, &reference, &s_d)
+        .unwrap();
+    let qp = sea_ctrl::qp::WrenchQp::new(2, 6, &setup.controller.settings().constraints);
+    let (c, b) = qp.inequalities(&terms.rotations);
+    let violation = (&c * &out.wrenches - b).max();
+    assert!(violation < 1e-6, "C f - b max {violation}");
+}

@@ -86,6 +86,21 @@ pub fn centroidal_momentum(model: &Model, data: &mut Data, q: &[f64], nu: &[f64]
     momentum.moment_about(&data.p_com_rel).to_vector()
 }
 
+/// Centroidal momentum `H` (6) from what a dynamics pass left in `data`: the body velocities
+/// (forward velocities) and the body inertias at `O` (set by RNEA, the bias or gravity forces,
+/// and CRBA). Also sets `data.p_com_rel`. Saves the kinematic pass of
+/// [`centroidal_momentum`] when the bias forces at the same state were just computed.
+pub fn centroidal_momentum_from_dynamics(data: &mut Data) -> Vector6<f64> {
+    let mut momentum = Force::zero();
+    let mut total = SpatialInertia::zero();
+    for (inertia, velocity) in data.body_inertia.iter().zip(&data.body_velocity) {
+        momentum += inertia.mul_motion(velocity);
+        total += *inertia;
+    }
+    data.p_com_rel = total.com();
+    momentum.moment_about(&data.p_com_rel).to_vector()
+}
+
 /// `Adot_G(q, nu) nu`, the rate of the centroidal momentum at `nudot = 0` (6).
 pub fn centroidal_momentum_bias(
     model: &Model,

@@ -49,7 +49,8 @@ pub mod urdf;
 
 pub use actuator::{Actuation, Actuator, ElasticParameters};
 pub use centroidal::{
-    centroidal_momentum, centroidal_momentum_bias, centroidal_momentum_matrix, com, com_jacobian,
+    centroidal_momentum, centroidal_momentum_bias, centroidal_momentum_from_dynamics,
+    centroidal_momentum_matrix, com, com_jacobian,
 };
 pub use configuration::integrate;
 pub use crba::{crba, crba_from_kinematics};

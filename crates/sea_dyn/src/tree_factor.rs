@@ -13,34 +13,54 @@ use crate::error::{Error, Result};
 use crate::model::Model;
 use nalgebra::DMatrix;
 
-const NONE: usize = usize::MAX;
-
 /// The factor and the tree of DOFs.
+///
+/// Storage: row `d` of `L` holds only its structural non-zeros, the columns `d, parent(d),
+/// parent(parent(d)), ..., 0` (the ancestor chain, `depth(d) + 1` entries), contiguously in
+/// `values` from `row_start[d]`. The chain of an ancestor `i` of `d` is a suffix of `d`'s, so
+/// the factor's update `L[i, chain(i)] -= L[k, i] L[k, chain(i)]` is a contiguous axpy.
 #[derive(Clone, Debug)]
 pub struct TreeFactor {
     /// Velocity index of tree DOF `d` (nv).
     velocity_index: Vec<usize>,
-    /// Parent DOF of `d` (`NONE` for the first base DOF) (nv).
-    parent: Vec<usize>,
-    /// `L` in tree-DOF indices; only (d, ancestor-or-self of d) entries are used (nv x nv).
-    factor: DMatrix<f64>,
+    /// Start of row `d` in `values` (nv + 1; row `d` ends at `row_start[d + 1]`).
+    row_start: Vec<usize>,
+    /// Tree DOF of each stored entry's column (as `values`).
+    column_dof: Vec<usize>,
+    /// Velocity index of each stored entry's column (as `values`).
+    column_velocity: Vec<usize>,
+    /// The entries of `L`, row by row along the ancestor chains; a row's first entry is its
+    /// diagonal.
+    values: Vec<f64>,
 }
 
 impl TreeFactor {
     /// An empty factor for `model`.
     pub fn new(model: &Model) -> Self {
-        let nv = model.nv();
         let mut velocity_index: Vec<usize> = (0..6).collect();
-        let mut parent: Vec<usize> = (0..6).map(|d| if d == 0 { NONE } else { d - 1 }).collect();
+        let mut parent: Vec<Option<usize>> = (0..6usize).map(|d| d.checked_sub(1)).collect();
         for body in 1..model.n_bodies() {
             velocity_index.push(model.velocity_index(body));
             let p = model.parent(body);
-            parent.push(if p == 0 { 5 } else { 5 + p });
+            parent.push(Some(if p == 0 { 5 } else { 5 + p }));
         }
+        let mut row_start = vec![0];
+        let mut column_dof = Vec::new();
+        for d in 0..parent.len() {
+            let mut a = Some(d);
+            while let Some(dof) = a {
+                column_dof.push(dof);
+                a = parent[dof];
+            }
+            row_start.push(column_dof.len());
+        }
+        let column_velocity = column_dof.iter().map(|&d| velocity_index[d]).collect();
         Self {
+            values: vec![0.0; column_dof.len()],
             velocity_index,
-            parent,
-            factor: DMatrix::zeros(nv, nv),
+            row_start,
+            column_dof,
+            column_velocity,
         }
     }
 
@@ -48,42 +68,40 @@ impl TreeFactor {
     /// The matrix must have the tree's sparsity (a joint-space inertia does). Fails if a pivot
     /// is not positive.
     pub fn factor(&mut self, matrix: &DMatrix<f64>, diagonal: &[f64]) -> Result<()> {
-        let n = self.parent.len();
-        let (vi, parent, l) = (&self.velocity_index, &self.parent, &mut self.factor);
+        let n = self.velocity_index.len();
         for d in 0..n {
-            let mut a = d;
-            while a != NONE {
-                l[(d, a)] = matrix[(vi[d], vi[a])];
-                a = parent[a];
+            let row = self.row_start[d]..self.row_start[d + 1];
+            let vd = self.velocity_index[d];
+            for entry in row {
+                self.values[entry] = matrix[(vd, self.column_velocity[entry])];
             }
             if !diagonal.is_empty() {
-                l[(d, d)] += diagonal[vi[d]];
+                self.values[self.row_start[d]] += diagonal[vd];
             }
         }
+        // From the leaves: ancestors have smaller tree indices, so their rows lie before row k.
         for k in (0..n).rev() {
-            let pivot = l[(k, k)];
+            let (start, end) = (self.row_start[k], self.row_start[k + 1]);
+            let (head, tail) = self.values.split_at_mut(start);
+            let row_k = &mut tail[..end - start];
+            let pivot = row_k[0];
             if pivot <= 0.0 || !pivot.is_finite() {
                 return Err(Error::input(format!(
                     "matrix is not positive definite (tree pivot {k}, velocity index {})",
-                    vi[k]
+                    self.velocity_index[k]
                 )));
             }
             let lkk = pivot.sqrt();
-            l[(k, k)] = lkk;
-            let mut i = parent[k];
-            while i != NONE {
-                l[(k, i)] /= lkk;
-                i = parent[i];
-            }
-            let mut i = parent[k];
-            while i != NONE {
-                let lki = l[(k, i)];
-                let mut j = i;
-                while j != NONE {
-                    l[(i, j)] -= lki * l[(k, j)];
-                    j = parent[j];
+            row_k[0] = lkk;
+            let inverse = 1.0 / lkk;
+            row_k[1..].iter_mut().for_each(|v| *v *= inverse);
+            for p in 1..row_k.len() {
+                let i = self.column_dof[start + p];
+                let lki = row_k[p];
+                let row_i = &mut head[self.row_start[i]..self.row_start[i + 1]];
+                for (target, source) in row_i.iter_mut().zip(&row_k[p..]) {
+                    *target -= lki * source;
                 }
-                i = parent[i];
             }
         }
         Ok(())
@@ -91,15 +109,16 @@ impl TreeFactor {
 
     /// `b <- L^-T b` (b in velocity indices, size nv).
     pub fn solve_lt(&self, b: &mut [f64]) {
-        let (vi, parent, l) = (&self.velocity_index, &self.parent, &self.factor);
-        for i in (0..parent.len()).rev() {
-            let yi = b[vi[i]] / l[(i, i)];
-            b[vi[i]] = yi;
+        for i in (0..self.velocity_index.len()).rev() {
+            let (start, end) = (self.row_start[i], self.row_start[i + 1]);
+            let yi = b[self.velocity_index[i]] / self.values[start];
+            b[self.velocity_index[i]] = yi;
             if yi != 0.0 {
-                let mut j = parent[i];
-                while j != NONE {
-                    b[vi[j]] -= l[(i, j)] * yi;
-                    j = parent[j];
+                for (value, &column) in self.values[start + 1..end]
+                    .iter()
+                    .zip(&self.column_velocity[start + 1..end])
+                {
+                    b[column] -= value * yi;
                 }
             }
         }
@@ -107,15 +126,15 @@ impl TreeFactor {
 
     /// `b <- L^-1 b` (b in velocity indices, size nv).
     pub fn solve_l(&self, b: &mut [f64]) {
-        let (vi, parent, l) = (&self.velocity_index, &self.parent, &self.factor);
-        for i in 0..parent.len() {
-            let mut value = b[vi[i]];
-            let mut j = parent[i];
-            while j != NONE {
-                value -= l[(i, j)] * b[vi[j]];
-                j = parent[j];
-            }
-            b[vi[i]] = value / l[(i, i)];
+        for i in 0..self.velocity_index.len() {
+            let (start, end) = (self.row_start[i], self.row_start[i + 1]);
+            let dot: f64 = self.values[start + 1..end]
+                .iter()
+                .zip(&self.column_velocity[start + 1..end])
+                .map(|(value, &column)| value * b[column])
+                .sum();
+            let vi = self.velocity_index[i];
+            b[vi] = (b[vi] - dot) / self.values[start];
         }
     }
 

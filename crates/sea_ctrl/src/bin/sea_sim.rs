@@ -79,10 +79,10 @@ fn run_bench(args: &[String]) -> Result<(), String> {
     };
     let model = Model::from_urdf_file(&args.urdf, &options).map_err(|e| e.to_string())?;
     let mut result = sea_ctrl::bench::bench_dynamics(&model, args.batches, args.calls);
-    if let Some(tick) =
+    if let Some(ticks) =
         sea_ctrl::bench::bench_controller(&args.urdf, args.batches, args.calls / 20 + 1)
     {
-        result.figures.push(("controller_tick_us", tick));
+        result.figures.extend(ticks);
     }
     if args.json {
         let mut map = serde_json::Map::new();
