@@ -8,7 +8,7 @@
 
 use crate::controller::{ControllerKind, MomentumController};
 use crate::error::{Error, Result};
-use crate::mcap_log::{LogSample, McapLogger};
+use crate::mcap_log::{LogSample, McapLogger, ThreadedMcapLogger};
 use crate::qp::QpStatus;
 use crate::references::{ComTrajectory, PostureReference};
 use crate::scenario::{
@@ -383,12 +383,12 @@ pub fn run(
 ) -> Result<(RunRecord, Summary)> {
     let mut setup = build(scenario)?;
     let mut logger = match mcap {
-        Some(path) => Some(McapLogger::create(
+        Some(path) => Some(ThreadedMcapLogger::spawn(McapLogger::create(
             path,
             &setup.model,
             &setup.elastic_names,
             &scenario.robot.contacts,
-        )?),
+        )?)),
         None => None,
     };
     let start = Instant::now();

@@ -21,6 +21,10 @@
 //!   `Gamma^-1 I_m Gamma^-1` on the joint diagonal (Remark 1), output `tau_m = Gamma tau*`.
 //!
 //! `g` is the gravity vector (`m g = [0, 0, -m 9.81]`), so `Hdot(f) = A f + [m g; 0]`.
+//!
+//! The torque map is computed by [`crate::torque_map`], the QP by [`crate::qp`]; this file
+//! assembles the model terms, the momentum task and the QP's objective, and maps the result to
+//! the plant input.
 
 use crate::error::{Error, Result};
 use crate::qp::{ContactConstraints, QpStatus, WrenchQp};

@@ -1,7 +1,7 @@
 //! The MCAP logger writes a file Foxglove and the `mcap` reader accept, also when dropped
 //! without `finish()`.
 
-use sea_ctrl::mcap_log::{LogSample, McapLogger};
+use sea_ctrl::mcap_log::{LogSample, McapLogger, ThreadedMcapLogger};
 use sea_dyn::{Data, LoadOptions, Model};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -64,11 +64,22 @@ fn configuration(model: &Model, k: usize) -> Vec<f64> {
     q
 }
 
-/// Logs `count` samples, then returns the logger (unfinished).
-fn log_samples(model: &Model, path: &std::path::Path, count: usize) -> McapLogger {
+/// A logger with every joint elastic and both soles as contacts.
+fn create(model: &Model, path: &std::path::Path) -> McapLogger {
     let elastic: Vec<String> = model.joint_names.clone();
     let contacts = vec!["l_sole".to_string(), "r_sole".to_string()];
-    let mut logger = McapLogger::create(path, model, &elastic, &contacts).expect("create");
+    McapLogger::create(path, model, &elastic, &contacts).expect("create")
+}
+
+/// Logs `count` samples, then returns the logger (unfinished).
+fn log_samples(model: &Model, path: &std::path::Path, count: usize) -> McapLogger {
+    let mut logger = create(model, path);
+    for_each_sample(model, count, |sample| logger.log(sample).expect("log"));
+    logger
+}
+
+/// Calls `f` with `count` varied samples.
+fn for_each_sample(model: &Model, count: usize, mut f: impl FnMut(&LogSample)) {
     let n = model.n_joints();
     for k in 0..count {
         let q = configuration(model, k);
@@ -95,9 +106,8 @@ fn log_samples(model: &Model, path: &std::path::Path, count: usize) -> McapLogge
             qp_status: if k % 10 == 9 { "fallback" } else { "solved" },
             qp_failures: k / 10,
         };
-        logger.log(&sample).expect("log");
+        f(&sample);
     }
-    logger
 }
 
 /// Reads every message and checks topics, schemas, counts, times and `/tf` contents.
@@ -240,6 +250,36 @@ fn writes_a_readable_file_with_every_channel() {
     assert_eq!(stats.message_end_time, 490_000_000);
     assert!(!summary.chunk_indexes.is_empty());
     assert!(summary.chunk_indexes.iter().all(|c| c.compression == "lz4"));
+}
+
+#[test]
+fn threaded_logger_writes_the_same_file_and_reports_writer_errors() {
+    let model = model();
+    let file = TempFile::new("threaded");
+    let mut logger = ThreadedMcapLogger::spawn(create(&model, &file.0));
+    for_each_sample(&model, 40, |sample| logger.log(sample).expect("log"));
+    logger.finish().expect("finish");
+    let bytes = std::fs::read(&file.0).unwrap();
+    check_file(&model, &bytes, 40);
+    let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
+    assert_eq!(summary.stats.unwrap().message_count, 40 * 8);
+
+    // A bad sample stops the writer; its error comes back from a later call.
+    let bad_file = TempFile::new("threaded_bad");
+    let mut logger = ThreadedMcapLogger::spawn(create(&model, &bad_file.0));
+    let mut outcomes = Vec::new();
+    for_each_sample(&model, 3, |sample| {
+        let mut truncated = *sample;
+        truncated.q = &sample.q[..5];
+        outcomes.push(logger.log(&truncated));
+    });
+    assert!(outcomes[0].is_ok(), "the first log only queues");
+    let error = outcomes
+        .into_iter()
+        .find_map(|o| o.err())
+        .or_else(|| logger.finish().err())
+        .expect("the writer's error is reported");
+    assert!(matches!(error, sea_ctrl::Error::Log(_)), "{error}");
 }
 
 #[test]
