@@ -68,22 +68,18 @@ pub fn com_jacobian<'a>(model: &Model, data: &'a mut Data, q: &[f64]) -> &'a DMa
     &data.com_jacobian
 }
 
-/// Centroidal momentum `H = [m pdot_com; L_com]` (6).
+/// Centroidal momentum `H = [m pdot_com; L_com]` (6); leaves the body velocities and inertias
+/// in `data`.
 pub fn centroidal_momentum(model: &Model, data: &mut Data, q: &[f64], nu: &[f64]) -> Vector6<f64> {
     forward_velocities(model, data, q, nu);
-    let mut momentum = Force::zero();
-    let mut total = SpatialInertia::zero();
     for i in 0..model.n_bodies() {
-        let inertia = SpatialInertia::from_body(
+        data.body_inertia[i] = SpatialInertia::from_body(
             &model.body_inertias[i],
             &data.world_r_body[i],
             &data.p_body_rel[i],
         );
-        momentum += inertia.mul_motion(&data.body_velocity[i]);
-        total += inertia;
     }
-    data.p_com_rel = total.com();
-    momentum.moment_about(&data.p_com_rel).to_vector()
+    centroidal_momentum_from_dynamics(data)
 }
 
 /// Centroidal momentum `H` (6) from what a dynamics pass left in `data`: the body velocities
