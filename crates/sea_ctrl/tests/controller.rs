@@ -78,19 +78,9 @@ fn two_feet(extra: &[(&str, &str)]) -> sea_ctrl::closed_loop::Setup {
 
 #[test]
 fn qp_wrenches_satisfy_the_constraints_and_the_momentum_task() {
-    let mut setup = two_feet(&[]);
-    let layout = setup.plant.layout();
-    let mut s_d = vec![0.0; setup.model.n_joints()];
-    setup.posture.at(0.0, &mut s_d);
     // A moving reference and a perturbed velocity, so the task is not trivial.
-    let mut x = setup.x0.clone();
-    for (k, v) in x[layout.nu()..layout.nu() + layout.nv]
-        .iter_mut()
-        .enumerate()
-    {
-        *v = 0.02 * ((k as f64) * 0.7).sin();
-    }
-    let reference = setup.com_reference.sample(1.3);
+    let (mut setup, x, reference, s_d) = two_feet_tick(&[], 0.02);
+    let layout = setup.plant.layout();
     let out = setup
         .controller
         .compute(&x, &layout, &reference, &s_d)
