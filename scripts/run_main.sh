@@ -9,7 +9,7 @@ mkdir -p "$out"
 
 echo "== installing sea-momentum (release build) with Pinocchio, iCub models, scipy, mcap"
 python3 -m pip install --quiet --disable-pip-version-check ".[test]"
-cargo build --release -p sea_ctrl
+cargo build --release -p sea_sim
 
 echo "== the paper's experiments (python -m sea_momentum reproduce)"
 python3 -m sea_momentum reproduce --out "$out"

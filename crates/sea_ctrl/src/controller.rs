@@ -402,10 +402,10 @@ impl MomentumController {
         s_desired: &[f64],
     ) -> Result<(Vector3<f64>, Vector6<f64>)> {
         let model = &self.model;
-        let nv = model.nv();
+        let _nv = model.nv();
         let q = vec_in(x, 0, layout.nq);
-        let theta = vec_in(x, layout.theta(), layout.ne);
-        let nu = vec_in(x, layout.nu(), nv);
+        let theta = layout.theta(x);
+        let nu = layout.nu(x);
         let (s, sdot) = (&q[7..], &nu[6..]);
         let data = &mut self.data;
         let map = &mut self.torque_map;

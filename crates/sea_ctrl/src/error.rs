@@ -2,7 +2,7 @@
 
 use thiserror::Error;
 
-/// Errors of the controllers, scenarios and logging.
+/// Errors of the controllers.
 #[derive(Debug, Error)]
 pub enum Error {
     /// A scenario setting is missing, unknown or out of range; names the key.
@@ -16,17 +16,6 @@ pub enum Error {
     /// A model or plant problem from `sea_dyn`.
     #[error(transparent)]
     Dynamics(#[from] sea_dyn::Error),
-    /// Reading or writing a file.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: String,
-        /// The I/O error.
-        source: std::io::Error,
-    },
-    /// Writing the MCAP log.
-    #[error("MCAP log: {0}")]
-    Log(String),
 }
 
 impl Error {

@@ -3,8 +3,8 @@
 //! `N = I - Lambda^+ Lambda`, `Mbar = M_j - M_jb M_b^-1 M_bj`, ... on the iCub at random states.
 
 use nalgebra::{DMatrix, DVector};
-use sea_ctrl::bench::{random_configuration, random_velocity, Lcg};
 use sea_ctrl::torque_map::{PosturalTask, TorqueMap};
+use sea_dyn::sample::{random_configuration, random_velocity, Lcg};
 use sea_dyn::{Data, LoadOptions, Model};
 use std::path::Path;
 

@@ -28,24 +28,17 @@
 
 #![forbid(unsafe_code)]
 
-pub mod actuator;
-pub mod centroidal;
-pub mod configuration;
-pub mod crba;
-pub mod data;
-pub mod dense;
+pub mod algorithms;
 pub mod error;
-pub mod integrator;
-pub mod jacobian;
-pub mod kinematics;
+pub mod linalg;
 pub mod model;
-pub mod plant;
-pub mod rnea;
-pub mod simulate;
+pub mod sample;
 pub mod spatial;
-pub mod split;
-pub mod tree_factor;
-pub mod urdf;
+
+// The algorithm, model and linear-algebra files keep short paths (`sea_dyn::rnea`, ...).
+pub use algorithms::{centroidal, crba, jacobian, kinematics, rnea, split};
+pub use linalg::{dense, tree_factor};
+pub use model::{actuator, configuration, data, state, urdf};
 
 pub use actuator::{Actuation, Actuator, ElasticParameters};
 pub use centroidal::{
@@ -56,17 +49,13 @@ pub use configuration::integrate;
 pub use crba::{crba, crba_from_kinematics};
 pub use data::Data;
 pub use error::{Error, Result};
-pub use integrator::{step, Method};
 pub use jacobian::{frame_jacobian, frame_jacobian_dot_v};
 pub use kinematics::{
     forward_kinematics, forward_kinematics_path, forward_velocities, forward_velocities_path,
     frame_placement,
 };
 pub use model::{Frame, FrameId, Joint, JointKind, Model};
-pub use plant::{
-    evaluate, ContactLimits, MotorInput, Plant, PlantData, StateLayout, WrenchMargins,
-};
 pub use rnea::{bias_forces, gravity_forces, rnea};
-pub use simulate::{simulate, SimulationLog, Status};
 pub use split::CentroidalSplit;
+pub use state::StateLayout;
 pub use urdf::LoadOptions;

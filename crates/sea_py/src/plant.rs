@@ -7,9 +7,8 @@ use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sea_dyn::{
-    Actuation, Actuator, ContactLimits, ElasticParameters, Method, MotorInput, Plant, PlantData,
-};
+use sea_dyn::{Actuation, Actuator, ElasticParameters};
+use sea_plant::{ContactLimits, Method, MotorInput, Plant, PlantData};
 use std::collections::HashMap;
 
 /// Parameters of an elastic actuator from a dict with keys ratio, motor_inertia, stiffness,
@@ -254,15 +253,9 @@ impl PyPlant {
         let dict = PyDict::new(py);
         let x = &self.x;
         dict.set_item("q", vector_out(py, &x[..layout.nq]))?;
-        dict.set_item(
-            "theta",
-            vector_out(py, &x[layout.theta()..layout.theta() + layout.ne]),
-        )?;
-        dict.set_item(
-            "nu",
-            vector_out(py, &x[layout.nu()..layout.nu() + layout.nv]),
-        )?;
-        dict.set_item("thetadot", vector_out(py, &x[layout.thetadot()..]))?;
+        dict.set_item("theta", vector_out(py, layout.theta(x)))?;
+        dict.set_item("nu", vector_out(py, layout.nu(x)))?;
+        dict.set_item("thetadot", vector_out(py, layout.thetadot(x)))?;
         Ok(dict)
     }
 
@@ -274,9 +267,9 @@ impl PyPlant {
         u: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.load(x, u)?;
-        sea_dyn::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
+        sea_plant::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
         let mut out = vec![0.0; self.plant.layout().nx()];
-        sea_dyn::plant::state_derivative(&self.plant, &self.x, &self.data.xdot, &mut out);
+        sea_plant::state_derivative(&self.plant, &self.x, &self.data.xdot, &mut out);
         Ok(PyArray1::from_vec(py, out))
     }
 
@@ -289,7 +282,7 @@ impl PyPlant {
         u: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyDict>> {
         self.load(x, u)?;
-        sea_dyn::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
+        sea_plant::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
         let d = &self.data;
         let dict = PyDict::new(py);
         dict.set_item(
@@ -302,7 +295,7 @@ impl PyPlant {
         dict.set_item("drift_rotation", d.drift_rotation)?;
         let margins = d.wrench_margins(&self.plant, &self.x);
         let column =
-            |f: fn(&sea_dyn::WrenchMargins) -> f64| margins.iter().map(f).collect::<Vec<f64>>();
+            |f: fn(&sea_plant::WrenchMargins) -> f64| margins.iter().map(f).collect::<Vec<f64>>();
         dict.set_item("normal_force", vector_out(py, &column(|m| m.normal_force)))?;
         dict.set_item("friction_margin", vector_out(py, &column(|m| m.friction)))?;
         dict.set_item(
@@ -330,7 +323,7 @@ impl PyPlant {
         }
         self.load(x, u)?;
         let mut out = vec![0.0; self.x.len()];
-        sea_dyn::step(
+        sea_plant::step(
             &self.plant,
             &mut self.data,
             &self.x,
@@ -364,7 +357,7 @@ impl PyPlant {
         let (plant, data, x, u) = (&self.plant, &mut self.data, &self.x, &self.u);
         let log = py
             .detach(|| {
-                sea_dyn::simulate(plant, data, x, u, dt, n_steps, method, record_every, |_| {})
+                sea_plant::simulate(plant, data, x, u, dt, n_steps, method, record_every, |_| {})
             })
             .map_err(to_py)?;
         let dict = PyDict::new(py);
@@ -384,12 +377,12 @@ impl PyPlant {
         dict.set_item("drift_position", vector_out(py, &log.drift_position))?;
         dict.set_item("drift_rotation", vector_out(py, &log.drift_rotation))?;
         match &log.status {
-            sea_dyn::Status::Completed => {
+            sea_plant::Status::Completed => {
                 dict.set_item("status", "completed")?;
                 dict.set_item("diverged_at", py.None())?;
                 dict.set_item("message", "")?;
             }
-            sea_dyn::Status::Diverged { time, reason } => {
+            sea_plant::Status::Diverged { time, reason } => {
                 dict.set_item("status", "diverged")?;
                 dict.set_item("diverged_at", *time)?;
                 dict.set_item("message", reason)?;

@@ -9,10 +9,11 @@ use std::path::PathBuf;
 
 /// Maps a `sea_ctrl` error to Python: configuration and model problems are `ValueError`
 /// (`ModelError` for the URDF), file problems `OSError`.
-fn to_py(error: sea_ctrl::Error) -> PyErr {
+fn to_py(error: sea_sim::Error) -> PyErr {
     match error {
-        sea_ctrl::Error::Dynamics(e) => crate::errors::to_py(e),
-        sea_ctrl::Error::Io { .. } => PyOSError::new_err(error.to_string()),
+        sea_sim::Error::Dynamics(e) => crate::errors::to_py(e),
+        sea_sim::Error::Control(sea_ctrl::Error::Dynamics(e)) => crate::errors::to_py(e),
+        sea_sim::Error::Io { .. } => PyOSError::new_err(error.to_string()),
         other => PyValueError::new_err(other.to_string()),
     }
 }
@@ -62,10 +63,10 @@ pub fn run_scenario_native<'py>(
             .map_err(|e| PyValueError::new_err(format!("override '{key}': {e}")))?;
         pairs.push((key, text));
     }
-    let scenario = sea_ctrl::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
+    let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
     let (record, summary) = py
         .detach(|| {
-            sea_ctrl::closed_loop::run(&scenario, mcap.as_deref(), |t, total| {
+            sea_sim::closed_loop::run(&scenario, mcap.as_deref(), |t, total| {
                 if progress {
                     eprintln!("  {}: t = {t:5.2} / {total:.2} s", scenario.name);
                 }

@@ -16,8 +16,13 @@
 //! Also: `LinearlyImplicitEuler` (one stage of the same `W`, first order, L-stable) and the
 //! explicit classical `Rk4` (as Runge-Kutta-Munthe-Kaas on the rotation) for comparison.
 
+use crate::dynamics::{evaluate, PlantData};
 use crate::error::{Error, Result};
-use crate::plant::{evaluate, prepare_implicit, retract, solve_implicit, Plant, PlantData};
+use crate::manifold::retract;
+use crate::plant::Plant;
+use w_matrix::{prepare_implicit, solve_implicit};
+
+mod w_matrix;
 
 /// Integration method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

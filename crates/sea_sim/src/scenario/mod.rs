@@ -5,9 +5,9 @@
 //! key. Defaults come from REFERENCE.md (the paper and the original study); relative paths are
 //! resolved against the scenario file's folder, then the working directory.
 
-use crate::controller::{ControllerKind, ControllerSettings};
 use crate::error::{Error, Result};
-use crate::qp::ContactConstraints;
+use sea_ctrl::controller::{ControllerKind, ControllerSettings};
+use sea_ctrl::qp::ContactConstraints;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -583,7 +583,7 @@ impl Scenario {
                 ),
             ));
         }
-        sea_dyn::Method::parse(&self.plant.method)
+        sea_plant::Method::parse(&self.plant.method)
             .map_err(|e| Error::config("plant.method", e.to_string()))?;
         for gains in [
             self.controller.momentum_integral,

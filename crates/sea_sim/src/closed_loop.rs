@@ -6,20 +6,18 @@
 //! `simulation.divergence_joint_error_rad`; everything recorded until then is kept and the log
 //! is finished.
 
-use crate::controller::{ControllerKind, MomentumController};
 use crate::error::{Error, Result};
 use crate::mcap_log::{LogSample, McapLogger, ThreadedMcapLogger};
-use crate::qp::QpStatus;
-use crate::references::{ComTrajectory, PostureReference};
 use crate::scenario::{
     expand_joint_groups, Scenario, ICUB25_JOINTS, ICUB_LEFT_STANCE, ICUB_TWO_FEET_DEG,
 };
 use nalgebra::Vector3;
+use sea_ctrl::controller::{ControllerKind, MomentumController};
+use sea_ctrl::qp::QpStatus;
+use sea_ctrl::references::{ComTrajectory, PostureReference};
 use sea_dyn::spatial::quaternion_from_rotation;
-use sea_dyn::{
-    Actuation, Actuator, Data, ElasticParameters, LoadOptions, Method, Model, MotorInput, Plant,
-    PlantData,
-};
+use sea_dyn::{Actuation, Actuator, Data, ElasticParameters, LoadOptions, Model};
+use sea_plant::{Method, MotorInput, Plant, PlantData};
 use std::collections::HashMap;
 use std::path::Path;
 use std::time::Instant;
@@ -293,7 +291,7 @@ pub fn build(scenario: &Scenario) -> Result<Setup> {
         ControllerKind::Rigid => MotorInput::Torque,
     };
     let c = &scenario.controller.contact;
-    plant.contact_limits = sea_dyn::ContactLimits {
+    plant.contact_limits = sea_plant::ContactLimits {
         friction: c.friction,
         foot_x: c.foot_x,
         foot_y: c.foot_y,
@@ -445,13 +443,13 @@ pub fn run(
         // tick only evaluates.
         let mut plant_error = None;
         if tick == ticks {
-            if let Err(e) = sea_dyn::evaluate(plant, &mut pd, &x, &output.input) {
+            if let Err(e) = sea_plant::evaluate(plant, &mut pd, &x, &output.input) {
                 plant_error = Some(format!("plant: {e}"));
             }
         } else {
             x_step.copy_from_slice(&x);
             for k in 0..steps_per_tick {
-                if let Err(e) = sea_dyn::step(
+                if let Err(e) = sea_plant::step(
                     plant,
                     &mut pd,
                     &x_step,
@@ -482,7 +480,7 @@ pub fn run(
             lateral_after_start =
                 lateral_after_start.max((output.com.y - reference.position.y).abs());
         }
-        let thetadot = &x[layout.thetadot()..layout.thetadot() + ne];
+        let thetadot = layout.thetadot(&x);
         motor_peak = thetadot.iter().fold(motor_peak, |m, v| m.max(v.abs()));
         if tick % record_every == 0 || tick == ticks || plant_error.is_some() {
             record.time.push(time);
@@ -523,8 +521,8 @@ pub fn run(
                 logger.log(&LogSample {
                     time_s: time,
                     q: &x[..layout.nq],
-                    nu: &x[layout.nu()..layout.nu() + layout.nv],
-                    theta: &x[layout.theta()..layout.theta() + ne],
+                    nu: layout.nu(&x),
+                    theta: layout.theta(&x),
                     thetadot,
                     thetadot_desired: &output.thetadot_desired,
                     com: [output.com.x, output.com.y, output.com.z],

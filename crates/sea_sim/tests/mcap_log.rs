@@ -1,8 +1,8 @@
 //! The MCAP logger writes a file Foxglove and the `mcap` reader accept, also when dropped
 //! without `finish()`.
 
-use sea_ctrl::mcap_log::{LogSample, McapLogger, ThreadedMcapLogger};
 use sea_dyn::{Data, LoadOptions, Model};
+use sea_sim::mcap_log::{LogSample, McapLogger, ThreadedMcapLogger};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -279,7 +279,7 @@ fn threaded_logger_writes_the_same_file_and_reports_writer_errors() {
         .find_map(|o| o.err())
         .or_else(|| logger.finish().err())
         .expect("the writer's error is reported");
-    assert!(matches!(error, sea_ctrl::Error::Log(_)), "{error}");
+    assert!(matches!(error, sea_sim::Error::Log(_)), "{error}");
 }
 
 #[test]
@@ -319,10 +319,10 @@ fn bad_sizes_are_errors_and_unwritable_path_is_io_error() {
         qp_status: "solved",
         qp_failures: 0,
     };
-    assert!(matches!(logger.log(&sample), Err(sea_ctrl::Error::Log(_))));
+    assert!(matches!(logger.log(&sample), Err(sea_sim::Error::Log(_))));
     sample.q = &q;
     sample.contact_wrenches = &[0.0; 7];
-    assert!(matches!(logger.log(&sample), Err(sea_ctrl::Error::Log(_))));
+    assert!(matches!(logger.log(&sample), Err(sea_sim::Error::Log(_))));
     sample.contact_wrenches = &[0.0; 6];
     logger.log(&sample).unwrap();
     logger.finish().unwrap();
@@ -330,6 +330,6 @@ fn bad_sizes_are_errors_and_unwritable_path_is_io_error() {
     let missing = std::env::temp_dir().join("sea_ctrl_no_such_dir_4f1c/x.mcap");
     assert!(matches!(
         McapLogger::create(&missing, &model, &[], &[]),
-        Err(sea_ctrl::Error::Io { .. })
+        Err(sea_sim::Error::Io { .. })
     ));
 }

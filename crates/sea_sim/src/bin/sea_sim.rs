@@ -78,9 +78,9 @@ fn run_bench(args: &[String]) -> Result<(), String> {
         ..Default::default()
     };
     let model = Model::from_urdf_file(&args.urdf, &options).map_err(|e| e.to_string())?;
-    let mut result = sea_ctrl::bench::bench_dynamics(&model, args.batches, args.calls);
+    let mut result = sea_sim::bench::bench_dynamics(&model, args.batches, args.calls);
     if let Some(ticks) =
-        sea_ctrl::bench::bench_controller(&args.urdf, args.batches, args.calls / 20 + 1)
+        sea_sim::bench::bench_controller(&args.urdf, args.batches, args.calls / 20 + 1)
     {
         result.figures.extend(ticks);
     }
@@ -138,7 +138,7 @@ fn run_scenario(args: &[String]) -> Result<bool, String> {
     }
     let path = path.ok_or("a scenario file is required")?;
     let scenario =
-        sea_ctrl::scenario::Scenario::from_file(&path, &overrides).map_err(|e| e.to_string())?;
+        sea_sim::scenario::Scenario::from_file(&path, &overrides).map_err(|e| e.to_string())?;
     if !quiet {
         eprintln!(
             "sea-sim: running {} ({} s simulated)",
@@ -146,7 +146,7 @@ fn run_scenario(args: &[String]) -> Result<bool, String> {
             scenario.simulation.duration_s
         );
     }
-    let (_, summary) = sea_ctrl::closed_loop::run(&scenario, mcap.as_deref(), |t, total| {
+    let (_, summary) = sea_sim::closed_loop::run(&scenario, mcap.as_deref(), |t, total| {
         if !quiet {
             eprintln!("  t = {t:6.2} / {total:.2} s");
         }

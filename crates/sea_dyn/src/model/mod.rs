@@ -8,6 +8,12 @@
 //!
 //! Sizes: `nq = 7 + n`, `nv = 6 + n`, with `n` the number of moving joints.
 
+pub mod actuator;
+pub mod configuration;
+pub mod data;
+pub mod state;
+pub mod urdf;
+
 use crate::error::{Error, Result};
 use crate::spatial::{BodyInertia, Pose};
 use nalgebra::{Matrix3, Vector3};

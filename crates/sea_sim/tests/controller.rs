@@ -1,7 +1,7 @@
 //! Controller checks on the iCub: static consistency with the plant, QP constraints, Lemma 1.
 
-use sea_ctrl::closed_loop::build;
-use sea_ctrl::scenario::Scenario;
+use sea_sim::closed_loop::build;
+use sea_sim::scenario::Scenario;
 use std::path::Path;
 
 fn scenario(extra: &[(&str, &str)]) -> Scenario {
@@ -40,8 +40,8 @@ fn rigid_controller_at_rest_keeps_the_rigid_robot_at_rest() {
             .controller
             .compute(&setup.x0, &layout, &reference, &s_d)
             .unwrap();
-        let mut pd = sea_dyn::PlantData::new(&setup.plant);
-        sea_dyn::evaluate(&setup.plant, &mut pd, &setup.x0, &out.input).unwrap();
+        let mut pd = sea_plant::PlantData::new(&setup.plant);
+        sea_plant::evaluate(&setup.plant, &mut pd, &setup.x0, &out.input).unwrap();
         let nudot = pd.xdot.rows(layout.nv, layout.nv);
         let wrench_error = (&pd.contact_wrench - &out.wrenches).amax();
         println!(
@@ -64,7 +64,7 @@ fn rigid_controller_at_rest_keeps_the_rigid_robot_at_rest() {
     }
 }
 
-fn two_feet(extra: &[(&str, &str)]) -> sea_ctrl::closed_loop::Setup {
+fn two_feet(extra: &[(&str, &str)]) -> sea_sim::closed_loop::Setup {
     let mut overrides = vec![
         ("robot.contacts", "[\"l_sole\", \"r_sole\"]"),
         ("robot.initial_posture", "two_feet"),
@@ -132,8 +132,8 @@ fn lemma_1_joint_accelerations_do_not_depend_on_the_wrench_redundancy() {
     let mut joint_accelerations = Vec::new();
     for f in [&f1, &f2] {
         let tau = &terms.tau_bias + &terms.sigma * f;
-        let mut pd = sea_dyn::PlantData::new(&setup.plant);
-        sea_dyn::evaluate(&setup.plant, &mut pd, &x, tau.as_slice()).unwrap();
+        let mut pd = sea_plant::PlantData::new(&setup.plant);
+        sea_plant::evaluate(&setup.plant, &mut pd, &x, tau.as_slice()).unwrap();
         joint_accelerations.push(
             pd.xdot
                 .rows(layout.nv + 6, setup.model.n_joints())
@@ -153,7 +153,7 @@ fn two_feet_tick(
     extra: &[(&str, &str)],
     velocity: f64,
 ) -> (
-    sea_ctrl::closed_loop::Setup,
+    sea_sim::closed_loop::Setup,
     Vec<f64>,
     sea_ctrl::references::ComSample,
     Vec<f64>,
@@ -163,7 +163,7 @@ fn two_feet_tick(
     let mut s_d = vec![0.0; setup.model.n_joints()];
     setup.posture.at(0.0, &mut s_d);
     let mut x = setup.x0.clone();
-    for (k, v) in x[layout.nu()..layout.nu() + layout.nv]
+    for (k, v) in x[layout.nu_offset()..layout.nu_offset() + layout.nv]
         .iter_mut()
         .enumerate()
     {

@@ -2,9 +2,10 @@
 //! outputs. Divergence (a failed step or a non-finite or exploding state) stops the run with
 //! a status and the time it happened; everything recorded until then is kept.
 
+use crate::dynamics::PlantData;
 use crate::error::Result;
 use crate::integrator::{step, Method};
-use crate::plant::{Plant, PlantData};
+use crate::plant::Plant;
 
 /// How a simulation ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -80,7 +81,7 @@ pub fn simulate(
         let time = k as f64 * dt;
         let last = k == n_steps;
         let outcome = if last {
-            crate::plant::evaluate(plant, pd, &x, u)
+            crate::dynamics::evaluate(plant, pd, &x, u)
         } else {
             step(plant, pd, &x, u, dt, method, &mut x_next)
         };

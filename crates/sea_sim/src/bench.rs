@@ -4,45 +4,15 @@
 //! median over batches of the mean time per call, in microseconds. Medians of batch means are
 //! robust to the scheduler noise of shared machines; compare ratios measured in one run.
 
-use sea_dyn::{Actuation, Actuator, Data, ElasticParameters, Method, Model, Plant, PlantData};
+use sea_dyn::sample::{random_configuration, random_velocity, Lcg};
+use sea_dyn::{Actuation, Actuator, Data, ElasticParameters, Model};
+use sea_plant::{Method, Plant, PlantData};
 use std::collections::HashMap;
 use std::hint::black_box;
 use std::time::Instant;
 
 /// Number of random states cycled through.
 const STATES: usize = 64;
-
-/// A small deterministic generator (PCG-style LCG), so runs are repeatable without a crate.
-pub struct Lcg(u64);
-
-impl Lcg {
-    /// Generator from a seed.
-    pub fn new(seed: u64) -> Self {
-        Self(seed ^ 0x9E37_79B9_7F4A_7C15)
-    }
-
-    /// Uniform in [-1, 1).
-    pub fn next_signed(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-}
-
-/// A random configuration: base in a 1 m box, random unit quaternion, joints in [-1, 1] rad.
-pub fn random_configuration(model: &Model, rng: &mut Lcg) -> Vec<f64> {
-    let mut q: Vec<f64> = (0..model.nq()).map(|_| rng.next_signed()).collect();
-    let norm = q[3..7].iter().map(|c| c * c).sum::<f64>().sqrt();
-    q[3..7].iter_mut().for_each(|c| *c /= norm);
-    q
-}
-
-/// A random velocity-sized vector with entries in [-1, 1].
-pub fn random_velocity(model: &Model, rng: &mut Lcg) -> Vec<f64> {
-    (0..model.nv()).map(|_| rng.next_signed()).collect()
-}
 
 /// Median over `batches` of the mean microseconds per call of `f(state_index)`.
 pub fn median_us(batches: usize, calls_per_batch: usize, mut f: impl FnMut(usize)) -> f64 {
@@ -185,7 +155,7 @@ fn controller_tick_us(
     let states: Vec<Vec<f64>> = (0..STATES)
         .map(|_| {
             let mut x = setup.x0.clone();
-            for v in &mut x[layout.nu()..layout.nu() + layout.nv] {
+            for v in &mut x[layout.nu_offset()..layout.nu_offset() + layout.nv] {
                 *v = 0.01 * rng.next_signed();
             }
             x
@@ -247,10 +217,12 @@ fn bench_plant(
         .collect();
     let mut x_next = x.clone();
     let dynamics = median_us(batches, calls_per_batch, |_| {
-        black_box(sea_dyn::evaluate(&plant, &mut pd, &x, &u).is_ok());
+        black_box(sea_plant::evaluate(&plant, &mut pd, &x, &u).is_ok());
     });
     let step = median_us(batches, calls_per_batch, |_| {
-        black_box(sea_dyn::step(&plant, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut x_next).is_ok());
+        black_box(
+            sea_plant::step(&plant, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut x_next).is_ok(),
+        );
     });
     Some(vec![("plant_dynamics_us", dynamics), ("sim_step_us", step)])
 }

@@ -1,0 +1,124 @@
+//! Rigid contacts: held frames, their Baumgarte-stabilised acceleration constraint (paper
+//! eq:constraints_acc) and the margins of the simulated wrenches.
+
+use crate::dynamics::PlantData;
+use crate::plant::Plant;
+use nalgebra::{Matrix3, Vector3};
+use sea_dyn::jacobian::{frame_bias_acceleration, frame_jacobian_from_kinematics};
+use sea_dyn::kinematics::frame_placement;
+use sea_dyn::model::FrameId;
+use sea_dyn::spatial::Pose;
+
+/// Friction and foot-size limits used to report the margins of the simulated wrenches.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactLimits {
+    /// Coulomb friction coefficient.
+    pub friction: f64,
+    /// Foot rectangle along the sole x axis `[min, max]` [m].
+    pub foot_x: [f64; 2],
+    /// Foot rectangle along the sole y axis `[min, max]` [m].
+    pub foot_y: [f64; 2],
+}
+
+impl Default for ContactLimits {
+    /// The original study's values (REFERENCE.md): mu = 1, x in [-0.05, 0.10], y in
+    /// [-0.025, 0.025] m.
+    fn default() -> Self {
+        Self {
+            friction: 1.0,
+            foot_x: [-0.05, 0.10],
+            foot_y: [-0.025, 0.025],
+        }
+    }
+}
+
+/// A rigid contact: the frame is held at its reference pose.
+#[derive(Clone, Debug)]
+pub struct Contact {
+    /// Frame name.
+    pub name: String,
+    /// Frame index.
+    pub frame: FrameId,
+    /// Desired `world_H_frame`.
+    pub reference: Pose,
+}
+
+/// Rotation error `vee(R R_ref^T - R_ref R^T) / 2` (the rotation vector for small errors).
+fn rotation_error(r: &Matrix3<f64>, r_ref: &Matrix3<f64>) -> Vector3<f64> {
+    let d = r * r_ref.transpose();
+    Vector3::new(
+        d[(2, 1)] - d[(1, 2)],
+        d[(0, 2)] - d[(2, 0)],
+        d[(1, 0)] - d[(0, 1)],
+    ) * 0.5
+}
+
+/// Margins of one simulated contact wrench (sole frame), negative when violated.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WrenchMargins {
+    /// Normal force [N] (negative: the foot pulls on the ground).
+    pub normal_force: f64,
+    /// `mu f_z - |f_xy|` [N].
+    pub friction: f64,
+    /// Distance of the centre of pressure inside the foot rectangle [m] (negative: outside).
+    pub center_of_pressure: f64,
+}
+
+/// Margins of a wrench `[force; moment about the sole origin]` given in the sole frame.
+pub fn sole_margins(
+    force: &Vector3<f64>,
+    moment: &Vector3<f64>,
+    limits: &ContactLimits,
+) -> WrenchMargins {
+    let fz = force.z;
+    let friction = limits.friction * fz - force.xy().norm();
+    let center_of_pressure = if fz > 0.0 {
+        let (cop_x, cop_y) = (-moment.y / fz, moment.x / fz);
+        (cop_x - limits.foot_x[0])
+            .min(limits.foot_x[1] - cop_x)
+            .min(cop_y - limits.foot_y[0])
+            .min(limits.foot_y[1] - cop_y)
+    } else {
+        f64::NEG_INFINITY
+    };
+    WrenchMargins {
+        normal_force: fz,
+        friction,
+        center_of_pressure,
+    }
+}
+
+/// Contact Jacobian, `M^-1 J^T`, Schur complement and the Baumgarte acceleration target
+/// `-(Jdot nu + K_d J nu + K_p e)` (into `constraint_rhs`), plus the drift.
+pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64]) {
+    let model = &plant.model;
+    let nv = model.nv();
+    pd.drift_position = 0.0;
+    pd.drift_rotation = 0.0;
+    for (c, contact) in plant.contacts.iter().enumerate() {
+        frame_jacobian_from_kinematics(model, &mut pd.data, contact.frame);
+        pd.contact_jacobian
+            .rows_mut(6 * c, 6)
+            .copy_from(&pd.data.frame_jacobian);
+        let bias = frame_bias_acceleration(model, &mut pd.data, contact.frame);
+        let pose = frame_placement(model, &pd.data, contact.frame);
+        let position_error = pose.translation - contact.reference.translation;
+        let rotation_err = rotation_error(&pose.rotation, &contact.reference.rotation);
+        pd.drift_position = pd.drift_position.max(position_error.norm());
+        pd.drift_rotation = pd.drift_rotation.max(rotation_err.norm());
+        for r in 0..6 {
+            let velocity: f64 = (0..nv)
+                .map(|i| pd.data.frame_jacobian[(r, i)] * nu[i])
+                .sum();
+            let error = if r < 3 {
+                position_error[r]
+            } else {
+                rotation_err[r - 3]
+            };
+            pd.constraint_rhs[6 * c + r] =
+                -(bias[r] + plant.baumgarte_kd * velocity + plant.baumgarte_kp * error);
+        }
+    }
+    pd.mass_factor
+        .schur_complement(&pd.contact_jacobian, &mut pd.linv_jt, &mut pd.schur);
+}

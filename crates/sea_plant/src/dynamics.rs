@@ -1,0 +1,269 @@
+//! Forward dynamics of the plant: one evaluation of the tangent derivative at a state, with
+//! the contact wrenches as Lagrange multipliers, and the workspace holding every buffer.
+
+use crate::actuation::{elastic_joint_torque, motor_acceleration, motor_velocity_loop, saturate};
+use crate::contact::{contact_terms, sole_margins, WrenchMargins};
+use crate::error::{Error, Result};
+use crate::plant::{MotorInput, Plant};
+use nalgebra::{DMatrix, DVector, Vector3};
+use sea_dyn::crba::crba_from_kinematics;
+use sea_dyn::data::Data;
+use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place};
+use sea_dyn::kinematics::frame_placement;
+use sea_dyn::rnea::bias_forces;
+use sea_dyn::tree_factor::TreeFactor;
+
+/// Workspace of the plant: every buffer of the dynamics and of the implicit step.
+#[derive(Clone, Debug)]
+pub struct PlantData {
+    /// Rigid-body workspace.
+    pub data: Data,
+    /// Tangent derivative `[nu; thetadot; nudot; thetaddot]` of the last evaluation (nd).
+    pub xdot: DVector<f64>,
+    /// Contact wrenches `[f; n]` per contact at the frame origins, world axes (6 per contact).
+    pub contact_wrench: DVector<f64>,
+    /// Joint torques applied to the links (n): spring-damper torque or rigid input.
+    pub joint_torque: DVector<f64>,
+    /// Motor torques after saturation (n_e), motor side.
+    pub motor_torque: DVector<f64>,
+    /// Whether each motor torque hit its limit in the last evaluation (n_e).
+    pub saturated: Vec<bool>,
+    /// Largest contact position error [m] of the last evaluation.
+    pub drift_position: f64,
+    /// Largest contact rotation error [rad] of the last evaluation.
+    pub drift_rotation: f64,
+    /// `M = L^T L` with the tree's sparsity.
+    pub(crate) mass_factor: TreeFactor,
+    /// Diagonal added to `M` (joint inertia regularisation), then to `M~` (nv).
+    pub(crate) diagonal: Vec<f64>,
+    /// Stacked contact Jacobian (k x nv).
+    pub(crate) contact_jacobian: DMatrix<f64>,
+    /// `Y = L^-T J^T` with `M = L^T L` (nv x k).
+    pub(crate) linv_jt: DMatrix<f64>,
+    /// `J M^-1 J^T`, then its factor (k x k).
+    pub(crate) schur: DMatrix<f64>,
+    /// Constraint acceleration target, then multipliers (k).
+    pub(crate) constraint_rhs: DVector<f64>,
+    /// Velocity-sized scratch (nv).
+    pub(crate) scratch_v: DVector<f64>,
+    /// Implicit step: factor of `M~` (nv x nv), `J` at the step start (k x nv), `L~^-1 J^T`
+    /// (nv x k), Schur factor (k x k), per elastic joint `den`, `a1`, `t1` and flags.
+    pub(crate) w_factor: TreeFactor,
+    pub(crate) w_jacobian: DMatrix<f64>,
+    pub(crate) w_linv_jt: DMatrix<f64>,
+    pub(crate) w_schur: DMatrix<f64>,
+    pub(crate) w_den: Vec<f64>,
+    pub(crate) w_a1: Vec<f64>,
+    pub(crate) w_t1: Vec<f64>,
+    pub(crate) w_torque_driven: Vec<bool>,
+    pub(crate) w_gain: Vec<f64>,
+    pub(crate) w_g: f64,
+    /// Stage buffers of the integrators (nd each) and a state buffer (nx).
+    pub(crate) stage: [DVector<f64>; 4],
+    pub(crate) x_stage: Vec<f64>,
+    /// Outputs of the step-start evaluation, kept while later stages evaluate elsewhere.
+    pub(crate) saved: SavedOutputs,
+}
+
+/// Copies of the evaluation outputs (same sizes as in [`PlantData`]).
+#[derive(Clone, Debug)]
+pub(crate) struct SavedOutputs {
+    pub(crate) xdot: DVector<f64>,
+    pub(crate) contact_wrench: DVector<f64>,
+    pub(crate) joint_torque: DVector<f64>,
+    pub(crate) motor_torque: DVector<f64>,
+    pub(crate) saturated: Vec<bool>,
+    pub(crate) drift: (f64, f64),
+}
+
+impl PlantData {
+    /// Buffers for `plant`.
+    pub fn new(plant: &Plant) -> Self {
+        let layout = plant.layout();
+        let (nv, ne, n) = (layout.nv, layout.ne, plant.model.n_joints());
+        let k = 6 * plant.contacts.len();
+        let nd = layout.nd();
+        Self {
+            data: Data::new(&plant.model),
+            xdot: DVector::zeros(nd),
+            contact_wrench: DVector::zeros(k),
+            joint_torque: DVector::zeros(n),
+            motor_torque: DVector::zeros(ne),
+            saturated: vec![false; ne],
+            drift_position: 0.0,
+            drift_rotation: 0.0,
+            mass_factor: TreeFactor::new(&plant.model),
+            diagonal: vec![0.0; nv],
+            contact_jacobian: DMatrix::zeros(k, nv),
+            linv_jt: DMatrix::zeros(nv, k),
+            schur: DMatrix::zeros(k, k),
+            constraint_rhs: DVector::zeros(k),
+            scratch_v: DVector::zeros(nv),
+            w_factor: TreeFactor::new(&plant.model),
+            w_jacobian: DMatrix::zeros(k, nv),
+            w_linv_jt: DMatrix::zeros(nv, k),
+            w_schur: DMatrix::zeros(k, k),
+            w_den: vec![1.0; ne],
+            w_a1: vec![0.0; ne],
+            w_t1: vec![0.0; ne],
+            w_torque_driven: vec![true; ne],
+            w_gain: vec![0.0; ne],
+            w_g: 0.0,
+            stage: std::array::from_fn(|_| DVector::zeros(nd)),
+            x_stage: vec![0.0; layout.nx()],
+            saved: SavedOutputs {
+                xdot: DVector::zeros(nd),
+                contact_wrench: DVector::zeros(k),
+                joint_torque: DVector::zeros(n),
+                motor_torque: DVector::zeros(ne),
+                saturated: vec![false; ne],
+                drift: (0.0, 0.0),
+            },
+        }
+    }
+
+    /// Saves the outputs of the last evaluation (no allocation).
+    pub(crate) fn save_outputs(&mut self) {
+        let s = &mut self.saved;
+        s.xdot.copy_from(&self.xdot);
+        s.contact_wrench.copy_from(&self.contact_wrench);
+        s.joint_torque.copy_from(&self.joint_torque);
+        s.motor_torque.copy_from(&self.motor_torque);
+        s.saturated.copy_from_slice(&self.saturated);
+        s.drift = (self.drift_position, self.drift_rotation);
+    }
+
+    /// Restores the outputs saved by [`PlantData::save_outputs`].
+    pub(crate) fn restore_outputs(&mut self) {
+        let s = &self.saved;
+        self.xdot.copy_from(&s.xdot);
+        self.contact_wrench.copy_from(&s.contact_wrench);
+        self.joint_torque.copy_from(&s.joint_torque);
+        self.motor_torque.copy_from(&s.motor_torque);
+        self.saturated.copy_from_slice(&s.saturated);
+        (self.drift_position, self.drift_rotation) = s.drift;
+    }
+
+    /// Margins of each contact's last simulated wrench, in its sole frame.
+    pub fn wrench_margins(&self, plant: &Plant, x: &[f64]) -> Vec<WrenchMargins> {
+        let limits = &plant.contact_limits;
+        let mut data = self.data.clone();
+        sea_dyn::kinematics::forward_kinematics(&plant.model, &mut data, &x[..plant.model.nq()]);
+        plant
+            .contacts
+            .iter()
+            .enumerate()
+            .map(|(c, contact)| {
+                let rotation = frame_placement(&plant.model, &data, contact.frame).rotation;
+                let w = &self.contact_wrench;
+                let force =
+                    rotation.transpose() * Vector3::new(w[6 * c], w[6 * c + 1], w[6 * c + 2]);
+                let moment =
+                    rotation.transpose() * Vector3::new(w[6 * c + 3], w[6 * c + 4], w[6 * c + 5]);
+                sole_margins(&force, &moment, limits)
+            })
+            .collect()
+    }
+}
+
+/// Evaluates the dynamics at `x` with input `u`: fills `pd.xdot` (tangent derivative),
+/// the contact wrenches, joint and motor torques and the drift. Sizes are not checked here
+/// (see [`Plant::check_state`]); a singular mass matrix or contact set is an error.
+pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Result<()> {
+    let model = &plant.model;
+    let layout = plant.layout();
+    let (nq, nv, ne) = (layout.nq, layout.nv, layout.ne);
+    let q = &x[..nq];
+    let theta = layout.theta(x);
+    let nu = layout.nu(x);
+    let thetadot = layout.thetadot(x);
+
+    // h(q, nu) into scratch_v (negated below), then M from the same kinematics.
+    bias_forces(model, &mut pd.data, q, nu);
+    pd.scratch_v.copy_from(&pd.data.tau);
+    crba_from_kinematics(model, &mut pd.data);
+    joint_diagonal(plant, &mut pd.diagonal);
+    pd.mass_factor
+        .factor(&pd.data.mass_matrix, &pd.diagonal)
+        .map_err(|e| Error::input(format!("mass matrix: {e}")))?;
+
+    joint_and_motor_torques(plant, pd, q, theta, nu, thetadot, u);
+
+    // Unconstrained acceleration, kept as L^-T (B tau - h) until the multipliers are known:
+    // nudot = L^-1 (L^-T (B tau - h) + Y f), Y = L^-T J^T, S = Y^T Y,
+    // f = S^-1 (a_target - Y^T L^-T (B tau - h)).
+    pd.scratch_v.neg_mut();
+    for j in 0..model.n_joints() {
+        pd.scratch_v[6 + j] += pd.joint_torque[j];
+    }
+    pd.mass_factor.solve_lt(pd.scratch_v.as_mut_slice());
+    if !plant.contacts.is_empty() {
+        contact_terms(plant, pd, nu);
+        pd.constraint_rhs
+            .gemv_tr(-1.0, &pd.linv_jt, &pd.scratch_v, 1.0);
+        cholesky_in_place(&mut pd.schur).map_err(|i| {
+            Error::input(format!(
+                "contact constraints are degenerate (Schur complement pivot {i})"
+            ))
+        })?;
+        cholesky_solve_in_place(&pd.schur, pd.constraint_rhs.as_mut_slice());
+        pd.scratch_v.gemv(1.0, &pd.linv_jt, &pd.constraint_rhs, 1.0);
+        pd.contact_wrench.copy_from(&pd.constraint_rhs);
+    }
+    pd.mass_factor.solve_l(pd.scratch_v.as_mut_slice());
+
+    let nd = layout.nd();
+    let xdot = &mut pd.xdot;
+    xdot.rows_mut(0, nv).copy_from_slice(nu);
+    xdot.rows_mut(nv, ne).copy_from_slice(thetadot);
+    xdot.rows_mut(nv + ne, nv).copy_from(&pd.scratch_v);
+    for e in 0..ne {
+        let p = &plant.actuation.elastic[e];
+        let j = plant.actuation.elastic_joints[e];
+        xdot[2 * nv + ne + e] = motor_acceleration(p, pd.motor_torque[e], pd.joint_torque[j]);
+    }
+    debug_assert_eq!(2 * nv + 2 * ne, nd);
+    Ok(())
+}
+
+/// The joint inertia regularisation on the joint diagonal (nv; base entries zero).
+pub(crate) fn joint_diagonal(plant: &Plant, diagonal: &mut [f64]) {
+    diagonal[..6].fill(0.0);
+    diagonal[6..].fill(plant.joint_inertia_regularization);
+}
+
+/// Spring-damper torques of elastic joints, inputs of rigid joints, and motor torques.
+fn joint_and_motor_torques(
+    plant: &Plant,
+    pd: &mut PlantData,
+    q: &[f64],
+    theta: &[f64],
+    nu: &[f64],
+    thetadot: &[f64],
+    u: &[f64],
+) {
+    let actuation = &plant.actuation;
+    for (j, actuator) in actuation.actuators.iter().enumerate() {
+        if matches!(actuator, sea_dyn::actuator::Actuator::Rigid) {
+            pd.joint_torque[j] = u[j];
+        }
+    }
+    for (e, (&j, p)) in actuation
+        .elastic_joints
+        .iter()
+        .zip(&actuation.elastic)
+        .enumerate()
+    {
+        let tau = elastic_joint_torque(p, theta[e], thetadot[e], q[7 + j], nu[6 + j]);
+        pd.joint_torque[j] = tau;
+        let demanded = match plant.motor_input {
+            MotorInput::Torque => u[j],
+            MotorInput::VelocityLoop { gain } => {
+                motor_velocity_loop(p, gain, thetadot[e], u[j], tau)
+            }
+        };
+        let (torque, saturated) = saturate(p, demanded);
+        pd.motor_torque[e] = torque;
+        pd.saturated[e] = saturated;
+    }
+}

@@ -1,0 +1,13 @@
+//! `sea_sim`: scenarios (TOML schema and robot presets), the closed loop of plant and
+//! controller, recording and summary statistics, MCAP logging for Foxglove, benchmarks and the
+//! `sea-sim` binary.
+
+#![forbid(unsafe_code)]
+
+pub mod bench;
+pub mod closed_loop;
+pub mod error;
+pub mod mcap_log;
+pub mod scenario;
+
+pub use error::{Error, Result};
