@@ -5,6 +5,10 @@
 //! key. Defaults come from REFERENCE.md (the paper and the original study); relative paths are
 //! resolved against the scenario file's folder, then the working directory.
 
+pub mod build;
+
+pub use build::{build, Setup};
+
 use crate::error::{Error, Result};
 use sea_ctrl::controller::{ControllerKind, ControllerSettings};
 use sea_ctrl::qp::ContactConstraints;
@@ -494,13 +498,44 @@ pub fn apply_override(root: &mut toml::Table, key: &str, value: &str) -> Result<
     Ok(())
 }
 
-/// The dotted key a serde error is about, when it says so (`unknown field`), for messages.
-fn error_key(message: &str) -> String {
-    message
-        .split('`')
-        .nth(1)
-        .map(str::to_string)
-        .unwrap_or_else(|| "scenario".into())
+/// A schema (serde) error naming the dotted key it is about. `toml` appends the path of the
+/// value (`in `controller.postural_scale``); for an unknown or missing field the path is its
+/// table and the field is named in the message, so the key is `table.field`.
+fn schema_error(error: &toml::de::Error) -> Error {
+    let text = error.to_string();
+    let text = text.trim();
+    let (rule, path) = match text.rsplit_once("\nin `") {
+        Some((rule, path)) => (rule.trim(), path.trim_end_matches('`')),
+        None => (text, ""),
+    };
+    let field = ["unknown field `", "missing field `"]
+        .iter()
+        .find_map(|prefix| rule.strip_prefix(prefix))
+        .and_then(|rest| rest.split('`').next());
+    let key = match (path, field) {
+        ("", Some(field)) => field.to_string(),
+        (path, Some(field)) => format!("{path}.{field}"),
+        ("", None) => "scenario".to_string(),
+        (path, None) => path.to_string(),
+    };
+    Error::config(key, rule)
+}
+
+/// A TOML syntax error with the line and column of its span in `text`.
+fn syntax_error(error: &toml::de::Error, text: &str) -> Error {
+    let (line, column) = match error.span() {
+        Some(span) => {
+            let (line, column) = sea_dyn::error::line_column(text, span.start);
+            (Some(line), Some(column))
+        }
+        None => (None, None),
+    };
+    Error::Parse {
+        file: None,
+        line,
+        column,
+        message: format!("malformed TOML: {}", error.message().trim()),
+    }
 }
 
 impl Scenario {
@@ -510,18 +545,14 @@ impl Scenario {
         overrides: &[(String, String)],
         base_dir: &Path,
     ) -> Result<Scenario> {
-        let mut root: toml::Table = toml::from_str(text)
-            .map_err(|e| Error::config("scenario", format!("malformed TOML: {e}")))?;
+        let mut root: toml::Table = toml::from_str(text).map_err(|e| syntax_error(&e, text))?;
         for (key, value) in overrides {
             apply_override(&mut root, key, value)?;
         }
         let mut scenario: Scenario =
             toml::Value::Table(root)
                 .try_into()
-                .map_err(|e: toml::de::Error| {
-                    let message = e.to_string();
-                    Error::config(error_key(&message), message.trim().to_string())
-                })?;
+                .map_err(|e: toml::de::Error| schema_error(&e))?;
         scenario.base_dir = base_dir.to_path_buf();
         scenario.validate()?;
         Ok(scenario)
@@ -529,12 +560,9 @@ impl Scenario {
 
     /// Reads a scenario file with overrides.
     pub fn from_file(path: &Path, overrides: &[(String, String)]) -> Result<Scenario> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let text = std::fs::read_to_string(path).map_err(|source| Error::io(path, source))?;
         let base = path.parent().unwrap_or(Path::new("."));
-        Self::from_toml(&text, overrides, base)
+        Self::from_toml(&text, overrides, base).map_err(|e| e.in_file(path))
     }
 
     /// Resolves a path of the scenario: relative to its folder if it exists there, else as is.
@@ -568,10 +596,7 @@ impl Scenario {
         ];
         for (key, value) in positive {
             if !(value.is_finite() && value > 0.0) {
-                return Err(Error::config(
-                    key,
-                    format!("must be positive and finite, got {value}"),
-                ));
+                return Err(Error::invalid(key, "must be positive and finite", value));
             }
         }
         if !matches!(self.controller.kind.as_str(), "sea" | "rigid") {
@@ -585,19 +610,21 @@ impl Scenario {
         }
         sea_plant::Method::parse(&self.plant.method)
             .map_err(|e| Error::config("plant.method", e.to_string()))?;
-        for gains in [
-            self.controller.momentum_integral,
-            self.controller.momentum_proportional,
-        ]
-        .iter()
-        .flatten()
-        {
-            if gains.iter().any(|g| !(g.is_finite() && *g >= 0.0)) {
-                return Err(Error::config(
-                    "controller.momentum_integral",
-                    "gains must be finite and non-negative",
-                ));
+        for (key, gains) in [
+            ("controller.momentum_integral", self.controller.momentum_integral),
+            ("controller.momentum_proportional", self.controller.momentum_proportional),
+        ] {
+            if let Some(g) = gains.iter().flatten().find(|g| !(g.is_finite() && **g >= 0.0)) {
+                return Err(Error::invalid(key, "gains must be finite and non-negative", g));
             }
+        }
+        let scale = self.controller.postural_scale;
+        if !(scale.is_finite() && scale >= 0.0) {
+            return Err(Error::invalid(
+                "controller.postural_scale",
+                "must be finite and non-negative",
+                scale,
+            ));
         }
         let steps_per_tick = 1.0 / (self.controller.rate_hz * self.plant.dt);
         if (steps_per_tick - steps_per_tick.round()).abs() > 1e-9 || steps_per_tick.round() < 1.0 {
