@@ -1,53 +1,263 @@
 //! The one error type of `sea_dyn`.
 //!
-//! Model problems (`Error::Model`) name the URDF element and the violated condition; input
-//! problems (`Error::Input`) name the argument and the expected shape. Bindings map the first to
-//! `sea_momentum.ModelError` and the second to `ValueError`, in one place.
+//! Every variant carries fields, not only a message: the URDF element ([`Error::Model`]), the
+//! argument with the expected and the actual value ([`Error::InvalidArgument`]), the file and
+//! line of a parse failure ([`Error::Parse`]), the path and cause of an I/O failure
+//! ([`Error::Io`]). Numerical failures (a matrix that should be positive definite and is not)
+//! are [`Error::Numerical`], distinct from input errors: the input was well formed, the state
+//! it led to is not solvable. Bindings map each variant to one Python class, in one place
+//! (`sea_py/src/errors.rs`).
+
+use std::path::PathBuf;
 
 use thiserror::Error;
 
 /// Errors of `sea_dyn`.
-#[derive(Debug, Error, Clone, PartialEq)]
+#[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum Error {
-    /// The robot description is unusable; the message names the element and the condition.
-    #[error("{0}")]
-    Model(String),
+    /// The robot description is unusable.
+    #[error("{element}: {message}")]
+    Model {
+        /// The element, e.g. `link 'l_foot'`, `joint 'r_knee'`, `robot`.
+        element: String,
+        /// The violated condition.
+        message: String,
+    },
     /// An argument has the wrong size or holds a non-finite or out-of-range value.
-    #[error("{0}")]
-    Input(String),
+    #[error("{argument}: expected {expected}, got {actual}")]
+    InvalidArgument {
+        /// The argument, e.g. `q`, `q[3]`, `dt`.
+        argument: String,
+        /// What it must be, e.g. `shape (31,)`, `a finite number`.
+        expected: String,
+        /// What it was.
+        actual: String,
+    },
     /// A frame name that the model does not have.
-    #[error("unknown frame '{0}'")]
-    UnknownFrame(String),
+    #[error("unknown frame '{name}'")]
+    UnknownFrame {
+        /// The name asked for.
+        name: String,
+    },
+    /// A file could not be parsed (the robot description's XML).
+    #[error("{}", parse_message(file.as_ref(), *line, *column, message))]
+    Parse {
+        /// The file, when the text came from one.
+        file: Option<PathBuf>,
+        /// 1-based line, when the parser reports it.
+        line: Option<usize>,
+        /// 1-based column, when the parser reports it.
+        column: Option<usize>,
+        /// The parser's message.
+        message: String,
+    },
+    /// Reading a file failed.
+    #[error("{}: {}", path.display(), io_message(source))]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// A numerical operation failed on well-formed input, e.g. a mass matrix that is not
+    /// positive definite or degenerate contact constraints.
+    #[error("{operation}: {detail}")]
+    Numerical {
+        /// What was computed, e.g. `factorising the mass matrix`.
+        operation: String,
+        /// Why it failed (pivot, index).
+        detail: String,
+    },
 }
 
 impl Error {
-    /// A model error with the given message.
-    pub fn model(message: impl Into<String>) -> Self {
-        Error::Model(message.into())
+    /// A model error about `element` (e.g. `joint 'r_knee'`).
+    pub fn model(element: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::Model {
+            element: element.into(),
+            message: message.into(),
+        }
     }
 
-    /// An input error with the given message.
-    pub fn input(message: impl Into<String>) -> Self {
-        Error::Input(message.into())
+    /// An invalid argument: `argument` was `actual`, it must be `expected`.
+    pub fn invalid(
+        argument: impl Into<String>,
+        expected: impl Into<String>,
+        actual: impl ToString,
+    ) -> Self {
+        Error::InvalidArgument {
+            argument: argument.into(),
+            expected: expected.into(),
+            actual: actual.to_string(),
+        }
+    }
+
+    /// A numerical failure of `operation`.
+    pub fn numerical(operation: impl Into<String>, detail: impl Into<String>) -> Self {
+        Error::Numerical {
+            operation: operation.into(),
+            detail: detail.into(),
+        }
+    }
+
+    /// An I/O failure on `path`.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+
+    /// A parse failure of text not (yet) tied to a file or a line; see [`Error::in_file`].
+    pub fn parse(message: impl Into<String>) -> Self {
+        Error::Parse {
+            file: None,
+            line: None,
+            column: None,
+            message: message.into(),
+        }
+    }
+
+    /// Names the file a parse failure came from. Other errors pass through unchanged.
+    pub fn in_file(self, path: impl Into<PathBuf>) -> Self {
+        match self {
+            Error::Parse {
+                file: None,
+                line,
+                column,
+                message,
+            } => Error::Parse {
+                file: Some(path.into()),
+                line,
+                column,
+                message,
+            },
+            other => other,
+        }
+    }
+
+    /// Names the operation of a numerical failure (a factorisation reports only its pivot; the
+    /// caller knows which matrix it was). Other errors pass through unchanged.
+    pub fn during(self, operation: &str) -> Self {
+        match self {
+            Error::Numerical { detail, .. } => Error::numerical(operation, detail),
+            other => other,
+        }
     }
 }
 
 /// Result alias of this crate.
 pub type Result<T> = std::result::Result<T, Error>;
 
+/// `file:line:column: message`, leaving out the parts that are unknown.
+pub fn parse_message(
+    file: Option<&PathBuf>,
+    line: Option<usize>,
+    column: Option<usize>,
+    message: &str,
+) -> String {
+    let mut place = match file {
+        Some(file) => file.display().to_string(),
+        None => "<text>".to_string(),
+    };
+    if let Some(line) = line {
+        place.push_str(&format!(":{line}"));
+        if let Some(column) = column {
+            place.push_str(&format!(":{column}"));
+        }
+    }
+    format!("{place}: {message}")
+}
+
+/// The operating system's description of an I/O error without the trailing `(os error N)`,
+/// e.g. `No space left on device`; other errors as they display.
+pub fn io_message(error: &std::io::Error) -> String {
+    let text = error.to_string();
+    match error.raw_os_error() {
+        Some(code) => text
+            .strip_suffix(&format!(" (os error {code})"))
+            .unwrap_or(&text)
+            .to_string(),
+        None => text,
+    }
+}
+
+/// 1-based `(line, column)` of byte `offset` in `text` (column counted in characters).
+pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    // The largest char boundary at or before `offset` (`str::floor_char_boundary` is unstable).
+    let end = (0..=offset.min(text.len()))
+        .rev()
+        .find(|i| text.is_char_boundary(*i))
+        .unwrap_or(0);
+    let before = &text[..end];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
 /// Checks that `values` has `expected` entries, all finite; names `argument` otherwise.
 pub fn check_vector(argument: &str, values: &[f64], expected: usize) -> Result<()> {
     if values.len() != expected {
-        return Err(Error::input(format!(
-            "{argument} must have shape ({expected},), got {} entries",
-            values.len()
-        )));
+        return Err(Error::invalid(
+            argument,
+            format!("shape ({expected},)"),
+            format!("{} entries", values.len()),
+        ));
     }
     if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-        return Err(Error::input(format!(
-            "{argument}[{i}] is not finite ({})",
-            values[i]
-        )));
+        return Err(Error::invalid(
+            format!("{argument}[{i}]"),
+            "a finite number",
+            values[i],
+        ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_name_their_fields() {
+        let e = Error::invalid("q", "shape (7,)", "3 entries");
+        assert_eq!(e.to_string(), "q: expected shape (7,), got 3 entries");
+        let e = Error::model("joint 'knee'", "has a zero axis");
+        assert_eq!(e.to_string(), "joint 'knee': has a zero axis");
+        let e = Error::numerical("pivot", "tree pivot 3").during("factorising the mass matrix");
+        assert_eq!(e.to_string(), "factorising the mass matrix: tree pivot 3");
+        assert!(matches!(e, Error::Numerical { .. }));
+    }
+
+    #[test]
+    fn io_message_is_the_os_description_with_the_path() {
+        let source = std::io::Error::from_raw_os_error(28); // ENOSPC on Linux
+        let e = Error::io("/dev/full", source);
+        let text = e.to_string();
+        assert!(text.starts_with("/dev/full: "), "{text}");
+        assert!(!text.contains("os error"), "{text}");
+    }
+
+    #[test]
+    fn parse_message_and_line_column() {
+        let text = "a\nbc\ndéf";
+        assert_eq!(line_column(text, 0), (1, 1));
+        assert_eq!(line_column(text, 3), (2, 2));
+        assert_eq!(line_column(text, 8), (3, 3)); // after the two-byte 'é'
+        let file = PathBuf::from("robot.urdf");
+        assert_eq!(
+            parse_message(Some(&file), Some(3), Some(2), "bad"),
+            "robot.urdf:3:2: bad"
+        );
+        assert_eq!(parse_message(None, None, Some(2), "bad"), "<text>: bad");
+    }
+
+    #[test]
+    fn check_vector_names_the_entry() {
+        let e = check_vector("nu", &[0.0, f64::NAN], 2).unwrap_err();
+        assert_eq!(e.to_string(), "nu[1]: expected a finite number, got NaN");
+        let e = check_vector("nu", &[0.0], 2).unwrap_err();
+        assert_eq!(e.to_string(), "nu: expected shape (2,), got 1 entries");
+    }
 }

@@ -81,7 +81,8 @@ fn replace(parts: &[String], prefix: &str, new: String) -> Vec<String> {
 fn expect_model_error(text: &str, options: &LoadOptions, names: &[&str]) -> String {
     match Model::from_urdf_str(text, options) {
         Ok(_) => panic!("accepted a malformed URDF (expected an error naming {names:?}):\n{text}"),
-        Err(Error::Model(msg)) => {
+        Err(error @ Error::Model { .. }) => {
+            let msg = error.to_string();
             for name in names {
                 assert!(msg.contains(name), "message {msg:?} does not name '{name}'");
             }
@@ -347,19 +348,34 @@ fn bad_joint_lists_are_named() {
 }
 
 #[test]
-fn unparsable_text_and_missing_files_are_model_errors() {
+fn unparsable_text_is_a_parse_error_and_a_missing_file_an_io_error() {
     assert!(matches!(
         Model::from_urdf_str("<robot", &LoadOptions::default()),
-        Err(Error::Model(_))
+        Err(Error::Parse { file: None, .. })
     ));
     let path = "/nonexistent/dir/robot_that_is_not_here.urdf";
-    expect_model_error_file(path);
+    match Model::from_urdf_file(path, &LoadOptions::default()) {
+        Err(error @ Error::Io { .. }) => {
+            let msg = error.to_string();
+            assert!(msg.contains("robot_that_is_not_here.urdf"), "{msg}");
+            assert!(msg.contains("No such file or directory"), "{msg}");
+        }
+        other => panic!("expected Error::Io, got {other:?}"),
+    }
 }
 
-fn expect_model_error_file(path: &str) {
-    match Model::from_urdf_file(path, &LoadOptions::default()) {
-        Err(Error::Model(msg)) => assert!(msg.contains("robot_that_is_not_here.urdf"), "{msg}"),
-        other => panic!("expected Error::Model, got {other:?}"),
+#[test]
+fn unparsable_file_names_the_file() {
+    let path = std::env::temp_dir().join(format!("sea_dyn_unparsable_{}.urdf", std::process::id()));
+    std::fs::write(&path, "<robot name=\"r\">\n<link name=\"a\">\n</robot>\n").unwrap();
+    let result = Model::from_urdf_file(&path, &LoadOptions::default());
+    std::fs::remove_file(&path).unwrap();
+    match result {
+        Err(error @ Error::Parse { file: Some(_), .. }) => {
+            let msg = error.to_string();
+            assert!(msg.starts_with(&path.display().to_string()), "{msg}");
+        }
+        other => panic!("expected Error::Parse naming the file, got {other:?}"),
     }
 }
 

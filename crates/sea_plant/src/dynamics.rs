@@ -185,7 +185,7 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
     joint_diagonal(plant, &mut pd.diagonal);
     pd.mass_factor
         .factor(&pd.data.mass_matrix, &pd.diagonal)
-        .map_err(|e| Error::input(format!("mass matrix: {e}")))?;
+        .map_err(|e| e.during("factorising the mass matrix"))?;
 
     joint_and_motor_torques(plant, pd, q, theta, nu, thetadot, u);
 
@@ -202,9 +202,10 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
         pd.constraint_rhs
             .gemv_tr(-1.0, &pd.linv_jt, &pd.scratch_v, 1.0);
         cholesky_in_place(&mut pd.schur).map_err(|i| {
-            Error::input(format!(
-                "contact constraints are degenerate (Schur complement pivot {i})"
-            ))
+            Error::numerical(
+                "solving for the contact wrenches",
+                format!("contact constraints are degenerate (Schur complement pivot {i})"),
+            )
         })?;
         cholesky_solve_in_place(&pd.schur, pd.constraint_rhs.as_mut_slice());
         pd.scratch_v.gemv(1.0, &pd.linv_jt, &pd.constraint_rhs, 1.0);

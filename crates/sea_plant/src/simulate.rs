@@ -60,9 +60,7 @@ pub fn simulate(
     plant.check_state(x0)?;
     plant.check_input(u)?;
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(crate::Error::input(format!(
-            "dt must be positive and finite, got {dt}"
-        )));
+        return Err(crate::Error::invalid("dt", "a positive finite number", dt));
     }
     let record_every = record_every.max(1);
     let rows = n_steps / record_every + 2;

@@ -1,44 +1,112 @@
 //! The one error type of `sea_sim`.
+//!
+//! A scenario value that breaks a rule is [`Error::Scenario`], naming the dotted key, the rule
+//! and the value; malformed TOML is [`Error::Parse`] with the file, line and column; reading or
+//! writing a file is [`Error::Io`] with the path and the operating system's cause. Model,
+//! argument and numerical failures come from `sea_dyn` ([`Error::Dynamics`]) and controller
+//! settings from `sea_ctrl` ([`Error::Control`]), unchanged.
+
+use std::path::PathBuf;
 
 use thiserror::Error;
 
-/// Errors of the controllers, scenarios and logging.
+/// Errors of the scenarios, the closed loop and logging.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum Error {
-    /// A scenario setting is missing, unknown or out of range; names the key.
-    #[error("scenario key '{key}': {message}")]
-    Config {
-        /// Dotted key, e.g. `controller.kind`.
+    /// A scenario value is missing, unknown, of the wrong type or out of range.
+    #[error("{}", scenario_message(key, rule, value.as_deref()))]
+    Scenario {
+        /// Dotted key, e.g. `controller.postural_scale`.
         key: String,
-        /// What is wrong.
+        /// The rule it breaks, e.g. `must be finite and non-negative`.
+        rule: String,
+        /// The offending value, when there is one.
+        value: Option<String>,
+    },
+    /// A scenario file is not valid TOML.
+    #[error("{}", sea_dyn::error::parse_message(file.as_ref(), *line, *column, message))]
+    Parse {
+        /// The file, when the text came from one.
+        file: Option<PathBuf>,
+        /// 1-based line, when known.
+        line: Option<usize>,
+        /// 1-based column, when known.
+        column: Option<usize>,
+        /// The parser's message.
         message: String,
     },
-    /// A model or plant problem from `sea_dyn`.
+    /// A model, argument or numerical problem from `sea_dyn`.
     #[error(transparent)]
     Dynamics(#[from] sea_dyn::Error),
     /// A controller problem from `sea_ctrl`.
     #[error(transparent)]
     Control(#[from] sea_ctrl::Error),
     /// Reading or writing a file.
-    #[error("{path}: {source}")]
+    #[error("{path}: {}", sea_dyn::error::io_message(source))]
     Io {
         /// The file.
         path: String,
-        /// The I/O error.
+        /// The operating system's error.
         source: std::io::Error,
     },
-    /// Writing the MCAP log.
+    /// Writing the MCAP log failed for a reason other than I/O (a sample of the wrong size, a
+    /// finished log, a stopped writer).
     #[error("MCAP log: {0}")]
     Log(String),
 }
 
 impl Error {
-    /// A configuration error naming `key`.
-    pub fn config(key: impl Into<String>, message: impl Into<String>) -> Self {
-        Error::Config {
+    /// A scenario error naming `key` and the `rule` it breaks, without a single offending value.
+    pub fn config(key: impl Into<String>, rule: impl Into<String>) -> Self {
+        Error::Scenario {
             key: key.into(),
-            message: message.into(),
+            rule: rule.into(),
+            value: None,
         }
+    }
+
+    /// A scenario error naming `key`, the `rule` it breaks and the offending `value`.
+    pub fn invalid(key: impl Into<String>, rule: impl Into<String>, value: impl ToString) -> Self {
+        Error::Scenario {
+            key: key.into(),
+            rule: rule.into(),
+            value: Some(value.to_string()),
+        }
+    }
+
+    /// An I/O failure on `path`.
+    pub fn io(path: impl AsRef<std::path::Path>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.as_ref().display().to_string(),
+            source,
+        }
+    }
+
+    /// Names the file a parse failure came from. Other errors pass through unchanged.
+    pub fn in_file(self, path: impl Into<PathBuf>) -> Self {
+        match self {
+            Error::Parse {
+                file: None,
+                line,
+                column,
+                message,
+            } => Error::Parse {
+                file: Some(path.into()),
+                line,
+                column,
+                message,
+            },
+            other => other,
+        }
+    }
+}
+
+/// `scenario key 'key': rule, got value` (without the value part when there is none).
+fn scenario_message(key: &str, rule: &str, value: Option<&str>) -> String {
+    match value {
+        Some(value) => format!("scenario key '{key}': {rule}, got {value}"),
+        None => format!("scenario key '{key}': {rule}"),
     }
 }
 

@@ -86,10 +86,13 @@ impl TreeFactor {
             let row_k = &mut tail[..end - start];
             let pivot = row_k[0];
             if pivot <= 0.0 || !pivot.is_finite() {
-                return Err(Error::input(format!(
-                    "matrix is not positive definite (tree pivot {k}, velocity index {})",
-                    self.velocity_index[k]
-                )));
+                return Err(Error::numerical(
+                    "tree Cholesky factorisation",
+                    format!(
+                        "matrix is not positive definite (tree pivot {k}, velocity index {})",
+                        self.velocity_index[k]
+                    ),
+                ));
             }
             let lkk = pivot.sqrt();
             row_k[0] = lkk;

@@ -31,25 +31,24 @@ impl Model {
     /// Loads a URDF file; see [`Model::from_urdf_str`].
     pub fn from_urdf_file(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Model> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Error::model(format!("cannot read URDF file '{}': {e}", path.display()))
-        })?;
-        Self::from_urdf_str(&text, options)
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Self::from_urdf_str(&text, options).map_err(|e| e.in_file(path))
     }
 
     /// Builds a model from URDF text.
     pub fn from_urdf_str(text: &str, options: &LoadOptions) -> Result<Model> {
         let robot = urdf_rs::read_from_string(text)
-            .map_err(|e| Error::model(format!("cannot parse URDF: {e}")))?;
+            .map_err(|e| Error::parse(format!("cannot parse URDF: {e}")))?;
         build(&robot, options)
     }
 }
 
 fn check_finite(what: &str, values: &[f64]) -> Result<()> {
     if values.iter().any(|v| !v.is_finite()) {
-        return Err(Error::model(format!(
-            "{what} has a non-finite number: {values:?}"
-        )));
+        return Err(Error::model(
+            what,
+            format!("has a non-finite number: {values:?}"),
+        ));
     }
     Ok(())
 }
@@ -89,9 +88,10 @@ fn link_inertia(link: &urdf_rs::Link) -> Result<Option<BodyInertia>> {
         return Ok(None);
     }
     if mass <= 0.0 {
-        return Err(Error::model(format!(
-            "{what} has non-positive mass {mass} (a massless link must have no <inertial>)"
-        )));
+        return Err(Error::model(
+            what,
+            format!("has non-positive mass {mass} (a massless link must have no <inertial>)"),
+        ));
     }
     check_inertia(&what, &inertia)?;
     let frame = to_pose(&inertial.origin);
@@ -106,19 +106,25 @@ fn link_inertia(link: &urdf_rs::Link) -> Result<Option<BodyInertia>> {
 fn check_inertia(what: &str, inertia: &Matrix3<f64>) -> Result<()> {
     let moments = SymmetricEigen::new(*inertia).eigenvalues;
     if moments.iter().any(|m| *m <= 0.0) {
-        return Err(Error::model(format!(
-            "{what} inertia is not positive definite (principal moments {:?})",
-            moments.as_slice()
-        )));
+        return Err(Error::model(
+            what,
+            format!(
+                "inertia is not positive definite (principal moments {:?})",
+                moments.as_slice()
+            ),
+        ));
     }
     let trace = moments.sum();
     for k in 0..3 {
         let others = trace - moments[k];
         if others < moments[k] - TRIANGLE_TOLERANCE * trace {
-            return Err(Error::model(format!(
-                "{what} inertia violates the triangle inequality (principal moments {:?})",
-                moments.as_slice()
-            )));
+            return Err(Error::model(
+                what,
+                format!(
+                    "inertia violates the triangle inequality (principal moments {:?})",
+                    moments.as_slice()
+                ),
+            ));
         }
     }
     Ok(())
@@ -130,10 +136,10 @@ fn joint_kind(joint: &urdf_rs::Joint) -> Result<Option<JointKind>> {
         T::Revolute | T::Continuous => Ok(Some(JointKind::Revolute)),
         T::Prismatic => Ok(Some(JointKind::Prismatic)),
         T::Fixed => Ok(None),
-        ref other => Err(Error::model(format!(
-            "joint '{}' has unsupported type {other:?} (supported: revolute, continuous, prismatic, fixed)",
-            joint.name
-        ))),
+        ref other => Err(Error::model(
+            format!("joint '{}'", joint.name),
+            format!("has unsupported type {other:?} (supported: revolute, continuous, prismatic, fixed)"),
+        )),
     }
 }
 
@@ -144,11 +150,11 @@ fn joint_axis(joint: &urdf_rs::Joint) -> Result<Vector3<f64>> {
     let axis = Vector3::from(joint.axis.xyz.0);
     check_finite(&format!("{what} axis"), &joint.axis.xyz.0)?;
     if joint.limit.lower.is_nan() || joint.limit.upper.is_nan() || joint.limit.effort.is_nan() {
-        return Err(Error::model(format!("{what} limit has a NaN")));
+        return Err(Error::model(what, "limit has a NaN"));
     }
     let norm = axis.norm();
     if norm < 1e-12 && joint.joint_type != urdf_rs::JointType::Fixed {
-        return Err(Error::model(format!("{what} has a zero axis")));
+        return Err(Error::model(what, "has a zero axis"));
     }
     Ok(if norm > 0.0 { axis / norm } else { axis })
 }
@@ -157,7 +163,7 @@ fn check_unique<'a>(kind: &str, names: impl Iterator<Item = &'a str>) -> Result<
     let mut seen = std::collections::HashSet::new();
     for name in names {
         if !seen.insert(name) {
-            return Err(Error::model(format!("duplicate {kind} name '{name}'")));
+            return Err(Error::model(format!("{kind} '{name}'"), "duplicate name"));
         }
     }
     Ok(())
@@ -176,19 +182,22 @@ fn build_tree(robot: &urdf_rs::Robot, link_index: &HashMap<&str, usize>) -> Resu
     for (j, joint) in robot.joints.iter().enumerate() {
         let find = |role: &str, name: &str| {
             link_index.get(name).copied().ok_or_else(|| {
-                Error::model(format!(
-                    "joint '{}' names {role} link '{name}', which does not exist",
-                    joint.name
-                ))
+                Error::model(
+                    format!("joint '{}'", joint.name),
+                    format!("names {role} link '{name}', which does not exist"),
+                )
             })
         };
         let parent = find("parent", &joint.parent.link)?;
         let child = find("child", &joint.child.link)?;
         if let Some(other) = parent_joint[child] {
-            return Err(Error::model(format!(
-                "kinematic loop: link '{}' is the child of joints '{}' and '{}'",
-                robot.links[child].name, robot.joints[other].name, joint.name
-            )));
+            return Err(Error::model(
+                format!("link '{}'", robot.links[child].name),
+                format!(
+                    "kinematic loop: the link is the child of joints '{}' and '{}'",
+                    robot.joints[other].name, joint.name
+                ),
+            ));
         }
         parent_joint[child] = Some(j);
         children[parent].push(j);
@@ -200,16 +209,20 @@ fn build_tree(robot: &urdf_rs::Robot, link_index: &HashMap<&str, usize>) -> Resu
         [root] => *root,
         [] => {
             let name = robot.links.first().map(|l| l.name.as_str()).unwrap_or("");
-            return Err(Error::model(format!(
-                "kinematic loop: every link has a parent joint (e.g. link '{name}'), no root link"
-            )));
+            return Err(Error::model(
+                "robot",
+                format!("kinematic loop: every link has a parent joint (e.g. link '{name}'), no root link"),
+            ));
         }
         many => {
             let names: Vec<&str> = many.iter().map(|l| robot.links[*l].name.as_str()).collect();
-            return Err(Error::model(format!(
-                "several root links (links without a parent joint): {}",
-                names.join(", ")
-            )));
+            return Err(Error::model(
+                "robot",
+                format!(
+                    "several root links (links without a parent joint): {}",
+                    names.join(", ")
+                ),
+            ));
         }
     };
     Ok(Tree { children, root })
@@ -238,15 +251,19 @@ fn resolve_actuation(
         Some(list) => {
             for (k, name) in list.iter().enumerate() {
                 let j = *joint_index.get(name.as_str()).ok_or_else(|| {
-                    Error::model(format!("unknown joint '{name}' in the joint list"))
+                    Error::model(format!("joint '{name}'"), "unknown joint in the joint list")
                 })?;
                 if kinds[j].is_none() {
-                    return Err(Error::model(format!(
-                        "joint '{name}' in the joint list is fixed and cannot move"
-                    )));
+                    return Err(Error::model(
+                        format!("joint '{name}'"),
+                        "in the joint list but fixed: it cannot move",
+                    ));
                 }
                 if coordinate.insert(j, k).is_some() {
-                    return Err(Error::model(format!("joint '{name}' is listed twice")));
+                    return Err(Error::model(
+                        format!("joint '{name}'"),
+                        "listed twice in the joint list",
+                    ));
                 }
             }
         }
@@ -261,16 +278,18 @@ fn resolve_actuation(
     for (name, value) in &options.locked {
         let j = *joint_index
             .get(name.as_str())
-            .ok_or_else(|| Error::model(format!("unknown locked joint '{name}'")))?;
+            .ok_or_else(|| Error::model(format!("joint '{name}'"), "unknown locked joint"))?;
         if coordinate.contains_key(&j) || kinds[j].is_none() {
-            return Err(Error::model(format!(
-                "joint '{name}' cannot be locked: it is moving or fixed"
-            )));
+            return Err(Error::model(
+                format!("joint '{name}'"),
+                "cannot be locked: it is moving or fixed",
+            ));
         }
         if !value.is_finite() {
-            return Err(Error::model(format!(
-                "locked joint '{name}' has a non-finite value {value}"
-            )));
+            return Err(Error::model(
+                format!("locked joint '{name}'"),
+                format!("has a non-finite value {value}"),
+            ));
         }
         locked_value.insert(j, *value);
     }
@@ -327,10 +346,13 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
         let j = (0..robot.joints.len())
             .find(|j| !reached.contains(j))
             .unwrap_or(0);
-        return Err(Error::model(format!(
-            "kinematic loop: joint '{}' (child link '{}') is not reachable from root link '{}'",
-            robot.joints[j].name, robot.joints[j].child.link, robot.links[tree.root].name
-        )));
+        return Err(Error::model(
+            format!("joint '{}'", robot.joints[j].name),
+            format!(
+                "kinematic loop: the joint (child link '{}') is not reachable from root link '{}'",
+                robot.joints[j].child.link, robot.links[tree.root].name
+            ),
+        ));
     }
     let actuation = resolve_actuation(robot, &kinds, &dfs, options)?;
 

@@ -38,7 +38,7 @@ pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Res
     }
     pd.w_factor
         .factor(&pd.data.mass_matrix, &pd.diagonal)
-        .map_err(|e| Error::input(format!("implicit step matrix: {e}")))?;
+        .map_err(|e| e.during("factorising the implicit step matrix"))?;
     if plant.contacts.is_empty() {
         return Ok(());
     }
@@ -46,9 +46,10 @@ pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Res
     pd.w_factor
         .schur_complement(&pd.w_jacobian, &mut pd.w_linv_jt, &mut pd.w_schur);
     cholesky_in_place(&mut pd.w_schur).map_err(|i| {
-        Error::input(format!(
-            "implicit step: contact constraints are degenerate (pivot {i})"
-        ))
+        Error::numerical(
+            "implicit step",
+            format!("contact constraints are degenerate (pivot {i})"),
+        )
     })
 }
 

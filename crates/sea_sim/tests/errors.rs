@@ -1,0 +1,151 @@
+//! Error messages name what is wrong: the scenario key (not the value, not a neighbouring
+//! key), the file and line of malformed TOML, the path and OS cause of I/O failures; the
+//! variants carry the same facts as fields.
+
+use sea_sim::scenario::{build, Scenario};
+use sea_sim::Error;
+use std::path::{Path, PathBuf};
+
+fn tracking() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/paper/tracking.toml")
+}
+
+fn load(overrides: &[(&str, &str)]) -> sea_sim::Result<Scenario> {
+    let overrides: Vec<(String, String)> = overrides
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    Scenario::from_file(&tracking(), &overrides)
+}
+
+/// The key of a scenario error (panics on any other error).
+#[track_caller]
+fn scenario_key(result: sea_sim::Result<Scenario>) -> (String, String) {
+    match result {
+        Err(error @ Error::Scenario { .. }) => {
+            let text = error.to_string();
+            let Error::Scenario { key, .. } = error else {
+                unreachable!()
+            };
+            (key, text)
+        }
+        Err(other) => panic!("expected Error::Scenario, got {other:?}"),
+        Ok(_) => panic!("accepted an invalid scenario"),
+    }
+}
+
+#[test]
+fn negative_postural_scale_names_its_key() {
+    let (key, text) = scenario_key(load(&[("controller.postural_scale", "-1")]));
+    assert_eq!(key, "controller.postural_scale", "{text}");
+    assert!(text.contains("-1"), "{text}");
+}
+
+#[test]
+fn negative_proportional_gain_names_the_proportional_gain() {
+    let (key, text) = scenario_key(load(&[(
+        "controller.momentum_proportional",
+        "[1.0, 1.0, -1.0, 1.0, 1.0, 1.0]",
+    )]));
+    assert_eq!(key, "controller.momentum_proportional", "{text}");
+    let (key, _) = scenario_key(load(&[(
+        "controller.momentum_integral",
+        "[1.0, 1.0, -1.0, 1.0, 1.0, 1.0]",
+    )]));
+    assert_eq!(key, "controller.momentum_integral");
+}
+
+#[test]
+fn type_errors_name_the_key_not_the_value() {
+    let (key, text) = scenario_key(load(&[("controller.kind", "3")]));
+    assert_eq!(key, "controller.kind", "{text}");
+    let (key, text) = scenario_key(load(&[("controller.postural_scale", "\"big\"")]));
+    assert_eq!(key, "controller.postural_scale", "{text}");
+    assert!(text.contains("big"), "the rule keeps the value: {text}");
+}
+
+#[test]
+fn unknown_keys_are_named_with_their_table() {
+    let (key, text) = scenario_key(load(&[("controller.dampnig", "1")]));
+    assert_eq!(key, "controller.dampnig", "{text}");
+    let (key, text) = scenario_key(load(&[("nonsense", "1")]));
+    assert_eq!(key, "nonsense", "{text}");
+}
+
+#[test]
+fn all_nan_initial_posture_names_the_key() {
+    let nans = vec!["nan"; 25].join(", ");
+    let scenario = load(&[("robot.initial_posture", &format!("[{nans}]"))]).unwrap();
+    match build(&scenario) {
+        Err(error @ Error::Scenario { .. }) => {
+            let text = error.to_string();
+            assert!(text.contains("robot.initial_posture[0]"), "{text}");
+            assert!(text.contains("nan"), "{text}");
+        }
+        Err(other) => panic!("expected Error::Scenario, got {other:?}"),
+        Ok(_) => panic!("accepted an all-NaN initial posture"),
+    }
+}
+
+#[test]
+fn malformed_toml_names_the_file_and_the_line() {
+    let path = std::env::temp_dir().join(format!("sea_sim_malformed_{}.toml", std::process::id()));
+    std::fs::write(&path, "name = \"x\"\n\n[controller\nkind = \"sea\"\n").unwrap();
+    let result = Scenario::from_file(&path, &[]);
+    std::fs::remove_file(&path).unwrap();
+    match result {
+        Err(error @ Error::Parse { .. }) => {
+            let text = error.to_string();
+            assert!(
+                text.starts_with(&format!("{}:3:", path.display())),
+                "{text}"
+            );
+            let Error::Parse { file, line, .. } = error else {
+                unreachable!()
+            };
+            assert_eq!(file.as_deref(), Some(path.as_path()));
+            assert_eq!(line, Some(3));
+        }
+        Err(other) => panic!("expected Error::Parse, got {other:?}"),
+        Ok(_) => panic!("accepted malformed TOML"),
+    }
+}
+
+#[test]
+fn missing_scenario_file_is_an_io_error_with_path_and_cause() {
+    let path = Path::new("/nonexistent/folder/scenario.toml");
+    match Scenario::from_file(path, &[]) {
+        Err(error @ Error::Io { .. }) => {
+            let text = error.to_string();
+            assert_eq!(
+                text,
+                "/nonexistent/folder/scenario.toml: No such file or directory"
+            );
+        }
+        other => panic!("expected Error::Io, got {other:?}"),
+    }
+}
+
+#[test]
+fn unparsable_urdf_is_a_parse_error_naming_the_file() {
+    let dir = std::env::temp_dir().join(format!("sea_sim_bad_urdf_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = dir.join("robot.urdf");
+    std::fs::write(&urdf, "<robot name=\"r\">\n<link name=\"a\">\n</robot>\n").unwrap();
+    let text = std::fs::read_to_string(tracking()).unwrap();
+    let scenario = Scenario::from_toml(
+        &text,
+        &[("robot.urdf".into(), format!("\"{}\"", urdf.display()))],
+        &dir,
+    )
+    .unwrap();
+    let result = build(&scenario);
+    std::fs::remove_dir_all(&dir).unwrap();
+    match result {
+        Err(Error::Dynamics(error @ sea_dyn::Error::Parse { .. })) => {
+            assert!(error.to_string().contains("robot.urdf"), "{error}");
+        }
+        Err(other) => panic!("expected a URDF parse error, got {other:?}"),
+        Ok(_) => panic!("accepted an unparsable URDF"),
+    }
+}

@@ -1,0 +1,138 @@
+"""Errors: one hierarchy (SeaError and its subclasses, also the matching built-in class), each
+kind of failure raises its class with the key, element or path in the message and as an
+attribute."""
+
+import errno
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import sea_momentum as sm
+from sea_momentum import _native
+
+ROOT = Path(__file__).resolve().parents[1]
+TRACKING = ROOT / "scenarios" / "paper" / "tracking.toml"
+
+
+@pytest.mark.parametrize(
+    "name, builtin",
+    [
+        ("ModelError", ValueError),
+        ("ScenarioError", ValueError),
+        ("SolverError", RuntimeError),
+        ("SeaIOError", OSError),
+    ],
+)
+def test_hierarchy(name, builtin):
+    cls = getattr(sm, name)
+    assert cls is getattr(_native, name), "re-exported from the native module"
+    assert issubclass(cls, sm.SeaError) and issubclass(cls, builtin)
+    assert name in sm.__all__
+    assert cls.__module__ == "sea_momentum"
+    assert cls.__doc__
+
+
+def test_base_is_an_exception_only():
+    assert issubclass(sm.SeaError, Exception)
+    assert not issubclass(sm.SeaError, (ValueError, RuntimeError, OSError))
+    assert "SeaError" in sm.__all__
+
+
+def test_negative_postural_scale_names_its_key():
+    with pytest.raises(sm.ScenarioError, match=r"controller\.postural_scale") as info:
+        sm.run_scenario(TRACKING, {"controller.postural_scale": -1})
+    assert info.value.key == "controller.postural_scale"
+    assert "-1" in str(info.value)
+
+
+def test_negative_proportional_gain_names_the_proportional_gain():
+    gains = [1.0, 1.0, -1.0, 1.0, 1.0, 1.0]
+    with pytest.raises(sm.ScenarioError) as info:
+        sm.run_scenario(TRACKING, {"controller.momentum_proportional": gains})
+    assert info.value.key == "controller.momentum_proportional", str(info.value)
+
+
+def test_type_error_names_the_key_not_the_value():
+    with pytest.raises(sm.ScenarioError) as info:
+        sm.run_scenario(TRACKING, {"controller.kind": 3})
+    assert info.value.key == "controller.kind", str(info.value)
+    assert "scenario key '3'" not in str(info.value)
+
+
+def test_all_nan_initial_posture_names_the_key():
+    with pytest.raises(sm.ScenarioError, match=r"robot\.initial_posture\[0\]"):
+        sm.run_scenario(TRACKING, {"robot.initial_posture": [float("nan")] * 25})
+
+
+def test_malformed_toml_names_file_and_line(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('name = "x"\n[robot\nurdf = "x"\n')
+    with pytest.raises(sm.ScenarioError, match="malformed TOML") as info:
+        sm.run_scenario(bad)
+    assert str(info.value).startswith(f"{bad}:2:"), str(info.value)
+
+
+def test_missing_scenario_is_an_oserror_with_errno_and_filename(tmp_path):
+    missing = tmp_path / "missing.toml"
+    with pytest.raises(sm.SeaIOError) as info:
+        sm.run_scenario(missing)
+    assert isinstance(info.value, OSError)
+    assert info.value.errno == errno.ENOENT
+    assert info.value.filename == str(missing)
+    assert info.value.strerror == "No such file or directory"
+
+
+def test_unparsable_urdf_names_the_file(tmp_path):
+    path = tmp_path / "robot.urdf"
+    path.write_text('<robot name="r">\n<link name="a">\n</robot>\n')
+    with pytest.raises(sm.ModelError) as info:
+        sm.Model.from_urdf(str(path))
+    assert str(path) in str(info.value)
+
+
+def test_bad_urdf_element_is_named(tmp_path):
+    path = tmp_path / "robot.urdf"
+    path.write_text(
+        '<robot name="r"><link name="a"/><link name="b"/>'
+        '<joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+        '<axis xyz="0 0 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        "</robot>"
+    )
+    with pytest.raises(sm.ModelError) as info:
+        sm.Model.from_urdf(str(path))
+    assert info.value.element == "joint 'j'"
+    assert "zero axis" in str(info.value)
+
+
+def test_missing_urdf_is_an_oserror(tmp_path):
+    path = tmp_path / "nothing.urdf"
+    with pytest.raises(sm.SeaIOError) as info:
+        sm.Model.from_urdf(str(path))
+    assert info.value.errno == errno.ENOENT and info.value.filename == str(path)
+
+
+def test_unknown_frame_is_a_model_error():
+    model = sm.Model.from_urdf(str(ROOT / "urdf" / "icub25.urdf"))
+    with pytest.raises(sm.ModelError, match="no_such_frame"):
+        model.frame_pose(model.neutral(), "no_such_frame")
+
+
+def test_bad_arguments_are_plain_value_errors_naming_the_argument():
+    model = sm.Model.from_urdf(str(ROOT / "urdf" / "icub25.urdf"))
+    with pytest.raises(ValueError) as info:
+        model.mass_matrix(np.zeros(3))
+    assert not isinstance(info.value, sm.SeaError)
+    assert info.value.argument == "q"
+    assert "expected shape" in str(info.value)
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+def test_full_disk_is_an_oserror_naming_the_file_and_the_cause():
+    overrides = {"simulation.duration_s": 0.05}
+    with pytest.raises(OSError) as info:
+        sm.run_scenario(TRACKING, overrides, mcap="/dev/full")
+    assert isinstance(info.value, sm.SeaError)
+    assert info.value.errno == errno.ENOSPC, str(info.value)
+    assert info.value.strerror == "No space left on device"
+    assert info.value.filename == "/dev/full"
