@@ -4,10 +4,13 @@
 
 #![forbid(unsafe_code)]
 
+pub mod analysis;
 pub mod bench;
 pub mod closed_loop;
 pub mod error;
 pub mod mcap_log;
+pub mod output;
 pub mod scenario;
+pub mod sweep;
 
 pub use error::{Error, Result};

@@ -1,0 +1,18 @@
+//! Stability analysis of the closed loop: its equilibrium with the references frozen, the
+//! linearisation on the state's tangent space in continuous time or over one control period
+//! (zero-order hold), eigenvalues, growth rates and the least stable mode
+//! ([`linearize`]), and the parameter values where stability changes ([`margin`]).
+
+pub mod eigen;
+pub mod linearize;
+pub mod margin;
+pub mod system;
+
+pub use linearize::{
+    linearize, linearize_with, Equilibrium, Linearization, LinearizeOptions, StepCheck,
+};
+pub use margin::{
+    stability_margin, stability_margin_report, MarginMethod, MarginOptions, MarginReport,
+    MarginSample,
+};
+pub use system::{ClosedLoopSystem, Sampling};

@@ -1,0 +1,230 @@
+//! The closed loop as an autonomous system: the controller is static state feedback (its
+//! integral terms are functions of the state), so with the references frozen at one instant
+//! the loop is `xdot = f(x) = F(x, u(x))` in continuous time, or the map
+//! `x_{k+1} = Phi(x_k)` over one control period with `u(x_k)` held (zero-order hold).
+//!
+//! Both live on the state manifold; vectors are on its tangent space
+//! `dx = [dq (nv); dtheta (n_e); dnu (nv); dthetadot (n_e)]` (see `sea_dyn::StateLayout`),
+//! with `x (+) dx` = [`sea_plant::retract`] and `y (-) x` = [`difference`].
+
+use crate::error::{Error, Result};
+use crate::scenario::{Scenario, Setup};
+use nalgebra::DVector;
+use sea_ctrl::controller::MomentumController;
+use sea_ctrl::references::ComSample;
+use sea_plant::{Method, Plant, PlantData, StateLayout};
+
+/// How the controller is sampled.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Sampling {
+    /// Evaluated wherever the dynamics are (the paper's setting: inside ode15s).
+    Continuous,
+    /// Evaluated every `period` seconds and held in between.
+    ZeroOrderHold {
+        /// Control period [s].
+        period: f64,
+    },
+}
+
+impl Sampling {
+    /// The scenario's sampling: zero-order hold at `controller.rate_hz` (the scenario schema
+    /// has no continuous setting yet; pass [`Sampling::Continuous`] explicitly for it).
+    pub fn of_scenario(scenario: &Scenario) -> Sampling {
+        Sampling::ZeroOrderHold {
+            period: 1.0 / scenario.controller.rate_hz,
+        }
+    }
+
+    /// A short label: "continuous" or "zero_order_hold at R Hz".
+    pub fn label(&self) -> String {
+        match self {
+            Sampling::Continuous => "continuous".into(),
+            Sampling::ZeroOrderHold { period } => {
+                format!("zero_order_hold at {:.6} Hz", 1.0 / period)
+            }
+        }
+    }
+}
+
+/// `y (-) x`: the tangent vector `dx` with `x (+) dx = y` (base rotation by the logarithm of
+/// `R_y R_x^T`, world axes, matching `sea_dyn::configuration::integrate`; the rest linear).
+pub fn difference(layout: &StateLayout, x: &[f64], y: &[f64], out: &mut DVector<f64>) {
+    let (nq, nv) = (layout.nq, layout.nv);
+    for k in 0..3 {
+        out[k] = y[k] - x[k];
+    }
+    // q_y q_x^-1 (unit quaternions: the inverse is the conjugate).
+    let conjugate = [x[3], -x[4], -x[5], -x[6]];
+    let mut relative =
+        sea_dyn::configuration::quaternion_multiply([y[3], y[4], y[5], y[6]], conjugate);
+    if relative[0] < 0.0 {
+        relative.iter_mut().for_each(|c| *c = -*c);
+    }
+    let sin_half = (relative[1].powi(2) + relative[2].powi(2) + relative[3].powi(2)).sqrt();
+    let angle = 2.0 * sin_half.atan2(relative[0]);
+    // angle / sin(angle/2), by its series near zero.
+    let factor = if sin_half < 1e-8 {
+        2.0
+    } else {
+        angle / sin_half
+    };
+    for k in 0..3 {
+        out[3 + k] = factor * relative[1 + k];
+    }
+    for k in 7..nq {
+        out[k - 1] = y[k] - x[k];
+    }
+    for k in nq..x.len() {
+        out[k - (nq - nv)] = y[k] - x[k];
+    }
+}
+
+/// The closed loop with the references frozen: model, plant, controller and buffers.
+pub struct ClosedLoopSystem {
+    /// The built scenario (plant, controller, initial state, references).
+    pub setup: Setup,
+    /// The state layout.
+    pub layout: StateLayout,
+    /// The frozen CoM reference (position at the chosen time, zero velocity and acceleration).
+    pub reference: ComSample,
+    /// The frozen desired posture.
+    pub s_desired: Vec<f64>,
+    /// Sampling of the controller.
+    pub sampling: Sampling,
+    /// Plant steps per control period (zero-order hold).
+    pub steps_per_period: usize,
+    /// Integration method of the plant.
+    pub method: Method,
+    pd: PlantData,
+    input: Vec<f64>,
+    x_step: Vec<f64>,
+    x_next: Vec<f64>,
+}
+
+impl ClosedLoopSystem {
+    /// The closed loop of `setup` with the references frozen at time `t`; in zero-order hold
+    /// the period is split into the smallest whole number of equal steps not longer than
+    /// `plant_dt`.
+    pub fn new(
+        setup: Setup,
+        t: f64,
+        sampling: Sampling,
+        plant_dt: f64,
+        method: Method,
+    ) -> Result<Self> {
+        if !t.is_finite() {
+            return Err(Error::config("t", format!("must be finite, got {t}")));
+        }
+        let layout = setup.plant.layout();
+        let mut reference = setup.com_reference.sample(t);
+        reference.velocity.fill(0.0);
+        reference.acceleration.fill(0.0);
+        let mut s_desired = vec![0.0; setup.model.n_joints()];
+        setup.posture.at(t, &mut s_desired);
+        let steps_per_period = match sampling {
+            Sampling::Continuous => 1,
+            Sampling::ZeroOrderHold { period } => {
+                if !(period.is_finite() && period > 0.0) {
+                    return Err(Error::config(
+                        "controller.rate_hz",
+                        format!("control period must be positive, got {period}"),
+                    ));
+                }
+                ((period / plant_dt) * (1.0 - 1e-12)).ceil().max(1.0) as usize
+            }
+        };
+        let pd = PlantData::new(&setup.plant);
+        let nx = layout.nx();
+        Ok(Self {
+            layout,
+            reference,
+            s_desired,
+            sampling,
+            steps_per_period,
+            method,
+            pd,
+            input: Vec::new(),
+            x_step: vec![0.0; nx],
+            x_next: vec![0.0; nx],
+            setup,
+        })
+    }
+
+    /// The plant.
+    pub fn plant(&self) -> &Plant {
+        &self.setup.plant
+    }
+
+    /// The controller.
+    pub fn controller(&self) -> &MomentumController {
+        &self.setup.controller
+    }
+
+    /// The control period [s] (`None` in continuous time).
+    pub fn period(&self) -> Option<f64> {
+        match self.sampling {
+            Sampling::Continuous => None,
+            Sampling::ZeroOrderHold { period } => Some(period),
+        }
+    }
+
+    /// Computes and stores the controller's input at `x`.
+    fn control(&mut self, x: &[f64]) -> Result<()> {
+        let output =
+            self.setup
+                .controller
+                .compute(x, &self.layout, &self.reference, &self.s_desired)?;
+        self.input.clear();
+        self.input.extend_from_slice(&output.input);
+        Ok(())
+    }
+
+    /// `out = f(x)`, the closed-loop vector field (tangent derivative) in continuous time.
+    pub fn vector_field(&mut self, x: &[f64], out: &mut DVector<f64>) -> Result<()> {
+        self.control(x)?;
+        sea_plant::evaluate(&self.setup.plant, &mut self.pd, x, &self.input)?;
+        out.copy_from(&self.pd.xdot);
+        Ok(())
+    }
+
+    /// `x_out = Phi(x)`: the plant over one control period with the input `u(x)` held.
+    pub fn period_map(&mut self, x: &[f64], x_out: &mut [f64]) -> Result<()> {
+        let period = self.period().ok_or_else(|| {
+            Error::config(
+                "controller.sampling",
+                "continuous sampling has no period map",
+            )
+        })?;
+        self.control(x)?;
+        let dt = period / self.steps_per_period as f64;
+        self.x_step.copy_from_slice(x);
+        for _ in 0..self.steps_per_period {
+            sea_plant::step(
+                &self.setup.plant,
+                &mut self.pd,
+                &self.x_step,
+                &self.input,
+                dt,
+                self.method,
+                &mut self.x_next,
+            )?;
+            std::mem::swap(&mut self.x_step, &mut self.x_next);
+        }
+        x_out.copy_from_slice(&self.x_step);
+        Ok(())
+    }
+
+    /// The linearised object's value at `x`: `f(x)` in continuous time, `Phi(x) (-) x` over one
+    /// period in zero-order hold (the displacement of one period).
+    pub fn displacement(&mut self, x: &[f64], out: &mut DVector<f64>) -> Result<()> {
+        match self.sampling {
+            Sampling::Continuous => self.vector_field(x, out),
+            Sampling::ZeroOrderHold { .. } => {
+                let mut mapped = vec![0.0; x.len()];
+                self.period_map(x, &mut mapped)?;
+                difference(&self.layout, x, &mapped, out);
+                Ok(())
+            }
+        }
+    }
+}
