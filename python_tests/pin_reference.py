@@ -53,6 +53,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 import pinocchio as pin
+import sea_momentum
 
 GRAVITY = 9.81
 
@@ -161,14 +162,9 @@ HAND_URDF = """<?xml version="1.0"?>
   </link>
 </robot>
 """
-# The 25 joints of the paper's iCub, in the order of REFERENCE.md.
-ICUB25_JOINTS = [
-    "torso_pitch", "torso_roll", "torso_yaw",
-    "l_shoulder_pitch", "l_shoulder_roll", "l_shoulder_yaw", "l_elbow", "l_wrist_prosup",
-    "r_shoulder_pitch", "r_shoulder_roll", "r_shoulder_yaw", "r_elbow", "r_wrist_prosup",
-    "l_hip_pitch", "l_hip_roll", "l_hip_yaw", "l_knee", "l_ankle_pitch", "l_ankle_roll",
-    "r_hip_pitch", "r_hip_roll", "r_hip_yaw", "r_knee", "r_ankle_pitch", "r_ankle_roll",
-]
+# The 25 joints of the paper's iCub, in the order of REFERENCE.md (defined once, in Rust:
+# sea_sim's scenario presets, exposed by the native module).
+ICUB25_JOINTS = list(sea_momentum.ICUB25_JOINTS)
 
 
 HAND_JOINTS_FILE_ORDER = ["zeta_rev", "beta_cont", "alpha_pris", "gamma_rev"]

@@ -33,9 +33,8 @@ def standing_icub(**plant_options):
     q[2] = -model.frame_pose(q, "l_sole")[2, 3]
     plant_options.setdefault("actuator", "elastic")
     plant = sm.Plant(model, contacts=["l_sole", "r_sole"], contact_q=q, **plant_options)
-    stiffness = plant_options["actuator"]["stiffness"] if isinstance(plant_options["actuator"], dict) else 350.0
     gravity = model.gravity_forces(q)[6:]
-    x0 = plant.make_state(q, theta=(q[7:] + gravity / stiffness) / ETA)
+    x0 = plant.make_state(q, joint_torques=gravity)
     return model, plant, x0, gravity
 
 

@@ -48,18 +48,14 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
+import sea_momentum
 
 SOURCE_ROBOT = "iCubGenova04"
 
 #: The 25 joints that stay movable, in the order the project loads them (paper order:
 #: torso, left arm, right arm, left leg, right leg). The file keeps the source order.
-MOVABLE_JOINTS: tuple[str, ...] = (
-    "torso_pitch", "torso_roll", "torso_yaw",
-    "l_shoulder_pitch", "l_shoulder_roll", "l_shoulder_yaw", "l_elbow", "l_wrist_prosup",
-    "r_shoulder_pitch", "r_shoulder_roll", "r_shoulder_yaw", "r_elbow", "r_wrist_prosup",
-    "l_hip_pitch", "l_hip_roll", "l_hip_yaw", "l_knee", "l_ankle_pitch", "l_ankle_roll",
-    "r_hip_pitch", "r_hip_roll", "r_hip_yaw", "r_knee", "r_ankle_pitch", "r_ankle_roll",
-)  # fmt: skip
+#: Defined once, in Rust (sea_sim's scenario presets), exposed by the native module.
+MOVABLE_JOINTS: tuple[str, ...] = tuple(sea_momentum.ICUB25_JOINTS)
 
 #: Revolute joints of the source that are locked (turned into fixed joints at 0).
 LOCKED_JOINTS: tuple[str, ...] = (

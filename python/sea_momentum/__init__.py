@@ -8,7 +8,7 @@ Conventions (the same everywhere):
 - ``M(q) nudot + h(q, nu) = B tau + sum_k J_k^T f_k``, gravity -9.81 m/s^2 along world z.
 """
 
-from ._native import Model, ModelError, Plant, __version__
+from ._native import ICUB25_JOINTS, Model, ModelError, Plant, __version__
 from .scenario import ScenarioResult, run_scenario
 
-__all__ = ["Model", "ModelError", "Plant", "ScenarioResult", "run_scenario", "__version__"]
+__all__ = ["ICUB25_JOINTS", "Model", "ModelError", "Plant", "ScenarioResult", "run_scenario", "__version__"]

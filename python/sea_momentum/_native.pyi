@@ -13,6 +13,8 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+ICUB25_JOINTS: tuple[str, ...]
+"""The paper's 25 iCub joints in the original study's order (defined once, in Rust)."""
 
 ArrayLike = npt.ArrayLike
 Vector = npt.NDArray[np.float64]
@@ -110,7 +112,7 @@ class Plant:
         actuators: Mapping[str, ActuatorSpec] | None = None,
         contacts: Sequence[str] = (),
         contact_q: ArrayLike | None = None,
-        baumgarte_kp: float = 50.0,
+        baumgarte_kp: float | None = None,
         baumgarte_kd: float | None = None,
         motor_velocity_gain: float | None = None,
         joint_inertia_regularization: float = 0.0,
@@ -143,8 +145,11 @@ class Plant:
         nu: ArrayLike | None = None,
         theta: ArrayLike | None = None,
         thetadot: ArrayLike | None = None,
+        joint_torques: ArrayLike | None = None,
     ) -> Vector:
-        """A state; ``theta`` defaults to ``s / eta`` (springs at rest), velocities to 0."""
+        """A state; velocities default to 0 and ``theta`` to the springs at rest (``s / eta``),
+        or, given ``joint_torques`` (n,), to the preload holding them:
+        ``theta = (s + tau / k_s) / eta`` per elastic joint."""
     def split_state(self, x: ArrayLike) -> dict[str, Vector]:
         """``{"q", "theta", "nu", "thetadot"}``."""
     def dynamics(self, x: ArrayLike, u: ArrayLike) -> Vector:

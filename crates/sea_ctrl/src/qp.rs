@@ -29,34 +29,28 @@ use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
 use nalgebra::{DMatrix, DVector, Matrix3};
+use sea_dyn::ContactSurface;
 
-/// Contact constraint parameters (REFERENCE.md: 12 facets, mu = 1, torsional 2/150, minimum
-/// normal force 10 N, foot x in [-0.05, 0.10] m, y in [-0.025, 0.025] m).
+/// Contact constraint parameters: the contact surface (friction, torsional friction, foot
+/// rectangle; shared with the plant's wrench margins) and the QP's own choices.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ContactConstraints {
-    /// Friction coefficient `mu`.
-    pub friction: f64,
+    /// Friction coefficients and foot rectangle of each sole.
+    pub surface: ContactSurface,
     /// Number of friction cone facets.
     pub facets: usize,
-    /// Torsional friction coefficient `mu_t` [m].
-    pub torsional_friction: f64,
     /// Minimum normal force [N].
     pub min_normal_force: f64,
-    /// Foot rectangle along the sole x axis [m].
-    pub foot_x: [f64; 2],
-    /// Foot rectangle along the sole y axis [m].
-    pub foot_y: [f64; 2],
 }
 
 impl Default for ContactConstraints {
+    /// [`ContactSurface::default`] with the original study's 12 facets and 10 N minimum normal
+    /// force (REFERENCE.md, QP bullet).
     fn default() -> Self {
         Self {
-            friction: 1.0,
+            surface: ContactSurface::default(),
             facets: 12,
-            torsional_friction: 2.0 / 150.0,
             min_normal_force: 10.0,
-            foot_x: [-0.05, 0.10],
-            foot_y: [-0.025, 0.025],
         }
     }
 }
@@ -72,7 +66,8 @@ impl ContactConstraints {
         let rows = self.rows_per_contact();
         let mut c = DMatrix::zeros(rows, 6);
         let mut b = DVector::zeros(rows);
-        let inscribed = self.friction * (std::f64::consts::PI / self.facets as f64).cos();
+        let surface = &self.surface;
+        let inscribed = surface.friction * (std::f64::consts::PI / self.facets as f64).cos();
         for k in 0..self.facets {
             let phi = 2.0 * std::f64::consts::PI * k as f64 / self.facets as f64;
             c[(k, 0)] = phi.cos();
@@ -82,11 +77,11 @@ impl ContactConstraints {
         let r = self.facets;
         c[(r, 2)] = -1.0;
         b[r] = -self.min_normal_force;
-        c[(r + 1, 2)] = -self.torsional_friction;
+        c[(r + 1, 2)] = -surface.torsional_friction;
         c[(r + 1, 5)] = 1.0;
-        c[(r + 2, 2)] = -self.torsional_friction;
+        c[(r + 2, 2)] = -surface.torsional_friction;
         c[(r + 2, 5)] = -1.0;
-        let ([x_min, x_max], [y_min, y_max]) = (self.foot_x, self.foot_y);
+        let ([x_min, x_max], [y_min, y_max]) = (surface.foot_x, surface.foot_y);
         c[(r + 3, 2)] = -x_max;
         c[(r + 3, 4)] = -1.0;
         c[(r + 4, 2)] = x_min;

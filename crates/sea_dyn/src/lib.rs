@@ -30,6 +30,7 @@
 
 pub mod algorithms;
 pub mod error;
+pub mod gains;
 pub mod linalg;
 pub mod model;
 pub mod sample;
@@ -38,7 +39,7 @@ pub mod spatial;
 // The algorithm, model and linear-algebra files keep short paths (`sea_dyn::rnea`, ...).
 pub use algorithms::{centroidal, crba, jacobian, kinematics, rnea, split};
 pub use linalg::{dense, tree_factor};
-pub use model::{actuator, configuration, data, state, urdf};
+pub use model::{actuator, configuration, contact_surface, data, state, urdf};
 
 pub use actuator::{Actuation, Actuator, ElasticParameters};
 pub use centroidal::{
@@ -46,9 +47,11 @@ pub use centroidal::{
     centroidal_momentum_matrix, com, com_jacobian,
 };
 pub use configuration::integrate;
+pub use contact_surface::ContactSurface;
 pub use crba::{crba, crba_from_kinematics};
 pub use data::Data;
 pub use error::{Error, Result};
+pub use gains::critical_damping;
 pub use jacobian::{frame_jacobian, frame_jacobian_dot_v};
 pub use kinematics::{
     forward_kinematics, forward_kinematics_path, forward_velocities, forward_velocities_path,

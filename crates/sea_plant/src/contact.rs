@@ -9,28 +9,9 @@ use sea_dyn::kinematics::frame_placement;
 use sea_dyn::model::FrameId;
 use sea_dyn::spatial::Pose;
 
-/// Friction and foot-size limits used to report the margins of the simulated wrenches.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactLimits {
-    /// Coulomb friction coefficient.
-    pub friction: f64,
-    /// Foot rectangle along the sole x axis `[min, max]` [m].
-    pub foot_x: [f64; 2],
-    /// Foot rectangle along the sole y axis `[min, max]` [m].
-    pub foot_y: [f64; 2],
-}
-
-impl Default for ContactLimits {
-    /// The original study's values (REFERENCE.md): mu = 1, x in [-0.05, 0.10], y in
-    /// [-0.025, 0.025] m.
-    fn default() -> Self {
-        Self {
-            friction: 1.0,
-            foot_x: [-0.05, 0.10],
-            foot_y: [-0.025, 0.025],
-        }
-    }
-}
+/// Friction and foot-size limits used to report the margins of the simulated wrenches: the
+/// contact surface shared with the controller's constraints (defaults: REFERENCE.md).
+pub type ContactLimits = sea_dyn::ContactSurface;
 
 /// A rigid contact: the frame is held at its reference pose.
 #[derive(Clone, Debug)]

@@ -47,9 +47,9 @@ pub struct Plant {
     pub actuation: Actuation,
     /// Rigid contacts (zero, one or two feet).
     pub contacts: Vec<Contact>,
-    /// Baumgarte position gain `K_p` [1/s^2] (default 50, REFERENCE.md).
+    /// Baumgarte position gain `K_p` [1/s^2] (default [`Plant::DEFAULT_BAUMGARTE_KP`]).
     pub baumgarte_kp: f64,
-    /// Baumgarte velocity gain `K_d` [1/s] (default `2 sqrt(K_p)`).
+    /// Baumgarte velocity gain `K_d` [1/s] (default [`sea_dyn::critical_damping`] of `K_p`).
     pub baumgarte_kd: f64,
     /// Meaning of the elastic joints' inputs.
     pub motor_input: MotorInput,
@@ -61,15 +61,19 @@ pub struct Plant {
 }
 
 impl Plant {
+    /// Default Baumgarte position gain `K_p` [1/s^2]: the original study's pose-correction
+    /// gain (REFERENCE.md, "Plant"), with `K_d` its critical damping.
+    pub const DEFAULT_BAUMGARTE_KP: f64 = 50.0;
+
     /// A plant with the given actuation and no contacts, default gains, torque input.
     pub fn new(model: Model, actuation: Actuation) -> Self {
-        let kp = 50.0;
+        let kp = Self::DEFAULT_BAUMGARTE_KP;
         Self {
             model,
             actuation,
             contacts: Vec::new(),
             baumgarte_kp: kp,
-            baumgarte_kd: 2.0 * f64::sqrt(kp),
+            baumgarte_kd: sea_dyn::critical_damping(kp),
             motor_input: MotorInput::Torque,
             joint_inertia_regularization: 0.0,
             contact_limits: ContactLimits::default(),
@@ -90,9 +94,11 @@ impl Plant {
         for name in frames {
             let frame = self.model.frame_id(name)?;
             if contacts.iter().any(|c: &Contact| c.frame == frame) {
-                return Err(Error::input(format!(
-                    "contact frame '{name}' is listed twice"
-                )));
+                return Err(Error::invalid(
+                    "contacts",
+                    "distinct frames",
+                    format!("'{name}' listed twice"),
+                ));
             }
             contacts.push(Contact {
                 name: name.clone(),
@@ -116,16 +122,16 @@ impl Plant {
         ];
         for (name, value) in gains {
             if !(value.is_finite() && value >= 0.0) {
-                return Err(Error::input(format!(
-                    "{name} must be non-negative and finite, got {value}"
-                )));
+                return Err(Error::invalid(name, "a non-negative finite number", value));
             }
         }
         if let MotorInput::VelocityLoop { gain } = self.motor_input {
             if !(gain.is_finite() && gain > 0.0) {
-                return Err(Error::input(format!(
-                    "motor_velocity_gain must be positive and finite, got {gain}"
-                )));
+                return Err(Error::invalid(
+                    "motor_velocity_gain",
+                    "a positive finite number",
+                    gain,
+                ));
             }
         }
         Ok(())
@@ -142,8 +148,27 @@ impl Plant {
         check_vector("u", u, self.model.n_joints())
     }
 
-    /// A state from its parts; `theta = s / eta` (springs at rest) and zero velocities when
-    /// `theta`/`thetadot` are `None`.
+    /// The motor angles `theta` (n_e) that make the springs hold `joint_torques` (n, coordinate
+    /// order; rigid joints' entries unused) at rest in configuration `q`:
+    /// [`sea_dyn::ElasticParameters::preloaded_motor_angle`] per elastic joint. With the static
+    /// torques (gravity minus what the contacts carry) the robot starts in equilibrium.
+    pub fn preloaded_motor_angles(&self, q: &[f64], joint_torques: &[f64]) -> Result<Vec<f64>> {
+        self.model.check_configuration(q)?;
+        check_vector("joint_torques", joint_torques, self.model.n_joints())?;
+        let s = self.layout().s(q); // `q` is the leading block of a state
+        let elastic = self
+            .actuation
+            .elastic_joints
+            .iter()
+            .zip(&self.actuation.elastic);
+        Ok(elastic
+            .map(|(&j, p)| p.preloaded_motor_angle(s[j], joint_torques[j]))
+            .collect())
+    }
+
+    /// A state from its parts; springs at rest
+    /// ([`sea_dyn::ElasticParameters::preloaded_motor_angle`] with zero torque) and zero motor
+    /// velocities when `theta`/`thetadot` are `None`.
     pub fn make_state(
         &self,
         q: &[f64],
@@ -155,23 +180,28 @@ impl Plant {
         self.model.check_configuration(q)?;
         self.model.check_velocity("nu", nu)?;
         let mut x = vec![0.0; layout.nx()];
-        x[..layout.nq].copy_from_slice(q);
-        x[layout.nu_offset()..layout.nu_offset() + layout.nv].copy_from_slice(nu);
+        layout.q_mut(&mut x).copy_from_slice(q);
+        layout.nu_mut(&mut x).copy_from_slice(nu);
         match theta {
             Some(theta) => {
                 check_vector("theta", theta, layout.ne)?;
-                x[layout.theta_offset()..layout.theta_offset() + layout.ne].copy_from_slice(theta);
+                layout.theta_mut(&mut x).copy_from_slice(theta);
             }
             None => {
-                for (e, &j) in self.actuation.elastic_joints.iter().enumerate() {
-                    x[layout.theta_offset() + e] = q[7 + j] / self.actuation.elastic[e].ratio;
+                let s = layout.s(q); // `q` is the leading block of a state
+                let elastic = self
+                    .actuation
+                    .elastic_joints
+                    .iter()
+                    .zip(&self.actuation.elastic);
+                for (theta, (&j, p)) in layout.theta_mut(&mut x).iter_mut().zip(elastic) {
+                    *theta = p.preloaded_motor_angle(s[j], 0.0);
                 }
             }
         }
         if let Some(thetadot) = thetadot {
             check_vector("thetadot", thetadot, layout.ne)?;
-            x[layout.thetadot_offset()..layout.thetadot_offset() + layout.ne]
-                .copy_from_slice(thetadot);
+            layout.thetadot_mut(&mut x).copy_from_slice(thetadot);
         }
         Ok(x)
     }

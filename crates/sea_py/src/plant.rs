@@ -101,7 +101,7 @@ impl PyPlant {
     #[new]
     #[pyo3(signature = (
         model, *, actuator=None, actuators=None,
-        contacts=Vec::new(), contact_q=None, baumgarte_kp=50.0, baumgarte_kd=None,
+        contacts=Vec::new(), contact_q=None, baumgarte_kp=None, baumgarte_kd=None,
         motor_velocity_gain=None, joint_inertia_regularization=0.0, gravity=None,
         friction=1.0, foot_x=(-0.05, 0.10), foot_y=(-0.025, 0.025)
     ))]
@@ -112,7 +112,7 @@ impl PyPlant {
         actuators: Option<Bound<'_, PyDict>>,
         contacts: Vec<String>,
         contact_q: Option<Bound<'_, PyAny>>,
-        baumgarte_kp: f64,
+        baumgarte_kp: Option<f64>,
         baumgarte_kd: Option<f64>,
         motor_velocity_gain: Option<f64>,
         joint_inertia_regularization: f64,
@@ -139,8 +139,9 @@ impl PyPlant {
         }
         let actuation = Actuation::new(&rigid_model, default, &overrides).map_err(to_py)?;
         let mut plant = Plant::new(rigid_model, actuation);
-        plant.baumgarte_kp = baumgarte_kp;
-        plant.baumgarte_kd = baumgarte_kd.unwrap_or(2.0 * baumgarte_kp.max(0.0).sqrt());
+        // Unset gains keep the plant's defaults (Plant::DEFAULT_BAUMGARTE_KP, critical damping).
+        plant.baumgarte_kp = baumgarte_kp.unwrap_or(plant.baumgarte_kp);
+        plant.baumgarte_kd = baumgarte_kd.unwrap_or(sea_dyn::critical_damping(plant.baumgarte_kp));
         plant.motor_input = match motor_velocity_gain {
             Some(gain) => MotorInput::VelocityLoop { gain },
             None => MotorInput::Torque,
@@ -150,6 +151,7 @@ impl PyPlant {
             friction,
             foot_x: [foot_x.0, foot_x.1],
             foot_y: [foot_y.0, foot_y.1],
+            ..ContactLimits::default()
         };
         plant.validate().map_err(to_py)?;
         if !contacts.is_empty() {
@@ -206,7 +208,7 @@ impl PyPlant {
     }
 
     /// A state from its parts: theta defaults to s / eta (springs at rest), velocities to 0.
-    #[pyo3(signature = (q, nu=None, theta=None, thetadot=None))]
+    #[pyo3(signature = (q, nu=None, theta=None, thetadot=None, joint_torques=None))]
     fn make_state<'py>(
         &self,
         py: Python<'py>,
@@ -214,6 +216,7 @@ impl PyPlant {
         nu: Option<&Bound<'py, PyAny>>,
         theta: Option<&Bound<'py, PyAny>>,
         thetadot: Option<&Bound<'py, PyAny>>,
+        joint_torques: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let layout = self.plant.layout();
         let mut q_v = Vec::new();
@@ -225,6 +228,13 @@ impl PyPlant {
         let mut theta_v = Vec::new();
         if let Some(theta) = theta {
             vector_arg(theta, "theta", layout.ne, &mut theta_v)?;
+        } else if let Some(joint_torques) = joint_torques {
+            let mut torques = Vec::new();
+            vector_arg(joint_torques, "joint_torques", self.plant.model.n_joints(), &mut torques)?;
+            theta_v = self
+                .plant
+                .preloaded_motor_angles(&q_v, &torques)
+                .map_err(to_py)?;
         }
         let mut thetadot_v = Vec::new();
         if let Some(thetadot) = thetadot {
@@ -235,7 +245,7 @@ impl PyPlant {
             .make_state(
                 &q_v,
                 &nu_v,
-                theta.map(|_| theta_v.as_slice()),
+                (theta.is_some() || joint_torques.is_some()).then_some(theta_v.as_slice()),
                 thetadot.map(|_| thetadot_v.as_slice()),
             )
             .map_err(to_py)?;

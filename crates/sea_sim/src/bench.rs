@@ -193,9 +193,9 @@ pub fn standing_sea_plant(model: &Model) -> Option<(Plant, Vec<f64>)> {
         .set_contacts(&["l_sole".to_string(), "r_sole".to_string()], &q)
         .ok()?;
     let gravity = sea_dyn::gravity_forces(model, &mut data, &q).clone();
-    let theta: Vec<f64> = (0..model.n_joints())
-        .map(|j| (q[7 + j] + gravity[6 + j] / sea.stiffness) / sea.ratio)
-        .collect();
+    let theta = plant
+        .preloaded_motor_angles(&q, &gravity.as_slice()[6..])
+        .ok()?;
     let nu = vec![0.0; model.nv()];
     let x = plant.make_state(&q, &nu, Some(&theta), None).ok()?;
     Some((plant, x))

@@ -25,9 +25,18 @@ pub struct ElasticParameters {
     pub torque_limit: Option<f64>,
 }
 
+impl Default for ElasticParameters {
+    /// The paper's iCub SEA, [`ElasticParameters::paper_icub`].
+    fn default() -> Self {
+        Self::paper_icub()
+    }
+}
+
 impl ElasticParameters {
-    /// The iCub SEA of the paper (REFERENCE.md): eta 1/100, b 1e-5 kg m^2, k_s 350 Nm/rad,
-    /// k_d 0.25 Nms/rad, no torque limit.
+    /// The iCub SEA of the paper (REFERENCE.md, "The paper's experiments"): eta 1/100,
+    /// b 1e-5 kg m^2, k_s 350 Nm/rad, k_d 0.25 Nms/rad (the original code used 1), no torque
+    /// limit. The one definition of these figures: the scenario schema and the Python bindings
+    /// take their defaults from here.
     pub fn paper_icub() -> Self {
         Self {
             ratio: 0.01,
@@ -36,6 +45,21 @@ impl ElasticParameters {
             damping: 0.25,
             torque_limit: None,
         }
+    }
+
+    /// The motor angle `theta` [rad, motor side] at which the spring holds the joint torque
+    /// `tau` [Nm] at rest at joint angle `s` [rad]: from paper eq:alpha with zero velocities,
+    /// `tau = k_s (eta theta - s)`, so `theta = (s + tau / k_s) / eta`. With `tau = 0` the
+    /// spring is at rest, `theta = s / eta`.
+    pub fn preloaded_motor_angle(&self, s: f64, tau: f64) -> f64 {
+        (s + tau / self.stiffness) / self.ratio
+    }
+
+    /// Motor reflected inertia, paper remark1 (eq:equivJoints): the joint-side diagonal entry
+    /// of `Gamma^-1 I_m Gamma^-1`, `b / eta^2` [kg m^2], which a rigid model of this joint adds
+    /// to `M_j`.
+    pub fn reflected_inertia(&self) -> f64 {
+        self.motor_inertia / (self.ratio * self.ratio)
     }
 
     /// Checks every parameter; `joint` names the actuator in the message.
@@ -47,22 +71,27 @@ impl ElasticParameters {
         ];
         for (name, value) in positive {
             if !(value.is_finite() && value > 0.0) {
-                return Err(Error::input(format!(
-                    "actuator of joint '{joint}': {name} must be positive and finite, got {value}"
-                )));
+                return Err(Error::invalid(
+                    format!("actuator of joint '{joint}': {name}"),
+                    "a positive finite number",
+                    value,
+                ));
             }
         }
         if !(self.damping.is_finite() && self.damping >= 0.0) {
-            return Err(Error::input(format!(
-                "actuator of joint '{joint}': damping must be non-negative and finite, got {}",
-                self.damping
-            )));
+            return Err(Error::invalid(
+                format!("actuator of joint '{joint}': damping"),
+                "a non-negative finite number",
+                self.damping,
+            ));
         }
         if let Some(limit) = self.torque_limit {
             if limit.is_nan() || limit <= 0.0 {
-                return Err(Error::input(format!(
-                    "actuator of joint '{joint}': torque_limit must be positive, got {limit}"
-                )));
+                return Err(Error::invalid(
+                    format!("actuator of joint '{joint}': torque_limit"),
+                    "a positive number",
+                    limit,
+                ));
             }
         }
         Ok(())
@@ -105,7 +134,11 @@ impl Actuation {
         let mut actuators = vec![default; model.n_joints()];
         for (name, actuator) in overrides {
             let index = model.joint_index(name).ok_or_else(|| {
-                Error::input(format!("actuator override names unknown joint '{name}'"))
+                Error::invalid(
+                    "actuator override",
+                    "a moving joint of the model",
+                    format!("unknown joint '{name}'"),
+                )
             })?;
             actuators[index] = *actuator;
         }

@@ -10,6 +10,7 @@
 
 pub mod actuator;
 pub mod configuration;
+pub mod contact_surface;
 pub mod data;
 pub mod state;
 pub mod urdf;

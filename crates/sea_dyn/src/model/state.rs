@@ -82,4 +82,27 @@ impl StateLayout {
     pub fn thetadot<'a>(&self, x: &'a [f64]) -> &'a [f64] {
         &x[self.thetadot_offset()..self.thetadot_offset() + self.ne]
     }
+
+    /// `q` (nq) of a state, mutable.
+    pub fn q_mut<'a>(&self, x: &'a mut [f64]) -> &'a mut [f64] {
+        &mut x[..self.nq]
+    }
+
+    /// Motor angles `theta` (n_e) of a state, mutable.
+    pub fn theta_mut<'a>(&self, x: &'a mut [f64]) -> &'a mut [f64] {
+        let offset = self.theta_offset();
+        &mut x[offset..offset + self.ne]
+    }
+
+    /// `nu` (nv) of a state, mutable.
+    pub fn nu_mut<'a>(&self, x: &'a mut [f64]) -> &'a mut [f64] {
+        let offset = self.nu_offset();
+        &mut x[offset..offset + self.nv]
+    }
+
+    /// Motor velocities `thetadot` (n_e) of a state, mutable.
+    pub fn thetadot_mut<'a>(&self, x: &'a mut [f64]) -> &'a mut [f64] {
+        let offset = self.thetadot_offset();
+        &mut x[offset..offset + self.ne]
+    }
 }

@@ -2,14 +2,13 @@
 //! and references of one run.
 
 use crate::error::{Error, Result};
-use crate::scenario::{
-    expand_joint_groups, Scenario, ICUB25_JOINTS, ICUB_LEFT_STANCE, ICUB_TWO_FEET_DEG,
-};
+use crate::scenario::presets::{ICUB25_JOINTS, ICUB_LEFT_STANCE, ICUB_TWO_FEET_DEG};
+use crate::scenario::{expand_joint_groups, Scenario};
 use nalgebra::Vector3;
 use sea_ctrl::controller::{ControllerKind, MomentumController};
 use sea_ctrl::references::{ComTrajectory, PostureReference};
 use sea_dyn::spatial::quaternion_from_rotation;
-use sea_dyn::{Actuation, Actuator, Data, ElasticParameters, LoadOptions, Model};
+use sea_dyn::{Actuation, Data, FrameId, LoadOptions, Model};
 use sea_plant::{MotorInput, Plant};
 use std::collections::HashMap;
 
@@ -31,23 +30,41 @@ pub struct Setup {
     pub elastic_names: Vec<String>,
 }
 
-fn elastic_parameters(c: &crate::scenario::ActuatorConfig, key: &str) -> Result<Actuator> {
-    match c.kind.as_str() {
-        "rigid" => Ok(Actuator::Rigid),
-        "elastic" => Ok(Actuator::Elastic(ElasticParameters {
-            ratio: c.ratio,
-            motor_inertia: c.motor_inertia,
-            stiffness: c.stiffness,
-            damping: c.damping,
-            torque_limit: c.torque_limit,
-        })),
-        other => Err(Error::config(
-            key,
-            format!("kind must be \"elastic\" or \"rigid\", got \"{other}\""),
-        )),
-    }
+/// The robot model: the URDF reduced to `robot.joints` (default: the paper's 25 iCub joints).
+fn load_model(scenario: &Scenario) -> Result<Model> {
+    let urdf = scenario.resolve(&scenario.robot.urdf);
+    let joints = scenario
+        .robot
+        .joints
+        .clone()
+        .unwrap_or_else(|| ICUB25_JOINTS.map(String::from).to_vec());
+    Ok(Model::from_urdf_file(
+        &urdf,
+        &LoadOptions {
+            joints: Some(joints),
+            ..Default::default()
+        },
+    )?)
 }
 
+/// Every joint's actuator: `[actuators]`, then the per-joint overrides.
+fn actuation(scenario: &Scenario, model: &Model) -> Result<Actuation> {
+    let actuators = &scenario.actuators;
+    let default = actuators.default.actuator("actuators")?;
+    let mut overrides = HashMap::new();
+    for (name, config) in &actuators.overrides {
+        let key = format!("actuators.overrides.{name}");
+        if model.joint_index(name).is_none() {
+            return Err(Error::config(key, "unknown joint"));
+        }
+        overrides.insert(name.clone(), config.actuator(&key)?);
+    }
+    Actuation::new(model, default, &overrides)
+        .map_err(|e| Error::config("actuators", e.to_string()))
+}
+
+/// The initial joint positions `s0` (n) of `robot.initial_posture`: a posture of the original
+/// study (in the model's joint order), zero, or explicit radians.
 fn initial_posture(scenario: &Scenario, model: &Model) -> Result<Vec<f64>> {
     let value = &scenario.robot.initial_posture;
     let paper_order = |values: &[f64]| -> Result<Vec<f64>> {
@@ -125,97 +142,79 @@ fn static_torques(model: &Model, q: &[f64], contacts: &[usize]) -> Vec<f64> {
     torques.as_slice().to_vec()
 }
 
-/// Builds the model, plant, controller and initial state of a scenario.
-pub fn build(scenario: &Scenario) -> Result<Setup> {
-    let urdf = scenario.resolve(&scenario.robot.urdf);
-    let joints = scenario
+/// The contact frames of `robot.contacts`, stance foot first.
+fn contact_frames(scenario: &Scenario, model: &Model) -> Result<Vec<FrameId>> {
+    scenario
         .robot
-        .joints
-        .clone()
-        .unwrap_or_else(|| ICUB25_JOINTS.iter().map(|s| s.to_string()).collect());
-    let model = Model::from_urdf_file(
-        &urdf,
-        &LoadOptions {
-            joints: Some(joints),
-            ..Default::default()
-        },
-    )?;
-    let default = elastic_parameters(&scenario.actuators.default_actuator(), "actuators")?;
-    let mut overrides = HashMap::new();
-    for (name, config) in &scenario.actuators.overrides {
-        if model.joint_index(name).is_none() {
-            return Err(Error::config(
-                format!("actuators.overrides.{name}"),
-                "unknown joint",
-            ));
-        }
-        let actuator = scenario.actuators.overridden(config);
-        overrides.insert(
-            name.clone(),
-            elastic_parameters(&actuator, &format!("actuators.overrides.{name}"))?,
-        );
-    }
-    let actuation = Actuation::new(&model, default, &overrides)
-        .map_err(|e| Error::config("actuators", e.to_string()))?;
-    // Initial configuration: stance sole flat at the world origin.
-    let s0 = initial_posture(scenario, &model)?;
-    let mut q = model.neutral();
-    q[7..].copy_from_slice(&s0);
-    let mut contact_ids = Vec::new();
-    for name in &scenario.robot.contacts {
-        contact_ids.push(
+        .contacts
+        .iter()
+        .map(|name| {
             model
                 .frame_id(name)
-                .map_err(|_| Error::config("robot.contacts", format!("unknown frame '{name}'")))?,
-        );
-    }
-    let mut data = Data::new(&model);
-    sea_dyn::forward_kinematics(&model, &mut data, &q);
-    let world_h_base = sea_dyn::frame_placement(&model, &data, contact_ids[0]).inverse();
+                .map_err(|_| Error::config("robot.contacts", format!("unknown frame '{name}'")))
+        })
+        .collect()
+}
+
+/// The initial configuration: joints `s0`, base placed so that the stance sole is flat at the
+/// world origin.
+fn initial_configuration(model: &Model, s0: &[f64], stance: FrameId) -> Vec<f64> {
+    let mut q = model.neutral();
+    q[7..].copy_from_slice(s0);
+    let mut data = Data::new(model);
+    sea_dyn::forward_kinematics(model, &mut data, &q);
+    let world_h_base = sea_dyn::frame_placement(model, &data, stance).inverse();
     q[..3].copy_from_slice(world_h_base.translation.as_slice());
     q[3..7].copy_from_slice(&quaternion_from_rotation(&world_h_base.rotation));
+    q
+}
 
-    let kind = scenario.controller_kind();
+/// The plant of `[plant]` with the contacts of `robot.contacts` held at their pose in `q`; the
+/// elastic joints take desired motor velocities (motor velocity loop) under the SEA controller
+/// and motor torques under the rigid one.
+fn plant(scenario: &Scenario, model: &Model, actuation: &Actuation, q: &[f64]) -> Result<Plant> {
+    let config = &scenario.plant;
     let mut plant = Plant::new(model.clone(), actuation.clone());
-    plant.baumgarte_kp = scenario.plant.baumgarte_kp;
-    plant.baumgarte_kd = scenario
-        .plant
-        .baumgarte_kd
-        .unwrap_or(2.0 * scenario.plant.baumgarte_kp.sqrt());
-    plant.joint_inertia_regularization = scenario.plant.joint_inertia_regularization;
-    plant.motor_input = match kind {
+    plant.baumgarte_kp = config.baumgarte_kp;
+    plant.baumgarte_kd = config.baumgarte_kd();
+    plant.joint_inertia_regularization = config.joint_inertia_regularization;
+    plant.motor_input = match scenario.controller_kind() {
         ControllerKind::Sea => MotorInput::VelocityLoop {
-            gain: scenario.plant.motor_velocity_gain,
+            gain: config.motor_velocity_gain,
         },
         ControllerKind::Rigid => MotorInput::Torque,
     };
-    let c = &scenario.controller.contact;
-    plant.contact_limits = sea_plant::ContactLimits {
-        friction: c.friction,
-        foot_x: c.foot_x,
-        foot_y: c.foot_y,
-    };
+    plant.contact_limits = scenario.controller.contact.surface();
     plant
         .validate()
         .map_err(|e| Error::config("plant", e.to_string()))?;
-    plant.set_contacts(&scenario.robot.contacts, &q)?;
-    // Springs preloaded with the static torques, so the run starts in equilibrium.
-    let torques = static_torques(&model, &q, &contact_ids);
-    let theta: Vec<f64> = actuation
-        .elastic_joints
-        .iter()
-        .zip(&actuation.elastic)
-        .map(|(&j, p)| (s0[j] + torques[j] / p.stiffness) / p.ratio)
-        .collect();
-    let x0 = plant.make_state(&q, &vec![0.0; model.nv()], Some(&theta), None)?;
+    plant.set_contacts(&scenario.robot.contacts, q)?;
+    Ok(plant)
+}
 
-    let settings = scenario.controller_settings(&model.joint_names)?;
-    let controller = MomentumController::new(&model, &actuation, settings, &q)?;
-    let com0 = sea_dyn::com(&model, &mut data, &q);
-    let origin = match scenario.reference.com_origin.as_str() {
+/// The initial state at rest in `q`: springs preloaded with the static torques, so the run
+/// starts in equilibrium.
+fn initial_state(plant: &Plant, q: &[f64], contacts: &[FrameId]) -> Result<Vec<f64>> {
+    let torques = static_torques(&plant.model, q, contacts);
+    let theta = plant.preloaded_motor_angles(q, &torques)?;
+    Ok(plant.make_state(q, &vec![0.0; plant.model.nv()], Some(&theta), None)?)
+}
+
+/// The CoM reference of `[reference]`; its origin is the initial CoM or (`stance_sole`) the
+/// point above the stance sole origin at the initial CoM height.
+fn com_reference(
+    scenario: &Scenario,
+    model: &Model,
+    q: &[f64],
+    stance: FrameId,
+) -> Result<ComTrajectory> {
+    let r = &scenario.reference;
+    let mut data = Data::new(model);
+    let com0 = sea_dyn::com(model, &mut data, q);
+    let origin = match r.com_origin.as_str() {
         "stance_sole" => {
-            sea_dyn::forward_kinematics(&model, &mut data, &q);
-            let sole = sea_dyn::frame_placement(&model, &data, contact_ids[0]).translation;
+            sea_dyn::forward_kinematics(model, &mut data, q);
+            let sole = sea_dyn::frame_placement(model, &data, stance).translation;
             Vector3::new(sole.x, sole.y, com0.z)
         }
         "initial" => com0,
@@ -226,20 +225,24 @@ pub fn build(scenario: &Scenario) -> Result<Setup> {
             ))
         }
     };
-    let r = &scenario.reference;
     let direction = Vector3::from(r.com_direction);
     if direction.norm() < 1e-12 {
         return Err(Error::config("reference.com_direction", "must be non-zero"));
     }
-    let com_reference = ComTrajectory {
+    Ok(ComTrajectory {
         origin,
         amplitude: r.com_amplitude,
         frequency: r.com_frequency,
         direction: direction.normalize(),
         smooth_start: r.com_smooth_start,
-    };
+    })
+}
+
+/// The postural reference: `s0`, plus the step of `[reference]` on its joints and groups.
+fn posture_reference(scenario: &Scenario, model: &Model, s0: Vec<f64>) -> Result<PostureReference> {
+    let r = &scenario.reference;
     let stepped = expand_joint_groups(&r.posture_step_joints, &model.joint_names)?;
-    let step: Vec<f64> = model
+    let step = model
         .joint_names
         .iter()
         .map(|n| {
@@ -250,11 +253,26 @@ pub fn build(scenario: &Scenario) -> Result<Setup> {
             }
         })
         .collect();
-    let posture = PostureReference {
+    Ok(PostureReference {
         initial: s0,
         step,
         step_time: r.posture_step_time,
-    };
+    })
+}
+
+/// Builds the model, plant, controller and initial state of a scenario.
+pub fn build(scenario: &Scenario) -> Result<Setup> {
+    let model = load_model(scenario)?;
+    let actuation = actuation(scenario, &model)?;
+    let s0 = initial_posture(scenario, &model)?;
+    let contacts = contact_frames(scenario, &model)?;
+    let q = initial_configuration(&model, &s0, contacts[0]);
+    let plant = plant(scenario, &model, &actuation, &q)?;
+    let x0 = initial_state(&plant, &q, &contacts)?;
+    let settings = scenario.controller_settings(&model.joint_names)?;
+    let controller = MomentumController::new(&model, &actuation, settings, &q)?;
+    let com_reference = com_reference(scenario, &model, &q, contacts[0])?;
+    let posture = posture_reference(scenario, &model, s0)?;
     let elastic_names = actuation
         .elastic_joints
         .iter()

@@ -2,424 +2,396 @@
 //!
 //! Every table rejects unknown keys, and `--set key=value` overrides are applied to the parsed
 //! TOML tree before it is checked, so a typo in a file or an override is an error naming the
-//! key. Defaults come from REFERENCE.md (the paper and the original study); relative paths are
-//! resolved against the scenario file's folder, then the working directory.
+//! key. Relative paths are resolved against the scenario file's folder, then the working
+//! directory.
+//!
+//! Defaults are written once, in the domain types: each table's `Default` impl is built from
+//! [`ElasticParameters::default`], [`ContactConstraints::default`],
+//! [`Plant::DEFAULT_BAUMGARTE_KP`], [`sea_dyn::critical_damping`] and the iCub data of
+//! [`presets`] (REFERENCE.md), and every table is `#[serde(default)]`, so a missing key takes
+//! the table's default.
 
 pub mod build;
+pub mod presets;
 
 pub use build::{build, Setup};
+pub use presets::{ICUB25_JOINTS, ICUB_LEFT_STANCE, ICUB_TWO_FEET_DEG};
 
 use crate::error::{Error, Result};
 use sea_ctrl::controller::{ControllerKind, ControllerSettings};
 use sea_ctrl::qp::ContactConstraints;
+use sea_dyn::{critical_damping, Actuator, ContactSurface, ElasticParameters};
+use sea_plant::Plant;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-
-/// The 25 iCub joints of the paper, in REFERENCE.md's order.
-pub const ICUB25_JOINTS: [&str; 25] = [
-    "torso_pitch",
-    "torso_roll",
-    "torso_yaw",
-    "l_shoulder_pitch",
-    "l_shoulder_roll",
-    "l_shoulder_yaw",
-    "l_elbow",
-    "l_wrist_prosup",
-    "r_shoulder_pitch",
-    "r_shoulder_roll",
-    "r_shoulder_yaw",
-    "r_elbow",
-    "r_wrist_prosup",
-    "l_hip_pitch",
-    "l_hip_roll",
-    "l_hip_yaw",
-    "l_knee",
-    "l_ankle_pitch",
-    "l_ankle_roll",
-    "r_hip_pitch",
-    "r_hip_roll",
-    "r_hip_yaw",
-    "r_knee",
-    "r_ankle_pitch",
-    "r_ankle_roll",
-];
-
-/// Left-foot stance initial joints of the original study [rad], REFERENCE.md order.
-pub const ICUB_LEFT_STANCE: [f64; 25] = [
-    0.0462, -0.5256, -0.0269, 0.1874, 1.6258, 0.2462, 0.3053, -0.0948, -0.3553, 1.8546, 0.7323,
-    0.3905, -0.1169, 0.1047, 0.2547, 0.0378, 0.0732, 0.0958, 0.1637, 0.2923, 0.8611, 1.2866,
-    -1.7688, 0.4568, -0.0163,
-];
-
-/// Two-feet initial joints of the original study [deg], REFERENCE.md order.
-pub const ICUB_TWO_FEET_DEG: [f64; 25] = [
-    -10.0, 0.0, 0.0, -20.0, 30.0, 0.0, 45.0, 0.0, -20.0, 30.0, 0.0, 45.0, 0.0, 25.5, 0.0, 0.0,
-    -18.5, -5.5, 0.0, 25.5, 0.0, 0.0, -18.5, -5.5, 0.0,
-];
 
 /// `[robot]`.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotConfig {
-    /// URDF path.
+    /// URDF path (required).
     pub urdf: String,
-    /// Moving joints (default: the paper's 25 iCub joints).
+    /// Moving joints (default: the paper's 25 iCub joints, [`ICUB25_JOINTS`]).
     #[serde(default)]
     pub joints: Option<Vec<String>>,
-    /// Contact frames, stance foot first.
-    #[serde(default = "default_contacts")]
+    /// Contact frames, stance foot first (default [`presets::ICUB_STANCE_CONTACTS`]).
+    #[serde(default = "stance_contacts")]
     pub contacts: Vec<String>,
-    /// "left_stance", "two_feet" (the original study's postures) or explicit radians.
-    #[serde(default = "default_posture")]
+    /// "left_stance", "two_feet" (the original study's postures), "zero" or explicit radians.
+    #[serde(default = "left_stance")]
     pub initial_posture: toml::Value,
 }
 
-fn default_contacts() -> Vec<String> {
-    vec!["l_sole".into()]
+/// [`presets::ICUB_STANCE_CONTACTS`] as owned names (serde default of `robot.contacts`).
+fn stance_contacts() -> Vec<String> {
+    presets::ICUB_STANCE_CONTACTS.map(String::from).to_vec()
 }
-fn default_posture() -> toml::Value {
+
+/// The original study's one-foot posture (serde default of `robot.initial_posture`).
+fn left_stance() -> toml::Value {
     toml::Value::String("left_stance".into())
 }
 
-/// Parameters of an elastic actuator (defaults: the paper's iCub SEA).
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// One actuator: `[actuators]` (every joint's) or `[actuators.overrides.NAME]` (one joint's,
+/// its keys on top of `[actuators]`). Defaults: the paper's iCub SEA,
+/// [`ElasticParameters::paper_icub`].
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct ActuatorConfig {
     /// "elastic" or "rigid".
-    #[serde(default = "default_actuator_kind")]
     pub kind: String,
     /// Transmission ratio eta.
-    #[serde(default = "default_ratio")]
     pub ratio: f64,
     /// Motor inertia [kg m^2].
-    #[serde(default = "default_motor_inertia")]
     pub motor_inertia: f64,
     /// Stiffness [Nm/rad].
-    #[serde(default = "default_stiffness")]
-    pub stiffness: f64,
-    /// Damping [Nms/rad] (paper 0.25; the original code used 1).
-    #[serde(default = "default_damping")]
-    pub damping: f64,
-    /// Motor torque limit [Nm].
-    #[serde(default)]
-    pub torque_limit: Option<f64>,
-}
-
-fn default_actuator_kind() -> String {
-    "elastic".into()
-}
-fn default_ratio() -> f64 {
-    0.01
-}
-fn default_motor_inertia() -> f64 {
-    1e-5
-}
-fn default_stiffness() -> f64 {
-    350.0
-}
-fn default_damping() -> f64 {
-    0.25
-}
-
-/// `[actuators]`: the default actuator of every joint (same keys as [`ActuatorConfig`]) plus
-/// per-joint overrides (`[actuators.overrides.NAME]`).
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ActuatorsConfig {
-    /// "elastic" or "rigid".
-    #[serde(default = "default_actuator_kind")]
-    pub kind: String,
-    /// Transmission ratio eta.
-    #[serde(default = "default_ratio")]
-    pub ratio: f64,
-    /// Motor inertia [kg m^2].
-    #[serde(default = "default_motor_inertia")]
-    pub motor_inertia: f64,
-    /// Stiffness [Nm/rad].
-    #[serde(default = "default_stiffness")]
     pub stiffness: f64,
     /// Damping [Nms/rad].
-    #[serde(default = "default_damping")]
     pub damping: f64,
-    /// Motor torque limit [Nm].
-    #[serde(default)]
-    pub torque_limit: Option<f64>,
-    /// Per-joint overrides, by joint name; unset keys keep the default actuator's values.
-    #[serde(default)]
-    pub overrides: BTreeMap<String, ActuatorOverride>,
-}
-
-/// `[actuators.overrides.NAME]`: any subset of the actuator keys.
-#[derive(Clone, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ActuatorOverride {
-    /// "elastic" or "rigid".
-    pub kind: Option<String>,
-    /// Transmission ratio.
-    pub ratio: Option<f64>,
-    /// Motor inertia [kg m^2].
-    pub motor_inertia: Option<f64>,
-    /// Stiffness [Nm/rad].
-    pub stiffness: Option<f64>,
-    /// Damping [Nms/rad].
-    pub damping: Option<f64>,
-    /// Motor torque limit [Nm].
+    /// Motor torque limit [Nm], motor side.
     pub torque_limit: Option<f64>,
 }
 
-impl ActuatorsConfig {
-    /// The actuator of a joint with override `o`.
-    pub fn overridden(&self, o: &ActuatorOverride) -> ActuatorConfig {
-        let d = self.default_actuator();
-        ActuatorConfig {
-            kind: o.kind.clone().unwrap_or(d.kind),
-            ratio: o.ratio.unwrap_or(d.ratio),
-            motor_inertia: o.motor_inertia.unwrap_or(d.motor_inertia),
-            stiffness: o.stiffness.unwrap_or(d.stiffness),
-            damping: o.damping.unwrap_or(d.damping),
-            torque_limit: o.torque_limit.or(d.torque_limit),
+impl Default for ActuatorConfig {
+    fn default() -> Self {
+        let p = ElasticParameters::default();
+        Self {
+            kind: "elastic".into(),
+            ratio: p.ratio,
+            motor_inertia: p.motor_inertia,
+            stiffness: p.stiffness,
+            damping: p.damping,
+            torque_limit: p.torque_limit,
         }
     }
+}
 
-    /// The default actuator.
-    pub fn default_actuator(&self) -> ActuatorConfig {
-        ActuatorConfig {
-            kind: self.kind.clone(),
-            ratio: self.ratio,
-            motor_inertia: self.motor_inertia,
-            stiffness: self.stiffness,
-            damping: self.damping,
-            torque_limit: self.torque_limit,
+impl ActuatorConfig {
+    /// The actuator this table describes; `key` names the table in errors.
+    pub fn actuator(&self, key: &str) -> Result<Actuator> {
+        match self.kind.as_str() {
+            "rigid" => Ok(Actuator::Rigid),
+            "elastic" => Ok(Actuator::Elastic(ElasticParameters {
+                ratio: self.ratio,
+                motor_inertia: self.motor_inertia,
+                stiffness: self.stiffness,
+                damping: self.damping,
+                torque_limit: self.torque_limit,
+            })),
+            other => Err(Error::config(
+                format!("{key}.kind"),
+                format!("expected \"elastic\" or \"rigid\", got \"{other}\""),
+            )),
         }
+    }
+}
+
+/// `[actuators]`: the default actuator of every joint (the keys of [`ActuatorConfig`]) plus
+/// per-joint overrides (`[actuators.overrides.NAME]`, any subset of the same keys).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ActuatorsConfig {
+    /// The actuator of every joint without an override.
+    pub default: ActuatorConfig,
+    /// Per-joint actuators by joint name, each `[actuators]` with its override's keys replaced.
+    pub overrides: BTreeMap<String, ActuatorConfig>,
+}
+
+impl<'de> Deserialize<'de> for ActuatorsConfig {
+    /// `[actuators]` without `overrides` is parsed as an [`ActuatorConfig`] (so unknown keys
+    /// are errors: serde's `flatten` would not allow `deny_unknown_fields`); each override is
+    /// that table with the override's keys replaced, parsed the same way.
+    fn deserialize<D>(deserializer: D) -> std::result::Result<Self, D::Error>
+    where
+        D: serde::Deserializer<'de>,
+    {
+        use serde::de::Error as _;
+        let mut table = toml::Table::deserialize(deserializer)?;
+        let overrides = match table.remove("overrides") {
+            None => toml::Table::new(),
+            Some(toml::Value::Table(overrides)) => overrides,
+            Some(other) => {
+                return Err(D::Error::custom(format!(
+                    "`overrides` must be a table of joint names, got {}",
+                    other.type_str()
+                )))
+            }
+        };
+        let default = ActuatorConfig::deserialize(toml::Value::Table(table.clone()))
+            .map_err(|e| D::Error::custom(e.message().trim()))?;
+        let mut resolved = BTreeMap::new();
+        for (name, value) in overrides {
+            let toml::Value::Table(keys) = value else {
+                return Err(D::Error::custom(format!(
+                    "`overrides.{name}` must be a table of actuator keys, got {}",
+                    value.type_str()
+                )));
+            };
+            let mut merged = table.clone();
+            merged.extend(keys);
+            let actuator = ActuatorConfig::deserialize(toml::Value::Table(merged))
+                .map_err(|e| D::Error::custom(override_message(e.message().trim(), &name)))?;
+            resolved.insert(name, actuator);
+        }
+        Ok(Self {
+            default,
+            overrides: resolved,
+        })
+    }
+}
+
+/// A schema error inside `[actuators.overrides.NAME]`, with the field (or the table) given
+/// relative to `[actuators]`, where the TOML deserializer reports it.
+fn override_message(message: &str, name: &str) -> String {
+    match message.strip_prefix("unknown field `") {
+        Some(rest) => format!("unknown field `overrides.{name}.{rest}"),
+        None => format!("in `overrides.{name}`: {message}"),
     }
 }
 
 /// `[plant]`.
 #[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct PlantConfig {
-    /// Baumgarte position gain [1/s^2] (REFERENCE.md: 50).
-    #[serde(default = "default_kp")]
+    /// Baumgarte position gain [1/s^2] (default [`Plant::DEFAULT_BAUMGARTE_KP`]).
     pub baumgarte_kp: f64,
-    /// Baumgarte velocity gain [1/s] (default 2 sqrt(kp)).
-    #[serde(default)]
+    /// Baumgarte velocity gain [1/s] (default: [`sea_dyn::critical_damping`] of the kp).
     pub baumgarte_kd: Option<f64>,
-    /// Motor velocity loop gain K_m [1/s] (REFERENCE.md: 200).
-    #[serde(default = "default_km")]
+    /// Motor velocity loop gain K_m [1/s] (default [`presets::ICUB_MOTOR_VELOCITY_GAIN`]).
     pub motor_velocity_gain: f64,
-    /// Added to the plant's joint inertia diagonal [kg m^2] (REFERENCE.md: the original study
-    /// regularised the joint block of M by 0.1 I in plant and controller; without it the light
-    /// wrists turn tiny torque errors into large accelerations).
-    #[serde(default = "default_regularization")]
+    /// Added to the plant's joint inertia diagonal [kg m^2] (default
+    /// [`presets::ICUB_JOINT_INERTIA_REGULARIZATION`]).
     pub joint_inertia_regularization: f64,
     /// Integration step [s].
-    #[serde(default = "default_dt")]
     pub dt: f64,
     /// "ros2", "implicit_euler" or "rk4".
-    #[serde(default = "default_method")]
     pub method: String,
 }
 
-fn default_regularization() -> f64 {
-    0.1
+impl Default for PlantConfig {
+    fn default() -> Self {
+        Self {
+            baumgarte_kp: Plant::DEFAULT_BAUMGARTE_KP,
+            baumgarte_kd: None,
+            motor_velocity_gain: presets::ICUB_MOTOR_VELOCITY_GAIN,
+            joint_inertia_regularization: presets::ICUB_JOINT_INERTIA_REGULARIZATION,
+            dt: 1e-3,
+            method: "ros2".into(),
+        }
+    }
 }
-fn default_kp() -> f64 {
-    50.0
-}
-fn default_km() -> f64 {
-    200.0
-}
-fn default_dt() -> f64 {
-    1e-3
-}
-fn default_method() -> String {
-    "ros2".into()
+
+impl PlantConfig {
+    /// The Baumgarte velocity gain: `baumgarte_kd`, or the critical damping of the kp.
+    pub fn baumgarte_kd(&self) -> f64 {
+        self.baumgarte_kd
+            .unwrap_or_else(|| critical_damping(self.baumgarte_kp))
+    }
 }
 
 /// `[controller]`.
 #[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct ControllerConfig {
     /// "sea" or "rigid".
-    #[serde(default = "default_controller_kind")]
     pub kind: String,
-    /// Control rate [Hz] (zero-order hold between ticks).
-    #[serde(default = "default_rate")]
+    /// Control rate [Hz] with zero-order hold (unused in continuous sampling).
     pub rate_hz: f64,
+    /// "zero_order_hold" (the controller at `rate_hz`, its input held; the default) or
+    /// "continuous" (the controller at every integrator stage, as in the paper).
+    pub sampling: String,
     /// Controller damping estimate = true damping x scale.
-    #[serde(default = "one")]
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
-    #[serde(default = "one")]
     pub stiffness_estimate_scale: f64,
-    /// Momentum integral gains (linear xyz, angular xyz).
-    #[serde(default)]
+    /// Momentum integral gains (linear xyz, angular xyz; default
+    /// [`presets::icub_momentum_integral`]).
     pub momentum_integral: Option<[f64; 6]>,
-    /// Momentum proportional gains (default 2 sqrt(integral)).
-    #[serde(default)]
+    /// Momentum proportional gains (default: the critical damping of the integral gains).
     pub momentum_proportional: Option<[f64; 6]>,
-    /// Postural stiffness per joint before `postural_scale` (default: REFERENCE.md by group).
-    #[serde(default)]
+    /// Postural stiffness per joint before `postural_scale` (default
+    /// [`presets::icub_postural_stiffness`] by group).
     pub postural_stiffness: Option<Vec<f64>>,
-    /// Scale of the postural stiffness (REFERENCE.md: 1/5).
-    #[serde(default = "default_postural_scale")]
+    /// Scale of the postural stiffness (default [`presets::ICUB_POSTURAL_SCALE`]).
     pub postural_scale: f64,
-    /// Pseudo-inverse damping.
-    #[serde(default = "default_pinv")]
+    /// Pseudo-inverse damping (default [`presets::ICUB_PINV_DAMPING`]).
     pub pinv_damping: f64,
-    /// QP Hessian regulariser.
-    #[serde(default = "default_reg")]
+    /// QP Hessian regulariser (default [`presets::ICUB_QP_REGULARIZATION`]).
     pub qp_regularization: f64,
     /// Skip Clarabel when the QP's minimiser without inequalities satisfies them (it is then
     /// the optimum); `false` runs Clarabel every tick.
-    #[serde(default = "yes")]
     pub qp_unconstrained_first: bool,
     /// Rigid controller: include the motor reflected inertia (Remark 1).
-    #[serde(default = "yes")]
     pub reflected_inertia: bool,
-    /// Added to the controller model's joint inertia diagonal [kg m^2] (REFERENCE.md: 0.1).
-    #[serde(default = "default_regularization")]
+    /// Added to the controller model's joint inertia diagonal [kg m^2] (default
+    /// [`presets::ICUB_JOINT_INERTIA_REGULARIZATION`]).
     pub joint_inertia_regularization: f64,
     /// Contact constraints.
-    #[serde(default)]
     pub contact: ContactConfig,
 }
 
-fn default_controller_kind() -> String {
-    "sea".into()
-}
-fn default_rate() -> f64 {
-    1000.0
-}
-fn one() -> f64 {
-    1.0
-}
-fn yes() -> bool {
-    true
-}
-fn default_postural_scale() -> f64 {
-    0.2
-}
-fn default_pinv() -> f64 {
-    5e-4
-}
-fn default_reg() -> f64 {
-    1e-3
+impl Default for ControllerConfig {
+    fn default() -> Self {
+        Self {
+            kind: "sea".into(),
+            rate_hz: 1000.0,
+            sampling: "zero_order_hold".into(),
+            damping_estimate_scale: 1.0,
+            stiffness_estimate_scale: 1.0,
+            momentum_integral: None,
+            momentum_proportional: None,
+            postural_stiffness: None,
+            postural_scale: presets::ICUB_POSTURAL_SCALE,
+            pinv_damping: presets::ICUB_PINV_DAMPING,
+            qp_regularization: presets::ICUB_QP_REGULARIZATION,
+            qp_unconstrained_first: true,
+            reflected_inertia: true,
+            joint_inertia_regularization: presets::ICUB_JOINT_INERTIA_REGULARIZATION,
+            contact: ContactConfig::default(),
+        }
+    }
 }
 
-/// `[controller.contact]` (REFERENCE.md defaults).
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// `[controller.contact]`: the QP's [`ContactConstraints`], whose contact surface the plant also
+/// uses for its wrench margins (defaults: [`ContactConstraints::default`]).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct ContactConfig {
     /// Friction coefficient.
-    #[serde(default = "one")]
     pub friction: f64,
     /// Friction cone facets.
-    #[serde(default = "default_facets")]
     pub facets: usize,
-    /// Torsional friction coefficient.
-    #[serde(default = "default_torsional")]
+    /// Torsional friction coefficient [m].
     pub torsional_friction: f64,
     /// Minimum normal force [N].
-    #[serde(default = "default_min_normal")]
     pub min_normal_force: f64,
-    /// Foot rectangle x [m].
-    #[serde(default = "default_foot_x")]
+    /// Foot rectangle x [m], sole frame.
     pub foot_x: [f64; 2],
-    /// Foot rectangle y [m].
-    #[serde(default = "default_foot_y")]
+    /// Foot rectangle y [m], sole frame.
     pub foot_y: [f64; 2],
 }
 
 impl Default for ContactConfig {
     fn default() -> Self {
-        toml::from_str("").expect("defaults")
+        let ContactConstraints {
+            surface,
+            facets,
+            min_normal_force,
+        } = ContactConstraints::default();
+        Self {
+            friction: surface.friction,
+            facets,
+            torsional_friction: surface.torsional_friction,
+            min_normal_force,
+            foot_x: surface.foot_x,
+            foot_y: surface.foot_y,
+        }
     }
 }
 
-fn default_facets() -> usize {
-    12
-}
-fn default_torsional() -> f64 {
-    2.0 / 150.0
-}
-fn default_min_normal() -> f64 {
-    10.0
-}
-fn default_foot_x() -> [f64; 2] {
-    [-0.05, 0.10]
-}
-fn default_foot_y() -> [f64; 2] {
-    [-0.025, 0.025]
+impl ContactConfig {
+    /// The contact surface (plant margins and controller constraints).
+    pub fn surface(&self) -> ContactSurface {
+        ContactSurface {
+            friction: self.friction,
+            torsional_friction: self.torsional_friction,
+            foot_x: self.foot_x,
+            foot_y: self.foot_y,
+        }
+    }
+
+    /// The QP's contact constraints.
+    pub fn constraints(&self) -> ContactConstraints {
+        ContactConstraints {
+            surface: self.surface(),
+            facets: self.facets,
+            min_normal_force: self.min_normal_force,
+        }
+    }
 }
 
-/// `[reference]`.
+/// `[reference]`: the CoM sinusoid `origin + (1 - exp(-t / smooth_start)) A sin(2 pi f t)
+/// direction` and the postural step (defaults: no motion; the direction and the 1 s smooth
+/// start are the original study's, REFERENCE.md "CoM reference").
 #[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct ReferenceConfig {
     /// CoM sinusoid amplitude [m].
-    #[serde(default)]
     pub com_amplitude: f64,
     /// CoM sinusoid frequency [Hz].
-    #[serde(default)]
     pub com_frequency: f64,
     /// CoM sinusoid direction (world).
-    #[serde(default = "default_direction")]
     pub com_direction: [f64; 3],
     /// Smooth-start time constant [s].
-    #[serde(default = "one")]
     pub com_smooth_start: f64,
     /// "stance_sole": CoM x, y above the stance sole origin (z initial); "initial": initial CoM.
-    #[serde(default = "default_com_origin")]
     pub com_origin: String,
     /// Postural step [deg].
-    #[serde(default)]
     pub posture_step_deg: f64,
     /// Joints (or groups "torso", "arms", "left_arm", "right_arm") that get the step.
-    #[serde(default)]
     pub posture_step_joints: Vec<String>,
     /// Time of the step [s].
-    #[serde(default)]
     pub posture_step_time: f64,
 }
 
-fn default_direction() -> [f64; 3] {
-    [0.0, 1.0, 0.0]
-}
-fn default_com_origin() -> String {
-    "stance_sole".into()
+impl Default for ReferenceConfig {
+    fn default() -> Self {
+        Self {
+            com_amplitude: 0.0,
+            com_frequency: 0.0,
+            com_direction: [0.0, 1.0, 0.0],
+            com_smooth_start: 1.0,
+            com_origin: "stance_sole".into(),
+            posture_step_deg: 0.0,
+            posture_step_joints: Vec::new(),
+            posture_step_time: 0.0,
+        }
+    }
 }
 
 /// `[simulation]`.
 #[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct SimulationConfig {
     /// Simulated time [s].
-    #[serde(default = "default_duration")]
     pub duration_s: f64,
     /// Record (and log) every this many control ticks.
-    #[serde(default = "default_record")]
     pub record_every: usize,
     /// The run is diverged when the CoM error exceeds this [m].
-    #[serde(default = "default_bound")]
     pub divergence_com_error_m: f64,
     /// The run is diverged when the joint error norm exceeds this [rad].
-    #[serde(default = "default_joint_bound")]
     pub divergence_joint_error_rad: f64,
 }
 
-fn default_duration() -> f64 {
-    10.0
-}
-fn default_record() -> usize {
-    10
-}
-fn default_bound() -> f64 {
-    0.1
-}
-fn default_joint_bound() -> f64 {
-    1.0
+impl Default for SimulationConfig {
+    fn default() -> Self {
+        Self {
+            duration_s: 10.0,
+            record_every: 10,
+            divergence_com_error_m: 0.1,
+            divergence_joint_error_rad: 1.0,
+        }
+    }
 }
 
 /// A whole scenario.
@@ -432,39 +404,23 @@ pub struct Scenario {
     /// `[robot]`.
     pub robot: RobotConfig,
     /// `[actuators]`.
-    #[serde(default = "default_actuators")]
+    #[serde(default)]
     pub actuators: ActuatorsConfig,
     /// `[plant]`.
-    #[serde(default = "default_plant")]
+    #[serde(default)]
     pub plant: PlantConfig,
     /// `[controller]`.
-    #[serde(default = "default_controller")]
+    #[serde(default)]
     pub controller: ControllerConfig,
     /// `[reference]`.
-    #[serde(default = "default_reference")]
+    #[serde(default)]
     pub reference: ReferenceConfig,
     /// `[simulation]`.
-    #[serde(default = "default_simulation")]
+    #[serde(default)]
     pub simulation: SimulationConfig,
     /// Folder of the scenario file (for relative paths).
     #[serde(skip)]
     pub base_dir: PathBuf,
-}
-
-fn default_actuators() -> ActuatorsConfig {
-    toml::from_str("").expect("defaults")
-}
-fn default_plant() -> PlantConfig {
-    toml::from_str("").expect("defaults")
-}
-fn default_controller() -> ControllerConfig {
-    toml::from_str("").expect("defaults")
-}
-fn default_reference() -> ReferenceConfig {
-    toml::from_str("").expect("defaults")
-}
-fn default_simulation() -> SimulationConfig {
-    toml::from_str("").expect("defaults")
 }
 
 /// Parses `value` of an override as TOML (number, bool, array, quoted string), else as a bare
@@ -549,10 +505,9 @@ impl Scenario {
         for (key, value) in overrides {
             apply_override(&mut root, key, value)?;
         }
-        let mut scenario: Scenario =
-            toml::Value::Table(root)
-                .try_into()
-                .map_err(|e: toml::de::Error| schema_error(&e))?;
+        let mut scenario: Scenario = toml::Value::Table(root)
+            .try_into()
+            .map_err(|e: toml::de::Error| schema_error(&e))?;
         scenario.base_dir = base_dir.to_path_buf();
         scenario.validate()?;
         Ok(scenario)
@@ -611,11 +566,25 @@ impl Scenario {
         sea_plant::Method::parse(&self.plant.method)
             .map_err(|e| Error::config("plant.method", e.to_string()))?;
         for (key, gains) in [
-            ("controller.momentum_integral", self.controller.momentum_integral),
-            ("controller.momentum_proportional", self.controller.momentum_proportional),
+            (
+                "controller.momentum_integral",
+                self.controller.momentum_integral,
+            ),
+            (
+                "controller.momentum_proportional",
+                self.controller.momentum_proportional,
+            ),
         ] {
-            if let Some(g) = gains.iter().flatten().find(|g| !(g.is_finite() && **g >= 0.0)) {
-                return Err(Error::invalid(key, "gains must be finite and non-negative", g));
+            if let Some(g) = gains
+                .iter()
+                .flatten()
+                .find(|g| !(g.is_finite() && **g >= 0.0))
+            {
+                return Err(Error::invalid(
+                    key,
+                    "gains must be finite and non-negative",
+                    g,
+                ));
             }
         }
         let scale = self.controller.postural_scale;
@@ -626,13 +595,9 @@ impl Scenario {
                 scale,
             ));
         }
-        let steps_per_tick = 1.0 / (self.controller.rate_hz * self.plant.dt);
-        if (steps_per_tick - steps_per_tick.round()).abs() > 1e-9 || steps_per_tick.round() < 1.0 {
-            return Err(Error::config(
-                "plant.dt",
-                "the control period must be a whole number of plant steps",
-            ));
-        }
+        // Any rate works with any plant.dt: the closed loop splits each control period into
+        // equal steps not longer than plant.dt.
+        crate::closed_loop::Sampling::parse(&self.controller.sampling)?;
         if self.robot.contacts.is_empty() || self.robot.contacts.len() > 2 {
             return Err(Error::config("robot.contacts", "one or two contact frames"));
         }
@@ -650,29 +615,20 @@ impl Scenario {
 
     /// Contact constraints of the QP.
     pub fn contact_constraints(&self) -> ContactConstraints {
-        let c = &self.controller.contact;
-        ContactConstraints {
-            friction: c.friction,
-            facets: c.facets,
-            torsional_friction: c.torsional_friction,
-            min_normal_force: c.min_normal_force,
-            foot_x: c.foot_x,
-            foot_y: c.foot_y,
-        }
+        self.controller.contact.constraints()
     }
 
     /// Controller settings for a model with `joint_names`.
     pub fn controller_settings(&self, joint_names: &[String]) -> Result<ControllerSettings> {
         let one_foot = self.robot.contacts.len() == 1;
-        let integral = self.controller.momentum_integral.unwrap_or(if one_foot {
-            [6.0, 7.0, 6.0, 0.5, 1.0, 0.5]
-        } else {
-            [40.0, 45.0, 40.0, 1.0, 5.0, 1.0]
-        });
+        let integral = self
+            .controller
+            .momentum_integral
+            .unwrap_or_else(|| presets::icub_momentum_integral(one_foot));
         let proportional = self
             .controller
             .momentum_proportional
-            .unwrap_or(integral.map(|k| 2.0 * k.sqrt()));
+            .unwrap_or(integral.map(critical_damping));
         let stiffness: Vec<f64> = match &self.controller.postural_stiffness {
             Some(values) if values.len() == joint_names.len() => values.clone(),
             Some(values) => {
@@ -683,13 +639,13 @@ impl Scenario {
             }
             None => joint_names
                 .iter()
-                .map(|name| default_postural_stiffness(name, &self.robot.contacts))
+                .map(|name| presets::icub_postural_stiffness(name, &self.robot.contacts))
                 .collect(),
         }
         .into_iter()
         .map(|k| k * self.controller.postural_scale)
         .collect();
-        let damping = stiffness.iter().map(|k: &f64| 2.0 * k.sqrt()).collect();
+        let damping = stiffness.iter().copied().map(critical_damping).collect();
         Ok(ControllerSettings {
             kind: self.controller_kind(),
             contacts: self.robot.contacts.clone(),
@@ -706,40 +662,6 @@ impl Scenario {
             joint_inertia_regularization: self.controller.joint_inertia_regularization,
             qp_unconstrained_first: self.controller.qp_unconstrained_first,
         })
-    }
-}
-
-/// REFERENCE.md's postural stiffness by joint group (one foot: the stance leg is stiffer).
-fn default_postural_stiffness(name: &str, contacts: &[String]) -> f64 {
-    let leg_index = |leg: &str| -> Option<usize> {
-        [
-            "hip_pitch",
-            "hip_roll",
-            "hip_yaw",
-            "knee",
-            "ankle_pitch",
-            "ankle_roll",
-        ]
-        .iter()
-        .position(|j| format!("{leg}_{j}") == name)
-    };
-    let stance = |side: &str| contacts.iter().any(|c| c.starts_with(side));
-    for side in ["l", "r"] {
-        if let Some(k) = leg_index(side) {
-            let stance_gains = [15.0, 15.0, 15.0, 15.0, 5.0, 5.0];
-            let swing_gains = [10.0, 10.0, 15.0, 15.0, 5.0, 5.0];
-            return if stance(side) {
-                stance_gains[k]
-            } else {
-                swing_gains[k]
-            };
-        }
-    }
-    match name {
-        "torso_pitch" | "torso_yaw" => 10.0,
-        "torso_roll" => 15.0,
-        n if n.ends_with("elbow") || n.ends_with("wrist_prosup") => 2.5,
-        _ => 5.0,
     }
 }
 
@@ -830,5 +752,59 @@ mod tests {
         let err = Scenario::from_toml(text, &[("plant.dt".into(), "-1".into())], Path::new("."))
             .unwrap_err();
         assert!(err.to_string().contains("plant.dt"), "{err}");
+    }
+
+    #[test]
+    fn defaults_come_from_the_domain_types() {
+        let s = Scenario::from_toml("[robot]\nurdf = \"x.urdf\"\n", &[], Path::new(".")).unwrap();
+        let sea = s.actuators.default.actuator("actuators").unwrap();
+        assert_eq!(sea, Actuator::Elastic(ElasticParameters::default()));
+        assert_eq!(s.contact_constraints(), ContactConstraints::default());
+        assert_eq!(s.plant.baumgarte_kp, Plant::DEFAULT_BAUMGARTE_KP);
+        assert_eq!(
+            s.plant.baumgarte_kd(),
+            critical_damping(Plant::DEFAULT_BAUMGARTE_KP)
+        );
+    }
+
+    #[test]
+    fn actuator_overrides_replace_only_their_keys() {
+        let text = "[robot]\nurdf = \"x.urdf\"\n[actuators]\nstiffness = 100.0\n\
+                    [actuators.overrides.l_knee]\ndamping = 2.0\n";
+        let s = Scenario::from_toml(text, &[], Path::new(".")).unwrap();
+        let knee = &s.actuators.overrides["l_knee"];
+        assert_eq!((knee.stiffness, knee.damping), (100.0, 2.0));
+        assert_eq!(
+            s.actuators.default.damping,
+            ElasticParameters::default().damping
+        );
+        assert_eq!(knee.ratio, s.actuators.default.ratio);
+    }
+
+    #[test]
+    fn unknown_actuator_keys_are_errors_naming_the_key() {
+        let text = "[robot]\nurdf = \"x.urdf\"\n";
+        for (key, named) in [
+            ("actuators.stifness", "actuators.stifness"),
+            (
+                "actuators.overrides.l_knee.stifness",
+                "actuators.overrides.l_knee.stifness",
+            ),
+        ] {
+            let err =
+                Scenario::from_toml(text, &[(key.into(), "1".into())], Path::new(".")).unwrap_err();
+            assert!(err.to_string().contains(named), "{err}");
+        }
+        let err = Scenario::from_toml(
+            text,
+            &[("actuators.overrides.l_knee".into(), "3".into())],
+            Path::new("."),
+        )
+        .unwrap_err();
+        let message = err.to_string();
+        assert!(
+            message.contains("actuators") && message.contains("overrides.l_knee"),
+            "{message}"
+        );
     }
 }

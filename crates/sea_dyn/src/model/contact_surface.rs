@@ -1,0 +1,31 @@
+//! The contact surface of a foot: the sole rectangle and the friction between sole and ground.
+//!
+//! One definition shared by the plant (margins of the simulated wrenches), the controller
+//! (the QP's contact constraints, paper frictionCones) and the scenario schema; its defaults are
+//! the original study's (REFERENCE.md, "The original MATLAB study", QP bullet).
+
+/// Friction coefficients and foot rectangle of one sole, sole frame (x forward, z normal).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactSurface {
+    /// Coulomb friction coefficient `mu`.
+    pub friction: f64,
+    /// Torsional friction coefficient `mu_t` [m]: `|n_z| <= mu_t F_z`.
+    pub torsional_friction: f64,
+    /// Foot rectangle along the sole x axis `[min, max]` [m].
+    pub foot_x: [f64; 2],
+    /// Foot rectangle along the sole y axis `[min, max]` [m].
+    pub foot_y: [f64; 2],
+}
+
+impl Default for ContactSurface {
+    /// The original study's iCub sole (REFERENCE.md): mu = 1, mu_t = 2/150 m,
+    /// x in [-0.05, 0.10] m, y in [-0.025, 0.025] m.
+    fn default() -> Self {
+        Self {
+            friction: 1.0,
+            torsional_friction: 2.0 / 150.0,
+            foot_x: [-0.05, 0.10],
+            foot_y: [-0.025, 0.025],
+        }
+    }
+}
