@@ -23,7 +23,7 @@ use nalgebra::{Complex, DMatrix, DVector};
 pub struct LinearizeOptions {
     /// Time at which the references are frozen [s] (default 0).
     pub time: f64,
-    /// Sampling (default: the scenario's, [`Sampling::of_scenario`]).
+    /// Sampling (default: the scenario's `controller.sampling`, [`Sampling::of_scenario`]).
     pub sampling: Option<Sampling>,
     /// Relative finite-difference step of the reported Jacobian.
     pub step: f64,
@@ -372,9 +372,10 @@ pub fn closed_loop_system(
     options: &LinearizeOptions,
 ) -> Result<ClosedLoopSystem> {
     let setup = crate::scenario::build(scenario)?;
-    let sampling = options
-        .sampling
-        .unwrap_or_else(|| Sampling::of_scenario(scenario));
+    let sampling = match options.sampling {
+        Some(sampling) => sampling,
+        None => Sampling::of_scenario(scenario)?,
+    };
     let method = sea_plant::Method::parse(&scenario.plant.method)?;
     ClosedLoopSystem::new(setup, options.time, sampling, scenario.plant.dt, method)
 }

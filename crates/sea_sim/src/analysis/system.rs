@@ -27,12 +27,16 @@ pub enum Sampling {
 }
 
 impl Sampling {
-    /// The scenario's sampling: zero-order hold at `controller.rate_hz` (the scenario schema
-    /// has no continuous setting yet; pass [`Sampling::Continuous`] explicitly for it).
-    pub fn of_scenario(scenario: &Scenario) -> Sampling {
-        Sampling::ZeroOrderHold {
-            period: 1.0 / scenario.controller.rate_hz,
-        }
+    /// The scenario's sampling: `controller.sampling`, the period from `controller.rate_hz`.
+    pub fn of_scenario(scenario: &Scenario) -> Result<Sampling> {
+        Ok(
+            match crate::closed_loop::Sampling::parse(&scenario.controller.sampling)? {
+                crate::closed_loop::Sampling::Continuous => Sampling::Continuous,
+                crate::closed_loop::Sampling::ZeroOrderHold => Sampling::ZeroOrderHold {
+                    period: 1.0 / scenario.controller.rate_hz,
+                },
+            },
+        )
     }
 
     /// A short label: "continuous" or "zero_order_hold at R Hz".
@@ -130,7 +134,7 @@ impl ClosedLoopSystem {
                         format!("control period must be positive, got {period}"),
                     ));
                 }
-                ((period / plant_dt) * (1.0 - 1e-12)).ceil().max(1.0) as usize
+                crate::closed_loop::equal_steps(period, plant_dt)
             }
         };
         let pd = PlantData::new(&setup.plant);

@@ -1,0 +1,160 @@
+//! `linearize` and `stability_margin`: the closed loop's linearisation and stability margins
+//! (GIL released), results as dicts of numbers and numpy arrays for `sea_momentum.analysis`.
+
+use crate::arrays::{matrix_out, vector_out};
+use crate::errors::{argument_error, to_py};
+use crate::scenario::toml_literal;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use sea_sim::analysis::{
+    linearize_with, stability_margin_report, Linearization, LinearizeOptions, MarginMethod,
+    MarginOptions, Sampling,
+};
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+/// `overrides` ({key: value}) as `key=value` pairs of TOML literals.
+fn override_pairs(
+    overrides: Option<HashMap<String, Bound<'_, PyAny>>>,
+) -> PyResult<Vec<(String, String)>> {
+    let mut pairs = Vec::new();
+    for (key, value) in overrides.unwrap_or_default() {
+        let text = toml_literal(&value, &key)?;
+        pairs.push((key, text));
+    }
+    pairs.sort();
+    Ok(pairs)
+}
+
+/// `sampling` (None: the scenario's; "continuous"; "zero_order_hold" at `controller.rate_hz`).
+fn sampling_arg(
+    sampling: Option<&str>,
+    scenario: &sea_sim::scenario::Scenario,
+) -> PyResult<Option<Sampling>> {
+    match sampling {
+        None => Ok(None),
+        Some("continuous") => Ok(Some(Sampling::Continuous)),
+        Some("zero_order_hold") => Ok(Some(Sampling::ZeroOrderHold {
+            period: 1.0 / scenario.controller.rate_hz,
+        })),
+        Some(other) => Err(argument_error(
+            "sampling",
+            "None, \"continuous\" or \"zero_order_hold\"",
+            format!("\"{other}\""),
+        )),
+    }
+}
+
+/// The fields of a linearisation (see `sea_momentum.analysis.Linearization`).
+fn linearization_fields<'py>(py: Python<'py>, lin: &Linearization) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let re = |values: &[nalgebra::Complex<f64>]| values.iter().map(|c| c.re).collect::<Vec<_>>();
+    let im = |values: &[nalgebra::Complex<f64>]| values.iter().map(|c| c.im).collect::<Vec<_>>();
+    d.set_item("matrix", matrix_out(py, &lin.matrix))?;
+    d.set_item("eigenvalues_re", vector_out(py, &re(&lin.eigenvalues)))?;
+    d.set_item("eigenvalues_im", vector_out(py, &im(&lin.eigenvalues)))?;
+    d.set_item("growth_rates", vector_out(py, &lin.growth_rates))?;
+    d.set_item("growth_rate", lin.growth_rate)?;
+    d.set_item("stable", lin.stable)?;
+    d.set_item(
+        "least_stable_rate",
+        (lin.least_stable_rate.re, lin.least_stable_rate.im),
+    )?;
+    d.set_item("state_names", lin.state_names.clone())?;
+    let mode = lin.least_stable_mode.as_slice();
+    d.set_item("mode_re", vector_out(py, &re(mode)))?;
+    d.set_item("mode_im", vector_out(py, &im(mode)))?;
+    d.set_item("dominant_states", lin.dominant_states.clone())?;
+    d.set_item("equilibrium", vector_out(py, &lin.equilibrium.state))?;
+    d.set_item("converged", lin.equilibrium.converged)?;
+    d.set_item("residual", lin.equilibrium.residual)?;
+    d.set_item("newton_iterations", lin.equilibrium.iterations)?;
+    d.set_item("map_residual", lin.map_residual)?;
+    let (name, period) = match lin.sampling {
+        Sampling::Continuous => ("continuous", None),
+        Sampling::ZeroOrderHold { period } => ("zero_order_hold", Some(period)),
+    };
+    d.set_item("sampling", name)?;
+    d.set_item("control_period", period)?;
+    d.set_item("time", lin.time)?;
+    d.set_item("step", lin.step)?;
+    let check = lin.step_check;
+    d.set_item("check_step", check.map(|c| c.step))?;
+    d.set_item("eigenvalue_change", check.map(|c| c.eigenvalue_change))?;
+    d.set_item("least_stable_change", check.map(|c| c.least_stable_change))?;
+    d.set_item("growth_rate_change", check.map(|c| c.growth_rate_change))?;
+    Ok(d)
+}
+
+/// Linearises the closed loop of the scenario file `path` (with `overrides`) about its
+/// equilibrium with the references frozen at `t` (default 0). Returns the fields of
+/// `sea_momentum.analysis.Linearization` as a dict.
+#[pyfunction]
+#[pyo3(signature = (path, t=None, overrides=None, sampling=None))]
+pub fn linearize_native<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    t: Option<f64>,
+    overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
+    sampling: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let pairs = override_pairs(overrides)?;
+    let time = t.unwrap_or(0.0);
+    if !time.is_finite() {
+        return Err(argument_error("t", "a finite time", time));
+    }
+    let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
+    let options = LinearizeOptions {
+        time,
+        sampling: sampling_arg(sampling, &scenario)?,
+        ..Default::default()
+    };
+    let lin = py
+        .detach(|| linearize_with(&scenario, &options))
+        .map_err(to_py)?;
+    linearization_fields(py, &lin)
+}
+
+/// The values of `parameter` in `[lower, upper]` where the closed loop's stability changes.
+/// Returns a dict: `parameter`, `boundaries` (ascending), `method`, `evaluations`, `samples`
+/// (a list of (value, stable, growth_rate or None)).
+#[pyfunction]
+#[pyo3(signature = (path, parameter, lower, upper, overrides=None, method="eigen", sampling=None, grid_points=9, log_grid=false))]
+#[allow(clippy::too_many_arguments)] // the Python signature, keyword arguments with defaults
+pub fn stability_margin_native<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    parameter: &str,
+    lower: f64,
+    upper: f64,
+    overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
+    method: &str,
+    sampling: Option<&str>,
+    grid_points: usize,
+    log_grid: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let pairs = override_pairs(overrides)?;
+    let method = MarginMethod::parse(method).map_err(to_py)?;
+    let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
+    let mut options = MarginOptions {
+        method,
+        grid_points,
+        log_grid,
+        ..Default::default()
+    };
+    options.linearize.sampling = sampling_arg(sampling, &scenario)?;
+    let report = py
+        .detach(|| stability_margin_report(&path, &pairs, parameter, lower, upper, &options))
+        .map_err(to_py)?;
+    let d = PyDict::new(py);
+    d.set_item("parameter", &report.parameter)?;
+    d.set_item("boundaries", report.boundaries.clone())?;
+    d.set_item("method", report.method.name())?;
+    d.set_item("evaluations", report.evaluations())?;
+    let samples = PyList::empty(py);
+    for s in &report.samples {
+        samples.append((s.value, s.stable, s.growth_rate))?;
+    }
+    d.set_item("samples", samples)?;
+    Ok(d)
+}

@@ -1,0 +1,132 @@
+"""Stability analysis of the closed loop: linearisation and stability margins.
+
+``linearize`` finds the closed loop's equilibrium with the references frozen at time ``t``
+(Newton's method on the state's tangent space, from the scenario's initial state, so unstable
+settings can be analysed too), then the Jacobian on the tangent space by central differences:
+of the vector field in continuous sampling, of the map over one control period in zero-order
+hold. Tangent coordinates: ``dq`` (nv: base position, base rotation in world axes, joints),
+``dtheta`` (n_e, motor side), ``dnu`` (nv), ``dthetadot`` (n_e); ``state_names`` names them.
+
+``stability_margin`` scans ``[lower, upper]`` for a numeric scenario key and bisects every
+change of stability, judged by the eigenvalues (``"eigen"``) or by whether a simulation
+completes (``"simulate"``).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._native import linearize_native, stability_margin_native
+
+__all__ = ["Linearization", "linearize", "stability_margin"]
+
+
+@dataclass(frozen=True)
+class Linearization:
+    """The linearised closed loop (float64 arrays; nd = 2 nv + 2 n_e).
+
+    - ``matrix`` (nd, nd): the Jacobian of the vector field [1/s] (continuous) or of the
+      period map (zero-order hold), on the tangent space;
+    - ``eigenvalues`` (nd,) complex, least stable first; ``growth_rates`` (nd,) [1/s]: the real
+      part, or ``log|mu| / T`` for the period map; ``growth_rate`` the largest, ``stable``
+      whether it is negative;
+    - ``least_stable_rate``: the least stable eigenvalue as a continuous-time rate [1/s]
+      (``log(mu) / T`` for the map), so its imaginary part is the mode's angular frequency;
+    - ``least_stable_mode`` (nd,) complex eigenvector; ``dominant_states``: its largest entries
+      as ``(name, weight)``, weight 1 for the largest (motor entries times the transmission
+      ratio, velocities divided by the mode's rate, so all are link-side position amplitudes);
+    - ``equilibrium`` (nx,), ``converged``, ``residual`` (``|f|_inf`` there),
+      ``newton_iterations``, ``map_residual`` (``|Phi(x) (-) x|_inf``, zero-order hold only);
+    - ``sampling`` ("continuous" | "zero_order_hold"), ``control_period`` [s] or None,
+      ``time`` [s] at which the references were frozen;
+    - ``step`` and ``check_step``: the relative finite-difference steps; ``eigenvalue_change``
+      (the largest relative change of an eigenvalue between them; defective eigenvalues move
+      most), ``least_stable_change`` and ``growth_rate_change`` [1/s].
+    """
+
+    matrix: np.ndarray
+    eigenvalues: np.ndarray
+    growth_rates: np.ndarray
+    growth_rate: float
+    stable: bool
+    least_stable_rate: complex
+    state_names: list[str]
+    least_stable_mode: np.ndarray
+    dominant_states: list[tuple[str, float]]
+    equilibrium: np.ndarray
+    converged: bool
+    residual: float
+    newton_iterations: int
+    map_residual: float | None
+    sampling: str
+    control_period: float | None
+    time: float
+    step: float
+    check_step: float | None
+    eigenvalue_change: float | None
+    least_stable_change: float | None
+    growth_rate_change: float | None
+
+    @classmethod
+    def _from_native(cls, raw: dict) -> Linearization:
+        fields = dict(raw)
+        fields["eigenvalues"] = fields.pop("eigenvalues_re") + 1j * fields.pop("eigenvalues_im")
+        fields["least_stable_mode"] = fields.pop("mode_re") + 1j * fields.pop("mode_im")
+        fields["least_stable_rate"] = complex(*fields["least_stable_rate"])
+        fields["dominant_states"] = [(str(n), float(w)) for n, w in fields["dominant_states"]]
+        return cls(**fields)
+
+
+def linearize(
+    scenario: str | os.PathLike[str],
+    t: float | None = None,
+    overrides: Mapping[str, object] | None = None,
+    sampling: str | None = None,
+) -> Linearization:
+    """Linearises the closed loop of a scenario file about its equilibrium with the references
+    frozen at ``t`` (default 0), GIL released.
+
+    ``overrides`` are scenario keys, e.g. ``{"controller.damping_estimate_scale": 0.4}``;
+    ``sampling`` is None (the scenario's ``controller.sampling``), ``"continuous"`` or
+    ``"zero_order_hold"`` (at ``controller.rate_hz``). Raises ``ScenarioError`` naming a bad
+    key.
+    """
+    raw = linearize_native(os.fspath(scenario), t, dict(overrides or {}), sampling)
+    return Linearization._from_native(raw)
+
+
+def stability_margin(
+    scenario: str | os.PathLike[str],
+    parameter: str,
+    lower: float,
+    upper: float,
+    overrides: Mapping[str, object] | None = None,
+    method: str = "eigen",
+    sampling: str | None = None,
+    grid_points: int = 9,
+    log_grid: bool = False,
+) -> list[float]:
+    """The values of the numeric scenario key ``parameter`` in ``[lower, upper]`` where the
+    closed loop's stability changes, ascending (empty when it never changes), GIL released.
+
+    A grid of ``grid_points`` values (logarithmic with ``log_grid``) is scanned and every change
+    bisected to 1e-3 of the range. ``method``: ``"eigen"`` (growth rate of the linearisation
+    about the equilibrium at t = 0) or ``"simulate"`` (the scenario run completes). Errors name
+    an unknown or non-numeric key, or an empty or inverted range.
+    """
+    report = stability_margin_native(
+        os.fspath(scenario),
+        parameter,
+        float(lower),
+        float(upper),
+        dict(overrides or {}),
+        method,
+        sampling,
+        grid_points,
+        log_grid,
+    )
+    return list(report["boundaries"])

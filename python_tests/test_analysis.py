@@ -1,0 +1,68 @@
+"""Linearisation and stability margins from Python."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import sea_momentum as sm
+
+TRACKING = Path(__file__).resolve().parents[1] / "scenarios" / "paper" / "tracking.toml"
+
+
+def test_nominal_linearization_is_stable_and_consistent():
+    lin = sm.linearize(TRACKING, sampling="continuous")
+    nd = len(lin.state_names)
+    assert lin.matrix.shape == (nd, nd)
+    assert lin.eigenvalues.dtype == np.complex128 and lin.eigenvalues.shape == (nd,)
+    assert lin.converged and lin.residual < 1e-8
+    assert lin.stable and lin.growth_rate < 0
+    assert lin.growth_rate == pytest.approx(lin.growth_rates[0])
+    # The reported spectrum is the matrix's (numpy's eigenvalues agree).
+    numpy_rates = np.sort(np.linalg.eigvals(lin.matrix).real)[::-1]
+    assert numpy_rates[0] == pytest.approx(lin.growth_rate, abs=1e-6)
+    # The mode is an eigenvector of the matrix.
+    v, lam = lin.least_stable_mode, lin.eigenvalues[0]
+    assert np.linalg.norm(lin.matrix @ v - lam * v) < 1e-9 * np.linalg.norm(lin.matrix)
+    assert lin.dominant_states[0][1] == pytest.approx(1.0)
+    assert all(name in lin.state_names for name, _ in lin.dominant_states)
+    assert lin.growth_rate_change is not None and lin.growth_rate_change < 1e-3
+
+
+def test_damping_x04_at_1khz_is_unstable_in_the_ankle_roll_motor():
+    lin = sm.linearize(TRACKING, overrides={"controller.damping_estimate_scale": 0.4})
+    assert lin.sampling == "zero_order_hold" and lin.control_period == pytest.approx(1e-3)
+    assert not lin.stable and lin.growth_rate > 0
+    assert lin.map_residual is not None and lin.map_residual < 1e-9
+    # The period map's multiplier and its continuous-time rate agree.
+    mu = lin.eigenvalues[0]
+    assert np.log(abs(mu)) / lin.control_period == pytest.approx(lin.growth_rate)
+    assert lin.least_stable_rate.real == pytest.approx(lin.growth_rate)
+    names = [name for name, _ in lin.dominant_states[:2]]
+    assert set(names) == {"theta:l_ankle_roll", "thetadot:l_ankle_roll"}
+    # The same setting is stable in continuous time.
+    continuous = sm.linearize(
+        TRACKING, overrides={"controller.damping_estimate_scale": 0.4}, sampling="continuous"
+    )
+    assert continuous.stable
+
+
+def test_margin_of_the_damping_estimate_at_1khz():
+    boundaries = sm.stability_margin(
+        TRACKING, "controller.damping_estimate_scale", 0.3, 1.0, grid_points=5
+    )
+    assert len(boundaries) == 1 and 0.44 < boundaries[0] < 0.49
+    assert sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 0.8, 1.5) == []
+
+
+def test_margin_errors_name_the_key_or_the_range():
+    with pytest.raises(sm.ScenarioError, match="controller.no_such_key"):
+        sm.stability_margin(TRACKING, "controller.no_such_key", 0.5, 1.0)
+    with pytest.raises(sm.ScenarioError, match="controller.kind"):
+        sm.stability_margin(TRACKING, "controller.kind", 0.5, 1.0)
+    with pytest.raises(sm.ScenarioError, match="inverted"):
+        sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 2.0, 1.0)
+    with pytest.raises(sm.ScenarioError, match="method"):
+        sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 0.5, 1.0, method="x")
+    with pytest.raises(ValueError, match="sampling"):
+        sm.linearize(TRACKING, sampling="sometimes")
