@@ -21,7 +21,8 @@
 //! Chunks are LZ4-compressed. The file is finished (summary and index written) by
 //! [`McapLogger::finish`] or, silently, when the logger is dropped, so an interrupted or
 //! diverged run still leaves a readable file. [`McapLogger::flush`] closes the current chunk
-//! and flushes it to disk, so even a killed process leaves data that MCAP recovery tools read.
+//! and flushes it to disk, so even a killed process leaves data that MCAP recovery tools read;
+//! [`ThreadedMcapLogger`] does so every second of wall time.
 
 use crate::error::Error;
 use crate::Result;
@@ -34,6 +35,7 @@ use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 /// One sample of a closed-loop run (all world axes, SI units).
 #[derive(Clone, Copy, Debug)]
@@ -70,15 +72,21 @@ pub struct LogSample<'a> {
 
 /// Incremental MCAP writer of [`LogSample`]s; see the module documentation for the channels.
 pub struct McapLogger {
-    /// `None` once finished.
-    writer: Option<Writer<BufWriter<File>>>,
-    path: PathBuf,
+    out: Output,
     model: Model,
     data: Data,
     elastic_joint_names: Vec<String>,
     /// Contact names, extended by `contact_<k>` for contacts beyond the given names.
     contact_labels: Vec<String>,
     channels: Channels,
+}
+
+/// The MCAP writer with its sequence counter and serialisation buffer.
+struct Output {
+    /// `None` once finished.
+    writer: Option<Writer<BufWriter<File>>>,
+    /// The file, named in every error.
+    path: PathBuf,
     /// Sequence number of the next message (monotonic over all channels).
     sequence: u32,
     /// Reused serialisation buffer.
@@ -348,8 +356,16 @@ struct BasePoseMsg<'a> {
     angular_velocity: &'a [f64],
 }
 
-fn mcap_error(e: mcap::McapError) -> Error {
-    Error::Log(e.to_string())
+/// An MCAP error as a crate error naming `path`; I/O failures keep their OS cause (the `mcap`
+/// crate's own message for them omits it).
+fn mcap_error(path: &Path) -> impl Fn(mcap::McapError) -> Error + '_ {
+    move |e| match e {
+        mcap::McapError::Io(source) => Error::Io {
+            path: path.display().to_string(),
+            source,
+        },
+        other => Error::Log(format!("{}: {other}", path.display())),
+    }
 }
 
 /// Time in seconds to nanoseconds; negative or NaN times clamp to 0, huge ones saturate.
@@ -361,12 +377,85 @@ fn nanoseconds(time_s: f64) -> u64 {
     }
 }
 
+/// A `foxglove` time stamp of `time` nanoseconds.
+fn time_stamp(time: u64) -> Time {
+    Time {
+        sec: time / 1_000_000_000,
+        nsec: (time % 1_000_000_000) as u32,
+    }
+}
+
+impl Output {
+    /// Serialises `message` and writes it on `channel` at `time` (ns).
+    fn write(&mut self, channel: u16, time: u64, message: &impl Serialize) -> Result<()> {
+        let writer = self
+            .writer
+            .as_mut()
+            .ok_or_else(|| Error::Log("the log is already finished".into()))?;
+        self.buffer.clear();
+        serde_json::to_writer(&mut self.buffer, message)
+            .map_err(|e| Error::Log(format!("cannot serialise a message: {e}")))?;
+        let header = MessageHeader {
+            channel_id: channel,
+            sequence: self.sequence,
+            log_time: time,
+            publish_time: time,
+        };
+        self.sequence = self.sequence.wrapping_add(1);
+        writer
+            .write_to_known_channel(&header, &self.buffer)
+            .map_err(mcap_error(&self.path))
+    }
+
+    /// Writes the summary and index, flushes and syncs the file; a no-op once finished.
+    fn finish(&mut self) -> Result<()> {
+        let Some(mut writer) = self.writer.take() else {
+            return Ok(());
+        };
+        writer.finish().map_err(mcap_error(&self.path))?;
+        let file = writer.into_inner().into_inner().map_err(|e| Error::Io {
+            path: self.path.display().to_string(),
+            source: e.into_error(),
+        })?;
+        file.sync_all().map_err(|source| Error::Io {
+            path: self.path.display().to_string(),
+            source,
+        })
+    }
+}
+
+/// Adds the schema and channel of every topic.
+fn add_channels(writer: &mut Writer<BufWriter<File>>, path: &Path) -> Result<Channels> {
+    let mut add = |topic: &str, schema_name: &str, schema: &str| -> Result<u16> {
+        let schema_id = writer
+            .add_schema(schema_name, SCHEMA_ENCODING, schema.as_bytes())
+            .map_err(mcap_error(path))?;
+        writer
+            .add_channel(schema_id, topic, MESSAGE_ENCODING, &BTreeMap::new())
+            .map_err(mcap_error(path))
+    };
+    Ok(Channels {
+        tf: add("/tf", "foxglove.FrameTransforms", FRAME_TRANSFORMS_SCHEMA)?,
+        com: add("/com", "sea_momentum.Com", COM_SCHEMA)?,
+        momentum: add("/momentum", "sea_momentum.Momentum", MOMENTUM_SCHEMA)?,
+        joints: add("/joints", "sea_momentum.JointState", JOINT_STATE_SCHEMA)?,
+        motors: add("/motors", "sea_momentum.MotorState", MOTOR_STATE_SCHEMA)?,
+        contacts: add(
+            "/contact_wrenches",
+            "sea_momentum.ContactWrenches",
+            CONTACT_WRENCHES_SCHEMA,
+        )?,
+        qp: add("/qp", "sea_momentum.QpStatus", QP_STATUS_SCHEMA)?,
+        base: add("/base", "sea_momentum.BasePose", BASE_POSE_SCHEMA)?,
+    })
+}
+
 impl McapLogger {
-    /// Creates the file and writes schemas/channels. `elastic_joint_names` labels theta entries,
-    /// `contact_names` the wrenches (contacts beyond the names are called `contact_<k>`).
+    /// Creates (or truncates) the file at `path` and writes schemas/channels; see
+    /// [`Self::from_file`].
     ///
-    /// Errors: [`Error::Io`] when the file cannot be created, [`Error::Log`] when MCAP writing
-    /// fails.
+    /// Errors: [`Error::Io`] when the file cannot be created or written, [`Error::Log`] when
+    /// MCAP writing fails otherwise.
     pub fn create(
         path: &Path,
         model: &Model,
@@ -377,57 +466,71 @@ impl McapLogger {
             path: path.display().to_string(),
             source,
         })?;
+        Self::from_file(file, path, model, elastic_joint_names, contact_names)
+    }
+
+    /// Writes the log into an open, empty `file` (e.g. a locked partial file of
+    /// [`crate::output::OutputFile`]); `path` names it in errors. `elastic_joint_names` labels
+    /// theta entries, `contact_names` the wrenches (contacts beyond the names are called
+    /// `contact_<k>`).
+    ///
+    /// Errors: [`Error::Io`] when writing fails, [`Error::Log`] when MCAP writing fails
+    /// otherwise.
+    pub fn from_file(
+        file: File,
+        path: &Path,
+        model: &Model,
+        elastic_joint_names: &[String],
+        contact_names: &[String],
+    ) -> Result<Self> {
         let options = WriteOptions::new()
             .compression(Some(Compression::Lz4))
             .profile("")
-            .library(concat!("sea_ctrl ", env!("CARGO_PKG_VERSION")));
-        let mut writer = options.create(BufWriter::new(file)).map_err(mcap_error)?;
-        let mut add = |topic: &str, schema_name: &str, schema: &str| -> Result<u16> {
-            let schema_id = writer
-                .add_schema(schema_name, SCHEMA_ENCODING, schema.as_bytes())
-                .map_err(mcap_error)?;
-            writer
-                .add_channel(schema_id, topic, MESSAGE_ENCODING, &BTreeMap::new())
-                .map_err(mcap_error)
-        };
-        let channels = Channels {
-            tf: add("/tf", "foxglove.FrameTransforms", FRAME_TRANSFORMS_SCHEMA)?,
-            com: add("/com", "sea_momentum.Com", COM_SCHEMA)?,
-            momentum: add("/momentum", "sea_momentum.Momentum", MOMENTUM_SCHEMA)?,
-            joints: add("/joints", "sea_momentum.JointState", JOINT_STATE_SCHEMA)?,
-            motors: add("/motors", "sea_momentum.MotorState", MOTOR_STATE_SCHEMA)?,
-            contacts: add(
-                "/contact_wrenches",
-                "sea_momentum.ContactWrenches",
-                CONTACT_WRENCHES_SCHEMA,
-            )?,
-            qp: add("/qp", "sea_momentum.QpStatus", QP_STATUS_SCHEMA)?,
-            base: add("/base", "sea_momentum.BasePose", BASE_POSE_SCHEMA)?,
-        };
+            .library(concat!("sea_sim ", env!("CARGO_PKG_VERSION")));
+        let mut writer = options
+            .create(BufWriter::new(file))
+            .map_err(mcap_error(path))?;
+        let channels = add_channels(&mut writer, path)?;
         Ok(Self {
-            writer: Some(writer),
-            path: path.to_path_buf(),
+            out: Output {
+                writer: Some(writer),
+                path: path.to_path_buf(),
+                sequence: 0,
+                buffer: Vec::with_capacity(4096),
+            },
             model: model.clone(),
             data: Data::new(model),
             elastic_joint_names: elastic_joint_names.to_vec(),
             contact_labels: contact_names.to_vec(),
             channels,
-            sequence: 0,
-            buffer: Vec::with_capacity(4096),
         })
     }
 
     /// The file being written.
     pub fn path(&self) -> &Path {
-        &self.path
+        &self.out.path
     }
 
     /// Writes one sample on every channel (log_time = publish_time = time_s in ns).
     ///
     /// Errors: [`Error::Log`] when `q` or `nu` do not have the model's sizes, when
-    /// `contact_wrenches` is not a multiple of 6 long, when the logger is finished, or when
-    /// writing fails.
+    /// `contact_wrenches` is not a multiple of 6 long, when the logger is finished or when
+    /// MCAP writing fails; [`Error::Io`] naming the file when the OS refuses a write.
     pub fn log(&mut self, sample: &LogSample<'_>) -> Result<()> {
+        self.check_sample(sample)?;
+        let time = nanoseconds(sample.time_s);
+        self.log_tf(time, sample.q)?;
+        self.log_com(time, sample)?;
+        self.log_momentum(time, sample)?;
+        self.log_joints(time, sample)?;
+        self.log_motors(time, sample)?;
+        self.log_contacts(time, sample.contact_wrenches)?;
+        self.log_qp(time, sample)?;
+        self.log_base(time, sample)
+    }
+
+    /// Sizes of `q`, `nu` and the wrenches, and an unfinished log.
+    fn check_sample(&self, sample: &LogSample<'_>) -> Result<()> {
         let (nq, nv) = (self.model.nq(), self.model.nv());
         if sample.q.len() != nq {
             return Err(Error::Log(format!(
@@ -447,23 +550,16 @@ impl McapLogger {
                 sample.contact_wrenches.len()
             )));
         }
-        if self.writer.is_none() {
+        if self.out.writer.is_none() {
             return Err(Error::Log("the log is already finished".into()));
         }
-        let time = nanoseconds(sample.time_s);
-        let channels = self.channels;
-        let n_contacts = sample.contact_wrenches.len() / 6;
-        while self.contact_labels.len() < n_contacts {
-            let k = self.contact_labels.len();
-            self.contact_labels.push(format!("contact_{k}"));
-        }
+        Ok(())
+    }
 
-        // /tf: world_H_link of every link.
-        sea_dyn::forward_kinematics(&self.model, &mut self.data, sample.q);
-        let timestamp = || Time {
-            sec: time / 1_000_000_000,
-            nsec: (time % 1_000_000_000) as u32,
-        };
+    /// `/tf`: `world_H_link` of every frame; skipped when a pose is not finite (Foxglove's
+    /// schema requires numbers).
+    fn log_tf(&mut self, time: u64, q: &[f64]) -> Result<()> {
+        sea_dyn::forward_kinematics(&self.model, &mut self.data, q);
         let mut finite = true;
         let transforms: Vec<FrameTransformMsg<'_>> = (0..self.model.frames.len())
             .map(|id| {
@@ -472,7 +568,7 @@ impl McapLogger {
                 let t = pose.translation;
                 finite &= t.iter().chain([w, x, y, z].iter()).all(|v| v.is_finite());
                 FrameTransformMsg {
-                    timestamp: timestamp(),
+                    timestamp: time_stamp(time),
                     parent_frame_id: "world",
                     child_frame_id: &self.model.frames[id].name,
                     translation: Vector3Msg {
@@ -484,65 +580,62 @@ impl McapLogger {
                 }
             })
             .collect();
-        if finite {
-            Self::write(
-                &mut self.writer,
-                &mut self.buffer,
-                &mut self.sequence,
-                channels.tf,
-                time,
-                &FrameTransformsMsg { transforms },
-            )?;
+        if !finite {
+            return Ok(());
         }
+        let message = FrameTransformsMsg { transforms };
+        self.out.write(self.channels.tf, time, &message)
+    }
 
-        let mut out = |channel: u16, message: &dyn erased::Message| -> Result<()> {
-            Self::write(
-                &mut self.writer,
-                &mut self.buffer,
-                &mut self.sequence,
-                channel,
-                time,
-                message,
-            )
+    /// `/com`: CoM, reference and `error = com - reference`.
+    fn log_com(&mut self, time: u64, sample: &LogSample<'_>) -> Result<()> {
+        let message = ComMsg {
+            com: sample.com,
+            reference: sample.com_reference,
+            error: [0, 1, 2].map(|k| sample.com[k] - sample.com_reference[k]),
         };
+        self.out.write(self.channels.com, time, &message)
+    }
 
-        let error = [0, 1, 2].map(|k| sample.com[k] - sample.com_reference[k]);
-        out(
-            channels.com,
-            &ComMsg {
-                com: sample.com,
-                reference: sample.com_reference,
-                error,
-            },
-        )?;
-        out(
-            channels.momentum,
-            &MomentumMsg {
-                linear: &sample.momentum[..3],
-                angular: &sample.momentum[3..],
-            },
-        )?;
-        out(
-            channels.joints,
-            &JointStateMsg {
-                names: &self.model.joint_names,
-                position: &sample.q[7..],
-                velocity: &sample.nu[6..],
-                torque: sample.joint_torques,
-            },
-        )?;
-        out(
-            channels.motors,
-            &MotorStateMsg {
-                names: &self.elastic_joint_names,
-                position: sample.theta,
-                velocity: sample.thetadot,
-                velocity_desired: sample.thetadot_desired,
-                torque: sample.motor_torques,
-            },
-        )?;
-        let contacts = sample
-            .contact_wrenches
+    /// `/momentum`: linear and angular centroidal momentum.
+    fn log_momentum(&mut self, time: u64, sample: &LogSample<'_>) -> Result<()> {
+        let message = MomentumMsg {
+            linear: &sample.momentum[..3],
+            angular: &sample.momentum[3..],
+        };
+        self.out.write(self.channels.momentum, time, &message)
+    }
+
+    /// `/joints`: `s`, `sdot` and the joint torques.
+    fn log_joints(&mut self, time: u64, sample: &LogSample<'_>) -> Result<()> {
+        let message = JointStateMsg {
+            names: &self.model.joint_names,
+            position: &sample.q[7..],
+            velocity: &sample.nu[6..],
+            torque: sample.joint_torques,
+        };
+        self.out.write(self.channels.joints, time, &message)
+    }
+
+    /// `/motors`: `theta`, `thetadot`, the desired `thetadot` and the motor torques.
+    fn log_motors(&mut self, time: u64, sample: &LogSample<'_>) -> Result<()> {
+        let message = MotorStateMsg {
+            names: &self.elastic_joint_names,
+            position: sample.theta,
+            velocity: sample.thetadot,
+            velocity_desired: sample.thetadot_desired,
+            torque: sample.motor_torques,
+        };
+        self.out.write(self.channels.motors, time, &message)
+    }
+
+    /// `/contact_wrenches`: force and moment of each contact, labelled by frame.
+    fn log_contacts(&mut self, time: u64, wrenches: &[f64]) -> Result<()> {
+        while self.contact_labels.len() < wrenches.len() / 6 {
+            let k = self.contact_labels.len();
+            self.contact_labels.push(format!("contact_{k}"));
+        }
+        let contacts = wrenches
             .chunks_exact(6)
             .zip(&self.contact_labels)
             .map(|(w, frame)| ContactMsg {
@@ -551,60 +644,38 @@ impl McapLogger {
                 moment: &w[3..],
             })
             .collect();
-        out(channels.contacts, &ContactWrenchesMsg { contacts })?;
-        out(
-            channels.qp,
-            &QpStatusMsg {
-                status: sample.qp_status,
-                failures: sample.qp_failures,
-            },
-        )?;
-        out(
-            channels.base,
-            &BasePoseMsg {
-                position: &sample.q[..3],
-                orientation_wxyz: &sample.q[3..7],
-                linear_velocity: &sample.nu[..3],
-                angular_velocity: &sample.nu[3..6],
-            },
-        )?;
-        Ok(())
+        let message = ContactWrenchesMsg { contacts };
+        self.out.write(self.channels.contacts, time, &message)
     }
 
-    /// Serialises `message` into `buffer` and writes it on `channel`.
-    fn write(
-        writer: &mut Option<Writer<BufWriter<File>>>,
-        buffer: &mut Vec<u8>,
-        sequence: &mut u32,
-        channel: u16,
-        time: u64,
-        message: &dyn erased::Message,
-    ) -> Result<()> {
-        let writer = writer
-            .as_mut()
-            .ok_or_else(|| Error::Log("the log is already finished".into()))?;
-        buffer.clear();
-        message
-            .to_json(buffer)
-            .map_err(|e| Error::Log(format!("cannot serialise a message: {e}")))?;
-        let header = MessageHeader {
-            channel_id: channel,
-            sequence: *sequence,
-            log_time: time,
-            publish_time: time,
+    /// `/qp`: status and failure count.
+    fn log_qp(&mut self, time: u64, sample: &LogSample<'_>) -> Result<()> {
+        let message = QpStatusMsg {
+            status: sample.qp_status,
+            failures: sample.qp_failures,
         };
-        *sequence = sequence.wrapping_add(1);
-        writer
-            .write_to_known_channel(&header, buffer)
-            .map_err(mcap_error)
+        self.out.write(self.channels.qp, time, &message)
+    }
+
+    /// `/base`: base position, orientation and velocities.
+    fn log_base(&mut self, time: u64, sample: &LogSample<'_>) -> Result<()> {
+        let message = BasePoseMsg {
+            position: &sample.q[..3],
+            orientation_wxyz: &sample.q[3..7],
+            linear_velocity: &sample.nu[..3],
+            angular_velocity: &sample.nu[3..6],
+        };
+        self.out.write(self.channels.base, time, &message)
     }
 
     /// Closes the current chunk and flushes everything written so far to the file (the file
     /// still lacks its summary until [`McapLogger::finish`]). Call it now and then in long runs
     /// so that a killed process loses little.
+    ///
+    /// Errors: [`Error::Io`] naming the file when the OS refuses the write.
     pub fn flush(&mut self) -> Result<()> {
-        match self.writer.as_mut() {
-            Some(writer) => writer.flush().map_err(mcap_error),
+        match self.out.writer.as_mut() {
+            Some(writer) => writer.flush().map_err(mcap_error(&self.out.path)),
             None => Ok(()),
         }
     }
@@ -612,29 +683,16 @@ impl McapLogger {
     /// Writes the summary/index and closes the file. Also done, ignoring errors, when the
     /// logger is dropped unfinished (so an interrupted or diverged run still leaves a readable
     /// file).
+    ///
+    /// Errors: [`Error::Io`] naming the file when the OS refuses a write (e.g. a full disk).
     pub fn finish(mut self) -> Result<()> {
-        self.finish_inner()
-    }
-
-    fn finish_inner(&mut self) -> Result<()> {
-        let Some(mut writer) = self.writer.take() else {
-            return Ok(());
-        };
-        writer.finish().map_err(mcap_error)?;
-        let file = writer.into_inner().into_inner().map_err(|e| Error::Io {
-            path: self.path.display().to_string(),
-            source: e.into_error(),
-        })?;
-        file.sync_all().map_err(|source| Error::Io {
-            path: self.path.display().to_string(),
-            source,
-        })
+        self.out.finish()
     }
 }
 
 impl Drop for McapLogger {
     fn drop(&mut self) {
-        let _ = self.finish_inner();
+        let _ = self.out.finish();
     }
 }
 
@@ -709,6 +767,10 @@ impl OwnedSample {
 /// Samples queued for the writer thread before [`ThreadedMcapLogger::log`] waits.
 const QUEUE_SAMPLES: usize = 4096;
 
+/// Wall time between chunk flushes of the writer thread: a killed process loses at most about
+/// this much of its log (the chunks before are complete on disk and recoverable).
+const FLUSH_INTERVAL: Duration = Duration::from_secs(1);
+
 /// A [`McapLogger`] on its own thread: [`Self::log`] copies the sample into a bounded queue
 /// and returns, while link kinematics, JSON, LZ4 and file writes run beside the simulation
 /// (they cost about a fifth of a closed-loop tick). The file is finished by
@@ -727,8 +789,13 @@ impl ThreadedMcapLogger {
         let (sender, receiver) = std::sync::mpsc::sync_channel::<OwnedSample>(QUEUE_SAMPLES);
         let writer = std::thread::spawn(move || {
             let mut logger = logger;
+            let mut last_flush = Instant::now();
             for sample in receiver {
                 logger.log(&sample.sample())?;
+                if last_flush.elapsed() >= FLUSH_INTERVAL {
+                    logger.flush()?;
+                    last_flush = Instant::now();
+                }
             }
             logger.finish()
         });
@@ -791,25 +858,10 @@ impl Drop for ThreadedMcapLogger {
 impl std::fmt::Debug for McapLogger {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("McapLogger")
-            .field("path", &self.path)
-            .field("finished", &self.writer.is_none())
-            .field("messages", &self.sequence)
+            .field("path", &self.out.path)
+            .field("finished", &self.out.writer.is_none())
+            .field("messages", &self.out.sequence)
             .finish()
-    }
-}
-
-/// Object-safe serialisation of the message bodies, so one writer function serves all.
-mod erased {
-    /// A message body serialisable to JSON.
-    pub(super) trait Message {
-        /// Appends the JSON text to `out`.
-        fn to_json(&self, out: &mut Vec<u8>) -> serde_json::Result<()>;
-    }
-
-    impl<T: serde::Serialize> Message for T {
-        fn to_json(&self, out: &mut Vec<u8>) -> serde_json::Result<()> {
-            serde_json::to_writer(out, self)
-        }
     }
 }
 

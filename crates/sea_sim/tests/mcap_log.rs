@@ -333,3 +333,58 @@ fn bad_sizes_are_errors_and_unwritable_path_is_io_error() {
         Err(sea_sim::Error::Io { .. })
     ));
 }
+
+#[test]
+fn flushed_chunks_are_readable_before_the_log_is_finished() {
+    // What a killed process leaves: chunks closed by `flush`, no summary section.
+    let model = model();
+    let file = TempFile::new("flushed");
+    let mut logger = log_samples(&model, &file.0, 12);
+    logger.flush().expect("flush");
+    let bytes = std::fs::read(&file.0).unwrap();
+    let recovered = mcap::MessageStream::new(&bytes)
+        .expect("header")
+        .map_while(Result::ok)
+        .count();
+    assert_eq!(recovered, 12 * 8);
+    assert!(mcap::Summary::read(&bytes).is_err() || mcap::Summary::read(&bytes).unwrap().is_none());
+    logger.finish().expect("finish");
+}
+
+#[test]
+fn a_full_disk_is_an_io_error_naming_the_file_and_the_cause() {
+    let full = std::path::Path::new("/dev/full");
+    if !full.exists() {
+        eprintln!("no /dev/full here; skipped");
+        return;
+    }
+    let model = model();
+    // The OS refuses the first write that reaches the file: at creation, a chunk or the end.
+    let contacts = ["l_sole".to_string(), "r_sole".to_string()];
+    let error = match McapLogger::create(full, &model, &model.joint_names, &contacts) {
+        Err(error) => error,
+        Ok(mut logger) => {
+            let mut outcome = Ok(());
+            for_each_sample(&model, 5, |sample| {
+                if outcome.is_ok() {
+                    outcome = logger.log(sample);
+                }
+            });
+            outcome
+                .err()
+                .or_else(|| logger.finish().err())
+                .expect("writing to /dev/full fails")
+        }
+    };
+    match &error {
+        sea_sim::Error::Io { path, source } => {
+            assert_eq!(path, "/dev/full");
+            assert_eq!(source.raw_os_error(), Some(28), "ENOSPC: {source}");
+        }
+        other => panic!("expected an I/O error, got {other}"),
+    }
+    assert!(
+        error.to_string().contains("No space left on device"),
+        "{error}"
+    );
+}

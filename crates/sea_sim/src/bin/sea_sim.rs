@@ -1,185 +1,505 @@
-//! `sea-sim`: runs sea-momentum benchmarks (and, later, scenarios) from the command line.
+//! `sea-sim`: runs scenarios and benchmarks of sea-momentum from the command line.
 //!
-//! ```text
-//! sea-sim bench --urdf PATH [--joints a,b,c] [--batches N] [--calls N] [--json]
-//! sea-sim run SCENARIO.toml [--set key=value ...] [--mcap FILE] [--summary FILE] [--quiet]
-//! ```
+//! `sea-sim --help` lists the subcommands, `sea-sim SUBCOMMAND --help` their options and
+//! defaults.
 //!
-//! `run` prints progress on stderr, writes the MCAP log incrementally (finished even when the run
-//! diverges) and the summary JSON; the exit status is 0 when the run completed, 3 when it
-//! diverged, 1 on an error.
+//! Exit status: 0 completed, 3 diverged, 1 error (including a bad command line), and after
+//! SIGINT, SIGTERM or SIGHUP 128 + the signal (130, 143, 129): the run stopped at the next
+//! tick, its MCAP log was finished and its summary written with status "interrupted". A second
+//! signal exits at once, leaving any earlier output file untouched. A signal ignored when
+//! `sea-sim` starts (`nohup sea-sim ...`) stays ignored.
+//!
+//! Outputs (`--mcap`, `--summary`) are checked before the run (their folder exists, none is an
+//! input or another output, no other process writes them) and written beside their target as
+//! `.NAME.partial`, renamed over the target when the run ends (completed, diverged or
+//! interrupted: all three leave a finished, readable log). A run killed outright or stopped by
+//! an error never replaces the target. Nothing written to stdout or stderr can abort a run: a
+//! closed pipe only loses the text.
 
+use clap::{Args, Parser, Subcommand};
 use sea_dyn::{LoadOptions, Model};
+use sea_sim::closed_loop::{run_with_sinks, McapSink, RecordSink};
+use sea_sim::output::{check_distinct, OutputFile};
+use sea_sim::scenario::Scenario;
+use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+use std::fmt::Display;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
-const USAGE: &str =
-    "usage: sea-sim bench --urdf PATH [--joints a,b,c] [--batches N] [--calls N] [--json]";
+/// Simulations and benchmarks of momentum control of humanoid robots with series elastic
+/// actuators.
+#[derive(Parser, Debug)]
+#[command(name = "sea-sim", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
 
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a scenario: the closed loop of controller and plant, with an MCAP log and a summary.
+    ///
+    /// Exit status: 0 completed, 3 diverged, 1 error, 130/143/129 stopped by
+    /// SIGINT/SIGTERM/SIGHUP (log finished, summary status "interrupted").
+    Run(RunArgs),
+    /// Benchmark the dynamics algorithms and the controller tick on a URDF.
+    Bench(BenchArgs),
+    /// Sweep a scenario over a grid of values of numeric keys, runs in parallel; writes a CSV.
+    ///
+    /// Exit status: 0 done (whatever the runs' outcomes), 1 error, 130/143/129 stopped by a
+    /// signal (the rows done are written).
+    Sweep(SweepArgs),
+}
+
+/// Options of `sea-sim run`.
+#[derive(Args, Debug)]
+struct RunArgs {
+    /// Scenario file (TOML).
+    scenario: PathBuf,
+    /// Override a scenario value, e.g. `--set simulation.duration_s=2` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
+    overrides: Vec<(String, String)>,
+    /// Write the MCAP log (Foxglove) to FILE [default: no log].
+    #[arg(long, value_name = "FILE")]
+    mcap: Option<PathBuf>,
+    /// Write the summary JSON to FILE (it is also printed on stdout) [default: stdout only].
+    #[arg(long, value_name = "FILE")]
+    summary: Option<PathBuf>,
+    /// No progress on stderr.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+/// Options of `sea-sim bench`.
+#[derive(Args, Debug)]
 struct BenchArgs {
-    urdf: String,
+    /// Robot URDF.
+    #[arg(long, value_name = "PATH")]
+    urdf: PathBuf,
+    /// Joints to keep, comma separated [default: every joint of the URDF].
+    #[arg(long, value_name = "A,B,C", value_delimiter = ',')]
     joints: Option<Vec<String>>,
-    batches: usize,
-    calls: usize,
+    /// Timed batches (the median is reported).
+    #[arg(long, value_name = "N", default_value_t = 31,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    batches: u32,
+    /// Calls per batch (the controller tick uses CALLS / 20 + 1).
+    #[arg(long, value_name = "N", default_value_t = 2000,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    calls: u32,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
     json: bool,
 }
 
-fn parse_bench(args: &[String]) -> Result<BenchArgs, String> {
-    let mut out = BenchArgs {
-        urdf: String::new(),
-        joints: None,
-        batches: 31,
-        calls: 2000,
-        json: false,
-    };
-    let mut it = args.iter();
-    while let Some(arg) = it.next() {
-        let mut value = |name: &str| {
-            it.next()
-                .cloned()
-                .ok_or_else(|| format!("{name} needs a value"))
-        };
-        match arg.as_str() {
-            "--urdf" => out.urdf = value("--urdf")?,
-            "--joints" => {
-                out.joints = Some(
-                    value("--joints")?
-                        .split(',')
-                        .map(|s| s.trim().to_string())
-                        .collect(),
-                )
-            }
-            "--batches" => {
-                out.batches = value("--batches")?
-                    .parse()
-                    .map_err(|e| format!("--batches: {e}"))?
-            }
-            "--calls" => {
-                out.calls = value("--calls")?
-                    .parse()
-                    .map_err(|e| format!("--calls: {e}"))?
-            }
-            "--json" => out.json = true,
-            other => return Err(format!("unknown argument '{other}'")),
-        }
-    }
-    if out.urdf.is_empty() {
-        return Err("--urdf is required".into());
-    }
-    if out.batches == 0 || out.calls == 0 {
-        return Err("--batches and --calls must be positive".into());
-    }
-    Ok(out)
+/// Options of `sea-sim sweep`.
+#[derive(Args, Debug)]
+struct SweepArgs {
+    /// Scenario file (TOML).
+    scenario: PathBuf,
+    /// A grid axis: `KEY=V1,V2,...` or `KEY=START:STOP:COUNT[:log]` (repeatable; the runs are
+    /// the cartesian product, the last axis varying fastest).
+    #[arg(long = "grid", value_name = "KEY=VALUES", required = true)]
+    grid: Vec<String>,
+    /// Override a scenario value for every run, e.g. `--set simulation.duration_s=2`
+    /// (repeatable; a grid key wins over the same key here).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
+    overrides: Vec<(String, String)>,
+    /// Runs in parallel [default: every core].
+    #[arg(long, short = 'j', value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..))]
+    jobs: Option<u32>,
+    /// Write the results to FILE (CSV: the grid values, then status, message and every summary
+    /// field; one row per run in grid order).
+    #[arg(long, value_name = "FILE.csv")]
+    out: PathBuf,
+    /// No progress on stderr.
+    #[arg(long, short)]
+    quiet: bool,
 }
 
-fn run_bench(args: &[String]) -> Result<(), String> {
-    let args = parse_bench(args)?;
+/// `KEY=VALUE` of `--set`.
+fn parse_key_value(text: &str) -> Result<(String, String), String> {
+    let (key, value) = text
+        .split_once('=')
+        .ok_or_else(|| format!("expected KEY=VALUE, got '{text}'"))?;
+    if key.trim().is_empty() {
+        return Err(format!("empty key in '{text}'"));
+    }
+    Ok((key.trim().to_string(), value.trim().to_string()))
+}
+
+/// Exit status of a run that diverged (distinct from errors).
+const EXIT_DIVERGED: u8 = 3;
+/// Exit status of an error.
+const EXIT_ERROR: u8 = 1;
+
+/// Writes a line on stderr; a closed or full stderr loses the line, never the run.
+fn say(message: impl Display) {
+    let _ = writeln!(std::io::stderr().lock(), "{message}");
+}
+
+/// Writes text on stdout; a closed stdout (`| head -c1`) loses the text, never the run.
+fn print_out(text: impl Display) {
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "{text}").and_then(|()| out.flush());
+}
+
+// ---- Signals ----
+
+/// The signals that stop a run cleanly.
+const STOP_SIGNALS: [i32; 3] = [SIGINT, SIGTERM, SIGHUP];
+
+/// Records the first stop signal: `stop` is the closed loop's cancellation flag, `signal` the
+/// signal number for the exit status.
+struct Interrupts {
+    stop: Arc<AtomicBool>,
+    signal: Arc<AtomicUsize>,
+}
+
+impl Interrupts {
+    /// Installs the handlers: the first signal sets the flags, a second exits at once with
+    /// 128 + signal (partial files stay; earlier targets are untouched). A signal ignored when
+    /// the process started (`nohup`, a background job of a script) stays ignored.
+    fn install() -> std::io::Result<Self> {
+        let stop = Arc::new(AtomicBool::new(false));
+        let signal = Arc::new(AtomicUsize::new(0));
+        for sig in STOP_SIGNALS {
+            if ignored_at_start(sig) {
+                continue;
+            }
+            // Registered first, so it sees the flag as the previous signal left it.
+            signal_hook::flag::register_conditional_shutdown(sig, 128 + sig, stop.clone())?;
+            signal_hook::flag::register_usize(sig, signal.clone(), sig as usize)?;
+            signal_hook::flag::register(sig, stop.clone())?;
+        }
+        Ok(Self { stop, signal })
+    }
+
+    /// The signal that stopped the run, if any.
+    fn received(&self) -> Option<i32> {
+        match self.signal.load(Ordering::SeqCst) {
+            0 => None,
+            sig => Some(sig as i32),
+        }
+    }
+}
+
+/// Whether `sig` was ignored when the process started (read from the `SigIgn` mask of
+/// `/proc/self/status`, which needs no unsafe code; elsewhere than Linux: never).
+fn ignored_at_start(sig: i32) -> bool {
+    let Ok(status) = std::fs::read_to_string("/proc/self/status") else {
+        return false;
+    };
+    status
+        .lines()
+        .find_map(|line| line.strip_prefix("SigIgn:"))
+        .and_then(|mask| u64::from_str_radix(mask.trim(), 16).ok())
+        .is_some_and(|mask| (mask >> (sig - 1)) & 1 == 1)
+}
+
+/// The conventional name of a stop signal.
+fn signal_name(sig: i32) -> &'static str {
+    match sig {
+        SIGINT => "SIGINT",
+        SIGTERM => "SIGTERM",
+        SIGHUP => "SIGHUP",
+        _ => "a signal",
+    }
+}
+
+// ---- Progress ----
+
+/// Progress of a run on stderr: a bar on a terminal, periodic lines otherwise, or nothing.
+enum Progress {
+    Bar(indicatif::ProgressBar),
+    Lines { last: Option<Instant> },
+    Quiet,
+}
+
+/// Wall time between two plain progress lines.
+const LINE_INTERVAL: Duration = Duration::from_secs(2);
+
+impl Progress {
+    /// The right kind for this stderr; `duration_s` is the simulated time to reach.
+    fn new(quiet: bool, duration_s: f64) -> Self {
+        if quiet {
+            return Progress::Quiet;
+        }
+        if !std::io::stderr().is_terminal() {
+            return Progress::Lines { last: None };
+        }
+        let bar = indicatif::ProgressBar::with_draw_target(
+            Some((duration_s * 1000.0).max(1.0) as u64),
+            indicatif::ProgressDrawTarget::stderr(),
+        );
+        let style = indicatif::ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {msg} (eta {eta})",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+        Progress::Bar(bar.with_style(style))
+    }
+
+    /// Simulated time `t_s` of `total_s` reached.
+    fn update(&mut self, t_s: f64, total_s: f64) {
+        match self {
+            Progress::Bar(bar) => {
+                bar.set_position((t_s * 1000.0) as u64);
+                bar.set_message(format!("t = {t_s:.2} / {total_s:.2} s"));
+            }
+            Progress::Lines { last } => {
+                if last.is_none_or(|l| l.elapsed() >= LINE_INTERVAL) {
+                    *last = Some(Instant::now());
+                    say(format_args!("sea-sim: t = {t_s:6.2} / {total_s:.2} s"));
+                }
+            }
+            Progress::Quiet => {}
+        }
+    }
+
+    /// Removes the bar.
+    fn finish(&self) {
+        if let Progress::Bar(bar) = self {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+// ---- run ----
+
+/// How a run ended.
+enum Outcome {
+    Completed,
+    Diverged,
+    Interrupted(i32),
+}
+
+/// The run's outputs, opened (checked, locked, partial) before the simulation starts.
+struct Outputs {
+    mcap: Option<OutputFile>,
+    summary: Option<OutputFile>,
+}
+
+/// Checks that no output is an input or another output, then opens them.
+fn open_outputs(args: &RunArgs, scenario: &Scenario) -> sea_sim::Result<Outputs> {
+    let urdf = scenario.resolve(&scenario.robot.urdf);
+    let inputs = [
+        ("the scenario file", args.scenario.as_path()),
+        ("the URDF", urdf.as_path()),
+    ];
+    let outputs: Vec<(&str, &Path)> = [("--mcap", &args.mcap), ("--summary", &args.summary)]
+        .into_iter()
+        .filter_map(|(role, path)| path.as_deref().map(|p| (role, p)))
+        .collect();
+    check_distinct(&inputs, &outputs)?;
+    Ok(Outputs {
+        mcap: args.mcap.as_deref().map(OutputFile::create).transpose()?,
+        summary: args
+            .summary
+            .as_deref()
+            .map(OutputFile::create)
+            .transpose()?,
+    })
+}
+
+/// Writes the summary, then replaces both targets.
+fn finish_outputs(outputs: Outputs, json: &str) -> sea_sim::Result<()> {
+    if let Some(mut summary) = outputs.summary {
+        summary.write_all(json.as_bytes())?;
+        summary.write_all(b"\n")?;
+        if let Some(mcap) = outputs.mcap {
+            mcap.commit()?;
+        }
+        summary.commit()
+    } else {
+        outputs.mcap.map_or(Ok(()), OutputFile::commit)
+    }
+}
+
+/// `sea-sim run`.
+fn run_scenario(args: &RunArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
+    let scenario = Scenario::from_file(&args.scenario, &args.overrides)?;
+    let outputs = open_outputs(args, &scenario)?;
+    let duration_s = scenario.simulation.duration_s;
+    if !args.quiet {
+        say(format_args!(
+            "sea-sim: running {} ({duration_s} s simulated)",
+            args.scenario.display()
+        ));
+    }
+    let mut progress = Progress::new(args.quiet, duration_s);
+    // Only the log keeps samples: memory stays bounded however long the run.
+    let mut log = outputs.mcap.as_ref().map(|o| McapSink::new(o.path()));
+    let mut sinks: Vec<&mut dyn RecordSink> = log
+        .iter_mut()
+        .map(|sink| sink as &mut dyn RecordSink)
+        .collect();
+    let result = run_with_sinks(&scenario, &mut sinks, &interrupts.stop, |t, total| {
+        progress.update(t, total);
+    });
+    progress.finish();
+    let summary = result?;
+    let json = serde_json::to_string_pretty(&summary.to_json())
+        .map_err(|e| sea_sim::Error::Log(format!("summary JSON: {e}")))?;
+    finish_outputs(outputs, &json)?;
+    print_out(&json);
+    Ok(match summary.status.as_str() {
+        "completed" => Outcome::Completed,
+        "interrupted" => Outcome::Interrupted(interrupts.received().unwrap_or(SIGINT)),
+        _ => Outcome::Diverged,
+    })
+}
+
+// ---- bench ----
+
+/// `sea-sim bench`.
+fn run_bench(args: &BenchArgs) -> sea_sim::Result<()> {
     let options = LoadOptions {
         joints: args.joints.clone(),
         ..Default::default()
     };
-    let model = Model::from_urdf_file(&args.urdf, &options).map_err(|e| e.to_string())?;
-    let mut result = sea_sim::bench::bench_dynamics(&model, args.batches, args.calls);
-    if let Some(ticks) =
-        sea_sim::bench::bench_controller(&args.urdf, args.batches, args.calls / 20 + 1)
-    {
+    let model = Model::from_urdf_file(&args.urdf, &options)?;
+    let (batches, calls) = (args.batches as usize, args.calls as usize);
+    let mut result = sea_sim::bench::bench_dynamics(&model, batches, calls);
+    let urdf = args.urdf.display().to_string();
+    if let Some(ticks) = sea_sim::bench::bench_controller(&urdf, batches, calls / 20 + 1) {
         result.figures.extend(ticks);
     }
     if args.json {
         let mut map = serde_json::Map::new();
-        map.insert("urdf".into(), args.urdf.clone().into());
+        map.insert("urdf".into(), urdf.into());
         map.insert("nv".into(), model.nv().into());
         map.insert("frame".into(), result.frame.clone().into());
         for (key, value) in &result.figures {
             map.insert((*key).into(), (*value).into());
         }
-        println!("{}", serde_json::Value::Object(map));
+        print_out(serde_json::Value::Object(map));
     } else {
-        println!(
-            "{} (nv = {}), frame {}:",
-            args.urdf,
-            model.nv(),
-            result.frame
-        );
+        let mut table = format!("{urdf} (nv = {}), frame {}:", model.nv(), result.frame);
         for (key, value) in &result.figures {
-            println!("  {key:<32} {value:8.3}");
+            table += &format!("\n  {key:<32} {value:8.3}");
         }
+        print_out(table);
     }
     Ok(())
 }
 
-/// Exit status of a run that diverged (distinct from errors).
-const DIVERGED: u8 = 3;
+// ---- sweep ----
 
-fn run_scenario(args: &[String]) -> Result<bool, String> {
-    let mut path = None;
-    let mut overrides = Vec::new();
-    let (mut mcap, mut summary_path, mut quiet) = (None, None, false);
-    let mut it = args.iter();
-    while let Some(arg) = it.next() {
-        let mut value = |name: &str| {
-            it.next()
-                .cloned()
-                .ok_or_else(|| format!("{name} needs a value"))
-        };
-        match arg.as_str() {
-            "--set" => {
-                let pair = value("--set")?;
-                let (key, v) = pair
-                    .split_once('=')
-                    .ok_or_else(|| format!("--set expects key=value, got '{pair}'"))?;
-                overrides.push((key.trim().to_string(), v.trim().to_string()));
+/// One progress line of a sweep: runs done, the point and how its run ended.
+fn sweep_progress_line(keys: &[String], progress: &sea_sim::sweep::SweepProgress<'_>) -> String {
+    let point: Vec<String> = keys
+        .iter()
+        .zip(&progress.row.values)
+        .map(|(key, value)| format!("{key}={value}"))
+        .collect();
+    let row = progress.row;
+    let detail = if row.message.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", row.message)
+    };
+    format!(
+        "sea-sim: sweep {}/{} {}: {}{detail}",
+        progress.done,
+        progress.total,
+        point.join(" "),
+        row.status
+    )
+}
+
+/// `sea-sim sweep`: every run of the grid, the CSV written when the sweep ends (also when a
+/// signal stopped it: the rows done).
+fn run_sweep_command(args: &SweepArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
+    use sea_sim::sweep::{run_sweep, write_csv, Grid};
+    let grid = Grid::parse(&args.grid)?;
+    let scenario = Scenario::from_file(&args.scenario, &args.overrides)?;
+    let urdf = scenario.resolve(&scenario.robot.urdf);
+    check_distinct(
+        &[
+            ("the scenario file", args.scenario.as_path()),
+            ("the URDF", urdf.as_path()),
+        ],
+        &[("--out", args.out.as_path())],
+    )?;
+    let mut out = OutputFile::create(&args.out)?;
+    let keys = grid.keys();
+    if !args.quiet {
+        say(format_args!(
+            "sea-sim: sweep of {} runs over {}",
+            grid.len(),
+            keys.join(", ")
+        ));
+    }
+    let quiet = args.quiet;
+    let rows = run_sweep(
+        &args.scenario,
+        &grid,
+        &args.overrides,
+        args.jobs.map(|n| n as usize),
+        &interrupts.stop,
+        &|progress| {
+            if !quiet {
+                say(sweep_progress_line(&keys, progress));
             }
-            "--mcap" => mcap = Some(std::path::PathBuf::from(value("--mcap")?)),
-            "--summary" => summary_path = Some(std::path::PathBuf::from(value("--summary")?)),
-            "--quiet" => quiet = true,
-            other if other.starts_with("--") => return Err(format!("unknown argument '{other}'")),
-            other => path = Some(std::path::PathBuf::from(other)),
-        }
-    }
-    let path = path.ok_or("a scenario file is required")?;
-    let scenario =
-        sea_sim::scenario::Scenario::from_file(&path, &overrides).map_err(|e| e.to_string())?;
+        },
+    )?;
+    let mut csv = Vec::new();
+    write_csv(&mut csv, &args.out, &keys, &rows)?;
+    out.write_all(&csv)?;
+    out.commit()?;
+    let completed = rows.iter().filter(|r| r.status == "completed").count();
     if !quiet {
-        eprintln!(
-            "sea-sim: running {} ({} s simulated)",
-            path.display(),
-            scenario.simulation.duration_s
-        );
+        say(format_args!(
+            "sea-sim: {} of {} runs done, {completed} completed; wrote {}",
+            rows.len(),
+            grid.len(),
+            args.out.display()
+        ));
     }
-    let (_, summary) = sea_sim::closed_loop::run(&scenario, mcap.as_deref(), |t, total| {
-        if !quiet {
-            eprintln!("  t = {t:6.2} / {total:.2} s");
-        }
+    Ok(match interrupts.received() {
+        Some(sig) => Outcome::Interrupted(sig),
+        None => Outcome::Completed,
     })
-    .map_err(|e| e.to_string())?;
-    let json = serde_json::to_string_pretty(&summary.to_json()).map_err(|e| e.to_string())?;
-    if let Some(p) = summary_path {
-        std::fs::write(&p, &json).map_err(|e| format!("{}: {e}", p.display()))?;
-    }
-    println!("{json}");
-    Ok(summary.status == "completed")
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let result = match args.first().map(String::as_str) {
-        Some("bench") => run_bench(&args[1..]),
-        Some("run") => match run_scenario(&args[1..]) {
-            Ok(true) => Ok(()),
-            Ok(false) => return ExitCode::from(DIVERGED),
-            Err(e) => Err(e),
-        },
-        Some("-h" | "--help") => {
-            println!("{USAGE}");
-            Ok(())
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // --help and --version are not errors; everything else is (exit 1).
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { EXIT_ERROR } else { 0 });
         }
-        _ => Err(USAGE.to_string()),
     };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("sea-sim: {message}");
-            ExitCode::FAILURE
+    let outcome = match &cli.command {
+        Command::Bench(args) => run_bench(args).map(|()| Outcome::Completed),
+        Command::Sweep(args) => match Interrupts::install() {
+            Ok(interrupts) => run_sweep_command(args, &interrupts),
+            Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),
+        },
+        Command::Run(args) => match Interrupts::install() {
+            Ok(interrupts) => run_scenario(args, &interrupts),
+            Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),
+        },
+    };
+    match outcome {
+        Ok(Outcome::Completed) => ExitCode::SUCCESS,
+        Ok(Outcome::Diverged) => ExitCode::from(EXIT_DIVERGED),
+        Ok(Outcome::Interrupted(sig)) => {
+            say(format_args!(
+                "sea-sim: stopped by {}; log and summary finished",
+                signal_name(sig)
+            ));
+            ExitCode::from(128 + sig as u8)
+        }
+        Err(e) => {
+            say(format_args!("sea-sim: {e}"));
+            ExitCode::from(EXIT_ERROR)
         }
     }
 }

@@ -1,0 +1,527 @@
+//! The `sea-sim` command line, run as a real subprocess: help, argument errors, signals, safe
+//! output files, full disks and closed pipes.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::time::{Duration, Instant};
+
+const BIN: &str = env!("CARGO_BIN_EXE_sea-sim");
+const REPO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+
+/// Longest any subprocess may take before the test fails (and the process is killed).
+const TIMEOUT: Duration = Duration::from_secs(60);
+
+/// A fresh folder in the temporary directory, removed on drop, holding a copy of the paper's
+/// tracking scenario (URDF path made absolute), so no test can touch the repository's files.
+struct Workspace(PathBuf);
+
+impl Workspace {
+    fn new(tag: &str) -> Self {
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .as_nanos();
+        let dir =
+            std::env::temp_dir().join(format!("sea_sim_cli_{tag}_{}_{nanos}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let text = std::fs::read_to_string(format!("{REPO}/scenarios/paper/tracking.toml"))
+            .expect("the tracking scenario");
+        let urdf = Path::new(REPO)
+            .join("urdf/icub25.urdf")
+            .canonicalize()
+            .unwrap();
+        let text = text.replace("../../urdf/icub25.urdf", urdf.to_str().unwrap());
+        assert!(text.contains(urdf.to_str().unwrap()), "URDF path rewritten");
+        std::fs::write(dir.join("scenario.toml"), text).unwrap();
+        Self(dir)
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+
+    fn scenario(&self) -> String {
+        self.path("scenario.toml").display().to_string()
+    }
+}
+
+impl Drop for Workspace {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// `sea-sim ARGS` to completion (killed after [`TIMEOUT`]).
+fn sea_sim(args: &[&str]) -> Output {
+    let child = Command::new(BIN)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("sea-sim starts");
+    let (sender, receiver) = std::sync::mpsc::channel();
+    let id = child.id();
+    std::thread::spawn(move || {
+        let _ = sender.send(child.wait_with_output());
+    });
+    match receiver.recv_timeout(TIMEOUT) {
+        Ok(output) => output.expect("sea-sim output"),
+        Err(_) => {
+            signal(id, "KILL");
+            panic!("sea-sim {args:?} did not finish within {TIMEOUT:?}");
+        }
+    }
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Sends `kill -SIGNAL` to `pid`.
+fn signal(pid: u32, name: &str) {
+    let status = Command::new("kill")
+        .arg(format!("-{name}"))
+        .arg(pid.to_string())
+        .status()
+        .expect("kill runs");
+    assert!(status.success(), "kill -{name} {pid}");
+}
+
+/// A run in the background whose stderr lines arrive on a channel.
+struct Running {
+    child: Child,
+    lines: Receiver<String>,
+    seen: Vec<String>,
+}
+
+impl Running {
+    /// Starts `sea-sim run SCENARIO ARGS` (progress as plain lines: stderr is a pipe).
+    fn start(scenario: &str, args: &[&str]) -> Self {
+        let mut child = Command::new(BIN)
+            .arg("run")
+            .arg(scenario)
+            .args(args)
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("sea-sim starts");
+        let stderr = child.stderr.take().unwrap();
+        let (sender, lines) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+                if sender.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        Self {
+            child,
+            lines,
+            seen: Vec::new(),
+        }
+    }
+
+    /// Waits for the first progress line (the closed loop is running).
+    fn wait_for_progress(&mut self) {
+        let deadline = Instant::now() + TIMEOUT;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.lines.recv_timeout(left) {
+                Ok(line) => {
+                    let progress = line.contains("t = ");
+                    self.seen.push(line);
+                    if progress {
+                        return;
+                    }
+                }
+                Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => {
+                    let _ = self.child.kill();
+                    panic!("no progress line; stderr: {:?}", self.seen);
+                }
+            }
+        }
+    }
+
+    fn signal(&self, name: &str) {
+        signal(self.child.id(), name);
+    }
+
+    /// Waits for the exit; returns the code (None when killed by a signal) and stderr.
+    fn wait(mut self) -> (Option<i32>, String) {
+        let deadline = Instant::now() + TIMEOUT;
+        let status = loop {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                break status;
+            }
+            if Instant::now() > deadline {
+                let _ = self.child.kill();
+                panic!("sea-sim did not stop; stderr: {:?}", self.seen);
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        self.seen.extend(self.lines.try_iter());
+        (status.code(), self.seen.join("\n"))
+    }
+}
+
+impl Drop for Running {
+    /// A failed test does not leave a run going.
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The summary JSON at `path`.
+fn summary(path: &Path) -> serde_json::Value {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_slice(&bytes).expect("summary JSON")
+}
+
+/// Reads a finished MCAP file: its summary section is present; returns the message count
+/// (checked against the messages actually read).
+fn finished_mcap_messages(path: &Path) -> u64 {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let summary = mcap::Summary::read(&bytes)
+        .expect("summary readable")
+        .expect("summary section present");
+    let count = summary.stats.expect("statistics").message_count;
+    let mut read = 0;
+    for message in mcap::MessageStream::new(&bytes).expect("stream") {
+        message.expect("message");
+        read += 1;
+    }
+    assert_eq!(read, count, "statistics count the messages");
+    count
+}
+
+/// Long enough that no run ends by itself before the test stops it (about 30 s of wall time).
+const LONG_RUN: &str = "simulation.duration_s=300";
+const SHORT_RUN: &str = "simulation.duration_s=0.3";
+
+#[test]
+fn help_lists_subcommands_and_each_subcommand_documents_its_options() {
+    let top = sea_sim(&["--help"]);
+    assert_eq!(top.status.code(), Some(0));
+    let top = text(&top.stdout);
+    assert!(top.contains("run") && top.contains("bench"), "{top}");
+
+    let run = sea_sim(&["run", "--help"]);
+    assert_eq!(run.status.code(), Some(0));
+    let run = text(&run.stdout);
+    for option in ["--set", "--mcap", "--summary", "--quiet", "SCENARIO", "130"] {
+        assert!(run.contains(option), "run --help lacks {option}: {run}");
+    }
+
+    let bench = sea_sim(&["bench", "--help"]);
+    assert_eq!(bench.status.code(), Some(0));
+    let bench = text(&bench.stdout);
+    for option in [
+        "--urdf",
+        "--joints",
+        "[default: 31]",
+        "[default: 2000]",
+        "--json",
+    ] {
+        assert!(
+            bench.contains(option),
+            "bench --help lacks {option}: {bench}"
+        );
+    }
+}
+
+#[test]
+fn bad_command_lines_are_errors() {
+    let ws = Workspace::new("args");
+    let scenario = ws.scenario();
+    let cases: [&[&str]; 5] = [
+        &["run", &scenario, &scenario],
+        &["run", &scenario, "--frobnicate"],
+        &["run"],
+        &["run", &scenario, "--set", "no_equals_sign"],
+        &["nonsense"],
+    ];
+    for args in cases {
+        let out = sea_sim(args);
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+        assert!(text(&out.stderr).contains("error"), "{args:?}");
+    }
+    let two = text(&sea_sim(&["run", &scenario, &scenario]).stderr);
+    assert!(two.contains("unexpected argument"), "{two}");
+}
+
+#[test]
+fn completed_and_diverged_runs_exit_0_and_3_with_their_outputs() {
+    let ws = Workspace::new("status");
+    let (mcap, summary_path) = (ws.path("run.mcap"), ws.path("run.json"));
+    let out = sea_sim(&[
+        "run",
+        &ws.scenario(),
+        "--set",
+        SHORT_RUN,
+        "--quiet",
+        "--mcap",
+        mcap.to_str().unwrap(),
+        "--summary",
+        summary_path.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(out.stderr.is_empty(), "--quiet: {}", text(&out.stderr));
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("stdout JSON");
+    assert_eq!(printed, summary(&summary_path));
+    assert_eq!(printed["status"], "completed");
+    assert!(finished_mcap_messages(&mcap) > 0);
+    let leftovers: Vec<_> = std::fs::read_dir(&ws.0)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name.ends_with(".partial"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+
+    let out = sea_sim(&[
+        "run",
+        &ws.scenario(),
+        "--set",
+        SHORT_RUN,
+        "--set",
+        "simulation.divergence_com_error_m=1e-12",
+        "--quiet",
+    ]);
+    assert_eq!(out.status.code(), Some(3), "{}", text(&out.stderr));
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("stdout JSON");
+    assert_eq!(printed["status"], "diverged");
+}
+
+#[test]
+fn signals_stop_the_run_with_a_finished_log_and_an_interrupted_summary() {
+    let ws = Workspace::new("signals");
+    for (name, code) in [("INT", 130), ("TERM", 143), ("HUP", 129)] {
+        let mcap = ws.path(&format!("{name}.mcap"));
+        let summary_path = ws.path(&format!("{name}.json"));
+        let mut run = Running::start(
+            &ws.scenario(),
+            &[
+                "--set",
+                LONG_RUN,
+                "--mcap",
+                mcap.to_str().unwrap(),
+                "--summary",
+                summary_path.to_str().unwrap(),
+            ],
+        );
+        run.wait_for_progress();
+        let signalled = Instant::now();
+        run.signal(name);
+        let (status, stderr) = run.wait();
+        assert_eq!(status, Some(code), "SIG{name}: {stderr}");
+        assert!(
+            signalled.elapsed() < Duration::from_secs(5),
+            "SIG{name} stops at the next tick, not after {:?}",
+            signalled.elapsed()
+        );
+        let json = summary(&summary_path);
+        assert_eq!(json["status"], "interrupted", "SIG{name}");
+        let reached = json["duration_s"].as_f64().unwrap();
+        assert!((1.0..300.0).contains(&reached), "time reached {reached}");
+        assert!(finished_mcap_messages(&mcap) > 0, "SIG{name}");
+    }
+}
+
+#[test]
+fn a_killed_rerun_leaves_the_earlier_log_untouched_and_its_chunks_recoverable() {
+    let ws = Workspace::new("killed");
+    let mcap = ws.path("run.mcap");
+    let first = sea_sim(&[
+        "run",
+        &ws.scenario(),
+        "--set",
+        SHORT_RUN,
+        "--quiet",
+        "--mcap",
+        mcap.to_str().unwrap(),
+    ]);
+    assert_eq!(first.status.code(), Some(0), "{}", text(&first.stderr));
+    let good = std::fs::read(&mcap).unwrap();
+
+    let mut rerun = Running::start(
+        &ws.scenario(),
+        &["--set", LONG_RUN, "--mcap", mcap.to_str().unwrap()],
+    );
+    rerun.wait_for_progress();
+    // The writer flushes a chunk every second of wall time.
+    std::thread::sleep(Duration::from_millis(1500));
+    rerun.signal("KILL");
+    let (status, _) = rerun.wait();
+    assert_eq!(status, None, "killed by SIGKILL");
+    assert!(
+        std::fs::read(&mcap).unwrap() == good,
+        "the earlier log is untouched"
+    );
+
+    // The partial file beside it holds complete chunks that a reader recovers.
+    let partial = std::fs::read(ws.path(".run.mcap.partial")).expect("partial file");
+    let recovered = mcap::MessageStream::new(&partial)
+        .expect("header")
+        .map_while(Result::ok)
+        .count();
+    assert!(recovered > 0, "no message recovered from the partial file");
+}
+
+#[test]
+fn a_second_writer_of_the_same_log_is_refused() {
+    let ws = Workspace::new("lock");
+    let mcap = ws.path("run.mcap");
+    let mut first = Running::start(
+        &ws.scenario(),
+        &["--set", LONG_RUN, "--mcap", mcap.to_str().unwrap()],
+    );
+    first.wait_for_progress();
+    let second = sea_sim(&[
+        "run",
+        &ws.scenario(),
+        "--set",
+        SHORT_RUN,
+        "--mcap",
+        mcap.to_str().unwrap(),
+    ]);
+    let message = text(&second.stderr);
+    assert_eq!(second.status.code(), Some(1), "{message}");
+    assert!(message.contains("another process is writing"), "{message}");
+    assert!(message.contains("run.mcap"), "{message}");
+
+    first.signal("TERM");
+    let (status, stderr) = first.wait();
+    assert_eq!(status, Some(143), "{stderr}");
+    assert!(
+        finished_mcap_messages(&mcap) > 0,
+        "the first writer's log is intact"
+    );
+}
+
+#[test]
+fn outputs_that_are_inputs_or_each_other_are_refused_before_the_run() {
+    let ws = Workspace::new("same");
+    let scenario = ws.scenario();
+    let before = std::fs::read(&scenario).unwrap();
+    let same = ws.path("same");
+    let urdf = Path::new(REPO).join("urdf/icub25.urdf");
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &[
+                "--mcap",
+                same.to_str().unwrap(),
+                "--summary",
+                same.to_str().unwrap(),
+            ],
+            "name the same file",
+        ),
+        (&["--mcap", &scenario], "the scenario file"),
+        (&["--summary", urdf.to_str().unwrap()], "the URDF"),
+    ];
+    for (outputs, expected) in cases {
+        let mut args = vec!["run", scenario.as_str(), "--set", LONG_RUN];
+        args.extend_from_slice(outputs);
+        let started = Instant::now();
+        let out = sea_sim(&args);
+        let message = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{outputs:?}: {message}");
+        assert!(message.contains(expected), "{outputs:?}: {message}");
+        assert!(
+            started.elapsed() < Duration::from_secs(10),
+            "refused before the run"
+        );
+    }
+    assert_eq!(std::fs::read(&scenario).unwrap(), before);
+    assert!(!same.exists());
+}
+
+#[test]
+fn a_missing_summary_folder_is_refused_before_the_run() {
+    let ws = Workspace::new("folder");
+    let missing = ws.path("no_such_folder/summary.json");
+    let mcap = ws.path("run.mcap");
+    let started = Instant::now();
+    let out = sea_sim(&[
+        "run",
+        &ws.scenario(),
+        "--set",
+        LONG_RUN,
+        "--mcap",
+        mcap.to_str().unwrap(),
+        "--summary",
+        missing.to_str().unwrap(),
+    ]);
+    let message = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{message}");
+    assert!(
+        message.contains("no_such_folder") && message.contains("does not exist"),
+        "{message}"
+    );
+    assert!(
+        started.elapsed() < Duration::from_secs(10),
+        "refused before the run"
+    );
+    assert!(!mcap.exists() && !ws.path(".run.mcap.partial").exists());
+}
+
+#[test]
+fn a_full_disk_is_an_error_naming_the_file_and_the_cause() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("no /dev/full here; skipped");
+        return;
+    }
+    let ws = Workspace::new("full");
+    for option in ["--summary", "--mcap"] {
+        let out = sea_sim(&[
+            "run",
+            &ws.scenario(),
+            "--set",
+            SHORT_RUN,
+            "--quiet",
+            option,
+            "/dev/full",
+        ]);
+        let message = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{option}: {message}");
+        assert!(message.contains("/dev/full"), "{option}: {message}");
+        assert!(
+            message.contains("No space left on device"),
+            "{option}: {message}"
+        );
+    }
+}
+
+#[test]
+fn closed_stdout_and_stderr_do_not_abort_the_run() {
+    let ws = Workspace::new("pipes");
+    let summary_path = ws.path("run.json");
+    let mut child = Command::new(BIN)
+        .args(["run", &ws.scenario(), "--set", "simulation.duration_s=2.5"])
+        .args(["--summary", summary_path.to_str().unwrap()])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // As `2>&1 | head -c1`: the reader goes away after the first byte.
+    let mut stderr = child.stderr.take().unwrap();
+    let mut first = [0u8; 1];
+    std::io::Read::read_exact(&mut stderr, &mut first).unwrap();
+    drop(stderr);
+    drop(child.stdout.take());
+    let deadline = Instant::now() + TIMEOUT;
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "did not finish");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(status.code(), Some(0));
+    assert_eq!(summary(&summary_path)["status"], "completed");
+}
