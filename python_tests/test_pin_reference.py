@@ -33,7 +33,7 @@ from pin_reference import (  # noqa: E402
     urdf_depth_first_joints,
 )
 
-icub_models = pytest.importorskip("icub_models")
+import icub_models  # noqa: E402  (a test dependency: missing means failed, not skipped)
 
 ICUB25 = ICUB25_JOINTS
 ICUB_LOCKED = {"neck_pitch": 0.3, "l_wrist_pitch": -0.4, "r_wrist_yaw": 0.25}
@@ -67,7 +67,7 @@ def _ref(kind: str, hand_urdf, icub_urdf) -> PinReference:
         elif kind == "icub25":
             _CACHE[kind] = PinReference(icub_urdf, joints=ICUB25, locked=ICUB_LOCKED)
         elif kind.startswith("random"):
-            urdf_gen = pytest.importorskip("urdf_gen")
+            import urdf_gen
             seed = int(kind.split("-")[1])
             path = urdf_gen.write_random_urdf(hand_urdf.parent, seed, 10)
             _CACHE[kind] = PinReference(path)

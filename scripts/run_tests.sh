@@ -1,15 +1,18 @@
 #!/usr/bin/env bash
-# Installs everything the tests need (Rust crates via cargo, the Python package and its test
-# dependencies via pip) and runs all tests: cargo tests of the Rust crates, then pytest.
+# Creates the project virtual environment .venv (once), installs sea-momentum and the test
+# dependencies into it, then runs all tests: cargo tests of every Rust crate (sea_py included,
+# linked against libpython), then pytest (which also checks the stub against the module with
+# mypy's stubtest). A failed import of sea_momentum fails the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-echo "== installing sea-momentum (release build) and test dependencies"
-python3 -m pip install --quiet --disable-pip-version-check ".[test]"
+source scripts/setup_env.sh
+ensure_libpython
 
 echo "== cargo tests"
-# sea_py is an extension module (no libpython to link a test binary against): tested by pytest.
-cargo test --release --workspace --exclude sea_py
+cargo test --release --workspace
 
 echo "== pytest"
-python3 -m pytest python_tests -q -p no:cacheprovider
+python -m pytest python_tests -q -p no:cacheprovider
+
+print_activation_hint

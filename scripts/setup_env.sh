@@ -1,0 +1,67 @@
+# Sourced by run_main.sh and run_tests.sh (from the repository root): creates the project
+# virtual environment .venv once, activates it and installs sea-momentum with its test
+# dependencies into it. Works on a stock Python (PEP 668 refuses `pip install` into the
+# system interpreter, so nothing is ever installed there). Uses uv when it is on PATH, else
+# `python3 -m venv` and pip. SEA_PYTHON chooses the base interpreter (default python3).
+#
+# The wheel is built by maturin in release mode into target/ with the environment's
+# interpreter as PYO3_PYTHON, so the cargo commands that follow reuse the compiled crates.
+
+venv_dir=.venv
+base_python="${SEA_PYTHON:-python3}"
+
+# Creates .venv with uv or the venv module; says what to install when neither works.
+create_venv() {
+    if [[ -x "$venv_dir/bin/python" ]]; then
+        return
+    fi
+    echo "== creating the virtual environment $venv_dir (base: $(command -v "$base_python"))"
+    if command -v uv > /dev/null; then
+        uv venv --quiet --python "$(command -v "$base_python")" "$venv_dir"
+    elif ! "$base_python" -m venv "$venv_dir"; then
+        rm -rf "$venv_dir"
+        echo "error: '$base_python -m venv' failed; install the venv module" \
+            "(Debian/Ubuntu: apt-get install python3-venv) or uv, then run this again" >&2
+        return 1
+    fi
+}
+
+# Installs the package (release build of the extension) and the test dependencies.
+install_package() {
+    echo "== installing sea-momentum (release build) with Pinocchio, iCub models, scipy, mcap, mypy"
+    if command -v uv > /dev/null; then
+        uv pip install --quiet --reinstall-package sea-momentum ".[test]"
+    else
+        python -m pip install --quiet --disable-pip-version-check ".[test]"
+    fi
+}
+
+# cargo test links sea_py against libpython (the wheel does not): the shared library must be
+# there. Installs the Debian/Ubuntu package when it is missing and we are root (CI).
+ensure_libpython() {
+    local library
+    library=$(python -c "import os, sysconfig; v = sysconfig.get_config_var; \
+print(os.path.join(v('LIBDIR') or '', v('LDLIBRARY') or ''))")
+    if [[ -e "$library" ]]; then
+        return
+    fi
+    if [[ $(id -u) == 0 ]] && command -v apt-get > /dev/null; then
+        echo "== $library is missing: installing python3-dev"
+        apt-get install -y -q python3-dev > /dev/null
+    else
+        echo "error: $library is missing: install the Python development package" \
+            "(Debian/Ubuntu: python3-dev)" >&2
+        return 1
+    fi
+}
+
+create_venv
+# shellcheck disable=SC1091
+source "$venv_dir/bin/activate"
+export PYO3_PYTHON="$PWD/$venv_dir/bin/python"
+install_package
+
+# Prints how to use the environment afterwards (the scripts' activation ends with them).
+print_activation_hint() {
+    echo "== to use this environment in your shell: source $venv_dir/bin/activate"
+}
