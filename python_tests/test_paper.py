@@ -13,7 +13,7 @@ import pathlib
 import numpy as np
 import pytest
 
-sm = pytest.importorskip("sea_momentum")
+import sea_momentum as sm  # a failed import fails the run (no importorskip)
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 PAPER = ROOT / "scenarios" / "paper"
@@ -30,7 +30,7 @@ def test_nominal_tracking_is_stable_with_millimetre_error(tracking):
     lateral = np.abs(tracking.com[after_start, 1] - tracking.com_reference[after_start, 1])
     assert lateral.max() < 3e-3  # "a few millimetres at most"
     assert np.ptp(tracking.com_reference[:, 1]) > 0.015  # the 1 cm sinusoid is really tracked
-    assert tracking.summary["qp_failures"] == 0
+    assert tracking.summary.qp_failures == 0
     assert tracking.qp_solved.all()
 
 
@@ -57,7 +57,7 @@ def test_damping_underestimated_by_60_percent_diverges_in_our_model():
     # Paper: x0.4 stable. Ours: diverges (threshold about x0.47, found by bisection).
     result = sm.run_scenario(PAPER / "tracking.toml", {"controller.damping_estimate_scale": 0.4})
     assert result.status == "diverged"
-    assert 0.0 < result.summary["diverged_at_s"] < 5.0
+    assert 0.0 < result.summary.diverged_at_s < 5.0
     assert len(result.time) > 10 and np.isfinite(result.q).all()  # data kept until then
 
 
@@ -67,8 +67,8 @@ def test_rigid_controller_diverges_after_the_step_and_sea_converges():
     assert sea.status == "completed"
     assert sea.joint_error_norm[-1] < 0.2
     assert rigid.status == "diverged"
-    assert rigid.summary["diverged_at_s"] > 0.5  # after the step
-    assert rigid.summary["motor_velocity_peak_rad_s"] > 5 * sea.summary["motor_velocity_peak_rad_s"]
+    assert rigid.summary.diverged_at_s > 0.5  # after the step
+    assert rigid.summary.motor_velocity_peak_rad_s > 5 * sea.summary.motor_velocity_peak_rad_s
 
 
 def test_saturated_ankle_roll_is_still_stable():
@@ -84,8 +84,34 @@ def test_saturated_ankle_roll_is_still_stable():
     assert (np.abs(result.motor_torques[:, k]) >= limit - 1e-9).any()  # the limit was active
 
 
+def test_run_summary_and_arrays_are_typed():
+    result = sm.run_scenario(PAPER / "tracking.toml", {"simulation.duration_s": 0.2})
+    summary = result.summary
+    assert isinstance(summary, sm.RunSummary)
+    assert summary.status == result.status == summary["status"] == "completed"
+    assert summary.diverged_at_s is None and summary.reason == ""
+    assert 0.19 < summary.duration_s < 0.21
+    assert isinstance(summary.qp_failures, int) and isinstance(summary.qp_clarabel_solves, int)
+    assert json.loads(json.dumps(summary.to_dict())) == summary.to_dict()  # summary.json as before
+    m, n_e, n_contacts = len(result.time), len(result.elastic_joints), len(result.contacts)
+    shapes = {
+        "q": (m, 7 + len(result.joint_names)),
+        "nu": (m, 6 + len(result.joint_names)),
+        "theta": (m, n_e),
+        "thetadot_desired": (m, n_e),
+        "com": (m, 3),
+        "momentum": (m, 6),
+        "contact_wrenches": (m, n_contacts, 6),
+        "qp_solved": (m,),
+    }
+    for name, shape in shapes.items():
+        array = getattr(result, name)
+        assert array.dtype == np.float64 and array.shape == shape, name
+
+
 def test_mcap_log_reads_back(tmp_path):
-    reader = pytest.importorskip("mcap.reader")
+    import mcap.reader as reader
+
     path = tmp_path / "run.mcap"
     result = sm.run_scenario(PAPER / "tracking.toml", {"simulation.duration_s": 0.5}, mcap=path)
     with open(path, "rb") as stream:
@@ -107,7 +133,8 @@ def test_mcap_log_reads_back(tmp_path):
 
 
 def test_mcap_log_is_finished_when_the_run_diverges(tmp_path):
-    reader = pytest.importorskip("mcap.reader")
+    import mcap.reader as reader
+
     path = tmp_path / "diverged.mcap"
     result = sm.run_scenario(PAPER / "tracking.toml", {"controller.damping_estimate_scale": 0.4}, mcap=path)
     assert result.status == "diverged"

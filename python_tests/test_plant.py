@@ -11,12 +11,13 @@ paper's ode15s) on the same right-hand side:
 
 from __future__ import annotations
 
+import dataclasses
 import pathlib
 
 import numpy as np
 import pytest
 
-sm = pytest.importorskip("sea_momentum")
+import sea_momentum as sm  # a failed import fails the run (no importorskip)
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 ICUB = ROOT / "urdf" / "icub25.urdf"
@@ -82,8 +83,8 @@ def test_rk4_conserves_energy_at_small_steps():
     drifts = []
     for dt in (5e-4, 2.5e-4):
         run = plant.simulate(x0, np.zeros(model.n_joints), dt, int(round(0.5 / dt)), method="rk4")
-        assert run["status"] == "completed"
-        drifts.append(max(abs(total_energy(model, plant, x, 50.0) - e0) for x in run["x"]) / e0)
+        assert run.status == "completed"
+        drifts.append(max(abs(total_energy(model, plant, x, 50.0) - e0) for x in run.x) / e0)
     print(f"RK4 relative energy drift over 0.5 s: dt 0.5 ms {drifts[0]:.2e}, 0.25 ms {drifts[1]:.2e}")
     assert drifts[1] < 1e-6
     assert drifts[0] / drifts[1] > 16.0  # fourth order (or better)
@@ -97,7 +98,7 @@ def test_implicit_energy_drift_follows_the_order(method, order):
     drifts = []
     for dt in (1e-3, 5e-4, 2.5e-4):
         run = plant.simulate(x0, np.zeros(model.n_joints), dt, int(round(0.5 / dt)), method=method)
-        drifts.append(abs(total_energy(model, plant, run["x"][-1], 2.0) - e0) / e0)
+        drifts.append(abs(total_energy(model, plant, run.x[-1], 2.0) - e0) / e0)
     ratios = [drifts[i] / drifts[i + 1] for i in range(2)]
     print(f"{method}: energy drift {['%.2e' % d for d in drifts]}, ratios {['%.2f' % r for r in ratios]}")
     assert ratios[-1] > 0.75 * 2**order
@@ -108,9 +109,9 @@ def test_free_floating_momentum_is_conserved_with_springs_acting():
     h0 = momentum(model, plant, x0)
     assert np.linalg.norm(h0) > 1.0  # a real motion, not a trivial zero
     rk4 = plant.simulate(x0, np.zeros(model.n_joints), 2.5e-4, 2000, method="rk4", record_every=20)
-    d_theta = np.ptp(rk4["x"][:, model.nq : model.nq + model.n_joints], axis=0).max()
+    d_theta = np.ptp(rk4.x[:, model.nq : model.nq + model.n_joints], axis=0).max()
     assert d_theta > 1.0  # the springs and motors really move
-    errors = [np.linalg.norm(momentum(model, plant, x) - h0) / np.linalg.norm(h0) for x in rk4["x"]]
+    errors = [np.linalg.norm(momentum(model, plant, x) - h0) / np.linalg.norm(h0) for x in rk4.x]
     assert max(errors) < 1e-8
     # ROS2 damps the unresolved stiff modes (that costs momentum accuracy at these steps), so
     # its order is checked with soft springs, where every mode is resolved.
@@ -119,7 +120,7 @@ def test_free_floating_momentum_is_conserved_with_springs_acting():
     drifts = []
     for dt in (5e-4, 2.5e-4):
         run = plant.simulate(x0, np.zeros(model.n_joints), dt, int(round(0.5 / dt)), method="ros2")
-        drifts.append(max(np.linalg.norm(momentum(model, plant, x) - h0) for x in run["x"]) / np.linalg.norm(h0))
+        drifts.append(max(np.linalg.norm(momentum(model, plant, x) - h0) for x in run.x) / np.linalg.norm(h0))
     print(f"momentum drift: RK4 {max(errors):.1e}; ROS2 {drifts[0]:.1e} (0.5 ms), {drifts[1]:.1e} (0.25 ms)")
     assert drifts[1] < 1e-4 and drifts[0] / drifts[1] > 3.0
 
@@ -128,7 +129,8 @@ def test_free_floating_momentum_is_conserved_with_springs_acting():
 
 
 def test_ros2_converges_to_scipy_radau_at_second_order():
-    scipy_integrate = pytest.importorskip("scipy.integrate")
+    import scipy.integrate as scipy_integrate
+
     model, plant, x0, gravity = standing_icub()
     u = ETA * gravity  # constant motor torques, balancing gravity at the start
     horizon = 1.0
@@ -141,8 +143,8 @@ def test_ros2_converges_to_scipy_radau_at_second_order():
     rows = []
     for dt in (1e-3, 5e-4, 2.5e-4, 1.25e-4):
         run = plant.simulate(x0, u, dt, int(round(horizon / dt)), method="ros2", record_every=10**9)
-        assert run["status"] == "completed"
-        rows.append((dt, np.abs(joint_side(plant, run["x"][-1]) - x_ref).max() / scale))
+        assert run.status == "completed"
+        rows.append((dt, np.abs(joint_side(plant, run.x[-1]) - x_ref).max() / scale))
     print("\nROS2 against scipy Radau (rtol 1e-10), iCub on two feet, constant motor torque, 1 s")
     print("  dt [ms]   max error / max |x|   ratio")
     for i, (dt, error) in enumerate(rows):
@@ -168,17 +170,17 @@ def test_rk4_diverges_where_ros2_stays_accurate():
     u = np.full(model.n_joints, 5.0)  # desired motor velocities: 0.05 rad/s on the joints
     horizon = 0.5
     rk4 = plant.simulate(x0, u, 1e-3, 500, method="rk4")
-    assert rk4["status"] == "diverged" and rk4["diverged_at"] < 0.05
-    assert len(rk4["time"]) >= 1 and np.isfinite(rk4["x"]).all()  # what came before is kept
+    assert rk4.status == "diverged" and rk4.diverged_at < 0.05
+    assert len(rk4.time) >= 1 and np.isfinite(rk4.x).all()  # what came before is kept
     reference = plant.simulate(x0, u, 1e-5, int(horizon / 1e-5), method="rk4", record_every=10**9)
-    assert reference["status"] == "completed"
+    assert reference.status == "completed"
     ros2 = plant.simulate(x0, u, 1e-3, 500, method="ros2")
-    assert ros2["status"] == "completed"
-    ref, ours = plant.split_state(reference["x"][-1]), plant.split_state(ros2["x"][-1])
+    assert ros2.status == "completed"
+    ref, ours = plant.split_state(reference.x[-1]), plant.split_state(ros2.x[-1])
     joint_motion = np.abs(ref["q"][7:] - plant.split_state(x0)["q"][7:]).max()
     q_error = np.abs(ours["q"] - ref["q"]).max()
     nu_error = np.abs(ours["nu"] - ref["nu"]).max() / np.abs(ref["nu"]).max()
-    print(f"stiff: RK4 diverged at {rk4['diverged_at']} s; ROS2 |q err| {q_error:.1e} rad "
+    print(f"stiff: RK4 diverged at {rk4.diverged_at} s; ROS2 |q err| {q_error:.1e} rad "
           f"(joint motion {joint_motion:.3f} rad), relative nu error {nu_error:.1e}")
     assert joint_motion > 0.02
     assert q_error < 1e-4 and nu_error < 2e-2
@@ -190,11 +192,11 @@ def test_rk4_diverges_where_ros2_stays_accurate():
 def test_contact_drift_stays_below_a_micrometre_over_10_s():
     model, plant, x0, _ = standing_icub(motor_velocity_gain=200.0)
     run = plant.simulate(x0, np.zeros(model.n_joints), 1e-3, 10_000, method="ros2", record_every=10)
-    assert run["status"] == "completed"
-    print(f"contact drift over 10 s: {run['drift_position'].max():.2e} m, {run['drift_rotation'].max():.2e} rad")
-    assert run["drift_position"].max() < 1e-6
-    wrenches = run["contact_wrenches"]
-    assert wrenches.shape == (len(run["time"]), 2, 6)
+    assert run.status == "completed"
+    print(f"contact drift over 10 s: {run.drift_position.max():.2e} m, {run.drift_rotation.max():.2e} rad")
+    assert run.drift_position.max() < 1e-6
+    wrenches = run.contact_wrenches
+    assert wrenches.shape == (len(run.time), 2, 6)
     total_weight = model.total_mass * 9.81
     assert abs(wrenches[-1, :, 2].sum() - total_weight) < 1e-3 * total_weight
 
@@ -202,13 +204,13 @@ def test_contact_drift_stays_below_a_micrometre_over_10_s():
 def test_outputs_report_wrench_margins():
     model, plant, x0, gravity = standing_icub()
     out = plant.outputs(x0, ETA * gravity)
-    assert out["contact_wrenches"].shape == (2, 6)
-    assert np.all(out["normal_force"] > 100.0)
-    assert np.all(out["friction_margin"] > 0.0)
-    assert out["cop_margin"].shape == (2,)
-    assert out["drift_position"] < 1e-12
+    assert out.contact_wrenches.shape == (2, 6)
+    assert np.all(out.normal_force > 100.0)
+    assert np.all(out.friction_margin > 0.0)
+    assert out.cop_margin.shape == (2,)
+    assert out.drift_position < 1e-12
     # Springs preloaded against gravity: joint torques equal the gravity torques.
-    np.testing.assert_allclose(out["joint_torques"], gravity, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(out.joint_torques, gravity, rtol=1e-9, atol=1e-9)
 
 
 def test_dynamics_matches_the_integrators_derivative():
@@ -229,7 +231,7 @@ def test_mixed_actuation_rigid_joints_take_joint_torques():
     u = np.zeros(model.n_joints)
     u[model.joint_names.index("l_knee")] = 1.0
     out = plant.outputs(x0, u)
-    assert out["joint_torques"][model.joint_names.index("l_knee")] == 1.0
+    assert out.joint_torques[model.joint_names.index("l_knee")] == 1.0
 
 
 # --- bad input ------------------------------------------------------------------------------
@@ -290,9 +292,41 @@ def test_bad_plant_settings_are_rejected():
 def test_divergence_stops_with_status_and_keeps_the_data():
     model, plant, x0, gravity = standing_icub(actuator={"stiffness": 1e4}, motor_velocity_gain=1e4)
     run = plant.simulate(x0, np.zeros(model.n_joints), 1e-3, 1000, method="rk4")
-    assert run["status"] == "diverged"
-    assert 0.0 < run["diverged_at"] <= 1.0
-    assert run["message"]
-    n = len(run["time"])
-    assert n >= 1 and run["x"].shape == (n, plant.nx) and run["time"][-1] < run["diverged_at"]
-    assert np.isfinite(run["x"]).all()
+    assert run.status == "diverged"
+    assert 0.0 < run.diverged_at <= 1.0
+    assert run.message
+    n = len(run.time)
+    assert n >= 1 and run.x.shape == (n, plant.nx) and run.time[-1] < run.diverged_at
+    assert np.isfinite(run.x).all()
+
+
+def test_results_are_dataclasses_with_the_documented_dtypes_and_shapes():
+    model, plant, x0, gravity = standing_icub()
+    n_e, n_contacts = len(plant.elastic_joints), len(plant.contact_frames)
+    run = plant.simulate(x0, ETA * gravity, 1e-3, 10, record_every=4)
+    assert isinstance(run, sm.SimulationResult)
+    rows = 4  # steps 0, 4, 8 and the last one, 10
+    shapes = {
+        "time": (rows,),
+        "x": (rows, plant.nx),
+        "contact_wrenches": (rows, n_contacts, 6),
+        "motor_torques": (rows, n_e),
+        "drift_position": (rows,),
+        "drift_rotation": (rows,),
+    }
+    for name, shape in shapes.items():
+        array = getattr(run, name)
+        assert array.dtype == np.float64 and array.shape == shape, name
+    np.testing.assert_allclose(run.time, [0.0, 4e-3, 8e-3, 1e-2], atol=1e-15)
+    assert (run.status, run.diverged_at, run.message) == ("completed", None, "")
+    assert run["x"] is run.x  # the dict interface of earlier versions still answers
+    with pytest.raises(KeyError):
+        run["nope"]
+
+    out = plant.outputs(x0, ETA * gravity)
+    assert isinstance(out, sm.PlantOutputs)
+    assert out.joint_torques.shape == (model.n_joints,) and out.motor_torques.shape == (n_e,)
+    for name in ("normal_force", "friction_margin", "cop_margin"):
+        assert getattr(out, name).shape == (n_contacts,) and getattr(out, name).dtype == np.float64
+    assert isinstance(out.drift_position, float) and isinstance(out.drift_rotation, float)
+    assert set(out.to_dict()) == {f.name for f in dataclasses.fields(out)}

@@ -57,8 +57,8 @@ def reproduce(scenario_dir: pathlib.Path, out: pathlib.Path, duration: float | N
         _log(f"[{clock.perf_counter() - started:6.1f} s] {name} {merged or ''}")
         result = run_scenario(scenario_dir / f"{name}.toml", merged, mcap=None if mcap is None else out / mcap)
         s = result.summary
-        _log(f"          -> {s['status']} (CoM error rms {s['com_error_rms_m'] * 1e3:.2f} mm, "
-             f"realtime x{s['realtime_factor']:.1f})")
+        _log(f"          -> {s.status} (CoM error rms {s.com_error_rms_m * 1e3:.2f} mm, "
+             f"realtime x{s.realtime_factor:.1f})")
         return result
 
     # Experiment 1: tracking and damping mismatch.
@@ -70,7 +70,7 @@ def reproduce(scenario_dir: pathlib.Path, out: pathlib.Path, duration: float | N
     styles = {1.0: "-", 1.45: "--", 1.6: "-.", 0.4: ":"}
     for scale, result in tracking.items():
         error_mm = (result.com[:, 1] - result.com_reference[:, 1]) * 1e3
-        label = f"K_D estimate x{scale}" + ("" if _stable(result) else f" (diverged at {result.summary['diverged_at_s']:.2f} s)")
+        label = f"K_D estimate x{scale}" + ("" if _stable(result) else f" (diverged at {result.summary.diverged_at_s:.2f} s)")
         ax.plot(result.time, error_mm, styles[scale], label=label)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("lateral CoM error [mm]")
@@ -148,7 +148,7 @@ def reproduce(scenario_dir: pathlib.Path, out: pathlib.Path, duration: float | N
         (f"Saturation {binding_limit:.3f} Nm on l_ankle_roll (half the needed peak)", "(not in the paper)", binding),
     ]
     for label, paper, result in rows:
-        summary["experiments"][label] = {"paper": paper, "ours": result.summary}
+        summary["experiments"][label] = {"paper": paper, "ours": result.summary.to_dict()}
     summary["damping_threshold_over"] = upper
     summary["damping_threshold_under"] = lower
     summary["saturated_time_s"] = saturation_time
@@ -164,10 +164,10 @@ def reproduce(scenario_dir: pathlib.Path, out: pathlib.Path, duration: float | N
     ]
     for label, paper, result in rows:
         s = result.summary
-        ours = s["status"] + ("" if s["diverged_at_s"] is None else f" at {s['diverged_at_s']:.2f} s")
+        ours = s.status + ("" if s.diverged_at_s is None else f" at {s.diverged_at_s:.2f} s")
         lines.append(
-            f"| {label} | {paper} | {ours} | {s['com_error_rms_m'] * 1e3:.2f} / {s['com_error_max_m'] * 1e3:.2f} "
-            f"| {s['joint_error_norm_final_rad']:.3f} | {s['motor_velocity_peak_rad_s']:.0f} |"
+            f"| {label} | {paper} | {ours} | {s.com_error_rms_m * 1e3:.2f} / {s.com_error_max_m * 1e3:.2f} "
+            f"| {s.joint_error_norm_final_rad:.3f} | {s.motor_velocity_peak_rad_s:.0f} |"
         )
     over = "none found up to x8" if upper is None else f"x{upper:.2f}"
     under = "none (x0.4 stable)" if lower is None else f"x{lower:.2f}"

@@ -4,41 +4,45 @@ GIL is released) and returns a :class:`ScenarioResult` of numpy arrays."""
 from __future__ import annotations
 
 import dataclasses
-import json
 import os
 from typing import Any, Mapping
 
 import numpy as np
 
 from ._native import run_scenario_native
+from .results import RunStatus, RunSummary
 
 
 @dataclasses.dataclass(frozen=True)
 class ScenarioResult:
-    """The recorded run, one row per recorded control tick (world axes, SI units)."""
+    """The recorded run, one row per recorded control tick (world axes, SI units).
 
-    time: np.ndarray  #: (m,) [s]
-    q: np.ndarray  #: (m, nq) configurations
-    nu: np.ndarray  #: (m, nv) velocities
-    theta: np.ndarray  #: (m, n_e) motor angles
-    thetadot: np.ndarray  #: (m, n_e) motor velocities
-    thetadot_desired: np.ndarray  #: (m, n_e) desired motor velocities (zeros: rigid controller)
-    com: np.ndarray  #: (m, 3) CoM
-    com_reference: np.ndarray  #: (m, 3) CoM reference
-    momentum: np.ndarray  #: (m, 6) centroidal momentum
-    contact_wrenches: np.ndarray  #: (m, n_contacts, 6) simulated wrenches
-    motor_torques: np.ndarray  #: (m, n_e) applied motor torques
-    joint_error_norm: np.ndarray  #: (m,) |s - s_d| [rad]
-    qp_solved: np.ndarray  #: (m,) 1 solved, 0 fallback
-    joint_names: list[str]
-    elastic_joints: list[str]
-    contacts: list[str]
-    summary: dict[str, Any]
+    Every array is ``numpy.float64``; ``m`` rows, ``n_e`` elastic joints. ``q``, ``nu``,
+    ``theta`` and ``thetadot`` are views into one (m, nx) state array.
+    """
+
+    time: np.ndarray  #: (m,) float64, time [s]
+    q: np.ndarray  #: (m, nq) float64, configurations
+    nu: np.ndarray  #: (m, nv) float64, velocities
+    theta: np.ndarray  #: (m, n_e) float64, motor angles [rad]
+    thetadot: np.ndarray  #: (m, n_e) float64, motor velocities [rad/s]
+    thetadot_desired: np.ndarray  #: (m, n_e) float64, desired motor velocities (0: rigid control)
+    com: np.ndarray  #: (m, 3) float64, CoM, world [m]
+    com_reference: np.ndarray  #: (m, 3) float64, CoM reference, world [m]
+    momentum: np.ndarray  #: (m, 6) float64, centroidal momentum [m pdot_com; L_com]
+    contact_wrenches: np.ndarray  #: (m, n_contacts, 6) float64, simulated wrenches, world axes
+    motor_torques: np.ndarray  #: (m, n_e) float64, applied motor torques [N m]
+    joint_error_norm: np.ndarray  #: (m,) float64, |s - s_d| [rad]
+    qp_solved: np.ndarray  #: (m,) float64, 1 solved, 0 fallback
+    joint_names: list[str]  #: joint names in coordinate order
+    elastic_joints: list[str]  #: elastic joint names, the columns of the motor arrays
+    contacts: list[str]  #: contact frame names, the second axis of ``contact_wrenches``
+    summary: RunSummary  #: summary statistics (also answers ``summary["field"]``)
 
     @property
-    def status(self) -> str:
-        """"completed" or "diverged"."""
-        return self.summary["status"]
+    def status(self) -> RunStatus:
+        """"completed", "diverged" or "interrupted"."""
+        return self.summary.status
 
     def motor(self, joint: str) -> int:
         """Column of an elastic joint in the motor arrays."""
@@ -56,7 +60,8 @@ def run_scenario(
     ``overrides`` maps dotted keys to values, e.g. ``{"controller.kind": "rigid",
     "controller.damping_estimate_scale": 1.45, "simulation.duration_s": 5}``; unknown keys raise
     ``ValueError`` naming the key. ``mcap`` writes a Foxglove-ready log (finished even when the
-    run diverges). A diverged run is not an error: see ``result.status`` and ``result.summary``.
+    run diverges). A diverged run is not an error: see ``result.status`` and ``result.summary``
+    (a :class:`~sea_momentum.results.RunSummary`).
     """
     raw = run_scenario_native(
         os.fspath(path), dict(overrides or {}), None if mcap is None else os.fspath(mcap), progress
@@ -80,5 +85,5 @@ def run_scenario(
         joint_names=list(raw["joint_names"]),
         elastic_joints=list(raw["elastic_joints"]),
         contacts=list(raw["contacts"]),
-        summary=json.loads(raw["summary_json"]),
+        summary=RunSummary(**raw["summary"]),
     )

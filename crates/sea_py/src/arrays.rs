@@ -1,11 +1,11 @@
 //! numpy <-> Rust conversions with argument checking.
 
+use crate::errors::argument_error;
 use nalgebra::Vector6;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyAnyMethods;
+use pyo3::types::{PyAnyMethods, PyDict};
 
 /// A float64 1-D argument of `expected` entries, all finite, copied out of Python.
 ///
@@ -24,20 +24,20 @@ pub fn vector_arg(
             let numpy = value.py().import("numpy")?;
             let converted = numpy
                 .call_method1("asarray", (value, "float64"))
-                .map_err(|e| {
-                    PyValueError::new_err(format!("{name} must be an array of floats: {e}"))
-                })?;
+                .map_err(|e| argument_error(name, "an array of floats", e))?;
             owned = converted
                 .cast_into::<PyArrayDyn<f64>>()
-                .map_err(|_| PyValueError::new_err(format!("{name} must be an array of floats")))?;
+                .map_err(|_| argument_error(name, "an array of floats", value))?;
             &owned
         }
     };
     let shape = array.shape();
     if shape.len() != 1 || shape[0] != expected {
-        return Err(PyValueError::new_err(format!(
-            "{name} must have shape ({expected},), got shape {shape:?}"
-        )));
+        return Err(argument_error(
+            name,
+            &format!("shape ({expected},)"),
+            format!("shape {shape:?}"),
+        ));
     }
     let readonly = array.readonly();
     out.clear();
@@ -46,10 +46,11 @@ pub fn vector_arg(
         Err(_) => out.extend(readonly.as_array().iter().copied()),
     }
     if let Some(i) = out.iter().position(|v| !v.is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "{name}[{i}] is not finite ({})",
-            out[i]
-        )));
+        return Err(argument_error(
+            &format!("{name}[{i}]"),
+            "a finite number",
+            out[i],
+        ));
     }
     Ok(())
 }
@@ -88,4 +89,17 @@ pub fn matrix_rows_out<'py>(
     Array2::from_shape_vec((rows, columns), row_major.to_vec())
         .expect("row-major data matches its shape")
         .into_pyarray(py)
+}
+
+/// An instance of the dataclass `sea_momentum.results.<name>` built from `fields` (keyword
+/// arguments): the typed results are defined once, in Python, and filled here with numbers and
+/// arrays (no serialised text crosses the boundary).
+pub fn result_object<'py>(
+    py: Python<'py>,
+    name: &str,
+    fields: &Bound<'py, PyDict>,
+) -> PyResult<Bound<'py, PyAny>> {
+    py.import("sea_momentum.results")?
+        .getattr(name)?
+        .call((), Some(fields))
 }

@@ -1,10 +1,9 @@
 //! `sea_momentum.Plant`: the SEA plant with rigid contacts and its integrators.
 
-use crate::arrays::{matrix_rows_out, vector_arg, vector_out};
-use crate::errors::to_py;
+use crate::arrays::{matrix_rows_out, result_object, vector_arg, vector_out};
+use crate::errors::{argument_error, to_py};
 use crate::model::PyModel;
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sea_dyn::{Actuation, Actuator, ElasticParameters};
@@ -24,9 +23,11 @@ fn elastic_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<Elastic
     for key in dict.keys() {
         let key: String = key.extract()?;
         if !KEYS.contains(&key.as_str()) {
-            return Err(PyValueError::new_err(format!(
-                "{where_}: unknown actuator key '{key}' (expected one of {KEYS:?})"
-            )));
+            return Err(argument_error(
+                where_,
+                &format!("keys among {KEYS:?}"),
+                format!("unknown actuator key '{key}'"),
+            ));
         }
     }
     let defaults = ElasticParameters::paper_icub();
@@ -34,13 +35,17 @@ fn elastic_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<Elastic
         match dict.get_item(key)? {
             Some(value) => value
                 .extract::<f64>()
-                .map_err(|_| PyValueError::new_err(format!("{where_}: '{key}' must be a number"))),
+                .map_err(|_| argument_error(&format!("{where_}['{key}']"), "a number", &value)),
             None => Ok(default),
         }
     };
     let torque_limit = match dict.get_item("torque_limit")? {
         Some(value) if !value.is_none() => Some(value.extract::<f64>().map_err(|_| {
-            PyValueError::new_err(format!("{where_}: 'torque_limit' must be a number or None"))
+            argument_error(
+                &format!("{where_}['torque_limit']"),
+                "a number or None",
+                &value,
+            )
         })?),
         _ => None,
     };
@@ -59,14 +64,16 @@ fn actuator_from_py(value: &Bound<'_, PyAny>, where_: &str) -> PyResult<Actuator
         return match text.as_str() {
             "rigid" => Ok(Actuator::Rigid),
             "elastic" => Ok(Actuator::Elastic(ElasticParameters::paper_icub())),
-            other => Err(PyValueError::new_err(format!(
-                "{where_}: expected 'rigid', 'elastic' or a dict of parameters, got '{other}'"
-            ))),
+            other => Err(argument_error(
+                where_,
+                "'rigid', 'elastic' or a dict of parameters",
+                format!("'{other}'"),
+            )),
         };
     }
-    let dict = value.cast::<PyDict>().map_err(|_| {
-        PyValueError::new_err(format!("{where_}: expected 'rigid', 'elastic' or a dict"))
-    })?;
+    let dict = value
+        .cast::<PyDict>()
+        .map_err(|_| argument_error(where_, "'rigid', 'elastic' or a dict", value))?;
     Ok(Actuator::Elastic(elastic_from_dict(dict, where_)?))
 }
 
@@ -97,29 +104,32 @@ impl PyPlant {
     ///
     /// `actuator`: the default actuator of every joint, "rigid", "elastic" (the paper's iCub
     /// SEA) or a dict (ratio, motor_inertia, stiffness, damping, torque_limit); `actuators`:
-    /// per-joint overrides by name. `contacts`: frame names held at their pose in `contact_q`.
+    /// per-joint overrides by name. `contacts`: frame names held at their pose in `contact_q`
+    /// (None: no contacts).
+    /// `friction`, `foot_x`, `foot_y`: the sole's friction coefficient and rectangle (sole
+    /// frame) for the wrench margins; unset, the default contact surface.
     #[new]
     #[pyo3(signature = (
         model, *, actuator=None, actuators=None,
-        contacts=Vec::new(), contact_q=None, baumgarte_kp=None, baumgarte_kd=None,
+        contacts=None, contact_q=None, baumgarte_kp=None, baumgarte_kd=None,
         motor_velocity_gain=None, joint_inertia_regularization=0.0, gravity=None,
-        friction=1.0, foot_x=(-0.05, 0.10), foot_y=(-0.025, 0.025)
+        friction=None, foot_x=None, foot_y=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         model: PyRef<'_, PyModel>,
         actuator: Option<Bound<'_, PyAny>>,
         actuators: Option<Bound<'_, PyDict>>,
-        contacts: Vec<String>,
+        contacts: Option<Vec<String>>,
         contact_q: Option<Bound<'_, PyAny>>,
         baumgarte_kp: Option<f64>,
         baumgarte_kd: Option<f64>,
         motor_velocity_gain: Option<f64>,
         joint_inertia_regularization: f64,
         gravity: Option<(f64, f64, f64)>,
-        friction: f64,
-        foot_x: (f64, f64),
-        foot_y: (f64, f64),
+        friction: Option<f64>,
+        foot_x: Option<(f64, f64)>,
+        foot_y: Option<(f64, f64)>,
     ) -> PyResult<Self> {
         let mut rigid_model = model.model().clone();
         if let Some((gx, gy, gz)) = gravity {
@@ -147,16 +157,23 @@ impl PyPlant {
             None => MotorInput::Torque,
         };
         plant.joint_inertia_regularization = joint_inertia_regularization;
+        // Unset values keep the one default contact surface (sea_dyn's ContactSurface).
+        let defaults = ContactLimits::default();
         plant.contact_limits = ContactLimits {
-            friction,
-            foot_x: [foot_x.0, foot_x.1],
-            foot_y: [foot_y.0, foot_y.1],
-            ..ContactLimits::default()
+            friction: friction.unwrap_or(defaults.friction),
+            foot_x: foot_x.map_or(defaults.foot_x, |(low, high)| [low, high]),
+            foot_y: foot_y.map_or(defaults.foot_y, |(low, high)| [low, high]),
+            ..defaults
         };
         plant.validate().map_err(to_py)?;
+        let contacts = contacts.unwrap_or_default();
         if !contacts.is_empty() {
             let contact_q = contact_q.ok_or_else(|| {
-                PyValueError::new_err("contact_q is required with contacts (the pose to hold)")
+                argument_error(
+                    "contact_q",
+                    "the configuration to hold the contacts at (required with contacts)",
+                    "None",
+                )
             })?;
             let mut q = Vec::new();
             vector_arg(&contact_q, "contact_q", plant.model.nq(), &mut q)?;
@@ -230,7 +247,12 @@ impl PyPlant {
             vector_arg(theta, "theta", layout.ne, &mut theta_v)?;
         } else if let Some(joint_torques) = joint_torques {
             let mut torques = Vec::new();
-            vector_arg(joint_torques, "joint_torques", self.plant.model.n_joints(), &mut torques)?;
+            vector_arg(
+                joint_torques,
+                "joint_torques",
+                self.plant.model.n_joints(),
+                &mut torques,
+            )?;
             theta_v = self
                 .plant
                 .preloaded_motor_angles(&q_v, &torques)
@@ -283,36 +305,37 @@ impl PyPlant {
         Ok(PyArray1::from_vec(py, out))
     }
 
-    /// Outputs at (x, u): contact wrenches (n_contacts x 6, [force; moment about the frame
-    /// origin], world axes), joint torques (n), motor torques (n_e), drift, wrench margins.
+    /// Outputs at (x, u) as a `sea_momentum.results.PlantOutputs`: contact wrenches
+    /// (n_contacts, 6), joint torques (n,), motor torques (n_e,), drift, wrench margins
+    /// (n_contacts,) each; float64 arrays.
     fn outputs<'py>(
         &mut self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
         self.load(x, u)?;
         sea_plant::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
         let d = &self.data;
-        let dict = PyDict::new(py);
-        dict.set_item(
+        let fields = PyDict::new(py);
+        fields.set_item(
             "contact_wrenches",
             matrix_rows_out(py, d.contact_wrench.as_slice(), 6),
         )?;
-        dict.set_item("joint_torques", vector_out(py, d.joint_torque.as_slice()))?;
-        dict.set_item("motor_torques", vector_out(py, d.motor_torque.as_slice()))?;
-        dict.set_item("drift_position", d.drift_position)?;
-        dict.set_item("drift_rotation", d.drift_rotation)?;
+        fields.set_item("joint_torques", vector_out(py, d.joint_torque.as_slice()))?;
+        fields.set_item("motor_torques", vector_out(py, d.motor_torque.as_slice()))?;
+        fields.set_item("drift_position", d.drift_position)?;
+        fields.set_item("drift_rotation", d.drift_rotation)?;
         let margins = d.wrench_margins(&self.plant, &self.x);
         let column =
             |f: fn(&sea_plant::WrenchMargins) -> f64| margins.iter().map(f).collect::<Vec<f64>>();
-        dict.set_item("normal_force", vector_out(py, &column(|m| m.normal_force)))?;
-        dict.set_item("friction_margin", vector_out(py, &column(|m| m.friction)))?;
-        dict.set_item(
+        fields.set_item("normal_force", vector_out(py, &column(|m| m.normal_force)))?;
+        fields.set_item("friction_margin", vector_out(py, &column(|m| m.friction)))?;
+        fields.set_item(
             "cop_margin",
             vector_out(py, &column(|m| m.center_of_pressure)),
         )?;
-        Ok(dict)
+        result_object(py, "PlantOutputs", &fields)
     }
 
     /// One step of size dt with u held: method "ros2" (default), "implicit_euler" or "rk4".
@@ -327,9 +350,7 @@ impl PyPlant {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let method = Method::parse(method).map_err(to_py)?;
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(PyValueError::new_err(format!(
-                "dt must be positive and finite, got {dt}"
-            )));
+            return Err(argument_error("dt", "a positive finite number", dt));
         }
         self.load(x, u)?;
         let mut out = vec![0.0; self.x.len()];
@@ -346,10 +367,11 @@ impl PyPlant {
         Ok(PyArray1::from_vec(py, out))
     }
 
-    /// Simulates n_steps of size dt from x0 with u held (GIL released). Returns a dict:
-    /// time (m,), x (m, nx), contact_wrenches (m, n_contacts, 6), motor_torques (m, n_e),
-    /// drift_position (m,), drift_rotation (m,), status ("completed" or "diverged"),
-    /// diverged_at (float or None), message. Data up to a divergence is kept.
+    /// Simulates n_steps of size dt from x0 with u held (GIL released). Returns a
+    /// `sea_momentum.results.SimulationResult` (m recorded rows): time (m,), x (m, nx),
+    /// contact_wrenches (m, n_contacts, 6), motor_torques (m, n_e), drift_position (m,),
+    /// drift_rotation (m,) as float64 arrays; status ("completed" or "diverged"), diverged_at
+    /// (float or None), message. Data up to a divergence is kept.
     #[pyo3(signature = (x0, u, dt, n_steps, method="ros2", record_every=1))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(
@@ -361,7 +383,7 @@ impl PyPlant {
         n_steps: usize,
         method: &str,
         record_every: usize,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
         let method = Method::parse(method).map_err(to_py)?;
         self.load(x0, u)?;
         let (plant, data, x, u) = (&self.plant, &mut self.data, &self.x, &self.u);
@@ -370,34 +392,34 @@ impl PyPlant {
                 sea_plant::simulate(plant, data, x, u, dt, n_steps, method, record_every, |_| {})
             })
             .map_err(to_py)?;
-        let dict = PyDict::new(py);
+        let fields = PyDict::new(py);
         let nx = self.plant.layout().nx();
         let rows = log.time.len();
-        dict.set_item("time", vector_out(py, &log.time))?;
-        dict.set_item("x", matrix_rows_out(py, &log.state, nx))?;
+        fields.set_item("time", vector_out(py, &log.time))?;
+        fields.set_item("x", matrix_rows_out(py, &log.state, nx))?;
         let wrenches = matrix_rows_out(py, &log.contact_wrench, 6);
-        dict.set_item(
+        fields.set_item(
             "contact_wrenches",
             wrenches.reshape([rows, self.plant.contacts.len(), 6])?,
         )?;
-        dict.set_item(
+        fields.set_item(
             "motor_torques",
             matrix_rows_out(py, &log.motor_torque, self.plant.actuation.n_elastic()),
         )?;
-        dict.set_item("drift_position", vector_out(py, &log.drift_position))?;
-        dict.set_item("drift_rotation", vector_out(py, &log.drift_rotation))?;
+        fields.set_item("drift_position", vector_out(py, &log.drift_position))?;
+        fields.set_item("drift_rotation", vector_out(py, &log.drift_rotation))?;
         match &log.status {
             sea_plant::Status::Completed => {
-                dict.set_item("status", "completed")?;
-                dict.set_item("diverged_at", py.None())?;
-                dict.set_item("message", "")?;
+                fields.set_item("status", "completed")?;
+                fields.set_item("diverged_at", py.None())?;
+                fields.set_item("message", "")?;
             }
             sea_plant::Status::Diverged { time, reason } => {
-                dict.set_item("status", "diverged")?;
-                dict.set_item("diverged_at", *time)?;
-                dict.set_item("message", reason)?;
+                fields.set_item("status", "diverged")?;
+                fields.set_item("diverged_at", *time)?;
+                fields.set_item("message", reason)?;
             }
         }
-        Ok(dict)
+        result_object(py, "SimulationResult", &fields)
     }
 }

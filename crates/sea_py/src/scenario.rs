@@ -1,25 +1,15 @@
 //! `run_scenario`: a closed-loop scenario run natively (GIL released), results as numpy arrays.
 
 use crate::arrays::{matrix_rows_out, vector_out};
-use pyo3::exceptions::{PyOSError, PyValueError};
+use crate::errors::{argument_error, to_py};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-/// Maps a `sea_ctrl` error to Python: configuration and model problems are `ValueError`
-/// (`ModelError` for the URDF), file problems `OSError`.
-fn to_py(error: sea_sim::Error) -> PyErr {
-    match error {
-        sea_sim::Error::Dynamics(e) => crate::errors::to_py(e),
-        sea_sim::Error::Control(sea_ctrl::Error::Dynamics(e)) => crate::errors::to_py(e),
-        sea_sim::Error::Io { .. } => PyOSError::new_err(error.to_string()),
-        other => PyValueError::new_err(other.to_string()),
-    }
-}
-
-/// A Python value as a TOML literal: str, bool, int, float (numpy scalars too), lists of those.
-fn toml_literal(value: &Bound<'_, PyAny>) -> PyResult<String> {
+/// A Python value as a TOML literal: str, bool, int, float (numpy scalars too), lists of those;
+/// `key` names the override in errors.
+pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<String> {
     if let Ok(text) = value.extract::<String>() {
         return Ok(toml::Value::String(text).to_string());
     }
@@ -34,20 +24,22 @@ fn toml_literal(value: &Bound<'_, PyAny>) -> PyResult<String> {
     }
     if let Ok(items) = value.try_iter() {
         let parts = items
-            .map(|item| toml_literal(&item?))
+            .map(|item| toml_literal(&item?, key))
             .collect::<PyResult<Vec<_>>>()?;
         return Ok(format!("[{}]", parts.join(", ")));
     }
-    Err(PyValueError::new_err(format!(
-        "cannot use {} as a scenario value",
-        value.repr()?
-    )))
+    Err(argument_error(
+        &format!("overrides['{key}']"),
+        "str, bool, int, float or a list of those",
+        value.repr()?,
+    ))
 }
 
 /// Runs the scenario file `path` with `overrides` ({"controller.kind": "rigid", ...}; values
 /// are TOML literals or bare strings), optionally writing an MCAP log. Returns a dict of arrays
 /// (time, x, thetadot_desired, com, com_reference, momentum, contact_wrenches, motor_torques,
-/// joint_error_norm, qp_solved), the layout (nq, nv, ne), names, and the summary as JSON text.
+/// joint_error_norm, qp_solved; float64, one row per recorded tick), the layout (nq, nv, ne),
+/// names, and the summary as a dict of the fields of `sea_momentum.results.RunSummary`.
 #[pyfunction]
 #[pyo3(signature = (path, overrides=None, mcap=None, progress=false))]
 pub fn run_scenario_native<'py>(
@@ -59,8 +51,7 @@ pub fn run_scenario_native<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut pairs = Vec::new();
     for (key, value) in overrides.unwrap_or_default() {
-        let text = toml_literal(&value)
-            .map_err(|e| PyValueError::new_err(format!("override '{key}': {e}")))?;
+        let text = toml_literal(&value, &key)?;
         pairs.push((key, text));
     }
     let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
@@ -107,6 +98,36 @@ pub fn run_scenario_native<'py>(
     dict.set_item("joint_names", record.joint_names.clone())?;
     dict.set_item("elastic_joints", record.elastic_joints.clone())?;
     dict.set_item("contacts", scenario.robot.contacts.clone())?;
-    dict.set_item("summary_json", summary.to_json().to_string())?;
+    dict.set_item("summary", summary_fields(py, &summary)?)?;
     Ok(dict)
+}
+
+/// The run summary as the keyword arguments of `sea_momentum.results.RunSummary` (numbers
+/// and strings, no JSON text).
+fn summary_fields<'py>(
+    py: Python<'py>,
+    summary: &sea_sim::closed_loop::Summary,
+) -> PyResult<Bound<'py, PyDict>> {
+    let fields = PyDict::new(py);
+    fields.set_item("status", &summary.status)?;
+    fields.set_item("diverged_at_s", summary.diverged_at_s)?;
+    fields.set_item("reason", &summary.reason)?;
+    fields.set_item("sampling", &summary.sampling)?;
+    fields.set_item("duration_s", summary.duration_s)?;
+    fields.set_item("com_error_rms_m", summary.com_error_rms_m)?;
+    fields.set_item("com_error_max_m", summary.com_error_max_m)?;
+    fields.set_item("com_error_lateral_max_m", summary.com_error_lateral_max_m)?;
+    fields.set_item(
+        "joint_error_norm_final_rad",
+        summary.joint_error_norm_final_rad,
+    )?;
+    fields.set_item(
+        "motor_velocity_peak_rad_s",
+        summary.motor_velocity_peak_rad_s,
+    )?;
+    fields.set_item("qp_failures", summary.qp_failures)?;
+    fields.set_item("qp_clarabel_solves", summary.qp_clarabel_solves)?;
+    fields.set_item("wall_time_s", summary.wall_time_s)?;
+    fields.set_item("realtime_factor", summary.realtime_factor)?;
+    Ok(fields)
 }
