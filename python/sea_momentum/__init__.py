@@ -9,6 +9,18 @@ Conventions (the same everywhere):
 """
 
 from ._native import ICUB25_JOINTS, Model, ModelError, Plant, __version__
+from .analysis import Linearization, linearize, stability_margin
 from .scenario import ScenarioResult, run_scenario
 
-__all__ = ["ICUB25_JOINTS", "Model", "ModelError", "Plant", "ScenarioResult", "run_scenario", "__version__"]
+__all__ = [
+    "ICUB25_JOINTS",
+    "Linearization",
+    "Model",
+    "ModelError",
+    "Plant",
+    "ScenarioResult",
+    "linearize",
+    "run_scenario",
+    "stability_margin",
+    "__version__",
+]

@@ -180,3 +180,67 @@ def run_scenario_native(
     progress: bool = False,
 ) -> dict[str, object]:
     """Runs a TOML scenario natively (GIL released); use ``sea_momentum.run_scenario``."""
+
+# --- Stability analysis (sea_momentum.analysis) ---
+
+def linearize_native(
+    path: str,
+    t: float | None = None,
+    overrides: Mapping[str, object] | None = None,
+    sampling: str | None = None,
+) -> dict[str, object]:
+    """Linearises a scenario's closed loop (GIL released); use ``sea_momentum.linearize``.
+
+    Returns the fields of ``sea_momentum.analysis.Linearization``, complex arrays split into
+    ``eigenvalues_re``/``eigenvalues_im`` and ``mode_re``/``mode_im`` (float64, (nd,)),
+    ``matrix`` (nd, nd), ``least_stable_rate`` as (re, im)."""
+
+def stability_margin_native(
+    path: str,
+    parameter: str,
+    lower: float,
+    upper: float,
+    overrides: Mapping[str, object] | None = None,
+    method: str = "eigen",
+    sampling: str | None = None,
+    grid_points: int = 9,
+    log_grid: bool = False,
+) -> dict[str, object]:
+    """Stability boundaries of a scenario key (GIL released); use
+    ``sea_momentum.stability_margin``. Returns ``parameter``, ``boundaries`` (ascending),
+    ``method``, ``evaluations`` and ``samples`` (list of (value, stable, growth_rate or None))."""
+
+# --- Sweeps (sea_momentum.sweep, sea_momentum.ray_backend) ---
+
+def sweep_grid(
+    path: str,
+    grid: Sequence[str],
+    overrides: Mapping[str, object] | None = None,
+) -> dict[str, object]:
+    """Parses and checks grid specifications (``KEY=V1,V2,...`` or
+    ``KEY=START:STOP:COUNT[:log]``) on a scenario. Returns ``keys`` (list[str]), ``points``
+    (list[list[float]], the last key varying fastest) and ``columns`` (the row fields in
+    order). Raises ScenarioError naming the key and the value."""
+
+def sweep(
+    path: str,
+    grid: Sequence[str],
+    overrides: Mapping[str, object] | None = None,
+    workers: int | None = None,
+    progress: bool = False,
+) -> dict[str, object]:
+    """Runs every point of a grid on ``workers`` threads (None: every core), GIL released;
+    use ``sea_momentum.sweep``. Returns ``keys``, ``columns``, ``rows`` (list of dicts in grid
+    order: ``index``, the grid values by key, ``status``, ``message``, the summary fields),
+    ``total`` and ``interrupted`` (Ctrl-C: the rows done)."""
+
+def sweep_batch(
+    path: str,
+    keys: Sequence[str],
+    points: Sequence[tuple[int, Sequence[float]]],
+    overrides: Mapping[str, object] | None = None,
+    workers: int | None = 1,
+) -> list[dict[str, object]]:
+    """Runs the points ``(grid index, values)`` on ``workers`` threads, GIL released (one Ray
+    task of ``sea_momentum.ray_backend``). Returns the rows as ``sweep`` does, in the order
+    given."""

@@ -6,6 +6,7 @@
 
 use pyo3::prelude::*;
 
+mod analysis;
 mod arrays;
 mod errors;
 mod model;
@@ -19,6 +20,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::PyModel>()?;
     m.add_class::<plant::PyPlant>()?;
     m.add_function(wrap_pyfunction!(scenario::run_scenario_native, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::linearize_native, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::stability_margin_native, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // The paper's 25 iCub joints, defined once in sea_sim's presets.
     let icub25 = pyo3::types::PyTuple::new(m.py(), sea_sim::scenario::presets::ICUB25_JOINTS)?;
