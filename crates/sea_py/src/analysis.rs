@@ -14,7 +14,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 /// `overrides` ({key: value}) as `key=value` pairs of TOML literals.
-fn override_pairs(
+pub(crate) fn override_pairs(
     overrides: Option<HashMap<String, Bound<'_, PyAny>>>,
 ) -> PyResult<Vec<(String, String)>> {
     let mut pairs = Vec::new();
