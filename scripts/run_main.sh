@@ -10,7 +10,9 @@ mkdir -p "$out"
 
 source scripts/setup_env.sh
 echo "== building sea-sim (reuses the crates compiled for the wheel)"
-cargo build --release -p sea_sim
+# --bin, not -p sea_sim: features are then resolved over the whole workspace, as for the wheel
+# (sea_py depends on every crate), so no dependency is compiled a second time.
+cargo build --release --bin sea-sim
 sea_sim="${CARGO_TARGET_DIR:-target}/release/sea-sim"
 
 echo "== the paper's experiments (python -m sea_momentum reproduce)"
