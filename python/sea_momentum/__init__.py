@@ -8,8 +8,19 @@ Conventions (the same everywhere):
 - ``M(q) nudot + h(q, nu) = B tau + sum_k J_k^T f_k``, gravity -9.81 m/s^2 along world z.
 """
 
-from ._native import ICUB25_JOINTS, Model, ModelError, Plant, __version__
+from ._native import (
+    ICUB25_JOINTS,
+    Model,
+    ModelError,
+    Plant,
+    ScenarioError,
+    SeaError,
+    SeaIOError,
+    SolverError,
+    __version__,
+)
 from .analysis import Linearization, linearize, stability_margin
+from .results import PlantOutputs, RunSummary, SimulationResult
 from .scenario import ScenarioResult, run_scenario
 
 __all__ = [
@@ -18,7 +29,14 @@ __all__ = [
     "Model",
     "ModelError",
     "Plant",
+    "PlantOutputs",
+    "RunSummary",
+    "ScenarioError",
     "ScenarioResult",
+    "SeaError",
+    "SeaIOError",
+    "SimulationResult",
+    "SolverError",
     "linearize",
     "run_scenario",
     "stability_margin",

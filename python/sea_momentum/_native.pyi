@@ -7,22 +7,64 @@ world z. Arrays are float64; array-likes are accepted and converted.
 """
 
 from os import PathLike
-from typing import Mapping, Sequence
+from typing import Mapping, Sequence, final
 
-import numpy as np
-import numpy.typing as npt
+from numpy.typing import ArrayLike
+
+# Imported under these names (not re-exported): float64 arrays, shapes in each docstring.
+from .results import Float64Array as Matrix
+from .results import Float64Array as Vector
+from .results import PlantOutputs, SimulationResult
+
+# The names the module defines (pyo3 fills the module's __all__ as items are added).
+__all__ = [
+    "SeaError",
+    "ModelError",
+    "ScenarioError",
+    "SolverError",
+    "SeaIOError",
+    "Model",
+    "Plant",
+    "run_scenario_native",
+    "linearize_native",
+    "stability_margin_native",
+    "__version__",
+    "ICUB25_JOINTS",
+]
 
 __version__: str
 ICUB25_JOINTS: tuple[str, ...]
 """The paper's 25 iCub joints in the original study's order (defined once, in Rust)."""
 
-ArrayLike = npt.ArrayLike
-Vector = npt.NDArray[np.float64]
-Matrix = npt.NDArray[np.float64]
+class SeaError(Exception):
+    """Base of every sea_momentum error (MCAP logging failures other than I/O raise it as is)."""
 
-class ModelError(ValueError):
-    """A robot description problem; the message names the URDF element and the condition."""
+class ModelError(SeaError, ValueError):
+    """The robot description is unusable: the message names the URDF element and the condition,
+    or the file (and line, when known) of a parse failure; also an unknown frame name."""
 
+    element: str
+    """The element, e.g. ``"joint 'r_knee'"`` or the unknown frame (not set for parse errors)."""
+
+class ScenarioError(SeaError, ValueError):
+    """A scenario value or controller setting breaks a rule (the message names the dotted key,
+    the rule and the value), or a scenario file is malformed TOML (file and line)."""
+
+    key: str
+    """The dotted key, e.g. ``"controller.postural_scale"`` (not set for TOML syntax errors)."""
+
+class SolverError(SeaError, RuntimeError):
+    """A numerical failure on well-formed input: a mass matrix that is not positive definite,
+    degenerate contact constraints, a failed factorisation in the implicit step."""
+
+    operation: str
+    """What was being computed, e.g. ``"factorising the mass matrix"``."""
+
+class SeaIOError(SeaError, OSError):
+    """Reading or writing a file failed; ``errno``, ``strerror`` (e.g. ``"No space left on
+    device"``) and ``filename`` are set."""
+
+@final
 class Model:
     """A floating-base robot model loaded from URDF, with the buffers of its algorithms.
 
@@ -89,8 +131,9 @@ class Model:
     def centroidal_momentum_bias(self, q: ArrayLike, nu: ArrayLike) -> Vector:
         """Adot_G nu, (6,): rate of the centroidal momentum at nudot = 0."""
 
-ActuatorSpec = str | Mapping[str, float | None]
+_ActuatorSpec = str | Mapping[str, float | None]
 
+@final
 class Plant:
     """A floating-base robot with series elastic (or rigid) actuators and rigid contacts.
 
@@ -104,26 +147,32 @@ class Plant:
     world axes. Not thread-safe: one Plant per thread.
     """
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         model: Model,
         *,
-        actuator: ActuatorSpec | None = None,
-        actuators: Mapping[str, ActuatorSpec] | None = None,
-        contacts: Sequence[str] = (),
+        actuator: _ActuatorSpec | None = None,
+        actuators: Mapping[str, _ActuatorSpec] | None = None,
+        contacts: Sequence[str] | None = None,
         contact_q: ArrayLike | None = None,
         baumgarte_kp: float | None = None,
         baumgarte_kd: float | None = None,
         motor_velocity_gain: float | None = None,
         joint_inertia_regularization: float = 0.0,
         gravity: tuple[float, float, float] | None = None,
-        friction: float = 1.0,
-        foot_x: tuple[float, float] = (-0.05, 0.10),
-        foot_y: tuple[float, float] = (-0.025, 0.025),
-    ) -> None:
+        friction: float | None = None,
+        foot_x: tuple[float, float] | None = None,
+        foot_y: tuple[float, float] | None = None,
+    ) -> Plant:
         """``actuator``: default for every joint, "rigid" (default), "elastic" (the paper's
         iCub SEA: ratio 0.01, motor_inertia 1e-5, stiffness 350, damping 0.25) or a dict of
-        those keys plus ``torque_limit``; ``actuators``: per-joint overrides by name."""
+        those keys plus ``torque_limit``; ``actuators``: per-joint overrides by name.
+        ``contacts``: frame names held at their pose in ``contact_q`` (None: no contacts).
+        ``baumgarte_kp``, ``baumgarte_kd``: contact stabilisation gains; None keeps the plant's
+        default (the original study's K_p = 50 and K_d = 2 sqrt(K_p), its critical damping).
+        ``friction``, ``foot_x``, ``foot_y`` (sole frame [m]): the sole's friction coefficient
+        and rectangle for the wrench margins; None keeps the default contact surface (the
+        original study's iCub sole: mu 1, x in [-0.05, 0.10], y in [-0.025, 0.025])."""
     @property
     def nx(self) -> int:
         """State size nq + nv + 2 n_e."""
@@ -151,13 +200,14 @@ class Plant:
         or, given ``joint_torques`` (n,), to the preload holding them:
         ``theta = (s + tau / k_s) / eta`` per elastic joint."""
     def split_state(self, x: ArrayLike) -> dict[str, Vector]:
-        """``{"q", "theta", "nu", "thetadot"}``."""
+        """``{"q": (nq,), "theta": (n_e,), "nu": (nv,), "thetadot": (n_e,)}``, float64 copies."""
     def dynamics(self, x: ArrayLike, u: ArrayLike) -> Vector:
         """dx/dt (nx), quaternion rate included: the right-hand side for scipy."""
-    def outputs(self, x: ArrayLike, u: ArrayLike) -> dict[str, Vector | float]:
-        """Contact wrenches (n_contacts, 6), joint torques (n), motor torques (n_e),
-        drift_position [m], drift_rotation [rad], normal_force, friction_margin, cop_margin
-        (per contact, sole frame, negative when violated)."""
+    def outputs(self, x: ArrayLike, u: ArrayLike) -> PlantOutputs:
+        """The outputs at (x, u), float64: ``contact_wrenches`` (n_contacts, 6), ``joint_torques``
+        (n,), ``motor_torques`` (n_e,), ``drift_position`` [m] and ``drift_rotation`` [rad]
+        (floats), ``normal_force``, ``friction_margin``, ``cop_margin`` (n_contacts,) each (sole
+        frame, negative when violated)."""
     def step(self, x: ArrayLike, u: ArrayLike, dt: float, method: str = "ros2") -> Vector:
         """One step: "ros2" (Rosenbrock-W, order 2, L-stable), "implicit_euler" or "rk4"."""
     def simulate(
@@ -168,10 +218,12 @@ class Plant:
         n_steps: int,
         method: str = "ros2",
         record_every: int = 1,
-    ) -> dict[str, object]:
-        """Native loop with ``u`` held (GIL released): time, x, contact_wrenches, motor_torques,
-        drift_position, drift_rotation, status ("completed" | "diverged"), diverged_at, message.
-        Data up to a divergence is kept."""
+    ) -> SimulationResult:
+        """Native loop with ``u`` held (GIL released), ``m`` recorded rows (the initial state,
+        every ``record_every``-th step, the last one), float64: ``time`` (m,), ``x`` (m, nx),
+        ``contact_wrenches`` (m, n_contacts, 6), ``motor_torques`` (m, n_e), ``drift_position``
+        (m,), ``drift_rotation`` (m,); ``status`` ("completed" | "diverged"), ``diverged_at``
+        (float or None), ``message``. Data up to a divergence is kept."""
 
 def run_scenario_native(
     path: str,
@@ -179,7 +231,14 @@ def run_scenario_native(
     mcap: str | None = None,
     progress: bool = False,
 ) -> dict[str, object]:
-    """Runs a TOML scenario natively (GIL released); use ``sea_momentum.run_scenario``."""
+    """Runs a TOML scenario natively (GIL released); use ``sea_momentum.run_scenario``.
+
+    Returns float64 arrays (m recorded ticks): ``time`` (m,), ``x`` (m, nx),
+    ``thetadot_desired`` (m, n_e), ``com`` (m, 3), ``com_reference`` (m, 3), ``momentum``
+    (m, 6), ``contact_wrenches`` (m, n_contacts, 6), ``motor_torques`` (m, n_e),
+    ``joint_error_norm`` (m,), ``qp_solved`` (m,); ints ``nq``, ``nv``, ``ne``; name lists
+    ``joint_names``, ``elastic_joints``, ``contacts``; ``summary``, the keyword arguments of
+    ``sea_momentum.results.RunSummary``."""
 
 # --- Stability analysis (sea_momentum.analysis) ---
 
@@ -209,38 +268,3 @@ def stability_margin_native(
     """Stability boundaries of a scenario key (GIL released); use
     ``sea_momentum.stability_margin``. Returns ``parameter``, ``boundaries`` (ascending),
     ``method``, ``evaluations`` and ``samples`` (list of (value, stable, growth_rate or None))."""
-
-# --- Sweeps (sea_momentum.sweep, sea_momentum.ray_backend) ---
-
-def sweep_grid(
-    path: str,
-    grid: Sequence[str],
-    overrides: Mapping[str, object] | None = None,
-) -> dict[str, object]:
-    """Parses and checks grid specifications (``KEY=V1,V2,...`` or
-    ``KEY=START:STOP:COUNT[:log]``) on a scenario. Returns ``keys`` (list[str]), ``points``
-    (list[list[float]], the last key varying fastest) and ``columns`` (the row fields in
-    order). Raises ScenarioError naming the key and the value."""
-
-def sweep(
-    path: str,
-    grid: Sequence[str],
-    overrides: Mapping[str, object] | None = None,
-    workers: int | None = None,
-    progress: bool = False,
-) -> dict[str, object]:
-    """Runs every point of a grid on ``workers`` threads (None: every core), GIL released;
-    use ``sea_momentum.sweep``. Returns ``keys``, ``columns``, ``rows`` (list of dicts in grid
-    order: ``index``, the grid values by key, ``status``, ``message``, the summary fields),
-    ``total`` and ``interrupted`` (Ctrl-C: the rows done)."""
-
-def sweep_batch(
-    path: str,
-    keys: Sequence[str],
-    points: Sequence[tuple[int, Sequence[float]]],
-    overrides: Mapping[str, object] | None = None,
-    workers: int | None = 1,
-) -> list[dict[str, object]]:
-    """Runs the points ``(grid index, values)`` on ``workers`` threads, GIL released (one Ray
-    task of ``sea_momentum.ray_backend``). Returns the rows as ``sweep`` does, in the order
-    given."""
