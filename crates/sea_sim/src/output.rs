@@ -193,6 +193,25 @@ impl OutputFile {
         self.file.try_clone().map_err(with_path(&self.target))
     }
 
+    /// `error` with an I/O failure on the partial file reported on the target, so the user
+    /// reads the name they gave (`run.mcap (written as .run.mcap.partial): No space left on
+    /// device`). Other errors pass through.
+    pub fn explain(&self, error: Error) -> Error {
+        match error {
+            Error::Io { path, source } if self.replace && Path::new(&path) == self.writing => {
+                Error::Io {
+                    path: format!(
+                        "{} (written as {})",
+                        self.target.display(),
+                        self.writing.display()
+                    ),
+                    source,
+                }
+            }
+            other => other,
+        }
+    }
+
     /// Writes all of `bytes` and flushes them to the disk.
     ///
     /// Errors: [`Error::Io`] naming the target with the OS cause (e.g. "No space left on

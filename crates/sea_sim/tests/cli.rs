@@ -525,3 +525,55 @@ fn closed_stdout_and_stderr_do_not_abort_the_run() {
     assert_eq!(status.code(), Some(0));
     assert_eq!(summary(&summary_path)["status"], "completed");
 }
+
+/// A tiny tmpfs mounted on a folder, unmounted on drop; `None` where mounting is not allowed.
+struct TinyFileSystem(PathBuf);
+
+impl TinyFileSystem {
+    fn mount(dir: PathBuf, size: &str) -> Option<Self> {
+        std::fs::create_dir_all(&dir).ok()?;
+        let mounted = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(&dir)
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        mounted.then_some(Self(dir))
+    }
+}
+
+impl Drop for TinyFileSystem {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+    }
+}
+
+#[test]
+fn a_full_file_system_keeps_the_earlier_log_and_names_the_file() {
+    let ws = Workspace::new("tmpfs");
+    let Some(fs) = TinyFileSystem::mount(ws.path("tiny"), "256k") else {
+        eprintln!("cannot mount a tmpfs here; skipped (/dev/full is tested above)");
+        return;
+    };
+    let mcap = fs.0.join("run.mcap");
+    let earlier = b"an earlier log the run must not destroy".repeat(100);
+    std::fs::write(&mcap, &earlier).unwrap();
+    let out = sea_sim(&[
+        "run",
+        &ws.scenario(),
+        "--set",
+        "simulation.duration_s=5",
+        "--quiet",
+        "--mcap",
+        mcap.to_str().unwrap(),
+    ]);
+    let message = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{message}");
+    assert!(message.contains(mcap.to_str().unwrap()), "{message}");
+    assert!(message.contains("No space left on device"), "{message}");
+    assert_eq!(std::fs::read(&mcap).unwrap(), earlier);
+    assert!(
+        !fs.0.join(".run.mcap.partial").exists(),
+        "the partial file is removed"
+    );
+}

@@ -342,7 +342,10 @@ fn run_scenario(args: &RunArgs, interrupts: &Interrupts) -> sea_sim::Result<Outc
         progress.update(t, total);
     });
     progress.finish();
-    let summary = result?;
+    let summary = match (result, &outputs.mcap) {
+        (Err(e), Some(mcap)) => return Err(mcap.explain(e)),
+        (result, _) => result?,
+    };
     let json = serde_json::to_string_pretty(&summary.to_json())
         .map_err(|e| sea_sim::Error::Log(format!("summary JSON: {e}")))?;
     finish_outputs(outputs, &json)?;
