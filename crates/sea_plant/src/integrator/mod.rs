@@ -15,6 +15,11 @@
 //!
 //! Also: `LinearlyImplicitEuler` (one stage of the same `W`, first order, L-stable) and the
 //! explicit classical `Rk4` (as Runge-Kutta-Munthe-Kaas on the rotation) for comparison.
+//!
+//! Inputs: [`step`] holds `u` over the step (a sampled controller, zero-order hold);
+//! [`step_with_feedback`] evaluates a feedback law at every stage (a controller in continuous
+//! time). Both run the same scheme code, which sees the dynamics only through a stage
+//! evaluation `eval(pd, time offset, x_stage)`.
 
 use crate::dynamics::{evaluate, PlantData};
 use crate::error::{Error, Result};
@@ -42,9 +47,11 @@ impl Method {
             "ros2" => Ok(Method::Ros2),
             "implicit_euler" => Ok(Method::LinearlyImplicitEuler),
             "rk4" => Ok(Method::Rk4),
-            other => Err(Error::input(format!(
-                "unknown integration method '{other}' (expected 'ros2', 'implicit_euler' or 'rk4')"
-            ))),
+            other => Err(Error::invalid(
+                "method",
+                "'ros2', 'implicit_euler' or 'rk4'",
+                format!("'{other}'"),
+            )),
         }
     }
 }
@@ -63,22 +70,67 @@ pub fn step(
     method: Method,
     x_out: &mut [f64],
 ) -> Result<()> {
-    match method {
-        Method::Ros2 => ros2(plant, pd, x, u, dt, x_out),
-        Method::LinearlyImplicitEuler => implicit_euler(plant, pd, x, u, dt, x_out),
-        Method::Rk4 => rk4(plant, pd, x, u, dt, x_out),
-    }
+    let mut held =
+        |pd: &mut PlantData, _offset: f64, x_stage: &[f64]| evaluate(plant, pd, x_stage, u);
+    step_with(plant, pd, x, dt, method, &mut held, x_out)
 }
 
-fn ros2(
+/// One step of size `dt` from `x` at time `t` whose input is the feedback law
+/// `law(t_stage, x_stage, u)`, evaluated at every stage, the way a controller inside an ODE
+/// solver's right-hand side is (the paper's setting); writes `x_out`. `u` (n) is the law's
+/// output buffer. Stage times: `t` (linearly implicit Euler), `t, t + dt` (ROS2),
+/// `t, t + dt/2, t + dt/2, t + dt` (RK4); the first stage is always `(t, x)`. `W` keeps only
+/// the plant's stiff terms (the law is treated explicitly), which a W-method allows without
+/// losing its order. On success `pd` holds the evaluation at `x`.
+///
+/// The law's error type `E` is the caller's (any type a plant error converts into), so a
+/// controller failure reaches the caller as itself.
+#[allow(clippy::too_many_arguments)] // the step's inputs, as in `step`, plus the law's buffer
+pub fn step_with_feedback<E: From<Error>>(
     plant: &Plant,
     pd: &mut PlantData,
     x: &[f64],
-    u: &[f64],
+    t: f64,
     dt: f64,
+    method: Method,
+    law: &mut impl FnMut(f64, &[f64], &mut [f64]) -> std::result::Result<(), E>,
+    u: &mut [f64],
     x_out: &mut [f64],
-) -> Result<()> {
-    evaluate(plant, pd, x, u)?;
+) -> std::result::Result<(), E> {
+    let mut feedback = |pd: &mut PlantData, offset: f64, x_stage: &[f64]| {
+        law(t + offset, x_stage, u)?;
+        evaluate(plant, pd, x_stage, u).map_err(E::from)
+    };
+    step_with(plant, pd, x, dt, method, &mut feedback, x_out)
+}
+
+/// One step whose dynamics at each stage come from `eval(pd, offset, x_stage)`: the stage's
+/// time offset from the step start and its state; `eval` leaves the derivative in `pd`.
+fn step_with<E: From<Error>>(
+    plant: &Plant,
+    pd: &mut PlantData,
+    x: &[f64],
+    dt: f64,
+    method: Method,
+    eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
+    x_out: &mut [f64],
+) -> std::result::Result<(), E> {
+    match method {
+        Method::Ros2 => ros2(plant, pd, x, dt, eval, x_out),
+        Method::LinearlyImplicitEuler => implicit_euler(plant, pd, x, dt, eval, x_out),
+        Method::Rk4 => rk4(plant, pd, x, dt, eval, x_out),
+    }
+}
+
+fn ros2<E: From<Error>>(
+    plant: &Plant,
+    pd: &mut PlantData,
+    x: &[f64],
+    dt: f64,
+    eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
+    x_out: &mut [f64],
+) -> std::result::Result<(), E> {
+    eval(pd, 0.0, x)?;
     // Keep the step-start outputs: the second evaluation would overwrite them.
     pd.save_outputs();
     prepare_implicit(plant, pd, GAMMA * dt)?;
@@ -87,7 +139,8 @@ fn ros2(
     solve_implicit(plant, pd, &rhs, &mut k1);
     let mut x_stage = std::mem::take(&mut pd.x_stage);
     retract(plant, x, &k1, dt, &mut x_stage);
-    let second = evaluate(plant, pd, &x_stage, u);
+    // The second stage sits at t + dt: the time row of W is the identity, so k1_t = 1.
+    let second = eval(pd, dt, &x_stage);
     if second.is_ok() {
         rhs.copy_from(&pd.xdot);
         rhs.axpy(-2.0, &k1, 1.0);
@@ -103,15 +156,15 @@ fn ros2(
     second
 }
 
-fn implicit_euler(
+fn implicit_euler<E: From<Error>>(
     plant: &Plant,
     pd: &mut PlantData,
     x: &[f64],
-    u: &[f64],
     dt: f64,
+    eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
     x_out: &mut [f64],
-) -> Result<()> {
-    evaluate(plant, pd, x, u)?;
+) -> std::result::Result<(), E> {
+    eval(pd, 0.0, x)?;
     prepare_implicit(plant, pd, dt)?;
     let [mut k1, k2, mut rhs, combo] = std::mem::take(&mut pd.stage);
     rhs.copy_from(&pd.xdot);
@@ -140,30 +193,30 @@ fn dexp_inv_correction(
 }
 
 /// Classical RK4 as a Runge-Kutta-Munthe-Kaas method on the base rotation.
-fn rk4(
+fn rk4<E: From<Error>>(
     plant: &Plant,
     pd: &mut PlantData,
     x: &[f64],
-    u: &[f64],
     dt: f64,
+    eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
     x_out: &mut [f64],
-) -> Result<()> {
+) -> std::result::Result<(), E> {
     let [mut k1, mut k2, mut k3, mut sum] = std::mem::take(&mut pd.stage);
     let mut x_stage = std::mem::take(&mut pd.x_stage);
     let result = (|| {
-        evaluate(plant, pd, x, u)?;
+        eval(pd, 0.0, x)?;
         pd.save_outputs();
         k1.copy_from(&pd.xdot);
         retract(plant, x, &k1, 0.5 * dt, &mut x_stage);
-        evaluate(plant, pd, &x_stage, u)?;
+        eval(pd, 0.5 * dt, &x_stage)?;
         k2.copy_from(&pd.xdot);
         dexp_inv_correction(&mut k2, &k1, 0.5 * dt);
         retract(plant, x, &k2, 0.5 * dt, &mut x_stage);
-        evaluate(plant, pd, &x_stage, u)?;
+        eval(pd, 0.5 * dt, &x_stage)?;
         k3.copy_from(&pd.xdot);
         dexp_inv_correction(&mut k3, &k2, 0.5 * dt);
         retract(plant, x, &k3, dt, &mut x_stage);
-        evaluate(plant, pd, &x_stage, u)?;
+        eval(pd, dt, &x_stage)?;
         // sum = (k1 + 2 k2 + 2 k3 + k4) / 6
         sum.copy_from(&pd.xdot);
         dexp_inv_correction(&mut sum, &k3, dt);

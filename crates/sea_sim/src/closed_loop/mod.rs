@@ -1,0 +1,139 @@
+//! The closed loop: the controller sampled with zero-order hold at its rate or continuously
+//! (at every integrator stage), the plant with its motor velocity loop, divergence detection,
+//! recording into sinks, online summary statistics, and cancellation.
+//!
+//! - [`tick`]: one sample period (the controller's evaluation, the bounds, the plant's
+//!   advance);
+//! - [`sampling`]: `controller.sampling` and the run's time grid;
+//! - [`record`]: [`Sample`], the [`RecordSink`] trait, the in-memory [`RunRecord`] and the
+//!   MCAP [`McapSink`];
+//! - [`statistics`]: running statistics and the [`Summary`].
+//!
+//! A run stops as "diverged" when the controller or a plant step fails, the state is not
+//! finite, the CoM error exceeds `simulation.divergence_com_error_m` or the joint error norm
+//! exceeds `simulation.divergence_joint_error_rad`; the sample that crossed a bound is the
+//! last one recorded, and the reason names the quantity, its value and the bound. A raised
+//! cancellation flag stops the run at the next sample with status "interrupted". Either way
+//! the sinks are finished (the MCAP log gets its summary section).
+
+mod record;
+mod sampling;
+mod statistics;
+mod tick;
+
+pub use crate::scenario::{build, Setup};
+pub use record::{McapSink, RecordSink, RunInfo, RunRecord, Sample};
+pub use sampling::{equal_steps, Sampling, Schedule};
+pub use statistics::{RunEnd, RunTotals, RunningStatistics, Summary};
+
+use crate::error::Result;
+use crate::scenario::Scenario;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+use tick::Engine;
+
+/// Runs a scenario into an in-memory record and, when `mcap` is given, an MCAP log;
+/// `progress(t, duration)` is called about once per simulated second. Not cancellable: see
+/// [`run_with_sinks`].
+pub fn run(
+    scenario: &Scenario,
+    mcap: Option<&Path>,
+    progress: impl FnMut(f64, f64),
+) -> Result<(RunRecord, Summary)> {
+    let mut record = RunRecord::default();
+    let mut log = mcap.map(McapSink::new);
+    let mut sinks: Vec<&mut dyn RecordSink> = vec![&mut record];
+    if let Some(log) = log.as_mut() {
+        sinks.push(log);
+    }
+    let summary = run_with_sinks(scenario, &mut sinks, &AtomicBool::new(false), progress)?;
+    Ok((record, summary))
+}
+
+/// Runs a scenario, handing every recorded sample to each of `sinks` (none: only the
+/// summary, in constant memory). `cancel` is read at every sample: once it is `true` the run
+/// records the current sample and ends with status "interrupted" at the time reached.
+/// `progress(t, duration)` is called about once per simulated second. The sinks are finished
+/// however the run ends; a sink error ends the run and is returned (after finishing the
+/// others).
+pub fn run_with_sinks(
+    scenario: &Scenario,
+    sinks: &mut [&mut dyn RecordSink],
+    cancel: &AtomicBool,
+    mut progress: impl FnMut(f64, f64),
+) -> Result<Summary> {
+    let mut setup = build(scenario)?;
+    let start = Instant::now();
+    let mut engine = Engine::new(scenario, &mut setup)?;
+    let mut statistics = RunningStatistics::default();
+    let info = engine.info();
+    let outcome = sinks
+        .iter_mut()
+        .try_for_each(|sink| sink.begin(&info))
+        .and_then(|()| drive(&mut engine, sinks, &mut statistics, cancel, &mut progress));
+    let finished = sinks
+        .iter_mut()
+        .map(|sink| sink.finish())
+        .fold(Ok(()), Result::and);
+    let (end, duration_s) = outcome?;
+    finished?;
+    let (clarabel_solves, _) = engine.law.controller.qp_solves();
+    let totals = RunTotals {
+        duration_s,
+        qp_failures: engine.law.controller.qp_failures(),
+        qp_clarabel_solves: clarabel_solves,
+        wall_time_s: start.elapsed().as_secs_f64(),
+    };
+    let sampling = engine.schedule.sampling.name();
+    Ok(Summary::new(&end, sampling, &statistics, totals))
+}
+
+/// The loop over samples: each period's observation goes to the statistics and, every
+/// `simulation.record_every` samples and at the last one, to the sinks. Returns how the run
+/// ended and the time reached.
+fn drive(
+    engine: &mut Engine<'_>,
+    sinks: &mut [&mut dyn RecordSink],
+    statistics: &mut RunningStatistics,
+    cancel: &AtomicBool,
+    progress: &mut impl FnMut(f64, f64),
+) -> Result<(RunEnd, f64)> {
+    let record_every = engine.record_every();
+    let duration = engine.duration();
+    let mut last_progress = 0.0;
+    for index in 0..=engine.schedule.last_sample {
+        let time = engine.schedule.time(index);
+        let period = match engine.period(index, cancel.load(Ordering::Relaxed)) {
+            Ok(period) => period,
+            Err(reason) => return Ok((RunEnd::Diverged { at_s: time, reason }, time)),
+        };
+        let observation = &period.observation;
+        let lateral = observation.output.com.y - observation.reference.position.y;
+        let thetadot = engine.layout().thetadot(engine.state());
+        statistics.add(
+            time,
+            observation.com_error,
+            lateral,
+            observation.joint_error,
+            thetadot,
+        );
+        if index % record_every == 0 || period.end.is_some() {
+            let sample = engine.sample(observation);
+            for sink in sinks.iter_mut() {
+                sink.record(&sample)?;
+            }
+        }
+        if let Some(end) = period.end {
+            return Ok((end, time));
+        }
+        engine.commit();
+        if time - last_progress >= 1.0 {
+            last_progress = time;
+            progress(time, duration);
+        }
+    }
+    // The last sample always ends the run (Engine::period); kept total for the compiler.
+    let last = engine.schedule.last_sample;
+    Ok((RunEnd::Completed, engine.schedule.time(last)))
+}

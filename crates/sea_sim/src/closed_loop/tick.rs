@@ -1,0 +1,363 @@
+//! One sample period of the closed loop: the controller's evaluation at a state
+//! ([`Law::observe`]), the divergence bounds, and the plant's advance to the next sample with
+//! the input held (zero-order hold) or the controller at every integrator stage (continuous).
+
+use super::record::{RunInfo, Sample};
+use super::sampling::{Sampling, Schedule};
+use super::statistics::RunEnd;
+use crate::error::{Error, Result};
+use crate::scenario::{Scenario, Setup};
+use sea_ctrl::controller::{ControlOutput, MomentumController};
+use sea_ctrl::references::{ComSample, ComTrajectory, PostureReference};
+use sea_dyn::Model;
+use sea_plant::integrator::step_with_feedback;
+use sea_plant::{Method, Plant, PlantData, StateLayout};
+
+/// The controller with its references: the feedback law `(t, x) -> plant input`.
+pub(super) struct Law<'a> {
+    /// The controller.
+    pub controller: &'a mut MomentumController,
+    com_reference: &'a ComTrajectory,
+    posture: &'a PostureReference,
+    layout: StateLayout,
+    /// Postural reference `s_d(t)` of the last evaluation (n).
+    s_desired: Vec<f64>,
+}
+
+/// The controller's evaluation at one state.
+pub(super) struct Observation {
+    /// Time [s].
+    pub time: f64,
+    /// Controller output (plant input, CoM, momentum, QP status).
+    pub output: ControlOutput,
+    /// CoM reference at `time`.
+    pub reference: ComSample,
+    /// `|p_com - p_com_d|` [m].
+    pub com_error: f64,
+    /// `|s - s_d|` [rad].
+    pub joint_error: f64,
+}
+
+impl Observation {
+    /// The bound this observation crosses, as the reason of a divergence: the quantity, its
+    /// value and the bound. A NaN error counts as crossing.
+    fn bound_crossed(&self, scenario: &Scenario) -> Option<String> {
+        let simulation = &scenario.simulation;
+        let (com_bound, joint_bound) = (
+            simulation.divergence_com_error_m,
+            simulation.divergence_joint_error_rad,
+        );
+        if exceeds(self.com_error, com_bound) {
+            Some(format!(
+                "CoM error {:.4} m over the bound {com_bound} m",
+                self.com_error
+            ))
+        } else if exceeds(self.joint_error, joint_bound) {
+            Some(format!(
+                "joint error norm {:.4} rad over the bound {joint_bound} rad",
+                self.joint_error
+            ))
+        } else {
+            None
+        }
+    }
+}
+
+/// `value > bound`, and NaN (an undefined error) counts as over.
+fn exceeds(value: f64, bound: f64) -> bool {
+    value > bound || value.is_nan()
+}
+
+impl Law<'_> {
+    /// Evaluates the controller at `(time, x)`.
+    pub fn observe(&mut self, time: f64, x: &[f64]) -> Result<Observation> {
+        let reference = self.com_reference.sample(time);
+        self.posture.at(time, &mut self.s_desired);
+        let output = self
+            .controller
+            .compute(x, &self.layout, &reference, &self.s_desired)?;
+        let com_error = (output.com - reference.position).norm();
+        let joint_error = self
+            .layout
+            .s(x)
+            .iter()
+            .zip(&self.s_desired)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum::<f64>()
+            .sqrt();
+        Ok(Observation {
+            time,
+            output,
+            reference,
+            com_error,
+            joint_error,
+        })
+    }
+}
+
+/// Plant outputs at the state of a sample (copied out of `PlantData`).
+#[derive(Default)]
+struct PlantOutputs {
+    wrench: Vec<f64>,
+    motor_torque: Vec<f64>,
+    joint_torque: Vec<f64>,
+}
+
+impl PlantOutputs {
+    fn copy_from(&mut self, pd: &PlantData) {
+        for (target, source) in [
+            (&mut self.wrench, &pd.contact_wrench),
+            (&mut self.motor_torque, &pd.motor_torque),
+            (&mut self.joint_torque, &pd.joint_torque),
+        ] {
+            target.clear();
+            target.extend_from_slice(source.as_slice());
+        }
+    }
+}
+
+/// What one sample period gave: the evaluation at its start and, when the run stops there,
+/// how it ended.
+pub(super) struct Period {
+    /// The controller's evaluation at the sample.
+    pub observation: Observation,
+    /// `Some` when the run ends at this sample.
+    pub end: Option<RunEnd>,
+}
+
+/// The loop's state between samples: the plant, the law, the schedule and the buffers, all
+/// allocated once.
+pub(super) struct Engine<'a> {
+    scenario: &'a Scenario,
+    model: &'a Model,
+    elastic_names: &'a [String],
+    plant: &'a Plant,
+    /// The feedback law.
+    pub law: Law<'a>,
+    /// The time grid.
+    pub schedule: Schedule,
+    method: Method,
+    layout: StateLayout,
+    pd: PlantData,
+    x: Vec<f64>,
+    x_next: Vec<f64>,
+    x_step: Vec<f64>,
+    u: Vec<f64>,
+    outputs: PlantOutputs,
+}
+
+impl<'a> Engine<'a> {
+    /// The loop of `setup` on the grid of `scenario`, at the initial state.
+    pub fn new(scenario: &'a Scenario, setup: &'a mut Setup) -> Result<Engine<'a>> {
+        let schedule = Schedule::of(scenario)?;
+        let method = Method::parse(&scenario.plant.method)
+            .map_err(|e| Error::config("plant.method", e.to_string()))?;
+        let Setup {
+            model,
+            plant,
+            controller,
+            x0,
+            com_reference,
+            posture,
+            elastic_names,
+        } = setup;
+        let layout = plant.layout();
+        let n = model.n_joints();
+        Ok(Engine {
+            scenario,
+            model,
+            elastic_names,
+            plant,
+            law: Law {
+                controller,
+                com_reference,
+                posture,
+                layout,
+                s_desired: vec![0.0; n],
+            },
+            schedule,
+            method,
+            layout,
+            pd: PlantData::new(plant),
+            x: x0.clone(),
+            x_next: x0.clone(),
+            x_step: x0.clone(),
+            u: vec![0.0; n],
+            outputs: PlantOutputs::default(),
+        })
+    }
+
+    /// What the sinks learn before the first sample.
+    pub fn info(&self) -> RunInfo<'_> {
+        RunInfo {
+            model: self.model,
+            layout: self.layout,
+            elastic_joints: self.elastic_names,
+            contacts: &self.scenario.robot.contacts,
+        }
+    }
+
+    /// Record every this many samples (`simulation.record_every`, at least 1).
+    pub fn record_every(&self) -> usize {
+        self.scenario.simulation.record_every.max(1)
+    }
+
+    /// The simulated duration asked for (`simulation.duration_s`) [s].
+    pub fn duration(&self) -> f64 {
+        self.scenario.simulation.duration_s
+    }
+
+    /// The state layout.
+    pub fn layout(&self) -> StateLayout {
+        self.layout
+    }
+
+    /// Runs the period that starts at sample `index`: evaluates the controller there, stops
+    /// (evaluating the plant for the record) when a bound is crossed, `interrupted` is set or
+    /// the run is over, and otherwise advances the plant to the next sample (see
+    /// [`Engine::commit`]). `Err` carries the reason when the controller fails at the sample
+    /// itself (then there is nothing to record).
+    pub fn period(
+        &mut self,
+        index: usize,
+        interrupted: bool,
+    ) -> std::result::Result<Period, String> {
+        let time = self.schedule.time(index);
+        let last = index == self.schedule.last_sample;
+        if self.schedule.sampling == Sampling::Continuous && !(last || interrupted) {
+            return self.continuous_period(time);
+        }
+        let observation = self
+            .law
+            .observe(time, &self.x)
+            .map_err(|e| format!("controller: {e}"))?;
+        let stop = match observation.bound_crossed(self.scenario) {
+            Some(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
+            None if interrupted => Some(RunEnd::Interrupted),
+            None if last => Some(RunEnd::Completed),
+            None => None,
+        };
+        let failure = match stop {
+            Some(_) => self.evaluate_here(&observation.output.input),
+            None => self.advance_held(&observation.output.input),
+        };
+        let end = match failure {
+            Err(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
+            Ok(()) => stop,
+        };
+        Ok(Period { observation, end })
+    }
+
+    /// Evaluates the plant at the current state with input `u`, for the record.
+    fn evaluate_here(&mut self, u: &[f64]) -> std::result::Result<(), String> {
+        let result = sea_plant::evaluate(self.plant, &mut self.pd, &self.x, u);
+        self.outputs.copy_from(&self.pd);
+        result.map_err(|e| format!("plant: {e}"))
+    }
+
+    /// Zero-order hold: the plant steps over one control period with `u` held, into `x_next`;
+    /// the first step's start evaluation gives the outputs at the current state.
+    fn advance_held(&mut self, u: &[f64]) -> std::result::Result<(), String> {
+        let steps = self.schedule.steps_per_period;
+        self.x_step.copy_from_slice(&self.x);
+        for k in 0..steps {
+            let result = sea_plant::step(
+                self.plant,
+                &mut self.pd,
+                &self.x_step,
+                u,
+                self.schedule.step,
+                self.method,
+                &mut self.x_next,
+            );
+            if k == 0 {
+                self.outputs.copy_from(&self.pd);
+            }
+            result.map_err(|e| format!("plant step: {e}"))?;
+            if self.x_next.iter().any(|v| !v.is_finite()) {
+                return Err("non-finite state".into());
+            }
+            std::mem::swap(&mut self.x_step, &mut self.x_next);
+        }
+        self.x_next.copy_from_slice(&self.x_step);
+        Ok(())
+    }
+
+    /// Continuous sampling: one plant step with the controller at every stage, into `x_next`.
+    /// The first stage is the evaluation at `(time, x)`: it is the sample's observation, so
+    /// the controller runs no extra time for the record. When that observation crosses a
+    /// bound, the step's result is dropped and the run ends at `time`.
+    fn continuous_period(&mut self, time: f64) -> std::result::Result<Period, String> {
+        let mut first: Option<Observation> = None;
+        let law = &mut self.law;
+        let mut feedback = |t: f64, x: &[f64], u: &mut [f64]| -> Result<()> {
+            let observation = law.observe(t, x)?;
+            u.copy_from_slice(&observation.output.input);
+            if first.is_none() {
+                first = Some(observation);
+            }
+            Ok(())
+        };
+        let result = step_with_feedback(
+            self.plant,
+            &mut self.pd,
+            &self.x,
+            time,
+            self.schedule.step,
+            self.method,
+            &mut feedback,
+            &mut self.u,
+            &mut self.x_next,
+        );
+        self.outputs.copy_from(&self.pd);
+        let Some(observation) = first else {
+            // Only the law fails before the first stage's observation exists.
+            return Err(match result {
+                Err(e) => format!("controller: {e}"),
+                Ok(()) => "controller: not evaluated".into(),
+            });
+        };
+        let failure = match (observation.bound_crossed(self.scenario), result) {
+            (Some(reason), _) => Some(reason),
+            (None, Err(e)) => Some(format!("step: {e}")),
+            (None, Ok(())) if self.x_next.iter().any(|v| !v.is_finite()) => {
+                Some("non-finite state".into())
+            }
+            (None, Ok(())) => None,
+        };
+        let end = failure.map(|reason| RunEnd::Diverged { at_s: time, reason });
+        Ok(Period { observation, end })
+    }
+
+    /// Moves to the next sample (after a period that did not end the run).
+    pub fn commit(&mut self) {
+        std::mem::swap(&mut self.x, &mut self.x_next);
+    }
+
+    /// The current state.
+    pub fn state(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// The record of `observation`, taken at the current state.
+    pub fn sample<'s>(&'s self, observation: &'s Observation) -> Sample<'s> {
+        let output = &observation.output;
+        let m = &output.momentum;
+        Sample {
+            time_s: observation.time,
+            state: &self.x,
+            layout: self.layout,
+            thetadot_desired: &output.thetadot_desired,
+            com: [output.com.x, output.com.y, output.com.z],
+            com_reference: observation.reference.position.into(),
+            momentum: [m[0], m[1], m[2], m[3], m[4], m[5]],
+            contact_wrenches: &self.outputs.wrench,
+            motor_torques: &self.outputs.motor_torque,
+            joint_torques: &self.outputs.joint_torque,
+            com_error_norm: observation.com_error,
+            joint_error_norm: observation.joint_error,
+            qp_status: &output.qp_status,
+            qp_failures: self.law.controller.qp_failures(),
+        }
+    }
+}
