@@ -86,13 +86,13 @@ fn check_factor(name: &str, model: &Model, m: &DMatrix<f64>, d: &[f64], rng: &mu
         factor.solve_l(&mut column);
         let mut row = unit(nv, i);
         factor.solve_lt(&mut row);
-        for w in 0..nv {
+        for (w, (c, r)) in column.iter().zip(&row).enumerate() {
             assert!(
-                column[w] == 0.0 || ancestors[w][i],
+                *c == 0.0 || ancestors[w][i],
                 "{name}: L^-1 e_{i} is non-zero at {w}, not a descendant"
             );
             assert!(
-                row[w] == 0.0 || ancestors[i][w],
+                *r == 0.0 || ancestors[i][w],
                 "{name}: L^-T e_{i} is non-zero at {w}, not an ancestor"
             );
         }
