@@ -10,9 +10,11 @@ Conventions (the same everywhere):
 
 from ._native import (
     ICUB25_JOINTS,
+    Controller,
     Model,
     ModelError,
     Plant,
+    Scenario,
     ScenarioError,
     SeaError,
     SeaIOError,
@@ -20,16 +22,20 @@ from ._native import (
     __version__,
 )
 from .analysis import Linearization, linearize, stability_margin
+from .controller import ControlOutput
 from .results import PlantOutputs, RunSummary, SimulationResult
 from .scenario import ScenarioResult, run_scenario
 
 __all__ = [
     "ICUB25_JOINTS",
+    "ControlOutput",
+    "Controller",
     "Linearization",
     "Model",
     "ModelError",
     "Plant",
     "PlantOutputs",
+    "Scenario",
     "RunSummary",
     "ScenarioError",
     "ScenarioResult",

@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike
 from .results import Float64Array as Matrix
 from .results import Float64Array as Vector
 from .results import PlantOutputs, SimulationResult
+from .controller import ControlOutput
 
 # The names the module defines (pyo3 fills the module's __all__ as items are added).
 __all__ = [
@@ -25,6 +26,8 @@ __all__ = [
     "SeaIOError",
     "Model",
     "Plant",
+    "Controller",
+    "Scenario",
     "run_scenario_native",
     "linearize_native",
     "stability_margin_native",
@@ -268,3 +271,103 @@ def stability_margin_native(
     """Stability boundaries of a scenario key (GIL released); use
     ``sea_momentum.stability_margin``. Returns ``parameter``, ``boundaries`` (ascending),
     ``method``, ``evaluations`` and ``samples`` (list of (value, stable, growth_rate or None))."""
+
+# --- The controller and the scenario as objects (sea_momentum.controller) ---
+
+@final
+class Controller:
+    """The momentum controller with its CoM and postural references: ``tick(t, x)`` is the
+    closed loop's feedback law at time ``t`` and plant state ``x = [q, theta, nu, thetadot]``
+    (``theta``, ``thetadot``: elastic joints only; a rigid robot has ``x = [q, nu]``).
+    Not thread-safe."""
+
+    def __new__(
+        cls,
+        model: Model,
+        contacts: Sequence[str],
+        q0: ArrayLike,
+        *,
+        actuators: Mapping[str, object] | None = None,
+        reference: Mapping[str, object] | None = None,
+        **settings: object,
+    ) -> Controller:
+        """A controller for ``model`` on ``contacts`` (stance foot first) held at their pose in
+        ``q0`` (nq); postural reference ``q0``'s joints. ``settings``: the keys of a scenario's
+        ``[controller]`` table; ``actuators``: the ``[actuators]`` table (default: the paper's
+        SEA; ``{"kind": "rigid"}`` for torque control); ``reference``: the ``[reference]``
+        table. Checked as in a scenario file (ScenarioError names the key)."""
+    @staticmethod
+    def from_table(
+        model: Model,
+        table: Mapping[str, object],
+        q0: ArrayLike,
+        contacts: Sequence[str],
+        actuators: Mapping[str, object] | None = None,
+        reference: Mapping[str, object] | None = None,
+    ) -> Controller:
+        """``Controller(model, contacts, q0, actuators=..., reference=..., **table)``."""
+    def tick(self, t: float, x: ArrayLike) -> ControlOutput:
+        """One tick at time ``t`` [s] and state ``x`` (nx)."""
+    def com_reference(self, t: float) -> Vector:
+        """The CoM reference at ``t``, (3,) world [m]."""
+    @property
+    def kind(self) -> str:
+        """"sea" or "rigid"."""
+    @property
+    def contacts(self) -> list[str]:
+        """Contact frames, the rows of ``ControlOutput.wrenches``."""
+    @property
+    def joint_names(self) -> list[str]:
+        """Joint names in coordinate order."""
+    @property
+    def nx(self) -> int:
+        """Size of the state ``tick`` reads."""
+    @property
+    def qp_failures(self) -> int:
+        """QP solves so far that fell back to the unconstrained solution."""
+
+@final
+class Scenario:
+    """A scenario file built as ``run_scenario`` builds it. With zero-order-hold sampling, the
+    run is ``out = controller.tick(k * control_period, x)`` then ``steps_per_tick`` times
+    ``x = plant.step(x, out.input, plant_dt, method)``, from ``initial_state``."""
+
+    @staticmethod
+    def load(path: str | PathLike[str], overrides: Mapping[str, object] | None = None) -> Scenario:
+        """Builds the scenario file ``path`` with ``overrides`` ({"controller.kind": "rigid"})."""
+    @property
+    def name(self) -> str:
+        """The scenario's name."""
+    @property
+    def model(self) -> Model:
+        """The robot model."""
+    @property
+    def plant(self) -> Plant:
+        """The plant, configured as the scenario says."""
+    @property
+    def controller(self) -> Controller:
+        """The controller with the scenario's references."""
+    @property
+    def initial_state(self) -> Vector:
+        """(nx,) initial state: at rest, springs preloaded."""
+    @property
+    def plant_dt(self) -> float:
+        """Plant step [s]."""
+    @property
+    def control_period(self) -> float:
+        """Time between two ticks [s]."""
+    @property
+    def steps_per_tick(self) -> int:
+        """Plant steps per tick."""
+    @property
+    def last_tick(self) -> int:
+        """Index of the last tick (duration / control_period)."""
+    @property
+    def sampling(self) -> str:
+        """"zero_order_hold" or "continuous"."""
+    @property
+    def method(self) -> str:
+        """The plant's integrator (``Plant.step``'s ``method``)."""
+    @property
+    def duration(self) -> float:
+        """``simulation.duration_s`` [s]."""

@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 
 mod analysis;
 mod arrays;
+mod controller;
 mod errors;
 mod model;
 mod plant;
@@ -19,6 +20,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ModelError", m.py().get_type::<errors::ModelError>())?;
     m.add_class::<model::PyModel>()?;
     m.add_class::<plant::PyPlant>()?;
+    m.add_class::<controller::PyController>()?;
+    m.add_class::<controller::PyScenario>()?;
     m.add_function(wrap_pyfunction!(scenario::run_scenario_native, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::linearize_native, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::stability_margin_native, m)?)?;

@@ -23,6 +23,18 @@ pub struct PyModel {
 }
 
 impl PyModel {
+    /// The Python object of a built model (with a fresh workspace).
+    pub(crate) fn from_model(model: Model) -> Self {
+        let data = Data::new(&model);
+        Self {
+            q: Vec::with_capacity(model.nq()),
+            nu: Vec::with_capacity(model.nv()),
+            nudot: Vec::with_capacity(model.nv()),
+            model,
+            data,
+        }
+    }
+
     /// The Rust model.
     pub fn model(&self) -> &Model {
         &self.model

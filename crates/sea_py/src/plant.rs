@@ -91,6 +91,17 @@ pub struct PyPlant {
 }
 
 impl PyPlant {
+    /// The Python object of a built plant (e.g. a scenario's), with a fresh workspace.
+    pub(crate) fn from_plant(plant: Plant) -> Self {
+        let data = PlantData::new(&plant);
+        Self {
+            plant,
+            data,
+            x: Vec::new(),
+            u: Vec::new(),
+        }
+    }
+
     fn load(&mut self, x: &Bound<'_, PyAny>, u: &Bound<'_, PyAny>) -> PyResult<()> {
         vector_arg(x, "x", self.plant.layout().nx(), &mut self.x)?;
         self.plant.check_state(&self.x).map_err(to_py)?;

@@ -48,7 +48,7 @@ fn load_model(scenario: &Scenario) -> Result<Model> {
 }
 
 /// Every joint's actuator: `[actuators]`, then the per-joint overrides.
-fn actuation(scenario: &Scenario, model: &Model) -> Result<Actuation> {
+pub fn actuation(scenario: &Scenario, model: &Model) -> Result<Actuation> {
     let actuators = &scenario.actuators;
     let default = actuators.default.actuator("actuators")?;
     let mut overrides = HashMap::new();
@@ -143,7 +143,7 @@ fn static_torques(model: &Model, q: &[f64], contacts: &[usize]) -> Vec<f64> {
 }
 
 /// The contact frames of `robot.contacts`, stance foot first.
-fn contact_frames(scenario: &Scenario, model: &Model) -> Result<Vec<FrameId>> {
+pub fn contact_frames(scenario: &Scenario, model: &Model) -> Result<Vec<FrameId>> {
     scenario
         .robot
         .contacts
@@ -202,7 +202,7 @@ fn initial_state(plant: &Plant, q: &[f64], contacts: &[FrameId]) -> Result<Vec<f
 
 /// The CoM reference of `[reference]`; its origin is the initial CoM or (`stance_sole`) the
 /// point above the stance sole origin at the initial CoM height.
-fn com_reference(
+pub fn com_reference(
     scenario: &Scenario,
     model: &Model,
     q: &[f64],
@@ -239,7 +239,11 @@ fn com_reference(
 }
 
 /// The postural reference: `s0`, plus the step of `[reference]` on its joints and groups.
-fn posture_reference(scenario: &Scenario, model: &Model, s0: Vec<f64>) -> Result<PostureReference> {
+pub fn posture_reference(
+    scenario: &Scenario,
+    model: &Model,
+    s0: Vec<f64>,
+) -> Result<PostureReference> {
     let r = &scenario.reference;
     let stepped = expand_joint_groups(&r.posture_step_joints, &model.joint_names)?;
     let step = model

@@ -1,0 +1,426 @@
+//! `sea_momentum.Controller` and `sea_momentum.Scenario`: the momentum controller as an object
+//! that any simulator (or a robot's state estimate) can drive tick by tick, and a scenario file
+//! built into its model, plant, controller and initial state.
+//!
+//! Both are built by `sea_sim::scenario` (the scenario's `build`, or the same functions on a
+//! model given from Python), so a Python loop of `Controller.tick` and `Plant.step` is the run
+//! of `run_scenario`.
+
+use crate::arrays::{matrix_rows_out, vector_arg, vector_out};
+use crate::errors::{argument_error, to_py};
+use crate::model::PyModel;
+use crate::plant::PyPlant;
+use crate::scenario::toml_literal;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use sea_ctrl::controller::{ControlOutput, ControllerKind, MomentumController};
+use sea_ctrl::qp::QpStatus;
+use sea_ctrl::references::{ComTrajectory, PostureReference};
+use sea_dyn::{Model, StateLayout};
+use sea_sim::closed_loop::Schedule;
+use sea_sim::scenario::{build, Scenario};
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+/// The momentum controller with its CoM and postural references: `tick(t, x)` is the
+/// closed loop's feedback law at time `t` and plant state `x`.
+///
+/// State x = [q (nq), theta (n_e), nu (nv), thetadot (n_e)] (theta, thetadot: elastic joints
+/// only; a rigid robot has x = [q, nu]). Build it from a `Model` with the keys of a scenario's
+/// `[controller]` table (`Controller(model, contacts, q0, **settings)` or
+/// `Controller.from_table`), or take a scenario's (`Scenario.load(path).controller`).
+#[pyclass(name = "Controller", module = "sea_momentum._native", unsendable)]
+pub struct PyController {
+    controller: MomentumController,
+    com_reference: ComTrajectory,
+    posture: PostureReference,
+    layout: StateLayout,
+    contacts: Vec<String>,
+    joint_names: Vec<String>,
+    /// Postural reference `s_d(t)` of the last tick (n).
+    s_desired: Vec<f64>,
+    /// The state of the last tick, copied from Python (nx).
+    x: Vec<f64>,
+    /// The last tick's outputs (allocated once).
+    output: ControlOutput,
+}
+
+impl PyController {
+    /// The object of a built controller and its references, reading states of `layout`.
+    fn new_built(
+        controller: MomentumController,
+        com_reference: ComTrajectory,
+        posture: PostureReference,
+        layout: StateLayout,
+        joint_names: Vec<String>,
+    ) -> Self {
+        let output = controller.new_output();
+        Self {
+            contacts: controller.settings().contacts.clone(),
+            s_desired: posture.initial.clone(),
+            x: Vec::with_capacity(layout.nx()),
+            controller,
+            com_reference,
+            posture,
+            layout,
+            joint_names,
+            output,
+        }
+    }
+
+    /// A controller for `model` from scenario tables given as Python dicts: `settings` is the
+    /// `[controller]` table, `actuators` the `[actuators]` table, `reference` the
+    /// `[reference]` table; the contacts are held at their pose in `q0` and the posture
+    /// reference is `q0`'s joints. The tables are checked exactly as in a scenario file.
+    fn from_tables(
+        model: &Model,
+        contacts: Vec<String>,
+        q0: &Bound<'_, PyAny>,
+        tables: [(&str, Option<&Bound<'_, PyDict>>); 3],
+    ) -> PyResult<Self> {
+        let mut q = Vec::new();
+        vector_arg(q0, "q0", model.nq(), &mut q)?;
+        model.check_configuration(&q).map_err(to_py)?;
+        let scenario = table_scenario(&contacts, &q[7..], tables)?;
+        sea_sim::scenario::validate::against_model(
+            &scenario,
+            model.total_mass(),
+            model.gravity.norm(),
+        )
+        .map_err(to_py)?;
+        let actuation = build::actuation(&scenario, model).map_err(to_py)?;
+        let frames = build::contact_frames(&scenario, model).map_err(to_py)?;
+        let settings = scenario
+            .controller_settings(&model.joint_names)
+            .map_err(to_py)?;
+        let controller = MomentumController::new(model, &actuation, settings, &q).map_err(to_py)?;
+        let com_reference = build::com_reference(&scenario, model, &q, frames[0]).map_err(to_py)?;
+        let posture = build::posture_reference(&scenario, model, q[7..].to_vec()).map_err(to_py)?;
+        let layout = StateLayout::new(model, &actuation);
+        Ok(Self::new_built(
+            controller,
+            com_reference,
+            posture,
+            layout,
+            model.joint_names.clone(),
+        ))
+    }
+
+    /// The tick's outputs, with the CoM reference `com_reference` (world) they tracked, as a
+    /// `sea_momentum.controller.ControlOutput`.
+    fn output_object<'py>(
+        &self,
+        py: Python<'py>,
+        com_reference: &[f64],
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let out = &self.output;
+        let fields = PyDict::new(py);
+        fields.set_item("com_reference", vector_out(py, com_reference))?;
+        fields.set_item("input", vector_out(py, &out.input))?;
+        fields.set_item("joint_command", vector_out(py, &out.joint_command))?;
+        fields.set_item("thetadot_desired", vector_out(py, &out.thetadot_desired))?;
+        fields.set_item("wrenches", matrix_rows_out(py, out.wrenches.as_slice(), 6))?;
+        let (status, message) = match &out.qp_status {
+            QpStatus::Solved => ("solved", ""),
+            QpStatus::Fallback(reason) => ("fallback", reason.as_str()),
+        };
+        fields.set_item("qp_status", status)?;
+        fields.set_item("qp_message", message)?;
+        fields.set_item("com", vector_out(py, out.com.as_slice()))?;
+        fields.set_item("momentum", vector_out(py, out.momentum.as_slice()))?;
+        py.import("sea_momentum.controller")?
+            .getattr("ControlOutput")?
+            .call((), Some(&fields))
+    }
+}
+
+/// A scenario holding only the tables a controller needs: `[robot]` with `contacts` and the
+/// initial posture `s0`, and the given tables (dicts, nested dicts are sub-tables) applied as
+/// overrides, so every key is parsed and validated as in a scenario file and errors name it
+/// (`controller.postural_scale`).
+fn table_scenario(
+    contacts: &[String],
+    s0: &[f64],
+    tables: [(&str, Option<&Bound<'_, PyDict>>); 3],
+) -> PyResult<Scenario> {
+    let mut robot = toml::Table::new();
+    // Never read: the model is given from Python (the scenario's build is not called).
+    robot.insert("urdf".into(), "(model given from Python)".into());
+    robot.insert("contacts".into(), contacts.to_vec().into());
+    robot.insert("initial_posture".into(), s0.to_vec().into());
+    let mut root = toml::Table::new();
+    root.insert("robot".into(), robot.into());
+    let mut pairs = Vec::new();
+    for (name, table) in tables {
+        if let Some(table) = table {
+            flatten_table(name, table, &mut pairs)?;
+        }
+    }
+    Scenario::from_toml(&root.to_string(), &pairs, std::path::Path::new(".")).map_err(to_py)
+}
+
+/// A dict's entries as `prefix.key=value` override pairs (TOML literals), nested dicts as
+/// dotted sub-keys.
+fn flatten_table(
+    prefix: &str,
+    table: &Bound<'_, PyDict>,
+    pairs: &mut Vec<(String, String)>,
+) -> PyResult<()> {
+    for (key, value) in table.iter() {
+        let key: String = key
+            .extract()
+            .map_err(|_| argument_error(prefix, "a dict with str keys", &key))?;
+        let dotted = format!("{prefix}.{key}");
+        match value.cast::<PyDict>() {
+            Ok(sub) => flatten_table(&dotted, sub, pairs)?,
+            Err(_) => pairs.push((dotted.clone(), toml_literal(&value, &dotted)?)),
+        }
+    }
+    Ok(())
+}
+
+#[pymethods]
+impl PyController {
+    /// A controller for `model` balancing on `contacts` (one or two frames, stance foot first),
+    /// held at their pose in `q0` (nq); the postural reference is `q0`'s joints.
+    ///
+    /// `settings`: the keys of a scenario's `[controller]` table (kind="rigid", postural_scale,
+    /// momentum_integral, contact={"friction": ...}, ...), defaults as in a scenario file.
+    /// `actuators`: the `[actuators]` table (default: the paper's SEA on every joint; use
+    /// {"kind": "rigid"} for a torque-controlled robot). `reference`: the `[reference]` table
+    /// (CoM sinusoid, com_origin "stance_sole" (default) or "initial", postural step).
+    #[new]
+    #[pyo3(signature = (model, contacts, q0, *, actuators=None, reference=None, **settings))]
+    fn new(
+        model: PyRef<'_, PyModel>,
+        contacts: Vec<String>,
+        q0: &Bound<'_, PyAny>,
+        actuators: Option<&Bound<'_, PyDict>>,
+        reference: Option<&Bound<'_, PyDict>>,
+        settings: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        Self::from_tables(
+            model.model(),
+            contacts,
+            q0,
+            [
+                ("controller", settings),
+                ("actuators", actuators),
+                ("reference", reference),
+            ],
+        )
+    }
+
+    /// The same as `Controller(model, contacts, q0, actuators=..., reference=..., **table)`
+    /// with the `[controller]` table as a dict.
+    #[staticmethod]
+    #[pyo3(signature = (model, table, q0, contacts, actuators=None, reference=None))]
+    fn from_table(
+        model: PyRef<'_, PyModel>,
+        table: &Bound<'_, PyDict>,
+        q0: &Bound<'_, PyAny>,
+        contacts: Vec<String>,
+        actuators: Option<&Bound<'_, PyDict>>,
+        reference: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        Self::from_tables(
+            model.model(),
+            contacts,
+            q0,
+            [
+                ("controller", Some(table)),
+                ("actuators", actuators),
+                ("reference", reference),
+            ],
+        )
+    }
+
+    /// One controller tick at time `t` [s] and plant state `x` (nx): a
+    /// `sea_momentum.ControlOutput` (plant input, joint command, desired motor velocities,
+    /// QP wrenches, QP status, CoM, momentum, CoM reference).
+    fn tick<'py>(
+        &mut self,
+        py: Python<'py>,
+        t: f64,
+        x: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        if !t.is_finite() {
+            return Err(argument_error("t", "a finite time [s]", t));
+        }
+        vector_arg(x, "x", self.layout.nx(), &mut self.x)?;
+        let reference = self.com_reference.sample(t);
+        self.posture.at(t, &mut self.s_desired);
+        self.controller
+            .compute_into(
+                &self.x,
+                &self.layout,
+                &reference,
+                &self.s_desired,
+                &mut self.output,
+            )
+            .map_err(to_py)?;
+        self.output_object(py, reference.position.as_slice())
+    }
+
+    /// The CoM reference at `t` [s]: position (3,) in world [m].
+    fn com_reference<'py>(&self, py: Python<'py>, t: f64) -> Bound<'py, numpy::PyArray1<f64>> {
+        vector_out(py, self.com_reference.sample(t).position.as_slice())
+    }
+
+    /// "sea" or "rigid".
+    #[getter]
+    fn kind(&self) -> &'static str {
+        match self.controller.settings().kind {
+            ControllerKind::Sea => "sea",
+            ControllerKind::Rigid => "rigid",
+        }
+    }
+
+    /// Contact frame names, the rows of `ControlOutput.wrenches`.
+    #[getter]
+    fn contacts(&self) -> Vec<String> {
+        self.contacts.clone()
+    }
+
+    /// Joint names in coordinate order.
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.joint_names.clone()
+    }
+
+    /// Size of the state `tick` reads, nq + nv + 2 n_e.
+    #[getter]
+    fn nx(&self) -> usize {
+        self.layout.nx()
+    }
+
+    /// QP solves so far that fell back to the unconstrained solution.
+    #[getter]
+    fn qp_failures(&self) -> usize {
+        self.controller.qp_failures()
+    }
+}
+
+/// A scenario file built: the model, the plant configured as the scenario says, the
+/// controller with its references, the initial state and the time grid of its closed loop.
+#[pyclass(name = "Scenario", module = "sea_momentum._native", unsendable)]
+pub struct PyScenario {
+    name: String,
+    model: Py<PyModel>,
+    plant: Py<PyPlant>,
+    controller: Py<PyController>,
+    initial_state: Vec<f64>,
+    schedule: Schedule,
+    method: String,
+    duration: f64,
+}
+
+#[pymethods]
+impl PyScenario {
+    /// Builds the scenario file `path` with `overrides` ({"controller.kind": "rigid", ...}),
+    /// exactly as `run_scenario` does.
+    #[staticmethod]
+    #[pyo3(signature = (path, overrides=None))]
+    fn load(
+        py: Python<'_>,
+        path: PathBuf,
+        overrides: Option<HashMap<String, Bound<'_, PyAny>>>,
+    ) -> PyResult<Self> {
+        let pairs = crate::analysis::override_pairs(overrides)?;
+        let scenario = Scenario::from_file(&path, &pairs).map_err(to_py)?;
+        let schedule = Schedule::of(&scenario).map_err(to_py)?;
+        let setup = build(&scenario).map_err(to_py)?;
+        let layout = setup.plant.layout();
+        let controller = PyController::new_built(
+            setup.controller,
+            setup.com_reference,
+            setup.posture,
+            layout,
+            setup.model.joint_names.clone(),
+        );
+        Ok(Self {
+            name: scenario.name.clone(),
+            model: Py::new(py, PyModel::from_model(setup.model))?,
+            plant: Py::new(py, PyPlant::from_plant(setup.plant))?,
+            controller: Py::new(py, controller)?,
+            initial_state: setup.x0,
+            schedule,
+            method: scenario.plant.method.clone(),
+            duration: scenario.simulation.duration_s,
+        })
+    }
+
+    /// The scenario's `name`.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The robot model.
+    #[getter]
+    fn model(&self, py: Python<'_>) -> Py<PyModel> {
+        self.model.clone_ref(py)
+    }
+
+    /// The plant (contacts held, motor input as the controller kind needs).
+    #[getter]
+    fn plant(&self, py: Python<'_>) -> Py<PyPlant> {
+        self.plant.clone_ref(py)
+    }
+
+    /// The controller with the scenario's references.
+    #[getter]
+    fn controller(&self, py: Python<'_>) -> Py<PyController> {
+        self.controller.clone_ref(py)
+    }
+
+    /// The initial plant state (nx): at rest, springs preloaded with the static torques.
+    #[getter]
+    fn initial_state<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        vector_out(py, &self.initial_state)
+    }
+
+    /// The plant step [s] of the run (at most `plant.dt`, a whole fraction of the period).
+    #[getter]
+    fn plant_dt(&self) -> f64 {
+        self.schedule.step
+    }
+
+    /// Time between two controller ticks [s] (`1 / controller.rate_hz`; the plant step in
+    /// continuous sampling).
+    #[getter]
+    fn control_period(&self) -> f64 {
+        self.schedule.period
+    }
+
+    /// Plant steps per controller tick, `control_period / plant_dt`.
+    #[getter]
+    fn steps_per_tick(&self) -> usize {
+        self.schedule.steps_per_period
+    }
+
+    /// Number of ticks of the run after the first (`simulation.duration_s / control_period`).
+    #[getter]
+    fn last_tick(&self) -> usize {
+        self.schedule.last_sample
+    }
+
+    /// `controller.sampling`: "zero_order_hold" (a tick / step loop is the run) or
+    /// "continuous" (the controller at every integrator stage).
+    #[getter]
+    fn sampling(&self) -> &'static str {
+        self.schedule.sampling.name()
+    }
+
+    /// The plant's integrator, `plant.method` (the `method` of `Plant.step`).
+    #[getter]
+    fn method(&self) -> &str {
+        &self.method
+    }
+
+    /// `simulation.duration_s` [s].
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.duration
+    }
+}

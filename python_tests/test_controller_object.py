@@ -1,0 +1,150 @@
+"""The controller and the scenario as Python objects: a Python loop of ``Controller.tick`` and
+``Plant.step`` is ``run_scenario``'s run, and a ``Controller`` built from a ``Model`` with a
+scenario's tables is the scenario's controller."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import sea_momentum as sm
+
+ROOT = Path(__file__).resolve().parents[1]
+TRACKING = ROOT / "scenarios" / "paper" / "tracking.toml"
+# 2 s of the paper's tracking experiment, every tick recorded.
+OVERRIDES = {"simulation.duration_s": 2.0, "simulation.record_every": 1}
+
+
+def python_loop(scenario: sm.Scenario) -> tuple[np.ndarray, list[sm.ControlOutput]]:
+    """The closed loop in Python: zero-order hold, ``steps_per_tick`` plant steps per tick.
+    Returns the state at every tick (rows) and the outputs of every tick."""
+    plant, controller = scenario.plant, scenario.controller
+    x = scenario.initial_state
+    states, outputs = [], []
+    for k in range(scenario.last_tick + 1):
+        out = controller.tick(k * scenario.control_period, x)
+        states.append(x)
+        outputs.append(out)
+        if k == scenario.last_tick:
+            break
+        for _ in range(scenario.steps_per_tick):
+            x = plant.step(x, out.input, scenario.plant_dt, scenario.method)
+    return np.array(states), outputs
+
+
+def test_python_loop_reproduces_run_scenario() -> None:
+    scenario = sm.Scenario.load(TRACKING, OVERRIDES)
+    assert scenario.sampling == "zero_order_hold"
+    assert scenario.steps_per_tick * scenario.plant_dt == pytest.approx(scenario.control_period)
+    states, outputs = python_loop(scenario)
+    run = sm.run_scenario(TRACKING, OVERRIDES)
+    assert run.status == "completed"
+    x_run = np.hstack([run.q, run.theta, run.nu, run.thetadot])
+    assert states.shape == x_run.shape
+    # Same objects, same operations: equal to round-off (a different build or a different
+    # plant would differ by far more after 2000 ticks of a stiff closed loop).
+    scale = np.maximum(1.0, np.abs(x_run).max(axis=0))
+    assert np.max(np.abs(states - x_run) / scale) < 1e-9
+    com = np.array([o.com for o in outputs])
+    np.testing.assert_allclose(com, run.com, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        np.array([o.com_reference for o in outputs]), run.com_reference, rtol=0, atol=1e-15
+    )
+    np.testing.assert_allclose(
+        np.array([o.thetadot_desired for o in outputs]),
+        run.thetadot_desired,
+        rtol=0,
+        atol=1e-9 * np.abs(run.thetadot_desired).max(),
+    )
+    assert all(o.qp_status == "solved" for o in outputs)
+    # The loop moved the robot: the CoM followed the 1 cm lateral sinusoid, not a constant.
+    assert np.ptp(com[:, 1]) > 2e-3
+
+
+def test_output_shapes_and_scenario_attributes() -> None:
+    scenario = sm.Scenario.load(TRACKING)
+    model, plant, controller = scenario.model, scenario.plant, scenario.controller
+    x0 = scenario.initial_state
+    assert x0.shape == (plant.nx,) and controller.nx == plant.nx
+    assert controller.kind == "sea" and controller.contacts == ["l_sole"]
+    assert controller.joint_names == model.joint_names
+    assert scenario.control_period == pytest.approx(1e-3)
+    assert scenario.duration == pytest.approx(10.0)
+    out = controller.tick(0.0, x0)
+    n, n_e = model.n_joints, len(plant.elastic_joints)
+    assert out.input.shape == (n,) and out.joint_command.shape == (n,)
+    assert out.thetadot_desired.shape == (n_e,)
+    assert out.wrenches.shape == (1, 6) and out.momentum.shape == (6,)
+    np.testing.assert_allclose(out.com, model.com(x0[: model.nq]), atol=1e-12)
+    # At rest in static equilibrium the stance foot carries the robot's weight.
+    weight = model.total_mass * 9.81
+    assert out.wrenches[0, 2] == pytest.approx(weight, rel=1e-2)
+    with pytest.raises(ValueError, match="x"):
+        controller.tick(0.0, x0[:-1])
+
+
+def test_controller_from_model_equals_scenario_controller() -> None:
+    """``Controller(model, ...)`` with the scenario's tables gives the scenario controller's
+    outputs at a perturbed state (the same settings, estimates and references)."""
+    scenario = sm.Scenario.load(TRACKING)
+    model = scenario.model
+    x = scenario.initial_state.copy()
+    nq = model.nq
+    ne = len(scenario.plant.elastic_joints)
+    x[nq + ne + 6 :][:ne] += 0.05  # joint velocities
+    q0 = scenario.initial_state[:nq]
+    reference = {
+        "com_amplitude": 0.01,
+        "com_frequency": 0.2,
+        "com_direction": [0.0, 1.0, 0.0],
+        "com_smooth_start": 1.0,
+        "com_origin": "stance_sole",
+    }
+    built = sm.Controller(
+        model,
+        ["l_sole"],
+        q0,
+        actuators={"kind": "elastic"},
+        reference=reference,
+        kind="sea",
+        damping_estimate_scale=1.0,
+    )
+    from_table = sm.Controller.from_table(
+        model, {"kind": "sea"}, q0, ["l_sole"], reference=reference
+    )
+    expected = scenario.controller.tick(0.7, x)
+    for controller in (built, from_table):
+        out = controller.tick(0.7, x)
+        np.testing.assert_allclose(out.input, expected.input, rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(out.wrenches, expected.wrenches, rtol=1e-12, atol=1e-9)
+        np.testing.assert_allclose(out.com_reference, expected.com_reference, atol=1e-15)
+
+
+def test_rigid_controller_on_a_rigid_model() -> None:
+    """A torque-controlled robot: state [q, nu], input joint torques, no motor velocities."""
+    model = sm.Model.from_urdf(ROOT / "urdf" / "icub25.urdf", joints=list(sm.ICUB25_JOINTS))
+    scenario = sm.Scenario.load(TRACKING)
+    q0 = scenario.initial_state[: model.nq]
+    controller = sm.Controller(
+        model, ["l_sole"], q0, actuators={"kind": "rigid"}, kind="rigid"
+    )
+    assert controller.nx == model.nq + model.nv
+    out = controller.tick(0.0, np.concatenate([q0, np.zeros(model.nv)]))
+    assert out.thetadot_desired.shape == (0,)
+    np.testing.assert_array_equal(out.input, out.joint_command)
+    assert out.wrenches[0, 2] == pytest.approx(model.total_mass * 9.81, rel=1e-2)
+
+
+def test_tables_are_checked_as_in_a_scenario_file() -> None:
+    scenario = sm.Scenario.load(TRACKING)
+    model, q0 = scenario.model, scenario.initial_state[: scenario.model.nq]
+    with pytest.raises(sm.ScenarioError, match="controller.postural_scal"):
+        sm.Controller(model, ["l_sole"], q0, postural_scal=2.0)
+    with pytest.raises(sm.ScenarioError, match="controller.contact.friction"):
+        sm.Controller(model, ["l_sole"], q0, contact={"friction": -1.0})
+    with pytest.raises(sm.ScenarioError, match="robot.contacts"):
+        sm.Controller(model, ["no_such_frame"], q0)
+    with pytest.raises(ValueError, match="q0"):
+        sm.Controller(model, ["l_sole"], q0[:-1])
