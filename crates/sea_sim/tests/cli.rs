@@ -208,13 +208,31 @@ fn help_lists_subcommands_and_each_subcommand_documents_its_options() {
     let top = sea_sim(&["--help"]);
     assert_eq!(top.status.code(), Some(0));
     let top = text(&top.stdout);
-    assert!(top.contains("run") && top.contains("bench"), "{top}");
+    for command in ["run", "bench", "sweep", "margin"] {
+        assert!(top.contains(command), "--help lacks {command}: {top}");
+    }
 
     let run = sea_sim(&["run", "--help"]);
     assert_eq!(run.status.code(), Some(0));
     let run = text(&run.stdout);
     for option in ["--set", "--mcap", "--summary", "--quiet", "SCENARIO", "130"] {
         assert!(run.contains(option), "run --help lacks {option}: {run}");
+    }
+
+    let margin = sea_sim(&["margin", "--help"]);
+    assert_eq!(margin.status.code(), Some(0));
+    let margin = text(&margin.stdout);
+    for option in [
+        "--param",
+        "--range",
+        "[default: eigen]",
+        "[default: 9]",
+        "--out",
+    ] {
+        assert!(
+            margin.contains(option),
+            "margin --help lacks {option}: {margin}"
+        );
     }
 
     let bench = sea_sim(&["bench", "--help"]);
@@ -576,4 +594,40 @@ fn a_full_file_system_keeps_the_earlier_log_and_names_the_file() {
         !fs.0.join(".run.mcap.partial").exists(),
         "the partial file is removed"
     );
+}
+
+#[test]
+fn margin_reports_the_damping_boundary_as_json() {
+    let ws = Workspace::new("margin");
+    let out_path = ws.path("margin.json");
+    let out = sea_sim(&[
+        "margin",
+        &ws.scenario(),
+        "--param",
+        "actuators.damping",
+        "--range",
+        "0.01:1",
+        "--points",
+        "3",
+        "--tolerance",
+        "0.1",
+        "--out",
+        out_path.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("stdout JSON");
+    assert_eq!(printed, summary(&out_path), "--out holds what was printed");
+    let samples = printed["samples"].as_array().unwrap();
+    assert_eq!(printed["evaluations"].as_u64(), Some(samples.len() as u64));
+    // Unstable at the low end of the scan, stable at the high end: one boundary between.
+    assert_eq!(samples[0]["stable"], false);
+    assert_eq!(samples[2]["stable"], true);
+    let boundaries = printed["boundaries"].as_array().unwrap();
+    assert_eq!(boundaries.len(), 1, "{printed}");
+    let boundary = boundaries[0].as_f64().unwrap();
+    assert!((0.01..0.505).contains(&boundary), "{boundary}");
+
+    let bad = sea_sim(&["margin", &ws.scenario(), "--param", "x", "--range", "1"]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(text(&bad.stderr).contains("LOWER:UPPER"));
 }

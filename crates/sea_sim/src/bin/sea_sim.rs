@@ -18,6 +18,7 @@
 
 use clap::{Args, Parser, Subcommand};
 use sea_dyn::{LoadOptions, Model};
+use sea_sim::analysis::margin::MarginOptions;
 use sea_sim::closed_loop::{run_with_sinks, McapSink, RecordSink};
 use sea_sim::output::{check_distinct, OutputFile};
 use sea_sim::scenario::Scenario;
@@ -53,6 +54,9 @@ enum Command {
     /// Exit status: 0 done (whatever the runs' outcomes), 1 error, 130/143/129 stopped by a
     /// signal (the rows done are written).
     Sweep(SweepArgs),
+    /// Find the values of one numeric scenario key where the closed loop's stability changes
+    /// (grid scan, then bisection); prints a JSON report.
+    Margin(MarginArgs),
 }
 
 /// Options of `sea-sim run`.
@@ -120,6 +124,53 @@ struct SweepArgs {
     /// No progress on stderr.
     #[arg(long, short)]
     quiet: bool,
+}
+
+/// Options of `sea-sim margin`.
+#[derive(Args, Debug)]
+struct MarginArgs {
+    /// Scenario file (TOML).
+    scenario: PathBuf,
+    /// The numeric scenario key to vary, e.g. `actuators.damping`.
+    #[arg(long, value_name = "KEY")]
+    param: String,
+    /// The range searched, `LOWER:UPPER`.
+    #[arg(long, value_name = "LOWER:UPPER", value_parser = parse_range)]
+    range: (f64, f64),
+    /// How stability is judged: `eigen` (growth rate of the linearisation) or `simulate`
+    /// (the run completes).
+    #[arg(long, value_name = "METHOD", default_value = "eigen",
+          value_parser = ["eigen", "simulate"])]
+    method: String,
+    /// Points of the initial scan, ends included.
+    #[arg(long, value_name = "N", default_value_t = MarginOptions::default().grid_points as u32,
+          value_parser = clap::value_parser!(u32).range(2..))]
+    points: u32,
+    /// Space the scan logarithmically (both ends positive).
+    #[arg(long)]
+    log: bool,
+    /// Bisection stops below this fraction of `UPPER - LOWER`.
+    #[arg(long, value_name = "F", default_value_t = MarginOptions::default().relative_tolerance)]
+    tolerance: f64,
+    /// Override a scenario value, e.g. `--set simulation.duration_s=2` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
+    overrides: Vec<(String, String)>,
+    /// Also write the JSON report to FILE.
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+}
+
+/// `LOWER:UPPER` of `--range`.
+fn parse_range(text: &str) -> Result<(f64, f64), String> {
+    let (lower, upper) = text
+        .split_once(':')
+        .ok_or_else(|| format!("expected LOWER:UPPER, got '{text}'"))?;
+    let number = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .map_err(|e| format!("'{s}' in '{text}': {e}"))
+    };
+    Ok((number(lower)?, number(upper)?))
 }
 
 /// `KEY=VALUE` of `--set`.
@@ -470,6 +521,61 @@ fn run_sweep_command(args: &SweepArgs, interrupts: &Interrupts) -> sea_sim::Resu
     })
 }
 
+// ---- margin ----
+
+/// `sea-sim margin`: the report as JSON on stdout (and in `--out`).
+fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
+    use sea_sim::analysis::margin::{stability_margin_report, MarginMethod};
+    let out = match &args.out {
+        Some(path) => {
+            check_distinct(
+                &[("the scenario file", args.scenario.as_path())],
+                &[("--out", path)],
+            )?;
+            Some(OutputFile::create(path)?)
+        }
+        None => None,
+    };
+    let options = MarginOptions {
+        method: MarginMethod::parse(&args.method)?,
+        grid_points: args.points as usize,
+        log_grid: args.log,
+        relative_tolerance: args.tolerance,
+        ..Default::default()
+    };
+    let (lower, upper) = args.range;
+    let report = stability_margin_report(
+        &args.scenario,
+        &args.overrides,
+        &args.param,
+        lower,
+        upper,
+        &options,
+    )?;
+    let samples: Vec<serde_json::Value> = report
+        .samples
+        .iter()
+        .map(|s| serde_json::json!({"value": s.value, "stable": s.stable, "growth_rate": s.growth_rate}))
+        .collect();
+    let json = serde_json::json!({
+        "parameter": report.parameter,
+        "method": report.method.name(),
+        "range": [lower, upper],
+        "boundaries": report.boundaries,
+        "evaluations": report.evaluations(),
+        "samples": samples,
+    });
+    let text = serde_json::to_string_pretty(&json)
+        .map_err(|e| sea_sim::Error::Log(format!("margin JSON: {e}")))?;
+    if let Some(mut out) = out {
+        out.write_all(text.as_bytes())?;
+        out.write_all(b"\n")?;
+        out.commit()?;
+    }
+    print_out(text);
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -481,6 +587,7 @@ fn main() -> ExitCode {
     };
     let outcome = match &cli.command {
         Command::Bench(args) => run_bench(args).map(|()| Outcome::Completed),
+        Command::Margin(args) => run_margin(args).map(|()| Outcome::Completed),
         Command::Sweep(args) => match Interrupts::install() {
             Ok(interrupts) => run_sweep_command(args, &interrupts),
             Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),
