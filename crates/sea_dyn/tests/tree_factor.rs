@@ -81,7 +81,7 @@ fn check_factor(name: &str, model: &Model, m: &DMatrix<f64>, d: &[f64], rng: &mu
     // i and its descendants; L^-T e_i lives on i and its ancestors.
     let ancestors = ancestor_table(model);
     let mut l_inv = DMatrix::zeros(nv, nv);
-    for i in 0..nv {
+    for (i, ancestors_of_i) in ancestors.iter().enumerate() {
         let mut column = unit(nv, i);
         factor.solve_l(&mut column);
         let mut row = unit(nv, i);
@@ -92,7 +92,7 @@ fn check_factor(name: &str, model: &Model, m: &DMatrix<f64>, d: &[f64], rng: &mu
                 "{name}: L^-1 e_{i} is non-zero at {w}, not a descendant"
             );
             assert!(
-                *r == 0.0 || ancestors[i][w],
+                *r == 0.0 || ancestors_of_i[w],
                 "{name}: L^-T e_{i} is non-zero at {w}, not an ancestor"
             );
         }
