@@ -155,6 +155,9 @@ def reproduce(scenario_dir: pathlib.Path, out: pathlib.Path, duration: float | N
     summary["l_ankle_roll_peak_motor_torque_nm"] = free_peak_torque
     summary["binding_limit_nm"] = binding_limit
     summary["binding_saturated_time_s"] = binding_time
+    from .pictures import experiment_pictures  # the robot at chosen instants, PNG strips and GIFs
+
+    summary["pictures"] = experiment_pictures(scenario_dir, out, {"tracking": tracking[1.0], "step_sea": steps["sea"], "step_rigid": steps["rigid"], "saturation": saturated})
     summary["wall_time_s"] = clock.perf_counter() - started
     (out / "summary.json").write_text(json.dumps(summary, indent=2))
 

@@ -1,0 +1,301 @@
+"""Pictures of the robot: the URDF's visual primitives (boxes, cylinders, spheres; meshes are
+skipped) placed at the link poses of ``Model.frame_pose`` and drawn with matplotlib's 3D axes.
+
+- :func:`robot_strip`: a strip of the robot at chosen instants of a run (PNG);
+- :func:`robot_animation`: the run as an animated GIF (matplotlib's ``PillowWriter``);
+- :func:`scenario_pictures`: both for a scenario file and its :class:`ScenarioResult`, as
+  ``reproduce`` writes them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import pathlib
+import sys
+import xml.etree.ElementTree as ET
+from typing import TYPE_CHECKING, Any, Sequence, Union
+
+import numpy as np
+
+from ._native import Model
+
+if TYPE_CHECKING:
+    from .scenario import ScenarioResult
+
+#: Times [s]: a sequence or a float64 array.
+Times = Union[Sequence[float], np.ndarray]
+
+#: Camera of every picture: a three-quarter front view (degrees); iCub faces world +x.
+VIEW_ELEVATION_DEG = 12.0
+VIEW_AZIMUTH_DEG = -35.0
+#: Colour of links without a URDF material colour.
+DEFAULT_RGBA = (0.62, 0.66, 0.72, 1.0)
+#: Facets of the polygon that approximates a cylinder's circle and a sphere's meridians.
+ROUND_FACETS = 12
+
+
+@dataclasses.dataclass(frozen=True)
+class Visual:
+    """One URDF visual primitive of a link."""
+
+    link: str  #: the link (a frame of the model)
+    link_H_visual: np.ndarray  #: (4, 4) placement of the primitive in the link frame
+    kind: str  #: "box", "cylinder" or "sphere"
+    size: tuple[float, ...]  #: box (x, y, z); cylinder (radius, length along z); sphere (radius,)
+    rgba: tuple[float, float, float, float]  #: colour
+
+
+def _rotation_rpy(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """URDF's fixed-axis roll-pitch-yaw: ``Rz(yaw) Ry(pitch) Rx(roll)``."""
+    cr, sr, cp, sp, cy, sy = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
+    return np.array(
+        [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ]
+    )
+
+
+def _floats(text: str | None, default: str) -> list[float]:
+    return [float(v) for v in (text or default).split()]
+
+
+def urdf_visuals(urdf: str | os.PathLike[str]) -> list[Visual]:
+    """The box, cylinder and sphere visuals of a URDF file (meshes are skipped)."""
+    root = ET.parse(urdf).getroot()
+    colours = {
+        m.get("name"): tuple(_floats(m.find("color").get("rgba"), "1 1 1 1"))  # type: ignore[union-attr]
+        for m in root.iter("material")
+        if m.find("color") is not None
+    }
+    visuals = []
+    for link in root.findall("link"):
+        for visual in link.findall("visual"):
+            geometry = visual.find("geometry")
+            shape = None if geometry is None else next(iter(geometry), None)
+            if shape is None or shape.tag not in ("box", "cylinder", "sphere"):
+                continue
+            origin = visual.find("origin")
+            placement = np.eye(4)
+            if origin is not None:
+                placement[:3, :3] = _rotation_rpy(*_floats(origin.get("rpy"), "0 0 0"))
+                placement[:3, 3] = _floats(origin.get("xyz"), "0 0 0")
+            size = {
+                "box": lambda s: tuple(_floats(s.get("size"), "0 0 0")),
+                "cylinder": lambda s: (float(s.get("radius")), float(s.get("length"))),
+                "sphere": lambda s: (float(s.get("radius")),),
+            }[shape.tag](shape)
+            material = visual.find("material")
+            rgba = DEFAULT_RGBA
+            if material is not None:
+                inline = material.find("color")
+                if inline is not None:
+                    rgba = tuple(_floats(inline.get("rgba"), "1 1 1 1"))  # type: ignore[assignment]
+                else:
+                    rgba = colours.get(material.get("name"), DEFAULT_RGBA)  # type: ignore[assignment]
+            visuals.append(Visual(link.get("name", ""), placement, shape.tag, size, rgba))  # type: ignore[arg-type]
+    return visuals
+
+
+def _faces(kind: str, size: tuple[float, ...]) -> list[np.ndarray]:
+    """The faces (each (k, 3) vertices) of a primitive centred at its origin."""
+    if kind == "box":
+        half = np.array(size) / 2
+        corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * half
+        quads = [(0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5)]
+        return [corners[list(quad)] for quad in quads]
+    angles = np.linspace(0, 2 * np.pi, ROUND_FACETS, endpoint=False)
+    if kind == "cylinder":
+        radius, length = size
+        ring = np.stack([radius * np.cos(angles), radius * np.sin(angles), np.zeros_like(angles)], axis=1)
+        bottom, top = ring - [0, 0, length / 2], ring + [0, 0, length / 2]
+        sides = [np.array([bottom[i], bottom[i - 1], top[i - 1], top[i]]) for i in range(ROUND_FACETS)]
+        return sides + [bottom, top]
+    (radius,) = size
+    polar = np.linspace(0, np.pi, ROUND_FACETS // 2 + 1)
+    point = lambda a, p: radius * np.array([np.sin(p) * np.cos(a), np.sin(p) * np.sin(a), np.cos(p)])  # noqa: E731
+    return [
+        np.array([point(a0, p0), point(a1, p0), point(a1, p1), point(a0, p1)])
+        for a0, a1 in zip(angles, np.roll(angles, -1))
+        for p0, p1 in zip(polar[:-1], polar[1:])
+    ]
+
+
+def robot_faces(model: Model, q: np.ndarray, visuals: Sequence[Visual]) -> tuple[list[np.ndarray], list[Any]]:
+    """The world-frame faces of every visual at configuration ``q`` and their colours."""
+    faces, colours = [], []
+    poses: dict[str, np.ndarray] = {}
+    for visual in visuals:
+        if visual.link not in poses:
+            poses[visual.link] = model.frame_pose(q, visual.link)
+        world_H_visual = poses[visual.link] @ visual.link_H_visual
+        for face in _faces(visual.kind, visual.size):
+            faces.append(face @ world_H_visual[:3, :3].T + world_H_visual[:3, 3])
+            colours.append(visual.rgba)
+    return faces, colours
+
+
+def _draw(ax: Any, model: Model, q: np.ndarray, visuals: Sequence[Visual], bounds: np.ndarray, title: str) -> None:
+    """One picture of the robot at ``q`` on ``ax`` within ``bounds`` ((2, 3): low, high), with
+    its CoM (red) and the CoM's ground projection."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    ax.cla()
+    # Drawn in the order added (floor, robot, CoM on top); the robot's faces are depth-sorted
+    # among themselves by their collection.
+    ax.computed_zorder = False
+    (x0, y0, z0), (x1, y1, z1) = bounds
+    floor = np.array([[x0, y0, 0.0], [x1, y0, 0.0], [x1, y1, 0.0], [x0, y1, 0.0]])
+    ax.add_collection3d(Poly3DCollection([floor], facecolors=(0.85, 0.85, 0.8, 0.5)))
+    faces, colours = robot_faces(model, q, visuals)
+    ax.add_collection3d(Poly3DCollection(faces, facecolors=colours, edgecolors=(0.2, 0.2, 0.2, 0.35), linewidths=0.3))
+    com = model.com(q)
+    ax.plot([com[0], com[0]], [com[1], com[1]], [com[2], 0.0], color="red", lw=0.8, ls=":")
+    ax.scatter(*com, color="red", s=18, depthshade=False)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_zlim(z0, z1)
+    ax.set_box_aspect((x1 - x0, y1 - y0, z1 - z0))
+    ax.view_init(elev=VIEW_ELEVATION_DEG, azim=VIEW_AZIMUTH_DEG)
+    ax.set_axis_off()
+    ax.set_title(title, fontsize=9)
+
+
+def _bounds(model: Model, qs: Sequence[np.ndarray], visuals: Sequence[Visual], margin: float = 0.05) -> np.ndarray:
+    """One box holding the robot at every configuration of ``qs`` and the floor at z = 0."""
+    points = np.concatenate([np.concatenate(robot_faces(model, q, visuals)[0]) for q in qs])
+    low = np.minimum(points.min(axis=0), [np.inf, np.inf, 0.0]) - margin
+    high = points.max(axis=0) + margin
+    return np.array([low, high])
+
+
+def robot_strip(
+    model: Model,
+    urdf: str | os.PathLike[str],
+    qs: Sequence[np.ndarray],
+    times: Times,
+    path: str | os.PathLike[str],
+    title: str | None = None,
+) -> pathlib.Path:
+    """A PNG strip of the robot at configurations ``qs`` (each nq) labelled with ``times``."""
+    import matplotlib.pyplot as plt
+
+    visuals = urdf_visuals(urdf)
+    bounds = _bounds(model, qs, visuals)
+    fig = plt.figure(figsize=(2.6 * len(qs), 3.6))
+    for k, (q, t) in enumerate(zip(qs, times)):
+        ax = fig.add_subplot(1, len(qs), k + 1, projection="3d")
+        _draw(ax, model, q, visuals, bounds, f"t = {t:.2f} s")
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.subplots_adjust(left=0.0, right=1.0, bottom=0.0, top=0.92, wspace=0.0)
+    path = pathlib.Path(path)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    return path
+
+
+def robot_animation(
+    model: Model,
+    urdf: str | os.PathLike[str],
+    qs: Sequence[np.ndarray],
+    times: Times,
+    path: str | os.PathLike[str],
+    fps: int = 10,
+    title: str | None = None,
+) -> pathlib.Path | None:
+    """An animated GIF of the robot through ``qs``; None when Pillow is missing (then nothing
+    is written)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    if not PillowWriter.isAvailable():
+        return None
+    visuals = urdf_visuals(urdf)
+    bounds = _bounds(model, qs, visuals)
+    fig = plt.figure(figsize=(4.0, 4.6))
+    ax = fig.add_subplot(projection="3d")
+    prefix = f"{title}: " if title else ""
+
+    def frame(k: int) -> list[Any]:
+        _draw(ax, model, qs[k], visuals, bounds, f"{prefix}t = {times[k]:.2f} s")
+        return []
+
+    animation = FuncAnimation(fig, frame, frames=len(qs))
+    path = pathlib.Path(path)
+    animation.save(path, writer=PillowWriter(fps=fps), dpi=80)
+    plt.close(fig)
+    return path
+
+
+def _scenario_urdf(scenario: pathlib.Path) -> pathlib.Path:
+    """``robot.urdf`` of a scenario file, resolved as the scenario loader does (relative to the
+    file's folder when it exists there)."""
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover - Python < 3.11
+        import tomli as tomllib
+    urdf = tomllib.loads(scenario.read_text())["robot"]["urdf"]
+    candidate = scenario.parent / urdf
+    return candidate if candidate.exists() else pathlib.Path(urdf)
+
+
+def scenario_pictures(
+    scenario: str | os.PathLike[str],
+    result: ScenarioResult,
+    out: str | os.PathLike[str],
+    stem: str,
+    instants: Times | None = None,
+    title: str | None = None,
+    animation_frames: int = 40,
+) -> list[pathlib.Path]:
+    """Writes ``out/{stem}_strip.png`` (the robot at ``instants``, default five evenly spaced
+    over the run, each at the nearest recorded sample) and ``out/{stem}.gif`` (about
+    ``animation_frames`` frames) for a run of the scenario file ``scenario``. Returns the paths."""
+    scenario = pathlib.Path(scenario)
+    urdf = _scenario_urdf(scenario)
+    model = Model.from_urdf(urdf, joints=result.joint_names)
+    time = result.time
+    chosen = np.linspace(time[0], time[-1], 5) if instants is None else np.asarray(instants)
+    rows = [int(np.argmin(abs(time - t))) for t in chosen]
+    out = pathlib.Path(out)
+    written = [robot_strip(model, urdf, [result.q[r] for r in rows], time[rows], out / f"{stem}_strip.png", title)]
+    frames = np.unique(np.linspace(0, len(time) - 1, animation_frames).round().astype(int))
+    gif = robot_animation(model, urdf, [result.q[r] for r in frames], time[frames], out / f"{stem}.gif", title=title)
+    if gif is not None:
+        written.append(gif)
+    return written
+
+
+def _instants(result: ScenarioResult, count: int = 5) -> np.ndarray:
+    """Instants worth a picture: the start and the turning points of the CoM reference (the
+    robot leaning furthest each way) when it moves, else ``count`` instants evenly spaced."""
+    time = result.time
+    offset = result.com_reference - result.com_reference[0]
+    lateral = offset[:, int(np.argmax(np.ptp(offset, axis=0)))]
+    if np.ptp(lateral) > 1e-6:
+        slope = np.sign(np.diff(lateral))
+        turns = np.where(slope[1:] * slope[:-1] < 0)[0] + 1
+        if len(turns):
+            return np.concatenate([[time[0]], time[turns[: count - 1]]])
+    return np.linspace(time[0], time[-1], count)
+
+
+def experiment_pictures(
+    scenario_dir: str | os.PathLike[str],
+    out: str | os.PathLike[str],
+    runs: dict[str, ScenarioResult],
+) -> list[str]:
+    """For each ``runs[name]`` (a run of ``scenario_dir/{name}.toml``; a name may carry a suffix
+    after ``@``), the strip and the animation of :func:`scenario_pictures`; returns the file
+    names written."""
+    written = []
+    for name, result in runs.items():
+        scenario = pathlib.Path(scenario_dir) / f"{name.split('@')[0]}.toml"
+        stem = name.replace("@", "_")
+        title = f"{stem} ({result.status})"
+        paths = scenario_pictures(scenario, result, out, stem, _instants(result), title)
+        written += [p.name for p in paths]
+    return written
