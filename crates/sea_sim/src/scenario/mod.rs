@@ -375,7 +375,8 @@ impl Default for ReferenceConfig {
 pub struct SimulationConfig {
     /// Simulated time [s].
     pub duration_s: f64,
-    /// Record (and log) every this many control ticks.
+    /// Record (and log) every this many samples: control ticks with zero-order hold, plant
+    /// steps in continuous sampling (the last sample and a diverging one are always recorded).
     pub record_every: usize,
     /// The run is diverged when the CoM error exceeds this [m].
     pub divergence_com_error_m: f64,
