@@ -228,6 +228,7 @@ fn help_lists_subcommands_and_each_subcommand_documents_its_options() {
         "[default: eigen]",
         "[default: 9]",
         "--out",
+        "--json",
     ] {
         assert!(
             margin.contains(option),
@@ -613,6 +614,7 @@ fn margin_reports_the_damping_boundary_as_json() {
         "0.1",
         "--out",
         out_path.to_str().unwrap(),
+        "--json",
     ]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("stdout JSON");
@@ -626,6 +628,26 @@ fn margin_reports_the_damping_boundary_as_json() {
     assert_eq!(boundaries.len(), 1, "{printed}");
     let boundary = boundaries[0].as_f64().unwrap();
     assert!((0.01..0.505).contains(&boundary), "{boundary}");
+
+    // Without --json: a table naming the parameter and the boundary.
+    let table = sea_sim(&[
+        "margin",
+        &ws.scenario(),
+        "--param",
+        "actuators.damping",
+        "--range",
+        "0.01:1",
+        "--points",
+        "2",
+        "--tolerance",
+        "0.5",
+    ]);
+    assert_eq!(table.status.code(), Some(0), "{}", text(&table.stderr));
+    let table = text(&table.stdout);
+    assert!(
+        table.starts_with("actuators.damping (eigen method") && table.contains("unstable"),
+        "{table}"
+    );
 
     let bad = sea_sim(&["margin", &ws.scenario(), "--param", "x", "--range", "1"]);
     assert_eq!(bad.status.code(), Some(1));

@@ -158,6 +158,9 @@ struct MarginArgs {
     /// Also write the JSON report to FILE.
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
+    /// Print the JSON report on stdout instead of a table.
+    #[arg(long)]
+    json: bool,
 }
 
 /// `LOWER:UPPER` of `--range`.
@@ -523,7 +526,7 @@ fn run_sweep_command(args: &SweepArgs, interrupts: &Interrupts) -> sea_sim::Resu
 
 // ---- margin ----
 
-/// `sea-sim margin`: the report as JSON on stdout (and in `--out`).
+/// `sea-sim margin`: the report as a table or (`--json`) JSON on stdout; JSON in `--out`.
 fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
     use sea_sim::analysis::margin::{stability_margin_report, MarginMethod};
     let out = match &args.out {
@@ -572,8 +575,34 @@ fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
         out.write_all(b"\n")?;
         out.commit()?;
     }
-    print_out(text);
+    print_out(if args.json {
+        text
+    } else {
+        margin_table(&report)
+    });
     Ok(())
+}
+
+/// The margin report for a reader: the boundaries, then every evaluation in value order.
+fn margin_table(report: &sea_sim::analysis::margin::MarginReport) -> String {
+    let boundaries: Vec<String> = report.boundaries.iter().map(|b| format!("{b}")).collect();
+    let mut table = format!(
+        "{} ({} method, {} evaluations): stability changes at [{}]",
+        report.parameter,
+        report.method.name(),
+        report.evaluations(),
+        boundaries.join(", ")
+    );
+    let mut samples: Vec<_> = report.samples.iter().collect();
+    samples.sort_by(|a, b| a.value.total_cmp(&b.value));
+    for sample in samples {
+        let growth = sample
+            .growth_rate
+            .map_or(String::new(), |g| format!("  growth {g:10.4} 1/s"));
+        let verdict = if sample.stable { "stable" } else { "unstable" };
+        table += &format!("\n  {:14.6}  {verdict:<8}{growth}", sample.value);
+    }
+    table
 }
 
 fn main() -> ExitCode {

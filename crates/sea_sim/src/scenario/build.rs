@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::scenario::presets::{ICUB25_JOINTS, ICUB_LEFT_STANCE, ICUB_TWO_FEET_DEG};
-use crate::scenario::{expand_joint_groups, Scenario};
+use crate::scenario::{expand_joint_groups, InitialSprings, Scenario};
 use nalgebra::Vector3;
 use sea_ctrl::controller::{ControllerKind, MomentumController};
 use sea_ctrl::references::{ComTrajectory, PostureReference};
@@ -192,12 +192,24 @@ fn plant(scenario: &Scenario, model: &Model, actuation: &Actuation, q: &[f64]) -
     Ok(plant)
 }
 
-/// The initial state at rest in `q`: springs preloaded with the static torques, so the run
-/// starts in equilibrium.
-fn initial_state(plant: &Plant, q: &[f64], contacts: &[FrameId]) -> Result<Vec<f64>> {
-    let torques = static_torques(&plant.model, q, contacts);
-    let theta = plant.preloaded_motor_angles(q, &torques)?;
-    Ok(plant.make_state(q, &vec![0.0; plant.model.nv()], Some(&theta), None)?)
+/// The initial state at rest in `q`, springs as `robot.initial_springs` says: preloaded with
+/// the static torques (the run starts in equilibrium) or at rest (no deflection).
+fn initial_state(
+    plant: &Plant,
+    q: &[f64],
+    contacts: &[FrameId],
+    springs: InitialSprings,
+) -> Result<Vec<f64>> {
+    let theta = match springs {
+        InitialSprings::Preloaded => {
+            let torques = static_torques(&plant.model, q, contacts);
+            Some(plant.preloaded_motor_angles(q, &torques)?)
+        }
+        // `make_state` without motor angles leaves every spring undeflected.
+        InitialSprings::AtRest => None,
+    };
+    let nu = vec![0.0; plant.model.nv()];
+    Ok(plant.make_state(q, &nu, theta.as_deref(), None)?)
 }
 
 /// The CoM reference of `[reference]`; its origin is the initial CoM or (`stance_sole`) the
@@ -267,12 +279,13 @@ pub fn posture_reference(
 /// Builds the model, plant, controller and initial state of a scenario.
 pub fn build(scenario: &Scenario) -> Result<Setup> {
     let model = load_model(scenario)?;
+    super::validate::against_model(scenario, model.total_mass(), model.gravity.norm())?;
     let actuation = actuation(scenario, &model)?;
     let s0 = initial_posture(scenario, &model)?;
     let contacts = contact_frames(scenario, &model)?;
     let q = initial_configuration(&model, &s0, contacts[0]);
     let plant = plant(scenario, &model, &actuation, &q)?;
-    let x0 = initial_state(&plant, &q, &contacts)?;
+    let x0 = initial_state(&plant, &q, &contacts, scenario.robot.initial_springs)?;
     let settings = scenario.controller_settings(&model.joint_names)?;
     let controller = MomentumController::new(&model, &actuation, settings, &q)?;
     let com_reference = com_reference(scenario, &model, &q, contacts[0])?;

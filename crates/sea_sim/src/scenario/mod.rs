@@ -41,6 +41,23 @@ pub struct RobotConfig {
     /// "left_stance", "two_feet" (the original study's postures), "zero" or explicit radians.
     #[serde(default = "left_stance")]
     pub initial_posture: toml::Value,
+    /// The springs at the start: "preloaded" (default) or "at_rest" ([`InitialSprings`]).
+    #[serde(default)]
+    pub initial_springs: InitialSprings,
+}
+
+/// `robot.initial_springs`: the spring deflections of the initial state (the robot is at rest
+/// in `robot.initial_posture` either way).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InitialSprings {
+    /// Deflected by the static joint torques, so the run starts in equilibrium.
+    #[default]
+    Preloaded,
+    /// Undeflected (`Gamma theta = s`): the controller must first load the springs, the
+    /// original study's start of the saturation experiment (REFERENCE.md), which drives the
+    /// large initial motor velocity peak the paper shows.
+    AtRest,
 }
 
 /// [`presets::ICUB_STANCE_CONTACTS`] as owned names (serde default of `robot.contacts`).
@@ -753,6 +770,26 @@ mod tests {
         let err = Scenario::from_toml(text, &[("plant.dt".into(), "-1".into())], Path::new("."))
             .unwrap_err();
         assert!(err.to_string().contains("plant.dt"), "{err}");
+    }
+
+    #[test]
+    fn initial_springs_default_to_preloaded_and_name_the_key_when_unknown() {
+        let text = "[robot]\nurdf = \"x.urdf\"\n";
+        let parse = |value: &str| {
+            let overrides = [("robot.initial_springs".to_string(), value.to_string())];
+            Scenario::from_toml(text, &overrides, Path::new("."))
+        };
+        let s = Scenario::from_toml(text, &[], Path::new(".")).unwrap();
+        assert_eq!(s.robot.initial_springs, InitialSprings::Preloaded);
+        assert_eq!(
+            parse("at_rest").unwrap().robot.initial_springs,
+            InitialSprings::AtRest
+        );
+        let err = parse("relaxed").unwrap_err().to_string();
+        assert!(
+            err.contains("robot.initial_springs") && err.contains("at_rest"),
+            "{err}"
+        );
     }
 
     #[test]
