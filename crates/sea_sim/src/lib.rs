@@ -8,6 +8,7 @@ pub mod analysis;
 pub mod bench;
 pub mod closed_loop;
 pub mod error;
+pub mod foxglove;
 pub mod mcap_log;
 pub mod output;
 pub mod scenario;

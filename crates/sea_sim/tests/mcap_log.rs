@@ -1,15 +1,21 @@
 //! The MCAP logger writes a file Foxglove and the `mcap` reader accept, also when dropped
-//! without `finish()`.
+//! without `finish()`; `/tf` and `/scene` decode as the SDK's protobuf messages, the robot's
+//! scene entities sit on `/tf` frames and the URDF is attached.
 
+use foxglove::messages::{FrameTransforms, SceneUpdate};
+use foxglove::Decode;
 use sea_dyn::{Data, LoadOptions, Model};
+use sea_sim::foxglove::{FootRectangle, SceneSource, ARROW_M_PER_N};
 use sea_sim::mcap_log::{LogSample, McapLogger, ThreadedMcapLogger};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
 const URDF: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../urdf/mini_biped.urdf");
 
-const TOPICS: [(&str, &str); 8] = [
+/// Topics and schema names; the first two are protobuf, the others JSON.
+const TOPICS: [(&str, &str); 9] = [
     ("/tf", "foxglove.FrameTransforms"),
+    ("/scene", "foxglove.SceneUpdate"),
     ("/com", "sea_momentum.Com"),
     ("/momentum", "sea_momentum.Momentum"),
     ("/joints", "sea_momentum.JointState"),
@@ -110,6 +116,40 @@ fn for_each_sample(model: &Model, count: usize, mut f: impl FnMut(&LogSample)) {
     }
 }
 
+/// `/tf` message `index`: every frame, time-stamped `time`, reproduces the frame's pose.
+fn check_tf(model: &Model, data: &mut Data, tf: &FrameTransforms, index: usize, time: u64) {
+    assert_eq!(tf.transforms.len(), model.frames.len());
+    let q = configuration(model, index);
+    sea_dyn::forward_kinematics(model, data, &q);
+    for (id, (frame, transform)) in model.frames.iter().zip(&tf.transforms).enumerate() {
+        assert_eq!(transform.parent_frame_id, "world");
+        assert_eq!(transform.child_frame_id, frame.name);
+        let stamp = transform.timestamp.expect("stamp");
+        assert_eq!(
+            stamp.sec() as u64 * 1_000_000_000 + stamp.nsec() as u64,
+            time
+        );
+        let r = transform.rotation.expect("rotation");
+        let norm = (r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z).sqrt();
+        assert!(
+            (norm - 1.0).abs() < 1e-12,
+            "{}: |quat| = {norm}",
+            frame.name
+        );
+        // The quaternion reproduces the frame's rotation, the translation its origin.
+        let pose = sea_dyn::frame_placement(model, data, id);
+        let rotation = sea_dyn::spatial::rotation_from_quaternion(r.w, r.x, r.y, r.z);
+        assert!(
+            (rotation - pose.rotation).abs().max() < 1e-12,
+            "{}",
+            frame.name
+        );
+        let t = transform.translation.expect("translation");
+        let translation = nalgebra::Vector3::new(t.x, t.y, t.z);
+        assert!((translation - pose.translation).abs().max() < 1e-12);
+    }
+}
+
 /// Reads every message and checks topics, schemas, counts, times and `/tf` contents.
 fn check_file(model: &Model, bytes: &[u8], count: usize) {
     let mut counts: BTreeMap<String, usize> = BTreeMap::new();
@@ -120,14 +160,23 @@ fn check_file(model: &Model, bytes: &[u8], count: usize) {
         let message = message.expect("message");
         let topic = message.channel.topic.clone();
         let schema = message.channel.schema.as_ref().expect("schema");
-        let expected = TOPICS
+        let position = TOPICS
             .iter()
-            .find(|(t, _)| *t == topic)
+            .position(|(t, _)| *t == topic)
             .unwrap_or_else(|| panic!("unexpected topic {topic}"));
-        assert_eq!(schema.name, expected.1, "schema of {topic}");
-        assert_eq!(schema.encoding, "jsonschema");
-        assert_eq!(message.channel.message_encoding, "json");
-        let _: serde_json::Value = serde_json::from_slice(&schema.data).expect("schema is JSON");
+        assert_eq!(schema.name, TOPICS[position].1, "schema of {topic}");
+        let protobuf = position < 2;
+        let (schema_encoding, encoding) = if protobuf {
+            ("protobuf", "protobuf")
+        } else {
+            ("jsonschema", "json")
+        };
+        assert_eq!(schema.encoding, schema_encoding, "{topic}");
+        assert_eq!(message.channel.message_encoding, encoding, "{topic}");
+        if !protobuf {
+            let _: serde_json::Value =
+                serde_json::from_slice(&schema.data).expect("schema is JSON");
+        }
         assert_eq!(message.log_time, message.publish_time);
         if let Some(&previous) = last_time.get(&topic) {
             assert!(message.log_time > previous, "{topic}: time not increasing");
@@ -135,51 +184,20 @@ fn check_file(model: &Model, bytes: &[u8], count: usize) {
         last_time.insert(topic.clone(), message.log_time);
         *counts.entry(topic.clone()).or_default() += 1;
 
+        if topic == "/tf" {
+            let tf = FrameTransforms::decode(&message.data[..]).expect("protobuf /tf");
+            check_tf(model, &mut data, &tf, tf_index, message.log_time);
+            tf_index += 1;
+            continue;
+        }
+        if topic == "/scene" {
+            let scene = SceneUpdate::decode(&message.data[..]).expect("protobuf /scene");
+            let ids: Vec<&str> = scene.entities.iter().map(|e| e.id.as_str()).collect();
+            assert!(ids.starts_with(&["com", "com_reference"]) || ids.contains(&"com"));
+            continue;
+        }
         let json: serde_json::Value = serde_json::from_slice(&message.data).expect("JSON body");
         match topic.as_str() {
-            "/tf" => {
-                let transforms = json["transforms"].as_array().expect("transforms");
-                assert_eq!(transforms.len(), model.frames.len());
-                let q = configuration(model, tf_index);
-                sea_dyn::forward_kinematics(model, &mut data, &q);
-                for (frame, tf) in model.frames.iter().zip(transforms) {
-                    assert_eq!(tf["parent_frame_id"], "world");
-                    assert_eq!(tf["child_frame_id"], frame.name.as_str());
-                    let stamp = tf["timestamp"]["sec"].as_u64().unwrap() * 1_000_000_000
-                        + tf["timestamp"]["nsec"].as_u64().unwrap();
-                    assert_eq!(stamp, message.log_time);
-                    let r = &tf["rotation"];
-                    let quat: Vec<f64> = ["w", "x", "y", "z"]
-                        .iter()
-                        .map(|c| r[c].as_f64().unwrap())
-                        .collect();
-                    let norm = quat.iter().map(|c| c * c).sum::<f64>().sqrt();
-                    assert!(
-                        (norm - 1.0).abs() < 1e-12,
-                        "{}: |quat| = {norm}",
-                        frame.name
-                    );
-                    // The quaternion reproduces the frame's rotation, the translation its origin.
-                    let pose = sea_dyn::frame_placement(
-                        model,
-                        &data,
-                        model.frame_id(&frame.name).unwrap(),
-                    );
-                    let rotation = sea_dyn::spatial::rotation_from_quaternion(
-                        quat[0], quat[1], quat[2], quat[3],
-                    );
-                    assert!(
-                        (rotation - pose.rotation).abs().max() < 1e-12,
-                        "{}",
-                        frame.name
-                    );
-                    let t = &tf["translation"];
-                    for (i, c) in ["x", "y", "z"].iter().enumerate() {
-                        assert!((t[c].as_f64().unwrap() - pose.translation[i]).abs() < 1e-12);
-                    }
-                }
-                tf_index += 1;
-            }
             "/com" => {
                 assert_eq!(json["com"].as_array().unwrap().len(), 3);
                 assert!((json["error"][0].as_f64().unwrap() + 0.01).abs() < 1e-15);
@@ -243,9 +261,9 @@ fn writes_a_readable_file_with_every_channel() {
     // The summary section is present and counts the messages.
     let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
     let stats = summary.stats.expect("statistics");
-    assert_eq!(stats.message_count, 50 * 8);
-    assert_eq!(stats.channel_count, 8);
-    assert_eq!(stats.schema_count, 8);
+    assert_eq!(stats.message_count, 50 * 9);
+    assert_eq!(stats.channel_count, 9);
+    assert_eq!(stats.schema_count, 9);
     assert_eq!(stats.message_start_time, 0);
     assert_eq!(stats.message_end_time, 490_000_000);
     assert!(!summary.chunk_indexes.is_empty());
@@ -262,7 +280,7 @@ fn threaded_logger_writes_the_same_file_and_reports_writer_errors() {
     let bytes = std::fs::read(&file.0).unwrap();
     check_file(&model, &bytes, 40);
     let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
-    assert_eq!(summary.stats.unwrap().message_count, 40 * 8);
+    assert_eq!(summary.stats.unwrap().message_count, 40 * 9);
 
     // A bad sample stops the writer; its error comes back from a later call.
     let bad_file = TempFile::new("threaded_bad");
@@ -293,7 +311,7 @@ fn dropped_logger_still_leaves_a_readable_file() {
     let bytes = std::fs::read(&file.0).unwrap();
     check_file(&model, &bytes, 37);
     let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
-    assert_eq!(summary.stats.unwrap().message_count, 37 * 8);
+    assert_eq!(summary.stats.unwrap().message_count, 37 * 9);
 }
 
 #[test]
@@ -346,7 +364,7 @@ fn flushed_chunks_are_readable_before_the_log_is_finished() {
         .expect("header")
         .map_while(Result::ok)
         .count();
-    assert_eq!(recovered, 12 * 8);
+    assert_eq!(recovered, 12 * 9);
     assert!(mcap::Summary::read(&bytes).is_err() || mcap::Summary::read(&bytes).unwrap().is_none());
     logger.finish().expect("finish");
 }
@@ -387,4 +405,101 @@ fn a_full_disk_is_an_io_error_naming_the_file_and_the_cause() {
         error.to_string().contains("No space left on device"),
         "{error}"
     );
+}
+
+#[test]
+fn scene_draws_the_urdf_on_tf_frames_and_the_urdf_is_attached() {
+    let model = model();
+    let file = TempFile::new("scene");
+    let foot = FootRectangle {
+        x: [-0.05, 0.1],
+        y: [-0.03, 0.04],
+    };
+    let mut logger = create(&model, &file.0);
+    let source = SceneSource {
+        urdf: PathBuf::from(URDF),
+        foot: Some(foot),
+    };
+    logger.set_scene(&source).expect("scene");
+    for_each_sample(&model, 5, |sample| logger.log(sample).expect("log"));
+    logger.finish().expect("finish");
+    let bytes = std::fs::read(&file.0).unwrap();
+    check_file(&model, &bytes, 5);
+
+    let link_frames: BTreeSet<&str> = model.frames.iter().map(|f| f.name.as_str()).collect();
+    let urdf = urdf_rs::read_file(URDF).unwrap();
+    let visual_links: BTreeSet<&str> = urdf
+        .links
+        .iter()
+        .filter(|l| !l.visual.is_empty())
+        .map(|l| l.name.as_str())
+        .collect();
+    let scene = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(Result::unwrap)
+        .find(|m| m.channel.topic == "/scene")
+        .expect("a /scene message");
+    let scene = SceneUpdate::decode(&scene.data[..]).unwrap();
+    let mut drawn_links = BTreeSet::new();
+    for entity in &scene.entities {
+        assert!(
+            entity.frame_id == "world" || link_frames.contains(entity.frame_id.as_str()),
+            "{}: frame {} is not in /tf",
+            entity.id,
+            entity.frame_id
+        );
+        if let Some(link) = entity.id.strip_prefix("link/") {
+            assert!(entity.frame_locked && entity.frame_id == link);
+            drawn_links.insert(link);
+        }
+    }
+    assert_eq!(
+        drawn_links, visual_links,
+        "one body entity per link with visuals"
+    );
+    let primitives: usize = scene
+        .entities
+        .iter()
+        .map(|e| e.cubes.len() + e.spheres.len() + e.cylinders.len())
+        .sum::<usize>()
+        - 2; // the CoM spheres
+    assert_eq!(
+        primitives,
+        urdf.links.iter().map(|l| l.visual.len()).sum::<usize>()
+    );
+    // The support polygon: each sole's rectangle, closed, in the sole frame.
+    for sole in ["l_sole", "r_sole"] {
+        let entity = scene
+            .entities
+            .iter()
+            .find(|e| e.id == format!("support/{sole}"));
+        let line = &entity.expect("support polygon").lines[0];
+        assert_eq!(line.points.len(), 4);
+        assert_eq!((line.points[2].x, line.points[2].y), (foot.x[1], foot.y[1]));
+    }
+    // The wrench arrows start at the soles and are as long as the force says.
+    let arrow = &scene
+        .entities
+        .iter()
+        .find(|e| e.id == "wrench/r_sole")
+        .unwrap()
+        .arrows[0];
+    let force = [6.0, 7.0, 8.0_f64]; // sample 0, contact 1
+    let length = force.iter().map(|f| f * f).sum::<f64>().sqrt() * ARROW_M_PER_N;
+    assert!((arrow.shaft_length - length).abs() < 1e-12);
+    let mut data = Data::new(&model);
+    sea_dyn::forward_kinematics(&model, &mut data, &configuration(&model, 0));
+    let sole = sea_dyn::frame_placement(&model, &data, model.frame_id("r_sole").unwrap());
+    let start = arrow.pose.unwrap().position.unwrap();
+    assert!((nalgebra::Vector3::new(start.x, start.y, start.z) - sole.translation).norm() < 1e-12);
+
+    let attachment = mcap::read::Summary::read(&bytes)
+        .unwrap()
+        .unwrap()
+        .attachment_indexes;
+    assert_eq!(attachment.len(), 1);
+    assert_eq!(attachment[0].name, "mini_biped.urdf");
+    assert_eq!(attachment[0].media_type, "application/xml");
+    let attached = mcap::read::attachment(&bytes, &attachment[0]).unwrap();
+    assert_eq!(&attached.data[..], &std::fs::read(URDF).unwrap()[..]);
 }

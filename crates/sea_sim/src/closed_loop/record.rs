@@ -4,6 +4,7 @@
 //! or none (the summary statistics are computed online either way).
 
 use crate::error::Result;
+use crate::foxglove::SceneSource;
 use crate::mcap_log::{LogSample, McapLogger, ThreadedMcapLogger};
 use sea_ctrl::qp::QpStatus;
 use sea_dyn::{Model, StateLayout};
@@ -20,6 +21,8 @@ pub struct RunInfo<'a> {
     pub elastic_joints: &'a [String],
     /// Contact frame names (order of the contact wrenches).
     pub contacts: &'a [String],
+    /// The scenario being run (e.g. its URDF and contact surface, drawn by the logs).
+    pub scenario: &'a crate::scenario::Scenario,
 }
 
 /// One recorded sample of a run: the plant state at `time_s`, the controller's evaluation
@@ -155,7 +158,9 @@ impl McapSink {
 
 impl RecordSink for McapSink {
     fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
-        let logger = McapLogger::create(&self.path, run.model, run.elastic_joints, run.contacts)?;
+        let mut logger =
+            McapLogger::create(&self.path, run.model, run.elastic_joints, run.contacts)?;
+        logger.set_scene(&SceneSource::of_scenario(run.scenario))?;
         self.logger = Some(ThreadedMcapLogger::spawn(logger));
         Ok(())
     }

@@ -194,6 +194,7 @@ impl<'a> Engine<'a> {
             layout: self.layout,
             elastic_joints: self.elastic_names,
             contacts: &self.scenario.robot.contacts,
+            scenario: self.scenario,
         }
     }
 

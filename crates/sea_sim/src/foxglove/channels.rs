@@ -1,0 +1,528 @@
+//! The channels of a run and the encoding of one [`LogSample`] into their messages, shared by
+//! the MCAP log and the live server.
+
+use super::scene::{Markers, StaticScene};
+use super::WORLD_FRAME;
+use crate::error::Error;
+use crate::mcap_log::LogSample;
+use crate::Result;
+use ::foxglove::messages::{
+    FrameTransform, FrameTransforms, Quaternion, SceneUpdate, Timestamp, Vector3,
+};
+use ::foxglove::{Encode, Schema};
+use sea_dyn::spatial::quaternion_from_rotation;
+use sea_dyn::{Data, Model};
+use serde::Serialize;
+
+/// A channel of the log (see the module documentation of [`crate::foxglove`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Topic {
+    /// `/tf`: `foxglove.FrameTransforms`, `world_H_link` of every link.
+    Tf,
+    /// `/scene`: `foxglove.SceneUpdate`, robot bodies, support polygon, CoM, wrenches.
+    Scene,
+    /// `/com`: `sea_momentum.Com`.
+    Com,
+    /// `/momentum`: `sea_momentum.Momentum`.
+    Momentum,
+    /// `/joints`: `sea_momentum.JointState`.
+    Joints,
+    /// `/motors`: `sea_momentum.MotorState`.
+    Motors,
+    /// `/contact_wrenches`: `sea_momentum.ContactWrenches`.
+    ContactWrenches,
+    /// `/qp`: `sea_momentum.QpStatus`.
+    Qp,
+    /// `/base`: `sea_momentum.BasePose`.
+    Base,
+}
+
+/// Encoding of our own channels' messages and of their schemas.
+const JSON: (&str, &str) = ("json", "jsonschema");
+
+impl Topic {
+    /// Every channel, in the order they are registered.
+    pub const ALL: [Topic; 9] = [
+        Topic::Tf,
+        Topic::Scene,
+        Topic::Com,
+        Topic::Momentum,
+        Topic::Joints,
+        Topic::Motors,
+        Topic::ContactWrenches,
+        Topic::Qp,
+        Topic::Base,
+    ];
+
+    /// Position in [`Self::ALL`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The topic name, e.g. `/tf`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Topic::Tf => "/tf",
+            Topic::Scene => "/scene",
+            Topic::Com => "/com",
+            Topic::Momentum => "/momentum",
+            Topic::Joints => "/joints",
+            Topic::Motors => "/motors",
+            Topic::ContactWrenches => "/contact_wrenches",
+            Topic::Qp => "/qp",
+            Topic::Base => "/base",
+        }
+    }
+
+    /// Message encoding: `protobuf` for the SDK's types, `json` for ours.
+    pub fn message_encoding(self) -> String {
+        match self {
+            Topic::Tf => FrameTransforms::get_message_encoding(),
+            Topic::Scene => SceneUpdate::get_message_encoding(),
+            _ => JSON.0.to_string(),
+        }
+    }
+
+    /// The schema: the SDK's protobuf descriptor for its types, our JSON Schema otherwise.
+    pub fn schema(self) -> Schema {
+        let json = |name: &str, text: &'static str| Schema::new(name, JSON.1, text.as_bytes());
+        match self {
+            Topic::Tf => FrameTransforms::get_schema().expect("the SDK gives its schemas"),
+            Topic::Scene => SceneUpdate::get_schema().expect("the SDK gives its schemas"),
+            Topic::Com => json("sea_momentum.Com", COM_SCHEMA),
+            Topic::Momentum => json("sea_momentum.Momentum", MOMENTUM_SCHEMA),
+            Topic::Joints => json("sea_momentum.JointState", JOINT_STATE_SCHEMA),
+            Topic::Motors => json("sea_momentum.MotorState", MOTOR_STATE_SCHEMA),
+            Topic::ContactWrenches => json("sea_momentum.ContactWrenches", CONTACT_WRENCHES_SCHEMA),
+            Topic::Qp => json("sea_momentum.QpStatus", QP_STATUS_SCHEMA),
+            Topic::Base => json("sea_momentum.BasePose", BASE_POSE_SCHEMA),
+        }
+    }
+}
+
+const COM_SCHEMA: &str = r#"{
+  "title": "sea_momentum.Com",
+  "description": "Centre of mass, its reference and the tracking error com - reference (world axes, m)",
+  "type": "object",
+  "properties": {
+    "com": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 },
+    "reference": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 },
+    "error": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 }
+  },
+  "required": ["com", "reference", "error"]
+}"#;
+
+const MOMENTUM_SCHEMA: &str = r#"{
+  "title": "sea_momentum.Momentum",
+  "description": "Centroidal momentum: linear m pdot_com (kg m/s) and angular L_com (kg m^2/s), world axes",
+  "type": "object",
+  "properties": {
+    "linear": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 },
+    "angular": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 }
+  },
+  "required": ["linear", "angular"]
+}"#;
+
+const JOINT_STATE_SCHEMA: &str = r#"{
+  "title": "sea_momentum.JointState",
+  "description": "Joint positions (rad or m), velocities (rad/s or m/s) and torques (Nm or N), in coordinate order",
+  "type": "object",
+  "properties": {
+    "names": { "type": "array", "items": { "type": "string" } },
+    "position": { "type": "array", "items": { "type": ["number", "null"] } },
+    "velocity": { "type": "array", "items": { "type": ["number", "null"] } },
+    "torque": { "type": "array", "items": { "type": ["number", "null"] } }
+  },
+  "required": ["names", "position", "velocity", "torque"]
+}"#;
+
+const MOTOR_STATE_SCHEMA: &str = r#"{
+  "title": "sea_momentum.MotorState",
+  "description": "Motor angles (rad), velocities and desired velocities (rad/s) of the elastic joints, motor torques (Nm)",
+  "type": "object",
+  "properties": {
+    "names": { "type": "array", "items": { "type": "string" } },
+    "position": { "type": "array", "items": { "type": ["number", "null"] } },
+    "velocity": { "type": "array", "items": { "type": ["number", "null"] } },
+    "velocity_desired": { "type": "array", "items": { "type": ["number", "null"] } },
+    "torque": { "type": "array", "items": { "type": ["number", "null"] } }
+  },
+  "required": ["names", "position", "velocity", "velocity_desired", "torque"]
+}"#;
+
+const CONTACT_WRENCHES_SCHEMA: &str = r#"{
+  "title": "sea_momentum.ContactWrenches",
+  "description": "Contact wrenches: force (N) and moment (Nm) of each contact, world axes",
+  "type": "object",
+  "properties": {
+    "contacts": {
+      "type": "array",
+      "items": {
+        "type": "object",
+        "properties": {
+          "frame": { "type": "string", "description": "Contact frame (URDF link)" },
+          "force": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 },
+          "moment": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 }
+        },
+        "required": ["frame", "force", "moment"]
+      }
+    }
+  },
+  "required": ["contacts"]
+}"#;
+
+const QP_STATUS_SCHEMA: &str = r#"{
+  "title": "sea_momentum.QpStatus",
+  "description": "Status of the contact-wrench QP and the number of failures so far",
+  "type": "object",
+  "properties": {
+    "status": { "type": "string" },
+    "failures": { "type": "integer", "minimum": 0 }
+  },
+  "required": ["status", "failures"]
+}"#;
+
+const BASE_POSE_SCHEMA: &str = r#"{
+  "title": "sea_momentum.BasePose",
+  "description": "Floating base: position (m), orientation quaternion (w, x, y, z), linear (m/s) and angular (rad/s) velocity, world axes",
+  "type": "object",
+  "properties": {
+    "position": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 },
+    "orientation_wxyz": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 4, "maxItems": 4 },
+    "linear_velocity": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 },
+    "angular_velocity": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 }
+  },
+  "required": ["position", "orientation_wxyz", "linear_velocity", "angular_velocity"]
+}"#;
+
+// ---- Bodies of our JSON messages (borrowing, so a sample allocates little). ----
+
+#[derive(Serialize)]
+struct ComMsg {
+    com: [f64; 3],
+    reference: [f64; 3],
+    error: [f64; 3],
+}
+
+#[derive(Serialize)]
+struct MomentumMsg<'a> {
+    linear: &'a [f64],
+    angular: &'a [f64],
+}
+
+#[derive(Serialize)]
+struct JointStateMsg<'a> {
+    names: &'a [String],
+    position: &'a [f64],
+    velocity: &'a [f64],
+    torque: &'a [f64],
+}
+
+#[derive(Serialize)]
+struct MotorStateMsg<'a> {
+    names: &'a [String],
+    position: &'a [f64],
+    velocity: &'a [f64],
+    velocity_desired: &'a [f64],
+    torque: &'a [f64],
+}
+
+#[derive(Serialize)]
+struct ContactMsg<'a> {
+    frame: &'a str,
+    force: &'a [f64],
+    moment: &'a [f64],
+}
+
+#[derive(Serialize)]
+struct ContactWrenchesMsg<'a> {
+    contacts: Vec<ContactMsg<'a>>,
+}
+
+#[derive(Serialize)]
+struct QpStatusMsg<'a> {
+    status: &'a str,
+    failures: usize,
+}
+
+#[derive(Serialize)]
+struct BasePoseMsg<'a> {
+    position: &'a [f64],
+    orientation_wxyz: &'a [f64],
+    linear_velocity: &'a [f64],
+    angular_velocity: &'a [f64],
+}
+
+/// Encodes [`LogSample`]s into the messages of every [`Topic`]. Holds the model (for the link
+/// poses of `/tf` and the sole positions of the wrench arrows) and reuses its messages and
+/// buffer between samples.
+pub struct SampleEncoder {
+    model: Model,
+    data: Data,
+    elastic_joint_names: Vec<String>,
+    /// Contact names, extended by `contact_<k>` for contacts beyond the given names.
+    contact_labels: Vec<String>,
+    /// Frame of each named contact (`None`: not a model frame, no arrow origin).
+    contact_frames: Vec<Option<usize>>,
+    /// Origins of the contact frames in the current sample (world) [m].
+    contact_origins: Vec<[f64; 3]>,
+    /// `/tf`, child frame names filled once.
+    tf: FrameTransforms,
+    /// The static part of `/scene`, once set.
+    scene: Option<StaticScene>,
+    markers: Markers,
+    buffer: Vec<u8>,
+}
+
+impl SampleEncoder {
+    /// An encoder for `model`; `elastic_joint_names` labels theta entries, `contact_names` the
+    /// wrenches (contacts beyond the names are called `contact_<k>`).
+    pub fn new(model: &Model, elastic_joint_names: &[String], contact_names: &[String]) -> Self {
+        let tf = FrameTransforms {
+            transforms: model
+                .frames
+                .iter()
+                .map(|frame| FrameTransform {
+                    parent_frame_id: WORLD_FRAME.to_string(),
+                    child_frame_id: frame.name.clone(),
+                    ..Default::default()
+                })
+                .collect(),
+        };
+        Self {
+            model: model.clone(),
+            data: Data::new(model),
+            elastic_joint_names: elastic_joint_names.to_vec(),
+            contact_labels: contact_names.to_vec(),
+            contact_frames: contact_names
+                .iter()
+                .map(|c| model.frame_id(c).ok())
+                .collect(),
+            contact_origins: Vec::with_capacity(contact_names.len()),
+            tf,
+            scene: None,
+            markers: Markers::new(contact_names),
+            buffer: Vec::with_capacity(8192),
+        }
+    }
+
+    /// Adds the robot's bodies and support polygon to `/scene`.
+    pub(crate) fn set_scene(&mut self, scene: StaticScene) {
+        self.scene = Some(scene);
+    }
+
+    /// The link frames (the child frames of `/tf`).
+    pub fn link_frames(&self) -> Vec<String> {
+        self.model.frames.iter().map(|f| f.name.clone()).collect()
+    }
+
+    /// The contact names given at creation.
+    pub fn contact_names(&self) -> &[String] {
+        &self.contact_labels[..self.contact_frames.len()]
+    }
+
+    /// Checks the sizes of `q`, `nu` and the wrenches.
+    ///
+    /// Errors: [`Error::Log`] naming the wrong size.
+    pub fn check(&self, sample: &LogSample<'_>) -> Result<()> {
+        let (nq, nv) = (self.model.nq(), self.model.nv());
+        if sample.q.len() != nq {
+            return Err(Error::Log(format!(
+                "q has {} entries, the model needs nq = {nq}",
+                sample.q.len()
+            )));
+        }
+        if sample.nu.len() != nv {
+            return Err(Error::Log(format!(
+                "nu has {} entries, the model needs nv = {nv}",
+                sample.nu.len()
+            )));
+        }
+        if sample.contact_wrenches.len() % 6 != 0 {
+            return Err(Error::Log(format!(
+                "contact_wrenches has {} entries, not a multiple of 6",
+                sample.contact_wrenches.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Encodes `sample` and hands each message to `emit(topic, time_ns, bytes)`, in the order
+    /// of [`Topic::ALL`]. `/tf` and `/scene` are skipped when a pose is not finite.
+    ///
+    /// Errors: those of [`Self::check`] and of `emit`.
+    pub fn encode(
+        &mut self,
+        sample: &LogSample<'_>,
+        mut emit: impl FnMut(Topic, u64, &[u8]) -> Result<()>,
+    ) -> Result<()> {
+        self.check(sample)?;
+        let time = nanoseconds(sample.time_s);
+        if self.encode_tf(time, sample.q) {
+            emit(Topic::Tf, time, &self.buffer)?;
+        }
+        if self.encode_scene(time, sample) {
+            emit(Topic::Scene, time, &self.buffer)?;
+        }
+        for topic in &Topic::ALL[2..] {
+            self.buffer.clear();
+            self.encode_json(*topic, sample)?;
+            emit(*topic, time, &self.buffer)?;
+        }
+        Ok(())
+    }
+
+    /// `/tf` into the buffer: `world_H_link` of every frame (also updates the contact
+    /// origins); `false` when a pose is not finite.
+    fn encode_tf(&mut self, time: u64, q: &[f64]) -> bool {
+        sea_dyn::forward_kinematics(&self.model, &mut self.data, q);
+        let stamp = time_stamp(time);
+        let mut finite = true;
+        for (id, transform) in self.tf.transforms.iter_mut().enumerate() {
+            let pose = sea_dyn::frame_placement(&self.model, &self.data, id);
+            let [w, x, y, z] = quaternion_from_rotation(&pose.rotation);
+            let t = pose.translation;
+            finite &= t.iter().chain([w, x, y, z].iter()).all(|v| v.is_finite());
+            transform.timestamp = Some(stamp);
+            transform.translation = Some(Vector3 {
+                x: t.x,
+                y: t.y,
+                z: t.z,
+            });
+            transform.rotation = Some(Quaternion { x, y, z, w });
+        }
+        self.contact_origins.clear();
+        for frame in &self.contact_frames {
+            let origin = frame.map_or([f64::NAN; 3], |id| {
+                let t = sea_dyn::frame_placement(&self.model, &self.data, id).translation;
+                [t.x, t.y, t.z]
+            });
+            self.contact_origins.push(origin);
+        }
+        self.buffer.clear();
+        finite && self.tf.encode(&mut self.buffer).is_ok()
+    }
+
+    /// `/scene` into the buffer: the static part, then the markers; `false` when a marker is
+    /// not finite.
+    fn encode_scene(&mut self, time: u64, sample: &LogSample<'_>) -> bool {
+        self.buffer.clear();
+        if let Some(scene) = &self.scene {
+            self.buffer.extend_from_slice(&scene.encoded);
+        }
+        self.markers.encode(
+            time_stamp(time),
+            sample.com,
+            sample.com_reference,
+            sample.contact_wrenches,
+            &self.contact_origins,
+            &mut self.buffer,
+        )
+    }
+
+    /// One of our JSON channels into the buffer.
+    fn encode_json(&mut self, topic: Topic, sample: &LogSample<'_>) -> Result<()> {
+        let buffer = &mut self.buffer;
+        let result = match topic {
+            Topic::Com => serde_json::to_writer(
+                buffer,
+                &ComMsg {
+                    com: sample.com,
+                    reference: sample.com_reference,
+                    error: [0, 1, 2].map(|k| sample.com[k] - sample.com_reference[k]),
+                },
+            ),
+            Topic::Momentum => serde_json::to_writer(
+                buffer,
+                &MomentumMsg {
+                    linear: &sample.momentum[..3],
+                    angular: &sample.momentum[3..],
+                },
+            ),
+            Topic::Joints => serde_json::to_writer(
+                buffer,
+                &JointStateMsg {
+                    names: &self.model.joint_names,
+                    position: &sample.q[7..],
+                    velocity: &sample.nu[6..],
+                    torque: sample.joint_torques,
+                },
+            ),
+            Topic::Motors => serde_json::to_writer(
+                buffer,
+                &MotorStateMsg {
+                    names: &self.elastic_joint_names,
+                    position: sample.theta,
+                    velocity: sample.thetadot,
+                    velocity_desired: sample.thetadot_desired,
+                    torque: sample.motor_torques,
+                },
+            ),
+            Topic::ContactWrenches => {
+                while self.contact_labels.len() < sample.contact_wrenches.len() / 6 {
+                    let k = self.contact_labels.len();
+                    self.contact_labels.push(format!("contact_{k}"));
+                }
+                let contacts = sample
+                    .contact_wrenches
+                    .chunks_exact(6)
+                    .zip(&self.contact_labels)
+                    .map(|(w, frame)| ContactMsg {
+                        frame,
+                        force: &w[..3],
+                        moment: &w[3..],
+                    })
+                    .collect();
+                serde_json::to_writer(buffer, &ContactWrenchesMsg { contacts })
+            }
+            Topic::Qp => serde_json::to_writer(
+                buffer,
+                &QpStatusMsg {
+                    status: sample.qp_status,
+                    failures: sample.qp_failures,
+                },
+            ),
+            Topic::Base => serde_json::to_writer(
+                buffer,
+                &BasePoseMsg {
+                    position: &sample.q[..3],
+                    orientation_wxyz: &sample.q[3..7],
+                    linear_velocity: &sample.nu[..3],
+                    angular_velocity: &sample.nu[3..6],
+                },
+            ),
+            Topic::Tf | Topic::Scene => unreachable!("protobuf channels"),
+        };
+        result.map_err(|e| Error::Log(format!("{}: {e}", topic.name())))
+    }
+}
+
+/// Time in seconds to nanoseconds; negative or NaN times clamp to 0, huge ones saturate.
+pub fn nanoseconds(time_s: f64) -> u64 {
+    if time_s.is_nan() || time_s <= 0.0 {
+        0
+    } else {
+        (time_s * 1e9).round() as u64
+    }
+}
+
+/// A `foxglove` time stamp of `time` nanoseconds (saturating past 2106).
+fn time_stamp(time: u64) -> Timestamp {
+    let sec = u32::try_from(time / 1_000_000_000).unwrap_or(u32::MAX);
+    Timestamp::new(sec, (time % 1_000_000_000) as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn time_conversion() {
+        assert_eq!(nanoseconds(0.0), 0);
+        assert_eq!(nanoseconds(-1.0), 0);
+        assert_eq!(nanoseconds(f64::NAN), 0);
+        assert_eq!(nanoseconds(1.5), 1_500_000_000);
+        assert_eq!(nanoseconds(0.001), 1_000_000);
+        assert_eq!(time_stamp(1_500_000_000), Timestamp::new(1, 500_000_000));
+    }
+}

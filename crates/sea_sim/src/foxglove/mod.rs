@@ -1,0 +1,41 @@
+//! Foxglove channels of a run, built with the Foxglove SDK (`foxglove` crate): written to an
+//! MCAP file by [`crate::mcap_log`] and served live by [`live`].
+//!
+//! | topic               | encoding | schema                          | content                                         |
+//! |---------------------|----------|---------------------------------|-------------------------------------------------|
+//! | `/tf`               | protobuf | `foxglove.FrameTransforms`      | `world_H_link` of every URDF link               |
+//! | `/scene`            | protobuf | `foxglove.SceneUpdate`          | robot bodies, support polygon, CoM, wrenches    |
+//! | `/com`              | json     | `sea_momentum.Com`              | CoM, its reference, `error = com - ref`         |
+//! | `/momentum`         | json     | `sea_momentum.Momentum`         | centroidal momentum `[m pdot_com; L_com]`       |
+//! | `/joints`           | json     | `sea_momentum.JointState`       | `s`, `sdot`, joint torques                      |
+//! | `/motors`           | json     | `sea_momentum.MotorState`       | `theta`, `thetadot` (+ desired), torques        |
+//! | `/contact_wrenches` | json     | `sea_momentum.ContactWrenches`  | force and moment of each contact                |
+//! | `/qp`               | json     | `sea_momentum.QpStatus`         | QP status and failure count                     |
+//! | `/base`             | json     | `sea_momentum.BasePose`         | base position, quaternion, velocities           |
+//!
+//! Why two encodings: the SDK's typed messages (`foxglove::messages`) are protobuf messages
+//! with their descriptors as schemas, so `/tf` and `/scene` use them as they are, no copied
+//! schema to keep in step; protobuf is what Foxglove decodes fastest, it is several times
+//! smaller than JSON for the 41 link poses of every sample, and the `mcap` Python reader
+//! decodes it with `mcap-protobuf-support`. Our own channels stay JSON with a JSON Schema: no
+//! SDK type fits them, JSON needs no decoder package to read back (`json.loads`), and
+//! Foxglove plots JSON fields by path (`/com.error[0]`) just as protobuf ones.
+//!
+//! `/scene` draws the robot with no setup: one frame-locked entity per link with the URDF's
+//! boxes, cylinders and spheres (`frame_id` = link name, as in `/tf`), the foot rectangle of
+//! each contact as a closed line in the sole frame (the support polygon), the CoM and its
+//! reference as spheres, and the contact forces as arrows at the soles, in the `world` frame.
+//! Units are SI, axes are world axes, `log_time = publish_time = time_s` in nanoseconds.
+//! Non-finite numbers (a diverged run) are JSON `null`; a `/tf` or `/scene` message is skipped
+//! when a pose in it is not finite, since Foxglove needs numbers there.
+
+mod channels;
+pub mod live;
+mod scene;
+
+pub use channels::{nanoseconds, SampleEncoder, Topic};
+pub(crate) use scene::StaticScene;
+pub use scene::{FootRectangle, SceneSource, ARROW_M_PER_N};
+
+/// The fixed frame: parent of every link in `/tf`, frame of the CoM and wrench markers.
+pub const WORLD_FRAME: &str = "world";
