@@ -13,6 +13,7 @@
 
 pub mod build;
 pub mod presets;
+pub mod validate;
 
 pub use build::{build, Setup};
 pub use presets::{ICUB25_JOINTS, ICUB_LEFT_STANCE, ICUB_TWO_FEET_DEG};
@@ -548,78 +549,9 @@ impl Scenario {
         }
     }
 
+    /// Checks every value against its meaning ([`validate::scenario`]).
     fn validate(&self) -> Result<()> {
-        let positive = [
-            ("plant.dt", self.plant.dt),
-            ("controller.rate_hz", self.controller.rate_hz),
-            ("simulation.duration_s", self.simulation.duration_s),
-            ("plant.motor_velocity_gain", self.plant.motor_velocity_gain),
-            (
-                "controller.damping_estimate_scale",
-                self.controller.damping_estimate_scale,
-            ),
-            (
-                "controller.stiffness_estimate_scale",
-                self.controller.stiffness_estimate_scale,
-            ),
-            (
-                "simulation.divergence_com_error_m",
-                self.simulation.divergence_com_error_m,
-            ),
-        ];
-        for (key, value) in positive {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(Error::invalid(key, "must be positive and finite", value));
-            }
-        }
-        if !matches!(self.controller.kind.as_str(), "sea" | "rigid") {
-            return Err(Error::config(
-                "controller.kind",
-                format!(
-                    "expected \"sea\" or \"rigid\", got \"{}\"",
-                    self.controller.kind
-                ),
-            ));
-        }
-        sea_plant::Method::parse(&self.plant.method)
-            .map_err(|e| Error::config("plant.method", e.to_string()))?;
-        for (key, gains) in [
-            (
-                "controller.momentum_integral",
-                self.controller.momentum_integral,
-            ),
-            (
-                "controller.momentum_proportional",
-                self.controller.momentum_proportional,
-            ),
-        ] {
-            if let Some(g) = gains
-                .iter()
-                .flatten()
-                .find(|g| !(g.is_finite() && **g >= 0.0))
-            {
-                return Err(Error::invalid(
-                    key,
-                    "gains must be finite and non-negative",
-                    g,
-                ));
-            }
-        }
-        let scale = self.controller.postural_scale;
-        if !(scale.is_finite() && scale >= 0.0) {
-            return Err(Error::invalid(
-                "controller.postural_scale",
-                "must be finite and non-negative",
-                scale,
-            ));
-        }
-        // Any rate works with any plant.dt: the closed loop splits each control period into
-        // equal steps not longer than plant.dt.
-        crate::closed_loop::Sampling::parse(&self.controller.sampling)?;
-        if self.robot.contacts.is_empty() || self.robot.contacts.len() > 2 {
-            return Err(Error::config("robot.contacts", "one or two contact frames"));
-        }
-        Ok(())
+        validate::scenario(self)
     }
 
     /// Controller kind.

@@ -1,0 +1,673 @@
+//! Every scenario value checked against its meaning before anything is built: finite, sign,
+//! range, ordering, and feasibility where it is cheap. Each failure is an
+//! [`Error::Scenario`] naming the dotted key, the rule and the value, so a typo or a value
+//! outside the physics is reported before a run instead of surfacing as failing QPs, a
+//! divergence at t = 0 or a feature silently switched off.
+//!
+//! [`scenario`] checks what the file alone decides; [`against_model`] what needs the robot
+//! (a minimum normal force the robot's weight cannot supply).
+
+use super::{ActuatorConfig, ControllerConfig, PlantConfig, Scenario, SimulationConfig};
+use crate::error::{Error, Result};
+
+/// Largest number of friction cone facets: the QP grows by one row per facet and contact, and
+/// beyond a few dozen the linearised cone is already within 0.2 % of the true one (1e8 facets
+/// allocated about 20 GB).
+pub const MAX_FRICTION_FACETS: usize = 64;
+
+/// Fewest friction cone facets: fewer than 3 half-planes do not bound the tangential force.
+pub const MIN_FRICTION_FACETS: usize = 3;
+
+/// Largest number of plant steps (or controller samples) of one run: about a day of wall
+/// time; more is a typo (a step of 1e-300 s, a rate of 1e300 Hz) that would hang the run.
+pub const MAX_RUN_STEPS: f64 = 1e10;
+
+/// Checks every value of `scenario` that does not need the robot model.
+pub fn scenario(scenario: &Scenario) -> Result<()> {
+    robot(scenario)?;
+    plant(scenario)?;
+    actuators(scenario)?;
+    controller(scenario)?;
+    contact(scenario)?;
+    reference(scenario)?;
+    simulation(scenario)?;
+    run_length(scenario)
+}
+
+/// Checks what needs the robot: with `mass_kg` and gravity `gravity_m_s2` (magnitude), the
+/// contacts must be able to carry `controller.contact.min_normal_force` each (the QP is
+/// infeasible at rest otherwise: the contacts would push the robot up).
+pub fn against_model(scenario: &Scenario, mass_kg: f64, gravity_m_s2: f64) -> Result<()> {
+    let min_normal_force = scenario.controller.contact.min_normal_force;
+    let contacts = scenario.robot.contacts.len() as f64;
+    let weight = mass_kg * gravity_m_s2;
+    if contacts * min_normal_force > weight {
+        return Err(Error::invalid(
+            "controller.contact.min_normal_force",
+            format!(
+                "must be at most the robot's weight {weight:.1} N shared by its {contacts} \
+                 contact(s) (infeasible at rest)"
+            ),
+            min_normal_force,
+        ));
+    }
+    Ok(())
+}
+
+/// `value` as written in a message: plain for ordinary magnitudes, in exponent notation for
+/// tiny or huge ones (Rust's plain format prints 1e-300 with 300 digits).
+fn shown(value: f64) -> String {
+    let magnitude = value.abs();
+    if value == 0.0 || !value.is_finite() || (1e-4..1e15).contains(&magnitude) {
+        value.to_string()
+    } else {
+        format!("{value:e}")
+    }
+}
+
+/// `value` must be finite.
+fn finite(key: &str, value: f64) -> Result<()> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(key, "must be finite", shown(value)))
+    }
+}
+
+/// `value` must be finite and `>= 0`.
+fn non_negative(key: &str, value: f64) -> Result<()> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            key,
+            "must be finite and non-negative",
+            value,
+        ))
+    }
+}
+
+/// `value` must be finite and `> 0`.
+fn positive(key: &str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            key,
+            "must be positive and finite",
+            shown(value),
+        ))
+    }
+}
+
+/// Every entry of `values` must be finite and `>= 0`; the error names the entry (`key[i]`).
+fn non_negative_entries(key: &str, values: &[f64]) -> Result<()> {
+    for (i, &value) in values.iter().enumerate() {
+        non_negative(&format!("{key}[{i}]"), value)?;
+    }
+    Ok(())
+}
+
+/// `[robot]`: one or two distinct contact frames.
+fn robot(scenario: &Scenario) -> Result<()> {
+    let contacts = &scenario.robot.contacts;
+    if contacts.is_empty() || contacts.len() > 2 {
+        return Err(Error::invalid(
+            "robot.contacts",
+            "one or two contact frames",
+            format!("{contacts:?}"),
+        ));
+    }
+    if contacts.len() == 2 && contacts[0] == contacts[1] {
+        return Err(Error::invalid(
+            "robot.contacts",
+            "the contact frames must be distinct",
+            format!("{contacts:?}"),
+        ));
+    }
+    Ok(())
+}
+
+/// `[plant]`: the integration method, a positive step and non-negative gains.
+fn plant(scenario: &Scenario) -> Result<()> {
+    let p = &scenario.plant;
+    sea_plant::Method::parse(&p.method)
+        .map_err(|e| Error::invalid("plant.method", e.to_string(), &p.method))?;
+    positive("plant.dt", p.dt)?;
+    positive("plant.motor_velocity_gain", p.motor_velocity_gain)?;
+    non_negative("plant.baumgarte_kp", p.baumgarte_kp)?;
+    if let Some(kd) = p.baumgarte_kd {
+        non_negative("plant.baumgarte_kd", kd)?;
+    }
+    non_negative(
+        "plant.joint_inertia_regularization",
+        p.joint_inertia_regularization,
+    )
+}
+
+/// `[actuators]` and every `[actuators.overrides.NAME]`.
+fn actuators(scenario: &Scenario) -> Result<()> {
+    let sea = scenario.controller.kind == "sea";
+    actuator("actuators", &scenario.actuators.default, sea)?;
+    for (name, config) in &scenario.actuators.overrides {
+        actuator(&format!("actuators.overrides.{name}"), config, sea)?;
+    }
+    Ok(())
+}
+
+/// One actuator table (`table` is its dotted name): its kind, and for an elastic actuator
+/// positive ratio, inertia and stiffness, a non-negative damping (positive under the SEA
+/// controller, which divides by it) and a positive torque limit.
+fn actuator(table: &str, config: &ActuatorConfig, sea_controller: bool) -> Result<()> {
+    match config.kind.as_str() {
+        "rigid" => return Ok(()),
+        "elastic" => {}
+        other => {
+            return Err(Error::invalid(
+                format!("{table}.kind"),
+                "expected \"elastic\" or \"rigid\"",
+                format!("\"{other}\""),
+            ))
+        }
+    }
+    positive(&format!("{table}.ratio"), config.ratio)?;
+    positive(&format!("{table}.motor_inertia"), config.motor_inertia)?;
+    positive(&format!("{table}.stiffness"), config.stiffness)?;
+    let damping_key = format!("{table}.damping");
+    if sea_controller {
+        if !(config.damping.is_finite() && config.damping > 0.0) {
+            return Err(Error::invalid(
+                damping_key,
+                "must be positive and finite with the SEA controller (it divides by the \
+                 damping; use controller.kind = \"rigid\" for an undamped spring)",
+                config.damping,
+            ));
+        }
+    } else {
+        non_negative(&damping_key, config.damping)?;
+    }
+    match config.torque_limit {
+        Some(limit) if limit.is_nan() || limit <= 0.0 => Err(Error::invalid(
+            format!("{table}.torque_limit"),
+            "must be positive (or absent for no limit)",
+            limit,
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// `[controller]` without its contact table: kind, sampling, rate, estimates, gains and
+/// regularisers.
+fn controller(scenario: &Scenario) -> Result<()> {
+    let c = &scenario.controller;
+    if !matches!(c.kind.as_str(), "sea" | "rigid") {
+        return Err(Error::invalid(
+            "controller.kind",
+            "expected \"sea\" or \"rigid\"",
+            format!("\"{}\"", c.kind),
+        ));
+    }
+    crate::closed_loop::Sampling::parse(&c.sampling)?;
+    positive("controller.rate_hz", c.rate_hz)?;
+    positive(
+        "controller.damping_estimate_scale",
+        c.damping_estimate_scale,
+    )?;
+    positive(
+        "controller.stiffness_estimate_scale",
+        c.stiffness_estimate_scale,
+    )?;
+    for (key, gains) in [
+        ("controller.momentum_integral", c.momentum_integral),
+        ("controller.momentum_proportional", c.momentum_proportional),
+    ] {
+        if let Some(gains) = gains {
+            non_negative_entries(key, &gains)?;
+        }
+    }
+    if let Some(stiffness) = &c.postural_stiffness {
+        non_negative_entries("controller.postural_stiffness", stiffness)?;
+    }
+    non_negative("controller.postural_scale", c.postural_scale)?;
+    non_negative("controller.pinv_damping", c.pinv_damping)?;
+    non_negative("controller.qp_regularization", c.qp_regularization)?;
+    non_negative(
+        "controller.joint_inertia_regularization",
+        c.joint_inertia_regularization,
+    )
+}
+
+/// `[controller.contact]`: positive friction, non-negative torsional friction and minimum
+/// normal force, a foot rectangle with min < max, and 3..=64 facets.
+fn contact(scenario: &Scenario) -> Result<()> {
+    let c = &scenario.controller.contact;
+    positive("controller.contact.friction", c.friction)?;
+    non_negative(
+        "controller.contact.torsional_friction",
+        c.torsional_friction,
+    )?;
+    non_negative("controller.contact.min_normal_force", c.min_normal_force)?;
+    for (key, [min, max]) in [
+        ("controller.contact.foot_x", c.foot_x),
+        ("controller.contact.foot_y", c.foot_y),
+    ] {
+        finite(&format!("{key}[0]"), min)?;
+        finite(&format!("{key}[1]"), max)?;
+        if min >= max {
+            return Err(Error::invalid(
+                key,
+                "must be [min, max] with min < max (sole frame) [m]",
+                format!("[{min}, {max}]"),
+            ));
+        }
+    }
+    if !(MIN_FRICTION_FACETS..=MAX_FRICTION_FACETS).contains(&c.facets) {
+        return Err(Error::invalid(
+            "controller.contact.facets",
+            format!("must be between {MIN_FRICTION_FACETS} and {MAX_FRICTION_FACETS}"),
+            c.facets,
+        ));
+    }
+    Ok(())
+}
+
+/// `[reference]`: finite amplitude, step size, a non-negative frequency, smooth-start time
+/// and step time, a finite non-zero direction.
+fn reference(scenario: &Scenario) -> Result<()> {
+    let r = &scenario.reference;
+    finite("reference.com_amplitude", r.com_amplitude)?;
+    non_negative("reference.com_frequency", r.com_frequency)?;
+    for (i, &value) in r.com_direction.iter().enumerate() {
+        finite(&format!("reference.com_direction[{i}]"), value)?;
+    }
+    let norm = r.com_direction.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if !(norm > 1e-12 && norm.is_finite()) {
+        return Err(Error::invalid(
+            "reference.com_direction",
+            "must be a non-zero finite vector",
+            format!("{:?}", r.com_direction),
+        ));
+    }
+    non_negative("reference.com_smooth_start", r.com_smooth_start)?;
+    if !matches!(r.com_origin.as_str(), "stance_sole" | "initial") {
+        return Err(Error::invalid(
+            "reference.com_origin",
+            "expected \"stance_sole\" or \"initial\"",
+            format!("\"{}\"", r.com_origin),
+        ));
+    }
+    finite("reference.posture_step_deg", r.posture_step_deg)?;
+    non_negative("reference.posture_step_time", r.posture_step_time)
+}
+
+/// `[simulation]`: a positive duration, positive divergence bounds, `record_every >= 1`.
+fn simulation(scenario: &Scenario) -> Result<()> {
+    let s = &scenario.simulation;
+    positive("simulation.duration_s", s.duration_s)?;
+    positive(
+        "simulation.divergence_com_error_m",
+        s.divergence_com_error_m,
+    )?;
+    positive(
+        "simulation.divergence_joint_error_rad",
+        s.divergence_joint_error_rad,
+    )?;
+    if s.record_every == 0 {
+        return Err(Error::invalid(
+            "simulation.record_every",
+            "must be at least 1",
+            0,
+        ));
+    }
+    Ok(())
+}
+
+/// The run's plant steps (or controller samples, whichever are more) must not exceed
+/// [`MAX_RUN_STEPS`]; the key named is the one that makes the count huge.
+fn run_length(scenario: &Scenario) -> Result<()> {
+    let duration = scenario.simulation.duration_s;
+    let plant_steps = duration / scenario.plant.dt;
+    let samples = match scenario.controller.sampling.as_str() {
+        "continuous" => 0.0,
+        _ => duration * scenario.controller.rate_hz,
+    };
+    if plant_steps.max(samples) <= MAX_RUN_STEPS {
+        return Ok(());
+    }
+    // Name the value furthest from its default (10 s, 1 ms, 1 kHz): that is the typo.
+    let defaults = (SimulationConfig::default(), PlantConfig::default());
+    let default_rate = ControllerConfig::default().rate_hz;
+    let candidates = [
+        (
+            "simulation.duration_s",
+            duration,
+            duration / defaults.0.duration_s,
+        ),
+        (
+            "plant.dt",
+            scenario.plant.dt,
+            defaults.1.dt / scenario.plant.dt,
+        ),
+        (
+            "controller.rate_hz",
+            scenario.controller.rate_hz,
+            samples / duration / default_rate,
+        ),
+    ];
+    let key = candidates
+        .iter()
+        .max_by(|a, b| a.2.total_cmp(&b.2))
+        .map(|&(key, value, _)| (key, value))
+        .unwrap_or(("simulation.duration_s", duration));
+    Err(Error::invalid(
+        key.0,
+        format!(
+            "with simulation.duration_s = {duration} the run would take {:.3e} steps, more \
+             than {MAX_RUN_STEPS:e}",
+            plant_steps.max(samples)
+        ),
+        shown(key.1),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    const BASE: &str = "[robot]\nurdf = \"x.urdf\"\n";
+
+    /// The error of the base scenario with `key = value`, or `None` when it is accepted.
+    fn error_of(overrides: &[(&str, &str)]) -> Option<Error> {
+        let pairs: Vec<(String, String)> = overrides
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        Scenario::from_toml(BASE, &pairs, Path::new(".")).err()
+    }
+
+    /// What is wrong with how `overrides` is handled, when it is not refused with an error
+    /// naming `named` and showing `shown` (the value).
+    fn refusal_problem(overrides: &[(&str, &str)], named: &str, shown: &str) -> Option<String> {
+        let Some(error) = error_of(overrides) else {
+            return Some(format!("{overrides:?}: accepted"));
+        };
+        let message = error.to_string();
+        match &error {
+            Error::Scenario { key, .. } if key == named && message.contains(shown) => None,
+            _ => Some(format!("{overrides:?}: {message}")),
+        }
+    }
+
+    /// Each case must be refused with an error naming `named` and showing `shown`.
+    fn assert_refused(overrides: &[(&str, &str)], named: &str, shown: &str) {
+        if let Some(problem) = refusal_problem(overrides, named, shown) {
+            panic!("{problem}");
+        }
+    }
+
+    #[test]
+    fn accepted_nonsense_of_the_issue_is_refused() {
+        let cases: &[(&str, &str, &str, &str)] = &[
+            // (override key, value, key named, value text in the message)
+            (
+                "controller.contact.friction",
+                "-0.5",
+                "controller.contact.friction",
+                "-0.5",
+            ),
+            (
+                "controller.contact.friction",
+                "nan",
+                "controller.contact.friction",
+                "NaN",
+            ),
+            (
+                "controller.contact.min_normal_force",
+                "inf",
+                "controller.contact.min_normal_force",
+                "inf",
+            ),
+            (
+                "controller.contact.min_normal_force",
+                "-1.0",
+                "controller.contact.min_normal_force",
+                "-1",
+            ),
+            (
+                "controller.contact.torsional_friction",
+                "nan",
+                "controller.contact.torsional_friction",
+                "NaN",
+            ),
+            (
+                "controller.contact.foot_x",
+                "[0.1, -0.05]",
+                "controller.contact.foot_x",
+                "[0.1, -0.05]",
+            ),
+            (
+                "controller.contact.foot_y",
+                "[0.02, 0.02]",
+                "controller.contact.foot_y",
+                "[0.02, 0.02]",
+            ),
+            (
+                "controller.contact.foot_y",
+                "[nan, 0.02]",
+                "controller.contact.foot_y[0]",
+                "NaN",
+            ),
+            (
+                "controller.contact.facets",
+                "0",
+                "controller.contact.facets",
+                "0",
+            ),
+            (
+                "controller.contact.facets",
+                "2",
+                "controller.contact.facets",
+                "2",
+            ),
+            (
+                "controller.contact.facets",
+                "100000000",
+                "controller.contact.facets",
+                "100000000",
+            ),
+            (
+                "controller.pinv_damping",
+                "-1e-3",
+                "controller.pinv_damping",
+                "-0.001",
+            ),
+            (
+                "controller.qp_regularization",
+                "nan",
+                "controller.qp_regularization",
+                "NaN",
+            ),
+            (
+                "simulation.divergence_com_error_m",
+                "nan",
+                "simulation.divergence_com_error_m",
+                "NaN",
+            ),
+            (
+                "simulation.divergence_joint_error_rad",
+                "nan",
+                "simulation.divergence_joint_error_rad",
+                "NaN",
+            ),
+            (
+                "simulation.divergence_joint_error_rad",
+                "0.0",
+                "simulation.divergence_joint_error_rad",
+                "0",
+            ),
+            (
+                "simulation.divergence_joint_error_rad",
+                "-1.0",
+                "simulation.divergence_joint_error_rad",
+                "-1",
+            ),
+            (
+                "reference.com_smooth_start",
+                "inf",
+                "reference.com_smooth_start",
+                "inf",
+            ),
+            (
+                "reference.posture_step_time",
+                "nan",
+                "reference.posture_step_time",
+                "NaN",
+            ),
+            (
+                "reference.com_amplitude",
+                "nan",
+                "reference.com_amplitude",
+                "NaN",
+            ),
+            (
+                "reference.com_frequency",
+                "-0.2",
+                "reference.com_frequency",
+                "-0.2",
+            ),
+            (
+                "reference.com_direction",
+                "[0.0, nan, 0.0]",
+                "reference.com_direction[1]",
+                "NaN",
+            ),
+            (
+                "reference.com_direction",
+                "[0.0, 0.0, 0.0]",
+                "reference.com_direction",
+                "[0.0, 0.0, 0.0]",
+            ),
+            (
+                "reference.posture_step_deg",
+                "nan",
+                "reference.posture_step_deg",
+                "NaN",
+            ),
+            ("actuators.damping", "0.0", "actuators.damping", "0"),
+            (
+                "actuators.overrides.l_knee.damping",
+                "0.0",
+                "actuators.overrides.l_knee.damping",
+                "0",
+            ),
+            ("actuators.stiffness", "-1.0", "actuators.stiffness", "-1"),
+            (
+                "actuators.torque_limit",
+                "nan",
+                "actuators.torque_limit",
+                "NaN",
+            ),
+            ("plant.baumgarte_kd", "nan", "plant.baumgarte_kd", "NaN"),
+            (
+                "plant.joint_inertia_regularization",
+                "-0.1",
+                "plant.joint_inertia_regularization",
+                "-0.1",
+            ),
+            (
+                "controller.postural_stiffness",
+                "[1.0, nan]",
+                "controller.postural_stiffness[1]",
+                "NaN",
+            ),
+            (
+                "simulation.record_every",
+                "0",
+                "simulation.record_every",
+                "0",
+            ),
+            ("plant.dt", "1e-300", "plant.dt", "1e-300"),
+            ("controller.rate_hz", "1e300", "controller.rate_hz", "1e300"),
+            (
+                "simulation.duration_s",
+                "1e300",
+                "simulation.duration_s",
+                "1e300",
+            ),
+        ];
+        let problems: Vec<String> = cases
+            .iter()
+            .filter_map(|&(key, value, named, shown)| {
+                refusal_problem(&[(key, value)], named, shown)
+            })
+            .collect();
+        assert!(
+            problems.is_empty(),
+            "{} of {} cases:\n{}",
+            problems.len(),
+            cases.len(),
+            problems.join("\n")
+        );
+    }
+
+    #[test]
+    fn zero_damping_is_allowed_with_the_rigid_controller() {
+        assert!(error_of(&[
+            ("actuators.damping", "0.0"),
+            ("controller.kind", "\"rigid\"")
+        ])
+        .is_none());
+        assert_refused(
+            &[
+                ("actuators.damping", "-1.0"),
+                ("controller.kind", "\"rigid\""),
+            ],
+            "actuators.damping",
+            "-1",
+        );
+    }
+
+    #[test]
+    fn duplicate_contacts_are_refused() {
+        assert_refused(
+            &[("robot.contacts", "[\"l_sole\", \"l_sole\"]")],
+            "robot.contacts",
+            "l_sole",
+        );
+    }
+
+    #[test]
+    fn boundary_values_that_mean_something_are_accepted() {
+        for overrides in [
+            [("controller.contact.facets", "3")],
+            [("controller.contact.facets", "64")],
+            [("controller.contact.min_normal_force", "0.0")],
+            [("controller.contact.torsional_friction", "0.0")],
+            [("reference.com_smooth_start", "0.0")],
+            [("controller.pinv_damping", "0.0")],
+            [("reference.com_amplitude", "-0.01")],
+        ] {
+            assert!(error_of(&overrides).is_none(), "{overrides:?}");
+        }
+    }
+
+    #[test]
+    fn the_minimum_normal_force_must_be_carried_by_the_weight() {
+        let two_feet = [("robot.contacts", "[\"l_sole\", \"r_sole\"]")];
+        let pairs: Vec<(String, String)> = two_feet
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        let mut scenario = Scenario::from_toml(BASE, &pairs, Path::new(".")).unwrap();
+        let (mass, g) = (33.0, 9.81);
+        scenario.controller.contact.min_normal_force = mass * g / 2.0;
+        assert!(against_model(&scenario, mass, g).is_ok());
+        scenario.controller.contact.min_normal_force = mass * g / 2.0 + 1.0;
+        let message = against_model(&scenario, mass, g).unwrap_err().to_string();
+        assert!(
+            message.contains("controller.contact.min_normal_force") && message.contains("323.7"),
+            "{message}"
+        );
+    }
+}
