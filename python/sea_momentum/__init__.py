@@ -22,6 +22,7 @@ from ._native import (
     __version__,
 )
 from .analysis import Linearization, linearize, stability_margin
+from .closed_loop_rhs import closed_loop_rhs
 from .controller import ControlOutput
 from .results import PlantOutputs, RunSummary, SimulationResult
 from .scenario import ScenarioResult, run_scenario
@@ -43,6 +44,7 @@ __all__ = [
     "SeaIOError",
     "SimulationResult",
     "SolverError",
+    "closed_loop_rhs",
     "linearize",
     "run_scenario",
     "stability_margin",
