@@ -110,6 +110,22 @@ pub fn bench_dynamics(model: &Model, batches: usize, calls_per_batch: usize) -> 
     }
 }
 
+/// The benchmark scenario: the iCub of `urdf` on both soles, SEA plant and controller, a 1 cm
+/// CoM sinusoid at 0.25 Hz; `controller` and `simulation` are TOML lines of the
+/// `[controller]` and `[simulation]` tables.
+fn two_feet_scenario(
+    urdf: &str,
+    controller: &str,
+    simulation: &str,
+) -> Option<crate::scenario::Scenario> {
+    let text = format!(
+        "[robot]\nurdf = {urdf:?}\ncontacts = [\"l_sole\", \"r_sole\"]\ninitial_posture = \"two_feet\"\n\
+         [reference]\ncom_origin = \"initial\"\ncom_amplitude = 0.01\ncom_frequency = 0.25\n\
+         [controller]\n{controller}\n[simulation]\n{simulation}\n"
+    );
+    crate::scenario::Scenario::from_toml(&text, &[], std::path::Path::new(".")).ok()
+}
+
 /// `controller_tick_us`: one tick of the SEA controller on the iCub standing on two feet (all
 /// model terms, the QP and the SEA mapping), as it runs in the closed loop; and
 /// `controller_tick_clarabel_us`, the same tick with Clarabel solving the QP every time (no
@@ -125,51 +141,101 @@ pub fn bench_controller(
         ("controller_tick_us", true),
         ("controller_tick_clarabel_us", false),
     ] {
-        let text = format!(
-            "[robot]\nurdf = {urdf:?}\ncontacts = [\"l_sole\", \"r_sole\"]\ninitial_posture = \"two_feet\"\n\
-             [reference]\ncom_origin = \"initial\"\ncom_amplitude = 0.01\ncom_frequency = 0.25\n\
-             [controller]\nqp_unconstrained_first = {unconstrained_first}\n"
-        );
-        let scenario =
-            crate::scenario::Scenario::from_toml(&text, &[], std::path::Path::new(".")).ok()?;
-        figures.push((
-            key,
-            controller_tick_us(&scenario, batches, calls_per_batch)?,
-        ));
+        let mut ticks = TickBench::two_feet(urdf, !unconstrained_first)?;
+        let mut ok = true;
+        let time = median_us(batches, calls_per_batch, |k| ok &= ticks.tick(k));
+        figures.push((key, ok.then_some(time)?));
     }
     Some(figures)
 }
 
-/// Median microseconds of one controller tick of `scenario` on perturbed initial states.
-fn controller_tick_us(
-    scenario: &crate::scenario::Scenario,
-    batches: usize,
-    calls_per_batch: usize,
-) -> Option<f64> {
-    let mut setup = crate::closed_loop::build(scenario).ok()?;
-    let layout = setup.plant.layout();
-    let mut s_desired = vec![0.0; setup.model.n_joints()];
-    setup.posture.at(0.0, &mut s_desired);
-    let mut rng = Lcg::new(7);
-    // Small random perturbations of the standing state, so the QP is warm but not trivial.
-    let states: Vec<Vec<f64>> = (0..STATES)
-        .map(|_| {
-            let mut x = setup.x0.clone();
-            for v in &mut x[layout.nu_offset()..layout.nu_offset() + layout.nv] {
-                *v = 0.01 * rng.next_signed();
+/// `closed_loop_second_ms`: wall time [ms] of one simulated second of the closed loop (the
+/// two-feet scenario of [`bench_controller`], plant step 1 ms, controller at 1 kHz with
+/// zero-order hold, no recording); `closed_loop_second_continuous_ms`: the same with the
+/// controller evaluated at every integrator stage (the paper's continuous-time setting).
+/// Median over `runs` runs; `None` when `urdf` is not the paper's iCub or a run diverges.
+pub fn bench_closed_loop(urdf: &str, runs: usize) -> Option<Vec<(&'static str, f64)>> {
+    let mut figures = Vec::new();
+    for (key, sampling) in [
+        ("closed_loop_second_ms", "zero_order_hold"),
+        ("closed_loop_second_continuous_ms", "continuous"),
+    ] {
+        let controller = format!("rate_hz = 1000.0\nsampling = {sampling:?}");
+        let scenario = two_feet_scenario(urdf, &controller, "duration_s = 1.0")?;
+        let mut wall_ms = Vec::with_capacity(runs);
+        for _ in 0..runs.max(1) {
+            let cancel = std::sync::atomic::AtomicBool::new(false);
+            let summary =
+                crate::closed_loop::run_with_sinks(&scenario, &mut [], &cancel, |_, _| {}).ok()?;
+            if summary.status != "completed" {
+                return None;
             }
-            x
+            wall_ms.push(summary.wall_time_s * 1e3);
+        }
+        wall_ms.sort_by(|a, b| a.total_cmp(b));
+        figures.push((key, wall_ms[wall_ms.len() / 2]));
+    }
+    Some(figures)
+}
+
+/// A controller of the two-feet benchmark scenario and the states it is ticked on (also used by
+/// the criterion benches).
+pub struct TickBench {
+    setup: crate::closed_loop::Setup,
+    layout: sea_dyn::StateLayout,
+    states: Vec<Vec<f64>>,
+    reference: sea_ctrl::references::ComSample,
+    s_desired: Vec<f64>,
+}
+
+impl TickBench {
+    /// The controller of `scenario` and [`STATES`] small random perturbations of its initial
+    /// state. `None` when the scenario does not build.
+    pub fn new(scenario: &crate::scenario::Scenario) -> Option<TickBench> {
+        let setup = crate::closed_loop::build(scenario).ok()?;
+        let layout = setup.plant.layout();
+        let mut s_desired = vec![0.0; setup.model.n_joints()];
+        setup.posture.at(0.0, &mut s_desired);
+        let mut rng = Lcg::new(7);
+        // Small random velocities around the standing state, so the QP is warm but not trivial.
+        let states: Vec<Vec<f64>> = (0..STATES)
+            .map(|_| {
+                let mut x = setup.x0.clone();
+                for v in &mut x[layout.nu_offset()..layout.nu_offset() + layout.nv] {
+                    *v = 0.01 * rng.next_signed();
+                }
+                x
+            })
+            .collect();
+        let reference = setup.com_reference.sample(1.0);
+        Some(TickBench {
+            setup,
+            layout,
+            states,
+            reference,
+            s_desired,
         })
-        .collect();
-    let reference = setup.com_reference.sample(1.0);
-    let mut ok = true;
-    let time = median_us(batches, calls_per_batch, |k| {
-        ok &= setup
+    }
+
+    /// The two-feet benchmark scenario of `urdf` (Clarabel on every tick when
+    /// `clarabel_every_tick`).
+    pub fn two_feet(urdf: &str, clarabel_every_tick: bool) -> Option<TickBench> {
+        let controller = format!("qp_unconstrained_first = {}", !clarabel_every_tick);
+        TickBench::new(&two_feet_scenario(urdf, &controller, "")?)
+    }
+
+    /// One tick at state `k % STATES`; `false` when the controller failed.
+    pub fn tick(&mut self, k: usize) -> bool {
+        self.setup
             .controller
-            .compute(&states[k], &layout, &reference, &s_desired)
-            .is_ok();
-    });
-    ok.then_some(time)
+            .compute(
+                &self.states[k % STATES],
+                &self.layout,
+                &self.reference,
+                &self.s_desired,
+            )
+            .is_ok()
+    }
 }
 
 /// The paper's plant: every joint a SEA (REFERENCE.md), both soles in contact, standing at the
@@ -201,6 +267,16 @@ pub fn standing_sea_plant(model: &Model) -> Option<(Plant, Vec<f64>)> {
     Some((plant, x))
 }
 
+/// The motor input of the plant benchmarks at state `x` of [`standing_sea_plant`]: 1 % of the
+/// joint gravity torques (the springs are preloaded; the input only has to be non-trivial).
+pub fn standing_motor_input(model: &Model, x: &[f64]) -> Vec<f64> {
+    let mut data = Data::new(model);
+    let gravity = sea_dyn::gravity_forces(model, &mut data, &x[..model.nq()]);
+    (0..model.n_joints())
+        .map(|j| 0.01 * gravity[6 + j])
+        .collect()
+}
+
 /// `plant_dynamics_us` (one evaluation of the SEA plant on two feet) and `sim_step_us` (one
 /// ROS2 step, dt = 1 ms), on the standing iCub with motor torques balancing gravity.
 fn bench_plant(
@@ -210,11 +286,7 @@ fn bench_plant(
 ) -> Option<Vec<(&'static str, f64)>> {
     let (plant, x) = standing_sea_plant(model)?;
     let mut pd = PlantData::new(&plant);
-    let mut data = Data::new(model);
-    let gravity = sea_dyn::gravity_forces(model, &mut data, &x[..model.nq()]).clone();
-    let u: Vec<f64> = (0..model.n_joints())
-        .map(|j| 0.01 * gravity[6 + j])
-        .collect();
+    let u = standing_motor_input(model, &x);
     let mut x_next = x.clone();
     let dynamics = median_us(batches, calls_per_batch, |_| {
         black_box(sea_plant::evaluate(&plant, &mut pd, &x, &u).is_ok());

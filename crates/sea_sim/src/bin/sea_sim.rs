@@ -426,6 +426,10 @@ fn run_bench(args: &BenchArgs) -> sea_sim::Result<()> {
     if let Some(ticks) = sea_sim::bench::bench_controller(&urdf, batches, calls / 20 + 1) {
         result.figures.extend(ticks);
     }
+    // One run is about a thousand ticks and steps: batches / 6 runs keep the default near 1 s.
+    if let Some(loops) = sea_sim::bench::bench_closed_loop(&urdf, batches / 6 + 1) {
+        result.figures.extend(loops);
+    }
     if args.json {
         let mut map = serde_json::Map::new();
         map.insert("urdf".into(), urdf.into());
