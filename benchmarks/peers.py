@@ -63,9 +63,6 @@ class StandingMujoco:
         self.model = mujoco_balance.mujoco_model(URDF, joints)
         self.data = mujoco.MjData(self.model)
         q0 = np.array(scenario.initial_state[: scenario.model.nq])
-        # The foot box spans [-2 h, 0] along the sole normal (h = its half thickness): lift the
-        # robot by 2 h so the boxes touch the floor instead of starting 2 h deep in it.
-        q0[2] += 2 * mujoco_balance.FOOT_HALF_THICKNESS
         self.states = mujoco_balance.StateMap.of(self.model, joints)
         self.states.set_from_ours(self.data, q0)
         self.actuators = np.array([self.model.actuator(name).id for name in joints])

@@ -69,7 +69,8 @@ def mujoco_model(urdf: pathlib.Path, joints: list[str]) -> mujoco.MjModel:
     base.add_freejoint()
     spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[2.0, 2.0, 0.1], name="floor")
     half = [(FOOT_X[1] - FOOT_X[0]) / 2, (FOOT_Y[1] - FOOT_Y[0]) / 2, FOOT_HALF_THICKNESS]
-    centre = [(FOOT_X[1] + FOOT_X[0]) / 2, (FOOT_Y[1] + FOOT_Y[0]) / 2, -FOOT_HALF_THICKNESS]
+    centre = [(FOOT_X[1] + FOOT_X[0]) / 2, (FOOT_Y[1] + FOOT_Y[0]) / 2, FOOT_HALF_THICKNESS]
+    # Box centre h above the sole: its bottom face is the sole plane, so it touches the floor.
     for foot in FEET:
         # Massless: a contact surface, not a body (the URDF's masses stay the only ones).
         spec.body(foot).add_geom(
