@@ -34,6 +34,15 @@ impl Workspace {
             .unwrap();
         let text = text.replace("../../urdf/icub25.urdf", urdf.to_str().unwrap());
         assert!(text.contains(urdf.to_str().unwrap()), "URDF path rewritten");
+        // The sampled-data setting these tests were written for (the paper's file is
+        // continuous): 1 kHz zero-order hold, 1 ms plant step.
+        let text = text
+            .replace(
+                "sampling = \"continuous\"",
+                "sampling = \"zero_order_hold\"",
+            )
+            .replace("dt = 0.00025", "dt = 0.001");
+        assert!(text.contains("zero_order_hold"), "sampling rewritten");
         std::fs::write(dir.join("scenario.toml"), text).unwrap();
         Self(dir)
     }

@@ -8,11 +8,17 @@ use sea_sim::scenario::Scenario;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// The paper's tracking scenario with `overrides`.
+/// The paper's tracking scenario in the sampled-data setting these tests were written for (1 kHz
+/// zero-order hold, 1 ms plant step; the scenario file is continuous), then `overrides`.
 fn tracking(overrides: &[(&str, &str)]) -> Scenario {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/paper/tracking.toml");
-    let pairs: Vec<(String, String)> = overrides
+    let sampled = [
+        ("controller.sampling", "zero_order_hold"),
+        ("plant.dt", "0.001"),
+    ];
+    let pairs: Vec<(String, String)> = sampled
         .iter()
+        .chain(overrides)
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
     Scenario::from_file(&path, &pairs).unwrap()
