@@ -1,0 +1,286 @@
+//! The hot paths of one closed-loop tick allocate nothing after a warm-up call (DESIGN.md:
+//! "Speed must not drop: do not add allocations to per-tick or per-step paths"): the plant's
+//! right-hand side (`sea_plant::evaluate`), one step of each integrator, the torque map and the
+//! controller tick, on the SEA iCub of `scenarios/paper/tracking.toml`. A counting global
+//! allocator (per thread, so the harness's other test threads do not interfere, as in
+//! `crates/sea_dyn/tests/no_alloc.rs`) counts the allocations of the call after the warm-up,
+//! made at a different state.
+
+use nalgebra::DMatrix;
+use sea_ctrl::torque_map::{PosturalTask, TorqueMap};
+use sea_dyn::sample::Lcg;
+use sea_dyn::Data;
+use sea_plant::{evaluate, step, Method, MotorInput, PlantData};
+use sea_sim::scenario::{build, Scenario, Setup};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::path::Path;
+
+struct Counting;
+
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn bump() {
+    // `try_with`: the thread-local may be gone while a thread shuts down.
+    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+}
+
+// SAFETY: forwards every call unchanged to the system allocator; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        bump();
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        bump();
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        bump();
+        // SAFETY: same contract as the caller's.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: same contract as the caller's.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Allocations made by `f` on this thread.
+fn allocations<R>(f: impl FnOnce() -> R) -> usize {
+    let before = ALLOCATIONS.with(|c| c.get());
+    std::hint::black_box(f());
+    ALLOCATIONS.with(|c| c.get()) - before
+}
+
+/// The paper's tracking scenario with `overrides`.
+fn setup(overrides: &[(&str, &str)]) -> Setup {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/paper/tracking.toml");
+    let overrides: Vec<(String, String)> = overrides
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    build(&Scenario::from_file(&path, &overrides).unwrap()).unwrap()
+}
+
+/// The SEA iCub on both feet (SEA controller, motor velocity loop).
+fn two_feet(extra: &[(&str, &str)]) -> Setup {
+    let mut overrides = vec![
+        ("robot.contacts", "[\"l_sole\", \"r_sole\"]"),
+        ("robot.initial_posture", "two_feet"),
+        ("reference.com_origin", "initial"),
+        ("reference.com_amplitude", "0.02"),
+        ("reference.com_frequency", "0.5"),
+    ];
+    overrides.extend_from_slice(extra);
+    setup(&overrides)
+}
+
+/// `x0` with base and joint velocities and motor velocities perturbed by up to `size`.
+fn perturbed(setup: &Setup, size: f64, rng: &mut Lcg) -> Vec<f64> {
+    let layout = setup.plant.layout();
+    let mut x = setup.x0.clone();
+    let velocities = layout.nu_offset()..layout.nx();
+    for v in &mut x[velocities] {
+        *v += size * rng.next_signed();
+    }
+    x
+}
+
+#[test]
+fn the_counting_allocator_is_active() {
+    assert!(allocations(|| vec![1u8; 16]) >= 1);
+}
+
+#[test]
+fn plant_evaluate_and_one_step_of_each_method_allocate_nothing() {
+    let base = two_feet(&[]);
+    let mut torque_driven = base.plant.clone();
+    torque_driven.motor_input = MotorInput::Torque;
+    let mut rng = Lcg::new(3);
+    let states = [
+        perturbed(&base, 0.01, &mut rng),
+        perturbed(&base, 0.01, &mut rng),
+    ];
+    let n = base.model.n_joints();
+    let u: Vec<f64> = (0..n).map(|_| rng.next_signed()).collect();
+    let mut offenders = Vec::new();
+    for (input, plant) in [("velocity loop", &base.plant), ("torque", &torque_driven)] {
+        let mut pd = PlantData::new(plant);
+        let mut x_next = states[0].clone();
+        let mut count = |what: String, f: &mut dyn FnMut(&[f64]) -> bool| {
+            assert!(f(&states[0]), "{what}: warm-up call failed");
+            let mut ok = false;
+            let counted = allocations(|| ok = f(&states[1]));
+            assert!(ok, "{what}: counted call failed");
+            if counted > 0 {
+                offenders.push((what, counted));
+            }
+        };
+        count(format!("evaluate ({input})"), &mut |x| {
+            evaluate(plant, &mut pd, x, &u).is_ok()
+        });
+        for method in [Method::Ros2, Method::LinearlyImplicitEuler, Method::Rk4] {
+            count(format!("step {method:?} ({input})"), &mut |x| {
+                step(plant, &mut pd, x, &u, 1e-3, method, &mut x_next).is_ok()
+            });
+        }
+    }
+    assert!(offenders.is_empty(), "allocations: {offenders:?}");
+}
+
+#[test]
+fn torque_map_allocates_nothing() {
+    let setup = two_feet(&[]);
+    let model = &setup.model;
+    let (nv, n) = (model.nv(), model.n_joints());
+    let contacts = [
+        model.frame_id("l_sole").unwrap(),
+        model.frame_id("r_sole").unwrap(),
+    ];
+    let mut map = TorqueMap::new(model, 6 * contacts.len());
+    map.diagonal[6..].fill(0.1);
+    let mut data = Data::new(model);
+    let mut rng = Lcg::new(9);
+    let stiffness = vec![10.0; n];
+    let damping = vec![6.0; n];
+    let mut counts = Vec::new();
+    for _ in 0..2 {
+        // Inputs at a new state, filled outside the counted call.
+        let x = perturbed(&setup, 0.05, &mut rng);
+        let layout = setup.plant.layout();
+        let (q, nu) = (layout.q(&x), layout.nu(&x));
+        map.bias
+            .copy_from(sea_dyn::bias_forces(model, &mut data, q, nu));
+        for (c, &frame) in contacts.iter().enumerate() {
+            sea_dyn::jacobian::frame_jacobian_from_kinematics(model, &mut data, frame);
+            map.jacobian
+                .rows_mut(6 * c, 6)
+                .copy_from(&data.frame_jacobian);
+            let bias = sea_dyn::jacobian::frame_bias_acceleration(model, &mut data, frame);
+            map.jdot_nu.rows_mut(6 * c, 6).copy_from(&bias);
+        }
+        let mass_matrix: DMatrix<f64> = sea_dyn::crba_from_kinematics(model, &mut data).clone();
+        let error: Vec<f64> = (0..n).map(|_| 0.1 * rng.next_signed()).collect();
+        let posture = PosturalTask {
+            error: &error,
+            velocity: &nu[6..],
+            stiffness: &stiffness,
+            damping: &damping,
+        };
+        counts.push(allocations(|| {
+            map.compute(&mass_matrix, &posture, 1e-3).unwrap();
+        }));
+        assert_eq!(map.tau_bias.len(), n);
+        assert_eq!(map.sigma.ncols(), 12);
+        assert_eq!(mass_matrix.nrows(), nv);
+    }
+    assert_eq!(
+        counts[1], 0,
+        "TorqueMap::compute allocates after warm-up: {counts:?}"
+    );
+}
+
+/// Allocations of `ticks` controller ticks after one warm-up tick, at perturbed states; also
+/// returns the controller's `(Clarabel solves, skipped solves)` during the counted ticks.
+fn tick_allocations(setup: &mut Setup, ticks: usize) -> (Vec<usize>, (usize, usize)) {
+    let layout = setup.plant.layout();
+    let mut s_desired = vec![0.0; setup.model.n_joints()];
+    setup.posture.at(0.0, &mut s_desired);
+    let reference = setup.com_reference.sample(1.3);
+    let mut out = setup.controller.new_output();
+    let mut rng = Lcg::new(17);
+    let states: Vec<Vec<f64>> = (0..=ticks)
+        .map(|_| perturbed(setup, 0.01, &mut rng))
+        .collect();
+    setup
+        .controller
+        .compute_into(&states[0], &layout, &reference, &s_desired, &mut out)
+        .unwrap();
+    let before = setup.controller.qp_solves();
+    let counts = states[1..]
+        .iter()
+        .map(|x| {
+            allocations(|| {
+                setup
+                    .controller
+                    .compute_into(x, &layout, &reference, &s_desired, &mut out)
+                    .unwrap()
+            })
+        })
+        .collect();
+    let after = setup.controller.qp_solves();
+    (counts, (after.0 - before.0, after.1 - before.1))
+}
+
+/// Ticks of each case: `(name, overrides, expected (Clarabel solves, skipped solves))`;
+/// returns the cases whose ticks allocate. Panics if a case does not take the expected QP path
+/// (the test would then not measure what it claims).
+fn allocating_ticks(cases: &[(&str, Vec<(&str, &str)>)], clarabel: bool) -> Vec<String> {
+    const TICKS: usize = 5;
+    let mut offenders = Vec::new();
+    for (name, overrides) in cases {
+        let mut setup = two_feet(overrides);
+        let (counts, solves) = tick_allocations(&mut setup, TICKS);
+        println!(
+            "{name}: allocations per tick {counts:?}, QP solves (Clarabel, skipped) {solves:?}"
+        );
+        let expected = if clarabel { (TICKS, 0) } else { (0, TICKS) };
+        assert_eq!(solves, expected, "{name}: not the intended QP path");
+        if counts.iter().any(|&c| c > 0) {
+            offenders.push(format!("{name}: {counts:?}"));
+        }
+    }
+    offenders
+}
+
+#[test]
+fn controller_tick_allocates_nothing_when_the_qp_skips_clarabel() {
+    // One foot: the QP's minimiser without inequalities is feasible at these states.
+    let one_foot = [
+        ("robot.contacts", "[\"l_sole\"]"),
+        ("robot.initial_posture", "left_stance"),
+    ];
+    let rigid = [("actuators.kind", "rigid"), ("controller.kind", "rigid")];
+    let cases = [
+        ("SEA, one foot", one_foot.to_vec()),
+        ("rigid, one foot", [one_foot, rigid].concat()),
+    ];
+    let offenders = allocating_ticks(&cases, false);
+    assert!(
+        offenders.is_empty(),
+        "controller ticks allocate: {offenders:?}"
+    );
+}
+
+#[test]
+fn controller_tick_allocates_nothing_when_clarabel_solves_the_qp() {
+    // Two feet with Clarabel forced. Known failure (clarabel 0.11.1): every
+    // `DefaultSolver::solve` resets its "solve" timer, which drops the nested timer maps, and
+    // re-inserting the "IP iteration" sub-timers allocates one HashMap table per solve
+    // (clarabel src/timers/timers.rs, `SubTimersMap::start_subtimer`).
+    let forced = ("controller.qp_unconstrained_first", "false");
+    let cases = [
+        ("SEA, two feet", vec![forced]),
+        (
+            "rigid, two feet",
+            vec![
+                forced,
+                ("actuators.kind", "rigid"),
+                ("controller.kind", "rigid"),
+            ],
+        ),
+    ];
+    let offenders = allocating_ticks(&cases, true);
+    assert!(
+        offenders.is_empty(),
+        "controller ticks allocate: {offenders:?}"
+    );
+}
