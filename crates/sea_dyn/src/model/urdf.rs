@@ -341,27 +341,64 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
         .collect::<Result<Vec<_>>>()?;
     let tree = build_tree(robot, &link_index)?;
     let dfs = depth_first_joints(robot, &tree, &link_index);
-    if dfs.len() != robot.joints.len() {
-        let reached: std::collections::HashSet<usize> = dfs.iter().copied().collect();
-        let j = (0..robot.joints.len())
-            .find(|j| !reached.contains(j))
-            .unwrap_or(0);
-        return Err(Error::model(
-            format!("joint '{}'", robot.joints[j].name),
-            format!(
-                "kinematic loop: the joint (child link '{}') is not reachable from root link '{}'",
-                robot.joints[j].child.link, robot.links[tree.root].name
-            ),
-        ));
-    }
+    check_every_joint_reached(robot, &tree, &dfs)?;
     let actuation = resolve_actuation(robot, &kinds, &dfs, options)?;
+    let walk = walk_bodies(robot, &link_index, &kinds, &axes, &dfs, &actuation);
+    let (frames, body_inertias) =
+        frames_and_inertias(robot, &tree, &link_index, &dfs, &inertias, &walk);
+    let (body_of_coordinate, joint_names, support_paths) = coordinate_maps(&walk.joints);
+    Ok(Model {
+        support_paths,
+        name: robot.name.clone(),
+        joints: walk.joints,
+        body_inertias,
+        frames,
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+        joint_names,
+        body_of_coordinate,
+        base_link: robot.links[tree.root].name.clone(),
+    })
+}
 
-    // Walk the tree: each link gets (body, body_H_link).
-    let n_links = robot.links.len();
-    let mut link_body = vec![(0usize, Pose::identity()); n_links];
+/// A joint that the depth-first walk did not reach closes a kinematic loop.
+fn check_every_joint_reached(robot: &urdf_rs::Robot, tree: &Tree, dfs: &[usize]) -> Result<()> {
+    if dfs.len() == robot.joints.len() {
+        return Ok(());
+    }
+    let reached: std::collections::HashSet<usize> = dfs.iter().copied().collect();
+    let j = (0..robot.joints.len())
+        .find(|j| !reached.contains(j))
+        .unwrap_or(0);
+    Err(Error::model(
+        format!("joint '{}'", robot.joints[j].name),
+        format!(
+            "kinematic loop: the joint (child link '{}') is not reachable from root link '{}'",
+            robot.joints[j].child.link, robot.links[tree.root].name
+        ),
+    ))
+}
+
+/// The moving joints found by the walk, and where each link sits.
+struct BodyWalk {
+    /// Moving joints in body order (body `i + 1` is moved by `joints[i]`).
+    joints: Vec<Joint>,
+    /// Per URDF link: its body and `body_H_link`.
+    link_body: Vec<(usize, Pose)>,
+}
+
+/// Walks the tree depth first: each moving joint starts a body; fixed and locked joints fold
+/// their child link into the parent's body (a locked joint at its locked value).
+fn walk_bodies(
+    robot: &urdf_rs::Robot,
+    link_index: &HashMap<&str, usize>,
+    kinds: &[Option<JointKind>],
+    axes: &[Vector3<f64>],
+    dfs: &[usize],
+    actuation: &Actuation,
+) -> BodyWalk {
+    let mut link_body = vec![(0usize, Pose::identity()); robot.links.len()];
     let mut joints = Vec::new();
-    let mut body_inertias = vec![BodyInertia::zero()];
-    for &j in &dfs {
+    for &j in dfs {
         let urdf_joint = &robot.joints[j];
         let parent = link_index[urdf_joint.parent.link.as_str()];
         let child = link_index[urdf_joint.child.link.as_str()];
@@ -369,28 +406,14 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
         let body_h_joint = body_h_parent_link.compose(&to_pose(&urdf_joint.origin));
         match (kinds[j], actuation.coordinate.get(&j)) {
             (Some(kind), Some(&coordinate)) => {
-                let limit = &urdf_joint.limit;
-                let has_limits = urdf_joint.joint_type != urdf_rs::JointType::Continuous
-                    && limit.lower < limit.upper;
-                joints.push(Joint {
-                    name: urdf_joint.name.clone(),
+                joints.push(moving_joint(
+                    urdf_joint,
                     kind,
-                    parent: parent_body,
+                    parent_body,
                     coordinate,
-                    parent_h_joint: body_h_joint,
-                    axis: axes[j],
-                    position_limits: if has_limits {
-                        [limit.lower, limit.upper]
-                    } else {
-                        [f64::NEG_INFINITY, f64::INFINITY]
-                    },
-                    effort_limit: if limit.effort > 0.0 {
-                        limit.effort
-                    } else {
-                        f64::INFINITY
-                    },
-                });
-                body_inertias.push(BodyInertia::zero());
+                    body_h_joint,
+                    axes[j],
+                ));
                 link_body[child] = (joints.len(), Pose::identity());
             }
             (kind, _) => {
@@ -405,15 +428,60 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
             }
         }
     }
-    let mut frames = Vec::with_capacity(n_links);
-    // Frames in tree order (root first), so frame listings read like the robot.
+    BodyWalk { joints, link_body }
+}
+
+/// A moving joint with its limits (infinite where the URDF gives none).
+fn moving_joint(
+    urdf_joint: &urdf_rs::Joint,
+    kind: JointKind,
+    parent: usize,
+    coordinate: usize,
+    parent_h_joint: Pose,
+    axis: Vector3<f64>,
+) -> Joint {
+    let limit = &urdf_joint.limit;
+    let has_limits =
+        urdf_joint.joint_type != urdf_rs::JointType::Continuous && limit.lower < limit.upper;
+    Joint {
+        name: urdf_joint.name.clone(),
+        kind,
+        parent,
+        coordinate,
+        parent_h_joint,
+        axis,
+        position_limits: if has_limits {
+            [limit.lower, limit.upper]
+        } else {
+            [f64::NEG_INFINITY, f64::INFINITY]
+        },
+        effort_limit: if limit.effort > 0.0 {
+            limit.effort
+        } else {
+            f64::INFINITY
+        },
+    }
+}
+
+/// Every link as a frame (tree order, root first, so listings read like the robot) and each
+/// body's inertia, the merge of its links' inertias.
+fn frames_and_inertias(
+    robot: &urdf_rs::Robot,
+    tree: &Tree,
+    link_index: &HashMap<&str, usize>,
+    dfs: &[usize],
+    inertias: &[Option<BodyInertia>],
+    walk: &BodyWalk,
+) -> (Vec<Frame>, Vec<BodyInertia>) {
+    let mut body_inertias = vec![BodyInertia::zero(); walk.joints.len() + 1];
+    let mut frames = Vec::with_capacity(robot.links.len());
     let mut ordered_links = vec![tree.root];
     ordered_links.extend(
         dfs.iter()
             .map(|j| link_index[robot.joints[*j].child.link.as_str()]),
     );
     for l in ordered_links {
-        let (body, body_h_link) = link_body[l];
+        let (body, body_h_link) = walk.link_body[l];
         if let Some(inertia) = &inertias[l] {
             let in_body = inertia.transformed(&body_h_link);
             body_inertias[body] = body_inertias[body].merged(&in_body);
@@ -424,6 +492,12 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
             body_h_frame: body_h_link,
         });
     }
+    (frames, body_inertias)
+}
+
+/// Per coordinate its body and joint name, and per body its support path (the moving bodies
+/// from the base, excluded, down to the body itself).
+fn coordinate_maps(joints: &[Joint]) -> (Vec<usize>, Vec<String>, Vec<Vec<usize>>) {
     let n = joints.len();
     let mut body_of_coordinate = vec![0; n];
     let mut joint_names = vec![String::new(); n];
@@ -437,15 +511,5 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
         path.push(k + 1);
         support_paths.push(path);
     }
-    Ok(Model {
-        support_paths,
-        name: robot.name.clone(),
-        joints,
-        body_inertias,
-        frames,
-        gravity: Vector3::new(0.0, 0.0, -9.81),
-        joint_names,
-        body_of_coordinate,
-        base_link: robot.links[tree.root].name.clone(),
-    })
+    (body_of_coordinate, joint_names, support_paths)
 }
