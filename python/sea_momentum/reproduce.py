@@ -505,8 +505,10 @@ def damping_evidence(evidence: dict, margins: dict, curve: dict) -> list[str]:
         f"with dt 1 ms, {_boundaries(margins['damping scale 0.2-3, 1 kHz, dt 0.25 ms'])} with dt 0.25 ms (the "
         "L-stable ROS2 step of 1 ms damps the 500-1200 rad/s SEA modes numerically and shifts the boundary); "
         f"in continuous time: {_boundaries(margins['damping scale 0.2-3, continuous'])} over x0.2 .. x3.",
-        "- Reading: our earlier \"x0.4 unstable\" was the sampling, not the model; in the paper's setting "
-        "x0.4 agrees with the paper.",
+        "- Reading: " + ("our earlier \"x0.4 unstable\" was the sampling, not the model; in the paper's "
+                         "setting x0.4 agrees with the paper."
+                         if c04["stable"] and not h04["stable"] else
+                         "the linearisation does not separate the settings here; see the table."),
         "",
         "### K_D estimate x1.6 (paper: unstable)",
         "",
@@ -517,10 +519,12 @@ def damping_evidence(evidence: dict, margins: dict, curve: dict) -> list[str]:
         "estimate. Over-estimating K_D only slows the applied torque's convergence (time constant "
         "K_D_hat / K_S, about a millisecond), far faster than the balancing modes; sampling makes "
         "over-estimation safer, not worse (stability map).",
-        "- Reading: **a disagreement we cannot reproduce by any mechanism of this model** (rigid contacts, "
-        "ideal motor velocity loop, QP constraints inactive at the equilibrium). Candidates outside it: "
-        "the original code's velocity loop or solver tolerances, QP constraint activity, or a different "
-        "quantity being mis-scaled. This is a finding about our model, not a proof about the paper's simulator.",
+        "- Reading: " + ("**a disagreement we cannot reproduce by any mechanism of this model** (rigid "
+                         "contacts, ideal motor velocity loop, QP constraints inactive at the equilibrium). "
+                         "Candidates outside it: the original code's velocity loop or solver tolerances, QP "
+                         "constraint activity, or a different quantity being mis-scaled. This is a finding "
+                         "about our model, not a proof about the paper's simulator."
+                         if c16["stable"] else "x1.6 is unstable in our model too, as in the paper."),
         "",
     ]
 
