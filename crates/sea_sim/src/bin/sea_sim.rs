@@ -76,6 +76,14 @@ struct RunArgs {
     /// No progress on stderr.
     #[arg(long, short)]
     quiet: bool,
+    /// Serve the run live to the Foxglove app (Foxglove WebSocket protocol on 127.0.0.1) at
+    /// real-time pace; its address is printed on stderr.
+    #[arg(long)]
+    live: bool,
+    /// Port of the live server (0: any free port).
+    #[arg(long, value_name = "N", default_value_t = sea_sim::foxglove::live::DEFAULT_LIVE_PORT,
+          requires = "live")]
+    port: u16,
 }
 
 /// Options of `sea-sim bench`.
@@ -374,6 +382,18 @@ fn finish_outputs(outputs: Outputs, json: &str) -> sea_sim::Result<()> {
     }
 }
 
+/// Starts the live server of `--live` and says where it listens (also under `--quiet`: the
+/// address is what the user needs to connect).
+fn start_live(port: u16) -> sea_sim::Result<sea_sim::foxglove::live::LiveSink> {
+    let sink = sea_sim::foxglove::live::LiveSink::start(port)?;
+    say(format_args!(
+        "sea-sim: live view on ws://{}:{} (Foxglove: Open connection > Foxglove WebSocket)",
+        sea_sim::foxglove::live::LIVE_HOST,
+        sink.port()
+    ));
+    Ok(sink)
+}
+
 /// `sea-sim run`.
 fn run_scenario(args: &RunArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
     let scenario = Scenario::from_file(&args.scenario, &args.overrides)?;
@@ -388,9 +408,11 @@ fn run_scenario(args: &RunArgs, interrupts: &Interrupts) -> sea_sim::Result<Outc
     let mut progress = Progress::new(args.quiet, duration_s);
     // Only the log keeps samples: memory stays bounded however long the run.
     let mut log = outputs.mcap.as_ref().map(|o| McapSink::new(o.path()));
+    let mut live = args.live.then(|| start_live(args.port)).transpose()?;
     let mut sinks: Vec<&mut dyn RecordSink> = log
         .iter_mut()
         .map(|sink| sink as &mut dyn RecordSink)
+        .chain(live.iter_mut().map(|sink| sink as &mut dyn RecordSink))
         .collect();
     let result = run_with_sinks(&scenario, &mut sinks, &interrupts.stop, |t, total| {
         progress.update(t, total);

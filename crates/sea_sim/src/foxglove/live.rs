@@ -1,1 +1,187 @@
-//! Live view: the channels of a run served over the Foxglove WebSocket protocol.
+//! Live view: the channels of [`crate::foxglove`] served over the Foxglove WebSocket protocol
+//! (`foxglove.websocket.v1`) by the Foxglove SDK's server, on 127.0.0.1 only, at real-time
+//! pace: each sample is published when the wall clock since the first sample reaches its
+//! simulated time, so the robot moves in the Foxglove app ("Open connection", Foxglove
+//! WebSocket, `ws://127.0.0.1:PORT`) as fast as it would move in reality.
+//!
+//! Pacing sleeps in [`RecordSink::record`], i.e. on the loop's thread: the loop is held back to
+//! real time by design. Encoding runs there too, in the time the loop would otherwise sleep;
+//! a run slower than real time is not slowed further by more than the encoding (about a fifth
+//! of a tick).
+
+use super::{SampleEncoder, SceneSource, StaticScene, Topic};
+use crate::closed_loop::{RecordSink, RunInfo, Sample};
+use crate::error::Error;
+use crate::mcap_log::LogSample;
+use crate::Result;
+use ::foxglove::{ChannelBuilder, Context, PartialMetadata, RawChannel, WebSocketServer};
+use sea_ctrl::qp::QpStatus;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// The only address the live server listens on: the view is for this machine.
+pub const LIVE_HOST: &str = "127.0.0.1";
+
+/// Foxglove's default WebSocket port (the app's "Open connection" suggests it).
+pub const DEFAULT_LIVE_PORT: u16 = 8765;
+
+/// A running live server with one SDK channel per [`Topic`].
+pub struct LiveServer {
+    /// The SDK context the channels and the server share (kept for their lifetime).
+    _context: Arc<Context>,
+    server: Option<::foxglove::WebSocketServerHandle>,
+    channels: Vec<Arc<RawChannel>>,
+}
+
+impl LiveServer {
+    /// Starts the server on [`LIVE_HOST`]:`port` (0: any free port) and advertises every
+    /// channel.
+    ///
+    /// Errors: [`Error::Log`] when the server cannot start (e.g. the port is taken).
+    pub fn start(port: u16) -> Result<Self> {
+        let context = Context::new();
+        let channels = Topic::ALL
+            .iter()
+            .map(|topic| {
+                ChannelBuilder::new(topic.name())
+                    .context(&context)
+                    .message_encoding(topic.message_encoding())
+                    .schema(topic.schema())
+                    .build_raw()
+                    .map_err(|e| Error::Log(format!("live channel {}: {e}", topic.name())))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let server = WebSocketServer::new()
+            .name("sea-sim")
+            .context(&context)
+            .bind(LIVE_HOST, port)
+            .start_blocking()
+            .map_err(|e| Error::Log(format!("live server on {LIVE_HOST}:{port}: {e}")))?;
+        Ok(Self {
+            _context: context,
+            server: Some(server),
+            channels,
+        })
+    }
+
+    /// The port the server listens on.
+    pub fn port(&self) -> u16 {
+        self.server.as_ref().map_or(0, |s| s.port())
+    }
+
+    /// Publishes `message` on `topic` at `time` (ns).
+    fn publish(&self, topic: Topic, time: u64, message: &[u8]) {
+        self.channels[topic.index()].log_with_meta(message, PartialMetadata::with_log_time(time));
+    }
+
+    /// Closes the channels and stops the server.
+    fn stop(&mut self) {
+        for channel in &self.channels {
+            channel.close();
+        }
+        if let Some(server) = self.server.take() {
+            drop(server.stop());
+        }
+    }
+}
+
+impl Drop for LiveServer {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+/// The live view as a [`RecordSink`]: the server starts at [`LiveSink::start`] (so its port is
+/// known, and can be printed, before the run), the robot's scene is set by `begin`, samples
+/// are published at real-time pace, and `finish` stops the server.
+pub struct LiveSink {
+    server: LiveServer,
+    encoder: Option<SampleEncoder>,
+    /// Wall time and simulated time of the first sample.
+    origin: Option<(Instant, f64)>,
+    qp_status: String,
+}
+
+impl LiveSink {
+    /// Starts the server on [`LIVE_HOST`]:`port` (0: any free port).
+    ///
+    /// Errors: [`Error::Log`] when the server cannot start.
+    pub fn start(port: u16) -> Result<Self> {
+        Ok(Self {
+            server: LiveServer::start(port)?,
+            encoder: None,
+            origin: None,
+            qp_status: String::new(),
+        })
+    }
+
+    /// The port the server listens on.
+    pub fn port(&self) -> u16 {
+        self.server.port()
+    }
+
+    /// Sleeps until the wall clock since the first sample reaches `time_s` minus its time.
+    fn pace(&mut self, time_s: f64) {
+        let (wall_start, sim_start) = *self.origin.get_or_insert((Instant::now(), time_s));
+        let due = Duration::try_from_secs_f64(time_s - sim_start).unwrap_or(Duration::ZERO);
+        if let Some(wait) = due.checked_sub(wall_start.elapsed()) {
+            std::thread::sleep(wait);
+        }
+    }
+}
+
+impl RecordSink for LiveSink {
+    fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
+        let mut encoder = SampleEncoder::new(run.model, run.elastic_joints, run.contacts);
+        let scene = StaticScene::build(
+            &SceneSource::of_scenario(run.scenario),
+            &encoder.link_frames(),
+            run.contacts,
+        )?;
+        encoder.set_scene(scene);
+        self.encoder = Some(encoder);
+        Ok(())
+    }
+
+    fn record(&mut self, sample: &Sample<'_>) -> Result<()> {
+        self.pace(sample.time_s);
+        let Some(encoder) = self.encoder.as_mut() else {
+            return Ok(());
+        };
+        self.qp_status.clear();
+        match sample.qp_status {
+            QpStatus::Solved => self.qp_status.push_str("solved"),
+            QpStatus::Fallback(reason) => {
+                self.qp_status.push_str("fallback: ");
+                self.qp_status.push_str(reason);
+            }
+        }
+        let layout = &sample.layout;
+        let log_sample = LogSample {
+            time_s: sample.time_s,
+            q: layout.q(sample.state),
+            nu: layout.nu(sample.state),
+            theta: layout.theta(sample.state),
+            thetadot: layout.thetadot(sample.state),
+            thetadot_desired: sample.thetadot_desired,
+            com: sample.com,
+            com_reference: sample.com_reference,
+            momentum: sample.momentum,
+            contact_wrenches: sample.contact_wrenches,
+            motor_torques: sample.motor_torques,
+            joint_torques: sample.joint_torques,
+            qp_status: &self.qp_status,
+            qp_failures: sample.qp_failures,
+        };
+        let server = &self.server;
+        encoder.encode(&log_sample, |topic, time, message| {
+            server.publish(topic, time, message);
+            Ok(())
+        })
+    }
+
+    fn finish(&mut self) -> Result<()> {
+        self.server.stop();
+        Ok(())
+    }
+}

@@ -1,0 +1,143 @@
+//! `sea-sim run --live`: a WebSocket client offering the Foxglove subprotocols connects to the
+//! address the binary prints (the SDK 0.30 server negotiates `foxglove.sdk.v1`, the renamed
+//! `foxglove.websocket.v1` whose messages are the same), receives the advertised channels and, once subscribed, messages;
+//! the run is paced to the wall clock. Bounded in time: every read has a deadline.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::io::{BufRead, BufReader};
+use std::net::TcpStream;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+use tungstenite::client::IntoClientRequest;
+use tungstenite::Message;
+
+const SCENARIO: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/paper/tracking.toml"
+);
+
+/// Longest wait for any step of the test.
+const DEADLINE: Duration = Duration::from_secs(60);
+
+/// The child process, killed when the test ends however it ends.
+struct Running(Child);
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Starts `sea-sim run --live --port 0` for `duration_s` simulated seconds; returns the
+/// process and the port it printed.
+fn start(duration_s: f64) -> (Running, u16) {
+    let child = Command::new(env!("CARGO_BIN_EXE_sea-sim"))
+        .args(["run", SCENARIO, "--live", "--port", "0", "--quiet", "--set"])
+        .arg(format!("simulation.duration_s={duration_s}"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("sea-sim starts");
+    let mut running = Running(child);
+    let stderr = running.0.stderr.take().unwrap();
+    let (sender, receiver) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            let _ = sender.send(line);
+        }
+    });
+    loop {
+        let line = receiver
+            .recv_timeout(DEADLINE)
+            .expect("sea-sim prints the live address");
+        if let Some(address) = line.split("ws://127.0.0.1:").nth(1) {
+            let port: String = address.chars().take_while(char::is_ascii_digit).collect();
+            return (running, port.parse().expect("a port"));
+        }
+    }
+}
+
+#[test]
+fn a_websocket_client_receives_the_advertised_channels_and_messages() {
+    let duration_s = 4.0;
+    let started = Instant::now();
+    let (_running, port) = start(duration_s);
+
+    let stream = TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    stream.set_read_timeout(Some(DEADLINE)).unwrap();
+    let mut request = format!("ws://127.0.0.1:{port}")
+        .into_client_request()
+        .unwrap();
+    request.headers_mut().insert(
+        "Sec-WebSocket-Protocol",
+        "foxglove.sdk.v1, foxglove.websocket.v1".parse().unwrap(),
+    );
+    let (mut socket, response) = tungstenite::client(request, stream).expect("handshake");
+    assert_eq!(
+        response.headers()["Sec-WebSocket-Protocol"],
+        "foxglove.sdk.v1"
+    );
+
+    // Every channel is advertised with its encoding and schema name.
+    let expected: BTreeSet<&str> = sea_sim::foxglove::Topic::ALL
+        .iter()
+        .map(|t| t.name())
+        .collect();
+    let mut advertised: BTreeMap<String, serde_json::Value> = BTreeMap::new();
+    while advertised.len() < expected.len() {
+        assert!(
+            started.elapsed() < DEADLINE,
+            "advertise within the deadline"
+        );
+        let Message::Text(text) = socket.read().expect("a message") else {
+            continue;
+        };
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        if json["op"] == "advertise" {
+            for channel in json["channels"].as_array().unwrap() {
+                advertised.insert(channel["topic"].as_str().unwrap().into(), channel.clone());
+            }
+        }
+    }
+    let topics: BTreeSet<&str> = advertised.keys().map(String::as_str).collect();
+    assert_eq!(topics, expected);
+    assert_eq!(advertised["/tf"]["encoding"], "protobuf");
+    assert_eq!(advertised["/scene"]["schemaName"], "foxglove.SceneUpdate");
+    assert_eq!(advertised["/com"]["encoding"], "json");
+
+    // Subscribed to /com, the client receives message data (opcode 0x01) with JSON in it.
+    let subscribe = serde_json::json!({
+        "op": "subscribe",
+        "subscriptions": [{"id": 7, "channelId": advertised["/com"]["id"]}],
+    });
+    socket
+        .send(Message::text(subscribe.to_string()))
+        .expect("subscribe");
+    let mut times_ns = Vec::new();
+    let mut first_at = None;
+    // Until the messages span SPAN_S of simulated time.
+    const SPAN_S: f64 = 0.5;
+    while times_ns.len() < 2 || (times_ns[times_ns.len() - 1] - times_ns[0]) as f64 * 1e-9 < SPAN_S
+    {
+        assert!(started.elapsed() < DEADLINE, "messages within the deadline");
+        let Message::Binary(data) = socket.read().expect("a message") else {
+            continue;
+        };
+        assert_eq!(data[0], 0x01, "message data");
+        assert_eq!(u32::from_le_bytes(data[1..5].try_into().unwrap()), 7);
+        times_ns.push(u64::from_le_bytes(data[5..13].try_into().unwrap()));
+        let com: serde_json::Value = serde_json::from_slice(&data[13..]).expect("JSON /com");
+        assert_eq!(com["com"].as_array().unwrap().len(), 3);
+        first_at.get_or_insert_with(Instant::now);
+    }
+    // Real-time pace: the messages took their simulated span in wall time (within slack).
+    let simulated = (times_ns[times_ns.len() - 1] - times_ns[0]) as f64 * 1e-9;
+    let wall = first_at.unwrap().elapsed().as_secs_f64();
+    assert!(simulated > 0.0);
+    assert!(
+        wall > 0.8 * simulated,
+        "wall {wall:.3} s for {simulated:.3} s simulated: not paced"
+    );
+    let _ = socket.close(None);
+}

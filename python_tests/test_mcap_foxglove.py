@@ -1,0 +1,136 @@
+"""The MCAP log read back with the `mcap` package as Foxglove would: every message decodes
+against its schema (protobuf with `mcap-protobuf-support`, JSON validated with `jsonschema`),
+every `/scene` entity hangs on a frame that `/tf` defines, the robot's bodies come from the URDF,
+and the URDF is attached."""
+
+from __future__ import annotations
+
+import json
+import xml.etree.ElementTree as ElementTree
+from collections import Counter
+from pathlib import Path
+
+import jsonschema
+import pytest
+from mcap.reader import make_reader
+from mcap_protobuf.decoder import DecoderFactory
+
+import sea_momentum as sm
+
+ROOT = Path(__file__).resolve().parents[1]
+TRACKING = ROOT / "scenarios" / "paper" / "tracking.toml"
+URDF = ROOT / "urdf" / "icub25.urdf"
+PROTOBUF_TOPICS = {"/tf": "foxglove.FrameTransforms", "/scene": "foxglove.SceneUpdate"}
+JSON_TOPICS = {"/com", "/momentum", "/joints", "/motors", "/contact_wrenches", "/qp", "/base"}
+
+
+@pytest.fixture(scope="module")
+def log(tmp_path_factory):
+    """A short tracking run with its MCAP log: (result, decoded messages, attachments)."""
+    path = tmp_path_factory.mktemp("foxglove") / "tracking.mcap"
+    result = sm.run_scenario(TRACKING, {"simulation.duration_s": 0.3}, mcap=path)
+    protobuf = DecoderFactory()
+    decoders = {}
+    messages = []
+    with open(path, "rb") as stream:
+        reader = make_reader(stream)
+        for schema, channel, message in reader.iter_messages():
+            if channel.message_encoding == "protobuf":
+                assert schema.encoding == "protobuf", channel.topic
+                decode = decoders.setdefault(
+                    channel.id, protobuf.decoder_for(channel.message_encoding, schema)
+                )
+                decoded = decode(message.data)
+            else:
+                assert (channel.message_encoding, schema.encoding) == ("json", "jsonschema")
+                decoded = json.loads(message.data)
+                validator = decoders.setdefault(
+                    channel.id, jsonschema.Draft202012Validator(json.loads(schema.data))
+                )
+                validator.validate(decoded)
+            messages.append((channel.topic, schema.name, message.log_time, decoded))
+        attachments = list(reader.iter_attachments())
+    return result, messages, attachments
+
+
+def test_every_channel_decodes_once_per_recorded_sample(log):
+    result, messages, _ = log
+    counts = Counter(topic for topic, _, _, _ in messages)
+    assert set(counts) == set(PROTOBUF_TOPICS) | JSON_TOPICS
+    assert all(count == len(result.time) for count in counts.values()), counts
+    for topic, schema, _, _ in messages:
+        if topic in PROTOBUF_TOPICS:
+            assert schema == PROTOBUF_TOPICS[topic]
+        else:
+            assert schema.startswith("sea_momentum.")
+
+
+def _urdf_links_with_visuals() -> dict[str, int]:
+    root = ElementTree.parse(URDF).getroot()
+    return {
+        link.get("name"): len(link.findall("visual"))
+        for link in root.findall("link")
+        if link.findall("visual")
+    }
+
+
+def test_scene_entities_hang_on_tf_frames_and_draw_the_urdf(log):
+    _, messages, _ = log
+    tf_frames = {"world"}
+    for topic, _, _, decoded in messages:
+        if topic == "/tf":
+            for transform in decoded.transforms:
+                tf_frames |= {transform.parent_frame_id, transform.child_frame_id}
+    scenes = [decoded for topic, _, _, decoded in messages if topic == "/scene"]
+    assert scenes
+    for scene in scenes:
+        for entity in scene.entities:
+            assert entity.frame_id in tf_frames, f"{entity.id}: {entity.frame_id} not in /tf"
+    entities = {entity.id: entity for entity in scenes[-1].entities}
+    bodies = {id_.removeprefix("link/"): e for id_, e in entities.items() if id_.startswith("link/")}
+    visuals = _urdf_links_with_visuals()
+    assert {name: len(e.cubes) + len(e.cylinders) + len(e.spheres) for name, e in bodies.items()} == visuals
+    assert all(e.frame_locked and e.frame_id == name for name, e in bodies.items())
+    # CoM and reference spheres, an arrow and a closed support rectangle per contact.
+    assert len(entities["com"].spheres) == 1 and len(entities["com_reference"].spheres) == 1
+    contacts = [id_.removeprefix("wrench/") for id_ in entities if id_.startswith("wrench/")]
+    assert contacts
+    for contact in contacts:
+        assert len(entities[f"support/{contact}"].lines[0].points) == 4
+        assert entities[f"wrench/{contact}"].arrows[0].shaft_length > 0.0
+
+
+def test_com_marker_follows_the_com_channel(log):
+    _, messages, _ = log
+    com_by_time = {t: d["com"] for topic, _, t, d in messages if topic == "/com"}
+    for topic, _, time, scene in messages:
+        if topic == "/scene":
+            sphere = next(e for e in scene.entities if e.id == "com").spheres[0]
+            position = sphere.pose.position
+            assert [position.x, position.y, position.z] == pytest.approx(com_by_time[time], abs=1e-12)
+
+
+def test_urdf_is_attached(log):
+    _, _, attachments = log
+    urdf = [a for a in attachments if a.name == URDF.name]
+    assert len(urdf) == 1
+    assert urdf[0].media_type == "application/xml"
+    assert urdf[0].data == URDF.read_bytes()
+
+
+def test_layout_plots_fields_the_log_has(log):
+    """foxglove/layout.json: every plotted path names a topic of the log and a field it has."""
+    _, messages, _ = log
+    last = {topic: decoded for topic, _, _, decoded in messages if topic in JSON_TOPICS}
+    layout = json.loads((ROOT / "foxglove" / "layout.json").read_text())
+    paths = [p["value"] for config in layout["configById"].values() for p in config.get("paths", [])]
+    assert paths
+    for path in paths:
+        topic, _, field = path.partition(".")
+        name, _, index = field.partition("[")
+        assert topic in last, path
+        value = last[topic][name]
+        if index:
+            assert int(index.rstrip("]")) < len(value), path
+    three_d = next(c for key, c in layout["configById"].items() if key.startswith("3D!"))
+    assert "/scene" in three_d["topics"]
