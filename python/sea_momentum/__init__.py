@@ -26,6 +26,7 @@ from .closed_loop_rhs import closed_loop_rhs
 from .controller import ControlOutput
 from .results import PlantOutputs, RunSummary, SimulationResult
 from .scenario import ScenarioResult, run_scenario
+from .sweep import SweepResult, sweep
 
 __all__ = [
     "ICUB25_JOINTS",
@@ -44,9 +45,11 @@ __all__ = [
     "SeaIOError",
     "SimulationResult",
     "SolverError",
+    "SweepResult",
     "closed_loop_rhs",
     "linearize",
     "run_scenario",
     "stability_margin",
+    "sweep",
     "__version__",
 ]

@@ -31,6 +31,9 @@ __all__ = [
     "run_scenario_native",
     "linearize_native",
     "stability_margin_native",
+    "sweep_grid",
+    "sweep",
+    "sweep_batch",
     "__version__",
     "ICUB25_JOINTS",
 ]
@@ -271,6 +274,41 @@ def stability_margin_native(
     """Stability boundaries of a scenario key (GIL released); use
     ``sea_momentum.stability_margin``. Returns ``parameter``, ``boundaries`` (ascending),
     ``method``, ``evaluations`` and ``samples`` (list of (value, stable, growth_rate or None))."""
+
+# --- Sweeps (sea_momentum.sweep, sea_momentum.ray_backend) ---
+
+def sweep_grid(
+    path: str,
+    grid: Sequence[str],
+    overrides: Mapping[str, object] | None = None,
+) -> dict[str, object]:
+    """Parses and checks grid specifications (``KEY=V1,V2,...`` or
+    ``KEY=START:STOP:COUNT[:log]``) on a scenario. Returns ``keys`` (list[str]), ``points``
+    (list[list[float]], the last key varying fastest) and ``columns`` (the row fields in
+    order). Raises ScenarioError naming the key and the value."""
+
+def sweep(
+    path: str,
+    grid: Sequence[str],
+    overrides: Mapping[str, object] | None = None,
+    workers: int | None = None,
+    progress: bool = False,
+) -> dict[str, object]:
+    """Runs every point of a grid on ``workers`` threads (None: every core), GIL released;
+    use ``sea_momentum.sweep``. Returns ``keys``, ``columns``, ``rows`` (list of dicts in grid
+    order: ``index``, the grid values by key, ``status``, ``message``, the summary fields),
+    ``total`` and ``interrupted`` (Ctrl-C: the rows done)."""
+
+def sweep_batch(
+    path: str,
+    keys: Sequence[str],
+    points: Sequence[tuple[int, Sequence[float]]],
+    overrides: Mapping[str, object] | None = None,
+    workers: int | None = 1,
+) -> list[dict[str, object]]:
+    """Runs the points ``(grid index, values)`` on ``workers`` threads, GIL released (one Ray
+    task of ``sea_momentum.ray_backend``). Returns the rows as ``sweep`` does, in the order
+    given."""
 
 # --- The controller and the scenario as objects (sea_momentum.controller) ---
 

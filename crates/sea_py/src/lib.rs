@@ -13,6 +13,7 @@ mod errors;
 mod model;
 mod plant;
 mod scenario;
+mod sweep;
 
 /// The native module `sea_momentum._native`.
 #[pymodule]
@@ -25,6 +26,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenario::run_scenario_native, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::linearize_native, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::stability_margin_native, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep_grid, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep_batch, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // The paper's 25 iCub joints, defined once in sea_sim's presets.
     let icub25 = pyo3::types::PyTuple::new(m.py(), sea_sim::scenario::presets::ICUB25_JOINTS)?;
