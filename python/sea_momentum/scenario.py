@@ -62,10 +62,33 @@ def run_scenario(
     ``ValueError`` naming the key. ``mcap`` writes a Foxglove-ready log (finished even when the
     run diverges). A diverged run is not an error: see ``result.status`` and ``result.summary``
     (a :class:`~sea_momentum.results.RunSummary`).
+
+    Ctrl-C stops the run within a fraction of a second (the MCAP log is finished) and raises
+    ``KeyboardInterrupt``; what was computed is its ``partial`` attribute, a
+    :class:`ScenarioResult` with ``status == "interrupted"``::
+
+        try:
+            result = run_scenario(path)
+        except KeyboardInterrupt as interrupt:
+            result = interrupt.partial
     """
-    raw = run_scenario_native(
-        os.fspath(path), dict(overrides or {}), None if mcap is None else os.fspath(mcap), progress
-    )
+    try:
+        raw = run_scenario_native(
+            os.fspath(path),
+            dict(overrides or {}),
+            None if mcap is None else os.fspath(mcap),
+            progress,
+        )
+    except KeyboardInterrupt as interrupt:
+        partial = getattr(interrupt, "partial", None)
+        if isinstance(partial, dict):
+            interrupt.partial = _scenario_result(partial)
+        raise
+    return _scenario_result(raw)
+
+
+def _scenario_result(raw: Mapping[str, Any]) -> ScenarioResult:
+    """The :class:`ScenarioResult` of the native run's dict."""
     nq, nv, ne = raw["nq"], raw["nv"], raw["ne"]
     x = raw["x"]
     return ScenarioResult(

@@ -19,6 +19,12 @@ pub enum Status {
         /// What went wrong.
         reason: String,
     },
+    /// Stopped at `time` [s] because `progress` asked to (e.g. Ctrl-C); the state at `time`
+    /// is the last one recorded.
+    Interrupted {
+        /// Simulation time reached [s].
+        time: f64,
+    },
 }
 
 /// Records of a simulation, one row per recorded sample (`rows` of them).
@@ -44,7 +50,9 @@ pub struct SimulationLog {
 const DIVERGENCE_NORM: f64 = 1e8;
 
 /// Simulates `n_steps` of size `dt` from `x0` with `u` held, recording every
-/// `record_every`-th state (and the last one). `progress(k)` is called after each step.
+/// `record_every`-th state (and the last one). `progress(k)` is called after each step and
+/// returns whether to go on: `false` records the state reached and ends the run with
+/// [`Status::Interrupted`]. A record that cannot be allocated is an error, not an abort.
 #[allow(clippy::too_many_arguments)]
 pub fn simulate(
     plant: &Plant,
@@ -55,7 +63,7 @@ pub fn simulate(
     n_steps: usize,
     method: Method,
     record_every: usize,
-    mut progress: impl FnMut(usize),
+    mut progress: impl FnMut(usize) -> bool,
 ) -> Result<SimulationLog> {
     plant.check_state(x0)?;
     plant.check_input(u)?;
@@ -63,16 +71,17 @@ pub fn simulate(
         return Err(crate::Error::invalid("dt", "a positive finite number", dt));
     }
     let record_every = record_every.max(1);
-    let rows = n_steps / record_every + 2;
+    let rows = (n_steps / record_every).saturating_add(2);
     let mut log = SimulationLog {
-        time: Vec::with_capacity(rows),
-        state: Vec::with_capacity(rows * x0.len()),
-        contact_wrench: Vec::with_capacity(rows * 6 * plant.contacts.len()),
-        motor_torque: Vec::with_capacity(rows * plant.actuation.n_elastic()),
-        drift_position: Vec::with_capacity(rows),
-        drift_rotation: Vec::with_capacity(rows),
+        time: Vec::new(),
+        state: Vec::new(),
+        contact_wrench: Vec::new(),
+        motor_torque: Vec::new(),
+        drift_position: Vec::new(),
+        drift_rotation: Vec::new(),
         status: Status::Completed,
     };
+    reserve_rows(&mut log, rows, x0.len(), plant)?;
     let mut x = x0.to_vec();
     let mut x_next = x0.to_vec();
     for k in 0..=n_steps {
@@ -112,7 +121,67 @@ pub fn simulate(
             break;
         }
         std::mem::swap(&mut x, &mut x_next);
-        progress(k + 1);
+        if !progress(k + 1) {
+            log.status = Status::Interrupted { time: time + dt };
+            record_interrupted(plant, pd, &x, u, &mut log, time + dt)?;
+            break;
+        }
     }
     Ok(log)
+}
+
+/// Reserves the whole record up front (no allocation while stepping); a record too large for
+/// memory (or for `usize`) is an [`crate::Error`] naming `n_steps`, not an allocation abort.
+fn reserve_rows(log: &mut SimulationLog, rows: usize, nx: usize, plant: &Plant) -> Result<()> {
+    let widths = [
+        1,
+        nx,
+        6 * plant.contacts.len(),
+        plant.actuation.n_elastic(),
+        1,
+        1,
+    ];
+    let too_large = || {
+        let bytes = widths.iter().sum::<usize>() as f64 * rows as f64 * 8.0;
+        crate::Error::invalid(
+            "n_steps",
+            "a record that fits in memory (raise record_every)",
+            format!("{rows} rows, {:.3e} bytes", bytes),
+        )
+    };
+    let vectors = [
+        &mut log.time,
+        &mut log.state,
+        &mut log.contact_wrench,
+        &mut log.motor_torque,
+        &mut log.drift_position,
+        &mut log.drift_rotation,
+    ];
+    for (vector, width) in vectors.into_iter().zip(widths) {
+        let entries = rows.checked_mul(width).ok_or_else(too_large)?;
+        vector.try_reserve_exact(entries).map_err(|_| too_large())?;
+    }
+    Ok(())
+}
+
+/// Records the state `x` reached at `time` when the run is interrupted (its outputs evaluated
+/// so the row is complete).
+fn record_interrupted(
+    plant: &Plant,
+    pd: &mut PlantData,
+    x: &[f64],
+    u: &[f64],
+    log: &mut SimulationLog,
+    time: f64,
+) -> Result<()> {
+    crate::dynamics::evaluate(plant, pd, x, u)?;
+    log.time.push(time);
+    log.state.extend_from_slice(x);
+    log.contact_wrench
+        .extend_from_slice(pd.contact_wrench.as_slice());
+    log.motor_torque
+        .extend_from_slice(pd.motor_torque.as_slice());
+    log.drift_position.push(pd.drift_position);
+    log.drift_rotation.push(pd.drift_rotation);
+    Ok(())
 }

@@ -9,8 +9,9 @@ use pyo3::types::{PyAnyMethods, PyDict};
 
 /// A float64 1-D argument of `expected` entries, all finite, copied out of Python.
 ///
-/// Fast path for contiguous float64 arrays; anything else array-like goes through
-/// `numpy.asarray(x, dtype=float)` first.
+/// Fast path for float64 arrays; anything else array-like goes through `numpy.asarray(x)`,
+/// must have a real dtype (bool, int, float: complex and object arrays are refused) and is
+/// converted to float64.
 pub fn vector_arg(
     value: &Bound<'_, PyAny>,
     name: &str,
@@ -22,8 +23,21 @@ pub fn vector_arg(
         Ok(array) => array,
         Err(_) => {
             let numpy = value.py().import("numpy")?;
+            let raw = numpy
+                .call_method1("asarray", (value,))
+                .map_err(|e| argument_error(name, "an array of floats", e))?;
+            // Complex values would lose their imaginary part and object arrays hide anything:
+            // only booleans, integers and floats convert.
+            let kind: String = raw.getattr("dtype")?.getattr("kind")?.extract()?;
+            if !matches!(kind.as_str(), "b" | "i" | "u" | "f") {
+                return Err(argument_error(
+                    name,
+                    "an array of real numbers",
+                    format!("dtype {}", raw.getattr("dtype")?.str()?),
+                ));
+            }
             let converted = numpy
-                .call_method1("asarray", (value, "float64"))
+                .call_method1("asarray", (&raw, "float64"))
                 .map_err(|e| argument_error(name, "an array of floats", e))?;
             owned = converted
                 .cast_into::<PyArrayDyn<f64>>()
@@ -86,6 +100,19 @@ pub fn matrix_rows_out<'py>(
     columns: usize,
 ) -> Bound<'py, PyArray2<f64>> {
     let rows = row_major.len().checked_div(columns).unwrap_or(0);
+    Array2::from_shape_vec((rows, columns), row_major.to_vec())
+        .expect("row-major data matches its shape")
+        .into_pyarray(py)
+}
+
+/// A C-ordered (rows x columns) array from row-major data that keeps its shape when a
+/// dimension is empty (all joints rigid: motor arrays of shape (samples, 0)).
+pub fn table_out<'py>(
+    py: Python<'py>,
+    row_major: &[f64],
+    rows: usize,
+    columns: usize,
+) -> Bound<'py, PyArray2<f64>> {
     Array2::from_shape_vec((rows, columns), row_major.to_vec())
         .expect("row-major data matches its shape")
         .into_pyarray(py)

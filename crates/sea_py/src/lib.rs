@@ -10,6 +10,7 @@ mod analysis;
 mod arrays;
 mod controller;
 mod errors;
+mod interrupt;
 mod model;
 mod plant;
 mod scenario;

@@ -1,7 +1,8 @@
 //! `sea_momentum.Plant`: the SEA plant with rigid contacts and its integrators.
 
-use crate::arrays::{matrix_rows_out, result_object, vector_arg, vector_out};
+use crate::arrays::{matrix_rows_out, result_object, table_out, vector_arg, vector_out};
 use crate::errors::{argument_error, to_py};
+use crate::interrupt::run_interruptible;
 use crate::model::PyModel;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -9,6 +10,7 @@ use pyo3::types::PyDict;
 use sea_dyn::{Actuation, Actuator, ElasticParameters};
 use sea_plant::{ContactLimits, Method, MotorInput, Plant, PlantData};
 use std::collections::HashMap;
+use std::sync::atomic::Ordering;
 
 /// Parameters of an elastic actuator from a dict with keys ratio, motor_inertia, stiffness,
 /// damping and optional torque_limit; `where_` names the dict in errors.
@@ -382,7 +384,10 @@ impl PyPlant {
     /// `sea_momentum.results.SimulationResult` (m recorded rows): time (m,), x (m, nx),
     /// contact_wrenches (m, n_contacts, 6), motor_torques (m, n_e), drift_position (m,),
     /// drift_rotation (m,) as float64 arrays; status ("completed" or "diverged"), diverged_at
-    /// (float or None), message. Data up to a divergence is kept.
+    /// (float or None), message. Data up to a divergence is kept. n_steps and the record's
+    /// size are checked before anything is allocated (`ValueError` giving the memory needed).
+    /// Ctrl-C stops the loop within a fraction of a second and raises `KeyboardInterrupt`
+    /// whose `partial` attribute is the result so far (status "interrupted").
     #[pyo3(signature = (x0, u, dt, n_steps, method="ros2", record_every=1))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(
@@ -396,41 +401,100 @@ impl PyPlant {
         record_every: usize,
     ) -> PyResult<Bound<'py, PyAny>> {
         let method = Method::parse(method).map_err(to_py)?;
+        check_record_size(&self.plant, n_steps, record_every)?;
         self.load(x0, u)?;
         let (plant, data, x, u) = (&self.plant, &mut self.data, &self.x, &self.u);
-        let log = py
-            .detach(|| {
-                sea_plant::simulate(plant, data, x, u, dt, n_steps, method, record_every, |_| {})
+        let (log, interrupt) = run_interruptible(py, |cancel| {
+            sea_plant::simulate(plant, data, x, u, dt, n_steps, method, record_every, |_| {
+                !cancel.load(Ordering::Relaxed)
             })
-            .map_err(to_py)?;
+        })?;
+        let log = log.map_err(to_py)?;
+        let result = self.simulation_result(py, &log)?;
+        match interrupt {
+            Some(error) => {
+                error.value(py).setattr("partial", result)?;
+                Err(error)
+            }
+            None => Ok(result),
+        }
+    }
+}
+
+/// Most plant steps one `Plant.simulate` call takes (the closed loop's bound,
+/// [`sea_sim::scenario::validate::MAX_RUN_STEPS`]): beyond it a step count is a typo or a
+/// wrapped negative number, not a run anyone waits for.
+const MAX_SIMULATE_STEPS: f64 = sea_sim::scenario::validate::MAX_RUN_STEPS;
+
+/// Largest record `Plant.simulate` allocates [bytes]; the numpy copy doubles it at the end.
+const MAX_RECORD_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
+
+/// Checks `n_steps` and the record it needs before anything is allocated: a `ValueError`
+/// naming the argument and, for the record, the memory it would need.
+fn check_record_size(plant: &Plant, n_steps: usize, record_every: usize) -> PyResult<()> {
+    if n_steps as f64 > MAX_SIMULATE_STEPS {
+        return Err(argument_error(
+            "n_steps",
+            &format!("at most {MAX_SIMULATE_STEPS:e} steps"),
+            n_steps,
+        ));
+    }
+    let rows = (n_steps / record_every.max(1)) as f64 + 2.0;
+    let columns =
+        1 + plant.layout().nx() + 6 * plant.contacts.len() + plant.actuation.n_elastic() + 2;
+    let bytes = rows * columns as f64 * 8.0;
+    if bytes > MAX_RECORD_BYTES {
+        return Err(argument_error(
+            "n_steps",
+            &format!(
+                "a record of at most {:.1} GiB (raise record_every)",
+                MAX_RECORD_BYTES / (1u64 << 30) as f64
+            ),
+            format!(
+                "{n_steps} steps recording every {record_every}: {rows:.0} rows, {:.1} GiB",
+                bytes / (1u64 << 30) as f64
+            ),
+        ));
+    }
+    Ok(())
+}
+
+impl PyPlant {
+    /// The `sea_momentum.results.SimulationResult` of a simulation log.
+    fn simulation_result<'py>(
+        &self,
+        py: Python<'py>,
+        log: &sea_plant::SimulationLog,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let fields = PyDict::new(py);
         let nx = self.plant.layout().nx();
         let rows = log.time.len();
         fields.set_item("time", vector_out(py, &log.time))?;
-        fields.set_item("x", matrix_rows_out(py, &log.state, nx))?;
+        fields.set_item("x", table_out(py, &log.state, rows, nx))?;
         let wrenches = matrix_rows_out(py, &log.contact_wrench, 6);
         fields.set_item(
             "contact_wrenches",
             wrenches.reshape([rows, self.plant.contacts.len(), 6])?,
         )?;
+        let n_elastic = self.plant.actuation.n_elastic();
         fields.set_item(
             "motor_torques",
-            matrix_rows_out(py, &log.motor_torque, self.plant.actuation.n_elastic()),
+            table_out(py, &log.motor_torque, rows, n_elastic),
         )?;
         fields.set_item("drift_position", vector_out(py, &log.drift_position))?;
         fields.set_item("drift_rotation", vector_out(py, &log.drift_rotation))?;
-        match &log.status {
-            sea_plant::Status::Completed => {
-                fields.set_item("status", "completed")?;
-                fields.set_item("diverged_at", py.None())?;
-                fields.set_item("message", "")?;
-            }
+        let (status, diverged_at, message) = match &log.status {
+            sea_plant::Status::Completed => ("completed", None, String::new()),
             sea_plant::Status::Diverged { time, reason } => {
-                fields.set_item("status", "diverged")?;
-                fields.set_item("diverged_at", *time)?;
-                fields.set_item("message", reason)?;
+                ("diverged", Some(*time), reason.clone())
             }
-        }
+            sea_plant::Status::Interrupted { time } => {
+                ("interrupted", None, format!("interrupted at t = {time} s"))
+            }
+        };
+        fields.set_item("status", status)?;
+        fields.set_item("diverged_at", diverged_at)?;
+        fields.set_item("message", message)?;
         result_object(py, "SimulationResult", &fields)
     }
 }

@@ -1,23 +1,39 @@
 //! `run_scenario`: a closed-loop scenario run natively (GIL released), results as numpy arrays.
 
-use crate::arrays::{matrix_rows_out, vector_out};
+use crate::arrays::{matrix_rows_out, table_out, vector_out};
 use crate::errors::{argument_error, to_py};
+use crate::interrupt::run_interruptible;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use sea_sim::closed_loop::{run_with_sinks, McapSink, RecordSink, RunRecord};
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-/// A Python value as a TOML literal: str, bool, int, float (numpy scalars too), lists of those;
-/// `key` names the override in errors.
+/// A Python value as a TOML literal: str, bool, int, float (numpy scalars too: `numpy.bool_`
+/// is a bool, numpy integers are integers), lists of those; `key` names the override in
+/// errors, including an integer outside the 64-bit range.
 pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<String> {
     if let Ok(text) = value.extract::<String>() {
         return Ok(toml::Value::String(text).to_string());
     }
-    if value.is_instance_of::<pyo3::types::PyBool>() {
-        return Ok(value.extract::<bool>()?.to_string());
+    // Python bools and numpy.bool_ (before the integers: bool is an int subclass).
+    if let Ok(flag) = value.extract::<bool>() {
+        return Ok(flag.to_string());
     }
-    if value.is_instance_of::<pyo3::types::PyInt>() {
-        return Ok(value.extract::<i64>()?.to_string());
+    // Python ints and anything with __index__ (numpy integers), before the floats.
+    if value.is_instance_of::<pyo3::types::PyInt>() || value.hasattr("__index__")? {
+        let index = value
+            .py()
+            .import("operator")?
+            .call_method1("index", (value,));
+        return match index.and_then(|i| i.extract::<i64>()) {
+            Ok(integer) => Ok(integer.to_string()),
+            Err(_) => Err(argument_error(
+                &format!("overrides['{key}']"),
+                "an integer within the 64-bit range",
+                value.repr()?,
+            )),
+        };
     }
     if let Ok(number) = value.extract::<f64>() {
         return Ok(toml::Value::Float(number).to_string());
@@ -40,6 +56,10 @@ pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<Stri
 /// (time, x, thetadot_desired, com, com_reference, momentum, contact_wrenches, motor_torques,
 /// joint_error_norm, qp_solved; float64, one row per recorded tick), the layout (nq, nv, ne),
 /// names, and the summary as a dict of the fields of `sea_momentum.results.RunSummary`.
+///
+/// Ctrl-C stops the run at its next control tick (the MCAP log is finished) and raises
+/// `KeyboardInterrupt` whose `partial` attribute is this dict for the samples computed, with
+/// summary status "interrupted".
 #[pyfunction]
 #[pyo3(signature = (path, overrides=None, mcap=None, progress=false))]
 pub fn run_scenario_native<'py>(
@@ -55,15 +75,21 @@ pub fn run_scenario_native<'py>(
         pairs.push((key, text));
     }
     let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
-    let (record, summary) = py
-        .detach(|| {
-            sea_sim::closed_loop::run(&scenario, mcap.as_deref(), |t, total| {
-                if progress {
-                    eprintln!("  {}: t = {t:5.2} / {total:.2} s", scenario.name);
-                }
-            })
-        })
-        .map_err(to_py)?;
+    let (outcome, interrupt) = run_interruptible(py, |cancel| {
+        let mut record = RunRecord::default();
+        let mut log = mcap.as_deref().map(McapSink::new);
+        let mut sinks: Vec<&mut dyn RecordSink> = vec![&mut record];
+        if let Some(log) = log.as_mut() {
+            sinks.push(log);
+        }
+        let summary = run_with_sinks(&scenario, &mut sinks, cancel, |t, total| {
+            if progress {
+                eprintln!("  {}: t = {t:5.2} / {total:.2} s", scenario.name);
+            }
+        });
+        summary.map(|summary| (record, summary))
+    })?;
+    let (record, summary) = outcome.map_err(to_py)?;
     let (nq, nv, ne) = record.layout;
     let nx = nq + nv + 2 * ne;
     let dict = PyDict::new(py);
@@ -73,7 +99,7 @@ pub fn run_scenario_native<'py>(
     dict.set_item("x", matrix_rows_out(py, &record.state, nx))?;
     dict.set_item(
         "thetadot_desired",
-        matrix_rows_out(py, &record.thetadot_desired, ne),
+        table_out(py, &record.thetadot_desired, rows, ne),
     )?;
     dict.set_item("com", matrix_rows_out(py, &record.com, 3))?;
     dict.set_item(
@@ -88,7 +114,7 @@ pub fn run_scenario_native<'py>(
     )?;
     dict.set_item(
         "motor_torques",
-        matrix_rows_out(py, &record.motor_torques, ne),
+        table_out(py, &record.motor_torques, rows, ne),
     )?;
     dict.set_item("joint_error_norm", vector_out(py, &record.joint_error_norm))?;
     dict.set_item("qp_solved", vector_out(py, &record.qp_solved))?;
@@ -99,7 +125,14 @@ pub fn run_scenario_native<'py>(
     dict.set_item("elastic_joints", record.elastic_joints.clone())?;
     dict.set_item("contacts", scenario.robot.contacts.clone())?;
     dict.set_item("summary", summary_fields(py, &summary)?)?;
-    Ok(dict)
+    match interrupt {
+        // Ctrl-C: what was computed (status "interrupted") rides on the exception.
+        Some(error) => {
+            error.value(py).setattr("partial", dict)?;
+            Err(error)
+        }
+        None => Ok(dict),
+    }
 }
 
 /// The run summary as the keyword arguments of `sea_momentum.results.RunSummary` (numbers

@@ -156,7 +156,7 @@ impl<'de> Deserialize<'de> for ActuatorsConfig {
             }
         };
         let default = ActuatorConfig::deserialize(toml::Value::Table(table.clone()))
-            .map_err(|e| D::Error::custom(e.message().trim()))?;
+            .map_err(|e| D::Error::custom(actuator_table_message(&e, "")))?;
         let mut resolved = BTreeMap::new();
         for (name, value) in overrides {
             let toml::Value::Table(keys) = value else {
@@ -167,8 +167,10 @@ impl<'de> Deserialize<'de> for ActuatorsConfig {
             };
             let mut merged = table.clone();
             merged.extend(keys);
-            let actuator = ActuatorConfig::deserialize(toml::Value::Table(merged))
-                .map_err(|e| D::Error::custom(override_message(e.message().trim(), &name)))?;
+            let actuator =
+                ActuatorConfig::deserialize(toml::Value::Table(merged)).map_err(|e| {
+                    D::Error::custom(actuator_table_message(&e, &format!("overrides.{name}.")))
+                })?;
             resolved.insert(name, actuator);
         }
         Ok(Self {
@@ -178,12 +180,23 @@ impl<'de> Deserialize<'de> for ActuatorsConfig {
     }
 }
 
-/// A schema error inside `[actuators.overrides.NAME]`, with the field (or the table) given
-/// relative to `[actuators]`, where the TOML deserializer reports it.
-fn override_message(message: &str, name: &str) -> String {
-    match message.strip_prefix("unknown field `") {
-        Some(rest) => format!("unknown field `overrides.{name}.{rest}"),
-        None => format!("in `overrides.{name}`: {message}"),
+/// A schema error of one actuator table deserialised on its own, relative to `[actuators]`:
+/// `within` is "" for `[actuators]` and "overrides.NAME." for an override. The field is kept
+/// so the key names it: "unknown field `overrides.NAME.x`" or "in `overrides.NAME.x`: rule"
+/// (read back by [`schema_error`]).
+fn actuator_table_message(error: &toml::de::Error, within: &str) -> String {
+    let text = error.to_string();
+    let (rule, field) = match text.trim().rsplit_once("\nin `") {
+        Some((rule, path)) => (rule.trim(), Some(path.trim_end_matches('`'))),
+        None => (text.trim(), None),
+    };
+    if let Some(rest) = rule.strip_prefix("unknown field `") {
+        return format!("unknown field `{within}{rest}");
+    }
+    match field {
+        Some(field) => format!("in `{within}{field}`: {rule}"),
+        None if within.is_empty() => rule.to_string(),
+        None => format!("in `{}`: {rule}", within.trim_end_matches('.')),
     }
 }
 
@@ -483,6 +496,15 @@ fn schema_error(error: &toml::de::Error) -> Error {
         Some((rule, path)) => (rule.trim(), path.trim_end_matches('`')),
         None => (text, ""),
     };
+    // A nested table's message may name its field: "in `overrides.l_knee.stiffness`: rule".
+    let nested = rule
+        .strip_prefix("in `")
+        .and_then(|rest| rest.split_once("`: "));
+    let (rule, path) = match nested {
+        Some((inner, rest)) if !path.is_empty() => (rest, format!("{path}.{inner}")),
+        _ => (rule, path.to_string()),
+    };
+    let path = path.as_str();
     let field = ["unknown field `", "missing field `"]
         .iter()
         .find_map(|prefix| rule.strip_prefix(prefix))

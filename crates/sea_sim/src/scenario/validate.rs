@@ -629,6 +629,19 @@ mod tests {
     }
 
     #[test]
+    fn type_errors_in_actuator_tables_name_the_field() {
+        for (key, named) in [
+            ("actuators.stiffness", "actuators.stiffness"),
+            (
+                "actuators.overrides.l_knee.stiffness",
+                "actuators.overrides.l_knee.stiffness",
+            ),
+        ] {
+            assert_refused(&[(key, "false")], named, "boolean `false`");
+        }
+    }
+
+    #[test]
     fn duplicate_contacts_are_refused() {
         assert_refused(
             &[("robot.contacts", "[\"l_sole\", \"l_sole\"]")],
