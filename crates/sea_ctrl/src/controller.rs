@@ -1,38 +1,42 @@
 //! The momentum-based balancing controller, rigid (paper section "Balancing control with robot
 //! rigid transmissions") and SEA (section "The balancing control for series elastic
-//! actuators"), in the implementation form of DESIGN.md ("sea_ctrl"):
+//! actuators"). One tick ([`MomentumController::compute_into`]):
 //!
-//! - momentum task `Hdot* = Hdot_d - K_p (H - H_d) - K_i I_H`, `I_H = [m (p_com - p_com_d);
-//!   J_G^omega(s_d) (s - s_d)]` (eq:dotH_f, eq:IhTilde), and `Hdot(f) = A f + m g`,
-//!   `A_k = [[I, 0], [skew(p_k - p_com), I]]`;
-//! - joint torques affine in the wrenches (eq:torques, eq:posturalNew):
-//!   `Lambda = J M^-1 B`, damped `Lambda^+`, `N = I - Lambda^+ Lambda`,
-//!   `tau(f) = Lambda^+ (J M^-1 h - Jdot nu) + N (hbar_j + u0) + Sigma f`,
-//!   `Sigma = -(Lambda^+ J M^-1 J^T + N Jbar^T)`,
-//!   `u0 = -K_p^j N Mbar (s - s_d) - K_d^j N Mbar sdot`;
-//! - the QP (eq:inputTorquesSOT): one foot `min |A f - (Hdot* - m g)|^2`, two feet
-//!   `min |tau(f)|^2` s.t. `A f = Hdot* - m g`; both s.t. the contact constraints;
-//! - SEA (eq:newJointDynamics, eq:inputDesMotVel): `tau` becomes `beta = K_D Gamma thetadot`,
-//!   `h_j` becomes `h_j - p`, `p = K_S (Gamma theta - s) - K_D sdot` (the controller's own
-//!   estimates of `K_S`, `K_D`), and the output is `thetadot_d = Gamma^-1 K_D^-1 beta*`, tracked
-//!   by the motor velocity loop of the plant (eq:tauMotors). Mixed actuation: rigid joints keep
-//!   `tau`, `p = 0`.
-//! - Rigid controller on an SEA robot: the rigid model with the motor reflected inertia
-//!   `Gamma^-1 I_m Gamma^-1` on the joint diagonal (Remark 1), output `tau_m = Gamma tau*`.
+//! 1. model terms at the state: `M`, `h` (for the SEA controller with hjBar, `h_j - p`,
+//!    [`crate::sea`]), the contact Jacobians and `Jdot nu`, the CoM and the momentum `H`;
+//! 2. the momentum task ([`crate::momentum`]): `Hdot(f) = A f + [m g; 0]` (hDot), `Hdot*`
+//!    (eq:dotH_f) with the integral term (eq:IhTilde), hence `A f = b`, `b = Hdot* - [m g; 0]`;
+//! 3. the torque map ([`crate::torque_map`], eq:torques with posturalNew): `tau(f) = tau_bias
+//!    + Sigma f` (`beta(f)` for the SEA controller, newJointDynamics);
+//! 4. the QP ([`crate::qp`], inputTorquesSOT / inputTorquesSOTu): one foot `min |A f - b|^2`,
+//!    two feet `min |tau(f)|^2` s.t. `A f = b`; both s.t. the contact constraints
+//!    (frictionCones);
+//! 5. the plant input: rigid joints `tau*`; elastic joints the desired motor velocity
+//!    `thetadot_d = Gamma^-1 K_D^-1 beta*` (SEA controller, inputDesMotVel, tracked by the
+//!    plant's motor velocity loop eq:tauMotors) or the motor torque `Gamma tau*` (rigid
+//!    controller on an SEA robot, with the reflected inertia of remark1 in its `M_j`).
 //!
-//! `g` is the gravity vector (`m g = [0, 0, -m 9.81]`), so `Hdot(f) = A f + [m g; 0]`.
-//!
-//! The torque map is computed by [`crate::torque_map`], the QP by [`crate::qp`]; this file
-//! assembles the model terms, the momentum task and the QP's objective, and maps the result to
-//! the plant input.
+//! Mixed actuation: rigid joints keep `tau` and `p = 0`. The SEA terms use the controller's
+//! own estimates of `K_S`, `K_D` (scaled, for the paper's mismatch study). Every buffer of the
+//! tick is allocated in [`MomentumController::new`].
 
 use crate::error::{Error, Result};
-use crate::qp::{ContactConstraints, QpStatus, WrenchQp};
+use crate::momentum::{
+    desired_momentum, momentum_equality_target, momentum_integral_error,
+    momentum_map_identity_blocks, momentum_rate_star, set_momentum_map_contact, MomentumJacobian,
+};
+use crate::qp::{
+    momentum_tracking_objective, torque_norm_objective, ContactConstraints, Minimizer, QpStatus,
+    WrenchQp,
+};
 use crate::references::ComSample;
+use crate::sea::{
+    controller_estimates, desired_motor_velocity, rigid_motor_torque, subtract_spring_torque,
+};
 use crate::torque_map::{PosturalTask, TorqueMap};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
-use sea_dyn::spatial::{quaternion_from_rotation, skew};
-use sea_dyn::{Actuation, Data, FrameId, Model, StateLayout};
+use sea_dyn::spatial::Pose;
+use sea_dyn::{Actuation, Data, ElasticParameters, FrameId, Model, StateLayout};
 
 /// Which controller.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,7 +81,7 @@ pub struct ControllerSettings {
     pub qp_unconstrained_first: bool,
 }
 
-/// One tick's outputs.
+/// One tick's outputs; [`MomentumController::new_output`] sizes one for a controller.
 #[derive(Clone, Debug)]
 pub struct ControlOutput {
     /// Plant input (n): rigid joints torque; elastic joints desired motor velocity (SEA
@@ -95,6 +99,22 @@ pub struct ControlOutput {
     pub com: Vector3<f64>,
     /// Centroidal momentum `[m pdot_com; L_com]`.
     pub momentum: Vector6<f64>,
+}
+
+impl ControlOutput {
+    /// Zeroed outputs for `n` joints, `n_motor_velocities` desired motor velocities and
+    /// `n_contacts` contacts.
+    pub fn new(n: usize, n_motor_velocities: usize, n_contacts: usize) -> Self {
+        Self {
+            input: vec![0.0; n],
+            joint_command: vec![0.0; n],
+            thetadot_desired: vec![0.0; n_motor_velocities],
+            wrenches: DVector::zeros(6 * n_contacts),
+            qp_status: QpStatus::Solved,
+            com: Vector3::zeros(),
+            momentum: Vector6::zeros(),
+        }
+    }
 }
 
 /// The terms of `tau(f) = tau_bias + Sigma f` and of the momentum task `A f = b` at one state.
@@ -115,19 +135,92 @@ pub struct TaskTerms {
 impl TaskTerms {
     /// Zeroed terms for `n` joints and `n_contacts` contacts (the identity blocks of `A` set).
     fn new(n: usize, n_contacts: usize) -> Self {
-        let k = 6 * n_contacts;
-        let mut momentum_map = DMatrix::zeros(6, k);
-        for c in 0..n_contacts {
-            momentum_map
-                .view_mut((0, 6 * c), (6, 6))
-                .fill_with_identity();
-        }
         Self {
             tau_bias: DVector::zeros(n),
-            sigma: DMatrix::zeros(n, k),
-            momentum_map,
+            sigma: DMatrix::zeros(n, 6 * n_contacts),
+            momentum_map: momentum_map_identity_blocks(n_contacts),
             momentum_target: DVector::zeros(6),
             rotations: vec![Matrix3::identity(); n_contacts],
+        }
+    }
+}
+
+impl ControllerSettings {
+    /// Checks the settings for a model with `n` joints; names the offending key.
+    pub fn validate(&self, n: usize) -> Result<()> {
+        if self.contacts.is_empty() || self.contacts.len() > 2 {
+            return Err(Error::config(
+                "controller.contacts",
+                "needs one or two contact frames",
+            ));
+        }
+        for (key, v) in [
+            (
+                "controller.damping_estimate_scale",
+                self.damping_estimate_scale,
+            ),
+            (
+                "controller.stiffness_estimate_scale",
+                self.stiffness_estimate_scale,
+            ),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::config(key, format!("must be positive, got {v}")));
+            }
+        }
+        let gains = self
+            .momentum_proportional
+            .iter()
+            .chain(&self.momentum_integral)
+            .chain(&self.postural_stiffness)
+            .chain(&self.postural_damping);
+        if gains.clone().any(|g| !(g.is_finite() && *g >= 0.0)) {
+            return Err(Error::config(
+                "controller gains",
+                "must be finite and non-negative",
+            ));
+        }
+        if self.postural_stiffness.len() != n || self.postural_damping.len() != n {
+            return Err(Error::config(
+                "controller.postural_stiffness",
+                format!("needs {n} entries (one per joint)"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The contact frames named in `names` and their placements `world_H_contact` at `q0`
+/// (`data` is scratch).
+fn resolve_contacts(
+    model: &Model,
+    data: &mut Data,
+    names: &[String],
+    q0: &[f64],
+) -> Result<(Vec<FrameId>, Vec<Pose>)> {
+    sea_dyn::forward_kinematics(model, data, q0);
+    let mut frames = Vec::new();
+    let mut placements = Vec::new();
+    for name in names {
+        let id = model
+            .frame_id(name)
+            .map_err(|_| Error::config("controller.contacts", format!("unknown frame '{name}'")))?;
+        frames.push(id);
+        placements.push(sea_dyn::frame_placement(model, data, id));
+    }
+    Ok((frames, placements))
+}
+
+/// What the controller adds to the diagonal of its `M` (nv): the joint regularisation and, for
+/// the rigid controller with `reflected_inertia`, the motor reflected inertia of each elastic
+/// joint (remark1, [`ElasticParameters::reflected_inertia`]).
+fn inertia_diagonal(settings: &ControllerSettings, actuation: &Actuation, diagonal: &mut [f64]) {
+    for value in &mut diagonal[6..] {
+        *value = settings.joint_inertia_regularization;
+    }
+    if settings.kind == ControllerKind::Rigid && settings.reflected_inertia {
+        for (&j, p) in actuation.elastic_joints.iter().zip(&actuation.elastic) {
+            diagonal[6 + j] += p.reflected_inertia();
         }
     }
 }
@@ -137,11 +230,16 @@ pub struct MomentumController {
     model: Model,
     data: Data,
     actuation: Actuation,
+    /// The controller's elastic parameters (n_e): true stiffness and damping times the
+    /// settings' estimate scales.
+    estimates: Vec<ElasticParameters>,
     settings: ControllerSettings,
     contact_frames: Vec<FrameId>,
     /// Reference placements `world_H_contact` (where the feet are held).
-    contact_references: Vec<sea_dyn::spatial::Pose>,
+    contact_references: Vec<Pose>,
     qp: WrenchQp,
+    /// Minimiser of the QP without its inequalities.
+    minimizer: Minimizer,
     /// The torque map's inputs, buffers and results.
     torque_map: TorqueMap,
     /// This tick's `tau(f) = tau_bias + Sigma f` and momentum task `A f = b`.
@@ -151,15 +249,14 @@ pub struct MomentumController {
     /// QP Hessian `P` (k x k) and gradient `c` (k) of `0.5 f^T P f + c^T f`.
     qp_hessian: DMatrix<f64>,
     qp_gradient: DVector<f64>,
-    /// `J_G^omega(s_d)` (3 x n) and the `s_d` it was computed at.
-    jg_angular: DMatrix<f64>,
-    jg_posture: Vec<f64>,
+    /// The QP's minimiser without inequalities (k).
+    unconstrained: DVector<f64>,
+    /// `tau* = tau_bias + Sigma f*` (or `beta*`), joint side (n).
+    command: DVector<f64>,
+    /// `J_G^omega(s_d)` of the integral term.
+    momentum_jacobian: MomentumJacobian,
     /// Total mass [kg].
     mass: f64,
-}
-
-fn vec_in(x: &[f64], start: usize, len: usize) -> &[f64] {
-    &x[start..start + len]
 }
 
 impl MomentumController {
@@ -172,80 +269,36 @@ impl MomentumController {
         q0: &[f64],
     ) -> Result<Self> {
         let n = model.n_joints();
-        if settings.contacts.is_empty() || settings.contacts.len() > 2 {
-            return Err(Error::config(
-                "controller.contacts",
-                "needs one or two contact frames",
-            ));
-        }
-        for (key, v) in [
-            (
-                "controller.damping_estimate_scale",
-                settings.damping_estimate_scale,
-            ),
-            (
-                "controller.stiffness_estimate_scale",
-                settings.stiffness_estimate_scale,
-            ),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Error::config(key, format!("must be positive, got {v}")));
-            }
-        }
-        let gains = settings
-            .momentum_proportional
-            .iter()
-            .chain(&settings.momentum_integral)
-            .chain(&settings.postural_stiffness)
-            .chain(&settings.postural_damping);
-        if gains.clone().any(|g| !(g.is_finite() && *g >= 0.0)) {
-            return Err(Error::config(
-                "controller gains",
-                "must be finite and non-negative",
-            ));
-        }
-        if settings.postural_stiffness.len() != n || settings.postural_damping.len() != n {
-            return Err(Error::config(
-                "controller.postural_stiffness",
-                format!("needs {n} entries (one per joint)"),
-            ));
-        }
+        settings.validate(n)?;
         let mut data = Data::new(model);
-        sea_dyn::forward_kinematics(model, &mut data, q0);
-        let mut contact_frames = Vec::new();
-        let mut contact_references = Vec::new();
-        for name in &settings.contacts {
-            let id = model.frame_id(name).map_err(|_| {
-                Error::config("controller.contacts", format!("unknown frame '{name}'"))
-            })?;
-            contact_frames.push(id);
-            contact_references.push(sea_dyn::frame_placement(model, &data, id));
-        }
-        let k = 6 * contact_frames.len();
-        let equalities = if contact_frames.len() > 1 { 6 } else { 0 };
+        let (contact_frames, contact_references) =
+            resolve_contacts(model, &mut data, &settings.contacts, q0)?;
+        let n_contacts = contact_frames.len();
+        let k = 6 * n_contacts;
+        let equalities = if n_contacts > 1 { 6 } else { 0 };
         let mut torque_map = TorqueMap::new(model, k);
-        for j in 0..n {
-            torque_map.diagonal[6 + j] = settings.joint_inertia_regularization;
-        }
-        if settings.kind == ControllerKind::Rigid && settings.reflected_inertia {
-            for (&j, p) in actuation.elastic_joints.iter().zip(&actuation.elastic) {
-                torque_map.diagonal[6 + j] += p.motor_inertia / (p.ratio * p.ratio);
-            }
-        }
-        let mut qp = WrenchQp::new(contact_frames.len(), equalities, &settings.constraints);
+        inertia_diagonal(&settings, actuation, &mut torque_map.diagonal);
+        let mut qp = WrenchQp::new(n_contacts, equalities, &settings.constraints);
         qp.unconstrained_first = settings.qp_unconstrained_first;
         Ok(Self {
             model: model.clone(),
             data,
             actuation: actuation.clone(),
+            estimates: controller_estimates(
+                actuation,
+                settings.stiffness_estimate_scale,
+                settings.damping_estimate_scale,
+            ),
             qp,
+            minimizer: Minimizer::new(k, equalities),
             torque_map,
-            terms: TaskTerms::new(n, contact_frames.len()),
+            terms: TaskTerms::new(n, n_contacts),
             posture_error: vec![0.0; n],
             qp_hessian: DMatrix::zeros(k, k),
             qp_gradient: DVector::zeros(k),
-            jg_angular: DMatrix::zeros(3, n),
-            jg_posture: Vec::new(),
+            unconstrained: DVector::zeros(k),
+            command: DVector::zeros(n),
+            momentum_jacobian: MomentumJacobian::new(model, k),
             mass: model.total_mass(),
             settings,
             contact_frames,
@@ -269,46 +322,15 @@ impl MomentumController {
         &self.settings
     }
 
-    /// `J_G^omega(s_d)`: angular rows of the centroidal momentum map restricted to motions that
-    /// keep the contacts fixed, `J_G = A_Gj - A_Gb J_b^+ J_j`, at the configuration with joints
-    /// `s_d` and the first contact at its reference.
-    fn update_jg(&mut self, s_desired: &[f64]) -> Result<()> {
-        if self.jg_posture == s_desired {
-            return Ok(());
-        }
-        let model = &self.model;
-        let n = model.n_joints();
-        let mut q = model.neutral();
-        q[7..].copy_from_slice(s_desired);
-        sea_dyn::forward_kinematics(model, &mut self.data, &q);
-        let base_h_contact = sea_dyn::frame_placement(model, &self.data, self.contact_frames[0]);
-        let world_h_base = self.contact_references[0].compose(&base_h_contact.inverse());
-        let quat = quaternion_from_rotation(&world_h_base.rotation);
-        q[..3].copy_from_slice(world_h_base.translation.as_slice());
-        q[3..7].copy_from_slice(&quat);
-        let a_g = sea_dyn::centroidal_momentum_matrix(model, &mut self.data, &q).clone();
-        let k = 6 * self.contact_frames.len();
-        let mut jacobian = DMatrix::zeros(k, model.nv());
-        for (c, &frame) in self.contact_frames.iter().enumerate() {
-            let j = sea_dyn::frame_jacobian(model, &mut self.data, &q, frame);
-            jacobian.rows_mut(6 * c, 6).copy_from(j);
-        }
-        let j_b = jacobian.columns(0, 6).into_owned();
-        let j_j = jacobian.columns(6, n).into_owned();
-        let jb_pinv = (j_b.transpose() * &j_b).try_inverse().ok_or_else(|| {
-            Error::config(
-                "controller.contacts",
-                "contact Jacobian has no full column rank",
-            )
-        })? * j_b.transpose();
-        let jg = a_g.columns(6, n) - a_g.columns(0, 6) * jb_pinv * j_j;
-        self.jg_angular.copy_from(&jg.rows(3, 3));
-        self.jg_posture = s_desired.to_vec();
-        Ok(())
+    /// An output sized for this controller, for [`Self::compute_into`].
+    pub fn new_output(&self) -> ControlOutput {
+        let (n, n_motor_velocities, k) = self.output_sizes();
+        ControlOutput::new(n, n_motor_velocities, k / 6)
     }
 
     /// Computes the control at plant state `x` (layout `layout`) for the CoM reference and the
-    /// desired posture `s_desired`.
+    /// desired posture `s_desired` (n). Convenience wrapper of [`Self::compute_into`] that
+    /// allocates the output.
     pub fn compute(
         &mut self,
         x: &[f64],
@@ -316,79 +338,118 @@ impl MomentumController {
         reference: &ComSample,
         s_desired: &[f64],
     ) -> Result<ControlOutput> {
-        self.update_jg(s_desired)?;
+        let mut out = self.new_output();
+        self.compute_into(x, layout, reference, s_desired, &mut out)?;
+        Ok(out)
+    }
+
+    /// One controller tick (see the module doc) into `out`, which should come from
+    /// [`Self::new_output`]: then it allocates nothing (except Clarabel's own work, the first
+    /// Clarabel solve that builds the solver, and the message of a failed solve). Recomputes
+    /// `J_G^omega(s_d)` only when `s_desired` changes.
+    pub fn compute_into(
+        &mut self,
+        x: &[f64],
+        layout: &StateLayout,
+        reference: &ComSample,
+        s_desired: &[f64],
+        out: &mut ControlOutput,
+    ) -> Result<()> {
+        self.momentum_jacobian.update(
+            &self.model,
+            &mut self.data,
+            &self.contact_frames,
+            &self.contact_references[0],
+            s_desired,
+        )?;
         let (com, momentum) = self.task_terms(x, layout, reference, s_desired)?;
+        self.fit_output(out);
+        out.qp_status = self.solve_qp(&mut out.wrenches);
+        self.command.copy_from(&self.terms.tau_bias);
+        self.command
+            .gemv(1.0, &self.terms.sigma, &out.wrenches, 1.0);
+        self.plant_input(out);
+        out.com = com;
+        out.momentum = momentum;
+        Ok(())
+    }
+
+    /// Resizes `out` if it was not made by [`Self::new_output`] (allocates only then).
+    fn fit_output(&self, out: &mut ControlOutput) {
+        let sizes = (
+            out.input.len(),
+            out.thetadot_desired.len(),
+            out.wrenches.len(),
+        );
+        if sizes != self.output_sizes() || out.joint_command.len() != sizes.0 {
+            *out = self.new_output();
+        }
+    }
+
+    /// `(n, n_motor_velocities, k)` of [`Self::new_output`]: desired motor velocities only for
+    /// the SEA controller.
+    fn output_sizes(&self) -> (usize, usize, usize) {
+        let n_motor_velocities = match self.settings.kind {
+            ControllerKind::Sea => self.actuation.n_elastic(),
+            ControllerKind::Rigid => 0,
+        };
+        (
+            self.model.n_joints(),
+            n_motor_velocities,
+            6 * self.contact_frames.len(),
+        )
+    }
+
+    /// The QP of this tick (inputTorquesSOT / inputTorquesSOTu): builds the objective, the
+    /// minimiser without inequalities, and solves into `wrenches` (k).
+    fn solve_qp(&mut self, wrenches: &mut DVector<f64>) -> QpStatus {
         let terms = &self.terms;
-        let k = self.qp_gradient.len();
         let reg = self.settings.qp_regularization;
         let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
         let two_feet = self.contact_frames.len() > 1;
-        if two_feet {
-            // min |tau_bias + Sigma f|^2 + reg |f|^2 s.t. A f = b:
-            // P = 2 (Sigma^T Sigma + reg I), c = 2 Sigma^T tau_bias.
-            hessian.gemm_tr(2.0, &terms.sigma, &terms.sigma, 0.0);
-            gradient.gemv_tr(2.0, &terms.sigma, &terms.tau_bias, 0.0);
+        let found = if two_feet {
+            torque_norm_objective(&terms.sigma, &terms.tau_bias, reg, hessian, gradient);
+            self.minimizer.equality_constrained(
+                hessian,
+                gradient,
+                &terms.momentum_map,
+                &terms.momentum_target,
+                &mut self.unconstrained,
+            )
         } else {
-            // min |A f - b|^2 + reg |f|^2: P = 2 (A^T A + reg I), c = -2 A^T b.
-            let a = &terms.momentum_map;
-            hessian.gemm_tr(2.0, a, a, 0.0);
-            gradient.gemv_tr(-2.0, a, &terms.momentum_target, 0.0);
-        }
-        for i in 0..k {
-            hessian[(i, i)] += 2.0 * reg;
-        }
-        let equality = two_feet.then_some((&terms.momentum_map, &terms.momentum_target));
-        let unconstrained = match equality {
-            Some((a, b)) => equality_constrained_minimum(hessian, gradient, a, b),
-            None => unconstrained_minimum(hessian, gradient),
+            let (a, b) = (&terms.momentum_map, &terms.momentum_target);
+            momentum_tracking_objective(a, b, reg, hessian, gradient);
+            self.minimizer
+                .unconstrained(hessian, gradient, &mut self.unconstrained)
         };
-        let (wrenches, qp_status) = self.qp.solve(
+        let equality = two_feet.then_some((&terms.momentum_map, &terms.momentum_target));
+        self.qp.solve(
             hessian,
             gradient,
             equality,
             &terms.rotations,
-            unconstrained.as_ref(),
-        );
-        let mut command = terms.tau_bias.clone();
-        command.gemv(1.0, &terms.sigma, &wrenches, 1.0);
-        Ok(self.plant_input(command, wrenches, qp_status, com, momentum))
+            found.then_some(&self.unconstrained),
+            wrenches,
+        )
     }
 
-    /// Maps the joint-side command to the plant input.
-    fn plant_input(
-        &self,
-        command: DVector<f64>,
-        wrenches: DVector<f64>,
-        qp_status: QpStatus,
-        com: Vector3<f64>,
-        momentum: Vector6<f64>,
-    ) -> ControlOutput {
-        let mut input = command.as_slice().to_vec();
-        let mut thetadot_desired = Vec::new();
-        for (&j, p) in self
-            .actuation
-            .elastic_joints
-            .iter()
-            .zip(&self.actuation.elastic)
-        {
+    /// Maps the joint-side command `self.command` to the plant input in `out`: rigid joints
+    /// take it as torque; elastic joints the desired motor velocity (SEA, inputDesMotVel) or
+    /// the motor torque (rigid controller, remark1).
+    fn plant_input(&self, out: &mut ControlOutput) {
+        let command = self.command.as_slice();
+        out.joint_command.copy_from_slice(command);
+        out.input.copy_from_slice(command);
+        let elastic = self.actuation.elastic_joints.iter().zip(&self.estimates);
+        for (e, (&j, estimate)) in elastic.enumerate() {
             match self.settings.kind {
                 ControllerKind::Sea => {
-                    let damping = p.damping * self.settings.damping_estimate_scale;
-                    let velocity = command[j] / (p.ratio * damping);
-                    input[j] = velocity;
-                    thetadot_desired.push(velocity);
+                    let velocity = desired_motor_velocity(estimate, command[j]);
+                    out.input[j] = velocity;
+                    out.thetadot_desired[e] = velocity;
                 }
-                ControllerKind::Rigid => input[j] = p.ratio * command[j],
+                ControllerKind::Rigid => out.input[j] = rigid_motor_torque(estimate, command[j]),
             }
-        }
-        ControlOutput {
-            input,
-            joint_command: command.as_slice().to_vec(),
-            thetadot_desired,
-            wrenches,
-            qp_status,
-            com,
-            momentum,
         }
     }
 
@@ -401,50 +462,9 @@ impl MomentumController {
         reference: &ComSample,
         s_desired: &[f64],
     ) -> Result<(Vector3<f64>, Vector6<f64>)> {
-        let model = &self.model;
-        let _nv = model.nv();
-        let q = vec_in(x, 0, layout.nq);
-        let theta = layout.theta(x);
-        let nu = layout.nu(x);
-        let (s, sdot) = (&q[7..], &nu[6..]);
-        let data = &mut self.data;
-        let map = &mut self.torque_map;
-        // One kinematic pass: the bias forces leave the body velocities and inertias the
-        // momentum needs; CRBA reuses the placements.
-        map.bias.copy_from(sea_dyn::bias_forces(model, data, q, nu));
-        let momentum = sea_dyn::centroidal_momentum_from_dynamics(data);
-        let com = data.p_base_world + data.p_com_rel;
-        sea_dyn::crba_from_kinematics(model, data);
-        if self.settings.kind == ControllerKind::Sea {
-            for (e, (&j, p)) in self
-                .actuation
-                .elastic_joints
-                .iter()
-                .zip(&self.actuation.elastic)
-                .enumerate()
-            {
-                // h_j - p, p = K_S (Gamma theta - s) - K_D sdot (the controller's estimates).
-                let k_s = p.stiffness * self.settings.stiffness_estimate_scale;
-                let k_d = p.damping * self.settings.damping_estimate_scale;
-                map.bias[6 + j] -= k_s * (p.ratio * theta[e] - s[j]) - k_d * sdot[j];
-            }
-        }
-        let terms = &mut self.terms;
-        for (c, &frame) in self.contact_frames.iter().enumerate() {
-            sea_dyn::jacobian::frame_jacobian_from_kinematics(model, data, frame);
-            map.jacobian
-                .rows_mut(6 * c, 6)
-                .copy_from(&data.frame_jacobian);
-            let bias = sea_dyn::jacobian::frame_bias_acceleration(model, data, frame);
-            map.jdot_nu.fixed_rows_mut::<6>(6 * c).copy_from(&bias);
-            let pose = sea_dyn::frame_placement(model, data, frame);
-            terms.rotations[c] = pose.rotation;
-            // A_c = [[I, 0], [skew(p_c - p_com), I]]; the identity blocks never change.
-            terms
-                .momentum_map
-                .fixed_view_mut::<3, 3>(3, 6 * c)
-                .copy_from(&skew(&(pose.translation - com)));
-        }
+        let (com, momentum) = self.model_terms(x, layout);
+        self.contact_terms(&com);
+        let (s, sdot) = (layout.s(x), layout.sdot(x));
         for (e, value) in self.posture_error.iter_mut().enumerate() {
             *value = s[e] - s_desired[e];
         }
@@ -454,15 +474,59 @@ impl MomentumController {
             stiffness: &self.settings.postural_stiffness,
             damping: &self.settings.postural_damping,
         };
-        map.compute(&data.mass_matrix, &posture, self.settings.pinv_damping)?;
-        terms.tau_bias.copy_from(&map.tau_bias);
-        terms.sigma.copy_from(&map.sigma);
+        let map = &mut self.torque_map;
+        map.compute(&self.data.mass_matrix, &posture, self.settings.pinv_damping)?;
+        self.terms.tau_bias.copy_from(&map.tau_bias);
+        self.terms.sigma.copy_from(&map.sigma);
         self.momentum_target(reference, com, &momentum);
         Ok((com, momentum))
     }
 
-    /// `b = Hdot* - m g` into `self.terms.momentum_target`, `Hdot* = Hdot_d - K_p (H - H_d) -
-    /// K_i I_H`, `I_H = [m (p_com - p_com_d); J_G^omega(s_d) (s - s_d)]`.
+    /// `M` (in `data`), `h` into the torque map (SEA controller: with hjBar in the joint rows),
+    /// the CoM [m, world] and the centroidal momentum at the state.
+    fn model_terms(&mut self, x: &[f64], layout: &StateLayout) -> (Vector3<f64>, Vector6<f64>) {
+        let model = &self.model;
+        let (q, nu) = (layout.q(x), layout.nu(x));
+        let data = &mut self.data;
+        let map = &mut self.torque_map;
+        // One kinematic pass: the bias forces leave the body velocities and inertias the
+        // momentum needs; CRBA reuses the placements.
+        map.bias.copy_from(sea_dyn::bias_forces(model, data, q, nu));
+        let momentum = sea_dyn::centroidal_momentum_from_dynamics(data);
+        let com = data.p_base_world + data.p_com_rel;
+        sea_dyn::crba_from_kinematics(model, data);
+        if self.settings.kind == ControllerKind::Sea {
+            subtract_spring_torque(
+                &mut map.bias,
+                &self.actuation.elastic_joints,
+                &self.estimates,
+                layout.theta(x),
+                layout.s(x),
+                layout.sdot(x),
+            );
+        }
+        (com, momentum)
+    }
+
+    /// Contact Jacobians and `Jdot nu` into the torque map, the sole rotations and the contact
+    /// blocks of the momentum map `A` (hDot) into `self.terms`, for the CoM `com` [m, world].
+    fn contact_terms(&mut self, com: &Vector3<f64>) {
+        let (model, data) = (&self.model, &mut self.data);
+        let map = &mut self.torque_map;
+        for (c, &frame) in self.contact_frames.iter().enumerate() {
+            sea_dyn::jacobian::frame_jacobian_from_kinematics(model, data, frame);
+            map.jacobian
+                .rows_mut(6 * c, 6)
+                .copy_from(&data.frame_jacobian);
+            let bias = sea_dyn::jacobian::frame_bias_acceleration(model, data, frame);
+            map.jdot_nu.fixed_rows_mut::<6>(6 * c).copy_from(&bias);
+            let pose = sea_dyn::frame_placement(model, data, frame);
+            self.terms.rotations[c] = pose.rotation;
+            set_momentum_map_contact(&mut self.terms.momentum_map, c, &pose.translation, com);
+        }
+    }
+
+    /// `b = Hdot* - [m g; 0]` into `self.terms.momentum_target` (hDot, eq:dotH_f, eq:IhTilde).
     fn momentum_target(
         &mut self,
         reference: &ComSample,
@@ -470,36 +534,27 @@ impl MomentumController {
         momentum: &Vector6<f64>,
     ) {
         let m = self.mass;
-        let desired_linear = reference.velocity * m;
-        let angular_integral = Vector3::from_fn(|r, _| {
-            let row = self.jg_angular.row(r);
-            row.iter()
-                .zip(&self.posture_error)
-                .map(|(a, b)| a * b)
-                .sum()
-        });
-        let linear_integral = (com - reference.position) * m;
-        let gravity = self.model.gravity * m;
-        let settings = &self.settings;
-        for r in 0..6 {
-            let (feedforward, desired, integral, weight) = if r < 3 {
-                (
-                    m * reference.acceleration[r],
-                    desired_linear[r],
-                    linear_integral[r],
-                    gravity[r],
-                )
-            } else {
-                (0.0, 0.0, angular_integral[r - 3], 0.0)
-            };
-            let hdot_star = feedforward
-                - settings.momentum_proportional[r] * (momentum[r] - desired)
-                - settings.momentum_integral[r] * integral;
-            self.terms.momentum_target[r] = hdot_star - weight;
-        }
+        let (desired, desired_rate) = desired_momentum(m, reference);
+        let integral = momentum_integral_error(
+            m,
+            &com,
+            &reference.position,
+            &self.momentum_jacobian.angular,
+            &self.posture_error,
+        );
+        let hdot_star = momentum_rate_star(
+            &desired_rate,
+            &(momentum - desired),
+            &integral,
+            &self.settings.momentum_proportional,
+            &self.settings.momentum_integral,
+        );
+        let target = momentum_equality_target(&hdot_star, m, &self.model.gravity);
+        self.terms.momentum_target.copy_from(&target);
     }
 
     /// The torque map and momentum task at a state (what the QP of [`Self::compute`] uses).
+    /// For checks: allocates the returned copy.
     pub fn torque_map(
         &mut self,
         x: &[f64],
@@ -507,34 +562,14 @@ impl MomentumController {
         reference: &ComSample,
         s_desired: &[f64],
     ) -> Result<TaskTerms> {
-        self.update_jg(s_desired)?;
+        self.momentum_jacobian.update(
+            &self.model,
+            &mut self.data,
+            &self.contact_frames,
+            &self.contact_references[0],
+            s_desired,
+        )?;
         self.task_terms(x, layout, reference, s_desired)?;
         Ok(self.terms.clone())
     }
-}
-
-/// `argmin 0.5 f^T P f + c^T f` (`P` positive definite): `-P^-1 c`; `None` if `P` is not.
-fn unconstrained_minimum(p: &DMatrix<f64>, c: &DVector<f64>) -> Option<DVector<f64>> {
-    p.clone().cholesky().map(|chol| -chol.solve(c))
-}
-
-/// `argmin 0.5 f^T P f + c^T f` s.t. `A f = b` (the KKT system), the QP without its
-/// inequalities; `None` if the KKT matrix is singular.
-fn equality_constrained_minimum(
-    p: &DMatrix<f64>,
-    c: &DVector<f64>,
-    a: &DMatrix<f64>,
-    b: &DVector<f64>,
-) -> Option<DVector<f64>> {
-    let (m, n) = a.shape();
-    let mut kkt = DMatrix::zeros(n + m, n + m);
-    kkt.view_mut((0, 0), (n, n)).copy_from(p);
-    kkt.view_mut((0, n), (n, m)).tr_copy_from(a);
-    kkt.view_mut((n, 0), (m, n)).copy_from(a);
-    let mut rhs = DVector::zeros(n + m);
-    rhs.rows_mut(0, n).copy_from(&(-c));
-    rhs.rows_mut(n, m).copy_from(b);
-    let solution = kkt.lu().solve(&rhs)?;
-    let f = solution.rows(0, n).into_owned();
-    f.iter().all(|v| v.is_finite()).then_some(f)
 }

@@ -1,34 +1,43 @@
-//! The contact-wrench QP (paper eq:inputTorquesSOT), solved with Clarabel.
+//! The contact-wrench QP, paper inputTorquesSOT (rigid joints: `min |tau*(f)|^2`, label
+//! inputTorquesSOTMinTau) and inputTorquesSOTu (SEA: `min |beta*(f)|^2`, label
+//! inputTorquesMinVel; the same problem after the substitutions of newJointDynamics), solved
+//! with Clarabel.
 //!
 //! Variables: the stacked contact wrenches `f` (6 per contact, `[force; moment about the sole
-//! origin]`, world axes). Objective `0.5 f^T P f + c^T f` given by the controller (one foot:
-//! momentum tracking `|A f - b|^2`; two feet: `|tau(f)|^2`), plus a regulariser. Constraints:
-//! optional equalities `A f = b` (two feet: the momentum task) and, per contact, in its sole
-//! frame (`w_s = blockdiag(R^T, R^T) w`): a linearised friction cone with `facets` faces
-//! inscribed in the cone of coefficient `mu` (`cos(phi_k) F_x + sin(phi_k) F_y <= mu cos(pi /
-//! facets) F_z`), a minimum normal force, torsional friction `|n_z| <= mu_t F_z`, and the centre
-//! of pressure `(-n_y / F_z, n_x / F_z)` inside the foot rectangle.
+//! origin]`, world axes). Objective `0.5 f^T P f + c^T f`: two feet, [`torque_norm_objective`]
+//! `|tau(f)|^2` with `tau(f) = tau_bias + Sigma f` from the torque map; one foot (where `A f =
+//! b` fixes `f`), [`momentum_tracking_objective`] `|A f - b|^2`; both plus a regulariser.
+//! Constraints: the momentum task `Hdot(f) = Hdot*` as the equalities `A f = b` (two feet;
+//! see [`crate::momentum`]) and, per contact, the contact constraints `C f <= b` (label
+//! frictionCones, [`ContactConstraints::sole_rows`]) in its sole frame (`w_s =
+//! blockdiag(R^T, R^T) w`): a linearised friction cone with `facets` faces inscribed in the
+//! cone of coefficient `mu` (`cos(phi_k) F_x + sin(phi_k) F_y <= mu cos(pi / facets) F_z`), a
+//! minimum normal force, torsional friction `|n_z| <= mu_t F_z`, and the centre of pressure
+//! `(-n_y / F_z, n_x / F_z)` inside the foot rectangle.
 //!
 //! Clarabel works on the wrenches in their sole frames, `w = T^T f` with
 //! `T = blockdiag(R_k, R_k)`: the contact constraints are then constant and sparse (at most three
 //! non-zeros a row), and the rotations move into `P' = T^T P T`, `c' = T^T c` and
 //! `A_eq' = A_eq T`. The problem is built once; every tick only updates values (`update_P`,
-//! `update_q`, `update_A`, `update_b`; presolve off). A solve that does not end
-//! `Solved`/`AlmostSolved` is reported and replaced by the unconstrained solution the caller
-//! gives.
+//! `update_q`, `update_A`, `update_b`; presolve off), in buffers allocated in
+//! [`WrenchQp::new`]. A solve that does not end `Solved`/`AlmostSolved` is reported and
+//! replaced by the unconstrained solution the caller gives.
 //!
 //! Before Clarabel (when [`WrenchQp::unconstrained_first`] is set) the caller's minimiser
-//! without the inequalities is checked against them: if it satisfies every one, it is the QP's
-//! optimum (a convex problem whose KKT conditions hold with zero inequality multipliers), so
-//! the interior-point solve is skipped. While balancing, the contacts are mostly far from
-//! their friction, CoP and normal-force limits, and this check costs a few hundred flops
-//! against Clarabel's tens of microseconds; when a constraint binds, Clarabel solves.
+//! without the inequalities ([`Minimizer`]) is checked against them: if it satisfies every
+//! one, it is the QP's optimum (a convex problem whose KKT conditions hold with zero inequality
+//! multipliers), so the interior-point solve is skipped. While balancing, the contacts are
+//! mostly far from their friction, CoP and normal-force limits, and this check costs a few
+//! hundred flops against Clarabel's tens of microseconds; when a constraint binds, Clarabel
+//! solves.
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
+use nalgebra::linalg::{gauss_step, gauss_step_swap, Cholesky};
 use nalgebra::{DMatrix, DVector, Matrix3};
+use sea_dyn::dense::gemm_small;
 use sea_dyn::ContactSurface;
 
 /// Contact constraint parameters: the contact surface (friction, torsional friction, foot
@@ -61,7 +70,10 @@ impl ContactConstraints {
         self.facets + 7
     }
 
-    /// Sole-frame constraint rows `C_s w_s <= b_s` for one contact (rows x 6, rows).
+    /// Paper frictionCones, `C f < b` of inputTorquesSOT for one contact in its sole frame:
+    /// the rows `C_s w_s <= b_s` (rows x 6, rows; [`Self::rows_per_contact`] rows) on the sole
+    /// wrench `w_s = [F; n]` (moment about the sole origin): friction facets, minimum normal
+    /// force, torsional friction, centre of pressure in the foot rectangle.
     pub fn sole_rows(&self) -> (DMatrix<f64>, DVector<f64>) {
         let rows = self.rows_per_contact();
         let mut c = DMatrix::zeros(rows, 6);
@@ -103,6 +115,152 @@ pub enum QpStatus {
     Fallback(String),
 }
 
+/// Paper inputTorquesSOTMinTau (rigid joints) / inputTorquesMinVel (SEA, `beta` for `tau`):
+/// the objective `|tau_bias + Sigma f|^2 + reg |f|^2` as `0.5 f^T P f + c^T f` (constant
+/// dropped): `P = 2 (Sigma^T Sigma + reg I)` (k x k), `c = 2 Sigma^T tau_bias` (k), from
+/// `Sigma` (n x k) and `tau_bias` (n) of the torque map.
+pub fn torque_norm_objective(
+    sigma: &DMatrix<f64>,
+    tau_bias: &DVector<f64>,
+    regularization: f64,
+    hessian: &mut DMatrix<f64>,
+    gradient: &mut DVector<f64>,
+) {
+    hessian.gemm_tr(2.0, sigma, sigma, 0.0);
+    gradient.gemv_tr(2.0, sigma, tau_bias, 0.0);
+    add_to_diagonal(hessian, 2.0 * regularization);
+}
+
+/// The one-contact objective: the momentum task hDot / eq:dotH_f in least squares,
+/// `|A f - b|^2 + reg |f|^2` as `0.5 f^T P f + c^T f`: `P = 2 (A^T A + reg I)` (k x k),
+/// `c = -2 A^T b` (k), from the momentum map `A` (6 x k) and `b = Hdot* - [m g; 0]` (6). With
+/// one contact `A` is invertible, so this is `A f = b` wherever the contact constraints allow.
+pub fn momentum_tracking_objective(
+    momentum_map: &DMatrix<f64>,
+    momentum_target: &DVector<f64>,
+    regularization: f64,
+    hessian: &mut DMatrix<f64>,
+    gradient: &mut DVector<f64>,
+) {
+    hessian.gemm_tr(2.0, momentum_map, momentum_map, 0.0);
+    gradient.gemv_tr(-2.0, momentum_map, momentum_target, 0.0);
+    add_to_diagonal(hessian, 2.0 * regularization);
+}
+
+fn add_to_diagonal(matrix: &mut DMatrix<f64>, value: f64) {
+    for i in 0..matrix.nrows() {
+        matrix[(i, i)] += value;
+    }
+}
+
+/// Minimisers of `0.5 f^T P f + c^T f` without the inequalities (k variables, m equality
+/// rows), in buffers allocated once: the candidate the QP accepts when it is feasible, and
+/// the fallback when Clarabel fails.
+pub struct Minimizer {
+    /// Cholesky factor of `P` (k x k); empty only after a failed factorisation.
+    factor: DMatrix<f64>,
+    /// KKT matrix `[[P, A^T], [A, 0]]` ((k + m) x (k + m)), LU-factored in place.
+    kkt: DMatrix<f64>,
+    /// Row swaps of the LU factorisation, in order.
+    pivots: Vec<(usize, usize)>,
+    /// KKT right-hand side, then solution ((k + m)).
+    kkt_rhs: DVector<f64>,
+}
+
+impl Minimizer {
+    /// Buffers for `k` variables and `m` equality rows.
+    pub fn new(k: usize, m: usize) -> Self {
+        Self {
+            factor: DMatrix::zeros(k, k),
+            kkt: DMatrix::zeros(k + m, k + m),
+            pivots: Vec::with_capacity(k + m),
+            kkt_rhs: DVector::zeros(k + m),
+        }
+    }
+
+    /// `argmin 0.5 f^T P f + c^T f = -P^-1 c` into `out` (k) for `P` positive definite (k x
+    /// k, Cholesky); `false` if it is not.
+    pub fn unconstrained(
+        &mut self,
+        p: &DMatrix<f64>,
+        c: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) -> bool {
+        let mut matrix = std::mem::replace(&mut self.factor, DMatrix::zeros(0, 0));
+        if matrix.shape() != p.shape() {
+            // Only after a failed factorisation consumed the buffer.
+            matrix = DMatrix::zeros(p.nrows(), p.ncols());
+        }
+        matrix.copy_from(p);
+        let Some(cholesky) = Cholesky::new(matrix) else {
+            return false;
+        };
+        out.copy_from(c);
+        cholesky.solve_mut(out);
+        out.neg_mut();
+        self.factor = cholesky.unpack_dirty();
+        true
+    }
+
+    /// `argmin 0.5 f^T P f + c^T f` s.t. `A f = b` into `out` (k), from the KKT system
+    /// `[[P, A^T], [A, 0]] [f; lambda] = [-c; b]` (LU with partial pivoting; `A` m x k, `b`
+    /// m); `false` if the KKT matrix is singular or the solution not finite.
+    pub fn equality_constrained(
+        &mut self,
+        p: &DMatrix<f64>,
+        c: &DVector<f64>,
+        a: &DMatrix<f64>,
+        b: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) -> bool {
+        let (m, n) = a.shape();
+        self.kkt.fill(0.0);
+        self.kkt.view_mut((0, 0), (n, n)).copy_from(p);
+        self.kkt.view_mut((0, n), (n, m)).tr_copy_from(a);
+        self.kkt.view_mut((n, 0), (m, n)).copy_from(a);
+        for i in 0..n {
+            self.kkt_rhs[i] = -c[i];
+        }
+        self.kkt_rhs.rows_mut(n, m).copy_from(b);
+        if !lu_solve_in_place(&mut self.kkt, &mut self.pivots, &mut self.kkt_rhs) {
+            return false;
+        }
+        out.copy_from(&self.kkt_rhs.rows(0, n));
+        out.iter().all(|v| v.is_finite())
+    }
+}
+
+/// Solves `M x = rhs` in place (`M` square, overwritten by its LU factors, `rhs` by `x`) with
+/// partial pivoting, step for step nalgebra's `LU::new(M).solve_mut(rhs)` (same pivots, same
+/// arithmetic) but without its allocations; `pivots` receives the row swaps. `false` if `M`
+/// is singular.
+fn lu_solve_in_place(
+    matrix: &mut DMatrix<f64>,
+    pivots: &mut Vec<(usize, usize)>,
+    rhs: &mut DVector<f64>,
+) -> bool {
+    pivots.clear();
+    for i in 0..matrix.nrows() {
+        let pivot = matrix.view_range(i.., i).icamax() + i;
+        let diagonal = matrix[(pivot, i)];
+        if diagonal == 0.0 {
+            continue;
+        }
+        if pivot != i {
+            pivots.push((i, pivot));
+            matrix.columns_range_mut(..i).swap_rows(i, pivot);
+            gauss_step_swap(matrix, diagonal, i, pivot);
+        } else {
+            gauss_step(matrix, diagonal, i);
+        }
+    }
+    for &(i, pivot) in pivots.iter() {
+        rhs.swap_rows(i, pivot);
+    }
+    let _ = matrix.solve_lower_triangular_with_diag_mut(rhs, 1.0);
+    matrix.solve_upper_triangular_mut(rhs)
+}
+
 /// The contact-wrench QP for a fixed number of contacts and equality rows.
 pub struct WrenchQp {
     n_contacts: usize,
@@ -116,6 +274,17 @@ pub struct WrenchQp {
     rhs: DVector<f64>,
     /// `T = blockdiag(R_k, R_k)` of the current tick (k x k).
     rotation: DMatrix<f64>,
+    /// Sole-frame problem of the current tick: `T^T P` (scratch), `P' = T^T P T` (k x k),
+    /// `c' = T^T c` (k), `A_eq' = A_eq T` (n_equalities x k), the solution `w` (k).
+    product: DMatrix<f64>,
+    hessian_sole: DMatrix<f64>,
+    gradient_sole: DVector<f64>,
+    equality_sole: DMatrix<f64>,
+    solution_sole: DVector<f64>,
+    /// Clarabel's inputs as slices: upper triangle of `P'`, `c'`, the right-hand side.
+    hessian_values: Vec<f64>,
+    gradient_values: Vec<f64>,
+    rhs_values: Vec<f64>,
     solver: Option<DefaultSolver<f64>>,
     settings: DefaultSettings<f64>,
     /// Solves that fell back to the unconstrained solution.
@@ -153,6 +322,56 @@ fn upper_values(m: &DMatrix<f64>, out: &mut Vec<f64>) {
     }
 }
 
+/// Clarabel's settings for the wrench QP.
+fn clarabel_settings() -> DefaultSettings<f64> {
+    DefaultSettingsBuilder::default()
+        .verbose(false)
+        .presolve_enable(false)
+        .max_iter(100)
+        // Wrenches to 1e-7 relative are far below the model's accuracy; the looser gap and
+        // feasibility tolerances save iterations on every tick.
+        .tol_gap_abs(1e-7)
+        .tol_gap_rel(1e-7)
+        .tol_feas(1e-7)
+        // Measured on the two-feet iCub QP (`controller_tick_clarabel_us`): iterative
+        // refinement and equilibration cost about 35 us a solve and save no iterations
+        // (5 to 7 either way); termination still checks the unscaled residuals.
+        .iterative_refinement_enable(false)
+        .equilibrate_enable(false)
+        .build()
+        .expect("valid Clarabel settings")
+}
+
+/// The constraint matrix pattern (rows x 6 n_contacts, CSC) of `n_equalities` dense rows over
+/// the contacts' sole rows `sole_c` (per_contact x 6): contact k's rows only on its own six
+/// variables, where the sole constraint is non-zero. Equality values start at zero.
+fn constraint_pattern(
+    sole_c: &DMatrix<f64>,
+    n_contacts: usize,
+    n_equalities: usize,
+) -> CscMatrix<f64> {
+    let per_contact = sole_c.nrows();
+    let rows = n_equalities + n_contacts * per_contact;
+    let n = 6 * n_contacts;
+    let mut colptr = vec![0];
+    let mut rowval = Vec::new();
+    let mut nzval = Vec::new();
+    for j in 0..n {
+        let (contact, component) = (j / 6, j % 6);
+        rowval.extend(0..n_equalities);
+        nzval.extend(std::iter::repeat_n(0.0, n_equalities));
+        for r in 0..per_contact {
+            let value = sole_c[(r, component)];
+            if value != 0.0 {
+                rowval.push(n_equalities + contact * per_contact + r);
+                nzval.push(value);
+            }
+        }
+        colptr.push(rowval.len());
+    }
+    CscMatrix::new(rows, n, colptr, rowval, nzval)
+}
+
 impl WrenchQp {
     /// A QP for `n_contacts` wrenches and `n_equalities` equality rows (0 or 6).
     pub fn new(n_contacts: usize, n_equalities: usize, constraints: &ContactConstraints) -> Self {
@@ -160,56 +379,31 @@ impl WrenchQp {
         let per_contact = sole_c.nrows();
         let rows = n_equalities + n_contacts * per_contact;
         let n = 6 * n_contacts;
-        // Pattern: equality rows dense; contact k's rows only on its own six variables, where
-        // the sole constraint is non-zero.
-        let mut colptr = vec![0];
-        let mut rowval = Vec::new();
-        let mut nzval = Vec::new();
         let mut rhs = DVector::zeros(rows);
-        for j in 0..n {
-            let (contact, component) = (j / 6, j % 6);
-            rowval.extend(0..n_equalities);
-            nzval.extend(std::iter::repeat_n(0.0, n_equalities));
-            for r in 0..per_contact {
-                let value = sole_c[(r, component)];
-                if value != 0.0 {
-                    rowval.push(n_equalities + contact * per_contact + r);
-                    nzval.push(value);
-                }
-            }
-            colptr.push(rowval.len());
-        }
         for contact in 0..n_contacts {
             rhs.rows_mut(n_equalities + contact * per_contact, per_contact)
                 .copy_from(&sole_b);
         }
-        let settings = DefaultSettingsBuilder::default()
-            .verbose(false)
-            .presolve_enable(false)
-            .max_iter(100)
-            // Wrenches to 1e-7 relative are far below the model's accuracy; the looser gap and
-            // feasibility tolerances save iterations on every tick.
-            .tol_gap_abs(1e-7)
-            .tol_gap_rel(1e-7)
-            .tol_feas(1e-7)
-            // Measured on the two-feet iCub QP (`controller_tick_clarabel_us`): iterative
-            // refinement and equilibration cost about 35 us a solve and save no iterations
-            // (5 to 7 either way); termination still checks the unscaled residuals.
-            .iterative_refinement_enable(false)
-            .equilibrate_enable(false)
-            .build()
-            .expect("valid Clarabel settings");
+        let constraint_pattern = constraint_pattern(&sole_c, n_contacts, n_equalities);
         Self {
             n_contacts,
             n_equalities,
             sole_c,
             sole_b,
-            constraint_values: nzval.clone(),
-            constraint_pattern: CscMatrix::new(rows, n, colptr, rowval, nzval),
+            constraint_values: constraint_pattern.nzval.clone(),
+            constraint_pattern,
             rhs,
             rotation: DMatrix::zeros(n, n),
+            product: DMatrix::zeros(n, n),
+            hessian_sole: DMatrix::zeros(n, n),
+            gradient_sole: DVector::zeros(n),
+            equality_sole: DMatrix::zeros(n_equalities, n),
+            solution_sole: DVector::zeros(n),
+            hessian_values: Vec::with_capacity(n * (n + 1) / 2),
+            gradient_values: vec![0.0; n],
+            rhs_values: vec![0.0; rows],
             solver: None,
-            settings,
+            settings: clarabel_settings(),
             failures: 0,
             unconstrained_first: true,
             clarabel_solves: 0,
@@ -255,11 +449,12 @@ impl WrenchQp {
         })
     }
 
-    /// Solves `min 0.5 f^T P f + c^T f` s.t. `A_eq f = b_eq`, `C f <= b` (world wrenches).
-    /// `unconstrained` is the minimiser without `C f <= b` (None if it could not be
-    /// computed): returned directly when feasible (see the module doc), and on Clarabel's
-    /// failure returned with a `Fallback` status (zeros if None). `P` must be symmetric
-    /// positive definite (n x n).
+    /// Solves `min 0.5 f^T P f + c^T f` s.t. `A_eq f = b_eq`, `C f <= b` (world wrenches) into
+    /// `wrenches` (k). `unconstrained` is the minimiser without `C f <= b` (None if it could
+    /// not be computed): returned directly when feasible (see the module doc), and on
+    /// Clarabel's failure returned with a `Fallback` status (zeros if None). `P` must be
+    /// symmetric positive definite (k x k). Allocates nothing after the first Clarabel solve
+    /// (which builds the solver), except Clarabel's own work and a failure's message.
     pub fn solve(
         &mut self,
         hessian: &DMatrix<f64>,
@@ -267,14 +462,42 @@ impl WrenchQp {
         equality: Option<(&DMatrix<f64>, &DVector<f64>)>,
         rotations: &[Matrix3<f64>],
         unconstrained: Option<&DVector<f64>>,
-    ) -> (DVector<f64>, QpStatus) {
+        wrenches: &mut DVector<f64>,
+    ) -> QpStatus {
         if let Some(f) = unconstrained {
             if self.unconstrained_first && self.satisfies_inequalities(f, rotations) {
                 self.unconstrained_solves += 1;
-                return (f.clone(), QpStatus::Solved);
+                wrenches.copy_from(f);
+                return QpStatus::Solved;
             }
         }
         self.clarabel_solves += 1;
+        self.rotate_into_sole_frames(hessian, gradient, equality, rotations);
+        match self.solve_clarabel() {
+            Ok(()) => {
+                wrenches.gemv(1.0, &self.rotation, &self.solution_sole, 0.0);
+                QpStatus::Solved
+            }
+            Err(reason) => {
+                self.failures += 1;
+                match unconstrained {
+                    Some(f) => wrenches.copy_from(f),
+                    None => wrenches.fill(0.0),
+                }
+                QpStatus::Fallback(reason)
+            }
+        }
+    }
+
+    /// The problem in the sole-frame variables `w = T^T f`: `T`, `P' = T^T P T`, `c' = T^T c`,
+    /// and the equality values `A_eq' = A_eq T`, `b_eq` into the constraint data.
+    fn rotate_into_sole_frames(
+        &mut self,
+        hessian: &DMatrix<f64>,
+        gradient: &DVector<f64>,
+        equality: Option<(&DMatrix<f64>, &DVector<f64>)>,
+        rotations: &[Matrix3<f64>],
+    ) {
         self.rotation.fill(0.0);
         for (k, r) in rotations.iter().enumerate() {
             self.rotation.view_mut((6 * k, 6 * k), (3, 3)).copy_from(r);
@@ -282,11 +505,19 @@ impl WrenchQp {
                 .view_mut((6 * k + 3, 6 * k + 3), (3, 3))
                 .copy_from(r);
         }
-        let t = &self.rotation;
-        let hessian_sole = t.transpose() * hessian * t;
-        let gradient_sole = t.transpose() * gradient;
+        self.product.gemm_tr(1.0, &self.rotation, hessian, 0.0);
+        let (product, rotation) = (self.product.as_view(), self.rotation.as_view());
+        gemm_small(&mut self.hessian_sole, 1.0, product, rotation, 0.0);
+        self.gradient_sole
+            .gemv_tr(1.0, &self.rotation, gradient, 0.0);
         if let Some((a_eq, b_eq)) = equality {
-            let a_sole = a_eq * t;
+            gemm_small(
+                &mut self.equality_sole,
+                1.0,
+                a_eq.as_view(),
+                self.rotation.as_view(),
+                0.0,
+            );
             self.rhs.rows_mut(0, self.n_equalities).copy_from(b_eq);
             // Equality rows are the first n_equalities entries of every column.
             let mut index = 0;
@@ -294,69 +525,71 @@ impl WrenchQp {
                 let count =
                     self.constraint_pattern.colptr[j + 1] - self.constraint_pattern.colptr[j];
                 for i in 0..self.n_equalities {
-                    self.constraint_values[index + i] = a_sole[(i, j)];
+                    self.constraint_values[index + i] = self.equality_sole[(i, j)];
                 }
                 index += count;
             }
         }
-        match self.solve_clarabel(&hessian_sole, &gradient_sole) {
-            Ok(w) => (&self.rotation * w, QpStatus::Solved),
-            Err(reason) => {
-                self.failures += 1;
-                let fallback = unconstrained
-                    .cloned()
-                    .unwrap_or_else(|| DVector::zeros(self.n_variables()));
-                (fallback, QpStatus::Fallback(reason))
-            }
-        }
     }
 
-    fn solve_clarabel(
-        &mut self,
-        hessian: &DMatrix<f64>,
-        gradient: &DVector<f64>,
-    ) -> Result<DVector<f64>, String> {
-        let q = gradient.as_slice().to_vec();
-        let b = self.rhs.as_slice().to_vec();
+    /// Clarabel on the sole-frame problem of [`Self::rotate_into_sole_frames`], the solution into
+    /// `solution_sole`; builds the solver on the first call (or after an update fails).
+    fn solve_clarabel(&mut self) -> Result<(), String> {
+        self.gradient_values
+            .copy_from_slice(self.gradient_sole.as_slice());
+        self.rhs_values.copy_from_slice(self.rhs.as_slice());
+        upper_values(&self.hessian_sole, &mut self.hessian_values);
         let updated = match self.solver.as_mut() {
             Some(solver) => {
-                let mut values = Vec::new();
-                upper_values(hessian, &mut values);
-                solver.update_P(&values).is_ok()
+                solver.update_P(&self.hessian_values).is_ok()
                     && solver.update_A(&self.constraint_values).is_ok()
-                    && solver.update_q(&q).is_ok()
-                    && solver.update_b(&b).is_ok()
+                    && solver.update_q(&self.gradient_values).is_ok()
+                    && solver.update_b(&self.rhs_values).is_ok()
             }
             None => false,
         };
         if !updated {
-            let cones = if self.n_equalities > 0 {
-                vec![
-                    SupportedConeT::ZeroConeT(self.n_equalities),
-                    SupportedConeT::NonnegativeConeT(self.rhs.len() - self.n_equalities),
-                ]
-            } else {
-                vec![SupportedConeT::NonnegativeConeT(self.rhs.len())]
-            };
-            let p = dense_csc(hessian, true);
-            let mut a = self.constraint_pattern.clone();
-            a.nzval.copy_from_slice(&self.constraint_values);
-            let solver = DefaultSolver::new(&p, &q, &a, &b, &cones, self.settings.clone())
-                .map_err(|e| format!("setup failed: {e}"))?;
-            self.solver = Some(solver);
+            self.build_solver()?;
         }
         let solver = self.solver.as_mut().expect("solver was just built");
         solver.solve();
         match solver.solution.status {
             SolverStatus::Solved | SolverStatus::AlmostSolved => {
-                let x = DVector::from_column_slice(&solver.solution.x);
+                let x = &solver.solution.x;
                 if x.iter().all(|v| v.is_finite()) {
-                    Ok(x)
+                    self.solution_sole.copy_from_slice(x);
+                    Ok(())
                 } else {
                     Err("non-finite solution".into())
                 }
             }
             other => Err(format!("{other:?}")),
         }
+    }
+
+    /// A new Clarabel solver for the current problem data (allocates: once per controller).
+    fn build_solver(&mut self) -> Result<(), String> {
+        let cones = if self.n_equalities > 0 {
+            vec![
+                SupportedConeT::ZeroConeT(self.n_equalities),
+                SupportedConeT::NonnegativeConeT(self.rhs.len() - self.n_equalities),
+            ]
+        } else {
+            vec![SupportedConeT::NonnegativeConeT(self.rhs.len())]
+        };
+        let p = dense_csc(&self.hessian_sole, true);
+        let mut a = self.constraint_pattern.clone();
+        a.nzval.copy_from_slice(&self.constraint_values);
+        let solver = DefaultSolver::new(
+            &p,
+            &self.gradient_values,
+            &a,
+            &self.rhs_values,
+            &cones,
+            self.settings.clone(),
+        )
+        .map_err(|e| format!("setup failed: {e}"))?;
+        self.solver = Some(solver);
+        Ok(())
     }
 }

@@ -1,15 +1,19 @@
-//! The joint torque map of the momentum controller (paper eq:torques and eq:posturalNew): joint
-//! torques affine in the contact wrenches, `tau(f) = tau_bias + Sigma f`, with
+//! The joint torque map of the momentum controller (paper eq:torques with the postural task
+//! posturalNew): joint torques affine in the contact wrenches, `tau(f) = tau_bias + Sigma f`,
+//! with
 //!
 //! - `Lambda = J M^-1 B` (k x n), `Lambda^+ = Lambda^T (Lambda Lambda^T + d^2 I)^-1` (damped),
 //!   `N = I - Lambda^+ Lambda` (n x n, never formed);
-//! - `tau_bias = Lambda^+ (J M^-1 h - Jdot nu) + N (hbar_j + u0)`,
+//! - `tau_bias = Lambda^+ (J M^-1 h - Jdot nu) + N (h_j + u0)`,
 //! - `Sigma = -(Lambda^+ J M^-1 J^T + N Jbar^T) = -(Jbar^T + Lambda^+ (J M^-1 J^T - Lambda Jbar^T))`,
 //! - `u0 = -K_p^j N Mbar (s - s_d) - K_d^j N Mbar sdot` (gains diagonal, applied after `N Mbar`).
 //!
 //! `M` is the controller's model inertia plus a diagonal (joint regularisation, motor reflected
 //! inertia), `h` its bias forces (with the SEA spring terms), `J` the stacked contact Jacobian
-//! (k = 6 per contact); `Mbar`, `Jbar^T`, `hbar_j` come from [`CentroidalSplit`].
+//! (k = 6 per contact); `Mbar`, `Jbar^T`, `h_j` are the paper's `M_j`, `J_j^T`, `h_j` in the
+//! coordinates of centrTrans and come from [`CentroidalSplit`]. The paper writes the map with
+//! `tau_0 = h_j - J_j^T f + u0` (posturalNew) substituted into eq:torques; the SEA controller
+//! passes `h` with hjBar in its joint rows and reads `beta` for `tau` (newJointDynamics).
 //!
 //! Why it is fast: `M^-1 J^T` uses the tree-sparse factorisation (no dense nv^3 Cholesky, and a
 //! foot's rows only touch its leg and the base); `N` is applied to vectors as
@@ -18,7 +22,7 @@
 
 use crate::error::{Error, Result};
 use nalgebra::{DMatrix, DVector};
-use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place};
+use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place, gemm_small};
 use sea_dyn::tree_factor::TreeFactor;
 use sea_dyn::{CentroidalSplit, Model};
 
@@ -52,7 +56,7 @@ pub struct TorqueMap {
     pub tau_bias: DVector<f64>,
     /// Result `Sigma` (n x k).
     pub sigma: DMatrix<f64>,
-    /// `Mbar`, `Jbar^T`, `hbar_j` of the last computation.
+    /// `Mbar`, `Jbar^T`, `h_j_centroidal` of the last computation.
     pub split: CentroidalSplit,
     /// `M + diag = L^T L` (tree-sparse).
     factor: TreeFactor,
@@ -110,46 +114,70 @@ impl TorqueMap {
         posture: &PosturalTask,
         pinv_damping: f64,
     ) -> Result<()> {
+        self.lambda(mass_matrix)?;
+        self.lambda_pseudo_inverse(pinv_damping)?;
+        // Centroidal split (centrTrans); the diagonal only touches the joint block of M, hence
+        // Mbar's diagonal.
+        self.split
+            .compute(mass_matrix, &self.bias, &self.jacobian)?;
         let n = self.tau_bias.len();
-        let k = self.jacobian.nrows();
+        for j in 0..n {
+            self.split.mbar[(j, j)] += self.diagonal[6 + j];
+        }
+        self.torque_bias(posture);
+        self.sigma();
+        Ok(())
+    }
+
+    /// Paper eq:torques, `Lambda = J M^-1 B` (k x n; `J_j M_j^-1` in the coordinates of
+    /// centrTrans): factors `M + diag` (tree-sparse) and stores `M^-1 J^T` (nv x k) and its
+    /// joint rows `Lambda^T = B^T M^-1 J^T` (n x k).
+    fn lambda(&mut self, mass_matrix: &DMatrix<f64>) -> Result<()> {
+        let n = self.tau_bias.len();
         self.factor
             .factor(mass_matrix, &self.diagonal)
-            .map_err(|e| Error::Dynamics(sea_dyn::Error::input(format!("controller M: {e}"))))?;
-        // M^-1 J^T, column by column; Lambda^T is its joint rows.
-        for r in 0..k {
+            .map_err(|e| Error::Dynamics(e.during("factorising the controller's M + diag")))?;
+        for r in 0..self.jacobian.nrows() {
             let mut column = self.minv_jt.column_mut(r);
             column.tr_copy_from(&self.jacobian.row(r));
             self.factor.solve(column.as_mut_slice());
         }
         self.lambda_t.copy_from(&self.minv_jt.rows(6, n));
-        // Damped pseudo-inverse through the k x k Gram matrix.
+        Ok(())
+    }
+
+    /// Paper eq:torques, the damped pseudo-inverse `Lambda^+ = Lambda^T (Lambda Lambda^T + d^2
+    /// I)^-1` (n x k), stored transposed as `(Lambda^+)^T` (k x n) through the Cholesky factor
+    /// of the k x k Gram matrix (never an n x n matrix).
+    fn lambda_pseudo_inverse(&mut self, pinv_damping: f64) -> Result<()> {
         self.gram.gemm_tr(1.0, &self.lambda_t, &self.lambda_t, 0.0);
-        for r in 0..k {
+        for r in 0..self.gram.nrows() {
             self.gram[(r, r)] += pinv_damping * pinv_damping;
         }
-        cholesky_in_place(&mut self.gram).map_err(|_| {
-            Error::Dynamics(sea_dyn::Error::input(
-                "Lambda Lambda^T + d^2 I is not positive definite",
+        cholesky_in_place(&mut self.gram).map_err(|pivot| {
+            Error::Dynamics(sea_dyn::Error::numerical(
+                "factorising Lambda Lambda^T + d^2 I",
+                format!("not positive definite (pivot {pivot})"),
             ))
         })?;
         self.pinv_t.tr_copy_from(&self.lambda_t);
         for mut column in self.pinv_t.column_iter_mut() {
             cholesky_solve_in_place(&self.gram, column.as_mut_slice());
         }
-        // J M^-1 h - Jdot nu.
+        Ok(())
+    }
+
+    /// Paper eq:torques with posturalNew at `f = 0`: `tau_bias = Lambda^+ (J M^-1 h - Jdot nu) +
+    /// N_Lambda (h_j + u0)` (n), `h_j` being the joint bias of centrTrans
+    /// ([`CentroidalSplit::h_j_centroidal`]; for the SEA controller `h` already holds hjBar).
+    fn torque_bias(&mut self, posture: &PosturalTask) {
+        // J M^-1 h - Jdot nu (k).
         self.task_bias.copy_from(&self.jdot_nu);
         self.task_bias.gemv_tr(1.0, &self.minv_jt, &self.bias, -1.0);
-        // Centroidal split; the diagonal only touches the joint block of M, hence Mbar's
-        // diagonal.
-        self.split
-            .compute(mass_matrix, &self.bias, &self.jacobian)?;
-        for j in 0..n {
-            self.split.mbar[(j, j)] += self.diagonal[6 + j];
-        }
         self.postural_torque(posture);
-        // tau_bias = Lambda^+ (J M^-1 h - Jdot nu) + N (hbar_j + u0); u0 is in tau_bias.
-        self.tau_bias += &self.split.hbar_j;
-        null_project(
+        // u0 is in tau_bias.
+        self.tau_bias += &self.split.h_j_centroidal;
+        apply_null_space_projector(
             &self.lambda_t,
             &self.pinv_t,
             &mut self.tau_bias,
@@ -157,17 +185,24 @@ impl TorqueMap {
         );
         self.tau_bias
             .gemv_tr(1.0, &self.pinv_t, &self.task_bias, 1.0);
-        // Sigma = -(Jbar^T + Lambda^+ (J M^-1 J^T - Lambda Jbar^T)).
-        self.coupling.gemm(1.0, &self.jacobian, &self.minv_jt, 0.0);
+    }
+
+    /// Paper eq:torques with posturalNew, the coefficient of `f` (n x k):
+    /// `Sigma = -(Lambda^+ J M^-1 J^T + N_Lambda J_j^T) = -(J_j^T + Lambda^+ (J M^-1 J^T -
+    /// Lambda J_j^T))`, `J_j^T` of centrTrans ([`CentroidalSplit::jbar_t`]); the second form
+    /// applies `N_Lambda` without forming it.
+    fn sigma(&mut self) {
+        let (jacobian, minv_jt) = (self.jacobian.as_view(), self.minv_jt.as_view());
+        gemm_small(&mut self.coupling, 1.0, jacobian, minv_jt, 0.0);
         self.coupling
             .gemm_tr(-1.0, &self.lambda_t, &self.split.jbar_t, 1.0);
         self.sigma.copy_from(&self.split.jbar_t);
         self.sigma.gemm_tr(1.0, &self.pinv_t, &self.coupling, 1.0);
         self.sigma.neg_mut();
-        Ok(())
     }
 
-    /// `u0 = -K_p^j N Mbar (s - s_d) - K_d^j N Mbar sdot` into `tau_bias`.
+    /// Paper posturalNew, `u0 = -K_p^j N_Lambda M_j (s - s_d) - K_d^j N_Lambda M_j sdot` (n,
+    /// `M_j` of centrTrans = `Mbar`, gains diagonal) into `tau_bias`.
     fn postural_torque(&mut self, posture: &PosturalTask) {
         let mbar = &self.split.mbar;
         for (term, input) in [
@@ -178,7 +213,7 @@ impl TorqueMap {
             for (i, value) in term.iter_mut().enumerate() {
                 *value = mbar.column(i).iter().zip(input).map(|(m, x)| m * x).sum();
             }
-            null_project(&self.lambda_t, &self.pinv_t, term, &mut self.scratch_k);
+            apply_null_space_projector(&self.lambda_t, &self.pinv_t, term, &mut self.scratch_k);
         }
         for i in 0..self.tau_bias.len() {
             self.tau_bias[i] = -posture.stiffness[i] * self.stiffness_term[i]
@@ -187,8 +222,10 @@ impl TorqueMap {
     }
 }
 
-/// `v <- N v = v - Lambda^+ (Lambda v)` with `Lambda^T` (n x k) and `(Lambda^+)^T` (k x n).
-fn null_project(
+/// Paper eq:torques, the null-space projector `N_Lambda = I - Lambda^+ Lambda` (n x n) applied
+/// to a joint-space vector without forming it: `v <- v - Lambda^+ (Lambda v)` (O(n k) instead of
+/// O(n^2 k)), with `Lambda^T` (n x k), `(Lambda^+)^T` (k x n) and a task-space scratch (k).
+pub fn apply_null_space_projector(
     lambda_t: &DMatrix<f64>,
     pinv_t: &DMatrix<f64>,
     v: &mut DVector<f64>,

@@ -69,6 +69,15 @@ pub fn sole_margins(
     }
 }
 
+/// The contact constraint, paper eq:constraints_acc `J nudot + Jdot nu = 0`, Baumgarte
+/// stabilised: returns the target of one row of `J nudot`,
+/// `-(Jdot nu + K_d J nu + K_p e)`, from that row's `Jdot nu` (`jdot_nu`), `J nu` (`j_nu`) and
+/// pose error `e` (position [m] or rotation vector [rad], world axes). The gains pull the drift
+/// of the numerically integrated constraint back to zero.
+pub fn constraint_acceleration(jdot_nu: f64, j_nu: f64, error: f64, kd: f64, kp: f64) -> f64 {
+    -(jdot_nu + kd * j_nu + kp * error)
+}
+
 /// Contact Jacobian, `M^-1 J^T`, Schur complement and the Baumgarte acceleration target
 /// `-(Jdot nu + K_d J nu + K_p e)` (into `constraint_rhs`), plus the drift.
 pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64]) {
@@ -96,8 +105,13 @@ pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64]) {
             } else {
                 rotation_err[r - 3]
             };
-            pd.constraint_rhs[6 * c + r] =
-                -(bias[r] + plant.baumgarte_kd * velocity + plant.baumgarte_kp * error);
+            pd.constraint_rhs[6 * c + r] = constraint_acceleration(
+                bias[r],
+                velocity,
+                error,
+                plant.baumgarte_kd,
+                plant.baumgarte_kp,
+            );
         }
     }
     pd.mass_factor

@@ -1,13 +1,24 @@
-//! The centroidal split of the joint dynamics used by the momentum controller (paper,
-//! eq:systemCentroidal and the torque map of section "Balancing control"):
+//! The centroidal split of the joint dynamics used by the momentum controller: the joint rows
+//! of eq:system in the coordinates of centrTrans, where the mass matrix is block diagonal, i.e.
+//! eq:jointsCentroidal `M_j sddot = J_j^T f - h_j + tau` of eq:systemCentroidal.
 //!
-//! `Mbar = M_j - M_jb M_b^-1 M_bj` (n x n), `Jbar^T = J_j^T - M_jb M_b^-1 J_b^T` (n x k),
-//! `hbar_j = h_j - M_jb M_b^-1 h_b` (n), from `M` (nv x nv), `h` (nv) and the stacked contact
-//! Jacobian `J` (k x nv, k = 6 per contact). These are the joint dynamics once the base
-//! acceleration is eliminated with the base rows: `Mbar sddot = Jbar^T f - hbar_j + tau`.
-//! They do not depend on the base velocity representation (a Schur complement).
+//! From `M` (nv x nv), `h` (nv) and the stacked contact Jacobian `J` (k x nv, k = 6 per
+//! contact), all in this crate's mixed velocity `nu = [pdot_B; omega_B; sdot]` (world axes):
+//!
+//! - `Mbar = M_j - M_jb M_b^-1 M_bj` (n x n): the paper's `M_j` after centrTrans;
+//! - `Jbar^T = J_j^T - M_jb M_b^-1 J_b^T` (n x k): the paper's `J_j^T` after centrTrans;
+//! - `h_j_centroidal = h_j - M_jb M_b^-1 h_b` (n): the paper's `h_j` after centrTrans, i.e.
+//!   the joint bias with the base acceleration eliminated. It is NOT the paper's `hbar_j`
+//!   (label hjBar, `h_j - p`, the SEA substitution), which the SEA controller obtains by
+//!   subtracting `p` from the joint rows of `h` before the split.
+//!
+//! These are the joint dynamics once the base acceleration is eliminated with the base rows:
+//! `Mbar sddot = Jbar^T f - h_j_centroidal + tau`. They do not depend on the base velocity
+//! representation (a Schur complement), which is why the split gives centrTrans's blocks
+//! without forming the transformation.
 
 use crate::error::{Error, Result};
+use crate::linalg::dense::gemm_small;
 use nalgebra::{DMatrix, DVector, Matrix6};
 
 /// Buffers and results of the centroidal split for `n` joints and `k` constraint rows.
@@ -17,8 +28,9 @@ pub struct CentroidalSplit {
     pub mbar: DMatrix<f64>,
     /// `Jbar^T` (n x k).
     pub jbar_t: DMatrix<f64>,
-    /// `hbar_j` (n).
-    pub hbar_j: DVector<f64>,
+    /// `h_j_centroidal = h_j - M_jb M_b^-1 h_b` (n): the joint bias with the base eliminated
+    /// (the paper's `h_j` after centrTrans; not the paper's hjBar).
+    pub h_j_centroidal: DVector<f64>,
     /// `M_b^-1 M_bj` (6 x n).
     base_inv_coupling: DMatrix<f64>,
     /// `M_b^-1 J_b^T` (6 x k).
@@ -31,7 +43,7 @@ impl CentroidalSplit {
         Self {
             mbar: DMatrix::zeros(n_joints, n_joints),
             jbar_t: DMatrix::zeros(n_joints, k),
-            hbar_j: DVector::zeros(n_joints),
+            h_j_centroidal: DVector::zeros(n_joints),
             base_inv_coupling: DMatrix::zeros(6, n_joints),
             base_inv_jacobian_t: DMatrix::zeros(6, k),
         }
@@ -48,17 +60,24 @@ impl CentroidalSplit {
         let k = self.jbar_t.ncols();
         let nv = n + 6;
         if mass_matrix.shape() != (nv, nv) || bias.len() != nv || jacobian.shape() != (k, nv) {
-            return Err(Error::input(format!(
-                "centroidal split expects M ({nv}x{nv}), h ({nv}) and J ({k}x{nv}), got M {:?}, h ({}), J {:?}",
-                mass_matrix.shape(),
-                bias.len(),
-                jacobian.shape()
-            )));
+            return Err(Error::invalid(
+                "centroidal split (M, h, J)",
+                format!("shapes ({nv}, {nv}), ({nv},), ({k}, {nv})"),
+                format!(
+                    "{:?}, ({},), {:?}",
+                    mass_matrix.shape(),
+                    bias.len(),
+                    jacobian.shape()
+                ),
+            ));
         }
         let m_b: Matrix6<f64> = mass_matrix.fixed_view::<6, 6>(0, 0).into_owned();
-        let chol = m_b
-            .cholesky()
-            .ok_or_else(|| Error::input("the base block of M is not positive definite"))?;
+        let chol = m_b.cholesky().ok_or_else(|| {
+            Error::numerical(
+                "centroidal split",
+                "the base block of M is not positive definite",
+            )
+        })?;
         let m_bj = mass_matrix.view((0, 6), (6, n));
         let m_jb = mass_matrix.view((6, 0), (n, 6));
         self.base_inv_coupling.copy_from(&m_bj);
@@ -73,14 +92,16 @@ impl CentroidalSplit {
             column.copy_from(&c);
         }
         self.mbar.copy_from(&mass_matrix.view((6, 6), (n, n)));
-        self.mbar.gemm(-1.0, &m_jb, &self.base_inv_coupling, 1.0);
+        // Not nalgebra's gemm: it calls matrixmultiply, which allocates.
+        let coupling = self.base_inv_coupling.as_view();
+        gemm_small(&mut self.mbar, -1.0, m_jb, coupling, 1.0);
         self.jbar_t.tr_copy_from(&jacobian.view((0, 6), (k, n)));
-        self.jbar_t
-            .gemm(-1.0, &m_jb, &self.base_inv_jacobian_t, 1.0);
+        let jacobian_t = self.base_inv_jacobian_t.as_view();
+        gemm_small(&mut self.jbar_t, -1.0, m_jb, jacobian_t, 1.0);
         let mut h_b = nalgebra::Vector6::from_iterator(bias.iter().take(6).copied());
         chol.solve_mut(&mut h_b);
-        self.hbar_j.copy_from(&bias.rows(6, n));
-        self.hbar_j.gemv(-1.0, &m_jb, &h_b, 1.0);
+        self.h_j_centroidal.copy_from(&bias.rows(6, n));
+        self.h_j_centroidal.gemv(-1.0, &m_jb, &h_b, 1.0);
         Ok(())
     }
 }

@@ -6,7 +6,7 @@
 //! column-major storage directly so the inner loops are contiguous (vectorisable) and free of
 //! bounds checks. Only the lower triangle of the input is read; the factor overwrites it.
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DMatrixView};
 
 /// Factors the symmetric positive definite `a` in place (lower triangle becomes `L`,
 /// left-looking, column by column). Returns the index of the first non-positive pivot.
@@ -75,6 +75,29 @@ pub fn backward_substitute(l: &DMatrix<f64>, b: &mut [f64]) {
 pub fn cholesky_solve_in_place(l: &DMatrix<f64>, b: &mut [f64]) {
     forward_substitute(l, b);
     backward_substitute(l, b);
+}
+
+/// `c <- alpha a b + beta c` (`a` r x m, `b` m x k, `c` r x k) without allocation: nalgebra's
+/// `gemm` hands every product whose sizes all exceed 5 to `matrixmultiply`, which allocates
+/// its packing buffers on each call. Column by column with `gemv`; for the controller's sizes
+/// (up to 31 x 12) about as fast as `matrixmultiply`.
+pub fn gemm_small(
+    c: &mut DMatrix<f64>,
+    alpha: f64,
+    a: DMatrixView<'_, f64>,
+    b: DMatrixView<'_, f64>,
+    beta: f64,
+) {
+    assert!(
+        a.ncols() == b.nrows() && c.shape() == (a.nrows(), b.ncols()),
+        "gemm_small: shapes {:?} x {:?} into {:?}",
+        a.shape(),
+        b.shape(),
+        c.shape()
+    );
+    for (mut c_column, b_column) in c.column_iter_mut().zip(b.column_iter()) {
+        c_column.gemv(alpha, &a, &b_column, beta);
+    }
 }
 
 #[cfg(test)]
