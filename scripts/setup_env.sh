@@ -47,6 +47,8 @@ print(os.path.join(v('LIBDIR') or '', v('LDLIBRARY') or ''))")
     fi
     if [[ $(id -u) == 0 ]] && command -v apt-get > /dev/null; then
         echo "== $library is missing: installing python3-dev"
+        # A fresh machine may have no package lists yet.
+        apt-get update -q > /dev/null || true
         apt-get install -y -q python3-dev > /dev/null
     else
         echo "error: $library is missing: install the Python development package" \
