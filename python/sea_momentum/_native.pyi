@@ -228,8 +228,11 @@ class Plant:
         """Native loop with ``u`` held (GIL released), ``m`` recorded rows (the initial state,
         every ``record_every``-th step, the last one), float64: ``time`` (m,), ``x`` (m, nx),
         ``contact_wrenches`` (m, n_contacts, 6), ``motor_torques`` (m, n_e), ``drift_position``
-        (m,), ``drift_rotation`` (m,); ``status`` ("completed" | "diverged"), ``diverged_at``
-        (float or None), ``message``. Data up to a divergence is kept."""
+        (m,), ``drift_rotation`` (m,); ``status`` ("completed" | "diverged" | "interrupted"),
+        ``diverged_at`` (float or None), ``message``. Data up to a divergence is kept.
+        ``n_steps`` and the record's size are checked first (``ValueError`` giving the memory
+        it would need). Ctrl-C raises ``KeyboardInterrupt`` within a fraction of a second; its
+        ``partial`` attribute is the result so far (status "interrupted")."""
 
 def run_scenario_native(
     path: str,
@@ -244,7 +247,9 @@ def run_scenario_native(
     (m, 6), ``contact_wrenches`` (m, n_contacts, 6), ``motor_torques`` (m, n_e),
     ``joint_error_norm`` (m,), ``qp_solved`` (m,); ints ``nq``, ``nv``, ``ne``; name lists
     ``joint_names``, ``elastic_joints``, ``contacts``; ``summary``, the keyword arguments of
-    ``sea_momentum.results.RunSummary``."""
+    ``sea_momentum.results.RunSummary``. Ctrl-C stops
+    the run at its next tick (the MCAP log is finished) and raises ``KeyboardInterrupt`` whose
+    ``partial`` attribute is this dict so far (summary status "interrupted")."""
 
 # --- Stability analysis (sea_momentum.analysis) ---
 

@@ -60,12 +60,13 @@ class SimulationResult(_ItemAccess):
     """(m,) float64, largest contact position drift from the held pose [m]."""
     drift_rotation: Float64Array
     """(m,) float64, largest contact rotation drift from the held pose [rad]."""
-    status: Status
-    """"completed" or "diverged"."""
+    status: RunStatus
+    """"completed", "diverged" or "interrupted" (Ctrl-C: the result is the
+    ``KeyboardInterrupt``'s ``partial`` attribute, its last row the state reached)."""
     diverged_at: Optional[float]
-    """Time of the divergence [s], None when completed."""
+    """Time of the divergence [s], None when completed or interrupted."""
     message: str
-    """Why it diverged ("" when completed)."""
+    """Why it diverged or when it was interrupted ("" when completed)."""
 
 
 @dataclasses.dataclass(frozen=True)

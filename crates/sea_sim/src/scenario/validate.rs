@@ -100,12 +100,32 @@ fn positive(key: &str, value: f64) -> Result<()> {
     }
 }
 
-/// Every entry of `values` must be finite and `>= 0`; the error names the entry (`key[i]`).
-fn non_negative_entries(key: &str, values: &[f64]) -> Result<()> {
-    for (i, &value) in values.iter().enumerate() {
-        non_negative(&format!("{key}[{i}]"), value)?;
+/// Every entry of the array `key` must pass `ok`; the error names the array's key (as the
+/// schema does) and, in its rule, the first failing entry.
+fn entries(key: &str, values: &[f64], ok: fn(f64) -> bool, rule: &str) -> Result<()> {
+    match values.iter().position(|&value| !ok(value)) {
+        Some(i) => Err(Error::invalid(
+            key,
+            format!("entry {i} {rule}"),
+            shown(values[i]),
+        )),
+        None => Ok(()),
     }
-    Ok(())
+}
+
+/// Every entry of the array `key` must be finite and `>= 0`.
+fn non_negative_entries(key: &str, values: &[f64]) -> Result<()> {
+    entries(
+        key,
+        values,
+        |v| v.is_finite() && v >= 0.0,
+        "must be finite and non-negative",
+    )
+}
+
+/// Every entry of the array `key` must be finite.
+fn finite_entries(key: &str, values: &[f64]) -> Result<()> {
+    entries(key, values, f64::is_finite, "must be finite")
 }
 
 /// `[robot]`: one or two distinct contact frames.
@@ -251,8 +271,7 @@ fn contact(scenario: &Scenario) -> Result<()> {
         ("controller.contact.foot_x", c.foot_x),
         ("controller.contact.foot_y", c.foot_y),
     ] {
-        finite(&format!("{key}[0]"), min)?;
-        finite(&format!("{key}[1]"), max)?;
+        finite_entries(key, &[min, max])?;
         if min >= max {
             return Err(Error::invalid(
                 key,
@@ -277,9 +296,7 @@ fn reference(scenario: &Scenario) -> Result<()> {
     let r = &scenario.reference;
     finite("reference.com_amplitude", r.com_amplitude)?;
     non_negative("reference.com_frequency", r.com_frequency)?;
-    for (i, &value) in r.com_direction.iter().enumerate() {
-        finite(&format!("reference.com_direction[{i}]"), value)?;
-    }
+    finite_entries("reference.com_direction", &r.com_direction)?;
     let norm = r.com_direction.iter().map(|v| v * v).sum::<f64>().sqrt();
     if !(norm > 1e-12 && norm.is_finite()) {
         return Err(Error::invalid(
@@ -455,7 +472,7 @@ mod tests {
             (
                 "controller.contact.foot_y",
                 "[nan, 0.02]",
-                "controller.contact.foot_y[0]",
+                "controller.contact.foot_y",
                 "NaN",
             ),
             (
@@ -539,7 +556,7 @@ mod tests {
             (
                 "reference.com_direction",
                 "[0.0, nan, 0.0]",
-                "reference.com_direction[1]",
+                "reference.com_direction",
                 "NaN",
             ),
             (
@@ -578,7 +595,7 @@ mod tests {
             (
                 "controller.postural_stiffness",
                 "[1.0, nan]",
-                "controller.postural_stiffness[1]",
+                "controller.postural_stiffness",
                 "NaN",
             ),
             (
