@@ -1,7 +1,9 @@
 //! PyO3 bindings of sea-momentum: thin wrappers only, numpy in and out.
 //!
-//! Errors are mapped once, in [`errors`]: model problems raise `sea_momentum.ModelError`
-//! (a `ValueError`), bad arguments raise `ValueError` naming the argument and the expected shape.
+//! Errors are mapped once, in [`errors`]: `SeaError` is the base; model problems raise
+//! `ModelError` and scenario problems `ScenarioError` (both also `ValueError`), numerical
+//! failures `SolverError` (also `RuntimeError`), file failures `SeaIOError` (an `OSError`); bad
+//! arguments raise `ValueError` naming the argument, the expected and the actual value.
 //! Every argument is validated before it reaches the Rust core, so no panic crosses into Python.
 
 use pyo3::prelude::*;
@@ -19,7 +21,7 @@ mod sweep;
 /// The native module `sea_momentum._native`.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("ModelError", m.py().get_type::<errors::ModelError>())?;
+    errors::register(m)?;
     m.add_class::<model::PyModel>()?;
     m.add_class::<plant::PyPlant>()?;
     m.add_class::<controller::PyController>()?;

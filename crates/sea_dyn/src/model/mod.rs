@@ -135,7 +135,9 @@ impl Model {
         self.frames
             .iter()
             .position(|f| f.name == name)
-            .ok_or_else(|| Error::UnknownFrame(name.to_string()))
+            .ok_or_else(|| Error::UnknownFrame {
+                name: name.to_string(),
+            })
     }
 
     /// Coordinate index of a joint name, if the joint moves.
@@ -177,9 +179,11 @@ impl Model {
         crate::error::check_vector("q", q, self.nq())?;
         let norm = (q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]).sqrt();
         if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
-            return Err(Error::input(format!(
-                "q[3:7] must be a unit quaternion (w, x, y, z), its norm is {norm}"
-            )));
+            return Err(Error::invalid(
+                "q[3:7]",
+                "a unit quaternion (w, x, y, z)",
+                format!("norm {norm}"),
+            ));
         }
         Ok(())
     }
