@@ -186,6 +186,8 @@ pub struct TickBench {
     states: Vec<Vec<f64>>,
     reference: sea_ctrl::references::ComSample,
     s_desired: Vec<f64>,
+    /// The controller's output, refilled by every tick (as in the closed loop).
+    output: sea_ctrl::controller::ControlOutput,
 }
 
 impl TickBench {
@@ -208,7 +210,9 @@ impl TickBench {
             })
             .collect();
         let reference = setup.com_reference.sample(1.0);
+        let output = setup.controller.new_output();
         Some(TickBench {
+            output,
             setup,
             layout,
             states,
@@ -228,11 +232,12 @@ impl TickBench {
     pub fn tick(&mut self, k: usize) -> bool {
         self.setup
             .controller
-            .compute(
+            .compute_into(
                 &self.states[k % STATES],
                 &self.layout,
                 &self.reference,
                 &self.s_desired,
+                &mut self.output,
             )
             .is_ok()
     }

@@ -10,7 +10,7 @@
 use crate::error::{Error, Result};
 use crate::scenario::{Scenario, Setup};
 use nalgebra::DVector;
-use sea_ctrl::controller::MomentumController;
+use sea_ctrl::controller::{ControlOutput, MomentumController};
 use sea_ctrl::references::ComSample;
 use sea_plant::{Method, Plant, PlantData, StateLayout};
 
@@ -100,7 +100,8 @@ pub struct ClosedLoopSystem {
     /// Integration method of the plant.
     pub method: Method,
     pd: PlantData,
-    input: Vec<f64>,
+    /// The controller's output at the last state given to it.
+    output: ControlOutput,
     x_step: Vec<f64>,
     x_next: Vec<f64>,
 }
@@ -147,7 +148,7 @@ impl ClosedLoopSystem {
             steps_per_period,
             method,
             pd,
-            input: Vec::new(),
+            output: setup.controller.new_output(),
             x_step: vec![0.0; nx],
             x_next: vec![0.0; nx],
             setup,
@@ -174,19 +175,20 @@ impl ClosedLoopSystem {
 
     /// Computes and stores the controller's input at `x`.
     fn control(&mut self, x: &[f64]) -> Result<()> {
-        let output =
-            self.setup
-                .controller
-                .compute(x, &self.layout, &self.reference, &self.s_desired)?;
-        self.input.clear();
-        self.input.extend_from_slice(&output.input);
+        self.setup.controller.compute_into(
+            x,
+            &self.layout,
+            &self.reference,
+            &self.s_desired,
+            &mut self.output,
+        )?;
         Ok(())
     }
 
     /// `out = f(x)`, the closed-loop vector field (tangent derivative) in continuous time.
     pub fn vector_field(&mut self, x: &[f64], out: &mut DVector<f64>) -> Result<()> {
         self.control(x)?;
-        sea_plant::evaluate(&self.setup.plant, &mut self.pd, x, &self.input)?;
+        sea_plant::evaluate(&self.setup.plant, &mut self.pd, x, &self.output.input)?;
         out.copy_from(&self.pd.xdot);
         Ok(())
     }
@@ -207,7 +209,7 @@ impl ClosedLoopSystem {
                 &self.setup.plant,
                 &mut self.pd,
                 &self.x_step,
-                &self.input,
+                &self.output.input,
                 dt,
                 self.method,
                 &mut self.x_next,

@@ -108,7 +108,7 @@ fn drive(
             Ok(period) => period,
             Err(reason) => return Ok((RunEnd::Diverged { at_s: time, reason }, time)),
         };
-        let observation = &period.observation;
+        let observation = engine.observation();
         let lateral = observation.output.com.y - observation.reference.position.y;
         let thetadot = engine.layout().thetadot(engine.state());
         statistics.add(
@@ -119,7 +119,7 @@ fn drive(
             thetadot,
         );
         if index % record_every == 0 || period.end.is_some() {
-            let sample = engine.sample(observation);
+            let sample = engine.sample();
             for sink in sinks.iter_mut() {
                 sink.record(&sample)?;
             }

@@ -24,7 +24,8 @@ pub(super) struct Law<'a> {
     s_desired: Vec<f64>,
 }
 
-/// The controller's evaluation at one state.
+/// The controller's evaluation at one state; [`Law::new_observation`] makes one that
+/// [`Law::observe`] then refills without allocating.
 pub(super) struct Observation {
     /// Time [s].
     pub time: f64,
@@ -69,15 +70,32 @@ fn exceeds(value: f64, bound: f64) -> bool {
 }
 
 impl Law<'_> {
-    /// Evaluates the controller at `(time, x)`.
-    pub fn observe(&mut self, time: f64, x: &[f64]) -> Result<Observation> {
+    /// A zeroed observation sized for the controller, to be filled by [`Law::observe`].
+    pub fn new_observation(&self) -> Observation {
+        let zero = nalgebra::Vector3::zeros();
+        Observation {
+            time: 0.0,
+            output: self.controller.new_output(),
+            reference: ComSample {
+                position: zero,
+                velocity: zero,
+                acceleration: zero,
+            },
+            com_error: 0.0,
+            joint_error: 0.0,
+        }
+    }
+
+    /// Evaluates the controller at `(time, x)` into `observation` (allocation-free when it
+    /// comes from [`Law::new_observation`]). On `Err` its contents are unspecified.
+    pub fn observe(&mut self, time: f64, x: &[f64], observation: &mut Observation) -> Result<()> {
         let reference = self.com_reference.sample(time);
         self.posture.at(time, &mut self.s_desired);
-        let output = self
-            .controller
-            .compute(x, &self.layout, &reference, &self.s_desired)?;
-        let com_error = (output.com - reference.position).norm();
-        let joint_error = self
+        let output = &mut observation.output;
+        self.controller
+            .compute_into(x, &self.layout, &reference, &self.s_desired, output)?;
+        observation.com_error = (output.com - reference.position).norm();
+        observation.joint_error = self
             .layout
             .s(x)
             .iter()
@@ -85,13 +103,9 @@ impl Law<'_> {
             .map(|(a, b)| (a - b) * (a - b))
             .sum::<f64>()
             .sqrt();
-        Ok(Observation {
-            time,
-            output,
-            reference,
-            com_error,
-            joint_error,
-        })
+        observation.time = time;
+        observation.reference = reference;
+        Ok(())
     }
 }
 
@@ -116,11 +130,9 @@ impl PlantOutputs {
     }
 }
 
-/// What one sample period gave: the evaluation at its start and, when the run stops there,
-/// how it ended.
+/// What one sample period gave (the evaluation at its start is [`Engine::observation`]):
+/// when the run stops there, how it ended.
 pub(super) struct Period {
-    /// The controller's evaluation at the sample.
-    pub observation: Observation,
     /// `Some` when the run ends at this sample.
     pub end: Option<RunEnd>,
 }
@@ -144,6 +156,10 @@ pub(super) struct Engine<'a> {
     x_step: Vec<f64>,
     u: Vec<f64>,
     outputs: PlantOutputs,
+    /// The controller's evaluation at the current sample.
+    observation: Observation,
+    /// The evaluations at the later integrator stages (continuous sampling), not recorded.
+    stage: Observation,
 }
 
 impl<'a> Engine<'a> {
@@ -163,18 +179,21 @@ impl<'a> Engine<'a> {
         } = setup;
         let layout = plant.layout();
         let n = model.n_joints();
+        let law = Law {
+            controller,
+            com_reference,
+            posture,
+            layout,
+            s_desired: vec![0.0; n],
+        };
         Ok(Engine {
             scenario,
             model,
             elastic_names,
             plant,
-            law: Law {
-                controller,
-                com_reference,
-                posture,
-                layout,
-                s_desired: vec![0.0; n],
-            },
+            observation: law.new_observation(),
+            stage: law.new_observation(),
+            law,
             schedule,
             method,
             layout,
@@ -228,25 +247,27 @@ impl<'a> Engine<'a> {
         if self.schedule.sampling == Sampling::Continuous && !(last || interrupted) {
             return self.continuous_period(time);
         }
-        let observation = self
-            .law
-            .observe(time, &self.x)
+        self.law
+            .observe(time, &self.x, &mut self.observation)
             .map_err(|e| format!("controller: {e}"))?;
-        let stop = match observation.bound_crossed(self.scenario) {
+        let stop = match self.observation.bound_crossed(self.scenario) {
             Some(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
             None if interrupted => Some(RunEnd::Interrupted),
             None if last => Some(RunEnd::Completed),
             None => None,
         };
+        // The input is moved out for the plant and back, so the plant can borrow the engine.
+        let input = std::mem::take(&mut self.observation.output.input);
         let failure = match stop {
-            Some(_) => self.evaluate_here(&observation.output.input),
-            None => self.advance_held(&observation.output.input),
+            Some(_) => self.evaluate_here(&input),
+            None => self.advance_held(&input),
         };
+        self.observation.output.input = input;
         let end = match failure {
             Err(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
             Ok(()) => stop,
         };
-        Ok(Period { observation, end })
+        Ok(Period { end })
     }
 
     /// Evaluates the plant at the current state with input `u`, for the record.
@@ -289,14 +310,13 @@ impl<'a> Engine<'a> {
     /// the controller runs no extra time for the record. When that observation crosses a
     /// bound, the step's result is dropped and the run ends at `time`.
     fn continuous_period(&mut self, time: f64) -> std::result::Result<Period, String> {
-        let mut first: Option<Observation> = None;
-        let law = &mut self.law;
+        let mut observed = false;
+        let (law, first, stage) = (&mut self.law, &mut self.observation, &mut self.stage);
         let mut feedback = |t: f64, x: &[f64], u: &mut [f64]| -> Result<()> {
-            let observation = law.observe(t, x)?;
+            let observation = if observed { &mut *stage } else { &mut *first };
+            law.observe(t, x, observation)?;
             u.copy_from_slice(&observation.output.input);
-            if first.is_none() {
-                first = Some(observation);
-            }
+            observed = true;
             Ok(())
         };
         let result = step_with_feedback(
@@ -311,14 +331,14 @@ impl<'a> Engine<'a> {
             &mut self.x_next,
         );
         self.outputs.copy_from(&self.pd);
-        let Some(observation) = first else {
+        if !observed {
             // Only the law fails before the first stage's observation exists.
             return Err(match result {
                 Err(e) => format!("controller: {e}"),
                 Ok(()) => "controller: not evaluated".into(),
             });
-        };
-        let failure = match (observation.bound_crossed(self.scenario), result) {
+        }
+        let failure = match (self.observation.bound_crossed(self.scenario), result) {
             (Some(reason), _) => Some(reason),
             (None, Err(e)) => Some(format!("step: {e}")),
             (None, Ok(())) if self.x_next.iter().any(|v| !v.is_finite()) => {
@@ -327,7 +347,7 @@ impl<'a> Engine<'a> {
             (None, Ok(())) => None,
         };
         let end = failure.map(|reason| RunEnd::Diverged { at_s: time, reason });
-        Ok(Period { observation, end })
+        Ok(Period { end })
     }
 
     /// Moves to the next sample (after a period that did not end the run).
@@ -340,8 +360,14 @@ impl<'a> Engine<'a> {
         &self.x
     }
 
-    /// The record of `observation`, taken at the current state.
-    pub fn sample<'s>(&'s self, observation: &'s Observation) -> Sample<'s> {
+    /// The controller's evaluation at the current sample (after [`Engine::period`]).
+    pub fn observation(&self) -> &Observation {
+        &self.observation
+    }
+
+    /// The record of [`Engine::observation`], taken at the current state.
+    pub fn sample(&self) -> Sample<'_> {
+        let observation = &self.observation;
         let output = &observation.output;
         let m = &output.momentum;
         Sample {
