@@ -1,64 +1,22 @@
 //! The hot paths of one closed-loop tick allocate nothing after a warm-up call (DESIGN.md:
 //! "Speed must not drop: do not add allocations to per-tick or per-step paths"): the plant's
 //! right-hand side (`sea_plant::evaluate`), one step of each integrator, the torque map and the
-//! controller tick, on the SEA iCub of `scenarios/paper/tracking.toml`. A counting global
-//! allocator (per thread, so the harness's other test threads do not interfere, as in
-//! `crates/sea_dyn/tests/no_alloc.rs`) counts the allocations of the call after the warm-up,
-//! made at a different state.
+//! controller tick, on the SEA iCub of `scenarios/paper/tracking.toml`. The counting global
+//! allocator shared with sea_dyn's test (`crates/sea_dyn/tests/counting/mod.rs`, per thread,
+//! so the harness's other test threads do not interfere) counts the allocations of the call
+//! after the warm-up, made at a different state.
 
+#[path = "../../sea_dyn/tests/counting/mod.rs"]
+mod counting;
+
+use counting::allocations;
 use nalgebra::DMatrix;
 use sea_ctrl::torque_map::{PosturalTask, TorqueMap};
 use sea_dyn::sample::Lcg;
 use sea_dyn::Data;
 use sea_plant::{evaluate, step, Method, MotorInput, PlantData};
 use sea_sim::scenario::{build, Scenario, Setup};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::path::Path;
-
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-fn bump() {
-    // `try_with`: the thread-local may be gone while a thread shuts down.
-    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-}
-
-// SAFETY: forwards every call unchanged to the system allocator; only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        bump();
-        // SAFETY: same contract as the caller's.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        bump();
-        // SAFETY: same contract as the caller's.
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        bump();
-        // SAFETY: same contract as the caller's.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: same contract as the caller's.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-/// Allocations made by `f` on this thread.
-fn allocations<R>(f: impl FnOnce() -> R) -> usize {
-    let before = ALLOCATIONS.with(|c| c.get());
-    std::hint::black_box(f());
-    ALLOCATIONS.with(|c| c.get()) - before
-}
 
 /// The paper's tracking scenario with `overrides`.
 fn setup(overrides: &[(&str, &str)]) -> Setup {
