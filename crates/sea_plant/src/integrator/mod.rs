@@ -130,13 +130,10 @@ fn ros2<E: From<Error>>(
     eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
-    eval(pd, 0.0, x)?;
-    // Keep the step-start outputs: the second evaluation would overwrite them.
+    let [k1, mut k2, mut rhs, combo] = implicit_first_stage(plant, pd, x, GAMMA * dt, eval)?;
+    // Keep the step-start outputs (the W solve leaves them alone): the second evaluation
+    // would overwrite them.
     pd.save_outputs();
-    prepare_implicit(plant, pd, GAMMA * dt)?;
-    let [mut k1, mut k2, mut rhs, combo] = std::mem::take(&mut pd.stage);
-    rhs.copy_from(&pd.xdot);
-    solve_implicit(plant, pd, &rhs, &mut k1);
     let mut x_stage = std::mem::take(&mut pd.x_stage);
     retract(plant, x, &k1, dt, &mut x_stage);
     // The second stage sits at t + dt: the time row of W is the identity, so k1_t = 1.
@@ -164,14 +161,28 @@ fn implicit_euler<E: From<Error>>(
     eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
-    eval(pd, 0.0, x)?;
-    prepare_implicit(plant, pd, dt)?;
-    let [mut k1, k2, mut rhs, combo] = std::mem::take(&mut pd.stage);
-    rhs.copy_from(&pd.xdot);
-    solve_implicit(plant, pd, &rhs, &mut k1);
+    let [k1, k2, rhs, combo] = implicit_first_stage(plant, pd, x, dt, eval)?;
     retract(plant, x, &k1, dt, x_out);
     pd.stage = [k1, k2, rhs, combo];
     Ok(())
+}
+
+/// The first stage of the linearly implicit methods: the dynamics at the step start, `W`
+/// prepared for `g` (`gamma dt`) and `W k1 = f(x)` solved. Returns the stage buffers
+/// `[k1, k2, rhs, combo]` taken from `pd`; the caller gives them back.
+fn implicit_first_stage<E: From<Error>>(
+    plant: &Plant,
+    pd: &mut PlantData,
+    x: &[f64],
+    g: f64,
+    eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
+) -> std::result::Result<[nalgebra::DVector<f64>; 4], E> {
+    eval(pd, 0.0, x)?;
+    prepare_implicit(plant, pd, g)?;
+    let [mut k1, k2, mut rhs, combo] = std::mem::take(&mut pd.stage);
+    rhs.copy_from(&pd.xdot);
+    solve_implicit(plant, pd, &rhs, &mut k1);
+    Ok([k1, k2, rhs, combo])
 }
 
 /// Runge-Kutta-Munthe-Kaas correction of a stage's base angular velocity: the stage sits at
