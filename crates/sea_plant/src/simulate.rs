@@ -100,14 +100,7 @@ pub fn simulate(
             break;
         }
         if k % record_every == 0 || last {
-            log.time.push(time);
-            log.state.extend_from_slice(&x);
-            log.contact_wrench
-                .extend_from_slice(pd.contact_wrench.as_slice());
-            log.motor_torque
-                .extend_from_slice(pd.motor_torque.as_slice());
-            log.drift_position.push(pd.drift_position);
-            log.drift_rotation.push(pd.drift_rotation);
+            push_row(&mut log, pd, time, &x);
         }
         if last {
             break;
@@ -175,6 +168,12 @@ fn record_interrupted(
     time: f64,
 ) -> Result<()> {
     crate::dynamics::evaluate(plant, pd, x, u)?;
+    push_row(log, pd, time, x);
+    Ok(())
+}
+
+/// Appends the row of state `x` at `time` with the outputs last evaluated into `pd`.
+fn push_row(log: &mut SimulationLog, pd: &PlantData, time: f64, x: &[f64]) {
     log.time.push(time);
     log.state.extend_from_slice(x);
     log.contact_wrench
@@ -183,5 +182,4 @@ fn record_interrupted(
         .extend_from_slice(pd.motor_torque.as_slice());
     log.drift_position.push(pd.drift_position);
     log.drift_rotation.push(pd.drift_rotation);
-    Ok(())
 }
