@@ -120,21 +120,11 @@ impl Error {
     }
 
     /// Names the file a parse failure came from. Other errors pass through unchanged.
-    pub fn in_file(self, path: impl Into<PathBuf>) -> Self {
-        match self {
-            Error::Parse {
-                file: None,
-                line,
-                column,
-                message,
-            } => Error::Parse {
-                file: Some(path.into()),
-                line,
-                column,
-                message,
-            },
-            other => other,
+    pub fn in_file(mut self, path: impl Into<PathBuf>) -> Self {
+        if let Error::Parse { file, .. } = &mut self {
+            file.get_or_insert_with(|| path.into());
         }
+        self
     }
 
     /// Names the operation of a numerical failure (a factorisation reports only its pivot; the
