@@ -22,7 +22,7 @@ mod statistics;
 mod tick;
 
 pub use crate::scenario::{build, Setup};
-pub use record::{McapSink, RecordSink, RunInfo, RunRecord, Sample};
+pub use record::{write_qp_status, McapSink, RecordSink, RunInfo, RunRecord, Sample};
 pub use sampling::{equal_steps, Sampling, Schedule};
 pub use statistics::{RunEnd, RunTotals, RunningStatistics, Summary};
 

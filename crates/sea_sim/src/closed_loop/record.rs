@@ -156,6 +156,43 @@ impl McapSink {
     }
 }
 
+impl Sample<'_> {
+    /// The logged row of this sample (MCAP and live view), with `qp_status` the text of
+    /// [`Sample::qp_status`] ([`write_qp_status`]).
+    pub fn log_sample<'s>(&'s self, qp_status: &'s str) -> LogSample<'s> {
+        let layout = &self.layout;
+        LogSample {
+            time_s: self.time_s,
+            q: layout.q(self.state),
+            nu: layout.nu(self.state),
+            theta: layout.theta(self.state),
+            thetadot: layout.thetadot(self.state),
+            thetadot_desired: self.thetadot_desired,
+            com: self.com,
+            com_reference: self.com_reference,
+            momentum: self.momentum,
+            contact_wrenches: self.contact_wrenches,
+            motor_torques: self.motor_torques,
+            joint_torques: self.joint_torques,
+            qp_status,
+            qp_failures: self.qp_failures,
+        }
+    }
+}
+
+/// The logged text of a QP status, `"solved"` or `"fallback: <reason>"`, into `text` (cleared
+/// first; no allocation once `text` is large enough).
+pub fn write_qp_status(status: &QpStatus, text: &mut String) {
+    text.clear();
+    match status {
+        QpStatus::Solved => text.push_str("solved"),
+        QpStatus::Fallback(reason) => {
+            text.push_str("fallback: ");
+            text.push_str(reason);
+        }
+    }
+}
+
 impl RecordSink for McapSink {
     fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
         let mut logger =
@@ -169,27 +206,9 @@ impl RecordSink for McapSink {
         let Some(logger) = self.logger.as_mut() else {
             return Ok(());
         };
-        let layout = &sample.layout;
-        let qp_status = match sample.qp_status {
-            QpStatus::Solved => "solved".to_string(),
-            QpStatus::Fallback(reason) => format!("fallback: {reason}"),
-        };
-        logger.log(&LogSample {
-            time_s: sample.time_s,
-            q: layout.q(sample.state),
-            nu: layout.nu(sample.state),
-            theta: layout.theta(sample.state),
-            thetadot: layout.thetadot(sample.state),
-            thetadot_desired: sample.thetadot_desired,
-            com: sample.com,
-            com_reference: sample.com_reference,
-            momentum: sample.momentum,
-            contact_wrenches: sample.contact_wrenches,
-            motor_torques: sample.motor_torques,
-            joint_torques: sample.joint_torques,
-            qp_status: &qp_status,
-            qp_failures: sample.qp_failures,
-        })
+        let mut qp_status = String::new();
+        write_qp_status(sample.qp_status, &mut qp_status);
+        logger.log(&sample.log_sample(&qp_status))
     }
 
     fn finish(&mut self) -> Result<()> {

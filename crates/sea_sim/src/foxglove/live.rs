@@ -10,12 +10,10 @@
 //! of a tick).
 
 use super::{SampleEncoder, SceneSource, StaticScene, Topic};
-use crate::closed_loop::{RecordSink, RunInfo, Sample};
+use crate::closed_loop::{write_qp_status, RecordSink, RunInfo, Sample};
 use crate::error::Error;
-use crate::mcap_log::LogSample;
 use crate::Result;
 use ::foxglove::{ChannelBuilder, Context, PartialMetadata, RawChannel, WebSocketServer};
-use sea_ctrl::qp::QpStatus;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -148,31 +146,8 @@ impl RecordSink for LiveSink {
         let Some(encoder) = self.encoder.as_mut() else {
             return Ok(());
         };
-        self.qp_status.clear();
-        match sample.qp_status {
-            QpStatus::Solved => self.qp_status.push_str("solved"),
-            QpStatus::Fallback(reason) => {
-                self.qp_status.push_str("fallback: ");
-                self.qp_status.push_str(reason);
-            }
-        }
-        let layout = &sample.layout;
-        let log_sample = LogSample {
-            time_s: sample.time_s,
-            q: layout.q(sample.state),
-            nu: layout.nu(sample.state),
-            theta: layout.theta(sample.state),
-            thetadot: layout.thetadot(sample.state),
-            thetadot_desired: sample.thetadot_desired,
-            com: sample.com,
-            com_reference: sample.com_reference,
-            momentum: sample.momentum,
-            contact_wrenches: sample.contact_wrenches,
-            motor_torques: sample.motor_torques,
-            joint_torques: sample.joint_torques,
-            qp_status: &self.qp_status,
-            qp_failures: sample.qp_failures,
-        };
+        write_qp_status(sample.qp_status, &mut self.qp_status);
+        let log_sample = sample.log_sample(&self.qp_status);
         let server = &self.server;
         encoder.encode(&log_sample, |topic, time, message| {
             server.publish(topic, time, message);
