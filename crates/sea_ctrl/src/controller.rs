@@ -355,13 +355,6 @@ impl MomentumController {
         s_desired: &[f64],
         out: &mut ControlOutput,
     ) -> Result<()> {
-        self.momentum_jacobian.update(
-            &self.model,
-            &mut self.data,
-            &self.contact_frames,
-            &self.contact_references[0],
-            s_desired,
-        )?;
         let (com, momentum) = self.task_terms(x, layout, reference, s_desired)?;
         self.fit_output(out);
         out.qp_status = self.solve_qp(&mut out.wrenches);
@@ -453,8 +446,9 @@ impl MomentumController {
         }
     }
 
-    /// Model terms, the torque map and the momentum task at the state, into `self.terms`;
-    /// returns the CoM [m] and the centroidal momentum.
+    /// Model terms, the torque map and the momentum task at the state, into `self.terms`
+    /// (after `J_G^omega(s_d)`, recomputed only when `s_desired` changed); returns the CoM [m]
+    /// and the centroidal momentum.
     fn task_terms(
         &mut self,
         x: &[f64],
@@ -462,6 +456,13 @@ impl MomentumController {
         reference: &ComSample,
         s_desired: &[f64],
     ) -> Result<(Vector3<f64>, Vector6<f64>)> {
+        self.momentum_jacobian.update(
+            &self.model,
+            &mut self.data,
+            &self.contact_frames,
+            &self.contact_references[0],
+            s_desired,
+        )?;
         let (com, momentum) = self.model_terms(x, layout);
         self.contact_terms(&com);
         let (s, sdot) = (layout.s(x), layout.sdot(x));
@@ -562,13 +563,6 @@ impl MomentumController {
         reference: &ComSample,
         s_desired: &[f64],
     ) -> Result<TaskTerms> {
-        self.momentum_jacobian.update(
-            &self.model,
-            &mut self.data,
-            &self.contact_frames,
-            &self.contact_references[0],
-            s_desired,
-        )?;
         self.task_terms(x, layout, reference, s_desired)?;
         Ok(self.terms.clone())
     }
