@@ -172,8 +172,14 @@ fn ros2_stays_bounded_on_stiff_springs_where_rk4_diverges() {
     let u = vec![0.0; plant.model.n_joints()];
     let dt = 1e-3;
     let mut pd = PlantData::new(&plant);
-    let ros2 = simulate(&plant, &mut pd, &x0, &u, dt, 1000, Method::Ros2, 10, |_| true).unwrap();
-    let rk4 = simulate(&plant, &mut pd, &x0, &u, dt, 1000, Method::Rk4, 10, |_| true).unwrap();
+    let ros2 = simulate(&plant, &mut pd, &x0, &u, dt, 1000, Method::Ros2, 10, |_| {
+        true
+    })
+    .unwrap();
+    let rk4 = simulate(&plant, &mut pd, &x0, &u, dt, 1000, Method::Rk4, 10, |_| {
+        true
+    })
+    .unwrap();
     let nx = x0.len();
     let layout = plant.layout();
     let peak_speed = ros2
