@@ -8,7 +8,7 @@
 
 use crate::analysis::override_pairs;
 use crate::errors::to_py;
-use pyo3::exceptions::PyRuntimeError;
+use crate::interrupt::run_interruptible;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_sim::sweep::{
@@ -16,11 +16,6 @@ use sea_sim::sweep::{
 };
 use std::collections::HashMap;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
-
-/// How often the waiting thread looks for Ctrl-C.
-const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
 /// The column names of a sweep over `keys`: the keys, `status`, `message`, then the summary
 /// fields.
@@ -67,33 +62,6 @@ fn rows_list<'py>(
         .map(|row| row_dict(py, keys, row))
         .collect::<PyResult<Vec<_>>>()?;
     PyList::new(py, dicts)
-}
-
-/// Runs `work` on a thread of its own with the GIL released, while this (the Python) thread
-/// looks for Ctrl-C and raises `cancel` when it comes. Returns the result and whether Ctrl-C
-/// stopped it (the KeyboardInterrupt is consumed: the caller returns the rows done).
-fn interruptible<T: Send>(
-    py: Python<'_>,
-    cancel: &AtomicBool,
-    work: impl FnOnce() -> T + Send,
-) -> PyResult<(T, bool)> {
-    py.detach(|| {
-        std::thread::scope(|scope| {
-            let handle = scope.spawn(work);
-            let mut interrupted = false;
-            while !handle.is_finished() {
-                std::thread::sleep(SIGNAL_POLL);
-                if !interrupted && Python::attach(|py| py.check_signals()).is_err() {
-                    interrupted = true;
-                    cancel.store(true, Ordering::Relaxed);
-                }
-            }
-            handle
-                .join()
-                .map(|result| (result, interrupted))
-                .map_err(|_| PyRuntimeError::new_err("the sweep's thread panicked"))
-        })
-    })
 }
 
 /// A progress line on stderr after each run.
@@ -158,14 +126,15 @@ pub fn sweep<'py>(
     grid.check(&source, &overrides).map_err(to_py)?;
     let keys = grid.keys();
     let points = (0..grid.len()).map(|k| (k, grid.point(k))).collect();
-    let cancel = AtomicBool::new(false);
-    let (rows, interrupted) = interruptible(py, &cancel, || {
-        run_points(&source, &keys, points, &overrides, workers, &cancel, &|p| {
+    // Ctrl-C is consumed (the rows done are returned, marked interrupted).
+    let (rows, raised) = run_interruptible(py, |cancel| {
+        run_points(&source, &keys, points, &overrides, workers, cancel, &|p| {
             if progress {
                 report(&keys, p);
             }
         })
     })?;
+    let interrupted = raised.is_some();
     let rows = rows.map_err(to_py)?;
     let dict = PyDict::new(py);
     dict.set_item("columns", columns(&keys))?;
@@ -199,17 +168,8 @@ pub fn sweep_batch<'py>(
     }
     let overrides = override_pairs(overrides)?;
     let source = ScenarioSource::read(&path).map_err(to_py)?;
-    let cancel = AtomicBool::new(false);
-    let (rows, _) = interruptible(py, &cancel, || {
-        run_points(
-            &source,
-            &keys,
-            points,
-            &overrides,
-            workers,
-            &cancel,
-            &|_| {},
-        )
+    let (rows, _) = run_interruptible(py, |cancel| {
+        run_points(&source, &keys, points, &overrides, workers, cancel, &|_| {})
     })?;
     rows_list(py, &keys, &rows.map_err(to_py)?)
 }
