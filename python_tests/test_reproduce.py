@@ -27,6 +27,9 @@ FIGURES = (
     "figure3_saturation.png",
     "stability_map.png",
     "growth_rate_damping.png",
+    # The robot at chosen instants of each experiment.
+    *(f"{name}_strip.png" for name in ("tracking", "step_sea", "step_rigid", "saturation")),
+    *(f"{name}.gif" for name in ("tracking", "step_sea", "step_rigid", "saturation")),
 )
 
 

@@ -598,6 +598,19 @@ def _summary_json(paper_setting: dict, sampled: dict, extra: dict) -> dict:
     return {"experiments": experiments, **extra}
 
 
+def robot_pictures(scenario_dir: pathlib.Path, out: pathlib.Path, runs: dict[str, ScenarioResult]) -> list[str]:
+    """The robot at chosen instants of each experiment (paper's setting): PNG strips and GIFs;
+    returns the file names written."""
+    from .pictures import experiment_pictures
+
+    return experiment_pictures(scenario_dir, out, {
+        "tracking": runs["tracking x1.0"],
+        "step_sea": runs["step, SEA controller"],
+        "step_rigid": runs["step, rigid controller"],
+        "saturation": runs["saturation 0.34 Nm"],
+    })
+
+
 def reproduce(scenario_dir: pathlib.Path, out: pathlib.Path, duration: float | None = None) -> dict:
     """Runs every experiment and analysis; writes the figures, logs, ``summary.json`` and
     ``outcomes.md`` to ``out``; returns the summary."""
@@ -613,6 +626,7 @@ def reproduce(scenario_dir: pathlib.Path, out: pathlib.Path, duration: float | N
     figure_tracking(paper_setting, out / "figure1_tracking_damping.png")
     figure_step(paper_setting, out / "figure2_rigid_vs_sea.png")
     figure_saturation(saturation_runs, out / "figure3_saturation.png")
+    pictures = robot_pictures(scenario_dir, out, paper_setting)
     evidence = linearization_evidence(session)
     margins = margin_evidence(session)
     curve = growth_rate_curve(session)
@@ -626,6 +640,7 @@ def reproduce(scenario_dir: pathlib.Path, out: pathlib.Path, duration: float | N
         "linearizations": evidence, "margins": margins, "growth_rate_curve": curve, "saturation": saturation,
         "stability_map": {"scales": grid.scales, "rates_hz": grid.rates_hz, "stable": grid.stable.tolist(),
                           "boundary_rate_hz": grid.boundary_rate_hz},
+        "pictures": pictures,
         "wall_time_s": clock.perf_counter() - session.started,
     })
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=str))
