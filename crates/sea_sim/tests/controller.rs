@@ -1,5 +1,7 @@
 //! Controller checks on the iCub: static consistency with the plant, QP constraints, Lemma 1.
 
+mod support;
+
 use sea_sim::closed_loop::build;
 use sea_sim::scenario::Scenario;
 use std::path::Path;
@@ -65,13 +67,7 @@ fn rigid_controller_at_rest_keeps_the_rigid_robot_at_rest() {
 }
 
 fn two_feet(extra: &[(&str, &str)]) -> sea_sim::closed_loop::Setup {
-    let mut overrides = vec![
-        ("robot.contacts", "[\"l_sole\", \"r_sole\"]"),
-        ("robot.initial_posture", "two_feet"),
-        ("reference.com_origin", "initial"),
-        ("reference.com_amplitude", "0.02"),
-        ("reference.com_frequency", "0.5"),
-    ];
+    let mut overrides = support::TWO_FEET.to_vec();
     overrides.extend_from_slice(extra);
     build(&scenario(&overrides)).unwrap()
 }

@@ -8,6 +8,7 @@
 
 #[path = "../../sea_dyn/tests/counting/mod.rs"]
 mod counting;
+mod support;
 
 use counting::allocations;
 use nalgebra::DMatrix;
@@ -30,13 +31,7 @@ fn setup(overrides: &[(&str, &str)]) -> Setup {
 
 /// The SEA iCub on both feet (SEA controller, motor velocity loop).
 fn two_feet(extra: &[(&str, &str)]) -> Setup {
-    let mut overrides = vec![
-        ("robot.contacts", "[\"l_sole\", \"r_sole\"]"),
-        ("robot.initial_posture", "two_feet"),
-        ("reference.com_origin", "initial"),
-        ("reference.com_amplitude", "0.02"),
-        ("reference.com_frequency", "0.5"),
-    ];
+    let mut overrides = support::TWO_FEET.to_vec();
     overrides.extend_from_slice(extra);
     setup(&overrides)
 }
