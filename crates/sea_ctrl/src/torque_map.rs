@@ -15,14 +15,16 @@
 //! `tau_0 = h_j - J_j^T f + u0` (posturalNew) substituted into eq:torques; the SEA controller
 //! passes `h` with hjBar in its joint rows and reads `beta` for `tau` (newJointDynamics).
 //!
-//! Why it is fast: `M^-1 J^T` uses the tree-sparse factorisation (no dense nv^3 Cholesky, and a
-//! foot's rows only touch its leg and the base); `N` is applied to vectors as
-//! `v - Lambda^+ (Lambda v)`, O(n k) instead of O(n^2 k) to form it; and every buffer is
+//! Why it is fast: `M^-1 J^T` uses the tree-sparse factorisation for all k rows at once (no
+//! dense nv^3 Cholesky; `Y = L^-T J^T` only touches each foot's leg and the base, and
+//! `J M^-1 J^T = Y^T Y` is summed over those rows only); `Lambda^+` is one right division by the
+//! k x k Gram factor; `N` is applied to vectors as `v - Lambda^+ (Lambda v)`, O(n k) instead of
+//! O(n^2 k) to form it; `Mbar` is applied to vectors, never formed; and every buffer is
 //! allocated once, in [`TorqueMap::new`].
 
 use crate::error::{Error, Result};
 use nalgebra::{DMatrix, DVector};
-use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place, gemm_small};
+use sea_dyn::dense::{cholesky_in_place, cholesky_solve_right_in_place, dot, gemm_small, gemm_tn};
 use sea_dyn::tree_factor::TreeFactor;
 use sea_dyn::{CentroidalSplit, Model};
 
@@ -56,19 +58,22 @@ pub struct TorqueMap {
     pub tau_bias: DVector<f64>,
     /// Result `Sigma` (n x k).
     pub sigma: DMatrix<f64>,
-    /// `Mbar`, `Jbar^T`, `h_j_centroidal` of the last computation.
+    /// `Jbar^T`, `h_j_centroidal` of the last computation (`Mbar` is not formed: see
+    /// [`CentroidalSplit::mbar_times`]).
     pub split: CentroidalSplit,
     /// `M + diag = L^T L` (tree-sparse).
     factor: TreeFactor,
-    /// `M^-1 J^T` (nv x k).
-    minv_jt: DMatrix<f64>,
+    /// `(L^-T J^T)^T` (k x nv; zero outside the feet's legs and the base).
+    linv_jt_t: DMatrix<f64>,
+    /// `(M^-1 J^T)^T = J M^-1` (k x nv).
+    minv_jt_t: DMatrix<f64>,
     /// `Lambda^T = B^T M^-1 J^T` (n x k).
     lambda_t: DMatrix<f64>,
     /// Cholesky factor of `Lambda Lambda^T + d^2 I` (k x k, lower triangle).
     gram: DMatrix<f64>,
-    /// `(Lambda^+)^T = (Lambda Lambda^T + d^2 I)^-1 Lambda` (k x n).
-    pinv_t: DMatrix<f64>,
-    /// `J M^-1 J^T - Lambda Jbar^T` (k x k).
+    /// `Lambda^+ = Lambda^T (Lambda Lambda^T + d^2 I)^-1` (n x k).
+    pinv: DMatrix<f64>,
+    /// `J M^-1 J^T` after [`Self::lambda`], then `J M^-1 J^T - Lambda Jbar^T` (k x k).
     coupling: DMatrix<f64>,
     /// Task-space vector scratch (k).
     scratch_k: DVector<f64>,
@@ -93,10 +98,11 @@ impl TorqueMap {
             sigma: DMatrix::zeros(n, k),
             split: CentroidalSplit::new(n, k),
             factor: TreeFactor::new(model),
-            minv_jt: DMatrix::zeros(nv, k),
+            linv_jt_t: DMatrix::zeros(k, nv),
+            minv_jt_t: DMatrix::zeros(k, nv),
             lambda_t: DMatrix::zeros(n, k),
             gram: DMatrix::zeros(k, k),
-            pinv_t: DMatrix::zeros(k, n),
+            pinv: DMatrix::zeros(n, k),
             coupling: DMatrix::zeros(k, k),
             scratch_k: DVector::zeros(k),
             task_bias: DVector::zeros(k),
@@ -116,41 +122,42 @@ impl TorqueMap {
     ) -> Result<()> {
         self.lambda(mass_matrix)?;
         self.lambda_pseudo_inverse(pinv_damping)?;
-        // Centroidal split (centrTrans); the diagonal only touches the joint block of M, hence
-        // Mbar's diagonal.
+        // Centroidal split (centrTrans), without forming Mbar.
         self.split
-            .compute(mass_matrix, &self.bias, &self.jacobian)?;
-        let n = self.tau_bias.len();
-        for j in 0..n {
-            self.split.mbar[(j, j)] += self.diagonal[6 + j];
-        }
-        self.torque_bias(posture);
+            .compute_without_mbar(mass_matrix, &self.bias, &self.jacobian)?;
+        self.torque_bias(mass_matrix, posture);
         self.sigma();
         Ok(())
     }
 
     /// Paper eq:torques, `Lambda = J M^-1 B` (k x n; `J_j M_j^-1` in the coordinates of
-    /// centrTrans): factors `M + diag` (tree-sparse) and stores `M^-1 J^T` (nv x k) and its
-    /// joint rows `Lambda^T = B^T M^-1 J^T` (n x k).
+    /// centrTrans): factors `M + diag` (tree-sparse) and stores `J M^-1` (k x nv), its joint
+    /// columns transposed `Lambda^T = B^T M^-1 J^T` (n x k), and `J M^-1 J^T` (in `coupling`).
     fn lambda(&mut self, mass_matrix: &DMatrix<f64>) -> Result<()> {
         let n = self.tau_bias.len();
         self.factor
             .factor(mass_matrix, &self.diagonal)
             .map_err(|e| Error::Dynamics(e.during("factorising the controller's M + diag")))?;
-        for r in 0..self.jacobian.nrows() {
-            let mut column = self.minv_jt.column_mut(r);
-            column.tr_copy_from(&self.jacobian.row(r));
-            self.factor.solve(column.as_mut_slice());
-        }
-        self.lambda_t.copy_from(&self.minv_jt.rows(6, n));
+        self.factor
+            .schur_complement(&self.jacobian, &mut self.linv_jt_t, &mut self.coupling);
+        self.minv_jt_t.copy_from(&self.linv_jt_t);
+        self.factor.solve_l_multi(&mut self.minv_jt_t);
+        self.lambda_t.tr_copy_from(&self.minv_jt_t.columns(6, n));
         Ok(())
     }
 
     /// Paper eq:torques, the damped pseudo-inverse `Lambda^+ = Lambda^T (Lambda Lambda^T + d^2
-    /// I)^-1` (n x k), stored transposed as `(Lambda^+)^T` (k x n) through the Cholesky factor
-    /// of the k x k Gram matrix (never an n x n matrix).
+    /// I)^-1` (n x k), by a right division with the Cholesky factor of the k x k Gram matrix
+    /// (never an n x n matrix).
     fn lambda_pseudo_inverse(&mut self, pinv_damping: f64) -> Result<()> {
-        self.gram.gemm_tr(1.0, &self.lambda_t, &self.lambda_t, 0.0);
+        gemm_tn(
+            &mut self.gram,
+            1.0,
+            &self.lambda_t,
+            &self.lambda_t,
+            0.0,
+            true,
+        );
         for r in 0..self.gram.nrows() {
             self.gram[(r, r)] += pinv_damping * pinv_damping;
         }
@@ -160,31 +167,28 @@ impl TorqueMap {
                 format!("not positive definite (pivot {pivot})"),
             ))
         })?;
-        self.pinv_t.tr_copy_from(&self.lambda_t);
-        for mut column in self.pinv_t.column_iter_mut() {
-            cholesky_solve_in_place(&self.gram, column.as_mut_slice());
-        }
+        self.pinv.copy_from(&self.lambda_t);
+        cholesky_solve_right_in_place(&self.gram, &mut self.pinv);
         Ok(())
     }
 
     /// Paper eq:torques with posturalNew at `f = 0`: `tau_bias = Lambda^+ (J M^-1 h - Jdot nu) +
     /// N_Lambda (h_j + u0)` (n), `h_j` being the joint bias of centrTrans
     /// ([`CentroidalSplit::h_j_centroidal`]; for the SEA controller `h` already holds hjBar).
-    fn torque_bias(&mut self, posture: &PosturalTask) {
+    fn torque_bias(&mut self, mass_matrix: &DMatrix<f64>, posture: &PosturalTask) {
         // J M^-1 h - Jdot nu (k).
         self.task_bias.copy_from(&self.jdot_nu);
-        self.task_bias.gemv_tr(1.0, &self.minv_jt, &self.bias, -1.0);
-        self.postural_torque(posture);
+        self.task_bias.gemv(1.0, &self.minv_jt_t, &self.bias, -1.0);
+        self.postural_torque(mass_matrix, posture);
         // u0 is in tau_bias.
         self.tau_bias += &self.split.h_j_centroidal;
         apply_null_space_projector(
             &self.lambda_t,
-            &self.pinv_t,
+            &self.pinv,
             &mut self.tau_bias,
             &mut self.scratch_k,
         );
-        self.tau_bias
-            .gemv_tr(1.0, &self.pinv_t, &self.task_bias, 1.0);
+        self.tau_bias.gemv(1.0, &self.pinv, &self.task_bias, 1.0);
     }
 
     /// Paper eq:torques with posturalNew, the coefficient of `f` (n x k):
@@ -192,28 +196,29 @@ impl TorqueMap {
     /// Lambda J_j^T))`, `J_j^T` of centrTrans ([`CentroidalSplit::jbar_t`]); the second form
     /// applies `N_Lambda` without forming it.
     fn sigma(&mut self) {
-        let (jacobian, minv_jt) = (self.jacobian.as_view(), self.minv_jt.as_view());
-        gemm_small(&mut self.coupling, 1.0, jacobian, minv_jt, 0.0);
-        self.coupling
-            .gemm_tr(-1.0, &self.lambda_t, &self.split.jbar_t, 1.0);
+        // coupling holds J M^-1 J^T (from `lambda`).
+        let jbar_t = &self.split.jbar_t;
+        gemm_tn(&mut self.coupling, -1.0, &self.lambda_t, jbar_t, 1.0, false);
         self.sigma.copy_from(&self.split.jbar_t);
-        self.sigma.gemm_tr(1.0, &self.pinv_t, &self.coupling, 1.0);
+        let (pinv, coupling) = (self.pinv.as_view(), self.coupling.as_view());
+        gemm_small(&mut self.sigma, 1.0, pinv, coupling, 1.0);
         self.sigma.neg_mut();
     }
 
     /// Paper posturalNew, `u0 = -K_p^j N_Lambda M_j (s - s_d) - K_d^j N_Lambda M_j sdot` (n,
-    /// `M_j` of centrTrans = `Mbar`, gains diagonal) into `tau_bias`.
-    fn postural_torque(&mut self, posture: &PosturalTask) {
-        let mbar = &self.split.mbar;
+    /// `M_j` of centrTrans = `Mbar` of `M + diag`, gains diagonal) into `tau_bias`.
+    fn postural_torque(&mut self, mass_matrix: &DMatrix<f64>, posture: &PosturalTask) {
         for (term, input) in [
             (&mut self.stiffness_term, posture.error),
             (&mut self.damping_term, posture.velocity),
         ] {
-            // Mbar is symmetric: (Mbar x)_i is column i times x (contiguous).
+            self.split
+                .mbar_times(mass_matrix, input, term.as_mut_slice());
+            // The diagonal only touches the joint block of M, hence Mbar's diagonal.
             for (i, value) in term.iter_mut().enumerate() {
-                *value = mbar.column(i).iter().zip(input).map(|(m, x)| m * x).sum();
+                *value += self.diagonal[6 + i] * input[i];
             }
-            apply_null_space_projector(&self.lambda_t, &self.pinv_t, term, &mut self.scratch_k);
+            apply_null_space_projector(&self.lambda_t, &self.pinv, term, &mut self.scratch_k);
         }
         for i in 0..self.tau_bias.len() {
             self.tau_bias[i] = -posture.stiffness[i] * self.stiffness_term[i]
@@ -224,13 +229,15 @@ impl TorqueMap {
 
 /// Paper eq:torques, the null-space projector `N_Lambda = I - Lambda^+ Lambda` (n x n) applied
 /// to a joint-space vector without forming it: `v <- v - Lambda^+ (Lambda v)` (O(n k) instead of
-/// O(n^2 k)), with `Lambda^T` (n x k), `(Lambda^+)^T` (k x n) and a task-space scratch (k).
+/// O(n^2 k)), with `Lambda^T` (n x k), `Lambda^+` (n x k) and a task-space scratch (k).
 pub fn apply_null_space_projector(
     lambda_t: &DMatrix<f64>,
-    pinv_t: &DMatrix<f64>,
+    pinv: &DMatrix<f64>,
     v: &mut DVector<f64>,
     scratch_k: &mut DVector<f64>,
 ) {
-    scratch_k.gemv_tr(1.0, lambda_t, v, 0.0);
-    v.gemv_tr(-1.0, pinv_t, scratch_k, 1.0);
+    for (entry, column) in scratch_k.iter_mut().zip(lambda_t.column_iter()) {
+        *entry = dot(column.as_slice(), v.as_slice());
+    }
+    v.gemv(-1.0, pinv, scratch_k, 1.0);
 }

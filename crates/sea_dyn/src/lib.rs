@@ -48,7 +48,7 @@ pub use centroidal::{
 };
 pub use configuration::integrate;
 pub use contact_surface::ContactSurface;
-pub use crba::{crba, crba_from_kinematics};
+pub use crba::{crba, crba_after_rnea, crba_from_kinematics};
 pub use data::Data;
 pub use error::{Error, Result};
 pub use gains::critical_damping;

@@ -187,6 +187,16 @@ fn mass_matrix_equals_rnea_columns_and_is_symmetric_positive_definite() {
             1e-14,
             scale,
         );
+        // The CRBA that reuses RNEA's body inertias gives the same matrix at the same q.
+        let _ = sea_dyn::bias_forces(&model, &mut data, &q, &nu);
+        let after_rnea = sea_dyn::crba_after_rnea(&model, &mut data).clone();
+        assert_close_mat(
+            &format!("seed {seed}: crba_after_rnea vs crba"),
+            &after_rnea,
+            &m,
+            1e-15,
+            scale,
+        );
         let eig = m.clone().symmetric_eigen().eigenvalues;
         assert!(
             eig.min() > 1e-9 * scale,
@@ -679,6 +689,18 @@ fn centroidal_split_matches_the_dense_schur_complement() {
         assert!(
             split.mbar.clone().cholesky().is_some(),
             "seed {seed}: Mbar not positive definite"
+        );
+        // Mbar x without forming Mbar.
+        let x = dv(&random_v(&mut rng, n, 1.0));
+        let mut mbar_x = DVector::zeros(n);
+        split.mbar_times(&m, x.as_slice(), mbar_x.as_mut_slice());
+        let expected = &mbar * &x;
+        assert_close_vec(
+            &format!("seed {seed}: Mbar x"),
+            &mbar_x,
+            &expected,
+            1e-10,
+            expected.amax() + 1.0,
         );
 
         // Joint dynamics after eliminating the base: Mbar sddot = Jbar^T f - hbar + tau.

@@ -143,9 +143,9 @@ fn check_schur(
     let nv = cholesky.l().nrows();
     for k in [6, 12] {
         let jacobian = DMatrix::from_fn(k, nv, |_, _| rng.range(-1.0, 1.0));
-        let mut y = DMatrix::zeros(nv, k);
+        let mut y_t = DMatrix::zeros(k, nv);
         let mut schur = DMatrix::zeros(k, k);
-        factor.schur_complement(&jacobian, &mut y, &mut schur);
+        factor.schur_complement(&jacobian, &mut y_t, &mut schur);
         let expected = &jacobian * cholesky.solve(&jacobian.transpose());
         let what = format!("{name}: Schur complement ({k} rows)");
         assert_close_mat(&what, &schur, &expected, 1e-10, expected.amax());
@@ -154,8 +154,22 @@ fn check_schur(
             factor.solve_lt(&mut column);
             let column = DVector::from_vec(column);
             let what = format!("{name}: Y column {r}");
-            assert_close_vec(&what, &y.column(r).into_owned(), &column, 0.0, 1.0);
+            // Same arithmetic up to the order of operations (a multiplication by 1 / L_ii).
+            let scale = column.amax();
+            assert_close_vec(&what, &y_t.row(r).transpose(), &column, 1e-14, scale);
         }
+        // Both multi-right-hand-side solves on a Jacobian with zero columns, as a foot's
+        // (other branches zero), which `solve_lt_multi` skips.
+        let mut sparse = jacobian.clone();
+        for i in (0..nv).step_by(3) {
+            sparse.column_mut(i).fill(0.0);
+        }
+        let mut b_t = sparse.clone();
+        factor.solve_lt_multi(&mut b_t);
+        factor.solve_l_multi(&mut b_t);
+        let expected = cholesky.solve(&sparse.transpose());
+        let what = format!("{name}: (M + D)^-1 J^T by the multi solves ({k} rows)");
+        assert_close_mat(&what, &b_t.transpose(), &expected, 1e-10, expected.amax());
     }
 }
 

@@ -3,7 +3,7 @@
 
 use crate::dynamics::PlantData;
 use crate::plant::Plant;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Vector3, Vector6};
 use sea_dyn::jacobian::{frame_bias_acceleration, frame_jacobian_from_kinematics};
 use sea_dyn::kinematics::frame_placement;
 use sea_dyn::model::FrameId;
@@ -82,7 +82,6 @@ pub fn constraint_acceleration(jdot_nu: f64, j_nu: f64, error: f64, kd: f64, kp:
 /// `-(Jdot nu + K_d J nu + K_p e)` (into `constraint_rhs`), plus the drift.
 pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64]) {
     let model = &plant.model;
-    let nv = model.nv();
     pd.drift_position = 0.0;
     pd.drift_rotation = 0.0;
     for (c, contact) in plant.contacts.iter().enumerate() {
@@ -96,10 +95,13 @@ pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64]) {
         let rotation_err = rotation_error(&pose.rotation, &contact.reference.rotation);
         pd.drift_position = pd.drift_position.max(position_error.norm());
         pd.drift_rotation = pd.drift_rotation.max(rotation_err.norm());
+        // J nu column by column (contiguous 6-vectors of the column-major Jacobian).
+        let mut frame_velocity = Vector6::zeros();
+        for (i, &nu_i) in nu.iter().enumerate() {
+            frame_velocity += pd.data.frame_jacobian.fixed_view::<6, 1>(0, i) * nu_i;
+        }
         for r in 0..6 {
-            let velocity: f64 = (0..nv)
-                .map(|i| pd.data.frame_jacobian[(r, i)] * nu[i])
-                .sum();
+            let velocity = frame_velocity[r];
             let error = if r < 3 {
                 position_error[r]
             } else {
@@ -115,5 +117,5 @@ pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64]) {
         }
     }
     pd.mass_factor
-        .schur_complement(&pd.contact_jacobian, &mut pd.linv_jt, &mut pd.schur);
+        .schur_complement(&pd.contact_jacobian, &mut pd.linv_jt_t, &mut pd.schur);
 }

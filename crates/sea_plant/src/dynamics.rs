@@ -6,7 +6,7 @@ use crate::contact::{contact_terms, sole_margins, WrenchMargins};
 use crate::error::{Error, Result};
 use crate::plant::{MotorInput, Plant};
 use nalgebra::{DMatrix, DVector, Vector3};
-use sea_dyn::crba::crba_from_kinematics;
+use sea_dyn::crba::crba_after_rnea;
 use sea_dyn::data::Data;
 use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place};
 use sea_dyn::kinematics::frame_placement;
@@ -38,19 +38,21 @@ pub struct PlantData {
     pub(crate) diagonal: Vec<f64>,
     /// Stacked contact Jacobian (k x nv).
     pub(crate) contact_jacobian: DMatrix<f64>,
-    /// `Y = L^-T J^T` with `M = L^T L` (nv x k).
-    pub(crate) linv_jt: DMatrix<f64>,
+    /// `Y^T = (L^-T J^T)^T` with `M = L^T L` (k x nv: one contiguous k-column per velocity).
+    pub(crate) linv_jt_t: DMatrix<f64>,
     /// `J M^-1 J^T`, then its factor (k x k).
     pub(crate) schur: DMatrix<f64>,
     /// Constraint acceleration target, then multipliers (k).
     pub(crate) constraint_rhs: DVector<f64>,
     /// Velocity-sized scratch (nv).
     pub(crate) scratch_v: DVector<f64>,
-    /// Implicit step: factor of `M~` (nv x nv), `J` at the step start (k x nv), `L~^-1 J^T`
-    /// (nv x k), Schur factor (k x k), per elastic joint `den`, `a1`, `t1` and flags.
+    /// A second velocity-sized scratch (nv), for the implicit solve's constraint target.
+    pub(crate) scratch_v2: DVector<f64>,
+    /// Implicit step: factor of `M~` (nv x nv), `J` at the step start (k x nv), `(L~^-T J^T)^T`
+    /// (k x nv), Schur factor (k x k), per elastic joint `den`, `a1`, `t1` and flags.
     pub(crate) w_factor: TreeFactor,
     pub(crate) w_jacobian: DMatrix<f64>,
-    pub(crate) w_linv_jt: DMatrix<f64>,
+    pub(crate) w_linv_jt_t: DMatrix<f64>,
     pub(crate) w_schur: DMatrix<f64>,
     pub(crate) w_den: Vec<f64>,
     pub(crate) w_a1: Vec<f64>,
@@ -95,13 +97,14 @@ impl PlantData {
             mass_factor: TreeFactor::new(&plant.model),
             diagonal: vec![0.0; nv],
             contact_jacobian: DMatrix::zeros(k, nv),
-            linv_jt: DMatrix::zeros(nv, k),
+            linv_jt_t: DMatrix::zeros(k, nv),
             schur: DMatrix::zeros(k, k),
             constraint_rhs: DVector::zeros(k),
             scratch_v: DVector::zeros(nv),
+            scratch_v2: DVector::zeros(nv),
             w_factor: TreeFactor::new(&plant.model),
             w_jacobian: DMatrix::zeros(k, nv),
-            w_linv_jt: DMatrix::zeros(nv, k),
+            w_linv_jt_t: DMatrix::zeros(k, nv),
             w_schur: DMatrix::zeros(k, k),
             w_den: vec![1.0; ne],
             w_a1: vec![0.0; ne],
@@ -181,7 +184,7 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
     // h(q, nu) into scratch_v (negated below), then M from the same kinematics.
     bias_forces(model, &mut pd.data, q, nu);
     pd.scratch_v.copy_from(&pd.data.tau);
-    crba_from_kinematics(model, &mut pd.data);
+    crba_after_rnea(model, &mut pd.data);
     joint_diagonal(plant, &mut pd.diagonal);
     pd.mass_factor
         .factor(&pd.data.mass_matrix, &pd.diagonal)
@@ -200,7 +203,7 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
     if !plant.contacts.is_empty() {
         contact_terms(plant, pd, nu);
         pd.constraint_rhs
-            .gemv_tr(-1.0, &pd.linv_jt, &pd.scratch_v, 1.0);
+            .gemv(-1.0, &pd.linv_jt_t, &pd.scratch_v, 1.0);
         cholesky_in_place(&mut pd.schur).map_err(|i| {
             Error::numerical(
                 "solving for the contact wrenches",
@@ -208,7 +211,8 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
             )
         })?;
         cholesky_solve_in_place(&pd.schur, pd.constraint_rhs.as_mut_slice());
-        pd.scratch_v.gemv(1.0, &pd.linv_jt, &pd.constraint_rhs, 1.0);
+        pd.scratch_v
+            .gemv_tr(1.0, &pd.linv_jt_t, &pd.constraint_rhs, 1.0);
         pd.contact_wrench.copy_from(&pd.constraint_rhs);
     }
     pd.mass_factor.solve_l(pd.scratch_v.as_mut_slice());

@@ -15,14 +15,18 @@ use nalgebra::DMatrix;
 /// Body inertias, composite inertias and `F_i = Ic_i S_i` at `O` after forward kinematics.
 pub(crate) fn composite_inertias(model: &Model, data: &mut Data) {
     for i in 0..model.n_bodies() {
-        let inertia = SpatialInertia::from_body(
+        data.body_inertia[i] = SpatialInertia::from_body(
             &model.body_inertias[i],
             &data.world_r_body[i],
             &data.p_body_rel[i],
         );
-        data.body_inertia[i] = inertia;
-        data.composite_inertia[i] = inertia;
     }
+    composite_inertias_from_bodies(model, data);
+}
+
+/// Composite inertias and `F_i = Ic_i S_i` from the body inertias at `O` already in `data`.
+fn composite_inertias_from_bodies(model: &Model, data: &mut Data) {
+    data.composite_inertia.copy_from_slice(&data.body_inertia);
     for i in (1..model.n_bodies()).rev() {
         let composite = data.composite_inertia[i];
         data.composite_inertia[model.parent(i)] += composite;
@@ -39,6 +43,18 @@ pub fn crba<'a>(model: &Model, data: &'a mut Data, q: &[f64]) -> &'a DMatrix<f64
 /// `M(q)` from the placements already in `data` (after any forward kinematics pass).
 pub fn crba_from_kinematics<'a>(model: &Model, data: &'a mut Data) -> &'a DMatrix<f64> {
     composite_inertias(model, data);
+    mass_matrix_from_composites(model, data)
+}
+
+/// `M(q)` right after RNEA (`rnea`, `bias_forces` or `gravity_forces`) at the same `q`: reuses
+/// the body inertias at `O` that RNEA left in `data` instead of transforming them again.
+pub fn crba_after_rnea<'a>(model: &Model, data: &'a mut Data) -> &'a DMatrix<f64> {
+    composite_inertias_from_bodies(model, data);
+    mass_matrix_from_composites(model, data)
+}
+
+/// Fills `data.mass_matrix` from the composite inertias and `F_i`.
+fn mass_matrix_from_composites<'a>(model: &Model, data: &'a mut Data) -> &'a DMatrix<f64> {
     let m = &mut data.mass_matrix;
     m.fixed_view_mut::<6, 6>(0, 0)
         .copy_from(&data.composite_inertia[0].to_matrix());

@@ -77,6 +77,108 @@ pub fn cholesky_solve_in_place(l: &DMatrix<f64>, b: &mut [f64]) {
     backward_substitute(l, b);
 }
 
+/// Solves `X (L L^T) = B` in place for `X` (`b` r x k becomes `X = B (L L^T)^-1`), with `l` (k x
+/// k) from [`cholesky_in_place`]: the right division by a symmetric matrix, column by column,
+/// so every operation is an axpy over a contiguous column of `b` (r entries) instead of r
+/// separate k x k solves with strided rows.
+pub fn cholesky_solve_right_in_place(l: &DMatrix<f64>, b: &mut DMatrix<f64>) {
+    let (r, k) = b.shape();
+    let l = l.as_slice();
+    let x = b.as_mut_slice();
+    // Z L^T = B: Z_j = (B_j - sum_{i<j} L[j, i] Z_i) / L[j, j].
+    for j in 0..k {
+        let (done, rest) = x.split_at_mut(j * r);
+        let target = &mut rest[..r];
+        for i in 0..j {
+            let lji = l[i * k + j];
+            for (t, z) in target.iter_mut().zip(&done[i * r..i * r + r]) {
+                *t -= lji * z;
+            }
+        }
+        let inverse = 1.0 / l[j * k + j];
+        target.iter_mut().for_each(|t| *t *= inverse);
+    }
+    // X L = Z: X_j = (Z_j - sum_{i>j} L[i, j] X_i) / L[j, j], from the last column.
+    for j in (0..k).rev() {
+        let (head, done) = x.split_at_mut((j + 1) * r);
+        let target = &mut head[j * r..];
+        for i in j + 1..k {
+            let lij = l[j * k + i];
+            let source = &done[(i - j - 1) * r..(i - j) * r];
+            for (t, v) in target.iter_mut().zip(source) {
+                *t -= lij * v;
+            }
+        }
+        let inverse = 1.0 / l[j * k + j];
+        target.iter_mut().for_each(|t| *t *= inverse);
+    }
+}
+
+/// `sum_i a_i b_i` with four independent partial sums, so that the compiler can vectorise it
+/// (a single running sum is a dependency chain it must keep in order).
+#[inline]
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    debug_assert_eq!(a.len(), b.len());
+    let mut lanes = [0.0; 4];
+    let (a_chunks, b_chunks) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = a_chunks
+        .remainder()
+        .iter()
+        .zip(b_chunks.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    for (x, y) in a_chunks.zip(b_chunks) {
+        for lane in 0..4 {
+            lanes[lane] += x[lane] * y[lane];
+        }
+    }
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
+}
+
+/// `c <- alpha a^T b + beta c` (`a` m x r, `b` m x k, `c` r x k, all column-major and
+/// contiguous) as dot products of columns with [`dot`]; `symmetric` computes the lower triangle
+/// only and mirrors it (for `a == b`). nalgebra's `gemm_tr` sums each entry in one chain.
+pub fn gemm_tn(
+    c: &mut DMatrix<f64>,
+    alpha: f64,
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    beta: f64,
+    symmetric: bool,
+) {
+    let (m, r) = a.shape();
+    let k = b.ncols();
+    assert!(
+        b.nrows() == m && c.shape() == (r, k) && (!symmetric || r == k),
+        "gemm_tn: shapes {:?}^T x {:?} into {:?}",
+        a.shape(),
+        b.shape(),
+        c.shape()
+    );
+    let (a, b) = (a.as_slice(), b.as_slice());
+    let c = c.as_mut_slice();
+    for j in 0..k {
+        let b_column = &b[j * m..j * m + m];
+        let first = if symmetric { j } else { 0 };
+        for i in first..r {
+            let value = alpha * dot(&a[i * m..i * m + m], b_column);
+            let entry = &mut c[j * r + i];
+            *entry = if beta == 0.0 {
+                value
+            } else {
+                beta * *entry + value
+            };
+        }
+    }
+    if symmetric {
+        for j in 0..k {
+            for i in 0..j {
+                c[j * r + i] = c[i * r + j];
+            }
+        }
+    }
+}
+
 /// `c <- alpha a b + beta c` (`a` r x m, `b` m x k, `c` r x k) without allocation: nalgebra's
 /// `gemm` hands every product whose sizes all exceed 5 to `matrixmultiply`, which allocates
 /// its packing buffers on each call. Column by column with `gemv`; for the controller's sizes
@@ -122,6 +224,32 @@ mod tests {
         for (xi, ti) in x.iter().zip(&x_true) {
             assert!((xi - ti).abs() < 1e-10);
         }
+    }
+
+    #[test]
+    fn right_division_matches_the_transposed_solve() {
+        let (k, r) = (6, 9);
+        let a = spd(k);
+        let b = DMatrix::from_fn(r, k, |i, j| ((i * 5 + j * 11) % 7) as f64 - 3.0);
+        let mut l = a.clone();
+        cholesky_in_place(&mut l).unwrap();
+        let mut x = b.clone();
+        cholesky_solve_right_in_place(&l, &mut x);
+        let residual = &x * &a - &b;
+        assert!(residual.amax() < 1e-10, "X A - B = {residual}");
+    }
+
+    #[test]
+    fn gemm_tn_matches_the_product() {
+        let a = DMatrix::from_fn(9, 4, |i, j| ((i * 3 + j * 7) % 11) as f64 - 5.0);
+        let b = DMatrix::from_fn(9, 3, |i, j| ((i * 5 + j) % 7) as f64 - 3.0);
+        let mut c = DMatrix::from_element(4, 3, 1.0);
+        gemm_tn(&mut c, 2.0, &a, &b, 0.5, false);
+        let expected = a.transpose() * &b * 2.0 + DMatrix::from_element(4, 3, 0.5);
+        assert!((&c - &expected).amax() < 1e-12, "{c} vs {expected}");
+        let mut gram = DMatrix::zeros(4, 4);
+        gemm_tn(&mut gram, 1.0, &a, &a, 0.0, true);
+        assert!((&gram - a.transpose() * &a).amax() < 1e-12);
     }
 
     #[test]

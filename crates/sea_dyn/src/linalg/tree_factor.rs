@@ -147,21 +147,103 @@ impl TreeFactor {
         self.solve_l(b);
     }
 
-    /// `y = L^-T J^T` (nv x k) and `schur = J (L^T L)^-1 J^T = y^T y` (k x k) for `J` (k x nv).
+    /// `B <- L^-T B` for `k` right-hand sides at once, given transposed: `b_t = B^T` (k x nv), so
+    /// the k entries of one velocity index are a contiguous column and every entry of the factor
+    /// is used once, in an axpy over all right-hand sides (instead of k passes over the factor).
+    /// A velocity index whose k entries are all zero is skipped: `L^-T` only moves entries to
+    /// ancestors, so a foot Jacobian's rows cost its leg and the base, not the whole tree.
+    pub fn solve_lt_multi(&self, b_t: &mut DMatrix<f64>) {
+        let k = b_t.nrows();
+        let b = b_t.as_mut_slice();
+        for i in (0..self.velocity_index.len()).rev() {
+            let (start, end) = (self.row_start[i], self.row_start[i + 1]);
+            let vi = self.velocity_index[i];
+            let yi = &mut b[vi * k..vi * k + k];
+            if yi.iter().all(|&v| v == 0.0) {
+                continue;
+            }
+            let inverse = 1.0 / self.values[start];
+            yi.iter_mut().for_each(|v| *v *= inverse);
+            for (&value, &column) in self.values[start + 1..end]
+                .iter()
+                .zip(&self.column_velocity[start + 1..end])
+            {
+                let (source, target) = column_pair(b, k, vi, column);
+                for (t, s) in target.iter_mut().zip(source) {
+                    *t -= value * s;
+                }
+            }
+        }
+    }
+
+    /// `B <- L^-1 B` for `k` right-hand sides given transposed, `b_t = B^T` (k x nv), as in
+    /// [`Self::solve_lt_multi`] (from the root: each velocity index gathers its ancestors).
+    pub fn solve_l_multi(&self, b_t: &mut DMatrix<f64>) {
+        let k = b_t.nrows();
+        let b = b_t.as_mut_slice();
+        for i in 0..self.velocity_index.len() {
+            let (start, end) = (self.row_start[i], self.row_start[i + 1]);
+            let vi = self.velocity_index[i];
+            for (&value, &column) in self.values[start + 1..end]
+                .iter()
+                .zip(&self.column_velocity[start + 1..end])
+            {
+                let (source, target) = column_pair(b, k, column, vi);
+                for (t, s) in target.iter_mut().zip(source) {
+                    *t -= value * s;
+                }
+            }
+            let inverse = 1.0 / self.values[start];
+            b[vi * k..vi * k + k].iter_mut().for_each(|v| *v *= inverse);
+        }
+    }
+
+    /// `y_t = (L^-T J^T)^T` (k x nv) and `schur = J (L^T L)^-1 J^T = y_t y_t^T` (k x k) for `J`
+    /// (k x nv). The Schur complement is summed velocity index by velocity index as outer
+    /// products of `y_t`'s columns, each restricted to its non-zero rows (a leg's index only
+    /// carries its own foot's rows), so branches without contacts cost nothing.
     pub fn schur_complement(
         &self,
         jacobian: &DMatrix<f64>,
-        y: &mut DMatrix<f64>,
+        y_t: &mut DMatrix<f64>,
         schur: &mut DMatrix<f64>,
     ) {
-        let (k, nv) = jacobian.shape();
-        for r in 0..k {
-            let mut column = y.column_mut(r);
-            for i in 0..nv {
-                column[i] = jacobian[(r, i)];
+        let k = jacobian.nrows();
+        y_t.copy_from(jacobian);
+        self.solve_lt_multi(y_t);
+        schur.fill(0.0);
+        let s = schur.as_mut_slice();
+        for column in y_t.as_slice().chunks_exact(k) {
+            let Some(first) = column.iter().position(|&v| v != 0.0) else {
+                continue;
+            };
+            let last = column.iter().rposition(|&v| v != 0.0).unwrap_or(first);
+            // Lower triangle of column c: rows c..=last.
+            for c in first..=last {
+                let yc = column[c];
+                let target = &mut s[c * k + c..c * k + last + 1];
+                for (t, y) in target.iter_mut().zip(&column[c..=last]) {
+                    *t += y * yc;
+                }
             }
-            self.solve_lt(column.as_mut_slice());
         }
-        schur.gemm_tr(1.0, y, y, 0.0);
+        for c in 0..k {
+            for r in c + 1..k {
+                s[r * k + c] = s[c * k + r];
+            }
+        }
+    }
+}
+
+/// The k-entry columns `source` and `target` (distinct) of a k x nv column-major slice.
+#[inline]
+fn column_pair(b: &mut [f64], k: usize, source: usize, target: usize) -> (&[f64], &mut [f64]) {
+    debug_assert_ne!(source, target);
+    if source < target {
+        let (head, tail) = b.split_at_mut(target * k);
+        (&head[source * k..source * k + k], &mut tail[..k])
+    } else {
+        let (head, tail) = b.split_at_mut(source * k);
+        (&tail[..k], &mut head[target * k..target * k + k])
     }
 }

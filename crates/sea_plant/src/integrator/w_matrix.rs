@@ -44,7 +44,7 @@ pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Res
     }
     pd.w_jacobian.copy_from(&pd.contact_jacobian);
     pd.w_factor
-        .schur_complement(&pd.w_jacobian, &mut pd.w_linv_jt, &mut pd.w_schur);
+        .schur_complement(&pd.w_jacobian, &mut pd.w_linv_jt_t, &mut pd.w_schur);
     cholesky_in_place(&mut pd.w_schur).map_err(|i| {
         Error::numerical(
             "implicit step",
@@ -95,18 +95,18 @@ pub(crate) fn solve_implicit(
         let kp = plant.baumgarte_kp;
         let kd = plant.baumgarte_kd;
         let scale = 1.0 / (1.0 + g * kd + g * g * kp);
-        let rhs = &mut pd.constraint_rhs;
-        for row in 0..pd.w_jacobian.nrows() {
-            let mut target = 0.0;
-            for i in 0..nv {
-                let r_nu = r[o_nu + i];
-                target += pd.w_jacobian[(row, i)] * (kd * r_nu + kp * (r[i] + g * r_nu));
-            }
-            rhs[row] = -target * scale;
+        // c = -J (K_d r_nu + K_p (r_q + g r_nu)) / (1 + g K_d + g^2 K_p), the velocity
+        // combination formed first so that J is applied once (gemv over its columns).
+        let combination = &mut pd.scratch_v2;
+        for i in 0..nv {
+            let r_nu = r[o_nu + i];
+            combination[i] = kd * r_nu + kp * (r[i] + g * r_nu);
         }
-        rhs.gemv_tr(-1.0, &pd.w_linv_jt, z, 1.0);
+        let rhs = &mut pd.constraint_rhs;
+        rhs.gemv(-scale, &pd.w_jacobian, combination, 0.0);
+        rhs.gemv(-1.0, &pd.w_linv_jt_t, z, 1.0);
         cholesky_solve_in_place(&pd.w_schur, rhs.as_mut_slice());
-        z.gemv(1.0, &pd.w_linv_jt, rhs, 1.0);
+        z.gemv_tr(1.0, &pd.w_linv_jt_t, rhs, 1.0);
     }
     pd.w_factor.solve_l(z.as_mut_slice());
     for i in 0..nv {
