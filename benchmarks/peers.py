@@ -11,6 +11,7 @@ Ratios printed (below 1: ours is faster):
 - one implicit SEA step (ROS2, 25 motor states, two rigid feet) / ``mj_step``;
 - controller tick (two feet; model terms, QP, SEA map) / ``mj_step``;
 - the same tick with Clarabel on every tick / ``mj_step``;
+- the same tick with the active-set QP solver on every tick / ``mj_step``;
 - one simulated second of the closed loop at 1 kHz / 1000 ``mj_step``;
 - the continuous-time closed loop (controller at every integrator stage) / the 1 kHz one.
 
@@ -129,6 +130,7 @@ RATIOS = [
     ("one implicit SEA step (ROS2, 1 ms) / mj_step", "sim_step_us", 1.0, 1),
     ("controller tick, two feet / mj_step", "controller_tick_us", 1.0, 1),
     ("tick with Clarabel every tick / mj_step", "controller_tick_clarabel_us", 1.0, 1),
+    ("tick with the active set every tick / mj_step", "controller_tick_active_set_us", 1.0, 1),
     ("closed loop, 1 simulated s at 1 kHz / 1000 mj_step", "closed_loop_second_ms", 1e3, 1000),
 ]
 

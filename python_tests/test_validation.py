@@ -41,6 +41,7 @@ REFUSED = [
     ("controller.pinv_damping", -1e-3, "controller.pinv_damping"),
     ("controller.momentum_proportional", [1.0, 1.0, -1.0, 1.0, 1.0, 1.0], "controller.momentum_proportional"),
     ("controller.qp_regularization", NAN, "controller.qp_regularization"),
+    ("controller.qp_solver", "quadprog", "controller.qp_solver"),
     ("simulation.divergence_com_error_m", NAN, "simulation.divergence_com_error_m"),
     ("simulation.divergence_joint_error_rad", 0.0, "simulation.divergence_joint_error_rad"),
     ("simulation.divergence_joint_error_rad", NAN, "simulation.divergence_joint_error_rad"),

@@ -120,9 +120,12 @@ class RunSummary(_ItemAccess):
     """Largest ``|thetadot|`` [rad/s]."""
     qp_failures: int
     """Control ticks whose QP failed (the controller fell back)."""
+    qp_active_set_solves: int
+    """Control ticks whose QP the active-set solver solved."""
     qp_clarabel_solves: int
-    """Control ticks that needed Clarabel (the others: the minimiser without the inequalities
-    was feasible, hence optimal)."""
+    """Control ticks whose QP Clarabel solved (``controller.qp_solver = "clarabel"``, or the
+    active set's fallback; the ticks solved by neither: the minimiser without the
+    inequalities was feasible, hence optimal)."""
     wall_time_s: float
     """Wall-clock time of the run [s]."""
     realtime_factor: float

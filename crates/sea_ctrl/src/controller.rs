@@ -26,8 +26,8 @@ use crate::momentum::{
     momentum_map_identity_blocks, momentum_rate_star, set_momentum_map_contact, MomentumJacobian,
 };
 use crate::qp::{
-    momentum_tracking_objective, torque_norm_objective, ContactConstraints, Minimizer, QpStatus,
-    WrenchQp,
+    momentum_tracking_objective, torque_norm_objective, ContactConstraints, Minimizer, QpAgreement,
+    QpSolveCounts, QpSolver, QpStatus, WrenchQp,
 };
 use crate::references::ComSample;
 use crate::sea::{
@@ -77,8 +77,10 @@ pub struct ControllerSettings {
     /// Added to the joint diagonal of the controller's `M` [kg m^2].
     pub joint_inertia_regularization: f64,
     /// Try the QP's minimiser without inequalities first: when it satisfies them all it is the
-    /// QP's optimum (the KKT conditions hold with zero multipliers) and Clarabel is not called.
+    /// QP's optimum (the KKT conditions hold with zero multipliers) and no QP solver is called.
     pub qp_unconstrained_first: bool,
+    /// The QP solver ([`QpSolver::default`]: the active set, Clarabel as fallback).
+    pub qp_solver: QpSolver,
 }
 
 /// One tick's outputs; [`MomentumController::new_output`] sizes one for a controller.
@@ -280,6 +282,7 @@ impl MomentumController {
         inertia_diagonal(&settings, actuation, &mut torque_map.diagonal);
         let mut qp = WrenchQp::new(n_contacts, equalities, &settings.constraints);
         qp.unconstrained_first = settings.qp_unconstrained_first;
+        qp.solver = settings.qp_solver;
         Ok(Self {
             model: model.clone(),
             data,
@@ -311,10 +314,27 @@ impl MomentumController {
         self.qp.failures
     }
 
-    /// QP solves so far: `(by Clarabel, skipped because the minimiser without inequalities
-    /// was feasible)`.
-    pub fn qp_solves(&self) -> (usize, usize) {
-        (self.qp.clarabel_solves, self.qp.unconstrained_solves)
+    /// QP solves so far by path: the minimiser without inequalities (feasible, hence
+    /// optimal), the active set, Clarabel.
+    pub fn qp_solves(&self) -> QpSolveCounts {
+        self.qp.solve_counts()
+    }
+
+    /// Turns the QP cross-check on or off: every tick the active set solves is also solved by
+    /// Clarabel, the agreement kept in [`Self::qp_agreement`] (for tests; costs a Clarabel
+    /// solve per tick).
+    pub fn set_qp_cross_check(&mut self, on: bool) {
+        self.qp.cross_check = on;
+    }
+
+    /// Active-set solves that failed (and went to Clarabel) so far, and why the last one did.
+    pub fn qp_active_set_failures(&self) -> (usize, Option<crate::active_set::ActiveSetError>) {
+        (self.qp.active_set_failures, self.qp.last_active_set_failure)
+    }
+
+    /// The QP cross-check's figures so far (see [`Self::set_qp_cross_check`]).
+    pub fn qp_agreement(&self) -> &QpAgreement {
+        &self.qp.agreement
     }
 
     /// Settings.

@@ -7,13 +7,16 @@
 //! - [`torque_map`]: joint torques affine in the contact wrenches (eq:torques, posturalNew);
 //! - [`sea`]: the SEA terms (p, hjBar, inputDesMotVel) and the rigid motor torque (remark1);
 //! - [`qp`]: the contact-wrench QP (inputTorquesSOT, inputTorquesSOTu, frictionCones), solved
-//!   with Clarabel;
+//!   by the dense active-set method of [`active_set`] (Goldfarb-Idnani) with Clarabel as the
+//!   reference and fallback;
+//! - [`active_set`]: a dense, allocation-free Goldfarb-Idnani QP solver for small QPs;
 //! - [`references`]: the CoM trajectory and the postural reference.
 //!
 //! docs/architecture.md maps every paper equation to its function.
 
 #![forbid(unsafe_code)]
 
+pub mod active_set;
 pub mod controller;
 pub mod error;
 pub mod momentum;

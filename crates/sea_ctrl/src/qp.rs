@@ -23,14 +23,25 @@
 //! [`WrenchQp::new`]. A solve that does not end `Solved`/`AlmostSolved` is reported and
 //! replaced by the unconstrained solution the caller gives.
 //!
-//! Before Clarabel (when [`WrenchQp::unconstrained_first`] is set) the caller's minimiser
-//! without the inequalities ([`Minimizer`]) is checked against them: if it satisfies every
-//! one, it is the QP's optimum (a convex problem whose KKT conditions hold with zero inequality
-//! multipliers), so the interior-point solve is skipped. While balancing, the contacts are
-//! mostly far from their friction, CoP and normal-force limits, and this check costs a few
-//! hundred flops against Clarabel's tens of microseconds; when a constraint binds, Clarabel
-//! solves.
+//! Order of a solve ([`WrenchQp::solve`]):
+//!
+//! 1. (when [`WrenchQp::unconstrained_first`] is set) the caller's minimiser without the
+//!    inequalities ([`Minimizer`]) is checked against them: if it satisfies every one, it is
+//!    the QP's optimum (a convex problem whose KKT conditions hold with zero inequality
+//!    multipliers). While balancing, the contacts are mostly far from their friction, CoP and
+//!    normal-force limits, and this check costs a few hundred flops;
+//! 2. (when [`WrenchQp::solver`] is [`QpSolver::ActiveSet`], the default) the dense
+//!    Goldfarb-Idnani dual active-set method of [`crate::active_set`] on the sole-frame
+//!    problem: exact up to rounding, allocation-free, a few microseconds for 12 variables;
+//! 3. Clarabel (interior point), the reference: when selected, or when the active set fails
+//!    (iteration limit, infeasible, numerically singular);
+//! 4. the unconstrained solution with a `Fallback` status when Clarabel fails too.
+//!
+//! With [`WrenchQp::cross_check`] on, every tick the active set solves is also solved by
+//! Clarabel and the differences and constraint violations are kept in [`WrenchQp::agreement`]
+//! (for tests; off by default and then not on the per-tick path).
 
+use crate::active_set::{ActiveSetError, ActiveSetQp};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
@@ -39,6 +50,86 @@ use nalgebra::linalg::{gauss_step, gauss_step_swap, Cholesky};
 use nalgebra::{DMatrix, DVector, Matrix3};
 use sea_dyn::dense::gemm_small;
 use sea_dyn::ContactSurface;
+
+/// Which solver solves the wrench QP when the minimiser without inequalities is not taken.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum QpSolver {
+    /// The dense Goldfarb-Idnani active-set method ([`crate::active_set`]), Clarabel as
+    /// fallback.
+    #[default]
+    ActiveSet,
+    /// Clarabel (interior point) on every solve.
+    Clarabel,
+}
+
+impl QpSolver {
+    /// Every solver, in the order of [`Self::name`]'s documentation.
+    pub const ALL: [QpSolver; 2] = [QpSolver::ActiveSet, QpSolver::Clarabel];
+
+    /// The setting's name: "active_set" or "clarabel".
+    pub fn name(self) -> &'static str {
+        match self {
+            QpSolver::ActiveSet => "active_set",
+            QpSolver::Clarabel => "clarabel",
+        }
+    }
+
+    /// The solver called `name` (see [`Self::name`]), `None` if there is none.
+    pub fn parse(name: &str) -> Option<QpSolver> {
+        Self::ALL.into_iter().find(|solver| solver.name() == name)
+    }
+}
+
+/// How many solves took each path of [`WrenchQp::solve`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct QpSolveCounts {
+    /// The minimiser without inequalities was feasible, hence optimal.
+    pub unconstrained: usize,
+    /// Solved by the active-set method.
+    pub active_set: usize,
+    /// Solved (or attempted) by Clarabel, including the active set's fallbacks.
+    pub clarabel: usize,
+}
+
+/// The agreement of the active set with Clarabel over the ticks of a cross-check
+/// ([`WrenchQp::cross_check`]). Differences are Euclidean norms of force or moment 3-vectors
+/// (frame independent); violations are in the constraint rows' units (N for the rows of
+/// [`ContactConstraints::sole_rows`], whose normal-force coefficient is 1 or a length).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct QpAgreement {
+    /// Ticks compared.
+    pub ticks: usize,
+    /// Ticks where Clarabel failed (not compared).
+    pub reference_failures: usize,
+    /// Largest difference between the active set's and Clarabel's force or moment [N, Nm].
+    pub max_wrench_difference: f64,
+    /// Largest force or moment norm of Clarabel's solutions (the scale of the differences).
+    pub max_wrench: f64,
+    /// Largest `|f_active - f_clarabel|_2 / sqrt(1 + |J_clarabel|)` (whole vectors, `J` the
+    /// objective `0.5 f^T P f + c^T f`): Clarabel stops at a duality gap of about
+    /// `eps (1 + |J|)`, and in a QP whose Hessian is at least `lambda_min I` a feasible point
+    /// that much above the optimum is within `sqrt(2 eps (1 + |J|) / lambda_min)` of it, so
+    /// this ratio is bounded by `sqrt(2 eps / lambda_min)`.
+    pub max_scaled_difference: f64,
+    /// Largest `(J_active - J_clarabel) / (1 + |J_clarabel|)`: about rounding when both are
+    /// optimal; Clarabel's point, feasible only to its tolerance, may lie below.
+    pub max_objective_excess: f64,
+    /// Largest KKT stationarity residual of the active set's solution with its multipliers
+    /// ([`ActiveSetQp::stationarity_residual`], relative): its own optimality certificate.
+    pub max_stationarity_residual: f64,
+    /// Largest violation `max(C w - b, 0)` of the active set's wrenches.
+    pub max_inequality_violation: f64,
+    /// The same for Clarabel's wrenches (its feasibility tolerance at work).
+    pub reference_max_inequality_violation: f64,
+    /// Largest `|A f - b|_inf` of the active set's wrenches.
+    pub max_equality_residual: f64,
+    /// Largest `|b|_inf` (the scale of the residuals).
+    pub max_equality_target: f64,
+    /// Ticks whose active-set optimum has at least one active inequality.
+    pub ticks_with_active_inequalities: usize,
+    /// Most inequalities active at one optimum.
+    pub max_active_inequalities: usize,
+}
 
 /// Contact constraint parameters: the contact surface (friction, torsional friction, foot
 /// rectangle; shared with the plant's wrench margins) and the QP's own choices.
@@ -285,7 +376,8 @@ pub struct WrenchQp {
     hessian_values: Vec<f64>,
     gradient_values: Vec<f64>,
     rhs_values: Vec<f64>,
-    solver: Option<DefaultSolver<f64>>,
+    /// Clarabel, built on the first solve.
+    clarabel: Option<DefaultSolver<f64>>,
     settings: DefaultSettings<f64>,
     /// Solves that fell back to the unconstrained solution.
     pub failures: usize,
@@ -295,6 +387,23 @@ pub struct WrenchQp {
     pub clarabel_solves: usize,
     /// Solves where the minimiser without inequalities was feasible, hence optimal.
     pub unconstrained_solves: usize,
+    /// Which solver solves when the minimiser without inequalities is not taken.
+    pub solver: QpSolver,
+    /// The active-set solver, its inequalities the sole rows of every contact.
+    active_set: ActiveSetQp,
+    /// Solves done by the active set.
+    pub active_set_solves: usize,
+    /// Active-set solves that failed and went to Clarabel.
+    pub active_set_failures: usize,
+    /// Why the last failed active-set solve failed.
+    pub last_active_set_failure: Option<ActiveSetError>,
+    /// Also solve every active-set tick with Clarabel and record the agreement (for tests).
+    pub cross_check: bool,
+    /// The cross-check's figures so far.
+    pub agreement: QpAgreement,
+    /// The active set's sole-frame solution during a cross-check (k), and scratch (k).
+    checked_sole: DVector<f64>,
+    scratch: DVector<f64>,
 }
 
 /// Column-major dense CSC matrix (all entries structural); `upper` keeps only `i <= j`.
@@ -322,17 +431,21 @@ fn upper_values(m: &DMatrix<f64>, out: &mut Vec<f64>) {
     }
 }
 
+/// Clarabel's stopping tolerance (absolute and relative duality gap, feasibility): wrenches to
+/// about 1e-7 relative are far below the model's accuracy; looser than Clarabel's defaults
+/// (1e-8), which saves iterations on every tick. The bound of the cross-check's agreement
+/// ([`QpAgreement::max_scaled_difference`]) follows from it.
+pub const CLARABEL_TOLERANCE: f64 = 1e-7;
+
 /// Clarabel's settings for the wrench QP.
 fn clarabel_settings() -> DefaultSettings<f64> {
     DefaultSettingsBuilder::default()
         .verbose(false)
         .presolve_enable(false)
         .max_iter(100)
-        // Wrenches to 1e-7 relative are far below the model's accuracy; the looser gap and
-        // feasibility tolerances save iterations on every tick.
-        .tol_gap_abs(1e-7)
-        .tol_gap_rel(1e-7)
-        .tol_feas(1e-7)
+        .tol_gap_abs(CLARABEL_TOLERANCE)
+        .tol_gap_rel(CLARABEL_TOLERANCE)
+        .tol_feas(CLARABEL_TOLERANCE)
         // Measured on the two-feet iCub QP (`controller_tick_clarabel_us`): iterative
         // refinement and equilibration cost about 35 us a solve and save no iterations
         // (5 to 7 either way); termination still checks the unscaled residuals.
@@ -372,6 +485,84 @@ fn constraint_pattern(
     CscMatrix::new(rows, n, colptr, rowval, nzval)
 }
 
+/// One tick's figures of the cross-check (see [`QpAgreement`]).
+struct TickComparison {
+    difference: f64,
+    scale: f64,
+    scaled_difference: f64,
+    objective_excess: f64,
+    stationarity: f64,
+    violation: f64,
+    reference_violation: f64,
+    residual: f64,
+    target: f64,
+    active: usize,
+}
+
+impl QpAgreement {
+    /// Adds one compared tick.
+    fn add(&mut self, tick: &TickComparison) {
+        self.ticks += 1;
+        self.max_wrench_difference = self.max_wrench_difference.max(tick.difference);
+        self.max_wrench = self.max_wrench.max(tick.scale);
+        self.max_scaled_difference = self.max_scaled_difference.max(tick.scaled_difference);
+        self.max_objective_excess = if self.ticks == 1 {
+            tick.objective_excess
+        } else {
+            self.max_objective_excess.max(tick.objective_excess)
+        };
+        self.max_stationarity_residual = self.max_stationarity_residual.max(tick.stationarity);
+        self.max_inequality_violation = self.max_inequality_violation.max(tick.violation);
+        self.reference_max_inequality_violation = self
+            .reference_max_inequality_violation
+            .max(tick.reference_violation);
+        self.max_equality_residual = self.max_equality_residual.max(tick.residual);
+        self.max_equality_target = self.max_equality_target.max(tick.target);
+        self.ticks_with_active_inequalities += usize::from(tick.active > 0);
+        self.max_active_inequalities = self.max_active_inequalities.max(tick.active);
+    }
+}
+
+/// The inequality rows of `n_contacts` contacts in their sole frames: `sole_c` (rows x 6) on
+/// each contact's six variables (block diagonal, rows n_contacts x 6 n_contacts) and
+/// `sole_b` repeated.
+fn block_diagonal_rows(
+    sole_c: &DMatrix<f64>,
+    sole_b: &DVector<f64>,
+    n_contacts: usize,
+) -> (DMatrix<f64>, DVector<f64>) {
+    let rows = sole_c.nrows();
+    let mut c = DMatrix::zeros(rows * n_contacts, 6 * n_contacts);
+    let mut b = DVector::zeros(rows * n_contacts);
+    for k in 0..n_contacts {
+        c.view_mut((k * rows, 6 * k), (rows, 6)).copy_from(sole_c);
+        b.rows_mut(k * rows, rows).copy_from(sole_b);
+    }
+    (c, b)
+}
+
+/// `|a - b|_2`.
+fn distance(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
+    a.iter()
+        .zip(b.iter())
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// The largest Euclidean norm of the difference of two stacked wrenches' force or moment
+/// 3-vectors, and the largest such norm of `reference`.
+fn wrench_difference(solution: &DVector<f64>, reference: &DVector<f64>) -> (f64, f64) {
+    let (mut difference, mut scale): (f64, f64) = (0.0, 0.0);
+    for start in (0..solution.len()).step_by(3) {
+        let a = solution.fixed_rows::<3>(start);
+        let b = reference.fixed_rows::<3>(start);
+        difference = difference.max((a - b).norm());
+        scale = scale.max(b.norm());
+    }
+    (difference, scale)
+}
+
 impl WrenchQp {
     /// A QP for `n_contacts` wrenches and `n_equalities` equality rows (0 or 6).
     pub fn new(n_contacts: usize, n_equalities: usize, constraints: &ContactConstraints) -> Self {
@@ -385,6 +576,9 @@ impl WrenchQp {
                 .copy_from(&sole_b);
         }
         let constraint_pattern = constraint_pattern(&sole_c, n_contacts, n_equalities);
+        let mut active_set = ActiveSetQp::new(n, n_equalities, n_contacts * per_contact);
+        let (block_c, block_b) = block_diagonal_rows(&sole_c, &sole_b, n_contacts);
+        active_set.set_inequalities(&block_c, &block_b);
         Self {
             n_contacts,
             n_equalities,
@@ -402,12 +596,30 @@ impl WrenchQp {
             hessian_values: Vec::with_capacity(n * (n + 1) / 2),
             gradient_values: vec![0.0; n],
             rhs_values: vec![0.0; rows],
-            solver: None,
+            clarabel: None,
             settings: clarabel_settings(),
             failures: 0,
             unconstrained_first: true,
             clarabel_solves: 0,
             unconstrained_solves: 0,
+            solver: QpSolver::default(),
+            active_set,
+            active_set_solves: 0,
+            active_set_failures: 0,
+            last_active_set_failure: None,
+            cross_check: false,
+            agreement: QpAgreement::default(),
+            checked_sole: DVector::zeros(n),
+            scratch: DVector::zeros(n),
+        }
+    }
+
+    /// How many solves took each path.
+    pub fn solve_counts(&self) -> QpSolveCounts {
+        QpSolveCounts {
+            unconstrained: self.unconstrained_solves,
+            active_set: self.active_set_solves,
+            clarabel: self.clarabel_solves,
         }
     }
 
@@ -452,9 +664,10 @@ impl WrenchQp {
     /// Solves `min 0.5 f^T P f + c^T f` s.t. `A_eq f = b_eq`, `C f <= b` (world wrenches) into
     /// `wrenches` (k). `unconstrained` is the minimiser without `C f <= b` (None if it could
     /// not be computed): returned directly when feasible (see the module doc), and on
-    /// Clarabel's failure returned with a `Fallback` status (zeros if None). `P` must be
-    /// symmetric positive definite (k x k). Allocates nothing after the first Clarabel solve
-    /// (which builds the solver), except Clarabel's own work and a failure's message.
+    /// Clarabel's failure returned with a `Fallback` status (zeros if None); otherwise the
+    /// active set or Clarabel solves (the order of the module doc). `P` must be symmetric
+    /// positive definite (k x k). The active-set path allocates nothing; Clarabel allocates
+    /// when it builds its solver (first solve), its own work, and a failure's message.
     pub fn solve(
         &mut self,
         hessian: &DMatrix<f64>,
@@ -471,8 +684,18 @@ impl WrenchQp {
                 return QpStatus::Solved;
             }
         }
-        self.clarabel_solves += 1;
         self.rotate_into_sole_frames(hessian, gradient, equality, rotations);
+        if self.solver == QpSolver::ActiveSet {
+            let b_eq = equality.map(|(_, b)| b);
+            if let Some(active) = self.solve_active_set(b_eq) {
+                if self.cross_check {
+                    self.compare_with_clarabel(b_eq, active);
+                }
+                wrenches.gemv(1.0, &self.rotation, &self.solution_sole, 0.0);
+                return QpStatus::Solved;
+            }
+        }
+        self.clarabel_solves += 1;
         match self.solve_clarabel() {
             Ok(()) => {
                 wrenches.gemv(1.0, &self.rotation, &self.solution_sole, 0.0);
@@ -487,6 +710,102 @@ impl WrenchQp {
                 QpStatus::Fallback(reason)
             }
         }
+    }
+
+    /// The active set on the sole-frame problem of [`Self::rotate_into_sole_frames`] (`b_eq`
+    /// the equality targets), the solution into `solution_sole`; the number of active
+    /// inequalities, or `None` (counted) when it fails.
+    fn solve_active_set(&mut self, b_eq: Option<&DVector<f64>>) -> Option<usize> {
+        let equality = b_eq.map(|b| (&self.equality_sole, b));
+        let result = self.active_set.solve(
+            &self.hessian_sole,
+            &self.gradient_sole,
+            equality,
+            &mut self.solution_sole,
+        );
+        match result {
+            Ok(report) => {
+                self.active_set_solves += 1;
+                Some(report.active_inequalities)
+            }
+            Err(error) => {
+                self.active_set_failures += 1;
+                self.last_active_set_failure = Some(error);
+                None
+            }
+        }
+    }
+
+    /// The cross-check: Clarabel on the same sole-frame problem, its differences from the
+    /// active set's solution (in `solution_sole`, restored afterwards) and both solutions'
+    /// constraint violations into [`Self::agreement`]; `active` inequalities were active.
+    fn compare_with_clarabel(&mut self, b_eq: Option<&DVector<f64>>, active: usize) {
+        self.checked_sole.copy_from(&self.solution_sole);
+        if self.solve_clarabel().is_err() {
+            self.agreement.reference_failures += 1;
+            self.solution_sole.copy_from(&self.checked_sole);
+            return;
+        }
+        let (reference, checked) = (&self.solution_sole, &self.checked_sole);
+        let (difference, scale) = wrench_difference(checked, reference);
+        let objective_reference = self.sole_objective(reference);
+        let objective = self.sole_objective(checked);
+        let (residual, target) = match b_eq {
+            Some(b) => {
+                self.scratch.rows_mut(0, b.len()).copy_from(b);
+                let mut residual = self.scratch.rows_mut(0, b.len());
+                residual.gemv(1.0, &self.equality_sole, checked, -1.0);
+                (residual.amax(), b.amax())
+            }
+            None => (0.0, 0.0),
+        };
+        let equality = b_eq.map(|_| &self.equality_sole);
+        let stationarity = self.active_set.stationarity_residual(
+            &self.hessian_sole,
+            &self.gradient_sole,
+            equality,
+            checked,
+            &mut self.scratch,
+        );
+        let root = (1.0 + objective_reference.abs()).sqrt();
+        let tick = TickComparison {
+            difference,
+            scale,
+            scaled_difference: distance(checked, reference) / root,
+            objective_excess: (objective - objective_reference) / (root * root),
+            stationarity,
+            violation: self.inequality_violation(checked),
+            reference_violation: self.inequality_violation(reference),
+            residual,
+            target,
+            active,
+        };
+        self.agreement.add(&tick);
+        self.solution_sole.copy_from(&self.checked_sole);
+    }
+
+    /// `0.5 w^T P' w + c'^T w` of the sole-frame problem.
+    fn sole_objective(&self, w: &DVector<f64>) -> f64 {
+        let quadratic: f64 = self
+            .hessian_sole
+            .column_iter()
+            .zip(w.iter())
+            .map(|(column, w_j)| column.dot(w) * w_j)
+            .sum();
+        0.5 * quadratic + self.gradient_sole.dot(w)
+    }
+
+    /// `max(C_s w_s - b_s, 0)` over every contact's sole rows for sole-frame wrenches `w`.
+    fn inequality_violation(&self, w: &DVector<f64>) -> f64 {
+        let mut worst: f64 = 0.0;
+        for k in 0..self.n_contacts {
+            let w_k = w.fixed_rows::<6>(6 * k);
+            for (row, &bound) in self.sole_c.row_iter().zip(self.sole_b.iter()) {
+                let value: f64 = row.iter().zip(w_k.iter()).map(|(c, w)| c * w).sum();
+                worst = worst.max(value - bound);
+            }
+        }
+        worst
     }
 
     /// The problem in the sole-frame variables `w = T^T f`: `T`, `P' = T^T P T`, `c' = T^T c`,
@@ -539,7 +858,7 @@ impl WrenchQp {
             .copy_from_slice(self.gradient_sole.as_slice());
         self.rhs_values.copy_from_slice(self.rhs.as_slice());
         upper_values(&self.hessian_sole, &mut self.hessian_values);
-        let updated = match self.solver.as_mut() {
+        let updated = match self.clarabel.as_mut() {
             Some(solver) => {
                 solver.update_P(&self.hessian_values).is_ok()
                     && solver.update_A(&self.constraint_values).is_ok()
@@ -551,7 +870,7 @@ impl WrenchQp {
         if !updated {
             self.build_solver()?;
         }
-        let solver = self.solver.as_mut().expect("solver was just built");
+        let solver = self.clarabel.as_mut().expect("solver was just built");
         solver.solve();
         match solver.solution.status {
             SolverStatus::Solved | SolverStatus::AlmostSolved => {
@@ -589,7 +908,7 @@ impl WrenchQp {
             self.settings.clone(),
         )
         .map_err(|e| format!("setup failed: {e}"))?;
-        self.solver = Some(solver);
+        self.clarabel = Some(solver);
         Ok(())
     }
 }

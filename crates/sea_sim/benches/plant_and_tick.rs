@@ -1,7 +1,7 @@
 //! Criterion benches of the SEA plant and the controller on the iCub standing on two feet
 //! (`urdf/icub25.urdf`): one evaluation of the plant's right-hand side, one ROS2 step of 1 ms,
 //! and one controller tick (with the shortcut through the QP's minimiser without inequalities,
-//! and with Clarabel on every tick). The setups are `sea-sim bench`'s (`sea_sim::bench`), so
+//! with Clarabel on every tick, and with the active set on every tick). The setups are `sea-sim bench`'s (`sea_sim::bench`), so
 //! the figures are comparable. Run `cargo bench -p sea_sim --bench plant_and_tick`.
 #![allow(
     missing_docs,
@@ -9,9 +9,10 @@
 )]
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use sea_ctrl::qp::QpSolver;
 use sea_dyn::{LoadOptions, Model};
 use sea_plant::{Method, PlantData};
-use sea_sim::bench::{standing_motor_input, standing_sea_plant, TickBench};
+use sea_sim::bench::{standing_motor_input, standing_sea_plant, TickBench, TickQp};
 use std::hint::black_box;
 
 /// The iCub URDF shipped with the repository.
@@ -36,13 +37,20 @@ fn plant(c: &mut Criterion) {
     });
 }
 
-/// `controller_tick` and `controller_tick_clarabel`.
+/// `controller_tick`, `controller_tick_clarabel` and `controller_tick_active_set`.
 fn tick(c: &mut Criterion) {
-    for (name, clarabel_every_tick) in [
-        ("controller_tick", false),
-        ("controller_tick_clarabel", true),
+    for (name, qp) in [
+        ("controller_tick", TickQp::Default),
+        (
+            "controller_tick_clarabel",
+            TickQp::Every(QpSolver::Clarabel),
+        ),
+        (
+            "controller_tick_active_set",
+            TickQp::Every(QpSolver::ActiveSet),
+        ),
     ] {
-        let mut ticks = TickBench::two_feet(URDF, clarabel_every_tick).expect("scenario builds");
+        let mut ticks = TickBench::two_feet(URDF, qp).expect("scenario builds");
         let mut k = 0;
         c.bench_function(name, |b| {
             b.iter(|| {

@@ -4,6 +4,7 @@
 //! median over batches of the mean time per call, in microseconds. Medians of batch means are
 //! robust to the scheduler noise of shared machines; compare ratios measured in one run.
 
+use sea_ctrl::qp::QpSolver;
 use sea_dyn::sample::{random_configuration, random_velocity, Lcg};
 use sea_dyn::{Actuation, Actuator, Data, ElasticParameters, Model};
 use sea_plant::{Method, Plant, PlantData};
@@ -127,21 +128,29 @@ fn two_feet_scenario(
 }
 
 /// `controller_tick_us`: one tick of the SEA controller on the iCub standing on two feet (all
-/// model terms, the QP and the SEA mapping), as it runs in the closed loop; and
+/// model terms, the QP and the SEA mapping), as it runs in the closed loop;
 /// `controller_tick_clarabel_us`, the same tick with Clarabel solving the QP every time (no
-/// shortcut through the minimiser without inequalities). `None` when `urdf` is not an iCub
-/// with the paper's 25 joints and both soles.
+/// shortcut through the minimiser without inequalities); `controller_tick_active_set_us`, the
+/// same with the active-set solver every time. `None` when `urdf` is not an iCub with the
+/// paper's 25 joints and both soles.
 pub fn bench_controller(
     urdf: &str,
     batches: usize,
     calls_per_batch: usize,
 ) -> Option<Vec<(&'static str, f64)>> {
     let mut figures = Vec::new();
-    for (key, unconstrained_first) in [
-        ("controller_tick_us", true),
-        ("controller_tick_clarabel_us", false),
+    for (key, qp) in [
+        ("controller_tick_us", TickQp::Default),
+        (
+            "controller_tick_clarabel_us",
+            TickQp::Every(QpSolver::Clarabel),
+        ),
+        (
+            "controller_tick_active_set_us",
+            TickQp::Every(QpSolver::ActiveSet),
+        ),
     ] {
-        let mut ticks = TickBench::two_feet(urdf, !unconstrained_first)?;
+        let mut ticks = TickBench::two_feet(urdf, qp)?;
         let mut ok = true;
         let time = median_us(batches, calls_per_batch, |k| ok &= ticks.tick(k));
         figures.push((key, ok.then_some(time)?));
@@ -176,6 +185,16 @@ pub fn bench_closed_loop(urdf: &str, runs: usize) -> Option<Vec<(&'static str, f
         figures.push((key, wall_ms[wall_ms.len() / 2]));
     }
     Some(figures)
+}
+
+/// How the benchmark tick solves its QP.
+#[derive(Clone, Copy, Debug)]
+pub enum TickQp {
+    /// As in the closed loop: the minimiser without inequalities when feasible, else the
+    /// default solver.
+    Default,
+    /// This solver on every tick (`qp_unconstrained_first = false`).
+    Every(QpSolver),
 }
 
 /// A controller of the two-feet benchmark scenario and the states it is ticked on (also used by
@@ -221,10 +240,15 @@ impl TickBench {
         })
     }
 
-    /// The two-feet benchmark scenario of `urdf` (Clarabel on every tick when
-    /// `clarabel_every_tick`).
-    pub fn two_feet(urdf: &str, clarabel_every_tick: bool) -> Option<TickBench> {
-        let controller = format!("qp_unconstrained_first = {}", !clarabel_every_tick);
+    /// The two-feet benchmark scenario of `urdf` with the QP path `qp`.
+    pub fn two_feet(urdf: &str, qp: TickQp) -> Option<TickBench> {
+        let controller = match qp {
+            TickQp::Default => String::new(),
+            TickQp::Every(solver) => format!(
+                "qp_unconstrained_first = false\nqp_solver = {:?}",
+                solver.name()
+            ),
+        };
         TickBench::new(&two_feet_scenario(urdf, &controller, "")?)
     }
 

@@ -2,6 +2,7 @@
 
 mod support;
 
+use sea_ctrl::qp::QpSolveCounts;
 use sea_sim::closed_loop::build;
 use sea_sim::scenario::Scenario;
 use std::path::Path;
@@ -174,10 +175,19 @@ fn two_feet_tick(
 #[test]
 fn skipping_clarabel_when_no_constraint_binds_gives_clarabel_s_optimum() {
     let mut wrenches = Vec::new();
-    for (unconstrained_first, solves) in [("true", (0, 1)), ("false", (1, 0))] {
+    let skipped = QpSolveCounts {
+        unconstrained: 1,
+        ..Default::default()
+    };
+    let by_clarabel = QpSolveCounts {
+        clarabel: 1,
+        ..Default::default()
+    };
+    for (unconstrained_first, solves) in [("true", skipped), ("false", by_clarabel)] {
         let (mut setup, x, reference, s_d) = two_feet_tick(
             &[
                 ("controller.qp_unconstrained_first", unconstrained_first),
+                ("controller.qp_solver", "\"clarabel\""),
                 ("reference.com_amplitude", "0.005"),
             ],
             0.002,
@@ -207,6 +217,7 @@ fn a_binding_constraint_goes_to_clarabel() {
         &[
             ("controller.contact.foot_x", "[-0.01, 0.01]"),
             ("controller.contact.foot_y", "[-0.01, 0.01]"),
+            ("controller.qp_solver", "\"clarabel\""),
         ],
         0.002,
     );
@@ -216,7 +227,11 @@ fn a_binding_constraint_goes_to_clarabel() {
         .compute(&x, &layout, &reference, &s_d)
         .unwrap();
     assert_eq!(out.qp_status, sea_ctrl::qp::QpStatus::Solved);
-    assert_eq!(setup.controller.qp_solves(), (1, 0));
+    let by_clarabel = QpSolveCounts {
+        clarabel: 1,
+        ..Default::default()
+    };
+    assert_eq!(setup.controller.qp_solves(), by_clarabel);
     let terms = setup
         .controller
         .torque_map(&x, &layout, &reference, &s_d)

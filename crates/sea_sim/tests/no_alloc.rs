@@ -12,6 +12,7 @@ mod support;
 
 use counting::allocations;
 use nalgebra::DMatrix;
+use sea_ctrl::qp::QpSolveCounts;
 use sea_ctrl::torque_map::{PosturalTask, TorqueMap};
 use sea_dyn::sample::Lcg;
 use sea_dyn::Data;
@@ -142,8 +143,8 @@ fn torque_map_allocates_nothing() {
 }
 
 /// Allocations of `ticks` controller ticks after one warm-up tick, at perturbed states; also
-/// returns the controller's `(Clarabel solves, skipped solves)` during the counted ticks.
-fn tick_allocations(setup: &mut Setup, ticks: usize) -> (Vec<usize>, (usize, usize)) {
+/// returns the controller's QP solves by path during the counted ticks.
+fn tick_allocations(setup: &mut Setup, ticks: usize) -> (Vec<usize>, QpSolveCounts) {
     let layout = setup.plant.layout();
     let mut s_desired = vec![0.0; setup.model.n_joints()];
     setup.posture.at(0.0, &mut s_desired);
@@ -170,7 +171,36 @@ fn tick_allocations(setup: &mut Setup, ticks: usize) -> (Vec<usize>, (usize, usi
         })
         .collect();
     let after = setup.controller.qp_solves();
-    (counts, (after.0 - before.0, after.1 - before.1))
+    let solves = QpSolveCounts {
+        unconstrained: after.unconstrained - before.unconstrained,
+        active_set: after.active_set - before.active_set,
+        clarabel: after.clarabel - before.clarabel,
+    };
+    (counts, solves)
+}
+
+/// The QP path every counted tick must take.
+#[derive(Clone, Copy, Debug)]
+enum QpPath {
+    /// The minimiser without inequalities is feasible: no solver runs.
+    Unconstrained,
+    /// The active-set solver.
+    ActiveSet,
+    /// Clarabel.
+    Clarabel,
+}
+
+impl QpPath {
+    /// The solve counts of `ticks` ticks all on this path.
+    fn counts(self, ticks: usize) -> QpSolveCounts {
+        let mut counts = QpSolveCounts::default();
+        match self {
+            QpPath::Unconstrained => counts.unconstrained = ticks,
+            QpPath::ActiveSet => counts.active_set = ticks,
+            QpPath::Clarabel => counts.clarabel = ticks,
+        }
+        counts
+    }
 }
 
 /// Allocations of one `DefaultSolver::solve` after a warm-up solve, on a one-variable QP
@@ -199,11 +229,11 @@ fn bare_clarabel_allocations_per_solve() -> usize {
 }
 
 /// Ticks of each case: `(name, overrides)`; returns the cases whose ticks allocate more than
-/// `allowed_per_tick`. Panics if a case does not take the expected QP path (Clarabel on every
-/// tick when `clarabel`, never otherwise): the test would then not measure what it claims.
+/// `allowed_per_tick`. Panics if a case does not take the expected QP `path` on every tick:
+/// the test would then not measure what it claims.
 fn allocating_ticks(
     cases: &[(&str, Vec<(&str, &str)>)],
-    clarabel: bool,
+    path: QpPath,
     allowed_per_tick: usize,
 ) -> Vec<String> {
     const TICKS: usize = 5;
@@ -211,11 +241,12 @@ fn allocating_ticks(
     for (name, overrides) in cases {
         let mut setup = two_feet(overrides);
         let (counts, solves) = tick_allocations(&mut setup, TICKS);
-        println!(
-            "{name}: allocations per tick {counts:?}, QP solves (Clarabel, skipped) {solves:?}"
+        println!("{name}: allocations per tick {counts:?}, QP solves {solves:?}");
+        assert_eq!(
+            solves,
+            path.counts(TICKS),
+            "{name}: not the intended QP path"
         );
-        let expected = if clarabel { (TICKS, 0) } else { (0, TICKS) };
-        assert_eq!(solves, expected, "{name}: not the intended QP path");
         if counts.iter().any(|&c| c > allowed_per_tick) {
             offenders.push(format!("{name}: {counts:?}"));
         }
@@ -235,7 +266,7 @@ fn controller_tick_allocates_nothing_when_the_qp_skips_clarabel() {
         ("SEA, one foot", one_foot.to_vec()),
         ("rigid, one foot", [one_foot, rigid].concat()),
     ];
-    let offenders = allocating_ticks(&cases, false, 0);
+    let offenders = allocating_ticks(&cases, QpPath::Unconstrained, 0);
     assert!(
         offenders.is_empty(),
         "controller ticks allocate: {offenders:?}"
@@ -249,18 +280,47 @@ fn controller_tick_allocates_nothing_beyond_clarabels_own_when_clarabel_solves_t
     let clarabel_own = bare_clarabel_allocations_per_solve();
     println!("a bare Clarabel solve allocates {clarabel_own} time(s)");
     let forced = ("controller.qp_unconstrained_first", "false");
+    let clarabel = ("controller.qp_solver", "\"clarabel\"");
     let cases = [
-        ("SEA, two feet", vec![forced]),
+        ("SEA, two feet", vec![forced, clarabel]),
         (
             "rigid, two feet",
             vec![
                 forced,
+                clarabel,
                 ("actuators.kind", "rigid"),
                 ("controller.kind", "rigid"),
             ],
         ),
     ];
-    let offenders = allocating_ticks(&cases, true, clarabel_own);
+    let offenders = allocating_ticks(&cases, QpPath::Clarabel, clarabel_own);
+    assert!(
+        offenders.is_empty(),
+        "controller ticks allocate: {offenders:?}"
+    );
+}
+
+#[test]
+fn controller_tick_allocates_nothing_when_the_active_set_solves_the_qp() {
+    // The QP solver forced on every tick with the default solver (the active set): two feet
+    // (six equalities), and one foot with a 1.2 cm square sole, where the centre-of-pressure
+    // rows bind (tests/qp_agreement.rs counts such ticks), so the active set's add and drop
+    // paths are part of what is counted.
+    let forced = ("controller.qp_unconstrained_first", "false");
+    let one_foot_small_sole = [
+        forced,
+        ("robot.contacts", "[\"l_sole\"]"),
+        ("robot.initial_posture", "left_stance"),
+        ("controller.contact.foot_x", "[-0.006, 0.006]"),
+        ("controller.contact.foot_y", "[-0.006, 0.006]"),
+    ];
+    let rigid = [("actuators.kind", "rigid"), ("controller.kind", "rigid")];
+    let cases = [
+        ("SEA, two feet", vec![forced]),
+        ("rigid, two feet", [&[forced][..], &rigid].concat()),
+        ("SEA, one foot, 1.2 cm sole", one_foot_small_sole.to_vec()),
+    ];
+    let offenders = allocating_ticks(&cases, QpPath::ActiveSet, 0);
     assert!(
         offenders.is_empty(),
         "controller ticks allocate: {offenders:?}"

@@ -61,11 +61,24 @@ pub fn run_with_sinks(
     scenario: &Scenario,
     sinks: &mut [&mut dyn RecordSink],
     cancel: &AtomicBool,
-    mut progress: impl FnMut(f64, f64),
+    progress: impl FnMut(f64, f64),
 ) -> Result<Summary> {
     let mut setup = build(scenario)?;
+    run_setup_with_sinks(scenario, &mut setup, sinks, cancel, progress)
+}
+
+/// [`run_with_sinks`] on `setup`, already built from `scenario` (and possibly adjusted, e.g.
+/// a controller with its QP cross-check on); the setup is left as the run ends (its
+/// controller's counters readable).
+pub fn run_setup_with_sinks(
+    scenario: &Scenario,
+    setup: &mut Setup,
+    sinks: &mut [&mut dyn RecordSink],
+    cancel: &AtomicBool,
+    mut progress: impl FnMut(f64, f64),
+) -> Result<Summary> {
     let start = Instant::now();
-    let mut engine = Engine::new(scenario, &mut setup)?;
+    let mut engine = Engine::new(scenario, setup)?;
     let mut statistics = RunningStatistics::default();
     let info = engine.info();
     let outcome = sinks
@@ -78,11 +91,12 @@ pub fn run_with_sinks(
         .fold(Ok(()), Result::and);
     let (end, duration_s) = outcome?;
     finished?;
-    let (clarabel_solves, _) = engine.law.controller.qp_solves();
+    let solves = engine.law.controller.qp_solves();
     let totals = RunTotals {
         duration_s,
         qp_failures: engine.law.controller.qp_failures(),
-        qp_clarabel_solves: clarabel_solves,
+        qp_active_set_solves: solves.active_set,
+        qp_clarabel_solves: solves.clarabel,
         wall_time_s: start.elapsed().as_secs_f64(),
     };
     let sampling = engine.schedule.sampling.name();

@@ -96,8 +96,10 @@ pub struct Summary {
     pub motor_velocity_peak_rad_s: f64,
     /// QP solves that fell back.
     pub qp_failures: usize,
-    /// QP solves done by Clarabel (the others: the minimiser without inequalities was
-    /// feasible, hence optimal).
+    /// QP solves done by the active-set solver.
+    pub qp_active_set_solves: usize,
+    /// QP solves done by Clarabel (selected, or the active set's fallback; the ticks solved
+    /// by neither: the minimiser without inequalities was feasible, hence optimal).
     pub qp_clarabel_solves: usize,
     /// Wall-clock time [s].
     pub wall_time_s: f64,
@@ -112,6 +114,8 @@ pub struct RunTotals {
     pub duration_s: f64,
     /// QP solves that fell back.
     pub qp_failures: usize,
+    /// QP solves done by the active-set solver.
+    pub qp_active_set_solves: usize,
     /// QP solves done by Clarabel.
     pub qp_clarabel_solves: usize,
     /// Wall-clock time [s].
@@ -144,6 +148,7 @@ impl Summary {
             joint_error_norm_final_rad: statistics.joint_error_last,
             motor_velocity_peak_rad_s: statistics.motor_velocity_peak,
             qp_failures: totals.qp_failures,
+            qp_active_set_solves: totals.qp_active_set_solves,
             qp_clarabel_solves: totals.qp_clarabel_solves,
             wall_time_s: wall,
             realtime_factor: if wall > 0.0 {
@@ -168,6 +173,7 @@ impl Summary {
             "joint_error_norm_final_rad": self.joint_error_norm_final_rad,
             "motor_velocity_peak_rad_s": self.motor_velocity_peak_rad_s,
             "qp_failures": self.qp_failures,
+            "qp_active_set_solves": self.qp_active_set_solves,
             "qp_clarabel_solves": self.qp_clarabel_solves,
             "wall_time_s": self.wall_time_s,
             "realtime_factor": self.realtime_factor,

@@ -20,7 +20,7 @@ pub use presets::{ICUB25_JOINTS, ICUB_LEFT_STANCE, ICUB_TWO_FEET_DEG};
 
 use crate::error::{Error, Result};
 use sea_ctrl::controller::{ControllerKind, ControllerSettings};
-use sea_ctrl::qp::ContactConstraints;
+use sea_ctrl::qp::{ContactConstraints, QpSolver};
 use sea_dyn::{critical_damping, Actuator, ContactSurface, ElasticParameters};
 use sea_plant::Plant;
 use serde::Deserialize;
@@ -269,9 +269,12 @@ pub struct ControllerConfig {
     pub pinv_damping: f64,
     /// QP Hessian regulariser (default [`presets::ICUB_QP_REGULARIZATION`]).
     pub qp_regularization: f64,
-    /// Skip Clarabel when the QP's minimiser without inequalities satisfies them (it is then
-    /// the optimum); `false` runs Clarabel every tick.
+    /// Skip the QP solver when the QP's minimiser without inequalities satisfies them (it is
+    /// then the optimum); `false` runs the solver every tick.
     pub qp_unconstrained_first: bool,
+    /// The QP solver: "active_set" (Goldfarb-Idnani, Clarabel as fallback) or "clarabel"
+    /// (default [`QpSolver::default`]).
+    pub qp_solver: String,
     /// Rigid controller: include the motor reflected inertia (Remark 1).
     pub reflected_inertia: bool,
     /// Added to the controller model's joint inertia diagonal [kg m^2] (default
@@ -296,6 +299,7 @@ impl Default for ControllerConfig {
             pinv_damping: presets::ICUB_PINV_DAMPING,
             qp_regularization: presets::ICUB_QP_REGULARIZATION,
             qp_unconstrained_first: true,
+            qp_solver: QpSolver::default().name().into(),
             reflected_inertia: true,
             joint_inertia_regularization: presets::ICUB_JOINT_INERTIA_REGULARIZATION,
             contact: ContactConfig::default(),
@@ -585,6 +589,22 @@ impl Scenario {
         }
     }
 
+    /// The QP solver of `controller.qp_solver`.
+    pub fn qp_solver(&self) -> Result<QpSolver> {
+        let name = &self.controller.qp_solver;
+        QpSolver::parse(name).ok_or_else(|| {
+            let names: Vec<String> = QpSolver::ALL
+                .iter()
+                .map(|solver| format!("{:?}", solver.name()))
+                .collect();
+            Error::invalid(
+                "controller.qp_solver",
+                format!("expected {}", names.join(" or ")),
+                format!("{name:?}"),
+            )
+        })
+    }
+
     /// Contact constraints of the QP.
     pub fn contact_constraints(&self) -> ContactConstraints {
         self.controller.contact.constraints()
@@ -633,6 +653,7 @@ impl Scenario {
             reflected_inertia: self.controller.reflected_inertia,
             joint_inertia_regularization: self.controller.joint_inertia_regularization,
             qp_unconstrained_first: self.controller.qp_unconstrained_first,
+            qp_solver: self.qp_solver()?,
         })
     }
 }

@@ -228,6 +228,7 @@ fn controller(scenario: &Scenario) -> Result<()> {
         ));
     }
     crate::closed_loop::Sampling::parse(&c.sampling)?;
+    scenario.qp_solver()?;
     positive("controller.rate_hz", c.rate_hz)?;
     positive(
         "controller.damping_estimate_scale",
@@ -657,6 +658,19 @@ mod tests {
             ),
         ] {
             assert_refused(&[(key, "false")], named, "boolean `false`");
+        }
+    }
+
+    #[test]
+    fn an_unknown_qp_solver_is_refused_and_both_solvers_are_accepted() {
+        assert_refused(
+            &[("controller.qp_solver", "\"quadprog\"")],
+            "controller.qp_solver",
+            "quadprog",
+        );
+        for solver in sea_ctrl::qp::QpSolver::ALL {
+            let value = format!("{:?}", solver.name());
+            assert!(error_of(&[("controller.qp_solver", &value)]).is_none());
         }
     }
 
