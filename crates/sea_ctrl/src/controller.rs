@@ -515,7 +515,7 @@ impl MomentumController {
         map.bias.copy_from(sea_dyn::bias_forces(model, data, q, nu));
         let momentum = sea_dyn::centroidal_momentum_from_dynamics(data);
         let com = data.p_base_world + data.p_com_rel;
-        sea_dyn::crba_from_kinematics(model, data);
+        sea_dyn::crba_after_rnea(model, data);
         if self.settings.kind == ControllerKind::Sea {
             subtract_spring_torque(
                 &mut map.bias,

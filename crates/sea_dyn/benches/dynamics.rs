@@ -1,6 +1,7 @@
 //! Criterion benches of the dynamics algorithms on the iCub (`urdf/icub25.urdf`, nv = 31):
 //! RNEA, CRBA and the centroidal momentum matrix, cycling through seeded random states (the
-//! states of `sea-sim bench`). Run `cargo bench -p sea_dyn --bench dynamics`; criterion
+//! states of `sea-sim bench`), and the tree-sparse factorisation of `M` with the two feet's
+//! Schur complement `J M^-1 J^T` (the plant's and the controller's linear algebra). Run `cargo bench -p sea_dyn --bench dynamics`; criterion
 //! compares each run with the previous one.
 #![allow(
     missing_docs,
@@ -66,5 +67,52 @@ fn dynamics(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, dynamics);
+/// `TreeFactor::factor` of `M` and `TreeFactor::schur_complement` of the stacked sole
+/// Jacobians (k = 12), at one random configuration.
+fn tree_factor(c: &mut Criterion) {
+    let model = icub();
+    let (q, _, _) = &random_states(&model)[0];
+    let mut data = Data::new(&model);
+    let mass_matrix = sea_dyn::crba(&model, &mut data, q).clone();
+    let nv = model.nv();
+    let mut jacobian = nalgebra::DMatrix::zeros(12, nv);
+    for (c, sole) in ["l_sole", "r_sole"].into_iter().enumerate() {
+        let frame = model.frame_id(sole).expect("the iCub has soles");
+        let sole_jacobian = sea_dyn::jacobian::frame_jacobian(&model, &mut data, q, frame);
+        jacobian.rows_mut(6 * c, 6).copy_from(sole_jacobian);
+    }
+    let mut factor = sea_dyn::tree_factor::TreeFactor::new(&model);
+    c.bench_function("tree_factor", |b| {
+        b.iter(|| black_box(factor.factor(&mass_matrix, &[]).is_ok()))
+    });
+    let (mut y_t, mut schur) = (jacobian.clone(), nalgebra::DMatrix::zeros(12, 12));
+    c.bench_function("schur_complement_two_feet", |b| {
+        b.iter(|| {
+            factor.schur_complement(&jacobian, &mut y_t, &mut schur);
+            black_box(&schur);
+        })
+    });
+    c.bench_function("solve_lt_multi_two_feet", |b| {
+        b.iter(|| {
+            y_t.copy_from(&jacobian);
+            factor.solve_lt_multi(&mut y_t);
+            black_box(&y_t);
+        })
+    });
+    c.bench_function("copy_jacobian", |b| {
+        b.iter(|| {
+            y_t.copy_from(&jacobian);
+            black_box(&y_t);
+        })
+    });
+    let mut gram = schur.clone();
+    c.bench_function("cholesky_12", |b| {
+        b.iter(|| {
+            gram.copy_from(&schur);
+            black_box(sea_dyn::dense::cholesky_in_place(&mut gram).is_ok())
+        })
+    });
+}
+
+criterion_group!(benches, dynamics, tree_factor);
 criterion_main!(benches);

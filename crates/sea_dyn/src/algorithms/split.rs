@@ -117,8 +117,9 @@ impl CentroidalSplit {
             *value = dot(column, x);
         }
         let mut base = nalgebra::Vector6::zeros();
-        for (column, &xi) in self.base_inv_coupling.column_iter().zip(x) {
-            base += column * xi;
+        for (i, &xi) in x.iter().enumerate() {
+            // Fixed-size view: a dynamic column times a scalar would allocate its result.
+            base += self.base_inv_coupling.fixed_view::<6, 1>(0, i) * xi;
         }
         // M_jb = M_bj^T: row i of M_jb is the base part of column 6 + i.
         for (i, value) in out.iter_mut().enumerate() {

@@ -12,7 +12,11 @@ use nalgebra::{DMatrix, DMatrixView};
 /// left-looking, column by column). Returns the index of the first non-positive pivot.
 pub fn cholesky_in_place(a: &mut DMatrix<f64>) -> Result<(), usize> {
     let n = a.nrows();
-    let s = a.as_mut_slice();
+    with_fixed_width!(n, |order| cholesky_kernel(a.as_mut_slice(), order))
+}
+
+#[inline(always)]
+fn cholesky_kernel(s: &mut [f64], n: usize) -> Result<(), usize> {
     for j in 0..n {
         // Column j from row j down: a[j.., j] -= sum_k a[j.., k] a[j, k].
         for k in 0..j {
@@ -43,7 +47,11 @@ pub fn cholesky_in_place(a: &mut DMatrix<f64>) -> Result<(), usize> {
 /// Solves `L y = b` in place (forward substitution, column-oriented).
 pub fn forward_substitute(l: &DMatrix<f64>, b: &mut [f64]) {
     let n = l.nrows();
-    let s = l.as_slice();
+    with_fixed_width!(n, |order| forward_kernel(l.as_slice(), b, order));
+}
+
+#[inline(always)]
+fn forward_kernel(s: &[f64], b: &mut [f64], n: usize) {
     for j in 0..n {
         let column = &s[j * n..j * n + n];
         let yj = b[j] / column[j];
@@ -59,7 +67,11 @@ pub fn forward_substitute(l: &DMatrix<f64>, b: &mut [f64]) {
 /// Solves `L^T x = y` in place (backward substitution, dot products on columns).
 pub fn backward_substitute(l: &DMatrix<f64>, b: &mut [f64]) {
     let n = l.nrows();
-    let s = l.as_slice();
+    with_fixed_width!(n, |order| backward_kernel(l.as_slice(), b, order));
+}
+
+#[inline(always)]
+fn backward_kernel(s: &[f64], b: &mut [f64], n: usize) {
     for j in (0..n).rev() {
         let column = &s[j * n..j * n + n];
         let dot: f64 = column[j + 1..]

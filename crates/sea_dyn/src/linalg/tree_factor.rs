@@ -11,7 +11,11 @@
 
 use crate::error::{Error, Result};
 use crate::model::Model;
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, Matrix6, Vector6};
+
+/// The base's six DOFs, the first six tree DOFs (a chain) and the last six entries of every
+/// joint row.
+const BASE_DOFS: usize = 6;
 
 /// The factor and the tree of DOFs.
 ///
@@ -32,6 +36,8 @@ pub struct TreeFactor {
     /// The entries of `L`, row by row along the ancestor chains; a row's first entry is its
     /// diagonal.
     values: Vec<f64>,
+    /// Where each stored entry is read from in a column-major nv x nv matrix (as `values`).
+    matrix_index: Vec<usize>,
 }
 
 impl TreeFactor {
@@ -54,9 +60,17 @@ impl TreeFactor {
             }
             row_start.push(column_dof.len());
         }
-        let column_velocity = column_dof.iter().map(|&d| velocity_index[d]).collect();
+        let column_velocity: Vec<usize> = column_dof.iter().map(|&d| velocity_index[d]).collect();
+        let nv = velocity_index.len();
+        let mut matrix_index = Vec::with_capacity(column_dof.len());
+        for d in 0..nv {
+            for entry in row_start[d]..row_start[d + 1] {
+                matrix_index.push(velocity_index[d] + nv * column_velocity[entry]);
+            }
+        }
         Self {
             values: vec![0.0; column_dof.len()],
+            matrix_index,
             velocity_index,
             row_start,
             column_dof,
@@ -69,45 +83,74 @@ impl TreeFactor {
     /// is not positive.
     pub fn factor(&mut self, matrix: &DMatrix<f64>, diagonal: &[f64]) -> Result<()> {
         let n = self.velocity_index.len();
-        for d in 0..n {
-            let row = self.row_start[d]..self.row_start[d + 1];
-            let vd = self.velocity_index[d];
-            for entry in row {
-                self.values[entry] = matrix[(vd, self.column_velocity[entry])];
-            }
-            if !diagonal.is_empty() {
-                self.values[self.row_start[d]] += diagonal[vd];
+        assert_eq!(matrix.shape(), (n, n), "tree factor: matrix shape");
+        let m = matrix.as_slice();
+        for (value, &index) in self.values.iter_mut().zip(&self.matrix_index) {
+            *value = m[index];
+        }
+        if !diagonal.is_empty() {
+            for d in 0..n {
+                self.values[self.row_start[d]] += diagonal[self.velocity_index[d]];
             }
         }
         // From the leaves: ancestors have smaller tree indices, so their rows lie before row k.
-        for k in (0..n).rev() {
-            let (start, end) = (self.row_start[k], self.row_start[k + 1]);
-            let (head, tail) = self.values.split_at_mut(start);
-            let row_k = &mut tail[..end - start];
-            let pivot = row_k[0];
-            if pivot <= 0.0 || !pivot.is_finite() {
-                return Err(Error::numerical(
-                    "tree Cholesky factorisation",
-                    format!(
-                        "matrix is not positive definite (tree pivot {k}, velocity index {})",
-                        self.velocity_index[k]
-                    ),
-                ));
-            }
-            let lkk = pivot.sqrt();
-            row_k[0] = lkk;
-            let inverse = 1.0 / lkk;
-            row_k[1..].iter_mut().for_each(|v| *v *= inverse);
-            for p in 1..row_k.len() {
-                let i = self.column_dof[start + p];
-                let lki = row_k[p];
-                let row_i = &mut head[self.row_start[i]..self.row_start[i + 1]];
-                for (target, source) in row_i.iter_mut().zip(&row_k[p..]) {
-                    *target -= lki * source;
-                }
+        // Joint rows first; their updates of the base block (the last six entries of every
+        // joint row are the base DOFs 5..0) are summed as dense 6 x 6 rank-one updates, one
+        // fixed-size operation per row instead of six short loops.
+        let mut base_update = Matrix6::zeros();
+        for k in (BASE_DOFS..n).rev() {
+            let u = self.eliminate_row(k, BASE_DOFS)?;
+            base_update.ger(1.0, &u, &u, 1.0);
+        }
+        for i in 0..BASE_DOFS {
+            let start = self.row_start[i];
+            for t in 0..=i {
+                self.values[start + t] -= base_update[(5 - i, 5 - i + t)];
             }
         }
+        for k in (0..BASE_DOFS).rev() {
+            self.eliminate_row(k, 0)?;
+        }
         Ok(())
+    }
+
+    /// Step `k` of the factorisation: the pivot and row `k` of `L`, and the updates of the rows
+    /// of its ancestors except the last `skip_last` entries of row `k` (the base DOFs of a
+    /// joint row, which the caller updates; 0 for a base row). Returns those last entries of
+    /// row `k` (the base entries `L[k, 5..0]` for a joint row; unused for a base row).
+    #[inline(always)]
+    fn eliminate_row(&mut self, k: usize, skip_last: usize) -> Result<Vector6<f64>> {
+        let (start, end) = (self.row_start[k], self.row_start[k + 1]);
+        let (head, tail) = self.values.split_at_mut(start);
+        let row_k = &mut tail[..end - start];
+        let pivot = row_k[0];
+        if pivot <= 0.0 || !pivot.is_finite() {
+            return Err(Error::numerical(
+                "tree Cholesky factorisation",
+                format!(
+                    "matrix is not positive definite (tree pivot {k}, velocity index {})",
+                    self.velocity_index[k]
+                ),
+            ));
+        }
+        let lkk = pivot.sqrt();
+        row_k[0] = lkk;
+        let inverse = 1.0 / lkk;
+        row_k[1..].iter_mut().for_each(|v| *v *= inverse);
+        let updated = row_k.len() - skip_last;
+        for p in 1..updated {
+            let i = self.column_dof[start + p];
+            let lki = row_k[p];
+            let row_i = &mut head[self.row_start[i]..self.row_start[i + 1]];
+            for (target, source) in row_i.iter_mut().zip(&row_k[p..]) {
+                *target -= lki * source;
+            }
+        }
+        Ok(if skip_last == BASE_DOFS {
+            Vector6::from_column_slice(&row_k[updated..])
+        } else {
+            Vector6::zeros()
+        })
     }
 
     /// `b <- L^-T b` (b in velocity indices, size nv).
@@ -154,7 +197,12 @@ impl TreeFactor {
     /// ancestors, so a foot Jacobian's rows cost its leg and the base, not the whole tree.
     pub fn solve_lt_multi(&self, b_t: &mut DMatrix<f64>) {
         let k = b_t.nrows();
-        let b = b_t.as_mut_slice();
+        with_fixed_width!(k, |width| self
+            .solve_lt_multi_kernel(b_t.as_mut_slice(), width));
+    }
+
+    #[inline(always)]
+    fn solve_lt_multi_kernel(&self, b: &mut [f64], k: usize) {
         for i in (0..self.velocity_index.len()).rev() {
             let (start, end) = (self.row_start[i], self.row_start[i + 1]);
             let vi = self.velocity_index[i];
@@ -180,7 +228,12 @@ impl TreeFactor {
     /// [`Self::solve_lt_multi`] (from the root: each velocity index gathers its ancestors).
     pub fn solve_l_multi(&self, b_t: &mut DMatrix<f64>) {
         let k = b_t.nrows();
-        let b = b_t.as_mut_slice();
+        with_fixed_width!(k, |width| self
+            .solve_l_multi_kernel(b_t.as_mut_slice(), width));
+    }
+
+    #[inline(always)]
+    fn solve_l_multi_kernel(&self, b: &mut [f64], k: usize) {
         for i in 0..self.velocity_index.len() {
             let (start, end) = (self.row_start[i], self.row_start[i + 1]);
             let vi = self.velocity_index[i];
@@ -200,8 +253,8 @@ impl TreeFactor {
 
     /// `y_t = (L^-T J^T)^T` (k x nv) and `schur = J (L^T L)^-1 J^T = y_t y_t^T` (k x k) for `J`
     /// (k x nv). The Schur complement is summed velocity index by velocity index as outer
-    /// products of `y_t`'s columns, each restricted to its non-zero rows (a leg's index only
-    /// carries its own foot's rows), so branches without contacts cost nothing.
+    /// products of `y_t`'s columns, each restricted to its non-zero rows, so branches without
+    /// contacts cost nothing.
     pub fn schur_complement(
         &self,
         jacobian: &DMatrix<f64>,
@@ -212,25 +265,33 @@ impl TreeFactor {
         y_t.copy_from(jacobian);
         self.solve_lt_multi(y_t);
         schur.fill(0.0);
-        let s = schur.as_mut_slice();
-        for column in y_t.as_slice().chunks_exact(k) {
-            let Some(first) = column.iter().position(|&v| v != 0.0) else {
-                continue;
-            };
-            let last = column.iter().rposition(|&v| v != 0.0).unwrap_or(first);
-            // Lower triangle of column c: rows c..=last.
-            for c in first..=last {
-                let yc = column[c];
-                let target = &mut s[c * k + c..c * k + last + 1];
-                for (t, y) in target.iter_mut().zip(&column[c..=last]) {
-                    *t += y * yc;
-                }
+        let (y, s) = (y_t.as_slice(), schur.as_mut_slice());
+        with_fixed_width!(k, |width| sum_outer_products(y, s, width));
+    }
+}
+
+/// `s = sum_i y_i y_i^T` over the k-entry columns `y_i` of `y` (k x nv), each restricted to
+/// its non-zero rows (a leg's index only carries its own foot's rows, other branches none);
+/// `s` (k x k, zero on entry) gets the lower triangle summed, then mirrored.
+#[inline(always)]
+fn sum_outer_products(y: &[f64], s: &mut [f64], k: usize) {
+    for column in y.chunks_exact(k) {
+        let Some(first) = column.iter().position(|&v| v != 0.0) else {
+            continue;
+        };
+        let last = column.iter().rposition(|&v| v != 0.0).unwrap_or(first);
+        // Lower triangle of column c: rows c..=last.
+        for c in first..=last {
+            let yc = column[c];
+            let target = &mut s[c * k + c..c * k + last + 1];
+            for (t, y) in target.iter_mut().zip(&column[c..=last]) {
+                *t += y * yc;
             }
         }
-        for c in 0..k {
-            for r in c + 1..k {
-                s[r * k + c] = s[c * k + r];
-            }
+    }
+    for c in 0..k {
+        for r in c + 1..k {
+            s[r * k + c] = s[c * k + r];
         }
     }
 }
