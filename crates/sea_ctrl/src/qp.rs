@@ -46,9 +46,11 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
-use nalgebra::linalg::{gauss_step, gauss_step_swap, Cholesky};
 use nalgebra::{DMatrix, DVector, Matrix3};
-use sea_dyn::dense::gemm_small;
+use sea_dyn::dense::{
+    backward_substitute, cholesky_in_place, cholesky_solve_in_place, dot, forward_substitute,
+    gemm_small, gemm_tn,
+};
 use sea_dyn::ContactSurface;
 
 /// Which solver solves the wrench QP when the minimiser without inequalities is not taken.
@@ -217,8 +219,10 @@ pub fn torque_norm_objective(
     hessian: &mut DMatrix<f64>,
     gradient: &mut DVector<f64>,
 ) {
-    hessian.gemm_tr(2.0, sigma, sigma, 0.0);
-    gradient.gemv_tr(2.0, sigma, tau_bias, 0.0);
+    gemm_tn(hessian, 2.0, sigma, sigma, 0.0, true);
+    for (entry, column) in gradient.iter_mut().zip(sigma.column_iter()) {
+        *entry = 2.0 * dot(column.as_slice(), tau_bias.as_slice());
+    }
     add_to_diagonal(hessian, 2.0 * regularization);
 }
 
@@ -248,14 +252,16 @@ fn add_to_diagonal(matrix: &mut DMatrix<f64>, value: f64) {
 /// rows), in buffers allocated once: the candidate the QP accepts when it is feasible, and
 /// the fallback when Clarabel fails.
 pub struct Minimizer {
-    /// Cholesky factor of `P` (k x k); empty only after a failed factorisation.
+    /// Cholesky factor of `P` (k x k, lower triangle).
     factor: DMatrix<f64>,
-    /// KKT matrix `[[P, A^T], [A, 0]]` ((k + m) x (k + m)), LU-factored in place.
-    kkt: DMatrix<f64>,
-    /// Row swaps of the LU factorisation, in order.
-    pivots: Vec<(usize, usize)>,
-    /// KKT right-hand side, then solution ((k + m)).
-    kkt_rhs: DVector<f64>,
+    /// `V = L^-1 A^T` (k x m).
+    range: DMatrix<f64>,
+    /// `A P^-1 A^T = V^T V`, then its Cholesky factor (m x m).
+    schur: DMatrix<f64>,
+    /// `L^-1 c` (k), then `w + V lambda`.
+    scaled_gradient: DVector<f64>,
+    /// The multipliers `lambda` (m).
+    multipliers: DVector<f64>,
 }
 
 impl Minimizer {
@@ -263,10 +269,23 @@ impl Minimizer {
     pub fn new(k: usize, m: usize) -> Self {
         Self {
             factor: DMatrix::zeros(k, k),
-            kkt: DMatrix::zeros(k + m, k + m),
-            pivots: Vec::with_capacity(k + m),
-            kkt_rhs: DVector::zeros(k + m),
+            range: DMatrix::zeros(k, m),
+            schur: DMatrix::zeros(m, m),
+            scaled_gradient: DVector::zeros(k),
+            multipliers: DVector::zeros(m),
         }
+    }
+
+    /// Factors `P = L L^T` into `self.factor` and sets `w = L^-1 c`; `false` if `P` is not
+    /// positive definite.
+    fn factor_objective(&mut self, p: &DMatrix<f64>, c: &DVector<f64>) -> bool {
+        self.factor.copy_from(p);
+        if cholesky_in_place(&mut self.factor).is_err() {
+            return false;
+        }
+        self.scaled_gradient.copy_from(c);
+        forward_substitute(&self.factor, self.scaled_gradient.as_mut_slice());
+        true
     }
 
     /// `argmin 0.5 f^T P f + c^T f = -P^-1 c` into `out` (k) for `P` positive definite (k x
@@ -277,25 +296,21 @@ impl Minimizer {
         c: &DVector<f64>,
         out: &mut DVector<f64>,
     ) -> bool {
-        let mut matrix = std::mem::replace(&mut self.factor, DMatrix::zeros(0, 0));
-        if matrix.shape() != p.shape() {
-            // Only after a failed factorisation consumed the buffer.
-            matrix = DMatrix::zeros(p.nrows(), p.ncols());
-        }
-        matrix.copy_from(p);
-        let Some(cholesky) = Cholesky::new(matrix) else {
+        if !self.factor_objective(p, c) {
             return false;
-        };
-        out.copy_from(c);
-        cholesky.solve_mut(out);
+        }
+        out.copy_from(&self.scaled_gradient);
+        backward_substitute(&self.factor, out.as_mut_slice());
         out.neg_mut();
-        self.factor = cholesky.unpack_dirty();
         true
     }
 
-    /// `argmin 0.5 f^T P f + c^T f` s.t. `A f = b` into `out` (k), from the KKT system
-    /// `[[P, A^T], [A, 0]] [f; lambda] = [-c; b]` (LU with partial pivoting; `A` m x k, `b`
-    /// m); `false` if the KKT matrix is singular or the solution not finite.
+    /// `argmin 0.5 f^T P f + c^T f` s.t. `A f = b` into `out` (k) by the range-space method:
+    /// with `P = L L^T`, `V = L^-1 A^T`, `w = L^-1 c`, the multipliers solve
+    /// `V^T V lambda = -(V^T w + b)` and `f = -L^-T (w + V lambda)` (the KKT system
+    /// `[[P, A^T], [A, 0]] [f; lambda] = [-c; b]` with two small Cholesky factors instead of an
+    /// LU of the (k + m)-square KKT matrix). `A` m x k, `b` m; `false` if `P` is not positive
+    /// definite, `A` not of full row rank, or the solution not finite.
     pub fn equality_constrained(
         &mut self,
         p: &DMatrix<f64>,
@@ -304,52 +319,29 @@ impl Minimizer {
         b: &DVector<f64>,
         out: &mut DVector<f64>,
     ) -> bool {
-        let (m, n) = a.shape();
-        self.kkt.fill(0.0);
-        self.kkt.view_mut((0, 0), (n, n)).copy_from(p);
-        self.kkt.view_mut((0, n), (n, m)).tr_copy_from(a);
-        self.kkt.view_mut((n, 0), (m, n)).copy_from(a);
-        for i in 0..n {
-            self.kkt_rhs[i] = -c[i];
-        }
-        self.kkt_rhs.rows_mut(n, m).copy_from(b);
-        if !lu_solve_in_place(&mut self.kkt, &mut self.pivots, &mut self.kkt_rhs) {
+        if !self.factor_objective(p, c) {
             return false;
         }
-        out.copy_from(&self.kkt_rhs.rows(0, n));
+        self.range.tr_copy_from(a);
+        for mut column in self.range.column_iter_mut() {
+            forward_substitute(&self.factor, column.as_mut_slice());
+        }
+        gemm_tn(&mut self.schur, 1.0, &self.range, &self.range, 0.0, true);
+        if cholesky_in_place(&mut self.schur).is_err() {
+            return false;
+        }
+        self.multipliers.copy_from(b);
+        self.multipliers
+            .gemv_tr(1.0, &self.range, &self.scaled_gradient, 1.0);
+        self.multipliers.neg_mut();
+        cholesky_solve_in_place(&self.schur, self.multipliers.as_mut_slice());
+        self.scaled_gradient
+            .gemv(1.0, &self.range, &self.multipliers, 1.0);
+        out.copy_from(&self.scaled_gradient);
+        backward_substitute(&self.factor, out.as_mut_slice());
+        out.neg_mut();
         out.iter().all(|v| v.is_finite())
     }
-}
-
-/// Solves `M x = rhs` in place (`M` square, overwritten by its LU factors, `rhs` by `x`) with
-/// partial pivoting, step for step nalgebra's `LU::new(M).solve_mut(rhs)` (same pivots, same
-/// arithmetic) but without its allocations; `pivots` receives the row swaps. `false` if `M`
-/// is singular.
-fn lu_solve_in_place(
-    matrix: &mut DMatrix<f64>,
-    pivots: &mut Vec<(usize, usize)>,
-    rhs: &mut DVector<f64>,
-) -> bool {
-    pivots.clear();
-    for i in 0..matrix.nrows() {
-        let pivot = matrix.view_range(i.., i).icamax() + i;
-        let diagonal = matrix[(pivot, i)];
-        if diagonal == 0.0 {
-            continue;
-        }
-        if pivot != i {
-            pivots.push((i, pivot));
-            matrix.columns_range_mut(..i).swap_rows(i, pivot);
-            gauss_step_swap(matrix, diagonal, i, pivot);
-        } else {
-            gauss_step(matrix, diagonal, i);
-        }
-    }
-    for &(i, pivot) in pivots.iter() {
-        rhs.swap_rows(i, pivot);
-    }
-    let _ = matrix.solve_lower_triangular_with_diag_mut(rhs, 1.0);
-    matrix.solve_upper_triangular_mut(rhs)
 }
 
 /// The contact-wrench QP for a fixed number of contacts and equality rows.

@@ -133,7 +133,7 @@ fn check_factor(name: &str, model: &Model, m: &DMatrix<f64>, d: &[f64], rng: &mu
     check_schur(name, &factor, &cholesky, rng);
 }
 
-/// Schur complement `J (M + D)^-1 J^T` and `Y = L^-T J^T` for random `J` of 6 and 12 rows.
+/// Schur complement `J (M + D)^-1 J^T` and `Y = L^-T J^T` for random `J` of 6, 12 and 18 rows.
 fn check_schur(
     name: &str,
     factor: &TreeFactor,
@@ -141,7 +141,8 @@ fn check_schur(
     rng: &mut Lcg,
 ) {
     let nv = cholesky.l().nrows();
-    for k in [6, 12] {
+    // 18 rows: wider than the stack copy of the multi solves (their general path).
+    for k in [6, 12, 18] {
         let jacobian = DMatrix::from_fn(k, nv, |_, _| rng.range(-1.0, 1.0));
         let mut y_t = DMatrix::zeros(k, nv);
         let mut schur = DMatrix::zeros(k, k);

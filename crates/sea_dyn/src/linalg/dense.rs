@@ -147,9 +147,34 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
 }
 
+/// `[a . b0, a . b1, a . b2, a . b3]`: four dot products in one pass over `a` (each with four
+/// partial sums, as [`dot`]), so `a` is loaded once for four columns.
+#[inline]
+fn dot4(a: &[f64], b: [&[f64]; 4]) -> [f64; 4] {
+    let m = a.len();
+    let whole = m - m % 4;
+    let mut lanes = [[0.0; 4]; 4];
+    for start in (0..whole).step_by(4) {
+        let x = &a[start..start + 4];
+        for (column, sums) in b.iter().zip(lanes.iter_mut()) {
+            let y = &column[start..start + 4];
+            for lane in 0..4 {
+                sums[lane] += x[lane] * y[lane];
+            }
+        }
+    }
+    let mut out = [0.0; 4];
+    for ((value, sums), column) in out.iter_mut().zip(&lanes).zip(&b) {
+        let tail: f64 = (whole..m).map(|i| a[i] * column[i]).sum();
+        *value = (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail;
+    }
+    out
+}
+
 /// `c <- alpha a^T b + beta c` (`a` m x r, `b` m x k, `c` r x k, all column-major and
-/// contiguous) as dot products of columns with [`dot`]; `symmetric` computes the lower triangle
-/// only and mirrors it (for `a == b`). nalgebra's `gemm_tr` sums each entry in one chain.
+/// contiguous) as dot products of columns, four columns of `b` per pass ([`dot4`]);
+/// `symmetric` (for `a == b`) computes the lower triangle's blocks only and mirrors them.
+/// nalgebra's `gemm_tr` sums each entry in one dependency chain.
 pub fn gemm_tn(
     c: &mut DMatrix<f64>,
     alpha: f64,
@@ -169,23 +194,37 @@ pub fn gemm_tn(
     );
     let (a, b) = (a.as_slice(), b.as_slice());
     let c = c.as_mut_slice();
-    for j in 0..k {
-        let b_column = &b[j * m..j * m + m];
+    let column = |j: usize| &b[j * m..j * m + m];
+    let mut store = |c: &mut [f64], i: usize, j: usize, value: f64| {
+        let entry = &mut c[j * r + i];
+        *entry = if beta == 0.0 {
+            alpha * value
+        } else {
+            beta * *entry + alpha * value
+        };
+    };
+    let blocked = k - k % 4;
+    for j in (0..blocked).step_by(4) {
+        let columns = [column(j), column(j + 1), column(j + 2), column(j + 3)];
         let first = if symmetric { j } else { 0 };
         for i in first..r {
-            let value = alpha * dot(&a[i * m..i * m + m], b_column);
-            let entry = &mut c[j * r + i];
-            *entry = if beta == 0.0 {
-                value
-            } else {
-                beta * *entry + value
-            };
+            let values = dot4(&a[i * m..i * m + m], columns);
+            for (offset, value) in values.into_iter().enumerate() {
+                store(c, i, j + offset, value);
+            }
+        }
+    }
+    for j in blocked..k {
+        let first = if symmetric { j } else { 0 };
+        for i in first..r {
+            store(c, i, j, dot(&a[i * m..i * m + m], column(j)));
         }
     }
     if symmetric {
+        // The blocks computed rows i >= j (block start); mirror the strict lower triangle.
         for j in 0..k {
-            for i in 0..j {
-                c[j * r + i] = c[i * r + j];
+            for i in j + 1..r {
+                c[i * r + j] = c[j * r + i];
             }
         }
     }
@@ -259,9 +298,11 @@ mod tests {
         gemm_tn(&mut c, 2.0, &a, &b, 0.5, false);
         let expected = a.transpose() * &b * 2.0 + DMatrix::from_element(4, 3, 0.5);
         assert!((&c - &expected).amax() < 1e-12, "{c} vs {expected}");
-        let mut gram = DMatrix::zeros(4, 4);
-        gemm_tn(&mut gram, 1.0, &a, &a, 0.0, true);
-        assert!((&gram - a.transpose() * &a).amax() < 1e-12);
+        // Symmetric, with a block of four columns and a remainder of two.
+        let wide = DMatrix::from_fn(9, 6, |i, j| ((i * 3 + j * 7) % 11) as f64 - 5.0);
+        let mut gram = DMatrix::zeros(6, 6);
+        gemm_tn(&mut gram, 1.0, &wide, &wide, 0.0, true);
+        assert!((&gram - wide.transpose() * &wide).amax() < 1e-12);
     }
 
     #[test]

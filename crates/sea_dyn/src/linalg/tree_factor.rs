@@ -17,6 +17,9 @@ use nalgebra::{DMatrix, Matrix6, Vector6};
 /// joint row.
 const BASE_DOFS: usize = 6;
 
+/// Widths up to which the multi-right-hand-side solves keep the pivot column on the stack.
+const LOCAL_WIDTH: usize = 12;
+
 /// The factor and the tree of DOFs.
 ///
 /// Storage: row `d` of `L` holds only its structural non-zeros, the columns `d, parent(d),
@@ -212,6 +215,22 @@ impl TreeFactor {
             }
             let inverse = 1.0 / self.values[start];
             yi.iter_mut().for_each(|v| *v *= inverse);
+            if k <= LOCAL_WIDTH {
+                // A copy on the stack: the updates below then borrow only their target.
+                let mut local = [0.0; LOCAL_WIDTH];
+                local[..k].copy_from_slice(yi);
+                let source = &local[..k];
+                for (&value, &column) in self.values[start + 1..end]
+                    .iter()
+                    .zip(&self.column_velocity[start + 1..end])
+                {
+                    let target = &mut b[column * k..column * k + k];
+                    for (t, s) in target.iter_mut().zip(source) {
+                        *t -= value * s;
+                    }
+                }
+                continue;
+            }
             for (&value, &column) in self.values[start + 1..end]
                 .iter()
                 .zip(&self.column_velocity[start + 1..end])
@@ -237,6 +256,26 @@ impl TreeFactor {
         for i in 0..self.velocity_index.len() {
             let (start, end) = (self.row_start[i], self.row_start[i + 1]);
             let vi = self.velocity_index[i];
+            let inverse = 1.0 / self.values[start];
+            if k <= LOCAL_WIDTH {
+                // Accumulated on the stack: the ancestors are then only read.
+                let mut local = [0.0; LOCAL_WIDTH];
+                let target = &mut local[..k];
+                target.copy_from_slice(&b[vi * k..vi * k + k]);
+                for (&value, &column) in self.values[start + 1..end]
+                    .iter()
+                    .zip(&self.column_velocity[start + 1..end])
+                {
+                    let source = &b[column * k..column * k + k];
+                    for (t, s) in target.iter_mut().zip(source) {
+                        *t -= value * s;
+                    }
+                }
+                for (out, t) in b[vi * k..vi * k + k].iter_mut().zip(target.iter()) {
+                    *out = t * inverse;
+                }
+                continue;
+            }
             for (&value, &column) in self.values[start + 1..end]
                 .iter()
                 .zip(&self.column_velocity[start + 1..end])
@@ -246,7 +285,6 @@ impl TreeFactor {
                     *t -= value * s;
                 }
             }
-            let inverse = 1.0 / self.values[start];
             b[vi * k..vi * k + k].iter_mut().for_each(|v| *v *= inverse);
         }
     }
