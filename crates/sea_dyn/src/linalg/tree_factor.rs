@@ -11,7 +11,7 @@
 
 use crate::error::{Error, Result};
 use crate::model::Model;
-use nalgebra::{DMatrix, Matrix6, Vector6};
+use nalgebra::{DMatrix, Matrix6, SMatrix, SVector, Vector6};
 
 /// The base's six DOFs, the first six tree DOFs (a chain) and the last six entries of every
 /// joint row.
@@ -304,7 +304,12 @@ impl TreeFactor {
         self.solve_lt_multi(y_t);
         schur.fill(0.0);
         let (y, s) = (y_t.as_slice(), schur.as_mut_slice());
-        with_fixed_width!(k, |width| sum_outer_products(y, s, width));
+        match k {
+            // The contact sizes: a stack accumulator with fixed-size rank-one updates.
+            6 => sum_outer_products_fixed::<6>(y, s),
+            12 => sum_outer_products_fixed::<12>(y, s),
+            _ => sum_outer_products(y, s, k),
+        }
     }
 }
 
@@ -332,6 +337,20 @@ fn sum_outer_products(y: &[f64], s: &mut [f64], k: usize) {
             s[r * k + c] = s[c * k + r];
         }
     }
+}
+
+/// [`sum_outer_products`] for a fixed `K`: full `K x K` rank-one updates of a stack matrix,
+/// skipping zero columns (fixed-length, unrolled loops beat the triangle's short ones).
+fn sum_outer_products_fixed<const K: usize>(y: &[f64], s: &mut [f64]) {
+    let mut sum = SMatrix::<f64, K, K>::zeros();
+    for column in y.chunks_exact(K) {
+        if column.iter().all(|&v| v == 0.0) {
+            continue;
+        }
+        let v = SVector::<f64, K>::from_column_slice(column);
+        sum.ger(1.0, &v, &v, 1.0);
+    }
+    s.copy_from_slice(sum.as_slice());
 }
 
 /// The k-entry columns `source` and `target` (distinct) of a k x nv column-major slice.
