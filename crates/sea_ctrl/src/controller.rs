@@ -337,6 +337,19 @@ impl MomentumController {
         &self.qp.agreement
     }
 
+    /// The controller's robot model.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// The rigid-body workspace after the last tick: kinematics, body velocities and
+    /// inertias, bias forces `h` (in `tau`, gravity included, no spring terms) and `M` at the
+    /// tick's `q` and `nu` (plus the contact frames' Jacobian buffers). What a plant with an
+    /// equal model can adopt instead of recomputing them at the same state.
+    pub fn model_data(&self) -> &Data {
+        &self.data
+    }
+
     /// Settings.
     pub fn settings(&self) -> &ControllerSettings {
         &self.settings

@@ -12,6 +12,7 @@ use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place};
 use sea_dyn::kinematics::frame_placement;
 use sea_dyn::rnea::bias_forces;
 use sea_dyn::tree_factor::TreeFactor;
+use sea_dyn::StateLayout;
 
 /// Workspace of the plant: every buffer of the dynamics and of the implicit step.
 #[derive(Clone, Debug)]
@@ -65,6 +66,10 @@ pub struct PlantData {
     pub(crate) x_stage: Vec<f64>,
     /// Outputs of the step-start evaluation, kept while later stages evaluate elsewhere.
     pub(crate) saved: SavedOutputs,
+    /// `[q; nu]` (nq + nv) at which [`PlantData::adopt_model_terms`] gave the model terms in
+    /// `data`, and whether they are still unused.
+    adopted_state: Vec<f64>,
+    adopted: bool,
 }
 
 /// Copies of the evaluation outputs (same sizes as in [`PlantData`]).
@@ -122,7 +127,31 @@ impl PlantData {
                 saturated: vec![false; ne],
                 drift: (0.0, 0.0),
             },
+            adopted_state: vec![0.0; layout.nq + nv],
+            adopted: false,
         }
+    }
+
+    /// Takes the model terms (kinematics, bias forces `h`, `M`) that another user of the same
+    /// model computed at `x`'s `q` and `nu` (`data` after `bias_forces` and
+    /// `crba_after_rnea`, e.g. the controller's workspace after a tick at this state), so that
+    /// the next [`evaluate`] at exactly that `q` and `nu` skips kinematics, RNEA and CRBA. Any
+    /// other evaluation drops them. `data` must belong to a model equal to the plant's
+    /// (the caller checks, e.g. with `Model`'s `==`). Allocates nothing.
+    pub fn adopt_model_terms(&mut self, data: &Data, layout: &StateLayout, x: &[f64]) {
+        self.data.copy_model_terms_from(data);
+        let nq = layout.nq;
+        self.adopted_state[..nq].copy_from_slice(layout.q(x));
+        self.adopted_state[nq..].copy_from_slice(layout.nu(x));
+        self.adopted = true;
+    }
+
+    /// Whether adopted model terms are waiting for exactly this `q` and `nu` (bitwise); they
+    /// are used at most once.
+    fn take_adopted_terms(&mut self, q: &[f64], nu: &[f64]) -> bool {
+        let adopted = std::mem::replace(&mut self.adopted, false);
+        let nq = q.len();
+        adopted && self.adopted_state[..nq] == *q && self.adopted_state[nq..] == *nu
     }
 
     /// Saves the outputs of the last evaluation (no allocation).
@@ -181,10 +210,13 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
     let nu = layout.nu(x);
     let thetadot = layout.thetadot(x);
 
-    // h(q, nu) into scratch_v (negated below), then M from the same kinematics.
-    bias_forces(model, &mut pd.data, q, nu);
+    // h(q, nu) into scratch_v (negated below), then M from the same kinematics (unless a
+    // user of the same state already computed them: `adopt_model_terms`).
+    if !pd.take_adopted_terms(q, nu) {
+        bias_forces(model, &mut pd.data, q, nu);
+        crba_after_rnea(model, &mut pd.data);
+    }
     pd.scratch_v.copy_from(&pd.data.tau);
-    crba_after_rnea(model, &mut pd.data);
     joint_diagonal(plant, &mut pd.diagonal);
     pd.mass_factor
         .factor(&pd.data.mass_matrix, &pd.diagonal)

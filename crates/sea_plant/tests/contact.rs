@@ -326,3 +326,45 @@ fn the_step_leaves_the_step_start_outputs_in_plant_data() {
         assert_eq!(pd.joint_torque, reference.joint_torque, "{method:?}");
     }
 }
+
+#[test]
+fn adopted_model_terms_give_the_same_evaluation_and_only_at_their_state() {
+    // `PlantData::adopt_model_terms`: the closed loop hands the controller's kinematics, bias
+    // forces and M (computed at the same state with an equal model) to the plant's next
+    // evaluation. The result must be bitwise the evaluation without them; at another state
+    // they must not be used.
+    let (plant, q) = icub_standing();
+    let layout = plant.layout();
+    let mut rng = Lcg::new(12);
+    let x = perturbed_state(&plant, &q, &mut rng);
+    let other = perturbed_state(&plant, &q, &mut rng);
+    let u: Vec<f64> = (0..plant.model.n_joints())
+        .map(|_| 5.0 * rng.next_signed())
+        .collect();
+    let terms_at = |state: &[f64]| {
+        let mut data = Data::new(&plant.model);
+        sea_dyn::bias_forces(&plant.model, &mut data, layout.q(state), layout.nu(state));
+        sea_dyn::crba_after_rnea(&plant.model, &mut data);
+        data
+    };
+    let mut reference = PlantData::new(&plant);
+    evaluate(&plant, &mut reference, &x, &u).unwrap();
+    let mut pd = PlantData::new(&plant);
+    pd.adopt_model_terms(&terms_at(&x), &layout, &x);
+    evaluate(&plant, &mut pd, &x, &u).unwrap();
+    assert_eq!(pd.xdot, reference.xdot);
+    assert_eq!(pd.contact_wrench, reference.contact_wrench);
+    // Terms of another state offered for x: ignored (x's own terms are computed).
+    let mut pd = PlantData::new(&plant);
+    pd.adopt_model_terms(&terms_at(&other), &layout, &other);
+    evaluate(&plant, &mut pd, &x, &u).unwrap();
+    assert_eq!(pd.xdot, reference.xdot);
+    // Used once: a second evaluation elsewhere and back computes its own.
+    let mut pd = PlantData::new(&plant);
+    pd.adopt_model_terms(&terms_at(&x), &layout, &x);
+    evaluate(&plant, &mut pd, &x, &u).unwrap();
+    evaluate(&plant, &mut pd, &other, &u).unwrap();
+    let mut at_other = PlantData::new(&plant);
+    evaluate(&plant, &mut at_other, &other, &u).unwrap();
+    assert_eq!(pd.xdot, at_other.xdot);
+}

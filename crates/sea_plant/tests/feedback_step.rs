@@ -52,10 +52,11 @@ fn a_constant_law_is_the_held_input_step() {
     for method in METHODS {
         let (mut x_held, mut x_law) = (x.clone(), x.clone());
         step(&plant, &mut pd, &x, &held, 1e-3, method, &mut x_held).unwrap();
-        let mut law = |_: f64, _: &[f64], u: &mut [f64]| -> sea_plant::Result<()> {
-            u.copy_from_slice(&held);
-            Ok(())
-        };
+        let mut law =
+            |_: f64, _: &[f64], u: &mut [f64], _: &mut PlantData| -> sea_plant::Result<()> {
+                u.copy_from_slice(&held);
+                Ok(())
+            };
         let mut u = [0.0; 2];
         step_with_feedback(
             &plant, &mut pd, &x, 2.5, 1e-3, method, &mut law, &mut u, &mut x_law,
@@ -78,14 +79,15 @@ fn the_law_is_evaluated_at_the_stage_times() {
     for (method, times) in expected {
         let mut seen = Vec::new();
         let mut first_state = None;
-        let mut law = |time: f64, state: &[f64], u: &mut [f64]| -> sea_plant::Result<()> {
-            if first_state.is_none() {
-                first_state = Some(state.to_vec());
-            }
-            seen.push(time);
-            u.fill(0.0);
-            Ok(())
-        };
+        let mut law =
+            |time: f64, state: &[f64], u: &mut [f64], _: &mut PlantData| -> sea_plant::Result<()> {
+                if first_state.is_none() {
+                    first_state = Some(state.to_vec());
+                }
+                seen.push(time);
+                u.fill(0.0);
+                Ok(())
+            };
         let (mut u, mut x_out) = ([0.0; 2], x.clone());
         step_with_feedback(
             &plant, &mut pd, &x, t, dt, method, &mut law, &mut u, &mut x_out,
@@ -111,7 +113,7 @@ fn the_law_error_is_returned() {
     }
     let (plant, x) = pendulum();
     let mut pd = PlantData::new(&plant);
-    let mut law = |time: f64, _: &[f64], u: &mut [f64]| {
+    let mut law = |time: f64, _: &[f64], u: &mut [f64], _: &mut PlantData| {
         u.fill(0.0);
         if time > 1.0 {
             Err(LawError::Law(time))
@@ -141,7 +143,7 @@ fn closed_loop_state(plant: &Plant, x0: &[f64], method: Method, steps: usize) ->
     // Desired motor velocities: a sinusoid in time plus feedback of the joint angles and
     // velocities (stiff enough to matter: gain 40/s through the motor velocity loop).
     let layout = plant.layout();
-    let mut law = |t: f64, x: &[f64], u: &mut [f64]| -> sea_plant::Result<()> {
+    let mut law = |t: f64, x: &[f64], u: &mut [f64], _: &mut PlantData| -> sea_plant::Result<()> {
         let (s, sdot) = (layout.s(x), layout.sdot(x));
         for j in 0..2 {
             u[j] = (3.0 * (8.0 * t + j as f64).sin() - 40.0 * s[j] - 2.0 * sdot[j]) / 0.01;

@@ -195,7 +195,7 @@ pub fn gemm_tn(
     let (a, b) = (a.as_slice(), b.as_slice());
     let c = c.as_mut_slice();
     let column = |j: usize| &b[j * m..j * m + m];
-    let mut store = |c: &mut [f64], i: usize, j: usize, value: f64| {
+    let store = |c: &mut [f64], i: usize, j: usize, value: f64| {
         let entry = &mut c[j * r + i];
         *entry = if beta == 0.0 {
             alpha * value

@@ -66,10 +66,9 @@ impl TreeFactor {
         let column_velocity: Vec<usize> = column_dof.iter().map(|&d| velocity_index[d]).collect();
         let nv = velocity_index.len();
         let mut matrix_index = Vec::with_capacity(column_dof.len());
-        for d in 0..nv {
-            for entry in row_start[d]..row_start[d + 1] {
-                matrix_index.push(velocity_index[d] + nv * column_velocity[entry]);
-            }
+        for (d, &vd) in velocity_index.iter().enumerate() {
+            let row = &column_velocity[row_start[d]..row_start[d + 1]];
+            matrix_index.extend(row.iter().map(|&column| vd + nv * column));
         }
         Self {
             values: vec![0.0; column_dof.len()],

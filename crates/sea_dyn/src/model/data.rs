@@ -47,6 +47,22 @@ pub struct Data {
 }
 
 impl Data {
+    /// Copies from `other` (a workspace of the same model) what an algorithm run at the same
+    /// state after `bias_forces` and [`crate::crba_after_rnea`] leaves for later use: base
+    /// position, placements, motion subspaces, body velocities and inertias, the bias forces in
+    /// `tau` and `M`. Allocates nothing. Lets a second user of the same state (the plant after
+    /// the controller) skip the kinematics, RNEA and CRBA.
+    pub fn copy_model_terms_from(&mut self, other: &Data) {
+        self.p_base_world = other.p_base_world;
+        self.world_r_body.copy_from_slice(&other.world_r_body);
+        self.p_body_rel.copy_from_slice(&other.p_body_rel);
+        self.motion_subspace.copy_from_slice(&other.motion_subspace);
+        self.body_velocity.copy_from_slice(&other.body_velocity);
+        self.body_inertia.copy_from_slice(&other.body_inertia);
+        self.tau.copy_from(&other.tau);
+        self.mass_matrix.copy_from(&other.mass_matrix);
+    }
+
     /// Allocates every buffer for `model`.
     pub fn new(model: &Model) -> Self {
         let nb = model.n_bodies();

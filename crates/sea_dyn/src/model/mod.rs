@@ -34,7 +34,7 @@ pub enum JointKind {
 }
 
 /// One moving joint and the body it carries.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Joint {
     /// URDF joint name.
     pub name: String,
@@ -55,7 +55,7 @@ pub struct Joint {
 }
 
 /// An addressable frame: a URDF link rigidly attached to a body.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Frame {
     /// URDF link name.
     pub name: String,
@@ -69,7 +69,8 @@ pub struct Frame {
 pub type FrameId = usize;
 
 /// The immutable robot model (Pinocchio's `Model`); buffers live in [`crate::Data`].
-#[derive(Clone, Debug)]
+/// Equality is field by field (two loads of the same URDF with the same options are equal).
+#[derive(Clone, Debug, PartialEq)]
 pub struct Model {
     /// Robot name from the URDF.
     pub name: String,

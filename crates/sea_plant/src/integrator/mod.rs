@@ -76,12 +76,14 @@ pub fn step(
 }
 
 /// One step of size `dt` from `x` at time `t` whose input is the feedback law
-/// `law(t_stage, x_stage, u)`, evaluated at every stage, the way a controller inside an ODE
+/// `law(t_stage, x_stage, u, pd)`, evaluated at every stage, the way a controller inside an ODE
 /// solver's right-hand side is (the paper's setting); writes `x_out`. `u` (n) is the law's
 /// output buffer. Stage times: `t` (linearly implicit Euler), `t, t + dt` (ROS2),
 /// `t, t + dt/2, t + dt/2, t + dt` (RK4); the first stage is always `(t, x)`. `W` keeps only
 /// the plant's stiff terms (the law is treated explicitly), which a W-method allows without
-/// losing its order. On success `pd` holds the evaluation at `x`.
+/// losing its order. On success `pd` holds the evaluation at `x`. The law also gets the
+/// plant's workspace, to hand over model terms it computed at the stage's state
+/// ([`PlantData::adopt_model_terms`]); it must not change anything else there.
 ///
 /// The law's error type `E` is the caller's (any type a plant error converts into), so a
 /// controller failure reaches the caller as itself.
@@ -93,12 +95,12 @@ pub fn step_with_feedback<E: From<Error>>(
     t: f64,
     dt: f64,
     method: Method,
-    law: &mut impl FnMut(f64, &[f64], &mut [f64]) -> std::result::Result<(), E>,
+    law: &mut impl FnMut(f64, &[f64], &mut [f64], &mut PlantData) -> std::result::Result<(), E>,
     u: &mut [f64],
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
     let mut feedback = |pd: &mut PlantData, offset: f64, x_stage: &[f64]| {
-        law(t + offset, x_stage, u)?;
+        law(t + offset, x_stage, u, pd)?;
         evaluate(plant, pd, x_stage, u).map_err(E::from)
     };
     step_with(plant, pd, x, dt, method, &mut feedback, x_out)

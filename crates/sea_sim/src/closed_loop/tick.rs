@@ -22,6 +22,10 @@ pub(super) struct Law<'a> {
     layout: StateLayout,
     /// Postural reference `s_d(t)` of the last evaluation (n).
     s_desired: Vec<f64>,
+    /// Whether the controller's model equals the plant's, so that the model terms of a tick
+    /// (kinematics, `h`, `M` at the tick's state) can be handed to the plant's evaluation
+    /// at the same state instead of being computed twice.
+    share_model_terms: bool,
 }
 
 /// The controller's evaluation at one state; [`Law::new_observation`] makes one that
@@ -83,6 +87,15 @@ impl Law<'_> {
             },
             com_error: 0.0,
             joint_error: 0.0,
+        }
+    }
+
+    /// After a tick at `x`: hands the controller's model terms to the plant's next evaluation
+    /// (used only if that evaluation is at `x`'s `q` and `nu`; see
+    /// [`PlantData::adopt_model_terms`]). Results are bitwise those without it.
+    fn hand_over_model_terms(&self, pd: &mut PlantData, x: &[f64]) {
+        if self.share_model_terms {
+            pd.adopt_model_terms(self.controller.model_data(), &self.layout, x);
         }
     }
 
@@ -179,12 +192,14 @@ impl<'a> Engine<'a> {
         } = setup;
         let layout = plant.layout();
         let n = model.n_joints();
+        let share_model_terms = controller.model() == &plant.model;
         let law = Law {
             controller,
             com_reference,
             posture,
             layout,
             s_desired: vec![0.0; n],
+            share_model_terms,
         };
         Ok(Engine {
             scenario,
@@ -272,6 +287,7 @@ impl<'a> Engine<'a> {
 
     /// Evaluates the plant at the current state with input `u`, for the record.
     fn evaluate_here(&mut self, u: &[f64]) -> std::result::Result<(), String> {
+        self.law.hand_over_model_terms(&mut self.pd, &self.x);
         let result = sea_plant::evaluate(self.plant, &mut self.pd, &self.x, u);
         self.outputs.copy_from(&self.pd);
         result.map_err(|e| format!("plant: {e}"))
@@ -282,6 +298,8 @@ impl<'a> Engine<'a> {
     fn advance_held(&mut self, u: &[f64]) -> std::result::Result<(), String> {
         let steps = self.schedule.steps_per_period;
         self.x_step.copy_from_slice(&self.x);
+        // The first step starts where the controller just ticked.
+        self.law.hand_over_model_terms(&mut self.pd, &self.x_step);
         for k in 0..steps {
             let result = sea_plant::step(
                 self.plant,
@@ -312,9 +330,10 @@ impl<'a> Engine<'a> {
     fn continuous_period(&mut self, time: f64) -> std::result::Result<Period, String> {
         let mut observed = false;
         let (law, first, stage) = (&mut self.law, &mut self.observation, &mut self.stage);
-        let mut feedback = |t: f64, x: &[f64], u: &mut [f64]| -> Result<()> {
+        let mut feedback = |t: f64, x: &[f64], u: &mut [f64], pd: &mut PlantData| -> Result<()> {
             let observation = if observed { &mut *stage } else { &mut *first };
             law.observe(t, x, observation)?;
+            law.hand_over_model_terms(pd, x);
             u.copy_from_slice(&observation.output.input);
             observed = true;
             Ok(())
