@@ -350,6 +350,13 @@ impl MomentumController {
         &self.data
     }
 
+    /// The contact terms of the last tick (factor of the controller's `M + diag`, `J`,
+    /// `Jdot nu`, `J M^-1 J^T`), for a plant at the same state with the same model, diagonal
+    /// and contacts.
+    pub fn factored_contacts(&self) -> sea_dyn::tree_factor::FactoredContacts<'_> {
+        self.torque_map.factored_contacts(&self.contact_frames)
+    }
+
     /// Settings.
     pub fn settings(&self) -> &ControllerSettings {
         &self.settings

@@ -25,7 +25,8 @@
 use crate::error::{Error, Result};
 use nalgebra::{DMatrix, DVector};
 use sea_dyn::dense::{cholesky_in_place, cholesky_solve_right_in_place, dot, gemm_small, gemm_tn};
-use sea_dyn::tree_factor::TreeFactor;
+use sea_dyn::model::FrameId;
+use sea_dyn::tree_factor::{FactoredContacts, TreeFactor};
 use sea_dyn::{CentroidalSplit, Model};
 
 /// The postural task's inputs (all of size n, joint order).
@@ -75,6 +76,8 @@ pub struct TorqueMap {
     pinv: DMatrix<f64>,
     /// `J M^-1 J^T` after [`Self::lambda`], then `J M^-1 J^T - Lambda Jbar^T` (k x k).
     coupling: DMatrix<f64>,
+    /// `J M^-1 J^T` (k x k), kept for [`Self::factored_contacts`].
+    contact_schur: DMatrix<f64>,
     /// Task-space vector scratch (k).
     scratch_k: DVector<f64>,
     /// `J M^-1 h - Jdot nu` (k).
@@ -104,10 +107,25 @@ impl TorqueMap {
             gram: DMatrix::zeros(k, k),
             pinv: DMatrix::zeros(n, k),
             coupling: DMatrix::zeros(k, k),
+            contact_schur: DMatrix::zeros(k, k),
             scratch_k: DVector::zeros(k),
             task_bias: DVector::zeros(k),
             stiffness_term: DVector::zeros(n),
             damping_term: DVector::zeros(n),
+        }
+    }
+
+    /// The contact terms of the last [`Self::compute`] (factor of `M + diag`, `J`, `Jdot nu`,
+    /// `(L^-T J^T)^T`, `J M^-1 J^T`) for the contact `frames` of its rows.
+    pub fn factored_contacts<'a>(&'a self, frames: &'a [FrameId]) -> FactoredContacts<'a> {
+        FactoredContacts {
+            frames,
+            diagonal: &self.diagonal,
+            factor: &self.factor,
+            jacobian: &self.jacobian,
+            jdot_nu: &self.jdot_nu,
+            linv_jt_t: &self.linv_jt_t,
+            schur: &self.contact_schur,
         }
     }
 
@@ -140,6 +158,7 @@ impl TorqueMap {
             .map_err(|e| Error::Dynamics(e.during("factorising the controller's M + diag")))?;
         self.factor
             .schur_complement(&self.jacobian, &mut self.linv_jt_t, &mut self.coupling);
+        self.contact_schur.copy_from(&self.coupling);
         self.minv_jt_t.copy_from(&self.linv_jt_t);
         self.factor.solve_l_multi(&mut self.minv_jt_t);
         self.lambda_t.tr_copy_from(&self.minv_jt_t.columns(6, n));

@@ -99,12 +99,6 @@ fn tree_factor(c: &mut Criterion) {
             black_box(&y_t);
         })
     });
-    c.bench_function("copy_jacobian", |b| {
-        b.iter(|| {
-            y_t.copy_from(&jacobian);
-            black_box(&y_t);
-        })
-    });
     let mut gram = schur.clone();
     c.bench_function("cholesky_12", |b| {
         b.iter(|| {

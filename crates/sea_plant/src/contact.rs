@@ -79,29 +79,34 @@ pub fn constraint_acceleration(jdot_nu: f64, j_nu: f64, error: f64, kd: f64, kp:
 }
 
 /// Contact Jacobian, `M^-1 J^T`, Schur complement and the Baumgarte acceleration target
-/// `-(Jdot nu + K_d J nu + K_p e)` (into `constraint_rhs`), plus the drift.
-pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64]) {
+/// `-(Jdot nu + K_d J nu + K_p e)` (into `constraint_rhs`), plus the drift. With `adopted`, `J`,
+/// `L^-T J^T`, the Schur complement and `Jdot nu` are already in `pd`
+/// ([`PlantData::adopt_contact_terms`]); only the pose errors and the target are computed.
+pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64], adopted: bool) {
     let model = &plant.model;
     pd.drift_position = 0.0;
     pd.drift_rotation = 0.0;
     for (c, contact) in plant.contacts.iter().enumerate() {
-        frame_jacobian_from_kinematics(model, &mut pd.data, contact.frame);
-        pd.contact_jacobian
-            .rows_mut(6 * c, 6)
-            .copy_from(&pd.data.frame_jacobian);
-        let bias = frame_bias_acceleration(model, &mut pd.data, contact.frame);
+        let bias = if adopted {
+            pd.adopted_jdot_nu.fixed_rows::<6>(6 * c).into_owned()
+        } else {
+            frame_jacobian_from_kinematics(model, &mut pd.data, contact.frame);
+            pd.contact_jacobian
+                .rows_mut(6 * c, 6)
+                .copy_from(&pd.data.frame_jacobian);
+            frame_bias_acceleration(model, &mut pd.data, contact.frame)
+        };
         let pose = frame_placement(model, &pd.data, contact.frame);
         let position_error = pose.translation - contact.reference.translation;
         let rotation_err = rotation_error(&pose.rotation, &contact.reference.rotation);
         pd.drift_position = pd.drift_position.max(position_error.norm());
         pd.drift_rotation = pd.drift_rotation.max(rotation_err.norm());
-        // J nu column by column (contiguous 6-vectors of the column-major Jacobian).
+        // J nu column by column (contiguous 6-vectors of the column-major Jacobian's rows).
         let mut frame_velocity = Vector6::zeros();
         for (i, &nu_i) in nu.iter().enumerate() {
-            frame_velocity += pd.data.frame_jacobian.fixed_view::<6, 1>(0, i) * nu_i;
+            frame_velocity += pd.contact_jacobian.fixed_view::<6, 1>(6 * c, i) * nu_i;
         }
         for r in 0..6 {
-            let velocity = frame_velocity[r];
             let error = if r < 3 {
                 position_error[r]
             } else {
@@ -109,13 +114,15 @@ pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64]) {
             };
             pd.constraint_rhs[6 * c + r] = constraint_acceleration(
                 bias[r],
-                velocity,
+                frame_velocity[r],
                 error,
                 plant.baumgarte_kd,
                 plant.baumgarte_kp,
             );
         }
     }
-    pd.mass_factor
-        .schur_complement(&pd.contact_jacobian, &mut pd.linv_jt_t, &mut pd.schur);
+    if !adopted {
+        pd.mass_factor
+            .schur_complement(&pd.contact_jacobian, &mut pd.linv_jt_t, &mut pd.schur);
+    }
 }

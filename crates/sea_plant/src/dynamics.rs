@@ -11,7 +11,7 @@ use sea_dyn::data::Data;
 use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place};
 use sea_dyn::kinematics::frame_placement;
 use sea_dyn::rnea::bias_forces;
-use sea_dyn::tree_factor::TreeFactor;
+use sea_dyn::tree_factor::{FactoredContacts, TreeFactor};
 use sea_dyn::StateLayout;
 
 /// Workspace of the plant: every buffer of the dynamics and of the implicit step.
@@ -70,6 +70,10 @@ pub struct PlantData {
     /// `data`, and whether they are still unused.
     adopted_state: Vec<f64>,
     adopted: bool,
+    /// Whether the factor, `J`, `L^-T J^T` and `J M^-1 J^T` were adopted too
+    /// ([`PlantData::adopt_contact_terms`]), with `Jdot nu` here (k).
+    adopted_contacts: bool,
+    pub(crate) adopted_jdot_nu: DVector<f64>,
 }
 
 /// Copies of the evaluation outputs (same sizes as in [`PlantData`]).
@@ -129,6 +133,8 @@ impl PlantData {
             },
             adopted_state: vec![0.0; layout.nq + nv],
             adopted: false,
+            adopted_contacts: false,
+            adopted_jdot_nu: DVector::zeros(k),
         }
     }
 
@@ -144,14 +150,47 @@ impl PlantData {
         self.adopted_state[..nq].copy_from_slice(layout.q(x));
         self.adopted_state[nq..].copy_from_slice(layout.nu(x));
         self.adopted = true;
+        self.adopted_contacts = false;
     }
 
-    /// Whether adopted model terms are waiting for exactly this `q` and `nu` (bitwise); they
-    /// are used at most once.
-    fn take_adopted_terms(&mut self, q: &[f64], nu: &[f64]) -> bool {
+    /// After [`PlantData::adopt_model_terms`] at the same state: also takes the contact terms
+    /// computed there with a factored `M + diag` (`contacts`, e.g. the controller's), so the
+    /// next evaluation skips the factorisation, the contact Jacobians and the Schur complement.
+    /// Taken only if the contact frames and the diagonal are the plant's own (bitwise); returns
+    /// whether they were. Allocates nothing.
+    pub fn adopt_contact_terms(&mut self, plant: &Plant, contacts: &FactoredContacts) -> bool {
+        joint_diagonal(plant, &mut self.diagonal);
+        let frames_match = contacts.frames.len() == plant.contacts.len()
+            && contacts
+                .frames
+                .iter()
+                .zip(&plant.contacts)
+                .all(|(&frame, contact)| frame == contact.frame);
+        let k = 6 * plant.contacts.len();
+        let usable = self.adopted
+            && frames_match
+            && contacts.diagonal == self.diagonal.as_slice()
+            && contacts.jacobian.shape() == self.contact_jacobian.shape()
+            && contacts.schur.shape() == (k, k);
+        if usable {
+            self.mass_factor.copy_values_from(contacts.factor);
+            self.contact_jacobian.copy_from(contacts.jacobian);
+            self.adopted_jdot_nu.copy_from(contacts.jdot_nu);
+            self.linv_jt_t.copy_from(contacts.linv_jt_t);
+            self.schur.copy_from(contacts.schur);
+        }
+        self.adopted_contacts = usable;
+        usable
+    }
+
+    /// Whether adopted model terms (and contact terms) are waiting for exactly this `q` and
+    /// `nu` (bitwise); they are used at most once.
+    fn take_adopted_terms(&mut self, q: &[f64], nu: &[f64]) -> (bool, bool) {
         let adopted = std::mem::replace(&mut self.adopted, false);
+        let contacts = std::mem::replace(&mut self.adopted_contacts, false);
         let nq = q.len();
-        adopted && self.adopted_state[..nq] == *q && self.adopted_state[nq..] == *nu
+        let here = adopted && self.adopted_state[..nq] == *q && self.adopted_state[nq..] == *nu;
+        (here, here && contacts)
     }
 
     /// Saves the outputs of the last evaluation (no allocation).
@@ -212,15 +251,18 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
 
     // h(q, nu) into scratch_v (negated below), then M from the same kinematics (unless a
     // user of the same state already computed them: `adopt_model_terms`).
-    if !pd.take_adopted_terms(q, nu) {
+    let (adopted_model, adopted_contacts) = pd.take_adopted_terms(q, nu);
+    if !adopted_model {
         bias_forces(model, &mut pd.data, q, nu);
         crba_after_rnea(model, &mut pd.data);
     }
     pd.scratch_v.copy_from(&pd.data.tau);
     joint_diagonal(plant, &mut pd.diagonal);
-    pd.mass_factor
-        .factor(&pd.data.mass_matrix, &pd.diagonal)
-        .map_err(|e| e.during("factorising the mass matrix"))?;
+    if !adopted_contacts {
+        pd.mass_factor
+            .factor(&pd.data.mass_matrix, &pd.diagonal)
+            .map_err(|e| e.during("factorising the mass matrix"))?;
+    }
 
     joint_and_motor_torques(plant, pd, q, theta, nu, thetadot, u);
 
@@ -233,7 +275,7 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
     }
     pd.mass_factor.solve_lt(pd.scratch_v.as_mut_slice());
     if !plant.contacts.is_empty() {
-        contact_terms(plant, pd, nu);
+        contact_terms(plant, pd, nu, adopted_contacts);
         pd.constraint_rhs
             .gemv(-1.0, &pd.linv_jt_t, &pd.scratch_v, 1.0);
         cholesky_in_place(&mut pd.schur).map_err(|i| {

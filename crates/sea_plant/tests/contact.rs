@@ -367,4 +367,65 @@ fn adopted_model_terms_give_the_same_evaluation_and_only_at_their_state() {
     let mut at_other = PlantData::new(&plant);
     evaluate(&plant, &mut at_other, &other, &u).unwrap();
     assert_eq!(pd.xdot, at_other.xdot);
+
+    // The contact terms too (factor of M + diag, J, Jdot nu, L^-T J^T, J M^-1 J^T), computed
+    // here from sea_dyn as a controller with the plant's diagonal and contacts would.
+    let data = terms_at(&x);
+    let nv = plant.model.nv();
+    let mut diagonal = vec![plant.joint_inertia_regularization; nv];
+    diagonal[..6].fill(0.0);
+    let frames: Vec<usize> = plant.contacts.iter().map(|c| c.frame).collect();
+    let k = 6 * frames.len();
+    let (mut jacobian, mut jdot_nu) = (DMatrix::zeros(k, nv), DVector::zeros(k));
+    let mut scratch = data.clone();
+    for (c, &frame) in frames.iter().enumerate() {
+        sea_dyn::jacobian::frame_jacobian_from_kinematics(&plant.model, &mut scratch, frame);
+        jacobian
+            .rows_mut(6 * c, 6)
+            .copy_from(&scratch.frame_jacobian);
+        let bias = sea_dyn::jacobian::frame_bias_acceleration(&plant.model, &mut scratch, frame);
+        jdot_nu.fixed_rows_mut::<6>(6 * c).copy_from(&bias);
+    }
+    let mut factor = sea_dyn::tree_factor::TreeFactor::new(&plant.model);
+    factor.factor(&data.mass_matrix, &diagonal).unwrap();
+    let (mut linv_jt_t, mut schur) = (DMatrix::zeros(k, nv), DMatrix::zeros(k, k));
+    factor.schur_complement(&jacobian, &mut linv_jt_t, &mut schur);
+    let contacts = sea_dyn::tree_factor::FactoredContacts {
+        frames: &frames,
+        diagonal: &diagonal,
+        factor: &factor,
+        jacobian: &jacobian,
+        jdot_nu: &jdot_nu,
+        linv_jt_t: &linv_jt_t,
+        schur: &schur,
+    };
+    let mut pd = PlantData::new(&plant);
+    pd.adopt_model_terms(&data, &layout, &x);
+    assert!(pd.adopt_contact_terms(&plant, &contacts));
+    evaluate(&plant, &mut pd, &x, &u).unwrap();
+    assert_eq!(pd.xdot, reference.xdot);
+    assert_eq!(pd.contact_wrench, reference.contact_wrench);
+    // They are really used: a different Schur complement handed over changes the result.
+    let doubled = &schur * 2.0;
+    let tampered = sea_dyn::tree_factor::FactoredContacts {
+        schur: &doubled,
+        ..contacts
+    };
+    let mut pd = PlantData::new(&plant);
+    pd.adopt_model_terms(&data, &layout, &x);
+    assert!(pd.adopt_contact_terms(&plant, &tampered));
+    evaluate(&plant, &mut pd, &x, &u).unwrap();
+    assert_ne!(pd.contact_wrench, reference.contact_wrench);
+    // Another diagonal (a controller with the motor reflected inertia): refused.
+    let mut other_diagonal = diagonal.clone();
+    other_diagonal[7] += 0.01;
+    let refused = sea_dyn::tree_factor::FactoredContacts {
+        diagonal: &other_diagonal,
+        ..contacts
+    };
+    let mut pd = PlantData::new(&plant);
+    pd.adopt_model_terms(&data, &layout, &x);
+    assert!(!pd.adopt_contact_terms(&plant, &refused));
+    evaluate(&plant, &mut pd, &x, &u).unwrap();
+    assert_eq!(pd.xdot, reference.xdot);
 }

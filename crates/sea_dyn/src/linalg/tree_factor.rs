@@ -20,6 +20,27 @@ const BASE_DOFS: usize = 6;
 /// Widths up to which the multi-right-hand-side solves keep the pivot column on the stack.
 const LOCAL_WIDTH: usize = 12;
 
+/// The contact terms of one state computed with a factored `M + diag` (borrowed from whoever
+/// computed them, e.g. the controller's torque map): what a second user of the same state,
+/// model, diagonal and contact frames can take instead of computing them again.
+#[derive(Clone, Copy, Debug)]
+pub struct FactoredContacts<'a> {
+    /// The contact frames, in row order (6 rows each).
+    pub frames: &'a [crate::model::FrameId],
+    /// The diagonal added to `M` before factoring (nv).
+    pub diagonal: &'a [f64],
+    /// `M + diag = L^T L`.
+    pub factor: &'a TreeFactor,
+    /// Stacked contact Jacobian `J` (k x nv), `[v_origin; omega]` world axes.
+    pub jacobian: &'a DMatrix<f64>,
+    /// `Jdot nu` of the contacts (k).
+    pub jdot_nu: &'a nalgebra::DVector<f64>,
+    /// `(L^-T J^T)^T` (k x nv), as [`TreeFactor::schur_complement`] leaves it.
+    pub linv_jt_t: &'a DMatrix<f64>,
+    /// `J (M + diag)^-1 J^T` (k x k), not factored.
+    pub schur: &'a DMatrix<f64>,
+}
+
 /// The factor and the tree of DOFs.
 ///
 /// Storage: row `d` of `L` holds only its structural non-zeros, the columns `d, parent(d),
@@ -78,6 +99,11 @@ impl TreeFactor {
             column_dof,
             column_velocity,
         }
+    }
+
+    /// Copies the factor of `other`, a factor of the same model (no allocation).
+    pub fn copy_values_from(&mut self, other: &TreeFactor) {
+        self.values.copy_from_slice(&other.values);
     }
 
     /// Factors `matrix + diag(diagonal)` (both in velocity indices; `diagonal` may be empty).

@@ -90,12 +90,14 @@ impl Law<'_> {
         }
     }
 
-    /// After a tick at `x`: hands the controller's model terms to the plant's next evaluation
-    /// (used only if that evaluation is at `x`'s `q` and `nu`; see
-    /// [`PlantData::adopt_model_terms`]). Results are bitwise those without it.
-    fn hand_over_model_terms(&self, pd: &mut PlantData, x: &[f64]) {
+    /// After a tick at `x`: hands the controller's model terms, and its contact terms when
+    /// its diagonal and contacts are the plant's, to the plant's next evaluation (used only if
+    /// that evaluation is at `x`'s `q` and `nu`; see [`PlantData::adopt_model_terms`] and
+    /// [`PlantData::adopt_contact_terms`]). Results are bitwise those without it.
+    fn hand_over_model_terms(&self, plant: &Plant, pd: &mut PlantData, x: &[f64]) {
         if self.share_model_terms {
             pd.adopt_model_terms(self.controller.model_data(), &self.layout, x);
+            pd.adopt_contact_terms(plant, &self.controller.factored_contacts());
         }
     }
 
@@ -287,7 +289,8 @@ impl<'a> Engine<'a> {
 
     /// Evaluates the plant at the current state with input `u`, for the record.
     fn evaluate_here(&mut self, u: &[f64]) -> std::result::Result<(), String> {
-        self.law.hand_over_model_terms(&mut self.pd, &self.x);
+        self.law
+            .hand_over_model_terms(self.plant, &mut self.pd, &self.x);
         let result = sea_plant::evaluate(self.plant, &mut self.pd, &self.x, u);
         self.outputs.copy_from(&self.pd);
         result.map_err(|e| format!("plant: {e}"))
@@ -299,7 +302,8 @@ impl<'a> Engine<'a> {
         let steps = self.schedule.steps_per_period;
         self.x_step.copy_from_slice(&self.x);
         // The first step starts where the controller just ticked.
-        self.law.hand_over_model_terms(&mut self.pd, &self.x_step);
+        self.law
+            .hand_over_model_terms(self.plant, &mut self.pd, &self.x_step);
         for k in 0..steps {
             let result = sea_plant::step(
                 self.plant,
@@ -330,10 +334,11 @@ impl<'a> Engine<'a> {
     fn continuous_period(&mut self, time: f64) -> std::result::Result<Period, String> {
         let mut observed = false;
         let (law, first, stage) = (&mut self.law, &mut self.observation, &mut self.stage);
+        let plant = self.plant;
         let mut feedback = |t: f64, x: &[f64], u: &mut [f64], pd: &mut PlantData| -> Result<()> {
             let observation = if observed { &mut *stage } else { &mut *first };
             law.observe(t, x, observation)?;
-            law.hand_over_model_terms(pd, x);
+            law.hand_over_model_terms(plant, pd, x);
             u.copy_from_slice(&observation.output.input);
             observed = true;
             Ok(())
