@@ -329,6 +329,11 @@ fn completed_and_diverged_runs_exit_0_and_3_with_their_outputs() {
 fn signals_stop_the_run_with_a_finished_log_and_an_interrupted_summary() {
     let ws = Workspace::new("signals");
     for (name, code) in [("INT", 130), ("TERM", 143), ("HUP", 129)] {
+        if name == "HUP" && sighup_ignored() {
+            // Under `nohup` the run inherits SIGHUP ignored and rightly keeps it so.
+            eprintln!("SIGHUP is ignored in this process (nohup?): not tested");
+            continue;
+        }
         let mcap = ws.path(&format!("{name}.mcap"));
         let summary_path = ws.path(&format!("{name}.json"));
         let mut run = Running::start(
@@ -661,4 +666,15 @@ fn margin_reports_the_damping_boundary_as_json() {
     let bad = sea_sim(&["margin", &ws.scenario(), "--param", "x", "--range", "1"]);
     assert_eq!(bad.status.code(), Some(1));
     assert!(text(&bad.stderr).contains("LOWER:UPPER"));
+}
+
+/// Whether this process ignores SIGHUP (as under `nohup`), from `SigIgn` in
+/// `/proc/self/status` (bit 0 is signal 1); `false` where that file does not exist.
+fn sighup_ignored() -> bool {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    status
+        .lines()
+        .find_map(|line| line.strip_prefix("SigIgn:"))
+        .and_then(|mask| u64::from_str_radix(mask.trim(), 16).ok())
+        .is_some_and(|mask| mask & 1 == 1)
 }
