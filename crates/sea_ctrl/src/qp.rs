@@ -644,13 +644,19 @@ impl WrenchQp {
             let force = rotation.tr_mul(&f.fixed_rows::<3>(6 * k));
             let moment = rotation.tr_mul(&f.fixed_rows::<3>(6 * k + 3));
             let sole = [force.x, force.y, force.z, moment.x, moment.y, moment.z];
-            self.sole_c
-                .row_iter()
-                .zip(self.sole_b.iter())
-                .all(|(row, &bound)| {
-                    row.iter().zip(&sole).map(|(c, w)| c * w).sum::<f64>() <= bound
-                })
+            self.sole_rows(sole).all(|(value, bound)| value <= bound)
         })
+    }
+
+    /// `(C_s w_s, b_s)` row by row for one contact's sole-frame wrench `w_s`.
+    fn sole_rows(&self, w_s: [f64; 6]) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.sole_c
+            .row_iter()
+            .zip(self.sole_b.iter())
+            .map(move |(row, &bound)| {
+                let value = row.iter().zip(&w_s).map(|(c, w)| c * w).sum::<f64>();
+                (value, bound)
+            })
     }
 
     /// Solves `min 0.5 f^T P f + c^T f` s.t. `A_eq f = b_eq`, `C f <= b` (world wrenches) into
@@ -792,8 +798,8 @@ impl WrenchQp {
         let mut worst: f64 = 0.0;
         for k in 0..self.n_contacts {
             let w_k = w.fixed_rows::<6>(6 * k);
-            for (row, &bound) in self.sole_c.row_iter().zip(self.sole_b.iter()) {
-                let value: f64 = row.iter().zip(w_k.iter()).map(|(c, w)| c * w).sum();
+            let sole = [w_k[0], w_k[1], w_k[2], w_k[3], w_k[4], w_k[5]];
+            for (value, bound) in self.sole_rows(sole) {
                 worst = worst.max(value - bound);
             }
         }
