@@ -83,7 +83,9 @@ fn tree_factor(c: &mut Criterion) {
     }
     // Set up outside the timed closures, so that any filter of the benches runs on real data.
     let mut factor = sea_dyn::tree_factor::TreeFactor::new(&model);
-    factor.factor(&mass_matrix, &[]).expect("M is positive definite");
+    factor
+        .factor(&mass_matrix, &[])
+        .expect("M is positive definite");
     c.bench_function("tree_factor", |b| {
         b.iter(|| black_box(factor.factor(&mass_matrix, &[]).is_ok()))
     });
