@@ -26,6 +26,7 @@
 //! solver.
 
 use nalgebra::{DMatrix, DVector};
+use sea_dyn::dense::copy_contiguous;
 
 /// Largest number of active-set changes (additions and drops) in one solve. The method is
 /// finite, and the wrench QP needs a handful (at most 12 constraints can be active); the
@@ -156,7 +157,7 @@ impl ActiveSetQp {
     /// Sets the inequalities `G x <= h` (`G` m_in x n, `h` m_in), kept for later solves.
     pub fn set_inequalities(&mut self, g: &DMatrix<f64>, h: &DVector<f64>) {
         self.normals.tr_copy_from(g);
-        self.bounds.copy_from(h);
+        copy_contiguous(&mut self.bounds, h);
         for (i, norm) in self.normal_norms.iter_mut().enumerate() {
             *norm = self.normals.column(i).norm();
         }
@@ -252,7 +253,7 @@ impl ActiveSetQp {
     fn factorize(&mut self, p: &DMatrix<f64>) -> Result<(), ActiveSetError> {
         let n = self.n;
         let l = &mut self.factor;
-        l.copy_from(p);
+        copy_contiguous(l, p);
         for k in 0..n {
             let mut pivot = l[(k, k)];
             for i in 0..k {

@@ -35,6 +35,7 @@ use crate::sea::{
 };
 use crate::torque_map::{PosturalTask, TorqueMap};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
+use sea_dyn::dense::copy_contiguous;
 use sea_dyn::spatial::Pose;
 use sea_dyn::{Actuation, Data, ElasticParameters, FrameId, Model, StateLayout};
 
@@ -398,7 +399,7 @@ impl MomentumController {
         let (com, momentum) = self.task_terms(x, layout, reference, s_desired)?;
         self.fit_output(out);
         out.qp_status = self.solve_qp(&mut out.wrenches);
-        self.command.copy_from(&self.terms.tau_bias);
+        copy_contiguous(&mut self.command, &self.terms.tau_bias);
         self.command
             .gemv(1.0, &self.terms.sigma, &out.wrenches, 1.0);
         self.plant_input(out);
@@ -517,8 +518,8 @@ impl MomentumController {
         };
         let map = &mut self.torque_map;
         map.compute(&self.data.mass_matrix, &posture, self.settings.pinv_damping)?;
-        self.terms.tau_bias.copy_from(&map.tau_bias);
-        self.terms.sigma.copy_from(&map.sigma);
+        copy_contiguous(&mut self.terms.tau_bias, &map.tau_bias);
+        copy_contiguous(&mut self.terms.sigma, &map.sigma);
         self.momentum_target(reference, com, &momentum);
         Ok((com, momentum))
     }

@@ -48,8 +48,8 @@ use clarabel::solver::{
 };
 use nalgebra::{DMatrix, DVector, Matrix3};
 use sea_dyn::dense::{
-    backward_substitute, cholesky_in_place, cholesky_solve_in_place, dot, forward_substitute,
-    gemm_small, gemm_tn,
+    backward_substitute, cholesky_in_place, cholesky_solve_in_place, copy_contiguous, dot,
+    forward_substitute, gemm_small, gemm_tn,
 };
 use sea_dyn::ContactSurface;
 
@@ -279,11 +279,11 @@ impl Minimizer {
     /// Factors `P = L L^T` into `self.factor` and sets `w = L^-1 c`; `false` if `P` is not
     /// positive definite.
     fn factor_objective(&mut self, p: &DMatrix<f64>, c: &DVector<f64>) -> bool {
-        self.factor.copy_from(p);
+        copy_contiguous(&mut self.factor, p);
         if cholesky_in_place(&mut self.factor).is_err() {
             return false;
         }
-        self.scaled_gradient.copy_from(c);
+        copy_contiguous(&mut self.scaled_gradient, c);
         forward_substitute(&self.factor, self.scaled_gradient.as_mut_slice());
         true
     }
@@ -299,7 +299,7 @@ impl Minimizer {
         if !self.factor_objective(p, c) {
             return false;
         }
-        out.copy_from(&self.scaled_gradient);
+        copy_contiguous(out, &self.scaled_gradient);
         backward_substitute(&self.factor, out.as_mut_slice());
         out.neg_mut();
         true
@@ -330,14 +330,14 @@ impl Minimizer {
         if cholesky_in_place(&mut self.schur).is_err() {
             return false;
         }
-        self.multipliers.copy_from(b);
+        copy_contiguous(&mut self.multipliers, b);
         self.multipliers
             .gemv_tr(1.0, &self.range, &self.scaled_gradient, 1.0);
         self.multipliers.neg_mut();
         cholesky_solve_in_place(&self.schur, self.multipliers.as_mut_slice());
         self.scaled_gradient
             .gemv(1.0, &self.range, &self.multipliers, 1.0);
-        out.copy_from(&self.scaled_gradient);
+        copy_contiguous(out, &self.scaled_gradient);
         backward_substitute(&self.factor, out.as_mut_slice());
         out.neg_mut();
         out.iter().all(|v| v.is_finite())
@@ -738,10 +738,10 @@ impl WrenchQp {
     /// active set's solution (in `solution_sole`, restored afterwards) and both solutions'
     /// constraint violations into [`Self::agreement`]; `active` inequalities were active.
     fn compare_with_clarabel(&mut self, b_eq: Option<&DVector<f64>>, active: usize) {
-        self.checked_sole.copy_from(&self.solution_sole);
+        copy_contiguous(&mut self.checked_sole, &self.solution_sole);
         if self.solve_clarabel().is_err() {
             self.agreement.reference_failures += 1;
-            self.solution_sole.copy_from(&self.checked_sole);
+            copy_contiguous(&mut self.solution_sole, &self.checked_sole);
             return;
         }
         let (reference, checked) = (&self.solution_sole, &self.checked_sole);
@@ -779,7 +779,7 @@ impl WrenchQp {
             active,
         };
         self.agreement.add(&tick);
-        self.solution_sole.copy_from(&self.checked_sole);
+        copy_contiguous(&mut self.solution_sole, &self.checked_sole);
     }
 
     /// `0.5 w^T P' w + c'^T w` of the sole-frame problem.

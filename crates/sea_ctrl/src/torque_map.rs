@@ -24,7 +24,9 @@
 
 use crate::error::{Error, Result};
 use nalgebra::{DMatrix, DVector};
-use sea_dyn::dense::{cholesky_in_place, cholesky_solve_right_in_place, dot, gemm_small, gemm_tn};
+use sea_dyn::dense::{
+    cholesky_in_place, cholesky_solve_right_in_place, copy_contiguous, dot, gemm_small, gemm_tn,
+};
 use sea_dyn::model::FrameId;
 use sea_dyn::tree_factor::{FactoredContacts, TreeFactor};
 use sea_dyn::{CentroidalSplit, Model};
@@ -158,8 +160,8 @@ impl TorqueMap {
             .map_err(|e| Error::Dynamics(e.during("factorising the controller's M + diag")))?;
         self.factor
             .schur_complement(&self.jacobian, &mut self.linv_jt_t, &mut self.coupling);
-        self.contact_schur.copy_from(&self.coupling);
-        self.minv_jt_t.copy_from(&self.linv_jt_t);
+        copy_contiguous(&mut self.contact_schur, &self.coupling);
+        copy_contiguous(&mut self.minv_jt_t, &self.linv_jt_t);
         self.factor.solve_l_multi(&mut self.minv_jt_t);
         self.lambda_t.tr_copy_from(&self.minv_jt_t.columns(6, n));
         Ok(())
@@ -186,7 +188,7 @@ impl TorqueMap {
                 format!("not positive definite (pivot {pivot})"),
             ))
         })?;
-        self.pinv.copy_from(&self.lambda_t);
+        copy_contiguous(&mut self.pinv, &self.lambda_t);
         cholesky_solve_right_in_place(&self.gram, &mut self.pinv);
         Ok(())
     }
@@ -196,7 +198,7 @@ impl TorqueMap {
     /// ([`CentroidalSplit::h_j_centroidal`]; for the SEA controller `h` already holds hjBar).
     fn torque_bias(&mut self, mass_matrix: &DMatrix<f64>, posture: &PosturalTask) {
         // J M^-1 h - Jdot nu (k).
-        self.task_bias.copy_from(&self.jdot_nu);
+        copy_contiguous(&mut self.task_bias, &self.jdot_nu);
         self.task_bias.gemv(1.0, &self.minv_jt_t, &self.bias, -1.0);
         self.postural_torque(mass_matrix, posture);
         // u0 is in tau_bias.
@@ -218,7 +220,7 @@ impl TorqueMap {
         // coupling holds J M^-1 J^T (from `lambda`).
         let jbar_t = &self.split.jbar_t;
         gemm_tn(&mut self.coupling, -1.0, &self.lambda_t, jbar_t, 1.0, false);
-        self.sigma.copy_from(&self.split.jbar_t);
+        copy_contiguous(&mut self.sigma, &self.split.jbar_t);
         let (pinv, coupling) = (self.pinv.as_view(), self.coupling.as_view());
         gemm_small(&mut self.sigma, 1.0, pinv, coupling, 1.0);
         self.sigma.neg_mut();

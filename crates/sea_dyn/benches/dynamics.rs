@@ -99,7 +99,7 @@ fn tree_factor(c: &mut Criterion) {
     });
     c.bench_function("solve_lt_multi_two_feet", |b| {
         b.iter(|| {
-            y_t.copy_from(&jacobian);
+            sea_dyn::dense::copy_contiguous(&mut y_t, &jacobian);
             factor.solve_lt_multi(&mut y_t);
             black_box(&y_t);
         })
@@ -111,8 +111,17 @@ fn tree_factor(c: &mut Criterion) {
     );
     c.bench_function("cholesky_12", |b| {
         b.iter(|| {
-            gram.copy_from(&schur);
+            sea_dyn::dense::copy_contiguous(&mut gram, &schur);
             black_box(sea_dyn::dense::cholesky_in_place(&mut gram).is_ok())
+        })
+    });
+    let rhs: Vec<f64> = (0..nv).map(|i| (i as f64 * 0.37).sin()).collect();
+    let mut solution = rhs.clone();
+    c.bench_function("tree_solve", |b| {
+        b.iter(|| {
+            solution.copy_from_slice(&rhs);
+            factor.solve(&mut solution);
+            black_box(&solution);
         })
     });
 }

@@ -8,7 +8,7 @@ use crate::plant::{MotorInput, Plant};
 use nalgebra::{DMatrix, DVector, Vector3};
 use sea_dyn::crba::crba_after_rnea;
 use sea_dyn::data::Data;
-use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place};
+use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place, copy_contiguous};
 use sea_dyn::kinematics::frame_placement;
 use sea_dyn::rnea::bias_forces;
 use sea_dyn::tree_factor::{FactoredContacts, TreeFactor};
@@ -174,10 +174,10 @@ impl PlantData {
             && contacts.schur.shape() == (k, k);
         if usable {
             self.mass_factor.copy_values_from(contacts.factor);
-            self.contact_jacobian.copy_from(contacts.jacobian);
-            self.adopted_jdot_nu.copy_from(contacts.jdot_nu);
-            self.linv_jt_t.copy_from(contacts.linv_jt_t);
-            self.schur.copy_from(contacts.schur);
+            copy_contiguous(&mut self.contact_jacobian, contacts.jacobian);
+            copy_contiguous(&mut self.adopted_jdot_nu, contacts.jdot_nu);
+            copy_contiguous(&mut self.linv_jt_t, contacts.linv_jt_t);
+            copy_contiguous(&mut self.schur, contacts.schur);
         }
         self.adopted_contacts = usable;
         usable
@@ -196,10 +196,10 @@ impl PlantData {
     /// Saves the outputs of the last evaluation (no allocation).
     pub(crate) fn save_outputs(&mut self) {
         let s = &mut self.saved;
-        s.xdot.copy_from(&self.xdot);
-        s.contact_wrench.copy_from(&self.contact_wrench);
-        s.joint_torque.copy_from(&self.joint_torque);
-        s.motor_torque.copy_from(&self.motor_torque);
+        copy_contiguous(&mut s.xdot, &self.xdot);
+        copy_contiguous(&mut s.contact_wrench, &self.contact_wrench);
+        copy_contiguous(&mut s.joint_torque, &self.joint_torque);
+        copy_contiguous(&mut s.motor_torque, &self.motor_torque);
         s.saturated.copy_from_slice(&self.saturated);
         s.drift = (self.drift_position, self.drift_rotation);
     }
@@ -207,10 +207,10 @@ impl PlantData {
     /// Restores the outputs saved by [`PlantData::save_outputs`].
     pub(crate) fn restore_outputs(&mut self) {
         let s = &self.saved;
-        self.xdot.copy_from(&s.xdot);
-        self.contact_wrench.copy_from(&s.contact_wrench);
-        self.joint_torque.copy_from(&s.joint_torque);
-        self.motor_torque.copy_from(&s.motor_torque);
+        copy_contiguous(&mut self.xdot, &s.xdot);
+        copy_contiguous(&mut self.contact_wrench, &s.contact_wrench);
+        copy_contiguous(&mut self.joint_torque, &s.joint_torque);
+        copy_contiguous(&mut self.motor_torque, &s.motor_torque);
         self.saturated.copy_from_slice(&s.saturated);
         (self.drift_position, self.drift_rotation) = s.drift;
     }
@@ -256,7 +256,7 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
         bias_forces(model, &mut pd.data, q, nu);
         crba_after_rnea(model, &mut pd.data);
     }
-    pd.scratch_v.copy_from(&pd.data.tau);
+    copy_contiguous(&mut pd.scratch_v, &pd.data.tau);
     joint_diagonal(plant, &mut pd.diagonal);
     if !adopted_contacts {
         pd.mass_factor
@@ -287,7 +287,7 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
         cholesky_solve_in_place(&pd.schur, pd.constraint_rhs.as_mut_slice());
         pd.scratch_v
             .gemv_tr(1.0, &pd.linv_jt_t, &pd.constraint_rhs, 1.0);
-        pd.contact_wrench.copy_from(&pd.constraint_rhs);
+        copy_contiguous(&mut pd.contact_wrench, &pd.constraint_rhs);
     }
     pd.mass_factor.solve_l(pd.scratch_v.as_mut_slice());
 

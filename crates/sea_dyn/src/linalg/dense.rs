@@ -6,7 +6,8 @@
 //! column-major storage directly so the inner loops are contiguous (vectorisable) and free of
 //! bounds checks. Only the lower triangle of the input is read; the factor overwrites it.
 
-use nalgebra::{DMatrix, DMatrixView};
+use nalgebra::storage::{IsContiguous, RawStorage, RawStorageMut};
+use nalgebra::{DMatrix, DMatrixView, Dim, Matrix};
 
 /// Factors the symmetric positive definite `a` in place (lower triangle becomes `L`,
 /// left-looking, column by column). Returns the index of the first non-positive pivot.
@@ -124,6 +125,25 @@ pub fn cholesky_solve_right_in_place(l: &DMatrix<f64>, b: &mut DMatrix<f64>) {
         let inverse = 1.0 / l[j * k + j];
         target.iter_mut().for_each(|t| *t *= inverse);
     }
+}
+
+/// `dst <- src` for matrices or vectors of the same shape with contiguous storage, as one
+/// slice copy (a `memcpy`). nalgebra's `copy_from` goes entry by entry through its strides:
+/// 0.12 us for a 12 x 31 Jacobian here, several per step. Panics if the shapes differ.
+#[inline]
+pub fn copy_contiguous<R1, C1, S1, R2, C2, S2>(
+    dst: &mut Matrix<f64, R1, C1, S1>,
+    src: &Matrix<f64, R2, C2, S2>,
+) where
+    R1: Dim,
+    C1: Dim,
+    R2: Dim,
+    C2: Dim,
+    S1: RawStorageMut<f64, R1, C1> + IsContiguous,
+    S2: RawStorage<f64, R2, C2> + IsContiguous,
+{
+    assert_eq!(dst.shape(), src.shape(), "copy_contiguous: shapes differ");
+    dst.as_mut_slice().copy_from_slice(src.as_slice());
 }
 
 /// `sum_i a_i b_i` with four independent partial sums, so that the compiler can vectorise it

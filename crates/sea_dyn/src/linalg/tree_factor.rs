@@ -62,6 +62,9 @@ pub struct TreeFactor {
     values: Vec<f64>,
     /// Where each stored entry is read from in a column-major nv x nv matrix (as `values`).
     matrix_index: Vec<usize>,
+    /// `1 / L[d, d]` per tree DOF (nv): the solves multiply by it, so no division sits on
+    /// their dependency chains.
+    inverse_pivot: Vec<f64>,
 }
 
 impl TreeFactor {
@@ -93,6 +96,7 @@ impl TreeFactor {
         }
         Self {
             values: vec![0.0; column_dof.len()],
+            inverse_pivot: vec![0.0; nv],
             matrix_index,
             velocity_index,
             row_start,
@@ -104,6 +108,7 @@ impl TreeFactor {
     /// Copies the factor of `other`, a factor of the same model (no allocation).
     pub fn copy_values_from(&mut self, other: &TreeFactor) {
         self.values.copy_from_slice(&other.values);
+        self.inverse_pivot.copy_from_slice(&other.inverse_pivot);
     }
 
     /// Factors `matrix + diag(diagonal)` (both in velocity indices; `diagonal` may be empty).
@@ -164,6 +169,7 @@ impl TreeFactor {
         let lkk = pivot.sqrt();
         row_k[0] = lkk;
         let inverse = 1.0 / lkk;
+        self.inverse_pivot[k] = inverse;
         row_k[1..].iter_mut().for_each(|v| *v *= inverse);
         let updated = row_k.len() - skip_last;
         for p in 1..updated {
@@ -185,7 +191,7 @@ impl TreeFactor {
     pub fn solve_lt(&self, b: &mut [f64]) {
         for i in (0..self.velocity_index.len()).rev() {
             let (start, end) = (self.row_start[i], self.row_start[i + 1]);
-            let yi = b[self.velocity_index[i]] / self.values[start];
+            let yi = b[self.velocity_index[i]] * self.inverse_pivot[i];
             b[self.velocity_index[i]] = yi;
             if yi != 0.0 {
                 for (value, &column) in self.values[start + 1..end]
@@ -208,7 +214,7 @@ impl TreeFactor {
                 .map(|(value, &column)| value * b[column])
                 .sum();
             let vi = self.velocity_index[i];
-            b[vi] = (b[vi] - dot) / self.values[start];
+            b[vi] = (b[vi] - dot) * self.inverse_pivot[i];
         }
     }
 
@@ -238,7 +244,7 @@ impl TreeFactor {
             if yi.iter().all(|&v| v == 0.0) {
                 continue;
             }
-            let inverse = 1.0 / self.values[start];
+            let inverse = self.inverse_pivot[i];
             yi.iter_mut().for_each(|v| *v *= inverse);
             if k <= LOCAL_WIDTH {
                 // A copy on the stack: the updates below then borrow only their target.
@@ -281,7 +287,7 @@ impl TreeFactor {
         for i in 0..self.velocity_index.len() {
             let (start, end) = (self.row_start[i], self.row_start[i + 1]);
             let vi = self.velocity_index[i];
-            let inverse = 1.0 / self.values[start];
+            let inverse = self.inverse_pivot[i];
             if k <= LOCAL_WIDTH {
                 // Accumulated on the stack: the ancestors are then only read.
                 let mut local = [0.0; LOCAL_WIDTH];
@@ -325,14 +331,14 @@ impl TreeFactor {
         schur: &mut DMatrix<f64>,
     ) {
         let k = jacobian.nrows();
-        y_t.copy_from(jacobian);
+        crate::dense::copy_contiguous(y_t, jacobian);
         self.solve_lt_multi(y_t);
         schur.fill(0.0);
         let (y, s) = (y_t.as_slice(), schur.as_mut_slice());
         match k {
             // The contact sizes: a stack accumulator with fixed-size rank-one updates.
             6 => sum_outer_products_fixed::<6>(y, s),
-            12 => sum_outer_products_fixed::<12>(y, s),
+            12 => sum_outer_products_two_contacts(y, s),
             _ => sum_outer_products(y, s, k),
         }
     }
@@ -376,6 +382,37 @@ fn sum_outer_products_fixed<const K: usize>(y: &[f64], s: &mut [f64]) {
         sum.ger(1.0, &v, &v, 1.0);
     }
     s.copy_from_slice(sum.as_slice());
+}
+
+/// [`sum_outer_products`] for two contacts (k = 12) in 6 x 6 blocks: a velocity index on one
+/// foot's leg carries only that foot's six rows, so it updates one diagonal block (36
+/// products) instead of the whole matrix (144); only the shared indices (the base) update all
+/// three blocks.
+fn sum_outer_products_two_contacts(y: &[f64], s: &mut [f64]) {
+    let (mut first, mut second, mut cross) = (Matrix6::zeros(), Matrix6::zeros(), Matrix6::zeros());
+    for column in y.chunks_exact(12) {
+        let a = Vector6::from_column_slice(&column[..6]);
+        let b = Vector6::from_column_slice(&column[6..]);
+        let (has_a, has_b) = (a.iter().any(|&v| v != 0.0), b.iter().any(|&v| v != 0.0));
+        if has_a {
+            first.ger(1.0, &a, &a, 1.0);
+        }
+        if has_b {
+            second.ger(1.0, &b, &b, 1.0);
+        }
+        if has_a && has_b {
+            cross.ger(1.0, &b, &a, 1.0);
+        }
+    }
+    // Column-major 12 x 12: [first, cross^T; cross, second].
+    for c in 0..6 {
+        for r in 0..6 {
+            s[c * 12 + r] = first[(r, c)];
+            s[c * 12 + 6 + r] = cross[(r, c)];
+            s[(6 + c) * 12 + r] = cross[(c, r)];
+            s[(6 + c) * 12 + 6 + r] = second[(r, c)];
+        }
+    }
 }
 
 /// The k-entry columns `source` and `target` (distinct) of a k x nv column-major slice.

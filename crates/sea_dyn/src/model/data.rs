@@ -5,6 +5,7 @@
 //! origin at the current configuration (see [`crate::spatial`]). Positions marked `_rel` are
 //! relative to `O`; add [`Data::p_base_world`] for world positions.
 
+use crate::dense::copy_contiguous;
 use crate::model::Model;
 use crate::spatial::{Force, Motion, SpatialInertia};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -59,8 +60,8 @@ impl Data {
         self.motion_subspace.copy_from_slice(&other.motion_subspace);
         self.body_velocity.copy_from_slice(&other.body_velocity);
         self.body_inertia.copy_from_slice(&other.body_inertia);
-        self.tau.copy_from(&other.tau);
-        self.mass_matrix.copy_from(&other.mass_matrix);
+        copy_contiguous(&mut self.tau, &other.tau);
+        copy_contiguous(&mut self.mass_matrix, &other.mass_matrix);
     }
 
     /// Allocates every buffer for `model`.

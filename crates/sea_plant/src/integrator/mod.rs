@@ -25,6 +25,7 @@ use crate::dynamics::{evaluate, PlantData};
 use crate::error::{Error, Result};
 use crate::manifold::retract;
 use crate::plant::Plant;
+use sea_dyn::dense::copy_contiguous;
 use w_matrix::{prepare_implicit, solve_implicit};
 
 mod w_matrix;
@@ -141,10 +142,10 @@ fn ros2<E: From<Error>>(
     // The second stage sits at t + dt: the time row of W is the identity, so k1_t = 1.
     let second = eval(pd, dt, &x_stage);
     if second.is_ok() {
-        rhs.copy_from(&pd.xdot);
+        copy_contiguous(&mut rhs, &pd.xdot);
         rhs.axpy(-2.0, &k1, 1.0);
         solve_implicit(plant, pd, &rhs, &mut k2);
-        rhs.copy_from(&k1);
+        copy_contiguous(&mut rhs, &k1);
         rhs.scale_mut(1.5);
         rhs.axpy(0.5, &k2, 1.0);
         retract(plant, x, &rhs, dt, x_out);
@@ -182,7 +183,7 @@ fn implicit_first_stage<E: From<Error>>(
     eval(pd, 0.0, x)?;
     prepare_implicit(plant, pd, g)?;
     let [mut k1, k2, mut rhs, combo] = std::mem::take(&mut pd.stage);
-    rhs.copy_from(&pd.xdot);
+    copy_contiguous(&mut rhs, &pd.xdot);
     solve_implicit(plant, pd, &rhs, &mut k1);
     Ok([k1, k2, rhs, combo])
 }
@@ -219,19 +220,19 @@ fn rk4<E: From<Error>>(
     let result = (|| {
         eval(pd, 0.0, x)?;
         pd.save_outputs();
-        k1.copy_from(&pd.xdot);
+        copy_contiguous(&mut k1, &pd.xdot);
         retract(plant, x, &k1, 0.5 * dt, &mut x_stage);
         eval(pd, 0.5 * dt, &x_stage)?;
-        k2.copy_from(&pd.xdot);
+        copy_contiguous(&mut k2, &pd.xdot);
         dexp_inv_correction(&mut k2, &k1, 0.5 * dt);
         retract(plant, x, &k2, 0.5 * dt, &mut x_stage);
         eval(pd, 0.5 * dt, &x_stage)?;
-        k3.copy_from(&pd.xdot);
+        copy_contiguous(&mut k3, &pd.xdot);
         dexp_inv_correction(&mut k3, &k2, 0.5 * dt);
         retract(plant, x, &k3, dt, &mut x_stage);
         eval(pd, dt, &x_stage)?;
         // sum = (k1 + 2 k2 + 2 k3 + k4) / 6
-        sum.copy_from(&pd.xdot);
+        copy_contiguous(&mut sum, &pd.xdot);
         dexp_inv_correction(&mut sum, &k3, dt);
         sum.axpy(1.0, &k1, 1.0);
         sum.axpy(2.0, &k2, 1.0);

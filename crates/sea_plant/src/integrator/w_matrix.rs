@@ -4,7 +4,7 @@ use crate::dynamics::{joint_diagonal, PlantData};
 use crate::error::{Error, Result};
 use crate::plant::{MotorInput, Plant};
 use nalgebra::DVector;
-use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place};
+use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place, copy_contiguous};
 
 /// Prepares the implicit step's matrix `W = I - g Jf` at the last evaluated state, with `g`
 /// the step scale (`gamma dt`). `Jf` keeps the stiff linear terms exactly: springs, dampers,
@@ -42,7 +42,7 @@ pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Res
     if plant.contacts.is_empty() {
         return Ok(());
     }
-    pd.w_jacobian.copy_from(&pd.contact_jacobian);
+    copy_contiguous(&mut pd.w_jacobian, &pd.contact_jacobian);
     pd.w_factor
         .schur_complement(&pd.w_jacobian, &mut pd.w_linv_jt_t, &mut pd.w_schur);
     cholesky_in_place(&mut pd.w_schur).map_err(|i| {
