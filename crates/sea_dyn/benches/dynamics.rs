@@ -115,6 +115,17 @@ fn tree_factor(c: &mut Criterion) {
             black_box(sea_dyn::dense::cholesky_in_place(&mut gram).is_ok())
         })
     });
+    sea_dyn::dense::copy_contiguous(&mut gram, &schur);
+    sea_dyn::dense::cholesky_in_place(&mut gram).expect("positive definite");
+    let small_rhs: Vec<f64> = (0..12).map(|i| (i as f64 * 0.61).cos()).collect();
+    let mut small_solution = small_rhs.clone();
+    c.bench_function("cholesky_solve_12", |b| {
+        b.iter(|| {
+            small_solution.copy_from_slice(&small_rhs);
+            sea_dyn::dense::cholesky_solve_in_place(&gram, &mut small_solution);
+            black_box(&small_solution);
+        })
+    });
     let rhs: Vec<f64> = (0..nv).map(|i| (i as f64 * 0.37).sin()).collect();
     let mut solution = rhs.clone();
     c.bench_function("tree_solve", |b| {

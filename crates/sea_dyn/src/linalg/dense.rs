@@ -4,43 +4,50 @@
 //! nalgebra's decompositions take ownership of (or copy) their matrix; the simulator factors
 //! matrices every step, so these work in preallocated buffers instead. They run on the
 //! column-major storage directly so the inner loops are contiguous (vectorisable) and free of
-//! bounds checks. Only the lower triangle of the input is read; the factor overwrites it.
+//! bounds checks. Only the lower triangle of the input is read; the factor overwrites it, and
+//! the solves read only the lower triangle of a factor.
 
 use nalgebra::storage::{IsContiguous, RawStorage, RawStorageMut};
 use nalgebra::{DMatrix, DMatrixView, Dim, Matrix};
 
 /// Factors the symmetric positive definite `a` in place (lower triangle becomes `L`,
-/// left-looking, column by column). Returns the index of the first non-positive pivot.
+/// right-looking, column by column; the strict upper triangle is overwritten with values of no
+/// meaning). Returns the index of the first non-positive pivot.
 pub fn cholesky_in_place(a: &mut DMatrix<f64>) -> Result<(), usize> {
     let n = a.nrows();
     with_fixed_width!(n, |order| cholesky_kernel(a.as_mut_slice(), order))
 }
 
+/// Right-looking: once column `j` is known, every later column is updated from it, and those
+/// updates are independent of each other (a left-looking column would instead gather `j`
+/// dependent updates into one target). The trailing update uses the unscaled column and
+/// `1 / d_j` (`L_ij L_cj = a_ij a_cj / d_j`), so the square root of the pivot is off the chain
+/// from one pivot to the next.
 #[inline(always)]
 fn cholesky_kernel(s: &mut [f64], n: usize) -> Result<(), usize> {
     for j in 0..n {
-        // Column j from row j down: a[j.., j] -= sum_k a[j.., k] a[j, k].
-        for k in 0..j {
-            let ajk = s[k * n + j];
-            if ajk != 0.0 {
-                let (left, right) = s.split_at_mut(j * n);
-                let source = &left[k * n + j..k * n + n];
-                let target = &mut right[j..n];
-                for (t, v) in target.iter_mut().zip(source) {
-                    *t -= v * ajk;
-                }
-            }
-        }
         let diagonal = s[j * n + j];
         if diagonal <= 0.0 || !diagonal.is_finite() {
             return Err(j);
         }
-        let pivot = diagonal.sqrt();
-        let inverse = 1.0 / pivot;
-        s[j * n + j] = pivot;
-        for v in &mut s[j * n + j + 1..j * n + n] {
-            *v *= inverse;
+        let reciprocal = 1.0 / diagonal;
+        let (done, trailing) = s.split_at_mut((j + 1) * n);
+        let column = &done[j * n..];
+        for c in j + 1..n {
+            let factor = column[c] * reciprocal;
+            // Whole columns (fixed length, no remainder loops): rows above `c` are the strict
+            // upper triangle, which the factor leaves unspecified.
+            let target = &mut trailing[(c - j - 1) * n..(c - j) * n];
+            for (t, v) in target.iter_mut().zip(column) {
+                *t -= v * factor;
+            }
         }
+        let pivot = diagonal.sqrt();
+        // 1 / sqrt(d) = sqrt(d) / d: a multiply instead of a second division.
+        let inverse = pivot * reciprocal;
+        let column = &mut s[j * n + j..j * n + n];
+        column[0] = pivot;
+        column[1..].iter_mut().for_each(|v| *v *= inverse);
     }
     Ok(())
 }
@@ -51,11 +58,29 @@ pub fn forward_substitute(l: &DMatrix<f64>, b: &mut [f64]) {
     with_fixed_width!(n, |order| forward_kernel(l.as_slice(), b, order));
 }
 
+/// Up to this order the substitutions keep the reciprocals of the diagonal on the stack.
+const LOCAL_ORDER: usize = 12;
+
+/// `1 / L_jj` for `j < n <= LOCAL_ORDER`: independent divisions, computed before a
+/// substitution so that its chain from one unknown to the next has none.
+#[inline(always)]
+fn reciprocal_diagonal(s: &[f64], n: usize) -> [f64; LOCAL_ORDER] {
+    let mut reciprocal = [0.0; LOCAL_ORDER];
+    for (j, r) in reciprocal.iter_mut().enumerate().take(n) {
+        *r = 1.0 / s[j * n + j];
+    }
+    reciprocal
+}
+
 #[inline(always)]
 fn forward_kernel(s: &[f64], b: &mut [f64], n: usize) {
+    let reciprocal = (n <= LOCAL_ORDER).then(|| reciprocal_diagonal(s, n));
     for j in 0..n {
         let column = &s[j * n..j * n + n];
-        let yj = b[j] / column[j];
+        let yj = match &reciprocal {
+            Some(r) => b[j] * r[j],
+            None => b[j] / column[j],
+        };
         b[j] = yj;
         if yj != 0.0 {
             for (bi, lij) in b[j + 1..].iter_mut().zip(&column[j + 1..]) {
@@ -65,22 +90,29 @@ fn forward_kernel(s: &[f64], b: &mut [f64], n: usize) {
     }
 }
 
-/// Solves `L^T x = y` in place (backward substitution, dot products on columns).
+/// Solves `L^T x = b` in place (backward substitution).
 pub fn backward_substitute(l: &DMatrix<f64>, b: &mut [f64]) {
     let n = l.nrows();
     with_fixed_width!(n, |order| backward_kernel(l.as_slice(), b, order));
 }
 
+/// Row-oriented on `L^T` (row `j` of `L`, strided in the column-major storage): once `x_j` is
+/// known, every earlier unknown is updated from it, so the chain from one unknown to the next
+/// is one multiply-add (a dot product per unknown would be a chain of sums).
 #[inline(always)]
 fn backward_kernel(s: &[f64], b: &mut [f64], n: usize) {
+    let reciprocal = (n <= LOCAL_ORDER).then(|| reciprocal_diagonal(s, n));
     for j in (0..n).rev() {
-        let column = &s[j * n..j * n + n];
-        let dot: f64 = column[j + 1..]
-            .iter()
-            .zip(&b[j + 1..])
-            .map(|(a, x)| a * x)
-            .sum();
-        b[j] = (b[j] - dot) / column[j];
+        let xj = match &reciprocal {
+            Some(r) => b[j] * r[j],
+            None => b[j] / s[j * n + j],
+        };
+        b[j] = xj;
+        if xj != 0.0 {
+            for (i, bi) in b[..j].iter_mut().enumerate() {
+                *bi -= s[i * n + j] * xj;
+            }
+        }
     }
 }
 

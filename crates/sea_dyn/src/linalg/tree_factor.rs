@@ -188,31 +188,77 @@ impl TreeFactor {
     }
 
     /// `b <- L^-T b` (b in velocity indices, size nv).
+    ///
+    /// Every joint row ends with the base DOFs, so all of them update the same six entries of
+    /// `b`: summed in a register-held 6-vector and applied once, instead of 6 x (joint rows)
+    /// read-modify-writes of memory in one dependency chain.
     pub fn solve_lt(&self, b: &mut [f64]) {
-        for i in (0..self.velocity_index.len()).rev() {
+        let n = self.velocity_index.len();
+        let mut base_update = Vector6::zeros();
+        for i in (BASE_DOFS..n).rev() {
             let (start, end) = (self.row_start[i], self.row_start[i + 1]);
             let yi = b[self.velocity_index[i]] * self.inverse_pivot[i];
             b[self.velocity_index[i]] = yi;
-            if yi != 0.0 {
-                for (value, &column) in self.values[start + 1..end]
-                    .iter()
-                    .zip(&self.column_velocity[start + 1..end])
-                {
-                    b[column] -= value * yi;
-                }
+            if yi == 0.0 {
+                continue;
+            }
+            let base_start = end - BASE_DOFS;
+            for (value, &column) in self.values[start + 1..base_start]
+                .iter()
+                .zip(&self.column_velocity[start + 1..base_start])
+            {
+                b[column] -= value * yi;
+            }
+            base_update.axpy(
+                yi,
+                &Vector6::from_column_slice(&self.values[base_start..end]),
+                1.0,
+            );
+        }
+        // Entry t of a joint row's base part is base DOF 5 - t.
+        for (t, update) in base_update.iter().enumerate() {
+            b[self.velocity_index[BASE_DOFS - 1 - t]] -= update;
+        }
+        for i in (0..BASE_DOFS).rev() {
+            let (start, end) = (self.row_start[i], self.row_start[i + 1]);
+            let yi = b[self.velocity_index[i]] * self.inverse_pivot[i];
+            b[self.velocity_index[i]] = yi;
+            for (value, &column) in self.values[start + 1..end]
+                .iter()
+                .zip(&self.column_velocity[start + 1..end])
+            {
+                b[column] -= value * yi;
             }
         }
     }
 
     /// `b <- L^-1 b` (b in velocity indices, size nv).
+    ///
+    /// A joint row's product with the base part of `b` (known once the base rows are solved) is
+    /// a fixed-size dot product off the chain of dependent rows.
     pub fn solve_l(&self, b: &mut [f64]) {
-        for i in 0..self.velocity_index.len() {
+        let n = self.velocity_index.len();
+        for i in 0..BASE_DOFS.min(n) {
             let (start, end) = (self.row_start[i], self.row_start[i + 1]);
             let dot: f64 = self.values[start + 1..end]
                 .iter()
                 .zip(&self.column_velocity[start + 1..end])
                 .map(|(value, &column)| value * b[column])
                 .sum();
+            let vi = self.velocity_index[i];
+            b[vi] = (b[vi] - dot) * self.inverse_pivot[i];
+        }
+        // The base part of `b` in a joint row's storage order (base DOFs 5..0).
+        let base = Vector6::from_fn(|t, _| b[self.velocity_index[BASE_DOFS - 1 - t]]);
+        for i in BASE_DOFS..n {
+            let (start, end) = (self.row_start[i], self.row_start[i + 1]);
+            let base_start = end - BASE_DOFS;
+            let chain: f64 = self.values[start + 1..base_start]
+                .iter()
+                .zip(&self.column_velocity[start + 1..base_start])
+                .map(|(value, &column)| value * b[column])
+                .sum();
+            let dot = chain + Vector6::from_column_slice(&self.values[base_start..end]).dot(&base);
             let vi = self.velocity_index[i];
             b[vi] = (b[vi] - dot) * self.inverse_pivot[i];
         }
