@@ -8,7 +8,9 @@ use crate::plant::{MotorInput, Plant};
 use nalgebra::{DMatrix, DVector, Vector3};
 use sea_dyn::crba::crba_after_rnea;
 use sea_dyn::data::Data;
-use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place, copy_contiguous};
+use sea_dyn::dense::{
+    cholesky_in_place, cholesky_solve_in_place, copy_contiguous, gemv_few_rows, gemv_tr_few_rows,
+};
 use sea_dyn::kinematics::frame_placement;
 use sea_dyn::rnea::bias_forces;
 use sea_dyn::tree_factor::{FactoredContacts, TreeFactor};
@@ -50,16 +52,13 @@ pub struct PlantData {
     /// A second velocity-sized scratch (nv), for the implicit solve's constraint target.
     pub(crate) scratch_v2: DVector<f64>,
     /// Implicit step: factor of `M~` (nv x nv), `J` at the step start (k x nv), `(L~^-T J^T)^T`
-    /// (k x nv), Schur factor (k x k), per elastic joint `den`, `a1`, `t1` and flags.
+    /// (k x nv), Schur factor (k x k), per elastic joint the coefficients of the motor
+    /// elimination (n_e).
     pub(crate) w_factor: TreeFactor,
     pub(crate) w_jacobian: DMatrix<f64>,
     pub(crate) w_linv_jt_t: DMatrix<f64>,
     pub(crate) w_schur: DMatrix<f64>,
-    pub(crate) w_den: Vec<f64>,
-    pub(crate) w_a1: Vec<f64>,
-    pub(crate) w_t1: Vec<f64>,
-    pub(crate) w_torque_driven: Vec<bool>,
-    pub(crate) w_gain: Vec<f64>,
+    pub(crate) w_motor: Vec<crate::integrator::MotorElimination>,
     pub(crate) w_g: f64,
     /// Stage buffers of the integrators (nd each) and a state buffer (nx).
     pub(crate) stage: [DVector<f64>; 4],
@@ -115,11 +114,7 @@ impl PlantData {
             w_jacobian: DMatrix::zeros(k, nv),
             w_linv_jt_t: DMatrix::zeros(k, nv),
             w_schur: DMatrix::zeros(k, k),
-            w_den: vec![1.0; ne],
-            w_a1: vec![0.0; ne],
-            w_t1: vec![0.0; ne],
-            w_torque_driven: vec![true; ne],
-            w_gain: vec![0.0; ne],
+            w_motor: vec![Default::default(); ne],
             w_g: 0.0,
             stage: std::array::from_fn(|_| DVector::zeros(nd)),
             x_stage: vec![0.0; layout.nx()],
@@ -276,8 +271,13 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
     pd.mass_factor.solve_lt(pd.scratch_v.as_mut_slice());
     if !plant.contacts.is_empty() {
         contact_terms(plant, pd, nu, adopted_contacts);
-        pd.constraint_rhs
-            .gemv(-1.0, &pd.linv_jt_t, &pd.scratch_v, 1.0);
+        gemv_few_rows(
+            pd.constraint_rhs.as_mut_slice(),
+            -1.0,
+            &pd.linv_jt_t,
+            pd.scratch_v.as_slice(),
+            1.0,
+        );
         cholesky_in_place(&mut pd.schur).map_err(|i| {
             Error::numerical(
                 "solving for the contact wrenches",
@@ -285,8 +285,13 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
             )
         })?;
         cholesky_solve_in_place(&pd.schur, pd.constraint_rhs.as_mut_slice());
-        pd.scratch_v
-            .gemv_tr(1.0, &pd.linv_jt_t, &pd.constraint_rhs, 1.0);
+        gemv_tr_few_rows(
+            pd.scratch_v.as_mut_slice(),
+            1.0,
+            &pd.linv_jt_t,
+            pd.constraint_rhs.as_slice(),
+            1.0,
+        );
         copy_contiguous(&mut pd.contact_wrench, &pd.constraint_rhs);
     }
     pd.mass_factor.solve_l(pd.scratch_v.as_mut_slice());

@@ -282,6 +282,62 @@ pub fn gemm_tn(
     }
 }
 
+/// `y <- alpha a x + beta y` for `a` k x n with few rows (the contact rows, k = 6 or 12): the
+/// k sums stay in registers over the n columns. nalgebra's `gemv` adds column after column
+/// into `y` in memory, a chain of read-modify-writes of the same k entries.
+pub fn gemv_few_rows(y: &mut [f64], alpha: f64, a: &DMatrix<f64>, x: &[f64], beta: f64) {
+    let (k, n) = a.shape();
+    assert!(y.len() == k && x.len() == n, "gemv_few_rows: sizes");
+    if k > LOCAL_ORDER {
+        let mut y_vector = nalgebra::DVectorViewMut::from_slice(y, k);
+        y_vector.gemv(alpha, a, &nalgebra::DVectorView::from_slice(x, n), beta);
+        return;
+    }
+    with_fixed_width!(k, |rows| gemv_few_rows_kernel(
+        y,
+        alpha,
+        a.as_slice(),
+        x,
+        beta,
+        rows
+    ));
+}
+
+#[inline(always)]
+fn gemv_few_rows_kernel(y: &mut [f64], alpha: f64, a: &[f64], x: &[f64], beta: f64, k: usize) {
+    let mut sum = [0.0; LOCAL_ORDER];
+    let sum = &mut sum[..k];
+    for (column, &xi) in a.chunks_exact(k).zip(x) {
+        for (s, v) in sum.iter_mut().zip(column) {
+            *s += v * xi;
+        }
+    }
+    for (yi, s) in y.iter_mut().zip(sum.iter()) {
+        *yi = if beta == 0.0 {
+            alpha * s
+        } else {
+            alpha * s + beta * *yi
+        };
+    }
+}
+
+/// `y <- alpha a^T x + beta y` for `a` k x n with few rows (k = 6 or 12): `x` stays in
+/// registers and each entry of `y` is one fixed-length dot product with a column of `a`.
+pub fn gemv_tr_few_rows(y: &mut [f64], alpha: f64, a: &DMatrix<f64>, x: &[f64], beta: f64) {
+    let (k, n) = a.shape();
+    assert!(y.len() == n && x.len() == k, "gemv_tr_few_rows: sizes");
+    with_fixed_width!(k, |rows| {
+        for (yi, column) in y.iter_mut().zip(a.as_slice().chunks_exact(rows)) {
+            let product: f64 = column.iter().zip(x).map(|(v, xr)| v * xr).sum();
+            *yi = if beta == 0.0 {
+                alpha * product
+            } else {
+                alpha * product + beta * *yi
+            };
+        }
+    });
+}
+
 /// `c <- alpha a b + beta c` (`a` r x m, `b` m x k, `c` r x k) without allocation: nalgebra's
 /// `gemm` hands every product whose sizes all exceed 5 to `matrixmultiply`, which allocates
 /// its packing buffers on each call. Column by column with `gemv`; for the controller's sizes

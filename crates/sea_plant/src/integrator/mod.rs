@@ -26,6 +26,7 @@ use crate::error::{Error, Result};
 use crate::manifold::retract;
 use crate::plant::Plant;
 use sea_dyn::dense::copy_contiguous;
+pub(crate) use w_matrix::MotorElimination;
 use w_matrix::{prepare_implicit, solve_implicit};
 
 mod w_matrix;

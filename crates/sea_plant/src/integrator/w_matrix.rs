@@ -4,7 +4,25 @@ use crate::dynamics::{joint_diagonal, PlantData};
 use crate::error::{Error, Result};
 use crate::plant::{MotorInput, Plant};
 use nalgebra::DVector;
-use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place, copy_contiguous};
+use sea_dyn::dense::{
+    cholesky_in_place, cholesky_solve_in_place, copy_contiguous, gemv_few_rows, gemv_tr_few_rows,
+};
+
+/// One elastic joint's motor unknowns eliminated from `W k = r`, for the step scale `g`: with
+/// `r_s`, `r_nu`, `r_theta`, `r_thetadot` the joint's entries of `r`,
+/// `k_thetadot = a0 + a1 k_sdot`, `a0 = inv_den r_thetadot - a0_theta r_theta + a0_s r_s`, and
+/// the joint torque's perturbation `t0 + t1 k_sdot`,
+/// `t0 = K (eta r_theta - r_s) + t0_a0 a0`. The coefficients (divisions included) are
+/// computed once per step in [`prepare_implicit`]; the two stage solves only multiply.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct MotorElimination {
+    inv_den: f64,
+    a0_theta: f64,
+    a0_s: f64,
+    a1: f64,
+    t0_a0: f64,
+    t1: f64,
+}
 
 /// Prepares the implicit step's matrix `W = I - g Jf` at the last evaluated state, with `g`
 /// the step scale (`gamma dt`). `Jf` keeps the stiff linear terms exactly: springs, dampers,
@@ -15,6 +33,8 @@ pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Res
     pd.w_g = g;
     joint_diagonal(plant, &mut pd.diagonal);
     for (e, p) in actuation.elastic.iter().enumerate() {
+        // A torque-driven (or saturated) motor's acceleration follows the torques through its
+        // inertia; a velocity-looped one is held by the loop.
         let (torque_driven, gain) = match plant.motor_input {
             MotorInput::VelocityLoop { gain } if !pd.saturated[e] => (false, gain),
             _ => (true, 0.0),
@@ -24,15 +44,19 @@ pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Res
         } else {
             0.0
         };
-        let eta = p.ratio;
-        let den = 1.0 + g * gain + coupling * (g * eta * eta * p.stiffness + eta * eta * p.damping);
-        let a1 = coupling * eta * (g * p.stiffness + p.damping) / den;
-        let t1 = (g * p.stiffness + p.damping) * (eta * a1 - 1.0);
-        pd.w_den[e] = den;
-        pd.w_a1[e] = a1;
-        pd.w_t1[e] = t1;
-        pd.w_torque_driven[e] = torque_driven;
-        pd.w_gain[e] = gain;
+        let (eta, stiffness) = (p.ratio, p.stiffness);
+        let spring_damper = g * stiffness + p.damping;
+        let den = 1.0 + g * gain + coupling * (g * eta * eta * stiffness + eta * eta * p.damping);
+        let a1 = coupling * eta * spring_damper / den;
+        let t1 = spring_damper * (eta * a1 - 1.0);
+        pd.w_motor[e] = MotorElimination {
+            inv_den: 1.0 / den,
+            a0_theta: coupling * eta * eta * stiffness / den,
+            a0_s: coupling * eta * stiffness / den,
+            a1,
+            t0_a0: spring_damper * eta,
+            t1,
+        };
         let vj = 6 + actuation.elastic_joints[e];
         pd.diagonal[vj] -= g * t1;
     }
@@ -74,20 +98,12 @@ pub(crate) fn solve_implicit(
     // z <- B (t0 + t1 r_sdot), keeping a0 per joint in k's thetadot slots for later.
     let z = &mut pd.scratch_v;
     z.fill(0.0);
-    for (e, p) in actuation.elastic.iter().enumerate() {
+    for (e, (p, m)) in actuation.elastic.iter().zip(&pd.w_motor).enumerate() {
         let vj = 6 + actuation.elastic_joints[e];
         let (r_s, r_theta, r_thetadot) = (r[vj], r[o_theta + e], r[o_thetadot + e]);
-        let eta = p.ratio;
-        let coupling = if pd.w_torque_driven[e] {
-            g / p.motor_inertia
-        } else {
-            0.0
-        };
-        let a0 = (r_thetadot
-            - coupling * (eta * eta * p.stiffness * r_theta - eta * p.stiffness * r_s))
-            / pd.w_den[e];
-        let t0 = p.stiffness * (eta * r_theta - r_s) + (g * p.stiffness + p.damping) * eta * a0;
-        z[vj] = t0 + pd.w_t1[e] * r[o_nu + vj];
+        let a0 = m.inv_den * r_thetadot - m.a0_theta * r_theta + m.a0_s * r_s;
+        let t0 = p.stiffness * (p.ratio * r_theta - r_s) + m.t0_a0 * a0;
+        z[vj] = t0 + m.t1 * r[o_nu + vj];
         k[o_thetadot + e] = a0;
     }
     pd.w_factor.solve_lt(z.as_mut_slice());
@@ -103,10 +119,16 @@ pub(crate) fn solve_implicit(
             combination[i] = kd * r_nu + kp * (r[i] + g * r_nu);
         }
         let rhs = &mut pd.constraint_rhs;
-        rhs.gemv(-scale, &pd.w_jacobian, combination, 0.0);
-        rhs.gemv(-1.0, &pd.w_linv_jt_t, z, 1.0);
+        gemv_few_rows(
+            rhs.as_mut_slice(),
+            -scale,
+            &pd.w_jacobian,
+            combination.as_slice(),
+            0.0,
+        );
+        gemv_few_rows(rhs.as_mut_slice(), -1.0, &pd.w_linv_jt_t, z.as_slice(), 1.0);
         cholesky_solve_in_place(&pd.w_schur, rhs.as_mut_slice());
-        z.gemv_tr(1.0, &pd.w_linv_jt_t, rhs, 1.0);
+        gemv_tr_few_rows(z.as_mut_slice(), 1.0, &pd.w_linv_jt_t, rhs.as_slice(), 1.0);
     }
     pd.w_factor.solve_l(z.as_mut_slice());
     for i in 0..nv {
@@ -116,7 +138,7 @@ pub(crate) fn solve_implicit(
     }
     for e in 0..ne {
         let vj = 6 + actuation.elastic_joints[e];
-        let k_thetadot = k[o_thetadot + e] + pd.w_a1[e] * k[o_nu + vj];
+        let k_thetadot = k[o_thetadot + e] + pd.w_motor[e].a1 * k[o_nu + vj];
         k[o_thetadot + e] = k_thetadot;
         k[o_theta + e] = r[o_theta + e] + g * k_thetadot;
     }
