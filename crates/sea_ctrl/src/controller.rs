@@ -35,7 +35,7 @@ use crate::sea::{
 };
 use crate::torque_map::{PosturalTask, TorqueMap};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
-use sea_dyn::dense::copy_contiguous;
+use sea_dyn::dense::{copy_contiguous, copy_into_rows};
 use sea_dyn::spatial::Pose;
 use sea_dyn::{Actuation, Data, ElasticParameters, FrameId, Model, StateLayout};
 
@@ -557,9 +557,7 @@ impl MomentumController {
         let map = &mut self.torque_map;
         for (c, &frame) in self.contact_frames.iter().enumerate() {
             sea_dyn::jacobian::frame_jacobian_from_kinematics(model, data, frame);
-            map.jacobian
-                .rows_mut(6 * c, 6)
-                .copy_from(&data.frame_jacobian);
+            copy_into_rows(&mut map.jacobian, 6 * c, &data.frame_jacobian);
             let bias = sea_dyn::jacobian::frame_bias_acceleration(model, data, frame);
             map.jdot_nu.fixed_rows_mut::<6>(6 * c).copy_from(&bias);
             let pose = sea_dyn::frame_placement(model, data, frame);

@@ -4,6 +4,7 @@
 use crate::dynamics::PlantData;
 use crate::plant::Plant;
 use nalgebra::{Matrix3, Vector3, Vector6};
+use sea_dyn::dense::copy_into_rows;
 use sea_dyn::jacobian::{frame_bias_acceleration, frame_jacobian_from_kinematics};
 use sea_dyn::kinematics::frame_placement;
 use sea_dyn::model::FrameId;
@@ -91,9 +92,7 @@ pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64], adopt
             pd.adopted_jdot_nu.fixed_rows::<6>(6 * c).into_owned()
         } else {
             frame_jacobian_from_kinematics(model, &mut pd.data, contact.frame);
-            pd.contact_jacobian
-                .rows_mut(6 * c, 6)
-                .copy_from(&pd.data.frame_jacobian);
+            copy_into_rows(&mut pd.contact_jacobian, 6 * c, &pd.data.frame_jacobian);
             frame_bias_acceleration(model, &mut pd.data, contact.frame)
         };
         let pose = frame_placement(model, &pd.data, contact.frame);

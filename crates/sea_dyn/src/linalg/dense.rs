@@ -178,6 +178,28 @@ pub fn copy_contiguous<R1, C1, S1, R2, C2, S2>(
     dst.as_mut_slice().copy_from_slice(src.as_slice());
 }
 
+/// `dst[first_row..first_row + r, ..] <- src` for `src` r x n and `dst` k x n (e.g. one
+/// contact's 6 Jacobian rows into the stacked contact Jacobian): one slice copy per column,
+/// where nalgebra's `copy_from` into a row view goes entry by entry. Panics if the sizes do
+/// not fit.
+pub fn copy_into_rows(dst: &mut DMatrix<f64>, first_row: usize, src: &DMatrix<f64>) {
+    let (k, r) = (dst.nrows(), src.nrows());
+    assert!(
+        first_row + r <= k && dst.ncols() == src.ncols(),
+        "copy_into_rows: sizes"
+    );
+    if r == 0 {
+        return;
+    }
+    for (target, source) in dst
+        .as_mut_slice()
+        .chunks_exact_mut(k)
+        .zip(src.as_slice().chunks_exact(r))
+    {
+        target[first_row..first_row + r].copy_from_slice(source);
+    }
+}
+
 /// `sum_i a_i b_i` with four independent partial sums, so that the compiler can vectorise it
 /// (a single running sum is a dependency chain it must keep in order).
 #[inline]
