@@ -177,7 +177,7 @@ impl ActiveSetQp {
         self.unconstrained_minimizer(c, x);
         self.active.clear();
         self.is_active.fill(false);
-        self.r.fill(0.0);
+        self.r.as_mut_slice().fill(0.0);
         let mut r_norm = 1.0;
         if let Some((a, b)) = equality {
             self.add_equalities(a, b, x, &mut r_norm)?;
@@ -207,8 +207,8 @@ impl ActiveSetQp {
     /// The multipliers of the last successful solve, with `P x + c + A^T lambda + G^T mu = 0`:
     /// `lambda` (m_eq) of the equalities and `mu >= 0` (m_in, zero for inactive rows).
     pub fn multipliers(&self, lambda: &mut DVector<f64>, mu: &mut DVector<f64>) {
-        lambda.fill(0.0);
-        mu.fill(0.0);
+        lambda.as_mut_slice().fill(0.0);
+        mu.as_mut_slice().fill(0.0);
         for (slot, constraint) in self.active.iter().enumerate() {
             match *constraint {
                 Constraint::Equality(i) => lambda[i] = -self.u[slot],
@@ -274,7 +274,7 @@ impl ActiveSetQp {
             }
         }
         // J = L^-T: column j solves L^T J_j = e_j (upper triangular, back substitution).
-        self.j.fill(0.0);
+        self.j.as_mut_slice().fill(0.0);
         for col in 0..n {
             self.j[(col, col)] = 1.0 / l[(col, col)];
             for row in (0..col).rev() {
@@ -409,7 +409,7 @@ impl ActiveSetQp {
     fn step_directions(&mut self) {
         let q = self.active.len();
         self.d.gemv_tr(1.0, &self.j, &self.normal, 0.0);
-        self.z.fill(0.0);
+        self.z.as_mut_slice().fill(0.0);
         for col in q..self.n {
             self.z.axpy(self.d[col], &self.j.column(col), 1.0);
         }

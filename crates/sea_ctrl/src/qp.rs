@@ -703,7 +703,7 @@ impl WrenchQp {
                 self.failures += 1;
                 match unconstrained {
                     Some(f) => wrenches.copy_from(f),
-                    None => wrenches.fill(0.0),
+                    None => wrenches.as_mut_slice().fill(0.0),
                 }
                 QpStatus::Fallback(reason)
             }
@@ -815,7 +815,7 @@ impl WrenchQp {
         equality: Option<(&DMatrix<f64>, &DVector<f64>)>,
         rotations: &[Matrix3<f64>],
     ) {
-        self.rotation.fill(0.0);
+        self.rotation.as_mut_slice().fill(0.0);
         for (k, r) in rotations.iter().enumerate() {
             self.rotation.view_mut((6 * k, 6 * k), (3, 3)).copy_from(r);
             self.rotation

@@ -264,7 +264,10 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
     // Unconstrained acceleration, kept as L^-T (B tau - h) until the multipliers are known:
     // nudot = L^-1 (L^-T (B tau - h) + Y f), Y = L^-T J^T, S = Y^T Y,
     // f = S^-1 (a_target - Y^T L^-T (B tau - h)).
-    pd.scratch_v.neg_mut();
+    pd.scratch_v
+        .as_mut_slice()
+        .iter_mut()
+        .for_each(|v| *v = -*v);
     for j in 0..model.n_joints() {
         pd.scratch_v[6 + j] += pd.joint_torque[j];
     }

@@ -31,7 +31,7 @@ pub fn frame_jacobian<'a>(
 pub fn frame_jacobian_from_kinematics(model: &Model, data: &mut Data, frame: FrameId) {
     let x = frame_position_rel(model, data, frame);
     let jac = &mut data.frame_jacobian;
-    jac.fill(0.0);
+    jac.as_mut_slice().fill(0.0);
     jac.fixed_view_mut::<3, 3>(0, 0)
         .copy_from(&Matrix3::identity());
     jac.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-skew(&x)));

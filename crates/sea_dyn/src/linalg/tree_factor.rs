@@ -379,13 +379,16 @@ impl TreeFactor {
         let k = jacobian.nrows();
         crate::dense::copy_contiguous(y_t, jacobian);
         self.solve_lt_multi(y_t);
-        schur.fill(0.0);
         let (y, s) = (y_t.as_slice(), schur.as_mut_slice());
         match k {
-            // The contact sizes: a stack accumulator with fixed-size rank-one updates.
+            // The contact sizes: stack accumulators, every entry of `s` overwritten.
             6 => sum_outer_products_fixed::<6>(y, s),
             12 => sum_outer_products_two_contacts(y, s),
-            _ => sum_outer_products(y, s, k),
+            _ => {
+                // A slice fill: nalgebra's `fill` steps through its strides entry by entry.
+                s.fill(0.0);
+                sum_outer_products(y, s, k)
+            }
         }
     }
 }

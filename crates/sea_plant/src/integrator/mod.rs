@@ -25,6 +25,7 @@ use crate::dynamics::{evaluate, PlantData};
 use crate::error::{Error, Result};
 use crate::manifold::retract;
 use crate::plant::Plant;
+use nalgebra::DVector;
 use sea_dyn::dense::copy_contiguous;
 pub(crate) use w_matrix::MotorElimination;
 use w_matrix::{prepare_implicit, solve_implicit};
@@ -143,18 +144,28 @@ fn ros2<E: From<Error>>(
     // The second stage sits at t + dt: the time row of W is the identity, so k1_t = 1.
     let second = eval(pd, dt, &x_stage);
     if second.is_ok() {
-        copy_contiguous(&mut rhs, &pd.xdot);
-        rhs.axpy(-2.0, &k1, 1.0);
+        linear_combination(&mut rhs, [(1.0, &pd.xdot), (-2.0, &k1)]);
         solve_implicit(plant, pd, &rhs, &mut k2);
-        copy_contiguous(&mut rhs, &k1);
-        rhs.scale_mut(1.5);
-        rhs.axpy(0.5, &k2, 1.0);
+        linear_combination(&mut rhs, [(1.5, &k1), (0.5, &k2)]);
         retract(plant, x, &rhs, dt, x_out);
     }
     pd.stage = [k1, k2, rhs, combo];
     pd.x_stage = x_stage;
     pd.restore_outputs();
     second
+}
+
+/// `out = a x + b y` for `[(a, x), (b, y)]`, over the slices (nalgebra's vector `axpy` and
+/// `scale_mut` step through strides entry by entry).
+fn linear_combination(out: &mut DVector<f64>, [(a, x), (b, y)]: [(f64, &DVector<f64>); 2]) {
+    for ((o, xi), yi) in out
+        .as_mut_slice()
+        .iter_mut()
+        .zip(x.as_slice())
+        .zip(y.as_slice())
+    {
+        *o = a * xi + b * yi;
+    }
 }
 
 fn implicit_euler<E: From<Error>>(
@@ -180,7 +191,7 @@ fn implicit_first_stage<E: From<Error>>(
     x: &[f64],
     g: f64,
     eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
-) -> std::result::Result<[nalgebra::DVector<f64>; 4], E> {
+) -> std::result::Result<[DVector<f64>; 4], E> {
     eval(pd, 0.0, x)?;
     prepare_implicit(plant, pd, g)?;
     let [mut k1, k2, mut rhs, combo] = std::mem::take(&mut pd.stage);
@@ -194,8 +205,8 @@ fn implicit_first_stage<E: From<Error>>(
 /// `udot = dexp_u^-1(omega) = omega - u x omega / 2 + u x (u x omega) / 12 + O(|u|^4)`, the
 /// terms a fourth-order method needs (Munthe-Kaas, BIT 38, 1998).
 fn dexp_inv_correction(
-    stage: &mut nalgebra::DVector<f64>,
-    previous: &nalgebra::DVector<f64>,
+    stage: &mut DVector<f64>,
+    previous: &DVector<f64>,
     scale: f64,
 ) {
     let omega = nalgebra::Vector3::new(stage[3], stage[4], stage[5]);

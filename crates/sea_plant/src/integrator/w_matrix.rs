@@ -97,7 +97,7 @@ pub(crate) fn solve_implicit(
     let actuation = &plant.actuation;
     // z <- B (t0 + t1 r_sdot), keeping a0 per joint in k's thetadot slots for later.
     let z = &mut pd.scratch_v;
-    z.fill(0.0);
+    z.as_mut_slice().fill(0.0);
     for (e, (p, m)) in actuation.elastic.iter().zip(&pd.w_motor).enumerate() {
         let vj = 6 + actuation.elastic_joints[e];
         let (r_s, r_theta, r_thetadot) = (r[vj], r[o_theta + e], r[o_thetadot + e]);
