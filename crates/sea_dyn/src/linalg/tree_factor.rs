@@ -11,7 +11,7 @@
 
 use crate::error::{Error, Result};
 use crate::model::Model;
-use nalgebra::{DMatrix, Matrix6, SMatrix, SVector, Vector6};
+use nalgebra::{DMatrix, Vector6};
 
 /// The base's six DOFs, the first six tree DOFs (a chain) and the last six entries of every
 /// joint row.
@@ -130,15 +130,16 @@ impl TreeFactor {
         // Joint rows first; their updates of the base block (the last six entries of every
         // joint row are the base DOFs 5..0) are summed as dense 6 x 6 rank-one updates, one
         // fixed-size operation per row instead of six short loops.
-        let mut base_update = Matrix6::zeros();
+        let mut base_update = [0.0; 36];
         for k in (BASE_DOFS..n).rev() {
             let u = self.eliminate_row(k, BASE_DOFS)?;
-            base_update.ger(1.0, &u, &u, 1.0);
+            add_outer_product(&mut base_update, u.as_slice(), u.as_slice());
         }
         for i in 0..BASE_DOFS {
             let start = self.row_start[i];
             for t in 0..=i {
-                self.values[start + t] -= base_update[(5 - i, 5 - i + t)];
+                // Entry (5 - i, 5 - i + t) of the column-major 6 x 6 sum.
+                self.values[start + t] -= base_update[(5 - i + t) * 6 + 5 - i];
             }
         }
         for k in (0..BASE_DOFS).rev() {
@@ -382,7 +383,7 @@ impl TreeFactor {
         let (y, s) = (y_t.as_slice(), schur.as_mut_slice());
         match k {
             // The contact sizes: stack accumulators, every entry of `s` overwritten.
-            6 => sum_outer_products_fixed::<6>(y, s),
+            6 => sum_outer_products_one_contact(y, s),
             12 => sum_outer_products_two_contacts(y, s),
             _ => {
                 // A slice fill: nalgebra's `fill` steps through its strides entry by entry.
@@ -419,18 +420,27 @@ fn sum_outer_products(y: &[f64], s: &mut [f64], k: usize) {
     }
 }
 
-/// [`sum_outer_products`] for a fixed `K`: full `K x K` rank-one updates of a stack matrix,
-/// skipping zero columns (fixed-length, unrolled loops beat the triangle's short ones).
-fn sum_outer_products_fixed<const K: usize>(y: &[f64], s: &mut [f64]) {
-    let mut sum = SMatrix::<f64, K, K>::zeros();
-    for column in y.chunks_exact(K) {
-        if column.iter().all(|&v| v == 0.0) {
-            continue;
+/// [`sum_outer_products`] for one contact (k = 6): full 6 x 6 rank-one updates of a stack
+/// array, skipping zero columns (fixed-length, unrolled loops beat the triangle's short ones).
+fn sum_outer_products_one_contact(y: &[f64], s: &mut [f64]) {
+    let mut sum = [0.0; 36];
+    for column in y.chunks_exact(6) {
+        if column.iter().any(|&v| v != 0.0) {
+            add_outer_product(&mut sum, column, column);
         }
-        let v = SVector::<f64, K>::from_column_slice(column);
-        sum.ger(1.0, &v, &v, 1.0);
     }
-    s.copy_from_slice(sum.as_slice());
+    s.copy_from_slice(&sum);
+}
+
+/// `sum += rows columns^T` for a column-major 6 x 6 `sum` (plain arrays: fixed-length loops
+/// the compiler unrolls and vectorises).
+#[inline(always)]
+fn add_outer_product(sum: &mut [f64; 36], rows: &[f64], columns: &[f64]) {
+    for (target, &c) in sum.chunks_exact_mut(6).zip(columns) {
+        for (t, &r) in target.iter_mut().zip(rows) {
+            *t += r * c;
+        }
+    }
 }
 
 /// [`sum_outer_products`] for two contacts (k = 12) in 6 x 6 blocks: a velocity index on one
@@ -438,28 +448,27 @@ fn sum_outer_products_fixed<const K: usize>(y: &[f64], s: &mut [f64]) {
 /// products) instead of the whole matrix (144); only the shared indices (the base) update all
 /// three blocks.
 fn sum_outer_products_two_contacts(y: &[f64], s: &mut [f64]) {
-    let (mut first, mut second, mut cross) = (Matrix6::zeros(), Matrix6::zeros(), Matrix6::zeros());
+    let (mut first, mut second, mut cross) = ([0.0; 36], [0.0; 36], [0.0; 36]);
     for column in y.chunks_exact(12) {
-        let a = Vector6::from_column_slice(&column[..6]);
-        let b = Vector6::from_column_slice(&column[6..]);
+        let (a, b) = column.split_at(6);
         let (has_a, has_b) = (a.iter().any(|&v| v != 0.0), b.iter().any(|&v| v != 0.0));
         if has_a {
-            first.ger(1.0, &a, &a, 1.0);
+            add_outer_product(&mut first, a, a);
         }
         if has_b {
-            second.ger(1.0, &b, &b, 1.0);
+            add_outer_product(&mut second, b, b);
         }
         if has_a && has_b {
-            cross.ger(1.0, &b, &a, 1.0);
+            add_outer_product(&mut cross, b, a);
         }
     }
     // Column-major 12 x 12: [first, cross^T; cross, second].
     for c in 0..6 {
         for r in 0..6 {
-            s[c * 12 + r] = first[(r, c)];
-            s[c * 12 + 6 + r] = cross[(r, c)];
-            s[(6 + c) * 12 + r] = cross[(c, r)];
-            s[(6 + c) * 12 + 6 + r] = second[(r, c)];
+            s[c * 12 + r] = first[c * 6 + r];
+            s[c * 12 + 6 + r] = cross[c * 6 + r];
+            s[(6 + c) * 12 + r] = cross[r * 6 + c];
+            s[(6 + c) * 12 + 6 + r] = second[c * 6 + r];
         }
     }
 }

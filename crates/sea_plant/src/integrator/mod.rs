@@ -204,11 +204,7 @@ fn implicit_first_stage<E: From<Error>>(
 /// `R = exp([u]x) R_n` with `u = scale * previous_omega`, and the rotation vector evolves as
 /// `udot = dexp_u^-1(omega) = omega - u x omega / 2 + u x (u x omega) / 12 + O(|u|^4)`, the
 /// terms a fourth-order method needs (Munthe-Kaas, BIT 38, 1998).
-fn dexp_inv_correction(
-    stage: &mut DVector<f64>,
-    previous: &DVector<f64>,
-    scale: f64,
-) {
+fn dexp_inv_correction(stage: &mut DVector<f64>, previous: &DVector<f64>, scale: f64) {
     let omega = nalgebra::Vector3::new(stage[3], stage[4], stage[5]);
     let u = nalgebra::Vector3::new(previous[3], previous[4], previous[5]) * scale;
     let u_cross_omega = u.cross(&omega);

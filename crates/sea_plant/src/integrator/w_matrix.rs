@@ -4,9 +4,7 @@ use crate::dynamics::{joint_diagonal, PlantData};
 use crate::error::{Error, Result};
 use crate::plant::{MotorInput, Plant};
 use nalgebra::DVector;
-use sea_dyn::dense::{
-    cholesky_in_place, cholesky_solve_in_place, copy_contiguous, gemv_few_rows, gemv_tr_few_rows,
-};
+use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place, gemv_few_rows, gemv_tr_few_rows};
 
 /// One elastic joint's motor unknowns eliminated from `W k = r`, for the step scale `g`: with
 /// `r_s`, `r_nu`, `r_theta`, `r_thetadot` the joint's entries of `r`,
@@ -66,7 +64,9 @@ pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Res
     if plant.contacts.is_empty() {
         return Ok(());
     }
-    copy_contiguous(&mut pd.w_jacobian, &pd.contact_jacobian);
+    // J at the step start moves to the step's buffer; the next evaluation overwrites every
+    // entry of `contact_jacobian` (or adopts one), so a swap does instead of a copy.
+    std::mem::swap(&mut pd.w_jacobian, &mut pd.contact_jacobian);
     pd.w_factor
         .schur_complement(&pd.w_jacobian, &mut pd.w_linv_jt_t, &mut pd.w_schur);
     cholesky_in_place(&mut pd.w_schur).map_err(|i| {
