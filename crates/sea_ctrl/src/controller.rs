@@ -533,7 +533,7 @@ impl MomentumController {
         let map = &mut self.torque_map;
         // One kinematic pass: the bias forces leave the body velocities and inertias the
         // momentum needs; CRBA reuses the placements.
-        map.bias.copy_from(sea_dyn::bias_forces(model, data, q, nu));
+        copy_contiguous(&mut map.bias, sea_dyn::bias_forces(model, data, q, nu));
         let momentum = sea_dyn::centroidal_momentum_from_dynamics(data);
         let com = data.p_base_world + data.p_com_rel;
         sea_dyn::crba_after_rnea(model, data);
@@ -558,7 +558,9 @@ impl MomentumController {
         for (c, &frame) in self.contact_frames.iter().enumerate() {
             sea_dyn::jacobian::frame_jacobian_from_kinematics(model, data, frame);
             copy_into_rows(&mut map.jacobian, 6 * c, &data.frame_jacobian);
-            let bias = sea_dyn::jacobian::frame_bias_acceleration(model, data, frame);
+            // `bias_forces` ran at this state earlier in the tick.
+            let bias =
+                sea_dyn::jacobian::frame_bias_acceleration_after_bias_forces(model, data, frame);
             map.jdot_nu.fixed_rows_mut::<6>(6 * c).copy_from(&bias);
             let pose = sea_dyn::frame_placement(model, data, frame);
             self.terms.rotations[c] = pose.rotation;

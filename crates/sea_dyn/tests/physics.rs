@@ -548,6 +548,36 @@ fn frame_jacobians_match_finite_differences_of_the_placements() {
     }
 }
 
+/// `Jdot nu` read off RNEA's body accelerations (gravity removed) right after `bias_forces`
+/// equals the pass over the frame's support, for every frame of the random trees; a wrong sign
+/// of the gravity correction would be off by 9.81 m/s^2.
+#[test]
+fn jdot_nu_after_bias_forces_matches_the_support_pass() {
+    for seed in seeds() {
+        let model = load(&random_robot(seed));
+        let mut data = Data::new(&model);
+        let mut rng = Lcg::new(8100 + seed);
+        let q = random_q(&mut rng, model.nq());
+        let nu = random_v(&mut rng, model.nv(), 1.0);
+        sea_dyn::bias_forces(&model, &mut data, &q, &nu);
+        for id in 0..model.frames.len() {
+            let shortcut = v6(
+                &sea_dyn::jacobian::frame_bias_acceleration_after_bias_forces(&model, &data, id),
+            );
+            let pass = v6(&sea_dyn::jacobian::frame_bias_acceleration(
+                &model, &mut data, id,
+            ));
+            assert_close_vec(
+                &format!("seed {seed}: Jdot nu of frame {}", model.frames[id].name),
+                &shortcut,
+                &pass,
+                1e-12,
+                pass.amax() + 1.0,
+            );
+        }
+    }
+}
+
 #[test]
 fn jdot_nu_matches_the_derivative_of_j_nu_at_constant_nu() {
     for seed in seeds() {

@@ -5,7 +5,9 @@ use crate::dynamics::PlantData;
 use crate::plant::Plant;
 use nalgebra::{Matrix3, Vector3, Vector6};
 use sea_dyn::dense::copy_into_rows;
-use sea_dyn::jacobian::{frame_bias_acceleration, frame_jacobian_from_kinematics};
+use sea_dyn::jacobian::{
+    frame_bias_acceleration_after_bias_forces, frame_jacobian_from_kinematics,
+};
 use sea_dyn::kinematics::frame_placement;
 use sea_dyn::model::FrameId;
 use sea_dyn::spatial::Pose;
@@ -93,7 +95,8 @@ pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64], adopt
         } else {
             frame_jacobian_from_kinematics(model, &mut pd.data, contact.frame);
             copy_into_rows(&mut pd.contact_jacobian, 6 * c, &pd.data.frame_jacobian);
-            frame_bias_acceleration(model, &mut pd.data, contact.frame)
+            // `evaluate` ran `bias_forces` at this state just before.
+            frame_bias_acceleration_after_bias_forces(model, &pd.data, contact.frame)
         };
         let pose = frame_placement(model, &pd.data, contact.frame);
         let position_error = pose.translation - contact.reference.translation;

@@ -383,7 +383,11 @@ fn adopted_model_terms_give_the_same_evaluation_and_only_at_their_state() {
         jacobian
             .rows_mut(6 * c, 6)
             .copy_from(&scratch.frame_jacobian);
-        let bias = sea_dyn::jacobian::frame_bias_acceleration(&plant.model, &mut scratch, frame);
+        let bias = sea_dyn::jacobian::frame_bias_acceleration_after_bias_forces(
+            &plant.model,
+            &scratch,
+            frame,
+        );
         jdot_nu.fixed_rows_mut::<6>(6 * c).copy_from(&bias);
     }
     let mut factor = sea_dyn::tree_factor::TreeFactor::new(&plant.model);

@@ -72,7 +72,32 @@ pub fn frame_bias_acceleration(model: &Model, data: &mut Data, frame: FrameId) -
         let joint_velocity = v - data.body_velocity[model.parent(i)];
         acceleration = acceleration + v.cross_motion(&joint_velocity);
     }
-    let v = data.body_velocity[body];
+    classical_frame_acceleration(model, data, frame, &acceleration)
+}
+
+/// [`frame_bias_acceleration`] right after [`crate::rnea::bias_forces`] at the same state:
+/// RNEA at `nudot = 0` left every body's acceleration at `O` in `data`, which is the bias
+/// acceleration plus gravity's uniform `[-g; 0]` (it enters at the base and propagates
+/// unchanged), so no pass over the support is needed.
+pub fn frame_bias_acceleration_after_bias_forces(
+    model: &Model,
+    data: &Data,
+    frame: FrameId,
+) -> Vector6<f64> {
+    let mut acceleration = data.body_acceleration[model.frames[frame].body];
+    acceleration.lin += model.gravity;
+    classical_frame_acceleration(model, data, frame, &acceleration)
+}
+
+/// The classical acceleration `[pddot_x; omegadot]` of `frame` from its body's spatial
+/// acceleration at `O` (`acceleration`) and the velocities in `data`.
+fn classical_frame_acceleration(
+    model: &Model,
+    data: &Data,
+    frame: FrameId,
+    acceleration: &Motion,
+) -> Vector6<f64> {
+    let v = data.body_velocity[model.frames[frame].body];
     let x = frame_position_rel(model, data, frame);
     let velocity_x = v.point_velocity(&x);
     let linear = acceleration.point_velocity(&x) + v.ang.cross(&velocity_x);

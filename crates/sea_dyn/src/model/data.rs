@@ -50,8 +50,8 @@ pub struct Data {
 impl Data {
     /// Copies from `other` (a workspace of the same model) what an algorithm run at the same
     /// state after `bias_forces` and [`crate::crba_after_rnea`] leaves for later use: base
-    /// position, placements, motion subspaces, body velocities and inertias, the bias forces in
-    /// `tau` and `M`. Allocates nothing. Lets a second user of the same state (the plant after
+    /// position, placements, motion subspaces, body velocities, accelerations (RNEA's, which
+    /// give `Jdot nu`) and inertias, the bias forces in `tau` and `M`. Allocates nothing. Lets a second user of the same state (the plant after
     /// the controller) skip the kinematics, RNEA and CRBA.
     pub fn copy_model_terms_from(&mut self, other: &Data) {
         self.p_base_world = other.p_base_world;
@@ -59,6 +59,8 @@ impl Data {
         self.p_body_rel.copy_from_slice(&other.p_body_rel);
         self.motion_subspace.copy_from_slice(&other.motion_subspace);
         self.body_velocity.copy_from_slice(&other.body_velocity);
+        self.body_acceleration
+            .copy_from_slice(&other.body_acceleration);
         self.body_inertia.copy_from_slice(&other.body_inertia);
         copy_contiguous(&mut self.tau, &other.tau);
         copy_contiguous(&mut self.mass_matrix, &other.mass_matrix);
