@@ -191,13 +191,17 @@ pub fn copy_into_rows(dst: &mut DMatrix<f64>, first_row: usize, src: &DMatrix<f6
     if r == 0 {
         return;
     }
-    for (target, source) in dst
-        .as_mut_slice()
-        .chunks_exact_mut(k)
-        .zip(src.as_slice().chunks_exact(r))
-    {
-        target[first_row..first_row + r].copy_from_slice(source);
-    }
+    // A constant r (one contact's 6 rows) makes each column's copy a few moves instead of a
+    // call to `memcpy`.
+    with_fixed_width!(r, |rows| {
+        for (target, source) in dst
+            .as_mut_slice()
+            .chunks_exact_mut(k)
+            .zip(src.as_slice().chunks_exact(rows))
+        {
+            target[first_row..first_row + rows].copy_from_slice(source);
+        }
+    });
 }
 
 /// `sum_i a_i b_i` with four independent partial sums, so that the compiler can vectorise it
