@@ -369,6 +369,19 @@ impl BodyInertia {
     }
 }
 
+/// `R S R^T` for a symmetric `S`: `A = R S`, then only the six distinct entries of `A R^T`
+/// (`(A R^T)_ij = A_i . R_j`, rows), mirrored; 45 multiplications instead of 54 and no
+/// transposed copy. Runs once per body and evaluation (RNEA's inertias at `O`).
+#[inline]
+pub fn rotate_symmetric(r: &Matrix3<f64>, s: &Matrix3<f64>) -> Matrix3<f64> {
+    let a = r * s;
+    let entry =
+        |i: usize, j: usize| a[(i, 0)] * r[(j, 0)] + a[(i, 1)] * r[(j, 1)] + a[(i, 2)] * r[(j, 2)];
+    let (xx, yy, zz) = (entry(0, 0), entry(1, 1), entry(2, 2));
+    let (xy, xz, yz) = (entry(0, 1), entry(0, 2), entry(1, 2));
+    Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
+}
+
 /// Parallel axis term `m (|d|^2 I - d d^T)` of a point mass at offset `d`.
 #[inline]
 pub fn parallel_axis(mass: f64, d: &Vector3<f64>) -> Matrix3<f64> {
@@ -408,7 +421,7 @@ impl SpatialInertia {
     pub fn from_body(body: &BodyInertia, o_r_body: &Matrix3<f64>, r: &Vector3<f64>) -> Self {
         let c = r + o_r_body * body.com;
         let rotational =
-            o_r_body * body.inertia_com * o_r_body.transpose() + parallel_axis(body.mass, &c);
+            rotate_symmetric(o_r_body, &body.inertia_com) + parallel_axis(body.mass, &c);
         Self {
             mass: body.mass,
             first_moment: c * body.mass,
