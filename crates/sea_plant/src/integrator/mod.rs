@@ -242,10 +242,16 @@ fn rk4<E: From<Error>>(
         // sum = (k1 + 2 k2 + 2 k3 + k4) / 6
         copy_contiguous(&mut sum, &pd.xdot);
         dexp_inv_correction(&mut sum, &k3, dt);
-        sum.axpy(1.0, &k1, 1.0);
-        sum.axpy(2.0, &k2, 1.0);
-        sum.axpy(2.0, &k3, 1.0);
-        sum.scale_mut(1.0 / 6.0);
+        // Over the slices, in the order of the formula (see `linear_combination`).
+        for (((total, a), b), c) in sum
+            .as_mut_slice()
+            .iter_mut()
+            .zip(k1.as_slice())
+            .zip(k2.as_slice())
+            .zip(k3.as_slice())
+        {
+            *total = (*total + a + 2.0 * b + 2.0 * c) * (1.0 / 6.0);
+        }
         retract(plant, x, &sum, dt, x_out);
         pd.restore_outputs();
         Ok(())
