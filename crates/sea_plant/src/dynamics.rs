@@ -300,10 +300,11 @@ pub fn evaluate(plant: &Plant, pd: &mut PlantData, x: &[f64], u: &[f64]) -> Resu
     pd.mass_factor.solve_l(pd.scratch_v.as_mut_slice());
 
     let nd = layout.nd();
-    let xdot = &mut pd.xdot;
-    xdot.rows_mut(0, nv).copy_from_slice(nu);
-    xdot.rows_mut(nv, ne).copy_from_slice(thetadot);
-    xdot.rows_mut(nv + ne, nv).copy_from(&pd.scratch_v);
+    // Slice copies: nalgebra's row views copy entry by entry (see `dense::copy_contiguous`).
+    let xdot = pd.xdot.as_mut_slice();
+    xdot[..nv].copy_from_slice(nu);
+    xdot[nv..nv + ne].copy_from_slice(thetadot);
+    xdot[nv + ne..2 * nv + ne].copy_from_slice(pd.scratch_v.as_slice());
     for e in 0..ne {
         let p = &plant.actuation.elastic[e];
         let j = plant.actuation.elastic_joints[e];
