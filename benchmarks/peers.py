@@ -15,8 +15,12 @@ Ratios printed (below 1: ours is faster):
 - one simulated second of the closed loop at 1 kHz / 1000 ``mj_step``;
 - the continuous-time closed loop (controller at every integrator stage) / the 1 kHz one.
 
-Run: ``python benchmarks/peers.py [--runs 3] [--batches 31] [--steps 500] [--json FILE]``
-(needs ``pip install mujoco`` and ``cargo build --release -p sea_sim --bin sea-sim``).
+Run: ``python benchmarks/peers.py [--runs 3] [--batches 31] [--steps 500] [--json FILE]
+[--sea-sim PATH ...]`` (needs ``pip install mujoco`` and ``cargo build --release -p sea_sim --bin
+sea-sim``). ``--sea-sim`` given several times times each binary in turn within every run (e.g. a
+build of the commit before a change beside the one after it), so the before/after ratios come
+from one run on one machine. The CPU model is printed with the figures: ratios to MuJoCo differ
+between CPUs (the same commit measured 0.47x and 0.72x ``mj_step`` on two machines).
 """
 
 from __future__ import annotations
@@ -117,11 +121,22 @@ class StandingMujoco:
         return statistics.median(means[1:])
 
 
-def sea_sim_figures(batches: int) -> dict:
-    """``sea-sim bench --json`` on the iCub."""
-    if not SEA_SIM.exists():
-        raise SystemExit(f"{SEA_SIM} missing: cargo build --release -p sea_sim --bin sea-sim")
-    command = [str(SEA_SIM), "bench", "--urdf", str(URDF), "--batches", str(batches), "--json"]
+def cpu_model() -> str:
+    """The CPU's model name as ``lscpu`` gives it (``/proc/cpuinfo``), else the platform's."""
+    try:
+        for line in pathlib.Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
+def sea_sim_figures(binary: pathlib.Path, batches: int) -> dict:
+    """``sea-sim bench --json`` on the iCub, run by ``binary``."""
+    if not binary.exists():
+        raise SystemExit(f"{binary} missing: cargo build --release -p sea_sim --bin sea-sim")
+    command = [str(binary), "bench", "--urdf", str(URDF), "--batches", str(batches), "--json"]
     return json.loads(subprocess.run(command, check=True, capture_output=True, text=True).stdout)
 
 
@@ -135,29 +150,42 @@ RATIOS = [
 ]
 
 
-def measure(runs: int, batches: int, steps: int) -> dict:
-    """Alternating runs of both sides; the median of each figure over the runs."""
+def medians(runs: list[dict]) -> dict:
+    """The median over ``runs`` of every numeric figure of ``sea-sim bench --json``."""
+    return {
+        key: statistics.median(run[key] for run in runs)
+        for key, value in runs[0].items()
+        if isinstance(value, (int, float)) and key != "nv"
+    }
+
+
+def measure(runs: int, batches: int, steps: int, binaries: list[pathlib.Path]) -> dict:
+    """Alternating runs of MuJoCo and of each binary; the median of each figure over the runs.
+    ``ours`` holds the first binary's medians, ``binaries`` every binary's."""
     standing = StandingMujoco()
     mujoco_runs: dict[str, list[float]] = {name: [] for name in INTEGRATORS}
-    ours_runs: list[dict] = []
+    ours_runs: dict[str, list[dict]] = {str(binary): [] for binary in binaries}
     for _ in range(runs):
         for name in INTEGRATORS:
             mujoco_runs[name].append(standing.step_us(name, batches, steps))
-        ours_runs.append(sea_sim_figures(batches))
-    ours = {
-        key: statistics.median(run[key] for run in ours_runs)
-        for key, value in ours_runs[0].items()
-        if isinstance(value, (int, float)) and key != "nv"
-    }
+        for binary in binaries:
+            ours_runs[str(binary)].append(sea_sim_figures(binary, batches))
+    per_binary = {binary: medians(figures) for binary, figures in ours_runs.items()}
     mj = {name: statistics.median(values) for name, values in mujoco_runs.items()}
-    return {"mujoco_step_us": mj, "ours": ours, "runs": {"mujoco": mujoco_runs, "ours": ours_runs}}
+    return {
+        "mujoco_step_us": mj,
+        "ours": per_binary[str(binaries[0])],
+        "binaries": per_binary,
+        "runs": {"mujoco": mujoco_runs, "ours": ours_runs},
+    }
 
 
-def table(result: dict) -> str:
-    """The side-by-side table: our figure, MuJoCo's (Euler, implicitfast) and the ratios."""
+def table(result: dict, ours: dict, title: str) -> str:
+    """The side-by-side table of one binary (``ours``, its medians): our figure, MuJoCo's
+    (Euler, implicitfast) and the ratios, under a header naming the CPU."""
     mj = result["mujoco_step_us"]
-    ours = result["ours"]
     lines = [
+        f"{title} on {result['machine']['cpu']}",
         f"MuJoCo {mujoco.__version__} mj_step on the standing iCub, {EXPECTED_CONTACTS} contacts: "
         f"Euler {mj['euler']:.1f} us, implicitfast {mj['implicitfast']:.1f} us",
         f"{'figure':<54}{'ours [us]':>12}{'/ Euler':>10}{'/ implicitfast':>16}",
@@ -183,10 +211,22 @@ def main() -> None:
     parser.add_argument("--batches", type=int, default=31, help="timed batches per figure")
     parser.add_argument("--steps", type=int, default=500, help="mj_step calls per batch")
     parser.add_argument("--json", type=pathlib.Path, help="also write the figures as JSON")
+    parser.add_argument(
+        "--sea-sim",
+        type=pathlib.Path,
+        action="append",
+        help="a sea-sim binary to time (repeat to compare builds in one run; "
+        "default target/release/sea-sim)",
+    )
     args = parser.parse_args()
-    result = measure(args.runs, args.batches, args.steps)
-    result["machine"] = {"platform": platform.platform(), "processor": platform.processor()}
-    print(table(result))
+    binaries = args.sea_sim or [SEA_SIM]
+    result = measure(args.runs, args.batches, args.steps, binaries)
+    result["machine"] = {
+        "platform": platform.platform(),
+        "processor": platform.processor(),
+        "cpu": cpu_model(),
+    }
+    print("\n\n".join(table(result, result["binaries"][str(b)], str(b)) for b in binaries))
     if args.json:
         args.json.write_text(json.dumps(result, indent=2))
 
