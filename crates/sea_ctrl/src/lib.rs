@@ -10,7 +10,9 @@
 //!   by the dense active-set method of [`active_set`] (Goldfarb-Idnani) with Clarabel as the
 //!   reference and fallback;
 //! - [`active_set`]: a dense, allocation-free Goldfarb-Idnani QP solver for small QPs;
-//! - [`references`]: the CoM trajectory and the postural reference.
+//! - [`references`]: the CoM trajectory and the postural reference;
+//! - [`joint_loop`]: the joint torque loop of the multi-rate architecture (the paper's law is
+//!   its special case).
 //!
 //! docs/architecture.md maps every paper equation to its function.
 
@@ -19,6 +21,7 @@
 pub mod active_set;
 pub mod controller;
 pub mod error;
+pub mod joint_loop;
 pub mod momentum;
 pub mod qp;
 pub mod references;

@@ -1,0 +1,134 @@
+//! The joint torque loop of the multi-rate architecture: per elastic joint, a loop at the
+//! motor boards' rate (1 kHz on the iCub) that turns a desired joint torque held from the
+//! whole-body controller (100 Hz) and the freshly measured spring deflection and joint velocity
+//! into the desired motor velocity of the motor velocity loop (eq:tauMotors).
+//!
+//! Per joint, with the deflection `delta = Gamma theta - s` [rad] and the controller's
+//! stiffness estimate `K_S^`:
+//!
+//! `Gamma thetadot_d = sdot + omega_t (tau_d - K_S^ delta) / K_S^`
+//!
+//! so the commanded deflection rate closes the spring torque `K_S^ delta` onto `tau_d` with
+//! bandwidth `omega_t` [rad/s]. With the motor velocity loop `thetaddot = -K_m (thetadot -
+//! thetadot_d)` (eq:tauMotors with its torque feed-forward) and `sdot` fed forward, the
+//! deflection obeys `deltaddot + K_m deltadot + K_m omega_t delta = K_m omega_t tau_d / K_S^`:
+//! poles at `-K_m/2 +- sqrt(K_m^2/4 - K_m omega_t)`. Neither estimate enters that loop (the
+//! stiffness estimate only scales the torque it delivers, `K_S / K_S^` times `tau_d`, and the
+//! damping estimate is not used), so its stability does not hinge on them.
+//!
+//! The paper's law is the special case `omega_t = K_S^ / K_D^` with `tau_d = p + beta*`
+//! (labels p, inputDesMotVel): `Gamma thetadot_d = beta* / K_D^` then (see the test
+//! `the_paper_law_is_the_case_omega_equal_stiffness_over_damping`). With the iCub's
+//! `K_S^ / K_D^ = 350 / 0.25 = 1400 1/s`, that loop sampled with a zero-order hold over a
+//! period `T` is stable only while `T` is below about 1.5 ms (the two-state model of this
+//! loop: 665 Hz; the whole robot's linearisation: 673 Hz), which no 100 Hz whole-body loop
+//! can hold. Here the loop runs at the inner rate with `omega_t` well below it and below
+//! `K_m`, as on real SEA joints, whose torque loops reach 20 to 70 Hz
+//! (docs/references.md, "Control rates of real SEA humanoids").
+//!
+//! [`DEFAULT_TORQUE_BANDWIDTH`] is 2 pi 20 Hz: with `K_m = 200 1/s` the poles are
+//! `-100 +- 123i` (damping ratio 0.63, 25 Hz natural frequency), and the loop sampled at
+//! 1 kHz has a spectral radius 0.91 whatever the estimates.
+
+use sea_dyn::ElasticParameters;
+
+/// Default bandwidth `omega_t` of the joint torque loop [rad/s]: 2 pi 20 Hz (module doc).
+pub const DEFAULT_TORQUE_BANDWIDTH: f64 = 2.0 * std::f64::consts::PI * 20.0;
+
+/// Desired motor velocity `thetadot_d` [rad/s, motor side] of one elastic joint from the held
+/// desired joint torque `torque_desired` [Nm], the measured motor angle `theta` [rad, motor
+/// side], joint angle `s` [rad] and joint velocity `sdot` [rad/s], with the controller's
+/// `estimate` (ratio and stiffness used) and the loop bandwidth `bandwidth` [rad/s]:
+/// `Gamma thetadot_d = sdot + omega_t (tau_d - K_S^ (Gamma theta - s)) / K_S^`.
+pub fn torque_loop_motor_velocity(
+    estimate: &ElasticParameters,
+    bandwidth: f64,
+    torque_desired: f64,
+    theta: f64,
+    s: f64,
+    sdot: f64,
+) -> f64 {
+    let spring_torque = estimate.stiffness * (estimate.ratio * theta - s);
+    let deflection_rate = bandwidth * (torque_desired - spring_torque) / estimate.stiffness;
+    (sdot + deflection_rate) / estimate.ratio
+}
+
+/// The bandwidth [rad/s] at which [`torque_loop_motor_velocity`] is the paper's law
+/// (inputDesMotVel with `tau_d = p + beta*`): `K_S^ / K_D^`.
+pub fn paper_law_bandwidth(estimate: &ElasticParameters) -> f64 {
+    estimate.stiffness / estimate.damping
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sea::{desired_motor_velocity, spring_torque_without_motor_velocity};
+    use nalgebra::{Matrix2, Matrix3, Vector2};
+
+    fn joint() -> ElasticParameters {
+        ElasticParameters::paper_icub()
+    }
+
+    #[test]
+    fn the_paper_law_is_the_case_omega_equal_stiffness_over_damping() {
+        let estimate = ElasticParameters {
+            stiffness: 400.0,
+            damping: 0.3,
+            ..joint()
+        };
+        let (theta, s, sdot, beta) = (14.0, 0.12, -0.4, 2.5);
+        let p = spring_torque_without_motor_velocity(&estimate, theta, s, sdot);
+        let paper = desired_motor_velocity(&estimate, beta);
+        let ours = torque_loop_motor_velocity(
+            &estimate,
+            paper_law_bandwidth(&estimate),
+            p + beta,
+            theta,
+            s,
+            sdot,
+        );
+        assert!((paper - ours).abs() < 1e-12 * paper.abs(), "{paper} {ours}");
+    }
+
+    #[test]
+    fn at_the_desired_torque_the_motor_follows_the_joint() {
+        let estimate = joint();
+        let (s, sdot, torque) = (0.3, 0.7, 5.0);
+        let theta = (s + torque / estimate.stiffness) / estimate.ratio;
+        let thetadot = torque_loop_motor_velocity(&estimate, 100.0, torque, theta, s, sdot);
+        assert!((estimate.ratio * thetadot - sdot).abs() < 1e-12);
+    }
+
+    /// Spectral radius of the deflection loop (state `[delta, Gamma thetadot]`, motor velocity
+    /// loop of gain `k_m` in continuous time, the torque loop's command held over `period`).
+    fn sampled_spectral_radius(bandwidth: f64, k_m: f64, period: f64) -> f64 {
+        // Exact zero-order-hold discretisation through the exponential of [[A, B], [0, 0]].
+        let augmented = Matrix3::new(0.0, 1.0, 0.0, 0.0, -k_m, k_m, 0.0, 0.0, 0.0) * period;
+        let exp = augmented.exp();
+        let a = exp.fixed_view::<2, 2>(0, 0).into_owned();
+        let b: Vector2<f64> = exp.fixed_view::<2, 1>(0, 2).into_owned();
+        let closed: Matrix2<f64> = a - b * nalgebra::RowVector2::new(bandwidth, 0.0);
+        closed
+            .complex_eigenvalues()
+            .iter()
+            .map(|l| l.norm())
+            .fold(0.0, f64::max)
+    }
+
+    /// The mechanism of the paper's law's rate limit: its loop sampled at 100 Hz diverges,
+    /// at 1 kHz it holds; the default loop holds at 1 kHz whatever factor an estimate error
+    /// puts on its bandwidth between x0.5 and x2, and even at 100 Hz.
+    #[test]
+    fn sampled_deflection_loop_is_stable_at_the_robot_rates() {
+        let k_m = 200.0;
+        let paper = paper_law_bandwidth(&joint());
+        assert!(sampled_spectral_radius(paper, k_m, 1e-2) > 1.0);
+        assert!(sampled_spectral_radius(paper, k_m, 1.0 / 600.0) > 1.0);
+        assert!(sampled_spectral_radius(paper, k_m, 1.0 / 700.0) < 1.0);
+        for factor in [0.5, 1.0, 2.0] {
+            let rho = sampled_spectral_radius(factor * DEFAULT_TORQUE_BANDWIDTH, k_m, 1e-3);
+            assert!(rho < 0.95, "x{factor}: {rho}");
+        }
+        assert!(sampled_spectral_radius(DEFAULT_TORQUE_BANDWIDTH, k_m, 1e-2) < 0.75);
+    }
+}
