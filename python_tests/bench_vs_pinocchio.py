@@ -43,8 +43,8 @@ import pinocchio as pin
 
 HERE = pathlib.Path(__file__).resolve().parent
 REPO = HERE.parent
-sys.path.insert(0, str(HERE))
 
+# Run as a script, so its folder (python_tests/, with pin_reference.py) is on sys.path.
 from pin_reference import ICUB25_JOINTS, PinReference, random_state  # noqa: E402
 
 OPS = [

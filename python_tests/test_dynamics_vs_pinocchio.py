@@ -14,14 +14,11 @@ from __future__ import annotations
 import math
 import pathlib
 import re
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-
-from pin_reference import (  # noqa: E402
+from pin_reference import (  # a helper beside the tests (see conftest.py)
     HAND_URDF,
     ICUB25_JOINTS,
     PinReference,

@@ -10,15 +10,12 @@ quaternion algebra.
 from __future__ import annotations
 
 import pathlib
-import sys
 
 import numpy as np
 import pinocchio as pin
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-
-from pin_reference import (  # noqa: E402
+from pin_reference import (  # a helper beside the tests (see conftest.py)
     GRAVITY,
     HAND_JOINTS_FILE_ORDER,
     HAND_URDF,

@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 
 import sea_momentum as sm  # a failed import fails the run (no importorskip)
-from sea_momentum import reproduce as rep
+from sea_momentum import paper
+from sea_momentum.paper import evidence, outcomes, setting, stability_map
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 PAPER = ROOT / "scenarios" / "paper"
@@ -38,10 +39,10 @@ def reproduced(tmp_path_factory):
     out = tmp_path_factory.mktemp("repro")
     with pytest.MonkeyPatch.context() as patch:
         # Rates far from both boundaries (x0.4: about 1.7 kHz, x1.0: about 0.7 kHz).
-        patch.setattr(rep, "MAP_SCALES", (0.4, 1.0))
-        patch.setattr(rep, "MAP_RATES_HZ", (200.0, 5000.0))
-        patch.setattr(rep, "GROWTH_SCALES", (0.4, 1.0, 1.6))
-        summary = rep.reproduce(PAPER, out, duration=0.5)
+        patch.setattr(stability_map, "MAP_SCALES", (0.4, 1.0))
+        patch.setattr(stability_map, "MAP_RATES_HZ", (200.0, 5000.0))
+        patch.setattr(evidence, "GROWTH_SCALES", (0.4, 1.0, 1.6))
+        summary = paper.reproduce(PAPER, out, duration=0.5)
     return out, summary
 
 
@@ -49,7 +50,7 @@ def test_every_output_is_written(reproduced):
     out, summary = reproduced
     for name in FIGURES + ("outcomes.md", "summary.json", "tracking.mcap", "step_sea.mcap", "saturation.mcap"):
         assert (out / name).stat().st_size > 0, name
-    assert json.loads((out / "summary.json").read_text())["experiments"].keys() == rep.PAPER.keys()
+    assert json.loads((out / "summary.json").read_text())["experiments"].keys() == setting.PAPER.keys()
     assert summary["wall_time_s"] > 0
 
 
@@ -57,8 +58,8 @@ def test_outcomes_state_both_settings_and_the_computed_evidence(reproduced):
     out, summary = reproduced
     text = (out / "outcomes.md").read_text()
     assert "Continuous" in text and "1 kHz zero-order hold" in text
-    for label in rep.PAPER:
-        assert f"| {label} | {rep.PAPER[label]} |" in text, label
+    for label in setting.PAPER:
+        assert f"| {label} | {setting.PAPER[label]} |" in text, label
     # The boundaries in the text are the ones computed by the run.
     at_1khz = summary["margins"]["damping scale 0.2-3, 1 kHz, dt 1 ms"]
     assert len(at_1khz) == 1 and f"{at_1khz[0]:.3g} with dt 1 ms" in text
@@ -74,7 +75,7 @@ def test_linearisations_explain_the_x04_outcomes(reproduced):
     assert continuous["stable"] and not held["stable"]
     assert held["dominant_states"][0][0].endswith(":l_ankle_roll")
     # The unstable sampled mode is an SEA mode, not a balancing mode.
-    assert held["least_stable_frequency_rad_s"] > rep.SEA_MODE_MIN_FREQUENCY
+    assert held["least_stable_frequency_rad_s"] > evidence.SEA_MODE_MIN_FREQUENCY
 
 
 def test_stability_map_simulations_agree_with_the_eigenvalue_boundary(reproduced):
@@ -91,15 +92,15 @@ def test_stability_map_simulations_agree_with_the_eigenvalue_boundary(reproduced
 def test_verdicts_compare_with_the_paper():
     completed = SimpleNamespace(status="completed")
     diverged = SimpleNamespace(status="diverged")
-    assert rep._verdict("tracking x1.6", diverged) == "agrees"
-    assert rep._verdict("tracking x1.6", completed) == "**disagrees**"
-    assert rep._verdict("tracking x0.4", completed) == "agrees"
-    assert set(rep.PAPER_STABLE) == set(rep.PAPER)
+    assert outcomes.verdict("tracking x1.6", diverged) == "agrees"
+    assert outcomes.verdict("tracking x1.6", completed) == "**disagrees**"
+    assert outcomes.verdict("tracking x0.4", completed) == "agrees"
+    assert set(setting.PAPER_STABLE) == set(setting.PAPER)
 
 
 def test_sea_modes_are_one_pair_per_elastic_joint():
     lin = sm.linearize(PAPER / "tracking.toml")
     n_elastic = len(sm.Scenario.load(PAPER / "tracking.toml").plant.elastic_joints)
-    modes = rep.sea_modes(lin)
+    modes = evidence.sea_modes(lin)
     assert len(modes) == 2 * n_elastic
     assert np.all(modes.real < 0)

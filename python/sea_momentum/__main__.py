@@ -2,8 +2,9 @@
 
 Commands:
 
-- ``reproduce [--out DIR]``: runs the paper's experiments (scenarios/paper), writes the
-  figures, MCAP logs, ``summary.json`` and ``outcomes.md``.
+- ``reproduce [--out DIR]``: the paper application (:mod:`sea_momentum.paper`): runs the
+  paper's experiments (scenarios/paper), writes the figures, MCAP logs, ``summary.json`` and
+  ``outcomes.md``.
 - ``check [--urdf PATH] [--out DIR]``: loads the model and checks the dynamics identities on
   random states (M symmetric positive definite, M nudot + h equal to inverse dynamics,
   H = A_G nu, frame Jacobians and the CoM Jacobian against finite differences). Writes
@@ -34,7 +35,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
 
     if args.command == "reproduce":
-        from .reproduce import reproduce
+        from .paper import reproduce
 
         reproduce(pathlib.Path(args.scenarios), pathlib.Path(args.out), args.duration)
         return 0

@@ -11,9 +11,8 @@ from typing import Mapping, Sequence, final
 
 from numpy.typing import ArrayLike
 
-# Imported under these names (not re-exported): float64 arrays, shapes in each docstring.
-from .results import Float64Array as Matrix
-from .results import Float64Array as Vector
+# Not re-exported: float64 arrays (shapes in each docstring) and the typed results.
+from .arrays import FloatArray
 from .results import PlantOutputs, SimulationResult
 from .controller import ControlOutput
 
@@ -110,31 +109,31 @@ class Model:
     @property
     def total_mass(self) -> float:
         """Total mass [kg]."""
-    def neutral(self) -> Vector:
+    def neutral(self) -> FloatArray:
         """Neutral configuration (nq,): base at the origin, identity orientation, joints at 0."""
-    def mass_matrix(self, q: ArrayLike) -> Matrix:
+    def mass_matrix(self, q: ArrayLike) -> FloatArray:
         """Joint-space inertia matrix M(q), (nv, nv), symmetric."""
-    def bias_forces(self, q: ArrayLike, nu: ArrayLike) -> Vector:
+    def bias_forces(self, q: ArrayLike, nu: ArrayLike) -> FloatArray:
         """h(q, nu) = C(q, nu) nu + G(q), (nv,)."""
-    def gravity_forces(self, q: ArrayLike) -> Vector:
+    def gravity_forces(self, q: ArrayLike) -> FloatArray:
         """G(q), (nv,)."""
-    def inverse_dynamics(self, q: ArrayLike, nu: ArrayLike, nudot: ArrayLike) -> Vector:
+    def inverse_dynamics(self, q: ArrayLike, nu: ArrayLike, nudot: ArrayLike) -> FloatArray:
         """M(q) nudot + h(q, nu), (nv,)."""
-    def frame_pose(self, q: ArrayLike, frame: str) -> Matrix:
+    def frame_pose(self, q: ArrayLike, frame: str) -> FloatArray:
         """world_H_frame, (4, 4)."""
-    def frame_jacobian(self, q: ArrayLike, frame: str) -> Matrix:
+    def frame_jacobian(self, q: ArrayLike, frame: str) -> FloatArray:
         """J_F(q), (6, nv): nu -> [velocity of the frame origin; angular velocity], world axes."""
-    def frame_jacobian_dot_v(self, q: ArrayLike, nu: ArrayLike, frame: str) -> Vector:
+    def frame_jacobian_dot_v(self, q: ArrayLike, nu: ArrayLike, frame: str) -> FloatArray:
         """Jdot_F nu, (6,): the frame's classical acceleration at nudot = 0, world axes."""
-    def com(self, q: ArrayLike) -> Vector:
+    def com(self, q: ArrayLike) -> FloatArray:
         """Centre of mass in world, (3,)."""
-    def com_jacobian(self, q: ArrayLike) -> Matrix:
+    def com_jacobian(self, q: ArrayLike) -> FloatArray:
         """CoM Jacobian, (3, nv), world axes."""
-    def centroidal_momentum_matrix(self, q: ArrayLike) -> Matrix:
+    def centroidal_momentum_matrix(self, q: ArrayLike) -> FloatArray:
         """A_G(q), (6, nv): H = [m pdot_com; L_com] = A_G nu, world axes, about the CoM."""
-    def centroidal_momentum(self, q: ArrayLike, nu: ArrayLike) -> Vector:
+    def centroidal_momentum(self, q: ArrayLike, nu: ArrayLike) -> FloatArray:
         """H = [m pdot_com; L_com], (6,)."""
-    def centroidal_momentum_bias(self, q: ArrayLike, nu: ArrayLike) -> Vector:
+    def centroidal_momentum_bias(self, q: ArrayLike, nu: ArrayLike) -> FloatArray:
         """Adot_G nu, (6,): rate of the centroidal momentum at nudot = 0."""
 
 _ActuatorSpec = str | Mapping[str, float | None]
@@ -201,20 +200,20 @@ class Plant:
         theta: ArrayLike | None = None,
         thetadot: ArrayLike | None = None,
         joint_torques: ArrayLike | None = None,
-    ) -> Vector:
+    ) -> FloatArray:
         """A state; velocities default to 0 and ``theta`` to the springs at rest (``s / eta``),
         or, given ``joint_torques`` (n,), to the preload holding them:
         ``theta = (s + tau / k_s) / eta`` per elastic joint."""
-    def split_state(self, x: ArrayLike) -> dict[str, Vector]:
+    def split_state(self, x: ArrayLike) -> dict[str, FloatArray]:
         """``{"q": (nq,), "theta": (n_e,), "nu": (nv,), "thetadot": (n_e,)}``, float64 copies."""
-    def dynamics(self, x: ArrayLike, u: ArrayLike) -> Vector:
+    def dynamics(self, x: ArrayLike, u: ArrayLike) -> FloatArray:
         """dx/dt (nx), quaternion rate included: the right-hand side for scipy."""
     def outputs(self, x: ArrayLike, u: ArrayLike) -> PlantOutputs:
         """The outputs at (x, u), float64: ``contact_wrenches`` (n_contacts, 6), ``joint_torques``
         (n,), ``motor_torques`` (n_e,), ``drift_position`` [m] and ``drift_rotation`` [rad]
         (floats), ``normal_force``, ``friction_margin``, ``cop_margin`` (n_contacts,) each (sole
         frame, negative when violated)."""
-    def step(self, x: ArrayLike, u: ArrayLike, dt: float, method: str = "ros2") -> Vector:
+    def step(self, x: ArrayLike, u: ArrayLike, dt: float, method: str = "ros2") -> FloatArray:
         """One step: "ros2" (Rosenbrock-W, order 2, L-stable), "implicit_euler" or "rk4"."""
     def simulate(
         self,
@@ -351,7 +350,7 @@ class Controller:
         """``Controller(model, contacts, q0, actuators=..., reference=..., **table)``."""
     def tick(self, t: float, x: ArrayLike) -> ControlOutput:
         """One tick at time ``t`` [s] and state ``x`` (nx)."""
-    def com_reference(self, t: float) -> Vector:
+    def com_reference(self, t: float) -> FloatArray:
         """The CoM reference at ``t``, (3,) world [m]."""
     @property
     def kind(self) -> str:
@@ -391,7 +390,7 @@ class Scenario:
     def controller(self) -> Controller:
         """The controller with the scenario's references."""
     @property
-    def initial_state(self) -> Vector:
+    def initial_state(self) -> FloatArray:
         """(nx,) initial state: at rest, springs preloaded."""
     @property
     def plant_dt(self) -> float:

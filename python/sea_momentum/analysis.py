@@ -14,20 +14,22 @@ completes (``"simulate"``).
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass
-
-import numpy as np
+from typing import Any, cast
 
 from ._native import linearize_native, stability_margin_native
+from .arrays import ComplexArray, FloatArray
+from .results import Result
 
 __all__ = ["Linearization", "linearize", "stability_margin"]
 
 
-@dataclass(frozen=True)
-class Linearization:
-    """The linearised closed loop (float64 arrays; nd = 2 nv + 2 n_e).
+@dataclasses.dataclass(frozen=True)
+class Linearization(Result):
+    """The linearised closed loop (float64 arrays; nd = 2 nv + 2 n_e); a
+    :class:`~sea_momentum.results.Result` (``lin["growth_rate"]``, ``lin.to_dict()``).
 
     - ``matrix`` (nd, nd): the Jacobian of the vector field [1/s] (continuous) or of the
       period map (zero-order hold), on the tangent space;
@@ -48,16 +50,16 @@ class Linearization:
       most), ``least_stable_change`` and ``growth_rate_change`` [1/s].
     """
 
-    matrix: np.ndarray
-    eigenvalues: np.ndarray
-    growth_rates: np.ndarray
+    matrix: FloatArray
+    eigenvalues: ComplexArray
+    growth_rates: FloatArray
     growth_rate: float
     stable: bool
     least_stable_rate: complex
     state_names: list[str]
-    least_stable_mode: np.ndarray
+    least_stable_mode: ComplexArray
     dominant_states: list[tuple[str, float]]
-    equilibrium: np.ndarray
+    equilibrium: FloatArray
     converged: bool
     residual: float
     newton_iterations: int
@@ -72,7 +74,9 @@ class Linearization:
     growth_rate_change: float | None
 
     @classmethod
-    def _from_native(cls, raw: dict) -> Linearization:
+    def from_native(cls, raw: Mapping[str, Any]) -> Linearization:
+        """The result of ``linearize_native``'s dict: complex arrays and the least stable rate
+        joined from their real and imaginary parts, dominant states as (str, float) pairs."""
         fields = dict(raw)
         fields["eigenvalues"] = fields.pop("eigenvalues_re") + 1j * fields.pop("eigenvalues_im")
         fields["least_stable_mode"] = fields.pop("mode_re") + 1j * fields.pop("mode_im")
@@ -96,7 +100,7 @@ def linearize(
     key.
     """
     raw = linearize_native(os.fspath(scenario), t, dict(overrides or {}), sampling)
-    return Linearization._from_native(raw)
+    return Linearization.from_native(raw)
 
 
 def stability_margin(
@@ -129,4 +133,4 @@ def stability_margin(
         grid_points,
         log_grid,
     )
-    return list(report["boundaries"])
+    return list(cast("list[float]", report["boundaries"]))

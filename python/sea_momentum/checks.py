@@ -15,6 +15,7 @@ import pathlib
 import numpy as np
 
 from ._native import Model
+from .arrays import FloatArray
 
 TOLERANCE = 1e-6
 
@@ -24,7 +25,7 @@ def default_urdf() -> pathlib.Path:
     return pathlib.Path("urdf") / "icub25.urdf"
 
 
-def integrate(model: Model, q: np.ndarray, nu: np.ndarray, dt: float) -> np.ndarray:
+def integrate(model: Model, q: FloatArray, nu: FloatArray, dt: float) -> FloatArray:
     """``q (+) nu dt``: base translation, world-axes rotation on the left, joints."""
     out = q.copy()
     out[:3] += nu[:3] * dt
@@ -46,11 +47,13 @@ def integrate(model: Model, q: np.ndarray, nu: np.ndarray, dt: float) -> np.ndar
     return out
 
 
-def _relative(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.linalg.norm(a - b) / max(1.0, np.linalg.norm(b)))
+def _relative(a: FloatArray, b: FloatArray) -> float:
+    """``|a - b| / max(1, |b|)``."""
+    return float(np.linalg.norm(a - b) / max(1.0, float(np.linalg.norm(b))))
 
 
-def _rotation_log(r: np.ndarray) -> np.ndarray:
+def _rotation_log(r: FloatArray) -> FloatArray:
+    """The rotation vector of the rotation matrix ``r`` (SO(3) logarithm)."""
     angle = np.arccos(np.clip((np.trace(r) - 1.0) / 2.0, -1.0, 1.0))
     w = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
     return w * (0.5 if angle < 1e-12 else angle / (2.0 * np.sin(angle)))
@@ -65,7 +68,7 @@ def dynamics_check(urdf: str | pathlib.Path, n_states: int = 20, seed: int = 0) 
     def record(name: str, value: float) -> None:
         errors[name] = max(errors.get(name, 0.0), value)
 
-    frames = [f for f in ("l_sole", "r_sole", "root_link") if f in model.frame_names]
+    frames: list[str] = [f for f in ("l_sole", "r_sole", "root_link") if f in model.frame_names]
     frames = frames or model.frame_names[-1:]
     eps = 1e-6
     for _ in range(n_states):

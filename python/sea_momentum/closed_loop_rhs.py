@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
+from .arrays import FloatArray
+
 if TYPE_CHECKING:
     from ._native import Scenario
 
@@ -21,7 +23,7 @@ if TYPE_CHECKING:
 QUATERNION = slice(3, 7)
 
 
-def closed_loop_rhs(scenario: Scenario) -> Callable[[float, np.ndarray], np.ndarray]:
+def closed_loop_rhs(scenario: Scenario) -> Callable[[float, FloatArray], FloatArray]:
     """The closed-loop vector field ``f(t, x) = plant.dynamics(x, controller.tick(t, x).input)``.
 
     ``scenario`` is a :class:`~sea_momentum.Scenario` (``Scenario.load(path, overrides)``); the
@@ -43,7 +45,7 @@ def closed_loop_rhs(scenario: Scenario) -> Callable[[float, np.ndarray], np.ndar
     plant = scenario.plant
     controller = scenario.controller
 
-    def rhs(t: float, x: np.ndarray) -> np.ndarray:
+    def rhs(t: float, x: FloatArray) -> FloatArray:
         x_unit = np.array(x, dtype=np.float64)  # a copy: the solver's array stays as it is
         x_unit[QUATERNION] /= np.linalg.norm(x_unit[QUATERNION])
         u = controller.tick(float(t), x_unit).input

@@ -1,28 +1,30 @@
 """The momentum controller as an object: :class:`ControlOutput`, what one
 ``Controller.tick(t, x)`` returns (the classes ``Controller`` and ``Scenario`` are native, see
-``sea_momentum._native``)."""
+``sea_momentum._native``, which builds this result from its fields)."""
 
 from __future__ import annotations
 
 import dataclasses
 from typing import Literal
 
-import numpy as np
+from .arrays import FloatArray
+from .results import Result
 
 
 @dataclasses.dataclass(frozen=True)
-class ControlOutput:
+class ControlOutput(Result):
     """One controller tick (world axes, SI units; every array ``numpy.float64``).
 
     ``n`` joints, ``n_e`` elastic joints, ``n_contacts`` contacts (``Controller.contacts``).
+    A :class:`~sea_momentum.results.Result`: ``out["input"]`` and ``out.to_dict()`` work too.
     """
 
-    input: np.ndarray  #: (n,) plant input: rigid joints torque, elastic joints desired motor velocity (SEA controller) or motor torque (rigid controller)
-    joint_command: np.ndarray  #: (n,) tau* (rigid controller) or beta* (SEA), joint side [N m]
-    thetadot_desired: np.ndarray  #: (n_e,) desired motor velocities [rad/s] (empty: rigid controller)
-    wrenches: np.ndarray  #: (n_contacts, 6) QP contact wrenches [force; torque], world axes, about the contact frame origins
+    input: FloatArray  #: (n,) plant input: rigid joints torque, elastic joints desired motor velocity (SEA controller) or motor torque (rigid controller)
+    joint_command: FloatArray  #: (n,) tau* (rigid controller) or beta* (SEA), joint side [N m]
+    thetadot_desired: FloatArray  #: (n_e,) desired motor velocities [rad/s] (empty: rigid controller)
+    wrenches: FloatArray  #: (n_contacts, 6) QP contact wrenches [force; torque], world axes, about the contact frame origins
     qp_status: Literal["solved", "fallback"]  #: "fallback": the QP failed, the unconstrained solution was used
     qp_message: str  #: why the QP failed ("" when solved)
-    com: np.ndarray  #: (3,) CoM, world [m]
-    momentum: np.ndarray  #: (6,) centroidal momentum [m pdot_com; L_com]
-    com_reference: np.ndarray  #: (3,) the CoM reference at t, world [m]
+    com: FloatArray  #: (3,) CoM, world [m]
+    momentum: FloatArray  #: (6,) centroidal momentum [m pdot_com; L_com]
+    com_reference: FloatArray  #: (3,) the CoM reference at t, world [m]

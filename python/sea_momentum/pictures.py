@@ -3,8 +3,10 @@ skipped) placed at the link poses of ``Model.frame_pose`` and drawn with matplot
 
 - :func:`robot_strip`: a strip of the robot at chosen instants of a run (PNG);
 - :func:`robot_animation`: the run as an animated GIF (matplotlib's ``PillowWriter``);
-- :func:`scenario_pictures`: both for a scenario file and its :class:`ScenarioResult`, as
-  ``reproduce`` writes them.
+- :func:`scenario_pictures`: both for a scenario file and its :class:`ScenarioResult`.
+
+Library code: it draws any URDF's robot along any recorded run; the paper application
+(:mod:`sea_momentum.paper.figures`) chooses the runs and the instants.
 """
 
 from __future__ import annotations
@@ -19,12 +21,13 @@ from typing import TYPE_CHECKING, Any, Sequence, Union
 import numpy as np
 
 from ._native import Model
+from .arrays import FloatArray
 
 if TYPE_CHECKING:
     from .scenario import ScenarioResult
 
 #: Times [s]: a sequence or a float64 array.
-Times = Union[Sequence[float], np.ndarray]
+Times = Union[Sequence[float], FloatArray]
 
 #: Camera of every picture: a three-quarter front view (degrees); iCub faces world +x.
 VIEW_ELEVATION_DEG = 12.0
@@ -40,13 +43,13 @@ class Visual:
     """One URDF visual primitive of a link."""
 
     link: str  #: the link (a frame of the model)
-    link_H_visual: np.ndarray  #: (4, 4) placement of the primitive in the link frame
+    link_H_visual: FloatArray  #: (4, 4) placement of the primitive in the link frame
     kind: str  #: "box", "cylinder" or "sphere"
     size: tuple[float, ...]  #: box (x, y, z); cylinder (radius, length along z); sphere (radius,)
     rgba: tuple[float, float, float, float]  #: colour
 
 
-def _rotation_rpy(roll: float, pitch: float, yaw: float) -> np.ndarray:
+def _rotation_rpy(roll: float, pitch: float, yaw: float) -> FloatArray:
     """URDF's fixed-axis roll-pitch-yaw: ``Rz(yaw) Ry(pitch) Rx(roll)``."""
     cr, sr, cp, sp, cy, sy = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
     return np.array(
@@ -99,7 +102,7 @@ def urdf_visuals(urdf: str | os.PathLike[str]) -> list[Visual]:
     return visuals
 
 
-def _faces(kind: str, size: tuple[float, ...]) -> list[np.ndarray]:
+def _faces(kind: str, size: tuple[float, ...]) -> list[FloatArray]:
     """The faces (each (k, 3) vertices) of a primitive centred at its origin."""
     if kind == "box":
         half = np.array(size) / 2
@@ -123,10 +126,10 @@ def _faces(kind: str, size: tuple[float, ...]) -> list[np.ndarray]:
     ]
 
 
-def robot_faces(model: Model, q: np.ndarray, visuals: Sequence[Visual]) -> tuple[list[np.ndarray], list[Any]]:
+def robot_faces(model: Model, q: FloatArray, visuals: Sequence[Visual]) -> tuple[list[FloatArray], list[Any]]:
     """The world-frame faces of every visual at configuration ``q`` and their colours."""
     faces, colours = [], []
-    poses: dict[str, np.ndarray] = {}
+    poses: dict[str, FloatArray] = {}
     for visual in visuals:
         if visual.link not in poses:
             poses[visual.link] = model.frame_pose(q, visual.link)
@@ -137,7 +140,7 @@ def robot_faces(model: Model, q: np.ndarray, visuals: Sequence[Visual]) -> tuple
     return faces, colours
 
 
-def _draw(ax: Any, model: Model, q: np.ndarray, visuals: Sequence[Visual], bounds: np.ndarray, title: str) -> None:
+def _draw(ax: Any, model: Model, q: FloatArray, visuals: Sequence[Visual], bounds: FloatArray, title: str) -> None:
     """One picture of the robot at ``q`` on ``ax`` within ``bounds`` ((2, 3): low, high), with
     its CoM (red) and the CoM's ground projection."""
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
@@ -163,7 +166,7 @@ def _draw(ax: Any, model: Model, q: np.ndarray, visuals: Sequence[Visual], bound
     ax.set_title(title, fontsize=9)
 
 
-def _bounds(model: Model, qs: Sequence[np.ndarray], visuals: Sequence[Visual], margin: float = 0.05) -> np.ndarray:
+def _bounds(model: Model, qs: Sequence[FloatArray], visuals: Sequence[Visual], margin: float = 0.05) -> FloatArray:
     """One box holding the robot at every configuration of ``qs`` and the floor at z = 0."""
     points = np.concatenate([np.concatenate(robot_faces(model, q, visuals)[0]) for q in qs])
     low = np.minimum(points.min(axis=0), [np.inf, np.inf, 0.0]) - margin
@@ -174,7 +177,7 @@ def _bounds(model: Model, qs: Sequence[np.ndarray], visuals: Sequence[Visual], m
 def robot_strip(
     model: Model,
     urdf: str | os.PathLike[str],
-    qs: Sequence[np.ndarray],
+    qs: Sequence[FloatArray],
     times: Times,
     path: str | os.PathLike[str],
     title: str | None = None,
@@ -200,7 +203,7 @@ def robot_strip(
 def robot_animation(
     model: Model,
     urdf: str | os.PathLike[str],
-    qs: Sequence[np.ndarray],
+    qs: Sequence[FloatArray],
     times: Times,
     path: str | os.PathLike[str],
     fps: int = 10,
@@ -268,34 +271,3 @@ def scenario_pictures(
         written.append(gif)
     return written
 
-
-def _instants(result: ScenarioResult, count: int = 5) -> np.ndarray:
-    """Instants worth a picture: the start and the turning points of the CoM reference (the
-    robot leaning furthest each way) when it moves, else ``count`` instants evenly spaced."""
-    time = result.time
-    offset = result.com_reference - result.com_reference[0]
-    lateral = offset[:, int(np.argmax(np.ptp(offset, axis=0)))]
-    if np.ptp(lateral) > 1e-6:
-        slope = np.sign(np.diff(lateral))
-        turns = np.where(slope[1:] * slope[:-1] < 0)[0] + 1
-        if len(turns):
-            return np.concatenate([[time[0]], time[turns[: count - 1]]])
-    return np.linspace(time[0], time[-1], count)
-
-
-def experiment_pictures(
-    scenario_dir: str | os.PathLike[str],
-    out: str | os.PathLike[str],
-    runs: dict[str, ScenarioResult],
-) -> list[str]:
-    """For each ``runs[name]`` (a run of ``scenario_dir/{name}.toml``; a name may carry a suffix
-    after ``@``), the strip and the animation of :func:`scenario_pictures`; returns the file
-    names written."""
-    written = []
-    for name, result in runs.items():
-        scenario = pathlib.Path(scenario_dir) / f"{name.split('@')[0]}.toml"
-        stem = name.replace("@", "_")
-        title = f"{stem} ({result.status})"
-        paths = scenario_pictures(scenario, result, out, stem, _instants(result), title)
-        written += [p.name for p in paths]
-    return written

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 import os
 import sys
-from typing import Any, Mapping, Optional, Sequence
+from typing import Any, Mapping, Optional, Sequence, cast
 
 from . import _native
 
@@ -77,14 +77,15 @@ def run_on_ray(
     ray = _import_ray()
     path = os.path.abspath(path)
     grid = _native.sweep_grid(path, list(specs), overrides)
+    points = cast("list[list[float]]", grid["points"])
     if not ray.is_initialized():
         ray.init()
-    size = _batch_size(ray, len(grid["points"]), batch_size)
+    size = _batch_size(ray, len(points), batch_size)
     task = ray.remote(num_cpus=1)(run_batch)
     overrides_ref = ray.put(dict(overrides) if overrides else None)
     pending = [
         task.remote(path, grid["keys"], batch, overrides_ref)
-        for batch in batches(grid["points"], size)
+        for batch in batches(points, size)
     ]
     rows: list[dict[str, Any]] = []
     interrupted = False
@@ -94,7 +95,7 @@ def run_on_ray(
             for ref in done:
                 rows.extend(ray.get(ref))
             if progress:
-                print(f"  sweep (ray) {len(rows)}/{len(grid['points'])} runs", file=sys.stderr)
+                print(f"  sweep (ray) {len(rows)}/{len(points)} runs", file=sys.stderr)
     except KeyboardInterrupt:
         interrupted = True
         for ref in pending:
@@ -104,6 +105,6 @@ def run_on_ray(
         "keys": grid["keys"],
         "columns": grid["columns"],
         "rows": rows,
-        "total": len(grid["points"]),
+        "total": len(points),
         "interrupted": interrupted,
     }

@@ -1,25 +1,30 @@
-"""Typed results of the native calls: :class:`SimulationResult` (``Plant.simulate``),
-:class:`PlantOutputs` (``Plant.outputs``) and :class:`RunSummary` (the summary of a scenario
-run). The native module builds them from numbers and numpy arrays; no JSON crosses the boundary.
+"""Typed results, one pattern for all: every result of the package is a frozen dataclass
+deriving from :class:`Result`, which answers ``result["name"]`` like the dicts the results
+replace (so code written against the dict results keeps working; new code should use the
+attributes), gives ``to_dict()`` and is built from the native module's fields by
+``from_native``.
 
-Every array is a fresh, C-contiguous ``numpy.float64`` array owned by the result. Sizes: ``m``
-recorded rows, ``nx = nq + nv + 2 n_e`` the state size, ``n`` joints, ``n_e`` elastic joints,
-``n_contacts`` contact frames. Wrenches are ``[force (3); moment about the frame origin (3)]``
-in world axes, SI units.
+Defined here: :class:`SimulationResult` (``Plant.simulate``), :class:`PlantOutputs`
+(``Plant.outputs``) and :class:`RunSummary` (the summary of a scenario run), which the native
+module builds from numbers and numpy arrays as ``from_native`` does by default, the fields as
+keyword arguments (no JSON crosses the boundary). The other results
+follow the same pattern beside the function returning them:
+:class:`~sea_momentum.controller.ControlOutput`, :class:`~sea_momentum.scenario.ScenarioResult`,
+:class:`~sea_momentum.analysis.Linearization`, :class:`~sea_momentum.sweep.SweepResult`.
 
-The results also answer ``result["name"]`` like the dicts they replace, so code written against
-the dict results keeps working; new code should use the attributes.
+Every array is a fresh, C-contiguous ``numpy.float64`` array owned by the result
+(:data:`~sea_momentum.arrays.FloatArray`). Sizes: ``m`` recorded rows,
+``nx = nq + nv + 2 n_e`` the state size, ``n`` joints, ``n_e`` elastic joints, ``n_contacts``
+contact frames. Wrenches are ``[force (3); moment about the frame origin (3)]`` in world axes,
+SI units.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Literal, Optional
+from typing import Any, Literal, Mapping, Optional, TypeVar
 
-import numpy as np
-import numpy.typing as npt
-
-Float64Array = npt.NDArray[np.float64]
+from .arrays import FloatArray
 
 #: How a plant simulation ended: every step done, or stopped at the first non-finite or
 #: unsolvable step.
@@ -28,11 +33,22 @@ Status = Literal["completed", "diverged"]
 #: How a scenario run ended: as :data:`Status`, or stopped by Ctrl-C ("interrupted").
 RunStatus = Literal["completed", "diverged", "interrupted"]
 
+_R = TypeVar("_R", bound="Result")
 
-class _ItemAccess:
-    """``result["field"]`` for the fields of a dataclass (the dict results' interface)."""
+
+class Result:
+    """Base of every typed result (subclasses are frozen dataclasses).
+
+    - ``result.field``: the typed attribute (preferred);
+    - ``result["field"]``: the same, the interface of the dict results (``KeyError`` for an
+      unknown name);
+    - ``result.to_dict()``: the fields as a dict (arrays not copied), e.g. for JSON;
+    - ``Cls.from_native(fields)``: the result built from the native module's fields (by default
+      the fields are the keyword arguments; a subclass converts what needs converting).
+    """
 
     def __getitem__(self, key: str) -> Any:
+        """The field ``key`` (``KeyError`` naming it when the result has no such field)."""
         if key not in {field.name for field in dataclasses.fields(self)}:  # type: ignore[arg-type]
             raise KeyError(key)
         return getattr(self, key)
@@ -41,24 +57,29 @@ class _ItemAccess:
         """The fields as a dict (arrays are not copied)."""
         return {field.name: getattr(self, field.name) for field in dataclasses.fields(self)}  # type: ignore[arg-type]
 
+    @classmethod
+    def from_native(cls: type[_R], fields: Mapping[str, Any]) -> _R:
+        """The result of the native module's ``fields`` (the keyword arguments)."""
+        return cls(**fields)
+
 
 @dataclasses.dataclass(frozen=True)
-class SimulationResult(_ItemAccess):
+class SimulationResult(Result):
     """``Plant.simulate``: one row per recorded step (the initial state, every
     ``record_every``-th step and the last one), outputs evaluated at the row's state and the held
     input. Rows up to a divergence are kept."""
 
-    time: Float64Array
+    time: FloatArray
     """(m,) float64, time of each row [s]."""
-    x: Float64Array
+    x: FloatArray
     """(m, nx) float64, the state ``[q, theta, nu, thetadot]`` of each row."""
-    contact_wrenches: Float64Array
+    contact_wrenches: FloatArray
     """(m, n_contacts, 6) float64, contact wrenches ``[force; moment]``, world axes [N, N m]."""
-    motor_torques: Float64Array
+    motor_torques: FloatArray
     """(m, n_e) float64, applied motor torques (after saturation) [N m]."""
-    drift_position: Float64Array
+    drift_position: FloatArray
     """(m,) float64, largest contact position drift from the held pose [m]."""
-    drift_rotation: Float64Array
+    drift_rotation: FloatArray
     """(m,) float64, largest contact rotation drift from the held pose [rad]."""
     status: RunStatus
     """"completed", "diverged" or "interrupted" (Ctrl-C: the result is the
@@ -70,32 +91,32 @@ class SimulationResult(_ItemAccess):
 
 
 @dataclasses.dataclass(frozen=True)
-class PlantOutputs(_ItemAccess):
+class PlantOutputs(Result):
     """``Plant.outputs``: the plant's outputs at one state and input."""
 
-    contact_wrenches: Float64Array
+    contact_wrenches: FloatArray
     """(n_contacts, 6) float64, contact wrenches ``[force; moment]``, world axes [N, N m]."""
-    joint_torques: Float64Array
+    joint_torques: FloatArray
     """(n,) float64, torque applied to each joint: the spring-damper torque of an elastic joint,
     the input of a rigid one [N m]."""
-    motor_torques: Float64Array
+    motor_torques: FloatArray
     """(n_e,) float64, applied motor torques (after saturation) [N m]."""
     drift_position: float
     """Largest contact position drift from the held pose [m]."""
     drift_rotation: float
     """Largest contact rotation drift from the held pose [rad]."""
-    normal_force: Float64Array
+    normal_force: FloatArray
     """(n_contacts,) float64, normal force in the sole frame [N]; negative pulls the ground."""
-    friction_margin: Float64Array
+    friction_margin: FloatArray
     """(n_contacts,) float64, ``mu f_z - |f_xy|`` in the sole frame [N]; negative outside the
     friction cone."""
-    cop_margin: Float64Array
+    cop_margin: FloatArray
     """(n_contacts,) float64, distance of the centre of pressure inside the foot rectangle [m];
     negative outside."""
 
 
 @dataclasses.dataclass(frozen=True)
-class RunSummary(_ItemAccess):
+class RunSummary(Result):
     """Summary statistics of a closed-loop scenario run (the ``--summary`` JSON of ``sea-sim``)."""
 
     status: RunStatus

@@ -7,33 +7,33 @@ import dataclasses
 import os
 from typing import Any, Mapping
 
-import numpy as np
-
 from ._native import run_scenario_native
-from .results import RunStatus, RunSummary
+from .arrays import FloatArray
+from .results import Result, RunStatus, RunSummary
 
 
 @dataclasses.dataclass(frozen=True)
-class ScenarioResult:
+class ScenarioResult(Result):
     """The recorded run, one row per recorded control tick (world axes, SI units).
 
     Every array is ``numpy.float64``; ``m`` rows, ``n_e`` elastic joints. ``q``, ``nu``,
-    ``theta`` and ``thetadot`` are views into one (m, nx) state array.
+    ``theta`` and ``thetadot`` are views into one (m, nx) state array. A
+    :class:`~sea_momentum.results.Result`: ``result["com"]`` and ``result.to_dict()`` work too.
     """
 
-    time: np.ndarray  #: (m,) float64, time [s]
-    q: np.ndarray  #: (m, nq) float64, configurations
-    nu: np.ndarray  #: (m, nv) float64, velocities
-    theta: np.ndarray  #: (m, n_e) float64, motor angles [rad]
-    thetadot: np.ndarray  #: (m, n_e) float64, motor velocities [rad/s]
-    thetadot_desired: np.ndarray  #: (m, n_e) float64, desired motor velocities (0: rigid control)
-    com: np.ndarray  #: (m, 3) float64, CoM, world [m]
-    com_reference: np.ndarray  #: (m, 3) float64, CoM reference, world [m]
-    momentum: np.ndarray  #: (m, 6) float64, centroidal momentum [m pdot_com; L_com]
-    contact_wrenches: np.ndarray  #: (m, n_contacts, 6) float64, simulated wrenches, world axes
-    motor_torques: np.ndarray  #: (m, n_e) float64, applied motor torques [N m]
-    joint_error_norm: np.ndarray  #: (m,) float64, |s - s_d| [rad]
-    qp_solved: np.ndarray  #: (m,) float64, 1 solved, 0 fallback
+    time: FloatArray  #: (m,) float64, time [s]
+    q: FloatArray  #: (m, nq) float64, configurations
+    nu: FloatArray  #: (m, nv) float64, velocities
+    theta: FloatArray  #: (m, n_e) float64, motor angles [rad]
+    thetadot: FloatArray  #: (m, n_e) float64, motor velocities [rad/s]
+    thetadot_desired: FloatArray  #: (m, n_e) float64, desired motor velocities (0: rigid control)
+    com: FloatArray  #: (m, 3) float64, CoM, world [m]
+    com_reference: FloatArray  #: (m, 3) float64, CoM reference, world [m]
+    momentum: FloatArray  #: (m, 6) float64, centroidal momentum [m pdot_com; L_com]
+    contact_wrenches: FloatArray  #: (m, n_contacts, 6) float64, simulated wrenches, world axes
+    motor_torques: FloatArray  #: (m, n_e) float64, applied motor torques [N m]
+    joint_error_norm: FloatArray  #: (m,) float64, |s - s_d| [rad]
+    qp_solved: FloatArray  #: (m,) float64, 1 solved, 0 fallback
     joint_names: list[str]  #: joint names in coordinate order
     elastic_joints: list[str]  #: elastic joint names, the columns of the motor arrays
     contacts: list[str]  #: contact frame names, the second axis of ``contact_wrenches``
@@ -47,6 +47,32 @@ class ScenarioResult:
     def motor(self, joint: str) -> int:
         """Column of an elastic joint in the motor arrays."""
         return self.elastic_joints.index(joint)
+
+    @classmethod
+    def from_native(cls, fields: Mapping[str, Any]) -> ScenarioResult:
+        """The result of ``run_scenario_native``'s dict: the state ``x`` split into its views,
+        the summary as a :class:`~sea_momentum.results.RunSummary`."""
+        nq, nv, ne = fields["nq"], fields["nv"], fields["ne"]
+        x = fields["x"]
+        return cls(
+            time=fields["time"],
+            q=x[:, :nq],
+            theta=x[:, nq : nq + ne],
+            nu=x[:, nq + ne : nq + ne + nv],
+            thetadot=x[:, nq + ne + nv :],
+            thetadot_desired=fields["thetadot_desired"],
+            com=fields["com"],
+            com_reference=fields["com_reference"],
+            momentum=fields["momentum"],
+            contact_wrenches=fields["contact_wrenches"],
+            motor_torques=fields["motor_torques"],
+            joint_error_norm=fields["joint_error_norm"],
+            qp_solved=fields["qp_solved"],
+            joint_names=list(fields["joint_names"]),
+            elastic_joints=list(fields["elastic_joints"]),
+            contacts=list(fields["contacts"]),
+            summary=RunSummary.from_native(fields["summary"]),
+        )
 
 
 def run_scenario(
@@ -82,31 +108,7 @@ def run_scenario(
     except KeyboardInterrupt as interrupt:
         partial = getattr(interrupt, "partial", None)
         if isinstance(partial, dict):
-            interrupt.partial = _scenario_result(partial)
+            interrupt.partial = ScenarioResult.from_native(partial)  # type: ignore[attr-defined]
         raise
-    return _scenario_result(raw)
+    return ScenarioResult.from_native(raw)
 
-
-def _scenario_result(raw: Mapping[str, Any]) -> ScenarioResult:
-    """The :class:`ScenarioResult` of the native run's dict."""
-    nq, nv, ne = raw["nq"], raw["nv"], raw["ne"]
-    x = raw["x"]
-    return ScenarioResult(
-        time=raw["time"],
-        q=x[:, :nq],
-        theta=x[:, nq : nq + ne],
-        nu=x[:, nq + ne : nq + ne + nv],
-        thetadot=x[:, nq + ne + nv :],
-        thetadot_desired=raw["thetadot_desired"],
-        com=raw["com"],
-        com_reference=raw["com_reference"],
-        momentum=raw["momentum"],
-        contact_wrenches=raw["contact_wrenches"],
-        motor_torques=raw["motor_torques"],
-        joint_error_norm=raw["joint_error_norm"],
-        qp_solved=raw["qp_solved"],
-        joint_names=list(raw["joint_names"]),
-        elastic_joints=list(raw["elastic_joints"]),
-        contacts=list(raw["contacts"]),
-        summary=RunSummary(**raw["summary"]),
-    )

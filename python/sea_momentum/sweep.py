@@ -19,10 +19,12 @@ from typing import Any, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
+from .arrays import AnyArray, BoolArray, FloatArray, IntArray
+from .results import Result
 
 #: A grid axis: a list of numbers, or ``"START:STOP:COUNT"`` / ``"START:STOP:COUNT:log"``
 #: (both ends included).
-GridValues = Union[Sequence[float], np.ndarray, str]
+GridValues = Union[Sequence[float], FloatArray, IntArray, str]
 
 #: Columns that hold text; every other column is numeric.
 _TEXT_COLUMNS = ("status", "message", "sampling")
@@ -51,7 +53,7 @@ def grid_specs(grid: Mapping[str, GridValues]) -> list[str]:
     return specs
 
 
-def _column(name: str, values: list[Any]) -> np.ndarray:
+def _column(name: str, values: list[Any]) -> AnyArray:
     """One column: text as a str array, numbers as float64 (None as NaN) or int64 when every
     value is a whole number."""
     if name in _TEXT_COLUMNS:
@@ -62,7 +64,7 @@ def _column(name: str, values: list[Any]) -> np.ndarray:
 
 
 @dataclasses.dataclass(frozen=True)
-class SweepResult:
+class SweepResult(Result):
     """The runs of a sweep, in grid order (the last key varies fastest).
 
     ``keys``: the grid keys; ``rows``: one dict per run (the grid values by key, ``status``
@@ -72,17 +74,20 @@ class SweepResult:
     for None, or int64 for counts; text as str arrays); ``total``: points in the grid;
     ``interrupted``: Ctrl-C stopped the sweep (``rows`` holds the runs done, fewer than
     ``total``); ``indices``: the grid index of each row.
+
+    A :class:`~sea_momentum.results.Result` (``to_dict()``, ``from_native``), except that its
+    items are its columns: ``result["com_error_rms_m"]`` is ``result.columns["com_error_rms_m"]``.
     """
 
     keys: tuple[str, ...]
     rows: list[dict[str, Any]]
-    columns: dict[str, np.ndarray]
+    columns: dict[str, AnyArray]
     total: int
     interrupted: bool
-    indices: np.ndarray
+    indices: IntArray
 
     @classmethod
-    def from_native(cls, native: Mapping[str, Any]) -> "SweepResult":
+    def from_native(cls, native: Mapping[str, Any]) -> SweepResult:
         """Builds the result from the dict of ``_native.sweep`` (or the Ray backend)."""
         names = list(native["columns"])
         rows = []
@@ -101,14 +106,15 @@ class SweepResult:
         )
 
     def __len__(self) -> int:
+        """Number of runs done (``total`` unless interrupted)."""
         return len(self.rows)
 
-    def __getitem__(self, name: str) -> np.ndarray:
-        """The column ``name``."""
-        return self.columns[name]
+    def __getitem__(self, key: str) -> AnyArray:
+        """The column ``key`` (``KeyError`` for an unknown column)."""
+        return self.columns[key]
 
     @property
-    def stable(self) -> np.ndarray:
+    def stable(self) -> BoolArray:
         """Whether each run completed (bool array)."""
         return self.columns["status"] == "completed"
 
