@@ -93,7 +93,8 @@ pub struct Model {
     /// (root-to-leaf order, base excluded; empty for the base).
     pub support_paths: Vec<Vec<usize>>,
     /// What loading found physically doubtful but computable (empty for a clean description;
-    /// a strict load refuses instead), in file order of the links, then the joints.
+    /// a strict load refuses instead): the links in file order, then the moving joints in
+    /// depth-first order.
     pub warnings: Vec<Warning>,
 }
 

@@ -541,3 +541,24 @@ fn coordinate_maps(joints: &[Joint]) -> (Vec<usize>, Vec<String>, Vec<Vec<usize>
     }
     (body_of_coordinate, joint_names, support_paths)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::without_empty_textures;
+
+    #[test]
+    fn only_textures_without_a_file_are_removed() {
+        let kept = r#"<texture filename="a.png"/><textures/><texturefoo/>"#;
+        assert_eq!(without_empty_textures(kept), kept);
+        assert_eq!(
+            without_empty_textures("<m><texture/><texture >\n</texture></m>"),
+            "<m>\n</m>"
+        );
+        assert_eq!(
+            without_empty_textures("<m><texture  />x<texture filename='b'/></m>"),
+            "<m>x<texture filename='b'/></m>"
+        );
+        // An unclosed texture is left for the parser to report.
+        assert_eq!(without_empty_textures("<texture>"), "<texture>");
+    }
+}
