@@ -81,13 +81,22 @@ class Model:
         path: str | PathLike[str],
         joints: Sequence[str] | None = None,
         locked: Mapping[str, float] | None = None,
+        strict: bool = False,
     ) -> Model:
         """Load a URDF file.
 
         ``joints`` lists the moving joints in coordinate order (default: every revolute,
         continuous and prismatic joint, depth-first tree order); every other movable joint is
         locked at ``locked[name]`` (default 0). Raises ModelError naming the bad element.
+        Physically doubtful inertias (zero mass with inertia, a negative or zero principal
+        moment, the triangle inequality violated) and moving joints that carry no mass load
+        with one ``UserWarning`` each, also kept in ``warnings``; ``strict=True`` raises
+        ModelError for them instead.
         """
+    @property
+    def warnings(self) -> list[str]:
+        """What loading found physically doubtful but computable, one message per finding
+        naming the link or joint (empty for a clean description)."""
     @property
     def nq(self) -> int:
         """Configuration size, 7 + n."""

@@ -5,7 +5,9 @@
 //! line of a parse failure ([`Error::Parse`]), the path and cause of an I/O failure
 //! ([`Error::Io`]). Numerical failures (a matrix that should be positive definite and is not)
 //! are [`Error::Numerical`], distinct from input errors: the input was well formed, the state
-//! it led to is not solvable. Bindings map each variant to one Python class, in one place
+//! it led to is not solvable. A description that loads but is physically doubtful (an inertia
+//! violating the triangle inequality, a massless moving subtree) yields [`Warning`]s, kept in
+//! the model, which strict loading turns into [`Error::Model`]. Bindings map each variant to one Python class, in one place
 //! (`sea_py/src/errors.rs`).
 
 use std::path::PathBuf;
@@ -134,6 +136,57 @@ impl Error {
             Error::Numerical { detail, .. } => Error::numerical(operation, detail),
             other => other,
         }
+    }
+}
+
+/// What is doubtful about a robot description that still loads; strict loading
+/// ([`crate::LoadOptions::strict`]) refuses it as an [`Error::Model`] instead.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum WarningKind {
+    /// A link with zero mass and a nonzero rotational inertia (the inertia is kept).
+    ZeroMassWithInertia,
+    /// A rotational inertia with a negative principal moment beyond rounding.
+    InertiaNotPositiveSemidefinite,
+    /// A positive mass with a zero principal moment (a point or rod mass): physically an
+    /// idealisation, common for sensor and tool frames.
+    SingularInertia,
+    /// Principal moments that violate the triangle inequality `I1 + I2 >= I3`.
+    TriangleInequality,
+    /// A moving joint whose subtree carries neither mass nor inertia: `M(q)` is singular.
+    MasslessSubtree,
+}
+
+/// A doubtful but usable part of a robot description, found while loading it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Warning {
+    /// What is doubtful.
+    pub kind: WarningKind,
+    /// The element, e.g. `link 'l_foot'`, `joint 'r_knee'`.
+    pub element: String,
+    /// What is wrong with it, with the numbers.
+    pub message: String,
+}
+
+impl Warning {
+    /// A warning of `kind` about `element`.
+    pub fn new(kind: WarningKind, element: impl Into<String>, message: impl Into<String>) -> Self {
+        Warning {
+            kind,
+            element: element.into(),
+            message: message.into(),
+        }
+    }
+
+    /// The same finding as a model error (strict loading).
+    pub fn into_error(self) -> Error {
+        Error::model(self.element, self.message)
+    }
+}
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.element, self.message)
     }
 }
 

@@ -50,7 +50,7 @@ pub use configuration::integrate;
 pub use contact_surface::ContactSurface;
 pub use crba::{crba, crba_after_rnea, crba_from_kinematics};
 pub use data::Data;
-pub use error::{Error, Result};
+pub use error::{Error, Result, Warning, WarningKind};
 pub use gains::critical_damping;
 pub use jacobian::{frame_jacobian, frame_jacobian_dot_v};
 pub use kinematics::{

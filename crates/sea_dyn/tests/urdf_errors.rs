@@ -1,5 +1,6 @@
 //! URDF loading: every malformed description is an `Error::Model` naming the offending
-//! element; reduced models (locked joints) and reordered joint lists agree with the full model.
+//! element; physically doubtful ones load with warnings naming it (strict loading refuses
+//! them); reduced models (locked joints) and reordered joint lists agree with the full model.
 
 mod common;
 
@@ -7,7 +8,7 @@ use common::*;
 use nalgebra::{DMatrix, DVector};
 use sea_dyn::{
     bias_forces, centroidal_momentum_matrix, crba, frame_jacobian, frame_placement, gravity_forces,
-    Data, Error, LoadOptions, Model,
+    Data, Error, LoadOptions, Model, WarningKind,
 };
 use std::collections::HashMap;
 
@@ -159,45 +160,14 @@ fn several_roots_are_named() {
 }
 
 #[test]
-fn bad_masses_and_inertias_are_named() {
+fn unusable_masses_and_inertias_are_named() {
     let base = valid_parts();
     let key = r#"<link name="thigh""#;
     let cases: Vec<(&str, String, &str)> = vec![
         (
             "negative mass",
             link_with("thigh", "-1", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"),
-            "non-positive mass",
-        ),
-        (
-            "zero mass, nonzero inertia",
-            link_with("thigh", "0", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"),
-            "non-positive mass",
-        ),
-        (
-            "negative moment",
-            link_with("thigh", "1", "-0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"),
-            "positive definite",
-        ),
-        (
-            "indefinite (off-diagonal)",
-            link_with("thigh", "1", "0.1", "0.2", "0", "0.1", "0", "0.1", "0 0 0"),
-            "positive definite",
-        ),
-        (
-            "zero inertia, positive mass",
-            link_with("thigh", "1", "0", "0", "0", "0", "0", "0", "0 0 0"),
-            "positive definite",
-        ),
-        (
-            "triangle inequality",
-            link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.5", "0 0 0"),
-            "triangle",
-        ),
-        // Rotated version of principal moments (0.1, 0.1, 0.5): still violates it.
-        (
-            "triangle inequality, rotated",
-            link_with("thigh", "1", "0.3", "0.2", "0", "0.3", "0", "0.1", "0 0 0"),
-            "triangle",
+            "negative mass",
         ),
         (
             "NaN mass",
@@ -226,20 +196,151 @@ fn bad_masses_and_inertias_are_named() {
             .unwrap_or_else(|_| panic!("case '{what}' failed"));
         eprintln!("{what}: {msg}");
     }
-    // A massless link with zero inertia is fine; so is a tight but valid inertia.
-    let parts = replace(
-        &base,
-        key,
-        link_with("thigh", "0", "0", "0", "0", "0", "0", "0", "0 0 0"),
-    );
-    // thigh is then a massless moving link: allowed to load (it carries shin).
-    Model::from_urdf_str(&robot(&parts), &LoadOptions::default()).unwrap();
-    let parts = replace(
-        &base,
-        key,
-        link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.2", "0 0 0"),
-    );
-    Model::from_urdf_str(&robot(&parts), &LoadOptions::default()).unwrap();
+}
+
+/// Physically doubtful inertias used to be refused; like Pinocchio (and MuJoCo with its
+/// balancing off) they now load, each with a warning naming the link and what is wrong, and
+/// strict loading refuses them with that same message as an `Error::Model`.
+#[test]
+fn doubtful_inertias_warn_and_strict_loading_refuses_them() {
+    let base = valid_parts();
+    let key = r#"<link name="thigh""#;
+    let strict = LoadOptions {
+        strict: true,
+        ..Default::default()
+    };
+    let cases: Vec<(&str, String, WarningKind, &str)> = vec![
+        (
+            "zero mass, nonzero inertia",
+            link_with("thigh", "0", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"),
+            WarningKind::ZeroMassWithInertia,
+            "zero mass",
+        ),
+        (
+            "negative moment",
+            link_with("thigh", "1", "-0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"),
+            WarningKind::InertiaNotPositiveSemidefinite,
+            "positive semidefinite",
+        ),
+        (
+            "indefinite (off-diagonal)",
+            link_with("thigh", "1", "0.1", "0.2", "0", "0.1", "0", "0.1", "0 0 0"),
+            WarningKind::InertiaNotPositiveSemidefinite,
+            "positive semidefinite",
+        ),
+        (
+            "zero inertia, positive mass",
+            link_with("thigh", "1", "0", "0", "0", "0", "0", "0", "0 0 0"),
+            WarningKind::SingularInertia,
+            "point mass",
+        ),
+        (
+            "triangle inequality",
+            link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.5", "0 0 0"),
+            WarningKind::TriangleInequality,
+            "triangle",
+        ),
+        // Rotated version of principal moments (0.1, 0.1, 0.5): still violates it.
+        (
+            "triangle inequality, rotated",
+            link_with("thigh", "1", "0.3", "0.2", "0", "0.3", "0", "0.1", "0 0 0"),
+            WarningKind::TriangleInequality,
+            "triangle",
+        ),
+    ];
+    for (what, new, kind, reason) in cases {
+        let text = robot(&replace(&base, key, new));
+        let model = Model::from_urdf_str(&text, &LoadOptions::default())
+            .unwrap_or_else(|e| panic!("case '{what}' refused: {e}"));
+        let [warning] = model.warnings.as_slice() else {
+            panic!(
+                "case '{what}': expected one warning, got {:?}",
+                model.warnings
+            );
+        };
+        assert_eq!(warning.kind, kind, "case '{what}'");
+        assert_eq!(warning.element, "link 'thigh'", "case '{what}'");
+        assert!(warning.message.contains(reason), "case '{what}': {warning}");
+        let msg = expect_model_error(&text, &strict, &["thigh", reason]);
+        assert_eq!(msg, warning.to_string(), "case '{what}'");
+    }
+    // A massless link with zero inertia is fine, silently; so is a tight but valid inertia.
+    let massless_thigh = link_with("thigh", "0", "0", "0", "0", "0", "0", "0", "0 0 0");
+    let tight_thigh = link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.2", "0 0 0");
+    for new in [massless_thigh, tight_thigh] {
+        // A massless thigh is a massless moving link: it carries shin, so M(q) is regular.
+        let parts = replace(&base, key, new);
+        let model = Model::from_urdf_str(&robot(&parts), &strict).unwrap();
+        assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    }
+}
+
+/// A moving joint whose whole subtree is massless (Romeo's fingers) gives M(q) a zero row:
+/// it loads, as in Pinocchio, with one warning naming the topmost such joint.
+#[test]
+fn a_massless_moving_subtree_warns_once_at_its_top() {
+    let with_fingers = |kind: &str| {
+        let mut parts = valid_parts();
+        parts.extend([
+            massless("finger_1"),
+            massless("finger_2"),
+            joint("finger_base", kind, "shin", "finger_1"),
+            joint("finger_tip", kind, "finger_1", "finger_2"),
+        ]);
+        robot(&parts)
+    };
+    let text = with_fingers("revolute");
+    let model = Model::from_urdf_str(&text, &LoadOptions::default()).unwrap();
+    assert_eq!(model.n_joints(), 4);
+    let [warning] = model.warnings.as_slice() else {
+        panic!("expected one warning, got {:?}", model.warnings);
+    };
+    assert_eq!(warning.kind, WarningKind::MasslessSubtree);
+    assert_eq!(warning.element, "joint 'finger_base'");
+    assert!(warning.message.contains("singular"), "{warning}");
+    let strict = LoadOptions {
+        strict: true,
+        ..Default::default()
+    };
+    expect_model_error(&text, &strict, &["finger_base", "moves no mass"]);
+    // The same links on fixed joints are frames of shin, without a warning.
+    let model = Model::from_urdf_str(&with_fingers("fixed"), &LoadOptions::default()).unwrap();
+    assert_eq!(model.n_joints(), 2);
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+}
+
+/// Elements without dynamics that `urdf-rs` refuses are ignored: an empty `<texture />` in a
+/// material (iCubGenova03); a robot without a name. A robot without links is an error.
+#[test]
+fn empty_textures_and_nameless_robots_load() {
+    let material = r#"<material name="grey"><color rgba="0.5 0.5 0.5 1"/><texture /></material>"#;
+    let visual =
+        format!(r#"<visual><geometry><box size="0.1 0.1 0.1"/></geometry>{material}</visual>"#);
+    let text = robot(&valid_parts())
+        .replace("<robot name=\"bad\">", &format!("<robot>\n{material}"))
+        .replace(
+            r#"<link name="torso"><inertial>"#,
+            &format!(r#"<link name="torso">{visual}<inertial>"#),
+        )
+        .replace(
+            r#"<link name="sole"/>"#,
+            r#"<link name="sole"><visual><geometry><sphere radius="0.1"/></geometry>
+  <material name="m"><texture>
+  </texture></material></visual></link>"#,
+        );
+    assert_eq!(text.matches("<texture").count(), 3, "{text}");
+    let model = Model::from_urdf_str(&text, &LoadOptions::default()).unwrap();
+    assert_eq!(model.joint_names, vec!["hip", "knee"]);
+    assert_eq!(model.name, "");
+    // A texture with a file is left to the parser.
+    let with_file = text.replacen("<texture />", r#"<texture filename="wood.png"/>"#, 1);
+    Model::from_urdf_str(&with_file, &LoadOptions::default()).unwrap();
+    // Malformed XML after a removed texture is still a parse error.
+    let broken = text.replace("</robot>", "<link name=\n</robot>");
+    let error = Model::from_urdf_str(&broken, &LoadOptions::default()).unwrap_err();
+    assert!(matches!(error, Error::Parse { .. }), "{error:?}");
+    let empty = "<robot name=\"empty\">\n</robot>";
+    expect_model_error(empty, &LoadOptions::default(), &["robot", "no links"]);
 }
 
 #[test]
@@ -329,6 +430,7 @@ fn bad_joint_lists_are_named() {
     let opts = |joints: &[&str], locked: &[(&str, f64)]| LoadOptions {
         joints: Some(joints.iter().map(|s| s.to_string()).collect()),
         locked: locked.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
+        ..Default::default()
     };
     expect_model_error(&text, &opts(&["hip", "elbow"], &[]), &["elbow"]);
     expect_model_error(&text, &opts(&["hip", "ankle_fixed"], &[]), &["ankle_fixed"]);
@@ -578,6 +680,7 @@ fn reduced_models_equal_the_full_model_at_the_locked_values() {
         let options = LoadOptions {
             joints: Some(keep.clone()),
             locked: locked.clone(),
+            ..Default::default()
         };
         let reduced = Model::from_urdf_str(&desc.to_urdf(), &options).unwrap();
         assert_eq!(
@@ -599,6 +702,7 @@ fn reordering_the_joint_list_permutes_the_dynamics() {
         let options = LoadOptions {
             joints: Some(order.clone()),
             locked: HashMap::new(),
+            ..Default::default()
         };
         let permuted = Model::from_urdf_str(&desc.to_urdf(), &options).unwrap();
         assert_eq!(permuted.joint_names, order);

@@ -54,31 +54,53 @@ impl PyModel {
     }
 }
 
+/// One Python `UserWarning` per load warning, prefixed with the file (an error if the warnings
+/// filter turns warnings into errors).
+fn warn_each(
+    py: Python<'_>,
+    path: &std::path::Path,
+    warnings: &[sea_dyn::Warning],
+) -> PyResult<()> {
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    for warning in warnings {
+        let text = format!("{}: {warning}", path.display()).replace('\0', " ");
+        let message = std::ffi::CString::new(text).unwrap_or_default();
+        PyErr::warn(py, &category, &message, 1)?;
+    }
+    Ok(())
+}
+
 #[pymethods]
 impl PyModel {
     /// Loads a URDF file. `joints` lists the moving joints in coordinate order (default: every
     /// revolute, continuous and prismatic joint in depth-first tree order); the other joints are
-    /// locked at `locked[name]` (default 0).
+    /// locked at `locked[name]` (default 0). Physically doubtful inertias and massless moving
+    /// subtrees load with a `UserWarning` each (also kept in `warnings`); `strict=True` refuses
+    /// them with a `ModelError` instead.
     #[staticmethod]
-    #[pyo3(signature = (path, joints=None, locked=None))]
+    #[pyo3(signature = (path, joints=None, locked=None, strict=false))]
     fn from_urdf(
+        py: Python<'_>,
         path: PathBuf,
         joints: Option<Vec<String>>,
         locked: Option<HashMap<String, f64>>,
+        strict: bool,
     ) -> PyResult<Self> {
         let options = LoadOptions {
             joints,
             locked: locked.unwrap_or_default(),
+            strict,
         };
         let model = Model::from_urdf_file(&path, &options).map_err(to_py)?;
-        let data = Data::new(&model);
-        Ok(Self {
-            q: Vec::with_capacity(model.nq()),
-            nu: Vec::with_capacity(model.nv()),
-            nudot: Vec::with_capacity(model.nv()),
-            model,
-            data,
-        })
+        warn_each(py, &path, &model.warnings)?;
+        Ok(Self::from_model(model))
+    }
+
+    /// What loading found physically doubtful but computable, one message per finding naming
+    /// the link or joint (empty for a clean description).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.model.warnings.iter().map(|w| w.to_string()).collect()
     }
 
     /// Configuration size, 7 + n.

@@ -12,10 +12,11 @@ pub mod actuator;
 pub mod configuration;
 pub mod contact_surface;
 pub mod data;
+pub(crate) mod inertia_check;
 pub mod state;
 pub mod urdf;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Warning};
 use crate::spatial::{BodyInertia, Pose};
 use nalgebra::{Matrix3, Vector3};
 
@@ -91,6 +92,10 @@ pub struct Model {
     /// For each body, the bodies from the base's first child down to the body itself
     /// (root-to-leaf order, base excluded; empty for the base).
     pub support_paths: Vec<Vec<usize>>,
+    /// What loading found physically doubtful but computable (empty for a clean description;
+    /// a strict load refuses instead): the links in file order, then the moving joints in
+    /// depth-first order.
+    pub warnings: Vec<Warning>,
 }
 
 impl Model {

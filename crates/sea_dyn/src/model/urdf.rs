@@ -1,16 +1,21 @@
-//! Building a [`Model`] from URDF (parsed by `urdf-rs`), with every problem reported as
-//! [`Error::Model`] naming the link or joint and the violated condition.
+//! Building a [`Model`] from URDF (parsed by `urdf-rs`), with every unusable description
+//! reported as [`Error::Model`] naming the link or joint and the violated condition, and every
+//! physically doubtful but computable one as a [`Warning`] kept in [`Model::warnings`]
+//! (refused in strict mode, [`LoadOptions::strict`]; the checks are in `inertia_check.rs`).
 //!
 //! Steps: parse; check names, numbers, joint types and inertias; build the link tree (one
 //! root, no loops); walk it depth first (children in file order), starting a new body at every
 //! moving joint and merging links attached by fixed or locked joints into their parent body.
 //! Every link stays an addressable frame. URDF axes are normalised; a link without
-//! `<inertial>` is massless.
+//! `<inertial>`, or with zero mass and zero inertia, is massless: a frame of its body (as in
+//! Pinocchio and MuJoCo). A massless link on a moving joint keeps its joint (zero inertia).
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Warning};
+use crate::model::inertia_check::{check_link_inertia, massless_subtree_warnings};
 use crate::model::{joint_motion, Frame, Joint, JointKind, Model};
 use crate::spatial::{BodyInertia, Pose};
-use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use nalgebra::{Matrix3, Vector3};
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -22,10 +27,10 @@ pub struct LoadOptions {
     pub joints: Option<Vec<String>>,
     /// Values of locked joints (joints not in `joints`); unlisted locked joints are at 0.
     pub locked: HashMap<String, f64>,
+    /// Refuse physically doubtful descriptions (the first [`Warning`] becomes an
+    /// [`Error::Model`]) instead of loading them with warnings. Default `false`.
+    pub strict: bool,
 }
-
-/// Relative tolerance of the inertia triangle inequality (URDF values are printed rounded).
-const TRIANGLE_TOLERANCE: f64 = 1e-6;
 
 impl Model {
     /// Loads a URDF file; see [`Model::from_urdf_str`].
@@ -37,10 +42,58 @@ impl Model {
 
     /// Builds a model from URDF text.
     pub fn from_urdf_str(text: &str, options: &LoadOptions) -> Result<Model> {
-        let robot = urdf_rs::read_from_string(text)
+        let robot = urdf_rs::read_from_string(&without_empty_textures(text))
             .map_err(|e| Error::parse(format!("cannot parse URDF: {e}")))?;
         build(&robot, options)
     }
+}
+
+/// The text without `<texture>` elements that have no `filename` attribute.
+///
+/// Why: `urdf-rs` 0.10 declares `Texture::filename` required and refuses the whole file on an
+/// empty `<texture />` inside a visual `<material>`, which real files carry (iCub's
+/// iCubGenova03, iCubLisboa01, iCubNancy01; Romeo's `romeo_laas_small`); urdfdom (Pinocchio)
+/// ignores it. A texture without a file carries no dynamics, so only those elements are
+/// removed, keeping their newlines so that parse errors keep their line numbers.
+fn without_empty_textures(text: &str) -> Cow<'_, str> {
+    let mut out = String::new();
+    let mut copied = 0;
+    let mut search = 0;
+    while let Some(found) = text[search..].find("<texture") {
+        let start = search + found;
+        search = start + "<texture".len();
+        let Some(span) = empty_texture_span(&text[start..]) else {
+            continue;
+        };
+        out.push_str(&text[copied..start]);
+        out.extend(text[start..start + span].matches('\n'));
+        copied = start + span;
+        search = copied;
+    }
+    if copied == 0 {
+        return Cow::Borrowed(text);
+    }
+    out.push_str(&text[copied..]);
+    Cow::Owned(out)
+}
+
+/// Length of the element at the start of `rest` (which starts with `<texture`) if it is a
+/// texture without a `filename` attribute: `<texture/>` or `<texture ...>...</texture>`.
+fn empty_texture_span(rest: &str) -> Option<usize> {
+    let after_name = rest["<texture".len()..].chars().next()?;
+    if !(after_name.is_whitespace() || after_name == '/' || after_name == '>') {
+        return None; // another element, e.g. `<textures>`
+    }
+    let tag_end = rest.find('>')? + 1;
+    let tag = &rest[..tag_end];
+    if tag.contains("filename") {
+        return None;
+    }
+    if tag.ends_with("/>") {
+        return Some(tag_end);
+    }
+    let close = rest.find("</texture")?;
+    Some(close + rest[close..].find('>')? + 1)
 }
 
 fn check_finite(what: &str, values: &[f64]) -> Result<()> {
@@ -62,8 +115,9 @@ fn to_pose(pose: &urdf_rs::Pose) -> Pose {
     Pose::from_xyz_rpy(pose.xyz.0, pose.rpy.0)
 }
 
-/// The link's inertia in the link frame, after checking mass and inertia; `None` if massless.
-fn link_inertia(link: &urdf_rs::Link) -> Result<Option<BodyInertia>> {
+/// The link's inertia in the link frame, after checking mass and inertia (doubts go to
+/// `warnings`); `None` if massless.
+fn link_inertia(link: &urdf_rs::Link, warnings: &mut Vec<Warning>) -> Result<Option<BodyInertia>> {
     let inertial = &link.inertial;
     let i = &inertial.inertia;
     let what = format!("link '{}'", link.name);
@@ -84,50 +138,15 @@ fn link_inertia(link: &urdf_rs::Link) -> Result<Option<BodyInertia>> {
         i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz,
     );
     let mass = inertial.mass.value;
-    if mass == 0.0 && inertia.iter().all(|v| *v == 0.0) {
+    if !check_link_inertia(&what, mass, &inertia, warnings)? {
         return Ok(None);
     }
-    if mass <= 0.0 {
-        return Err(Error::model(
-            what,
-            format!("has non-positive mass {mass} (a massless link must have no <inertial>)"),
-        ));
-    }
-    check_inertia(&what, &inertia)?;
     let frame = to_pose(&inertial.origin);
     Ok(Some(BodyInertia {
         mass,
         com: frame.translation,
         inertia_com: frame.rotation * inertia * frame.rotation.transpose(),
     }))
-}
-
-/// Principal moments must be positive and satisfy `I1 + I2 >= I3` for every permutation.
-fn check_inertia(what: &str, inertia: &Matrix3<f64>) -> Result<()> {
-    let moments = SymmetricEigen::new(*inertia).eigenvalues;
-    if moments.iter().any(|m| *m <= 0.0) {
-        return Err(Error::model(
-            what,
-            format!(
-                "inertia is not positive definite (principal moments {:?})",
-                moments.as_slice()
-            ),
-        ));
-    }
-    let trace = moments.sum();
-    for k in 0..3 {
-        let others = trace - moments[k];
-        if others < moments[k] - TRIANGLE_TOLERANCE * trace {
-            return Err(Error::model(
-                what,
-                format!(
-                    "inertia violates the triangle inequality (principal moments {:?})",
-                    moments.as_slice()
-                ),
-            ));
-        }
-    }
-    Ok(())
 }
 
 fn joint_kind(joint: &urdf_rs::Joint) -> Result<Option<JointKind>> {
@@ -177,6 +196,9 @@ struct Tree {
 
 fn build_tree(robot: &urdf_rs::Robot, link_index: &HashMap<&str, usize>) -> Result<Tree> {
     let n_links = robot.links.len();
+    if n_links == 0 {
+        return Err(Error::model("robot", "has no links"));
+    }
     let mut children = vec![Vec::new(); n_links];
     let mut parent_joint: Vec<Option<usize>> = vec![None; n_links];
     for (j, joint) in robot.joints.iter().enumerate() {
@@ -334,10 +356,11 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
         .iter()
         .map(joint_axis)
         .collect::<Result<Vec<_>>>()?;
+    let mut warnings = Vec::new();
     let inertias = robot
         .links
         .iter()
-        .map(link_inertia)
+        .map(|link| link_inertia(link, &mut warnings))
         .collect::<Result<Vec<_>>>()?;
     let tree = build_tree(robot, &link_index)?;
     let dfs = depth_first_joints(robot, &tree, &link_index);
@@ -347,6 +370,10 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
     let (frames, body_inertias) =
         frames_and_inertias(robot, &tree, &link_index, &dfs, &inertias, &walk);
     let (body_of_coordinate, joint_names, support_paths) = coordinate_maps(&walk.joints);
+    warnings.extend(massless_subtree_warnings(&walk.joints, &body_inertias));
+    if let (true, Some(first)) = (options.strict, warnings.first()) {
+        return Err(first.clone().into_error());
+    }
     Ok(Model {
         support_paths,
         name: robot.name.clone(),
@@ -357,6 +384,7 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
         joint_names,
         body_of_coordinate,
         base_link: robot.links[tree.root].name.clone(),
+        warnings,
     })
 }
 
@@ -512,4 +540,25 @@ fn coordinate_maps(joints: &[Joint]) -> (Vec<usize>, Vec<String>, Vec<Vec<usize>
         support_paths.push(path);
     }
     (body_of_coordinate, joint_names, support_paths)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::without_empty_textures;
+
+    #[test]
+    fn only_textures_without_a_file_are_removed() {
+        let kept = r#"<texture filename="a.png"/><textures/><texturefoo/>"#;
+        assert_eq!(without_empty_textures(kept), kept);
+        assert_eq!(
+            without_empty_textures("<m><texture/><texture >\n</texture></m>"),
+            "<m>\n</m>"
+        );
+        assert_eq!(
+            without_empty_textures("<m><texture  />x<texture filename='b'/></m>"),
+            "<m>x<texture filename='b'/></m>"
+        );
+        // An unclosed texture is left for the parser to report.
+        assert_eq!(without_empty_textures("<texture>"), "<texture>");
+    }
 }
