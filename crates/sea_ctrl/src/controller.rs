@@ -27,7 +27,7 @@ use crate::momentum::{
 };
 use crate::qp::{
     momentum_tracking_objective, torque_norm_objective, ContactConstraints, Minimizer, QpAgreement,
-    QpSolveCounts, QpSolver, QpStatus, WrenchQp,
+    QpCounters, QpSolver, QpStatus, WrenchQp,
 };
 use crate::references::ComSample;
 use crate::sea::{
@@ -312,13 +312,13 @@ impl MomentumController {
 
     /// QP solves that fell back to the unconstrained solution so far.
     pub fn qp_failures(&self) -> usize {
-        self.qp.failures
+        self.qp.counters().fallbacks
     }
 
     /// QP solves so far by path: the minimiser without inequalities (feasible, hence
     /// optimal), the active set, Clarabel.
-    pub fn qp_solves(&self) -> QpSolveCounts {
-        self.qp.solve_counts()
+    pub fn qp_solves(&self) -> QpCounters {
+        self.qp.counters()
     }
 
     /// Turns the QP cross-check on or off: every tick the active set solves is also solved by
@@ -330,7 +330,10 @@ impl MomentumController {
 
     /// Active-set solves that failed (and went to Clarabel) so far, and why the last one did.
     pub fn qp_active_set_failures(&self) -> (usize, Option<crate::active_set::ActiveSetError>) {
-        (self.qp.active_set_failures, self.qp.last_active_set_failure)
+        (
+            self.qp.counters().active_set_failures,
+            self.qp.last_active_set_failure(),
+        )
     }
 
     /// The QP cross-check's figures so far (see [`Self::set_qp_cross_check`]).

@@ -2,7 +2,7 @@
 
 mod support;
 
-use sea_ctrl::qp::QpSolveCounts;
+use sea_ctrl::qp::QpCounters;
 use sea_sim::closed_loop::build;
 use sea_sim::scenario::Scenario;
 use std::path::Path;
@@ -175,11 +175,11 @@ fn two_feet_tick(
 #[test]
 fn skipping_clarabel_when_no_constraint_binds_gives_clarabel_s_optimum() {
     let mut wrenches = Vec::new();
-    let skipped = QpSolveCounts {
+    let skipped = QpCounters {
         unconstrained: 1,
         ..Default::default()
     };
-    let by_clarabel = QpSolveCounts {
+    let by_clarabel = QpCounters {
         clarabel: 1,
         ..Default::default()
     };
@@ -227,7 +227,7 @@ fn a_binding_constraint_goes_to_clarabel() {
         .compute(&x, &layout, &reference, &s_d)
         .unwrap();
     assert_eq!(out.qp_status, sea_ctrl::qp::QpStatus::Solved);
-    let by_clarabel = QpSolveCounts {
+    let by_clarabel = QpCounters {
         clarabel: 1,
         ..Default::default()
     };
