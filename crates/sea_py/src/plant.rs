@@ -213,7 +213,8 @@ impl PyPlant {
         self.plant.layout().nd()
     }
 
-    /// Input size n (one per joint).
+    /// Input size n, one per joint: the length of the input `u` of `dynamics(x, u)` (`u` for
+    /// input; not the velocity `nu`).
     #[getter]
     fn nu_input(&self) -> usize {
         self.plant.model.n_joints()
@@ -237,7 +238,7 @@ impl PyPlant {
         self.plant.contacts.iter().map(|c| c.name.clone()).collect()
     }
 
-    /// A state from its parts: theta defaults to s / eta (springs at rest), velocities to 0.
+    /// A state from its parts: theta defaults to s / Gamma (springs at rest), velocities to 0.
     #[pyo3(signature = (q, nu=None, theta=None, thetadot=None, joint_torques=None))]
     fn make_state<'py>(
         &self,

@@ -93,7 +93,7 @@ fn qp_wrenches_satisfy_the_constraints_and_the_momentum_task() {
         "A f - b = {residual}"
     );
     let qp = sea_ctrl::qp::WrenchQp::new(2, 6, &sea_ctrl::qp::ContactConstraints::default());
-    let (c, b) = qp.inequalities(&terms.rotations);
+    let (c, b) = qp.inequalities(&terms.contact_rotations);
     let violation = (&c * &out.wrenches - b).max();
     assert!(violation < 1e-6, "C f - b max {violation}");
     // The command is tau(f) of the reported wrenches.
@@ -237,7 +237,7 @@ fn a_binding_constraint_goes_to_clarabel() {
         .torque_map(&x, &layout, &reference, &s_d)
         .unwrap();
     let qp = sea_ctrl::qp::WrenchQp::new(2, 6, &setup.controller.settings().constraints);
-    let (c, b) = qp.inequalities(&terms.rotations);
+    let (c, b) = qp.inequalities(&terms.contact_rotations);
     let violation = (&c * &out.wrenches - b).max();
     assert!(violation < 1e-6, "C f - b max {violation}");
 }

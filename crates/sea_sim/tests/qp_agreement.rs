@@ -1,4 +1,4 @@
-//! The active-set QP solver (`sea_ctrl::active_set`, Goldfarb-Idnani) agrees with Clarabel,
+//! The active-set QP solver (`sea_ctrl::qp::active_set`, Goldfarb-Idnani) agrees with Clarabel,
 //! the reference (issue 12): on every tick of the paper's scenarios (shortened), with the QP
 //! solver forced on every tick (`controller.qp_unconstrained_first = false`) and the
 //! controller's cross-check on (Clarabel solves the same problem; `QpAgreement`), its wrenches
