@@ -2,9 +2,9 @@
 
 This module is test infrastructure: it builds a Pinocchio model from a URDF (a free-flyer base,
 reduced to a joint list if one is given) and evaluates the dynamics quantities of the Python API
-of DESIGN.md from *our* state (q, nu, nudot), converting to and from Pinocchio's conventions.
+of the package from *our* state (q, nu, nudot), converting to and from Pinocchio's conventions.
 
-Our conventions (DESIGN.md, "Conventions"):
+Our conventions (docs/architecture.md, "State and conventions"):
     q  = [p_B (3, world), quaternion (w, x, y, z), s (n)]
     nu = [pdot_B (3, world), omega_B (3, world axes), sdot (n)]
     spatial vectors linear first; frame Jacobians map nu to [origin velocity; angular velocity]
@@ -162,7 +162,8 @@ HAND_URDF = """<?xml version="1.0"?>
   </link>
 </robot>
 """
-# The 25 joints of the paper's iCub, in the order of REFERENCE.md (defined once, in Rust:
+# The 25 joints of the paper's iCub, in the original study's order
+# (docs/references.md#original-study-joints-and-contacts; defined once, in Rust:
 # sea_sim's scenario presets, exposed by the native module).
 ICUB25_JOINTS = list(sea_momentum.ICUB25_JOINTS)
 
@@ -172,7 +173,7 @@ HAND_JOINTS_FILE_ORDER = ["zeta_rev", "beta_cont", "alpha_pris", "gamma_rev"]
 
 def urdf_depth_first_joints(urdf_text: str) -> list[str]:
     """Movable joints of a URDF in depth-first tree order, children in file order (our default
-    joint order, DESIGN.md), computed from the XML alone."""
+    joint order, docs/architecture.md), computed from the XML alone."""
     import xml.etree.ElementTree as ET
 
     root = ET.fromstring(urdf_text)

@@ -120,16 +120,99 @@ def test_step_count_beyond_64_bits_raises():
         plant.simulate(x0, np.zeros(model.n_joints), 1e-3, 2**64)
 
 
+def _object_array_with_a_complex_entry(x):
+    bad = x.astype(object)
+    bad[0] = 1 + 0j
+    return bad
+
+
 @pytest.mark.parametrize(
-    "make", [lambda x: x.astype(complex), lambda x: x.astype(object), lambda x: list(x) + []]
+    "make",
+    [lambda x: x.astype(complex), _object_array_with_a_complex_entry, lambda x: list(x) + []],
 )
-def test_complex_and_object_arrays_are_refused(make):
+def test_complex_arrays_and_object_arrays_of_non_reals_are_refused(make):
     model, plant, x0 = pendulum_plant()
     bad = make(x0)
     if isinstance(bad, list):  # a list with a complex entry
         bad[0] = 1 + 0j
     with pytest.raises(ValueError, match=r"x\b|x0|dtype|real"):
         plant.simulate(bad, np.zeros(model.n_joints), 1e-3, 1)
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda x: x.astype(object),
+        lambda x: np.array([float(v) for v in x], dtype=object),
+        lambda x: np.array([np.float32(v) if i % 2 else v for i, v in enumerate(x)], dtype=object),
+        lambda x: x.astype(np.float32).astype(np.float64).astype(object),
+    ],
+)
+def test_object_arrays_of_real_numbers_are_accepted_as_numpy_converts_them(make):
+    # numpy.asarray(x, dtype=float64) converts these; the bindings accept what it converts.
+    model, plant, x0 = pendulum_plant()
+    given = make(x0)
+    expected = plant.simulate(np.asarray(given, dtype=np.float64), np.zeros(model.n_joints), 1e-3, 2)
+    run = plant.simulate(given, np.zeros(model.n_joints).astype(object), 1e-3, 2)
+    np.testing.assert_array_equal(run.x, expected.x)
+
+
+def test_object_arrays_still_refuse_nan_and_wrong_shapes_with_the_same_messages():
+    model, plant, x0 = pendulum_plant()
+    nan = x0.astype(object)
+    nan[1] = float("nan")
+    with pytest.raises(ValueError, match=r"x\[1\]: expected a finite number, got NaN") as info:
+        plant.simulate(nan, np.zeros(model.n_joints), 1e-3, 1)
+    assert info.value.argument == "x[1]"
+    with pytest.raises(ValueError, match=r"expected shape") as info:
+        plant.simulate(x0[:-1].astype(object), np.zeros(model.n_joints), 1e-3, 1)
+    assert info.value.argument == "x"
+
+
+# (argument, value, shown): numeric Plant arguments that make no physical sense and the text
+# of the value the message shows; friction, gravity and the foot rectangle were accepted
+# silently before, the gains must stay refused.
+BAD_PLANT_ARGUMENTS = [
+    ("friction", -1.0, "-1"),
+    ("friction", 0.0, "0"),
+    ("friction", NAN, "NaN"),
+    ("friction", INF, "inf"),
+    ("gravity", (0.0, 0.0, NAN), "(0, 0, NaN)"),
+    ("gravity", (INF, 0.0, -9.81), "(inf, 0, -9.81)"),
+    ("foot_x", (0.1, -0.05), "(0.1, -0.05)"),
+    ("foot_x", (-0.05, NAN), "(-0.05, NaN)"),
+    ("foot_y", (0.02, 0.02), "(0.02, 0.02)"),
+    ("foot_y", (-INF, 0.02), "(-inf, 0.02)"),
+    ("baumgarte_kp", -1.0, "-1"),
+    ("baumgarte_kp", NAN, "NaN"),
+    ("baumgarte_kd", -1.0, "-1"),
+    ("baumgarte_kd", INF, "inf"),
+    ("motor_velocity_gain", 0.0, "0"),
+    ("motor_velocity_gain", NAN, "NaN"),
+    ("joint_inertia_regularization", -0.1, "-0.1"),
+    ("joint_inertia_regularization", NAN, "NaN"),
+]
+
+
+@pytest.mark.parametrize(
+    "argument, value, shown", BAD_PLANT_ARGUMENTS, ids=[f"{a}={v}" for a, v, _ in BAD_PLANT_ARGUMENTS]
+)
+def test_bad_numeric_plant_arguments_are_refused_naming_argument_and_value(argument, value, shown):
+    model = sm.Model.from_urdf(PENDULUM)
+    with pytest.raises(ValueError) as info:
+        sm.Plant(model, actuator="elastic", **{argument: value})
+    assert info.value.argument == argument, str(info.value)
+    message = str(info.value)
+    assert message.startswith(f"{argument}: expected "), message
+    assert message.endswith(f", got {shown}"), message
+
+
+def test_good_plant_arguments_are_accepted():
+    model = sm.Model.from_urdf(PENDULUM)
+    plant = sm.Plant(model, actuator="elastic", friction=0.5, gravity=(0.0, 0.0, -1.62),
+                     foot_x=(-0.05, 0.1), foot_y=(-0.02, 0.02), baumgarte_kp=0.0,
+                     motor_velocity_gain=200.0, joint_inertia_regularization=0.0)
+    assert plant.nx > 0
 
 
 def test_numpy_scalars_are_accepted_as_arguments():

@@ -154,9 +154,10 @@ class Plant:
     State ``x = [q (nq), theta (n_e), nu (nv), thetadot (n_e)]``; input ``u`` (n), per joint
     in coordinate order: the joint torque of a rigid joint; for an elastic joint the motor
     torque, or the desired motor velocity when ``motor_velocity_gain`` is set (the motor
-    velocity loop ``tau_m = -b K_m (thetadot - u) + eta tau``, saturated at the torque limit).
-    Elastic joint: ``tau = k_s (eta theta - s) + k_d (eta thetadot - sdot)``,
-    ``b thetaddot = tau_m - eta tau``. Contacts hold frames at their pose in ``contact_q``
+    velocity loop ``tau_m = -I_m K_m (thetadot - u) + Gamma tau``, saturated at the torque limit).
+    Elastic joint: ``tau = K_S (Gamma theta - s) + K_D (Gamma thetadot - sdot)``,
+    ``I_m thetaddot = tau_m - Gamma tau`` (``Gamma``, ``I_m``, ``K_S``, ``K_D``: the actuator's
+    ``ratio``, ``motor_inertia``, ``stiffness``, ``damping``). Contacts hold frames at their pose in ``contact_q``
     (Baumgarte ``K_p``, ``K_d``); wrenches are ``[force; moment about the frame origin]``,
     world axes. Not thread-safe: one Plant per thread.
     """
@@ -195,7 +196,8 @@ class Plant:
         """Tangent size 2 nv + 2 n_e."""
     @property
     def nu_input(self) -> int:
-        """Input size n."""
+        """Input size n, one per joint: the length of the input ``u`` of ``dynamics(x, u)``
+        (``u`` for input; not the velocity ``nu``)."""
     @property
     def elastic_joints(self) -> list[str]:
         """Elastic joint names, in the order of theta."""
@@ -210,9 +212,9 @@ class Plant:
         thetadot: ArrayLike | None = None,
         joint_torques: ArrayLike | None = None,
     ) -> FloatArray:
-        """A state; velocities default to 0 and ``theta`` to the springs at rest (``s / eta``),
+        """A state; velocities default to 0 and ``theta`` to the springs at rest (``s / Gamma``),
         or, given ``joint_torques`` (n,), to the preload holding them:
-        ``theta = (s + tau / k_s) / eta`` per elastic joint."""
+        ``theta = (s + tau / K_S) / Gamma`` per elastic joint."""
     def split_state(self, x: ArrayLike) -> dict[str, FloatArray]:
         """``{"q": (nq,), "theta": (n_e,), "nu": (nv,), "thetadot": (n_e,)}``, float64 copies."""
     def dynamics(self, x: ArrayLike, u: ArrayLike) -> FloatArray:

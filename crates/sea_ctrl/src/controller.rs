@@ -27,7 +27,7 @@ use crate::momentum::{
 };
 use crate::qp::{
     momentum_tracking_objective, torque_norm_objective, ContactConstraints, Minimizer, QpAgreement,
-    QpSolveCounts, QpSolver, QpStatus, WrenchQp,
+    QpCounters, QpSolver, QpStatus, WrenchQp,
 };
 use crate::references::ComSample;
 use crate::sea::{
@@ -69,9 +69,11 @@ pub struct ControllerSettings {
     pub damping_estimate_scale: f64,
     /// Controller's stiffness estimate = true stiffness x this scale.
     pub stiffness_estimate_scale: f64,
-    /// Damping of the pseudo-inverse of `Lambda` (REFERENCE.md: 5e-4).
+    /// Damping of the pseudo-inverse of `Lambda` (original study: 5e-4,
+    /// docs/references.md#original-study-contact-wrench-qp).
     pub pinv_damping: f64,
-    /// QP Hessian regulariser (REFERENCE.md: 1e-3).
+    /// QP Hessian regulariser (original study: 1e-3,
+    /// docs/references.md#original-study-contact-wrench-qp).
     pub qp_regularization: f64,
     /// Rigid controller: add the motor reflected inertia of elastic joints to `M_j`.
     pub reflected_inertia: bool,
@@ -88,7 +90,7 @@ pub struct ControllerSettings {
 #[derive(Clone, Debug)]
 pub struct ControlOutput {
     /// Plant input (n): rigid joints torque; elastic joints desired motor velocity (SEA
-    /// controller) or motor torque `eta tau*` (rigid controller).
+    /// controller) or motor torque `Gamma tau*` (rigid controller).
     pub input: Vec<f64>,
     /// `tau*` (rigid) or `beta*` (SEA), joint side (n).
     pub joint_command: Vec<f64>,
@@ -131,8 +133,8 @@ pub struct TaskTerms {
     pub momentum_map: DMatrix<f64>,
     /// `b = Hdot* - m g` (6).
     pub momentum_target: DVector<f64>,
-    /// `world_R_contact` of each contact.
-    pub rotations: Vec<Matrix3<f64>>,
+    /// `world_R_contact` of each contact (the sole frames of the QP's contact constraints).
+    pub contact_rotations: Vec<Matrix3<f64>>,
 }
 
 impl TaskTerms {
@@ -143,7 +145,7 @@ impl TaskTerms {
             sigma: DMatrix::zeros(n, 6 * n_contacts),
             momentum_map: momentum_map_identity_blocks(n_contacts),
             momentum_target: DVector::zeros(6),
-            rotations: vec![Matrix3::identity(); n_contacts],
+            contact_rotations: vec![Matrix3::identity(); n_contacts],
         }
     }
 }
@@ -171,17 +173,20 @@ impl ControllerSettings {
                 return Err(Error::config(key, format!("must be positive, got {v}")));
             }
         }
-        let gains = self
-            .momentum_proportional
-            .iter()
-            .chain(&self.momentum_integral)
-            .chain(&self.postural_stiffness)
-            .chain(&self.postural_damping);
-        if gains.clone().any(|g| !(g.is_finite() && *g >= 0.0)) {
-            return Err(Error::config(
-                "controller gains",
-                "must be finite and non-negative",
-            ));
+        let gains: [(&str, &[f64]); 4] = [
+            (
+                "controller.momentum_proportional",
+                &self.momentum_proportional,
+            ),
+            ("controller.momentum_integral", &self.momentum_integral),
+            ("controller.postural_stiffness", &self.postural_stiffness),
+            ("controller.postural_damping", &self.postural_damping),
+        ];
+        for (key, values) in gains {
+            if let Some(g) = values.iter().find(|g| !(g.is_finite() && **g >= 0.0)) {
+                let message = format!("must be finite and non-negative, got {g}");
+                return Err(Error::config(key, message));
+            }
         }
         if self.postural_stiffness.len() != n || self.postural_damping.len() != n {
             return Err(Error::config(
@@ -312,13 +317,13 @@ impl MomentumController {
 
     /// QP solves that fell back to the unconstrained solution so far.
     pub fn qp_failures(&self) -> usize {
-        self.qp.failures
+        self.qp.counters().fallbacks
     }
 
     /// QP solves so far by path: the minimiser without inequalities (feasible, hence
     /// optimal), the active set, Clarabel.
-    pub fn qp_solves(&self) -> QpSolveCounts {
-        self.qp.solve_counts()
+    pub fn qp_solves(&self) -> QpCounters {
+        self.qp.counters()
     }
 
     /// Turns the QP cross-check on or off: every tick the active set solves is also solved by
@@ -330,7 +335,10 @@ impl MomentumController {
 
     /// Active-set solves that failed (and went to Clarabel) so far, and why the last one did.
     pub fn qp_active_set_failures(&self) -> (usize, Option<crate::active_set::ActiveSetError>) {
-        (self.qp.active_set_failures, self.qp.last_active_set_failure)
+        (
+            self.qp.counters().active_set_failures,
+            self.qp.last_active_set_failure(),
+        )
     }
 
     /// The QP cross-check's figures so far (see [`Self::set_qp_cross_check`]).
@@ -461,7 +469,7 @@ impl MomentumController {
             hessian,
             gradient,
             equality,
-            &terms.rotations,
+            &terms.contact_rotations,
             found.then_some(&self.unconstrained),
             wrenches,
         )
@@ -563,7 +571,7 @@ impl MomentumController {
                 sea_dyn::jacobian::frame_bias_acceleration_after_bias_forces(model, data, frame);
             map.jdot_nu.fixed_rows_mut::<6>(6 * c).copy_from(&bias);
             let pose = sea_dyn::frame_placement(model, data, frame);
-            self.terms.rotations[c] = pose.rotation;
+            self.terms.contact_rotations[c] = pose.rotation;
             set_momentum_map_contact(&mut self.terms.momentum_map, c, &pose.translation, com);
         }
     }

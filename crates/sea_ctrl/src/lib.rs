@@ -6,10 +6,10 @@
 //! - [`momentum`]: the momentum task (hDot, eq:dotH_f, eq:IhTilde, eqn:jacobian);
 //! - [`torque_map`]: joint torques affine in the contact wrenches (eq:torques, posturalNew);
 //! - [`sea`]: the SEA terms (p, hjBar, inputDesMotVel) and the rigid motor torque (remark1);
-//! - [`qp`]: the contact-wrench QP (inputTorquesSOT, inputTorquesSOTu, frictionCones), solved
-//!   by the dense active-set method of [`active_set`] (Goldfarb-Idnani) with Clarabel as the
-//!   reference and fallback;
-//! - [`active_set`]: a dense, allocation-free Goldfarb-Idnani QP solver for small QPs;
+//! - [`qp`]: the contact-wrench QP (inputTorquesSOT, inputTorquesSOTu, frictionCones): the
+//!   minimiser without inequalities first, then the dense active-set method of
+//!   [`qp::active_set`] (Goldfarb-Idnani, allocation-free), Clarabel as the reference and
+//!   fallback;
 //! - [`references`]: the CoM trajectory and the postural reference;
 //! - [`joint_loop`]: the joint torque loop of the multi-rate architecture (the paper's law is
 //!   its special case).
@@ -18,7 +18,6 @@
 
 #![forbid(unsafe_code)]
 
-pub mod active_set;
 pub mod controller;
 pub mod error;
 pub mod joint_loop;
@@ -27,6 +26,9 @@ pub mod qp;
 pub mod references;
 pub mod sea;
 pub mod torque_map;
+
+/// The active-set solver at its former path `sea_ctrl::active_set`.
+pub use qp::active_set;
 
 pub use controller::{ControlOutput, ControllerKind, ControllerSettings, MomentumController};
 pub use error::{Error, Result};

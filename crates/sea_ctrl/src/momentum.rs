@@ -252,3 +252,45 @@ impl MomentumJacobian {
         self.q[3..7].copy_from_slice(&quaternion);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sea_dyn::sample::Lcg;
+
+    /// hDot with two contacts: `momentum_rate` is the net wrench about the CoM plus gravity,
+    /// `[sum F_k + m g; sum (n_k + (p_k - p_com) x F_k)]`, and the QP's equality `A f = b` with
+    /// `b` from `momentum_equality_target` makes it `Hdot*`.
+    #[test]
+    fn momentum_rate_is_the_net_wrench_about_the_com_plus_gravity() {
+        let mut rng = Lcg::new(3);
+        let mut random_vector = || Vector3::new(rng.next_signed(), rng.next_signed(), 0.5);
+        let (p_com, gravity, mass) = (random_vector(), Vector3::new(0.0, 0.0, -9.81), 33.0);
+        let contacts = [random_vector(), random_vector()];
+        let mut momentum_map = momentum_map_identity_blocks(2);
+        for (c, p_contact) in contacts.iter().enumerate() {
+            set_momentum_map_contact(&mut momentum_map, c, p_contact, &p_com);
+        }
+        let wrenches = DVector::from_fn(12, |i, _| 10.0 * (i as f64 - 5.5));
+        let rate = momentum_rate(&momentum_map, &wrenches, mass, &gravity);
+        let mut expected = Vector6::zeros();
+        for (c, p_contact) in contacts.iter().enumerate() {
+            let force = wrenches.fixed_rows::<3>(6 * c).into_owned();
+            let moment = wrenches.fixed_rows::<3>(6 * c + 3).into_owned();
+            let angular = moment + (p_contact - p_com).cross(&force);
+            expected += Vector6::new(force.x, force.y, force.z, angular.x, angular.y, angular.z);
+        }
+        expected.fixed_rows_mut::<3>(0).axpy(mass, &gravity, 1.0);
+        assert!((rate - expected).amax() < 1e-12, "{rate} != {expected}");
+        // A f = b(Hdot*) gives Hdot(f) = Hdot*.
+        let rate_star = Vector6::new(1.0, -2.0, 3.0, 0.1, 0.2, -0.3);
+        let target = momentum_equality_target(&rate_star, mass, &gravity);
+        let pseudo_inverse = momentum_map.clone().pseudo_inverse(1e-12).unwrap();
+        let realising = pseudo_inverse * DVector::from_column_slice(target.as_slice());
+        let realised = momentum_rate(&momentum_map, &realising, mass, &gravity);
+        assert!(
+            (realised - rate_star).amax() < 1e-9,
+            "{realised} != {rate_star}"
+        );
+    }
+}

@@ -1,6 +1,7 @@
 //! References: the CoM trajectory and the postural reference.
 //!
-//! CoM (REFERENCE.md, the original study): `p_d(t) = p_0 + (1 - exp(-t / T_s)) A sin(2 pi f t) d`,
+//! CoM (the original study, docs/references.md#original-study-com-reference):
+//! `p_d(t) = p_0 + (1 - exp(-t / T_s)) A sin(2 pi f t) d`,
 //! with amplitude `A`, frequency `f`, unit direction `d` and smooth-start time constant `T_s`
 //! (a constant reference when `A = 0`). Velocity and acceleration are its exact derivatives.
 //! Posture: `s_d(t) = s_0 + step` for `t >= t_step` on the chosen joints, `s_0` before.

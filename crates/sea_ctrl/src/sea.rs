@@ -16,7 +16,7 @@ use nalgebra::DVector;
 use sea_dyn::{Actuation, ElasticParameters};
 
 /// The controller's estimates of the elastic parameters, one per elastic joint (order of
-/// `actuation.elastic`): the true stiffness `k_s` and damping `k_d` times the given scales,
+/// `actuation.elastic`): the true stiffness `K_S` and damping `K_D` times the given scales,
 /// the other parameters unchanged.
 pub fn controller_estimates(
     actuation: &Actuation,

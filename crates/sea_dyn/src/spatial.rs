@@ -1,8 +1,9 @@
 //! Spatial algebra: rigid transforms, spatial motion and force vectors, spatial inertias.
 //!
-//! Conventions (DESIGN.md): spatial vectors store the linear part first and the angular part
-//! second. The algorithms of this crate express every spatial quantity in world-aligned axes at
-//! one fixed reference point `O` (the base origin at the current instant), so a motion vector
+//! Conventions (docs/architecture.md#state-and-conventions): spatial vectors store the linear
+//! part first and the angular part second. The algorithms of this crate express every spatial
+//! quantity in world-aligned axes at one fixed reference point `O` (the base origin at the
+//! current instant), so a motion vector
 //! `v = [v_O; omega]` holds the velocity of the body-fixed point coincident with `O` and the
 //! angular velocity, and a force vector `f = [F; n_O]` holds the resultant and the moment about
 //! `O`. With one common point no spatial transform is needed between bodies (Featherstone,

@@ -1,4 +1,4 @@
-//! The algorithms write into `Data` and allocate nothing (DESIGN.md, "sea_dyn"): a counting
+//! The algorithms write into `Data` and allocate nothing (docs/architecture.md#rules): a counting
 //! global allocator (per thread, so the test harness's other threads do not interfere) checks
 //! the hot paths after a warm-up call.
 

@@ -1,5 +1,5 @@
 //! Physics identities of the floating-base dynamics on seeded random URDF trees
-//! (DESIGN.md, "Verification"): M from RNEA columns, `nu^T (Mdot - 2C) nu = 0`, power balance,
+//! M from RNEA columns, `nu^T (Mdot - 2C) nu = 0`, power balance,
 //! energy and momentum conservation in free flight, momentum = A_G nu = sum over the links,
 //! CoM Jacobian, frame Jacobians, `Jdot nu` and `Adot_G nu` against finite differences along
 //! `integrate`, and the centroidal split against a dense Schur complement.

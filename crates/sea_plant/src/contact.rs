@@ -13,7 +13,8 @@ use sea_dyn::model::FrameId;
 use sea_dyn::spatial::Pose;
 
 /// Friction and foot-size limits used to report the margins of the simulated wrenches: the
-/// contact surface shared with the controller's constraints (defaults: REFERENCE.md).
+/// contact surface shared with the controller's constraints (defaults:
+/// docs/references.md#original-study-contact-wrench-qp).
 pub type ContactLimits = sea_dyn::ContactSurface;
 
 /// A rigid contact: the frame is held at its reference pose.

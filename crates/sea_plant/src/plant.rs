@@ -62,7 +62,7 @@ pub struct Plant {
 
 impl Plant {
     /// Default Baumgarte position gain `K_p` [1/s^2]: the original study's pose-correction
-    /// gain (REFERENCE.md, "Plant"), with `K_d` its critical damping.
+    /// gain (docs/references.md#original-study-plant), with `K_d` its critical damping.
     pub const DEFAULT_BAUMGARTE_KP: f64 = 50.0;
 
     /// A plant with the given actuation and no contacts, default gains, torque input.

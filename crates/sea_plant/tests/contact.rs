@@ -20,7 +20,8 @@ use sea_plant::{evaluate, step, Method, MotorInput, Plant, PlantData};
 use support::common::log_so3;
 use support::*;
 
-/// Motor velocity loop gain of the scenarios (REFERENCE.md: 200 1/s).
+/// Motor velocity loop gain of the scenarios (200 1/s,
+/// docs/references.md#original-study-sea-parameters).
 const MOTOR_GAIN: f64 = 200.0;
 
 /// A robot standing on `soles` with all joints at `posture`, springs at rest, the paper's

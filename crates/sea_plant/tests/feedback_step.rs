@@ -30,8 +30,8 @@ fn pendulum() -> (Plant, Vec<f64>) {
     let actuation = Actuation::new(&model, Actuator::Elastic(sea), &HashMap::new()).unwrap();
     let mut plant = Plant::new(model.clone(), actuation);
     plant.motor_input = MotorInput::VelocityLoop { gain: 200.0 };
-    // As in the scenarios (REFERENCE.md): keeps the light second link from being the stiffest
-    // mode, so explicit RK4 runs at the steps below.
+    // As in the scenarios (docs/references.md#original-study-plant): keeps the light second
+    // link from being the stiffest mode, so explicit RK4 runs at the steps below.
     plant.joint_inertia_regularization = 0.1;
     let mut q = model.neutral();
     q[7] = 0.3;

@@ -9,9 +9,11 @@ use pyo3::types::{PyAnyMethods, PyDict};
 
 /// A float64 1-D argument of `expected` entries, all finite, copied out of Python.
 ///
-/// Fast path for float64 arrays; anything else array-like goes through `numpy.asarray(x)`,
-/// must have a real dtype (bool, int, float: complex and object arrays are refused) and is
-/// converted to float64.
+/// Fast path for float64 arrays; anything else goes through `numpy.asarray(x)` and is accepted
+/// when numpy converts it to float64 (`numpy.asarray(x, dtype=float64)`: booleans, integers,
+/// floats, object arrays of real numbers). Complex values are refused (numpy would drop their
+/// imaginary part), and so is anything numpy cannot convert (an object array holding a complex
+/// number or a non-number).
 pub fn vector_arg(
     value: &Bound<'_, PyAny>,
     name: &str,
@@ -22,26 +24,7 @@ pub fn vector_arg(
     let array = match value.cast::<PyArrayDyn<f64>>() {
         Ok(array) => array,
         Err(_) => {
-            let numpy = value.py().import("numpy")?;
-            let raw = numpy
-                .call_method1("asarray", (value,))
-                .map_err(|e| argument_error(name, "an array of floats", e))?;
-            // Complex values would lose their imaginary part and object arrays hide anything:
-            // only booleans, integers and floats convert.
-            let kind: String = raw.getattr("dtype")?.getattr("kind")?.extract()?;
-            if !matches!(kind.as_str(), "b" | "i" | "u" | "f") {
-                return Err(argument_error(
-                    name,
-                    "an array of real numbers",
-                    format!("dtype {}", raw.getattr("dtype")?.str()?),
-                ));
-            }
-            let converted = numpy
-                .call_method1("asarray", (&raw, "float64"))
-                .map_err(|e| argument_error(name, "an array of floats", e))?;
-            owned = converted
-                .cast_into::<PyArrayDyn<f64>>()
-                .map_err(|_| argument_error(name, "an array of floats", value))?;
+            owned = as_float64_array(value, name)?;
             &owned
         }
     };
@@ -67,6 +50,41 @@ pub fn vector_arg(
         ));
     }
     Ok(())
+}
+
+/// `value` as a float64 numpy array by numpy's rules (see [`vector_arg`]); complex dtypes and
+/// values numpy cannot convert are refused, naming the argument `name`.
+fn as_float64_array<'py>(
+    value: &Bound<'py, PyAny>,
+    name: &str,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let numpy = value.py().import("numpy")?;
+    let raw = numpy
+        .call_method1("asarray", (value,))
+        .map_err(|e| argument_error(name, "an array of floats", e))?;
+    // numpy converts complex to float by dropping the imaginary part (a warning only).
+    let dtype = raw.getattr("dtype")?;
+    let (kind, dtype): (String, String) =
+        (dtype.getattr("kind")?.extract()?, dtype.str()?.extract()?);
+    if kind == "c" {
+        return Err(argument_error(
+            name,
+            "an array of real numbers",
+            format!("dtype {dtype}"),
+        ));
+    }
+    let converted = numpy
+        .call_method1("asarray", (&raw, "float64"))
+        .map_err(|e| {
+            argument_error(
+                name,
+                "an array of real numbers",
+                format!("dtype {dtype} ({e})"),
+            )
+        })?;
+    converted
+        .cast_into::<PyArrayDyn<f64>>()
+        .map_err(|_| argument_error(name, "an array of floats", value))
 }
 
 /// A 1-D numpy array copied from a slice.

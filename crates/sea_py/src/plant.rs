@@ -79,6 +79,41 @@ fn actuator_from_py(value: &Bound<'_, PyAny>, where_: &str) -> PyResult<Actuator
     Ok(Actuator::Elastic(elastic_from_dict(dict, where_)?))
 }
 
+/// Checks the arguments of `Plant(...)` that the Rust plant does not check itself (its gains
+/// are checked by [`Plant::validate`]): finite gravity, a positive finite friction coefficient,
+/// foot rectangles `(min, max)` of finite numbers with `min < max`.
+fn check_surface_and_gravity(
+    gravity: Option<(f64, f64, f64)>,
+    friction: Option<f64>,
+    foot_x: Option<(f64, f64)>,
+    foot_y: Option<(f64, f64)>,
+) -> PyResult<()> {
+    if let Some((x, y, z)) = gravity {
+        if ![x, y, z].iter().all(|g| g.is_finite()) {
+            let actual = format!("({x}, {y}, {z})");
+            return Err(argument_error(
+                "gravity",
+                "three finite numbers [m/s^2]",
+                actual,
+            ));
+        }
+    }
+    if let Some(mu) = friction {
+        if !(mu.is_finite() && mu > 0.0) {
+            return Err(argument_error("friction", "a positive finite number", mu));
+        }
+    }
+    for (name, rectangle) in [("foot_x", foot_x), ("foot_y", foot_y)] {
+        if let Some((low, high)) = rectangle {
+            if !(low.is_finite() && high.is_finite() && low < high) {
+                let expected = "(min, max) of finite numbers with min < max (sole frame) [m]";
+                return Err(argument_error(name, expected, format!("({low}, {high})")));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// A floating-base robot with series elastic (or rigid) actuators and rigid contacts.
 ///
 /// State x = [q (nq), theta (n_e), nu (nv), thetadot (n_e)]; input u (n), per joint in
@@ -144,6 +179,7 @@ impl PyPlant {
         foot_x: Option<(f64, f64)>,
         foot_y: Option<(f64, f64)>,
     ) -> PyResult<Self> {
+        check_surface_and_gravity(gravity, friction, foot_x, foot_y)?;
         let mut rigid_model = model.model().clone();
         if let Some((gx, gy, gz)) = gravity {
             rigid_model.gravity = nalgebra::Vector3::new(gx, gy, gz);
@@ -213,7 +249,8 @@ impl PyPlant {
         self.plant.layout().nd()
     }
 
-    /// Input size n (one per joint).
+    /// Input size n, one per joint: the length of the input `u` of `dynamics(x, u)` (`u` for
+    /// input; not the velocity `nu`).
     #[getter]
     fn nu_input(&self) -> usize {
         self.plant.model.n_joints()
@@ -237,7 +274,7 @@ impl PyPlant {
         self.plant.contacts.iter().map(|c| c.name.clone()).collect()
     }
 
-    /// A state from its parts: theta defaults to s / eta (springs at rest), velocities to 0.
+    /// A state from its parts: theta defaults to s / Gamma (springs at rest), velocities to 0.
     #[pyo3(signature = (q, nu=None, theta=None, thetadot=None, joint_torques=None))]
     fn make_state<'py>(
         &self,

@@ -267,9 +267,9 @@ impl TickBench {
     }
 }
 
-/// The paper's plant: every joint a SEA (REFERENCE.md), both soles in contact, standing at the
-/// neutral posture with the springs preloaded against gravity. `None` without `l_sole` and
-/// `r_sole` frames.
+/// The paper's plant: every joint a SEA (docs/references.md#paper-simulation-results), both
+/// soles in contact, standing at the neutral posture with the springs preloaded against
+/// gravity. `None` without `l_sole` and `r_sole` frames.
 pub fn standing_sea_plant(model: &Model) -> Option<(Plant, Vec<f64>)> {
     let (left, right) = (
         model.frame_id("l_sole").ok()?,

@@ -54,6 +54,18 @@ fn with_path(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
     }
 }
 
+/// Wraps an OS error on `partial`, the file written for `target`, so that it names the path the
+/// user gave: `target (written as partial)`, the format of [`OutputFile::explain`].
+fn on_partial<'a>(
+    target: &'a Path,
+    partial: &'a Path,
+) -> impl FnOnce(std::io::Error) -> Error + 'a {
+    move |source| Error::Io {
+        path: format!("{} (written as {})", target.display(), partial.display()),
+        source,
+    }
+}
+
 /// The folder holding `path` (`.` for a bare file name).
 fn folder_of(path: &Path) -> &Path {
     match path.parent() {
@@ -119,8 +131,8 @@ fn open_locked(target: &Path, partial: &Path) -> Result<File> {
             .create(true)
             .truncate(false)
             .open(partial)
-            .map_err(with_path(partial))?;
-        let locked = FileExt::try_lock_exclusive(&file).map_err(with_path(partial))?;
+            .map_err(on_partial(target, partial))?;
+        let locked = FileExt::try_lock_exclusive(&file).map_err(on_partial(target, partial))?;
         if !locked {
             return Err(io_error(
                 target,
@@ -133,7 +145,7 @@ fn open_locked(target: &Path, partial: &Path) -> Result<File> {
             ));
         }
         if still_at(&file, partial) {
-            file.set_len(0).map_err(with_path(partial))?;
+            file.set_len(0).map_err(on_partial(target, partial))?;
             return Ok(file);
         }
     }

@@ -168,7 +168,8 @@ fn nominal_is_stable_and_independent_of_the_step() {
 
 #[test]
 fn damping_margin_at_1khz_brackets_the_simulated_boundary() {
-    // REFERENCE.md: at 1 kHz the boundary lies between x0.456 (diverges) and x0.475 (completes).
+    // docs/references.md#measured-in-this-project: at 1 kHz the boundary lies between x0.456
+    // (diverges) and x0.475 (completes).
     let boundaries = stability_margin(
         &tracking(),
         &pairs(&[]),

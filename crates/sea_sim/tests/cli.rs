@@ -503,6 +503,29 @@ fn a_missing_summary_folder_is_refused_before_the_run() {
 }
 
 #[test]
+fn an_unwritable_folder_is_an_error_naming_the_path_given() {
+    // /proc exists but takes no new files: the partial file beside the target cannot be
+    // created, and the error must name the path the user gave, not only the partial file.
+    if !Path::new("/proc").is_dir() {
+        eprintln!("no /proc here; skipped");
+        return;
+    }
+    let ws = Workspace::new("unwritable");
+    let out = sea_sim(&[
+        "run",
+        &ws.scenario(),
+        "--set",
+        SHORT_RUN,
+        "--quiet",
+        "--mcap",
+        "/proc/x.mcap",
+    ]);
+    let message = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{message}");
+    assert!(message.contains("/proc/x.mcap"), "{message}");
+}
+
+#[test]
 fn a_full_disk_is_an_error_naming_the_file_and_the_cause() {
     if !Path::new("/dev/full").exists() {
         eprintln!("no /dev/full here; skipped");

@@ -2,7 +2,7 @@
 
 mod support;
 
-use sea_ctrl::qp::QpSolveCounts;
+use sea_ctrl::qp::QpCounters;
 use sea_sim::closed_loop::build;
 use sea_sim::scenario::Scenario;
 use std::path::Path;
@@ -93,7 +93,7 @@ fn qp_wrenches_satisfy_the_constraints_and_the_momentum_task() {
         "A f - b = {residual}"
     );
     let qp = sea_ctrl::qp::WrenchQp::new(2, 6, &sea_ctrl::qp::ContactConstraints::default());
-    let (c, b) = qp.inequalities(&terms.rotations);
+    let (c, b) = qp.inequalities(&terms.contact_rotations);
     let violation = (&c * &out.wrenches - b).max();
     assert!(violation < 1e-6, "C f - b max {violation}");
     // The command is tau(f) of the reported wrenches.
@@ -175,11 +175,11 @@ fn two_feet_tick(
 #[test]
 fn skipping_clarabel_when_no_constraint_binds_gives_clarabel_s_optimum() {
     let mut wrenches = Vec::new();
-    let skipped = QpSolveCounts {
+    let skipped = QpCounters {
         unconstrained: 1,
         ..Default::default()
     };
-    let by_clarabel = QpSolveCounts {
+    let by_clarabel = QpCounters {
         clarabel: 1,
         ..Default::default()
     };
@@ -227,7 +227,7 @@ fn a_binding_constraint_goes_to_clarabel() {
         .compute(&x, &layout, &reference, &s_d)
         .unwrap();
     assert_eq!(out.qp_status, sea_ctrl::qp::QpStatus::Solved);
-    let by_clarabel = QpSolveCounts {
+    let by_clarabel = QpCounters {
         clarabel: 1,
         ..Default::default()
     };
@@ -237,7 +237,7 @@ fn a_binding_constraint_goes_to_clarabel() {
         .torque_map(&x, &layout, &reference, &s_d)
         .unwrap();
     let qp = sea_ctrl::qp::WrenchQp::new(2, 6, &setup.controller.settings().constraints);
-    let (c, b) = qp.inequalities(&terms.rotations);
+    let (c, b) = qp.inequalities(&terms.contact_rotations);
     let violation = (&c * &out.wrenches - b).max();
     assert!(violation < 1e-6, "C f - b max {violation}");
 }

@@ -1,5 +1,5 @@
-//! The hot paths of one closed-loop tick allocate nothing after a warm-up call (DESIGN.md:
-//! "Speed must not drop: do not add allocations to per-tick or per-step paths"): the plant's
+//! The hot paths of one closed-loop tick allocate nothing after a warm-up call
+//! (docs/architecture.md#rules: no allocation on per-tick or per-step paths): the plant's
 //! right-hand side (`sea_plant::evaluate`), one step of each integrator, the torque map and the
 //! controller tick, on the SEA iCub of `scenarios/paper/tracking.toml`. The counting global
 //! allocator shared with sea_dyn's test (`crates/sea_dyn/tests/counting/mod.rs`, per thread,
@@ -12,7 +12,7 @@ mod support;
 
 use counting::allocations;
 use nalgebra::DMatrix;
-use sea_ctrl::qp::QpSolveCounts;
+use sea_ctrl::qp::QpCounters;
 use sea_ctrl::torque_map::{PosturalTask, TorqueMap};
 use sea_dyn::sample::Lcg;
 use sea_dyn::Data;
@@ -144,7 +144,7 @@ fn torque_map_allocates_nothing() {
 
 /// Allocations of `ticks` controller ticks after one warm-up tick, at perturbed states; also
 /// returns the controller's QP solves by path during the counted ticks.
-fn tick_allocations(setup: &mut Setup, ticks: usize) -> (Vec<usize>, QpSolveCounts) {
+fn tick_allocations(setup: &mut Setup, ticks: usize) -> (Vec<usize>, QpCounters) {
     let layout = setup.plant.layout();
     let mut s_desired = vec![0.0; setup.model.n_joints()];
     setup.posture.at(0.0, &mut s_desired);
@@ -171,10 +171,11 @@ fn tick_allocations(setup: &mut Setup, ticks: usize) -> (Vec<usize>, QpSolveCoun
         })
         .collect();
     let after = setup.controller.qp_solves();
-    let solves = QpSolveCounts {
+    let solves = QpCounters {
         unconstrained: after.unconstrained - before.unconstrained,
         active_set: after.active_set - before.active_set,
         clarabel: after.clarabel - before.clarabel,
+        ..QpCounters::default()
     };
     (counts, solves)
 }
@@ -192,8 +193,8 @@ enum QpPath {
 
 impl QpPath {
     /// The solve counts of `ticks` ticks all on this path.
-    fn counts(self, ticks: usize) -> QpSolveCounts {
-        let mut counts = QpSolveCounts::default();
+    fn counts(self, ticks: usize) -> QpCounters {
+        let mut counts = QpCounters::default();
         match self {
             QpPath::Unconstrained => counts.unconstrained = ticks,
             QpPath::ActiveSet => counts.active_set = ticks,

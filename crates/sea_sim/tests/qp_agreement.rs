@@ -1,4 +1,4 @@
-//! The active-set QP solver (`sea_ctrl::active_set`, Goldfarb-Idnani) agrees with Clarabel,
+//! The active-set QP solver (`sea_ctrl::qp::active_set`, Goldfarb-Idnani) agrees with Clarabel,
 //! the reference (issue 12): on every tick of the paper's scenarios (shortened), with the QP
 //! solver forced on every tick (`controller.qp_unconstrained_first = false`) and the
 //! controller's cross-check on (Clarabel solves the same problem; `QpAgreement`), its wrenches
@@ -13,7 +13,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Vector3};
 use proptest::prelude::*;
 use sea_ctrl::qp::{
     momentum_tracking_objective, torque_norm_objective, ContactConstraints, QpAgreement,
-    QpSolveCounts, QpSolver, QpStatus, WrenchQp, CLARABEL_TOLERANCE,
+    QpCounters, QpSolver, QpStatus, WrenchQp, CLARABEL_TOLERANCE,
 };
 use sea_dyn::sample::Lcg;
 use sea_sim::closed_loop::{build, run_setup_with_sinks};
@@ -53,7 +53,7 @@ const DURATION_S: &str = "1.2";
 struct CrossChecked {
     name: String,
     status: String,
-    solves: QpSolveCounts,
+    solves: QpCounters,
     active_set_failures: usize,
     agreement: QpAgreement,
 }
@@ -307,7 +307,7 @@ proptest! {
         let equality = equality.as_ref().map(|(a, b)| (a, b));
         let status = qp.solve(&p, &c, equality, &rotations, None, &mut wrenches);
         prop_assert_eq!(status, QpStatus::Solved);
-        prop_assert_eq!(qp.solve_counts().active_set, 1, "the active set failed");
+        prop_assert_eq!(qp.counters().active_set, 1, "the active set failed");
         prop_assert_eq!(qp.agreement.ticks, 1, "Clarabel failed");
         let problems = agreement_problems("random QP", &qp.agreement);
         prop_assert!(problems.is_empty(), "{}", problems.join("; "));

@@ -1,10 +1,12 @@
 //! Series elastic actuators (paper, eq:elasticSystem and eq:alpha) and mixed actuation.
 //!
-//! Each joint is rigid (driven by a joint torque) or elastic: a motor of inertia `b` (motor
-//! side) drives the joint through a transmission of ratio `eta` and a spring-damper,
-//! `tau = k_s (eta theta - s) + k_d (eta thetadot - sdot)` and `b thetaddot = tau_m - eta tau`.
-//! `theta` is the motor angle (motor side), so `eta theta` is on the joint side; the reflected
-//! motor inertia is `b / eta^2`. Motor torques may be limited to `|tau_m| <= torque_limit`.
+//! Each joint is rigid (driven by a joint torque) or elastic: a motor of inertia `I_m` (motor
+//! side) drives the joint through a transmission of ratio `Gamma` and a spring-damper,
+//! `tau = K_S (Gamma theta - s) + K_D (Gamma thetadot - sdot)` and
+//! `I_m thetaddot = tau_m - Gamma tau` (the paper's notation, one joint's diagonal entry of each
+//! matrix; docs/architecture.md#state-and-conventions). `theta` is the motor angle (motor side),
+//! so `Gamma theta` is on the joint side; the reflected motor inertia is `I_m / Gamma^2`. Motor
+//! torques may be limited to `|tau_m| <= torque_limit`.
 
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -13,13 +15,13 @@ use std::collections::HashMap;
 /// Parameters of one elastic actuator.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ElasticParameters {
-    /// Transmission ratio `eta` (joint angle per motor angle), e.g. 0.01 for 1/100.
+    /// Transmission ratio `Gamma` (joint angle per motor angle), e.g. 0.01 for 1/100.
     pub ratio: f64,
-    /// Motor rotor inertia `b` [kg m^2], motor side.
+    /// Motor rotor inertia `I_m` [kg m^2], motor side.
     pub motor_inertia: f64,
-    /// Spring stiffness `k_s` [Nm/rad], joint side.
+    /// Spring stiffness `K_S` [Nm/rad], joint side.
     pub stiffness: f64,
-    /// Spring damping `k_d` [Nms/rad], joint side.
+    /// Spring damping `K_D` [Nms/rad], joint side.
     pub damping: f64,
     /// Motor torque limit [Nm], motor side; `None` for no limit.
     pub torque_limit: Option<f64>,
@@ -33,10 +35,10 @@ impl Default for ElasticParameters {
 }
 
 impl ElasticParameters {
-    /// The iCub SEA of the paper (REFERENCE.md, "The paper's experiments"): eta 1/100,
-    /// b 1e-5 kg m^2, k_s 350 Nm/rad, k_d 0.25 Nms/rad (the original code used 1), no torque
-    /// limit. The one definition of these figures: the scenario schema and the Python bindings
-    /// take their defaults from here.
+    /// The iCub SEA of the paper (docs/references.md#paper-simulation-results): `Gamma`
+    /// 1/100, `I_m` 1e-5 kg m^2, `K_S` 350 Nm/rad, `K_D` 0.25 Nms/rad (the original code used
+    /// 1), no torque limit. The one definition of these figures: the scenario schema and the
+    /// Python bindings take their defaults from here.
     pub fn paper_icub() -> Self {
         Self {
             ratio: 0.01,
@@ -49,14 +51,14 @@ impl ElasticParameters {
 
     /// The motor angle `theta` [rad, motor side] at which the spring holds the joint torque
     /// `tau` [Nm] at rest at joint angle `s` [rad]: from paper eq:alpha with zero velocities,
-    /// `tau = k_s (eta theta - s)`, so `theta = (s + tau / k_s) / eta`. With `tau = 0` the
-    /// spring is at rest, `theta = s / eta`.
+    /// `tau = K_S (Gamma theta - s)`, so `theta = (s + tau / K_S) / Gamma`. With `tau = 0` the
+    /// spring is at rest, `theta = s / Gamma`.
     pub fn preloaded_motor_angle(&self, s: f64, tau: f64) -> f64 {
         (s + tau / self.stiffness) / self.ratio
     }
 
     /// Motor reflected inertia, paper remark1 (eq:equivJoints): the joint-side diagonal entry
-    /// of `Gamma^-1 I_m Gamma^-1`, `b / eta^2` [kg m^2], which a rigid model of this joint adds
+    /// of `Gamma^-1 I_m Gamma^-1`, `I_m / Gamma^2` [kg m^2], which a rigid model of this joint adds
     /// to `M_j`.
     pub fn reflected_inertia(&self) -> f64 {
         self.motor_inertia / (self.ratio * self.ratio)

@@ -2,7 +2,7 @@
 //!
 //! One definition shared by the plant (margins of the simulated wrenches), the controller
 //! (the QP's contact constraints, paper frictionCones) and the scenario schema; its defaults are
-//! the original study's (REFERENCE.md, "The original MATLAB study", QP bullet).
+//! the original study's (docs/references.md#original-study-contact-wrench-qp).
 
 /// Friction coefficients and foot rectangle of one sole, sole frame (x forward, z normal).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -18,8 +18,8 @@ pub struct ContactSurface {
 }
 
 impl Default for ContactSurface {
-    /// The original study's iCub sole (REFERENCE.md): mu = 1, mu_t = 2/150 m,
-    /// x in [-0.05, 0.10] m, y in [-0.025, 0.025] m.
+    /// The original study's iCub sole (docs/references.md#original-study-contact-wrench-qp):
+    /// mu = 1, mu_t = 2/150 m, x in [-0.05, 0.10] m, y in [-0.025, 0.025] m.
     fn default() -> Self {
         Self {
             friction: 1.0,

@@ -8,7 +8,7 @@
 //! Defaults are written once, in the domain types: each table's `Default` impl is built from
 //! [`ElasticParameters::default`], [`ContactConstraints::default`],
 //! [`Plant::DEFAULT_BAUMGARTE_KP`], [`sea_dyn::critical_damping`] and the iCub data of
-//! [`presets`] (REFERENCE.md), and every table is `#[serde(default)]`, so a missing key takes
+//! [`presets`] (docs/references.md), and every table is `#[serde(default)]`, so a missing key takes
 //! the table's default.
 
 pub mod build;
@@ -56,8 +56,9 @@ pub enum InitialSprings {
     #[default]
     Preloaded,
     /// Undeflected (`Gamma theta = s`): the controller must first load the springs, the
-    /// original study's start of the saturation experiment (REFERENCE.md), which drives the
-    /// large initial motor velocity peak the paper shows.
+    /// original study's start of the saturation experiment
+    /// (docs/references.md#original-study-experiments), which drives the large initial motor
+    /// velocity peak the paper shows.
     AtRest,
 }
 
@@ -79,13 +80,13 @@ fn left_stance() -> toml::Value {
 pub struct ActuatorConfig {
     /// "elastic" or "rigid".
     pub kind: String,
-    /// Transmission ratio eta.
+    /// Transmission ratio `Gamma` (joint angle per motor angle).
     pub ratio: f64,
-    /// Motor inertia [kg m^2].
+    /// Motor inertia `I_m` [kg m^2], motor side.
     pub motor_inertia: f64,
-    /// Stiffness [Nm/rad].
+    /// Stiffness `K_S` [Nm/rad].
     pub stiffness: f64,
-    /// Damping [Nms/rad].
+    /// Damping `K_D` [Nms/rad].
     pub damping: f64,
     /// Motor torque limit [Nm], motor side.
     pub torque_limit: Option<f64>,
@@ -367,7 +368,7 @@ impl ContactConfig {
 
 /// `[reference]`: the CoM sinusoid `origin + (1 - exp(-t / smooth_start)) A sin(2 pi f t)
 /// direction` and the postural step (defaults: no motion; the direction and the 1 s smooth
-/// start are the original study's, REFERENCE.md "CoM reference").
+/// start are the original study's, docs/references.md#original-study-com-reference).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ReferenceConfig {

@@ -1,9 +1,10 @@
-//! The iCub of the paper and of the original study (REFERENCE.md): its 25 joints, initial
+//! The iCub of the paper and of the original study (docs/references.md): its 25 joints, initial
 //! postures, contact frames, postural stiffness by joint group, momentum gains and the
 //! study's settings of the plant and the controller. The one place these figures are written:
 //! the scenario schema's defaults, the scenario builder and the Python bindings read them here.
 
-/// The 25 iCub joints of the paper, in REFERENCE.md's order (the original study's order).
+/// The 25 iCub joints of the paper, in the original study's order
+/// (docs/references.md#original-study-joints-and-contacts).
 pub const ICUB25_JOINTS: [&str; 25] = [
     "torso_pitch",
     "torso_roll",
@@ -45,28 +46,33 @@ pub const ICUB_TWO_FEET_DEG: [f64; 25] = [
     -18.5, -5.5, 0.0, 25.5, 0.0, 0.0, -18.5, -5.5, 0.0,
 ];
 
-/// Contact frames of the one-foot demos: the left sole is the stance foot (REFERENCE.md).
+/// Contact frames of the one-foot demos: the left sole is the stance foot
+/// (docs/references.md#original-study-joints-and-contacts).
 pub const ICUB_STANCE_CONTACTS: [&str; 1] = ["l_sole"];
 
-/// Motor velocity loop gain `K_m` [1/s] of the original study (REFERENCE.md, "SEA").
+/// Motor velocity loop gain `K_m` [1/s] of the original study
+/// (docs/references.md#original-study-sea-parameters).
 pub const ICUB_MOTOR_VELOCITY_GAIN: f64 = 200.0;
 
 /// Added to the joint block of `M` [kg m^2] in plant and controller by the original study
-/// (REFERENCE.md, "Plant"); without it the light wrists turn tiny torque errors into large
-/// accelerations.
+/// (docs/references.md#original-study-plant); without it the light wrists turn tiny torque
+/// errors into large accelerations.
 pub const ICUB_JOINT_INERTIA_REGULARIZATION: f64 = 0.1;
 
 /// The original study divides the postural stiffness of [`icub_postural_stiffness`] by 5
-/// (REFERENCE.md, "Postural stiffness").
+/// (docs/references.md#original-study-postural-task).
 pub const ICUB_POSTURAL_SCALE: f64 = 0.2;
 
-/// Damping of the pseudo-inverse of `Lambda` in the original study (REFERENCE.md, "QP").
+/// Damping of the pseudo-inverse of `Lambda` in the original study
+/// (docs/references.md#original-study-contact-wrench-qp).
 pub const ICUB_PINV_DAMPING: f64 = 5e-4;
 
-/// QP Hessian regulariser of the original study (REFERENCE.md, "QP").
+/// QP Hessian regulariser of the original study
+/// (docs/references.md#original-study-contact-wrench-qp).
 pub const ICUB_QP_REGULARIZATION: f64 = 1e-3;
 
-/// Momentum integral gains `K_i` of the original study (REFERENCE.md, "Momentum gains"),
+/// Momentum integral gains `K_i` of the original study
+/// (docs/references.md#original-study-momentum-gains),
 /// linear xyz then angular xyz: one foot integral CoM diag(6, 7, 6) and angular
 /// diag(0.5, 1, 0.5); two feet diag(40, 45, 40) and diag(1, 5, 1). The proportional gains
 /// default to their critical damping ([`sea_dyn::critical_damping`]).
@@ -78,9 +84,10 @@ pub fn icub_momentum_integral(one_foot: bool) -> [f64; 6] {
     }
 }
 
-/// Postural stiffness of joint `name` by group, before [`ICUB_POSTURAL_SCALE`] (REFERENCE.md,
-/// "Postural stiffness", one foot): torso [10 15 10], each arm [5 5 5 2.5 2.5], a leg whose sole
-/// is in `contacts` [15 15 15 15 5 5], a swing leg [10 10 15 15 5 5]; any other joint 5.
+/// Postural stiffness of joint `name` by group, before [`ICUB_POSTURAL_SCALE`] (one foot,
+/// docs/references.md#original-study-postural-task): torso [10 15 10], each arm
+/// [5 5 5 2.5 2.5], a leg whose sole is in `contacts` [15 15 15 15 5 5], a swing leg
+/// [10 10 15 15 5 5]; any other joint 5.
 pub fn icub_postural_stiffness(name: &str, contacts: &[String]) -> f64 {
     const LEG: [&str; 6] = [
         "hip_pitch",
