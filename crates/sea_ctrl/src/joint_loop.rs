@@ -24,7 +24,7 @@
 //! loop: 665 Hz; the whole robot's linearisation: 673 Hz), which no 100 Hz whole-body loop
 //! can hold. Here the loop runs at the inner rate with `omega_t` well below it and below
 //! `K_m`, as on real SEA joints, whose torque loops reach 20 to 70 Hz
-//! (docs/references.md, "Control rates of real SEA humanoids").
+//! (docs/references.md, "Control rates of real robots").
 //!
 //! [`DEFAULT_TORQUE_BANDWIDTH`] is 2 pi 20 Hz: with `K_m = 200 1/s` the poles are
 //! `-100 +- 123i` (damping ratio 0.63, 25 Hz natural frequency), and the loop sampled at
