@@ -116,6 +116,19 @@ impl PlantData {
     }
 }
 
+/// The dynamics a scheme sees: `eval(workspace, outputs, offset, x_stage)` evaluates the stage
+/// at time offset `offset` from the step start and state `x_stage`, writing the derivative
+/// (and the other outputs) into `outputs`.
+trait StageEvaluation<E>:
+    FnMut(&mut Workspace, &mut PlantOutputs, f64, &[f64]) -> std::result::Result<(), E>
+{
+}
+
+impl<E, F> StageEvaluation<E> for F where
+    F: FnMut(&mut Workspace, &mut PlantOutputs, f64, &[f64]) -> std::result::Result<(), E>
+{
+}
+
 /// `gamma` of ROS2.
 const GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
 
@@ -169,16 +182,14 @@ pub fn step_with_feedback<E: From<Error>>(
     step_with(plant, pd, x, dt, method, &mut feedback, x_out)
 }
 
-/// One step whose dynamics at each stage come from `eval(workspace, outputs, offset,
-/// x_stage)`: the stage's time offset from the step start and its state; `eval` writes the
-/// derivative (and the other outputs) into `outputs`.
+/// One step whose dynamics at each stage come from `eval` ([`StageEvaluation`]).
 fn step_with<E: From<Error>>(
     plant: &Plant,
     pd: &mut PlantData,
     x: &[f64],
     dt: f64,
     method: Method,
-    eval: &mut impl FnMut(&mut Workspace, &mut PlantOutputs, f64, &[f64]) -> std::result::Result<(), E>,
+    eval: &mut impl StageEvaluation<E>,
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
     match method {
@@ -193,7 +204,7 @@ fn ros2<E: From<Error>>(
     pd: &mut PlantData,
     x: &[f64],
     dt: f64,
-    eval: &mut impl FnMut(&mut Workspace, &mut PlantOutputs, f64, &[f64]) -> std::result::Result<(), E>,
+    eval: &mut impl StageEvaluation<E>,
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
     implicit_first_stage(plant, pd, x, GAMMA * dt, eval)?;
@@ -229,7 +240,7 @@ fn implicit_euler<E: From<Error>>(
     pd: &mut PlantData,
     x: &[f64],
     dt: f64,
-    eval: &mut impl FnMut(&mut Workspace, &mut PlantOutputs, f64, &[f64]) -> std::result::Result<(), E>,
+    eval: &mut impl StageEvaluation<E>,
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
     implicit_first_stage(plant, pd, x, dt, eval)?;
@@ -245,7 +256,7 @@ fn implicit_first_stage<E: From<Error>>(
     pd: &mut PlantData,
     x: &[f64],
     g: f64,
-    eval: &mut impl FnMut(&mut Workspace, &mut PlantOutputs, f64, &[f64]) -> std::result::Result<(), E>,
+    eval: &mut impl StageEvaluation<E>,
 ) -> std::result::Result<(), E> {
     let PlantData {
         workspace: ws,
@@ -288,7 +299,7 @@ fn rk4<E: From<Error>>(
     pd: &mut PlantData,
     x: &[f64],
     dt: f64,
-    eval: &mut impl FnMut(&mut Workspace, &mut PlantOutputs, f64, &[f64]) -> std::result::Result<(), E>,
+    eval: &mut impl StageEvaluation<E>,
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
     let tangent = plant.layout().tangent();
