@@ -60,5 +60,5 @@ pub use kinematics::{
 pub use model::{Frame, FrameId, Joint, JointKind, Model};
 pub use rnea::{bias_forces, gravity_forces, rnea};
 pub use split::CentroidalSplit;
-pub use state::StateLayout;
+pub use state::{StateLayout, TangentBlocks, TangentLayout};
 pub use urdf::LoadOptions;

@@ -1,14 +1,7 @@
 //! Rigid contacts: held frames, their Baumgarte-stabilised acceleration constraint (paper
 //! eq:constraints_acc) and the margins of the simulated wrenches.
 
-use crate::dynamics::PlantData;
-use crate::plant::Plant;
-use nalgebra::{Matrix3, Vector3, Vector6};
-use sea_dyn::dense::copy_into_rows;
-use sea_dyn::jacobian::{
-    frame_bias_acceleration_after_bias_forces, frame_jacobian_from_kinematics,
-};
-use sea_dyn::kinematics::frame_placement;
+use nalgebra::{Matrix3, Vector3};
 use sea_dyn::model::FrameId;
 use sea_dyn::spatial::Pose;
 
@@ -28,8 +21,18 @@ pub struct Contact {
     pub reference: Pose,
 }
 
+impl Contact {
+    /// The pose error of the frame at `pose` from its reference, world axes: the position
+    /// error `p - p_ref` [m] and the rotation error ([`rotation_error`], [rad]).
+    pub fn pose_error(&self, pose: &Pose) -> (Vector3<f64>, Vector3<f64>) {
+        let position_error = pose.translation - self.reference.translation;
+        let rotation_err = rotation_error(&pose.rotation, &self.reference.rotation);
+        (position_error, rotation_err)
+    }
+}
+
 /// Rotation error `vee(R R_ref^T - R_ref R^T) / 2` (the rotation vector for small errors).
-fn rotation_error(r: &Matrix3<f64>, r_ref: &Matrix3<f64>) -> Vector3<f64> {
+pub fn rotation_error(r: &Matrix3<f64>, r_ref: &Matrix3<f64>) -> Vector3<f64> {
     let d = r * r_ref.transpose();
     Vector3::new(
         d[(2, 1)] - d[(1, 2)],
@@ -80,52 +83,4 @@ pub fn sole_margins(
 /// of the numerically integrated constraint back to zero.
 pub fn constraint_acceleration(jdot_nu: f64, j_nu: f64, error: f64, kd: f64, kp: f64) -> f64 {
     -(jdot_nu + kd * j_nu + kp * error)
-}
-
-/// Contact Jacobian, `M^-1 J^T`, Schur complement and the Baumgarte acceleration target
-/// `-(Jdot nu + K_d J nu + K_p e)` (into `constraint_rhs`), plus the drift. With `adopted`, `J`,
-/// `L^-T J^T`, the Schur complement and `Jdot nu` are already in `pd`
-/// ([`PlantData::adopt_contact_terms`]); only the pose errors and the target are computed.
-pub(crate) fn contact_terms(plant: &Plant, pd: &mut PlantData, nu: &[f64], adopted: bool) {
-    let model = &plant.model;
-    pd.drift_position = 0.0;
-    pd.drift_rotation = 0.0;
-    for (c, contact) in plant.contacts.iter().enumerate() {
-        let bias = if adopted {
-            pd.adopted_jdot_nu.fixed_rows::<6>(6 * c).into_owned()
-        } else {
-            frame_jacobian_from_kinematics(model, &mut pd.data, contact.frame);
-            copy_into_rows(&mut pd.contact_jacobian, 6 * c, &pd.data.frame_jacobian);
-            // `evaluate` ran `bias_forces` at this state just before.
-            frame_bias_acceleration_after_bias_forces(model, &pd.data, contact.frame)
-        };
-        let pose = frame_placement(model, &pd.data, contact.frame);
-        let position_error = pose.translation - contact.reference.translation;
-        let rotation_err = rotation_error(&pose.rotation, &contact.reference.rotation);
-        pd.drift_position = pd.drift_position.max(position_error.norm());
-        pd.drift_rotation = pd.drift_rotation.max(rotation_err.norm());
-        // J nu column by column (contiguous 6-vectors of the column-major Jacobian's rows).
-        let mut frame_velocity = Vector6::zeros();
-        for (i, &nu_i) in nu.iter().enumerate() {
-            frame_velocity += pd.contact_jacobian.fixed_view::<6, 1>(6 * c, i) * nu_i;
-        }
-        for r in 0..6 {
-            let error = if r < 3 {
-                position_error[r]
-            } else {
-                rotation_err[r - 3]
-            };
-            pd.constraint_rhs[6 * c + r] = constraint_acceleration(
-                bias[r],
-                frame_velocity[r],
-                error,
-                plant.baumgarte_kd,
-                plant.baumgarte_kp,
-            );
-        }
-    }
-    if !adopted {
-        pd.mass_factor
-            .schur_complement(&pd.contact_jacobian, &mut pd.linv_jt_t, &mut pd.schur);
-    }
 }

@@ -1,34 +1,44 @@
 //! `sea_plant`: the robot with series elastic actuators (SEA) in rigid contact, as a
 //! dynamical system.
 //!
+//! Modules, each importing only those listed before it (no cycle):
+//! - [`error`]: the error type (`sea_dyn`'s);
+//! - [`actuation`]: the elastic coupling (paper eq:alpha), the motor dynamics (eq:motors) and
+//!   the motor velocity loop (eq:tauMotors), per joint;
+//! - [`contact`]: rigid contacts, their pose error, the Baumgarte-stabilised constraint
+//!   (eq:constraints_acc) and the margins of a wrench;
 //! - [`plant`]: the plant's description ([`Plant`]: model, actuation, contacts, gains) and its
 //!   state layout `x = [q; theta; nu; thetadot]`;
-//! - [`actuation`]: the elastic coupling (paper eq:alpha), the motor dynamics (eq:motors) and
-//!   the motor velocity loop (eq:tauMotors);
-//! - [`contact`]: rigid contacts with Baumgarte stabilisation (eq:constraints_acc) and the
-//!   margins of the simulated wrenches;
-//! - [`dynamics`]: one evaluation of the forward dynamics ([`evaluate`]) into [`PlantData`];
-//! - [`integrator`]: fixed-step integrators on the state manifold (ROS2 Rosenbrock-W,
-//!   linearly implicit Euler, RK4), with the W-matrix solve in `integrator/w_matrix.rs`;
+//! - [`workspace`]: the evaluation's buffers ([`Workspace`], grouped by the stage that computes
+//!   them) and its outputs ([`PlantOutputs`]); declarations only;
 //! - [`manifold`]: the retraction `x (+) dx` and the state-vector derivative;
+//! - [`equilibrium`]: static torques and the spring preload holding a configuration at rest;
+//! - [`evaluation`]: one evaluation of the forward dynamics ([`evaluate`]) into a workspace and
+//!   the caller's outputs, and the hand-over of terms computed elsewhere;
+//! - [`integrator`]: fixed-step integrators on the state manifold (ROS2 Rosenbrock-W,
+//!   linearly implicit Euler, RK4) with their own buffers ([`IntegratorCache`], the W-matrix
+//!   in `integrator/w_matrix.rs`), and [`PlantData`], what stepping one plant needs;
 //! - [`simulate`]: the native loop with a held input.
 
 #![forbid(unsafe_code)]
 
 pub mod actuation;
 pub mod contact;
-pub mod dynamics;
+pub mod equilibrium;
 pub mod error;
+pub mod evaluation;
 pub mod integrator;
 pub mod manifold;
 pub mod plant;
 pub mod simulate;
+pub mod workspace;
 
 pub use contact::{sole_margins, Contact, ContactLimits, WrenchMargins};
-pub use dynamics::{evaluate, PlantData};
 pub use error::{Error, Result};
-pub use integrator::{step, Method};
+pub use evaluation::evaluate;
+pub use integrator::{step, step_with_feedback, IntegratorCache, Method, PlantData};
 pub use manifold::{retract, state_derivative};
 pub use plant::{MotorInput, Plant};
-pub use sea_dyn::StateLayout;
+pub use sea_dyn::{StateLayout, TangentLayout};
 pub use simulate::{simulate, SimulationLog, Status};
+pub use workspace::{PlantOutputs, Workspace};

@@ -16,8 +16,9 @@
 //!   wrenches `[force; moment about the frame origin]`, world axes, the Lagrange multipliers.
 //!   Solved with `M = L L^T` and the Schur complement `J M^-1 J^T` (k x k).
 
-use crate::contact::{Contact, ContactLimits};
+use crate::contact::{sole_margins, Contact, ContactLimits, WrenchMargins};
 use crate::error::{Error, Result};
+use nalgebra::Vector3;
 use sea_dyn::actuator::Actuation;
 use sea_dyn::data::Data;
 use sea_dyn::error::check_vector;
@@ -83,6 +84,33 @@ impl Plant {
     /// State layout.
     pub fn layout(&self) -> StateLayout {
         StateLayout::new(&self.model, &self.actuation)
+    }
+
+    /// The diagonal added to `M` (nv): the joint inertia regularisation on the joints, zero on
+    /// the base.
+    pub fn joint_diagonal(&self, diagonal: &mut [f64]) {
+        diagonal[..6].fill(0.0);
+        diagonal[6..].fill(self.joint_inertia_regularization);
+    }
+
+    /// Margins of each contact's wrench in `contact_wrench` (k, e.g.
+    /// [`crate::PlantOutputs::contact_wrench`]) at state `x`, in its sole frame.
+    pub fn wrench_margins(&self, x: &[f64], contact_wrench: &[f64]) -> Vec<WrenchMargins> {
+        let mut data = Data::new(&self.model);
+        sea_dyn::kinematics::forward_kinematics(&self.model, &mut data, &x[..self.model.nq()]);
+        let w = contact_wrench;
+        self.contacts
+            .iter()
+            .enumerate()
+            .map(|(c, contact)| {
+                let rotation = frame_placement(&self.model, &data, contact.frame).rotation;
+                let force =
+                    rotation.transpose() * Vector3::new(w[6 * c], w[6 * c + 1], w[6 * c + 2]);
+                let moment =
+                    rotation.transpose() * Vector3::new(w[6 * c + 3], w[6 * c + 4], w[6 * c + 5]);
+                sole_margins(&force, &moment, &self.contact_limits)
+            })
+            .collect()
     }
 
     /// Sets the contact frames, each held at its pose in configuration `q`.

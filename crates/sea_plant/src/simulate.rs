@@ -2,9 +2,9 @@
 //! outputs. Divergence (a failed step or a non-finite or exploding state) stops the run with
 //! a status and the time it happened; everything recorded until then is kept.
 
-use crate::dynamics::PlantData;
 use crate::error::Result;
-use crate::integrator::{step, Method};
+use crate::evaluation::evaluate;
+use crate::integrator::{step, Method, PlantData};
 use crate::plant::Plant;
 
 /// How a simulation ended.
@@ -68,7 +68,11 @@ pub fn simulate(
     plant.check_state(x0)?;
     plant.check_input(u)?;
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(crate::Error::invalid("dt", "a positive finite number", dt));
+        return Err(crate::error::Error::invalid(
+            "dt",
+            "a positive finite number",
+            dt,
+        ));
     }
     let record_every = record_every.max(1);
     let rows = (n_steps / record_every).saturating_add(2);
@@ -88,7 +92,7 @@ pub fn simulate(
         let time = k as f64 * dt;
         let last = k == n_steps;
         let outcome = if last {
-            crate::dynamics::evaluate(plant, pd, &x, u)
+            evaluate(plant, &mut pd.workspace, &x, u, &mut pd.outputs)
         } else {
             step(plant, pd, &x, u, dt, method, &mut x_next)
         };
@@ -136,7 +140,7 @@ fn reserve_rows(log: &mut SimulationLog, rows: usize, nx: usize, plant: &Plant) 
     ];
     let too_large = || {
         let bytes = widths.iter().sum::<usize>() as f64 * rows as f64 * 8.0;
-        crate::Error::invalid(
+        crate::error::Error::invalid(
             "n_steps",
             "a record that fits in memory (raise record_every)",
             format!("{rows} rows, {:.3e} bytes", bytes),
@@ -167,19 +171,20 @@ fn record_interrupted(
     log: &mut SimulationLog,
     time: f64,
 ) -> Result<()> {
-    crate::dynamics::evaluate(plant, pd, x, u)?;
+    evaluate(plant, &mut pd.workspace, x, u, &mut pd.outputs)?;
     push_row(log, pd, time, x);
     Ok(())
 }
 
-/// Appends the row of state `x` at `time` with the outputs last evaluated into `pd`.
+/// Appends the row of state `x` at `time` with the outputs last evaluated into `pd.outputs`.
 fn push_row(log: &mut SimulationLog, pd: &PlantData, time: f64, x: &[f64]) {
+    let outputs = &pd.outputs;
     log.time.push(time);
     log.state.extend_from_slice(x);
     log.contact_wrench
-        .extend_from_slice(pd.contact_wrench.as_slice());
+        .extend_from_slice(outputs.contact_wrench.as_slice());
     log.motor_torque
-        .extend_from_slice(pd.motor_torque.as_slice());
-    log.drift_position.push(pd.drift_position);
-    log.drift_rotation.push(pd.drift_rotation);
+        .extend_from_slice(outputs.motor_torque.as_slice());
+    log.drift_position.push(outputs.drift_position);
+    log.drift_rotation.push(outputs.drift_rotation);
 }

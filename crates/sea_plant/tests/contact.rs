@@ -129,11 +129,11 @@ fn pose_errors(plant: &Plant, q: &[f64]) -> (DVector<f64>, Vec<Vector3<f64>>) {
 fn check_multipliers(name: &str, plant: &Plant, x: &[f64], u: &[f64]) {
     let (model, layout) = (&plant.model, plant.layout());
     let (q, nu) = (layout.q(x), layout.nu(x));
-    let (nv, n) = (model.nv(), model.n_joints());
+    let n = model.n_joints();
     let mut pd = PlantData::new(plant);
-    evaluate(plant, &mut pd, x, u).unwrap();
-    let nudot = pd.xdot.rows(nv + layout.ne, nv).into_owned();
-    let f = &pd.contact_wrench;
+    evaluate(plant, &mut pd.workspace, x, u, &mut pd.outputs).unwrap();
+    let nudot = DVector::from_column_slice(layout.tangent().dnu(pd.outputs.xdot.as_slice()));
+    let f = &pd.outputs.contact_wrench;
     let mut data = Data::new(model);
 
     // M nudot + h = B tau + J^T f.
@@ -142,7 +142,7 @@ fn check_multipliers(name: &str, plant: &Plant, x: &[f64], u: &[f64]) {
     let (jacobian, jdot_nu) = contact_kinematics(plant, q, nu);
     let mut generalized = jacobian.transpose() * f;
     for j in 0..n {
-        generalized[6 + j] += pd.joint_torque[j];
+        generalized[6 + j] += pd.outputs.joint_torque[j];
     }
     let lhs = &m * &nudot + &h;
     let dynamics = (&lhs - &generalized).amax() / lhs.amax().max(generalized.amax());
@@ -221,10 +221,10 @@ fn motor_residual(plant: &Plant, pd: &PlantData, x: &[f64], u: &[f64]) -> f64 {
         let tau = p.stiffness * (p.ratio * theta[e] - s[j])
             + p.damping * (p.ratio * thetadot[e] - sdot[j]);
         let tau_m = -p.motor_inertia * gain * (thetadot[e] - u[j]) + p.ratio * tau;
-        let thetaddot = pd.xdot[2 * layout.nv + layout.ne + e];
+        let thetaddot = layout.tangent().dthetadot(pd.outputs.xdot.as_slice())[e];
         worst = worst
-            .max((pd.joint_torque[j] - tau).abs() / tau.abs().max(1e-3))
-            .max((pd.motor_torque[e] - tau_m).abs() / tau_m.abs().max(1e-6))
+            .max((pd.outputs.joint_torque[j] - tau).abs() / tau.abs().max(1e-3))
+            .max((pd.outputs.motor_torque[e] - tau_m).abs() / tau_m.abs().max(1e-6))
             .max(
                 (p.motor_inertia * thetaddot - (tau_m - p.ratio * tau)).abs()
                     / (p.ratio * tau).abs().max(1e-6),
@@ -317,20 +317,58 @@ fn the_step_leaves_the_step_start_outputs_in_plant_data() {
     let x = perturbed_state(&plant, &q, &mut rng);
     let u = vec![0.0; plant.model.n_joints()];
     let mut reference = PlantData::new(&plant);
-    evaluate(&plant, &mut reference, &x, &u).unwrap();
+    evaluate(
+        &plant,
+        &mut reference.workspace,
+        &x,
+        &u,
+        &mut reference.outputs,
+    )
+    .unwrap();
     for method in [Method::Ros2, Method::LinearlyImplicitEuler, Method::Rk4] {
         let mut pd = PlantData::new(&plant);
         let mut next = x.clone();
         step(&plant, &mut pd, &x, &u, 1e-3, method, &mut next).unwrap();
-        assert_eq!(pd.contact_wrench, reference.contact_wrench, "{method:?}");
-        assert_eq!(pd.motor_torque, reference.motor_torque, "{method:?}");
-        assert_eq!(pd.joint_torque, reference.joint_torque, "{method:?}");
+        assert_eq!(
+            pd.outputs.contact_wrench, reference.outputs.contact_wrench,
+            "{method:?}"
+        );
+        assert_eq!(
+            pd.outputs.motor_torque, reference.outputs.motor_torque,
+            "{method:?}"
+        );
+        assert_eq!(
+            pd.outputs.joint_torque, reference.outputs.joint_torque,
+            "{method:?}"
+        );
+        // All of them, the derivative, saturation and drift included.
+        assert_eq!(pd.outputs, reference.outputs, "{method:?}");
     }
 }
 
 #[test]
+fn preloaded_springs_hold_the_standing_robot_at_rest() {
+    // `equilibrium::static_motor_angles`: the springs transmit the static torques, so the
+    // robot at rest on both feet (motor velocity loop, zero desired velocity) does not move.
+    let (plant, q) = icub_standing();
+    let nv = plant.model.nv();
+    let u = vec![0.0; plant.model.n_joints()];
+    let theta = sea_plant::equilibrium::static_motor_angles(&plant, &q).unwrap();
+    let acceleration_at = |theta: Option<&[f64]>| {
+        let x = plant.make_state(&q, &vec![0.0; nv], theta, None).unwrap();
+        let mut pd = PlantData::new(&plant);
+        evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).unwrap();
+        pd.outputs.xdot.amax()
+    };
+    let preloaded = acceleration_at(Some(&theta));
+    let unloaded = acceleration_at(None);
+    assert!(preloaded < 1e-8, "preloaded springs: |xdot| {preloaded:e}");
+    assert!(unloaded > 1.0, "springs at rest: |xdot| {unloaded:e}");
+}
+
+#[test]
 fn adopted_model_terms_give_the_same_evaluation_and_only_at_their_state() {
-    // `PlantData::adopt_model_terms`: the closed loop hands the controller's kinematics, bias
+    // `Workspace::adopt_model_terms`: the closed loop hands the controller's kinematics, bias
     // forces and M (computed at the same state with an equal model) to the plant's next
     // evaluation. The result must be bitwise the evaluation without them; at another state
     // they must not be used.
@@ -349,25 +387,40 @@ fn adopted_model_terms_give_the_same_evaluation_and_only_at_their_state() {
         data
     };
     let mut reference = PlantData::new(&plant);
-    evaluate(&plant, &mut reference, &x, &u).unwrap();
+    evaluate(
+        &plant,
+        &mut reference.workspace,
+        &x,
+        &u,
+        &mut reference.outputs,
+    )
+    .unwrap();
     let mut pd = PlantData::new(&plant);
-    pd.adopt_model_terms(&terms_at(&x), &layout, &x);
-    evaluate(&plant, &mut pd, &x, &u).unwrap();
-    assert_eq!(pd.xdot, reference.xdot);
-    assert_eq!(pd.contact_wrench, reference.contact_wrench);
+    pd.workspace.adopt_model_terms(&terms_at(&x), &layout, &x);
+    evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).unwrap();
+    assert_eq!(pd.outputs.xdot, reference.outputs.xdot);
+    assert_eq!(pd.outputs.contact_wrench, reference.outputs.contact_wrench);
     // Terms of another state offered for x: ignored (x's own terms are computed).
     let mut pd = PlantData::new(&plant);
-    pd.adopt_model_terms(&terms_at(&other), &layout, &other);
-    evaluate(&plant, &mut pd, &x, &u).unwrap();
-    assert_eq!(pd.xdot, reference.xdot);
+    pd.workspace
+        .adopt_model_terms(&terms_at(&other), &layout, &other);
+    evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).unwrap();
+    assert_eq!(pd.outputs.xdot, reference.outputs.xdot);
     // Used once: a second evaluation elsewhere and back computes its own.
     let mut pd = PlantData::new(&plant);
-    pd.adopt_model_terms(&terms_at(&x), &layout, &x);
-    evaluate(&plant, &mut pd, &x, &u).unwrap();
-    evaluate(&plant, &mut pd, &other, &u).unwrap();
+    pd.workspace.adopt_model_terms(&terms_at(&x), &layout, &x);
+    evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).unwrap();
+    evaluate(&plant, &mut pd.workspace, &other, &u, &mut pd.outputs).unwrap();
     let mut at_other = PlantData::new(&plant);
-    evaluate(&plant, &mut at_other, &other, &u).unwrap();
-    assert_eq!(pd.xdot, at_other.xdot);
+    evaluate(
+        &plant,
+        &mut at_other.workspace,
+        &other,
+        &u,
+        &mut at_other.outputs,
+    )
+    .unwrap();
+    assert_eq!(pd.outputs.xdot, at_other.outputs.xdot);
 
     // The contact terms too (factor of M + diag, J, Jdot nu, L^-T J^T, J M^-1 J^T), computed
     // here from sea_dyn as a controller with the plant's diagonal and contacts would.
@@ -405,11 +458,11 @@ fn adopted_model_terms_give_the_same_evaluation_and_only_at_their_state() {
         schur: &schur,
     };
     let mut pd = PlantData::new(&plant);
-    pd.adopt_model_terms(&data, &layout, &x);
-    assert!(pd.adopt_contact_terms(&plant, &contacts));
-    evaluate(&plant, &mut pd, &x, &u).unwrap();
-    assert_eq!(pd.xdot, reference.xdot);
-    assert_eq!(pd.contact_wrench, reference.contact_wrench);
+    pd.workspace.adopt_model_terms(&data, &layout, &x);
+    assert!(pd.workspace.adopt_contact_terms(&plant, &contacts));
+    evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).unwrap();
+    assert_eq!(pd.outputs.xdot, reference.outputs.xdot);
+    assert_eq!(pd.outputs.contact_wrench, reference.outputs.contact_wrench);
     // They are really used: a different Schur complement handed over changes the result.
     let doubled = &schur * 2.0;
     let tampered = sea_dyn::tree_factor::FactoredContacts {
@@ -417,10 +470,10 @@ fn adopted_model_terms_give_the_same_evaluation_and_only_at_their_state() {
         ..contacts
     };
     let mut pd = PlantData::new(&plant);
-    pd.adopt_model_terms(&data, &layout, &x);
-    assert!(pd.adopt_contact_terms(&plant, &tampered));
-    evaluate(&plant, &mut pd, &x, &u).unwrap();
-    assert_ne!(pd.contact_wrench, reference.contact_wrench);
+    pd.workspace.adopt_model_terms(&data, &layout, &x);
+    assert!(pd.workspace.adopt_contact_terms(&plant, &tampered));
+    evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).unwrap();
+    assert_ne!(pd.outputs.contact_wrench, reference.outputs.contact_wrench);
     // Another diagonal (a controller with the motor reflected inertia): refused.
     let mut other_diagonal = diagonal.clone();
     other_diagonal[7] += 0.01;
@@ -429,8 +482,8 @@ fn adopted_model_terms_give_the_same_evaluation_and_only_at_their_state() {
         ..contacts
     };
     let mut pd = PlantData::new(&plant);
-    pd.adopt_model_terms(&data, &layout, &x);
-    assert!(!pd.adopt_contact_terms(&plant, &refused));
-    evaluate(&plant, &mut pd, &x, &u).unwrap();
-    assert_eq!(pd.xdot, reference.xdot);
+    pd.workspace.adopt_model_terms(&data, &layout, &x);
+    assert!(!pd.workspace.adopt_contact_terms(&plant, &refused));
+    evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).unwrap();
+    assert_eq!(pd.outputs.xdot, reference.outputs.xdot);
 }

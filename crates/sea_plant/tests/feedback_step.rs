@@ -11,7 +11,7 @@
 
 use sea_dyn::{Actuation, Actuator, ElasticParameters, LoadOptions, Model};
 use sea_plant::integrator::step_with_feedback;
-use sea_plant::{step, Method, MotorInput, Plant, PlantData};
+use sea_plant::{step, Method, MotorInput, Plant, PlantData, Workspace};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -53,7 +53,7 @@ fn a_constant_law_is_the_held_input_step() {
         let (mut x_held, mut x_law) = (x.clone(), x.clone());
         step(&plant, &mut pd, &x, &held, 1e-3, method, &mut x_held).unwrap();
         let mut law =
-            |_: f64, _: &[f64], u: &mut [f64], _: &mut PlantData| -> sea_plant::Result<()> {
+            |_: f64, _: &[f64], u: &mut [f64], _: &mut Workspace| -> sea_plant::Result<()> {
                 u.copy_from_slice(&held);
                 Ok(())
             };
@@ -80,7 +80,7 @@ fn the_law_is_evaluated_at_the_stage_times() {
         let mut seen = Vec::new();
         let mut first_state = None;
         let mut law =
-            |time: f64, state: &[f64], u: &mut [f64], _: &mut PlantData| -> sea_plant::Result<()> {
+            |time: f64, state: &[f64], u: &mut [f64], _: &mut Workspace| -> sea_plant::Result<()> {
                 if first_state.is_none() {
                     first_state = Some(state.to_vec());
                 }
@@ -113,7 +113,7 @@ fn the_law_error_is_returned() {
     }
     let (plant, x) = pendulum();
     let mut pd = PlantData::new(&plant);
-    let mut law = |time: f64, _: &[f64], u: &mut [f64], _: &mut PlantData| {
+    let mut law = |time: f64, _: &[f64], u: &mut [f64], _: &mut Workspace| {
         u.fill(0.0);
         if time > 1.0 {
             Err(LawError::Law(time))
@@ -143,7 +143,7 @@ fn closed_loop_state(plant: &Plant, x0: &[f64], method: Method, steps: usize) ->
     // Desired motor velocities: a sinusoid in time plus feedback of the joint angles and
     // velocities (stiff enough to matter: gain 40/s through the motor velocity loop).
     let layout = plant.layout();
-    let mut law = |t: f64, x: &[f64], u: &mut [f64], _: &mut PlantData| -> sea_plant::Result<()> {
+    let mut law = |t: f64, x: &[f64], u: &mut [f64], _: &mut Workspace| -> sea_plant::Result<()> {
         let (s, sdot) = (layout.s(x), layout.sdot(x));
         for j in 0..2 {
             u[j] = (3.0 * (8.0 * t + j as f64).sin() - 40.0 * s[j] - 2.0 * sdot[j]) / 0.01;

@@ -349,9 +349,16 @@ impl PyPlant {
         u: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.load(x, u)?;
-        sea_plant::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
+        sea_plant::evaluate(
+            &self.plant,
+            &mut self.data.workspace,
+            &self.x,
+            &self.u,
+            &mut self.data.outputs,
+        )
+        .map_err(to_py)?;
         let mut out = vec![0.0; self.plant.layout().nx()];
-        sea_plant::state_derivative(&self.plant, &self.x, &self.data.xdot, &mut out);
+        sea_plant::state_derivative(&self.plant, &self.x, &self.data.outputs.xdot, &mut out);
         Ok(PyArray1::from_vec(py, out))
     }
 
@@ -365,18 +372,33 @@ impl PyPlant {
         u: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         self.load(x, u)?;
-        sea_plant::evaluate(&self.plant, &mut self.data, &self.x, &self.u).map_err(to_py)?;
+        sea_plant::evaluate(
+            &self.plant,
+            &mut self.data.workspace,
+            &self.x,
+            &self.u,
+            &mut self.data.outputs,
+        )
+        .map_err(to_py)?;
         let d = &self.data;
         let fields = PyDict::new(py);
         fields.set_item(
             "contact_wrenches",
-            matrix_rows_out(py, d.contact_wrench.as_slice(), 6),
+            matrix_rows_out(py, d.outputs.contact_wrench.as_slice(), 6),
         )?;
-        fields.set_item("joint_torques", vector_out(py, d.joint_torque.as_slice()))?;
-        fields.set_item("motor_torques", vector_out(py, d.motor_torque.as_slice()))?;
-        fields.set_item("drift_position", d.drift_position)?;
-        fields.set_item("drift_rotation", d.drift_rotation)?;
-        let margins = d.wrench_margins(&self.plant, &self.x);
+        fields.set_item(
+            "joint_torques",
+            vector_out(py, d.outputs.joint_torque.as_slice()),
+        )?;
+        fields.set_item(
+            "motor_torques",
+            vector_out(py, d.outputs.motor_torque.as_slice()),
+        )?;
+        fields.set_item("drift_position", d.outputs.drift_position)?;
+        fields.set_item("drift_rotation", d.outputs.drift_rotation)?;
+        let margins = self
+            .plant
+            .wrench_margins(&self.x, d.outputs.contact_wrench.as_slice());
         let column =
             |f: fn(&sea_plant::WrenchMargins) -> f64| margins.iter().map(f).collect::<Vec<f64>>();
         fields.set_item("normal_force", vector_out(py, &column(|m| m.normal_force)))?;

@@ -26,7 +26,11 @@ fn plant(c: &mut Criterion) {
     let mut pd = PlantData::new(&plant);
     let mut x_next = x.clone();
     c.bench_function("plant_dynamics", |b| {
-        b.iter(|| black_box(sea_plant::evaluate(&plant, &mut pd, &x, &u).is_ok()))
+        b.iter(|| {
+            black_box(
+                sea_plant::evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).is_ok(),
+            )
+        })
     });
     c.bench_function("plant_step_ros2", |b| {
         b.iter(|| {

@@ -318,7 +318,7 @@ fn bench_plant(
     let u = standing_motor_input(model, &x);
     let mut x_next = x.clone();
     let dynamics = median_us(batches, calls_per_batch, |_| {
-        black_box(sea_plant::evaluate(&plant, &mut pd, &x, &u).is_ok());
+        black_box(sea_plant::evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).is_ok());
     });
     let step = median_us(batches, calls_per_batch, |_| {
         black_box(

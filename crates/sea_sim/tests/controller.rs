@@ -44,9 +44,16 @@ fn rigid_controller_at_rest_keeps_the_rigid_robot_at_rest() {
             .compute(&setup.x0, &layout, &reference, &s_d)
             .unwrap();
         let mut pd = sea_plant::PlantData::new(&setup.plant);
-        sea_plant::evaluate(&setup.plant, &mut pd, &setup.x0, &out.input).unwrap();
-        let nudot = pd.xdot.rows(layout.nv, layout.nv);
-        let wrench_error = (&pd.contact_wrench - &out.wrenches).amax();
+        sea_plant::evaluate(
+            &setup.plant,
+            &mut pd.workspace,
+            &setup.x0,
+            &out.input,
+            &mut pd.outputs,
+        )
+        .unwrap();
+        let nudot = pd.outputs.xdot.rows(layout.nv, layout.nv);
+        let wrench_error = (&pd.outputs.contact_wrench - &out.wrenches).amax();
         println!(
             "{contacts}: qp {:?}, |nudot| {:.3e}, wrench error {:.3e}",
             out.qp_status,
@@ -56,7 +63,7 @@ fn rigid_controller_at_rest_keeps_the_rigid_robot_at_rest() {
         println!(
             "  qp f {:?}\n  plant f {:?}",
             out.wrenches.as_slice(),
-            pd.contact_wrench.as_slice()
+            pd.outputs.contact_wrench.as_slice()
         );
         assert!(
             nudot.amax() < 1e-4,
@@ -130,9 +137,17 @@ fn lemma_1_joint_accelerations_do_not_depend_on_the_wrench_redundancy() {
     for f in [&f1, &f2] {
         let tau = &terms.tau_bias + &terms.sigma * f;
         let mut pd = sea_plant::PlantData::new(&setup.plant);
-        sea_plant::evaluate(&setup.plant, &mut pd, &x, tau.as_slice()).unwrap();
+        sea_plant::evaluate(
+            &setup.plant,
+            &mut pd.workspace,
+            &x,
+            tau.as_slice(),
+            &mut pd.outputs,
+        )
+        .unwrap();
         joint_accelerations.push(
-            pd.xdot
+            pd.outputs
+                .xdot
                 .rows(layout.nv + 6, setup.model.n_joints())
                 .into_owned(),
         );

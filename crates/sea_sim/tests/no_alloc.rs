@@ -79,7 +79,7 @@ fn plant_evaluate_and_one_step_of_each_method_allocate_nothing() {
             }
         };
         count(format!("evaluate ({input})"), &mut |x| {
-            evaluate(plant, &mut pd, x, &u).is_ok()
+            evaluate(plant, &mut pd.workspace, x, &u, &mut pd.outputs).is_ok()
         });
         for method in [Method::Ros2, Method::LinearlyImplicitEuler, Method::Rk4] {
             count(format!("step {method:?} ({input})"), &mut |x| {

@@ -19,16 +19,22 @@
 //! Inputs: [`step`] holds `u` over the step (a sampled controller, zero-order hold);
 //! [`step_with_feedback`] evaluates a feedback law at every stage (a controller in continuous
 //! time). Both run the same scheme code, which sees the dynamics only through a stage
-//! evaluation `eval(pd, time offset, x_stage)`.
+//! evaluation `eval(workspace, outputs, time offset, x_stage)`.
+//!
+//! Buffers: the integrator owns its own ([`IntegratorCache`]: stage vectors, stage state, the
+//! outputs of the later stages and the W-matrix); the evaluation owns its [`Workspace`]; the
+//! step-start evaluation writes into the caller's [`PlantOutputs`]. [`PlantData`] bundles the
+//! three for a caller that steps one plant.
 
-use crate::dynamics::{evaluate, PlantData};
 use crate::error::{Error, Result};
+use crate::evaluation::evaluate;
 use crate::manifold::retract;
 use crate::plant::Plant;
+use crate::workspace::{PlantOutputs, Workspace};
 use nalgebra::DVector;
 use sea_dyn::dense::copy_contiguous;
-pub(crate) use w_matrix::MotorElimination;
-use w_matrix::{prepare_implicit, solve_implicit};
+use sea_dyn::TangentLayout;
+use w_matrix::WMatrix;
 
 mod w_matrix;
 
@@ -59,11 +65,76 @@ impl Method {
     }
 }
 
+/// The integrator's own buffers, for every method.
+#[derive(Clone, Debug)]
+pub struct IntegratorCache {
+    /// Stage vectors (nd each): ROS2 and linearly implicit Euler `[k1, k2, rhs, -]`, RK4
+    /// `[k1, k2, k3, sum]`.
+    stages: [DVector<f64>; 4],
+    /// The state of a later stage (nx).
+    x_stage: Vec<f64>,
+    /// Outputs of the evaluations after the step start (not reported).
+    stage_outputs: PlantOutputs,
+    /// `W` of the linearly implicit methods.
+    w: WMatrix,
+}
+
+impl IntegratorCache {
+    /// Buffers for `plant`.
+    pub fn new(plant: &Plant) -> Self {
+        let layout = plant.layout();
+        Self {
+            stages: std::array::from_fn(|_| DVector::zeros(layout.nd())),
+            x_stage: vec![0.0; layout.nx()],
+            stage_outputs: PlantOutputs::new(plant),
+            w: WMatrix::new(plant),
+        }
+    }
+}
+
+/// What stepping one plant needs: the evaluation's workspace, the outputs of the last
+/// evaluation at a step start (kept by the caller), and the integrator's buffers.
+#[derive(Clone, Debug)]
+pub struct PlantData {
+    /// The evaluation's buffers; model and contact terms computed elsewhere are handed to it
+    /// ([`Workspace::adopt_model_terms`], [`Workspace::adopt_contact_terms`]).
+    pub workspace: Workspace,
+    /// Outputs of the evaluation at the last step's start (or of an [`evaluate`] into them).
+    pub outputs: PlantOutputs,
+    /// The integrator's buffers.
+    pub integrator: IntegratorCache,
+}
+
+impl PlantData {
+    /// Buffers for `plant`.
+    pub fn new(plant: &Plant) -> Self {
+        Self {
+            workspace: Workspace::new(plant),
+            outputs: PlantOutputs::new(plant),
+            integrator: IntegratorCache::new(plant),
+        }
+    }
+}
+
+/// The dynamics a scheme sees: `eval(workspace, outputs, offset, x_stage)` evaluates the stage
+/// at time offset `offset` from the step start and state `x_stage`, writing the derivative
+/// (and the other outputs) into `outputs`.
+trait StageEvaluation<E>:
+    FnMut(&mut Workspace, &mut PlantOutputs, f64, &[f64]) -> std::result::Result<(), E>
+{
+}
+
+impl<E, F> StageEvaluation<E> for F where
+    F: FnMut(&mut Workspace, &mut PlantOutputs, f64, &[f64]) -> std::result::Result<(), E>
+{
+}
+
 /// `gamma` of ROS2.
 const GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
 
-/// One step of size `dt` from `x` with input `u` held; writes `x_out`. On return `pd` holds the
-/// evaluation at `x` (contact wrenches, torques, drift of the step start).
+/// One step of size `dt` from `x` with input `u` held; writes `x_out`. On return
+/// `pd.outputs` holds the evaluation at `x` (derivative, contact wrenches, torques, drift of
+/// the step start).
 pub fn step(
     plant: &Plant,
     pd: &mut PlantData,
@@ -73,20 +144,21 @@ pub fn step(
     method: Method,
     x_out: &mut [f64],
 ) -> Result<()> {
-    let mut held =
-        |pd: &mut PlantData, _offset: f64, x_stage: &[f64]| evaluate(plant, pd, x_stage, u);
+    let mut held = |ws: &mut Workspace, out: &mut PlantOutputs, _offset: f64, x_stage: &[f64]| {
+        evaluate(plant, ws, x_stage, u, out)
+    };
     step_with(plant, pd, x, dt, method, &mut held, x_out)
 }
 
 /// One step of size `dt` from `x` at time `t` whose input is the feedback law
-/// `law(t_stage, x_stage, u, pd)`, evaluated at every stage, the way a controller inside an ODE
-/// solver's right-hand side is (the paper's setting); writes `x_out`. `u` (n) is the law's
-/// output buffer. Stage times: `t` (linearly implicit Euler), `t, t + dt` (ROS2),
+/// `law(t_stage, x_stage, u, workspace)`, evaluated at every stage, the way a controller
+/// inside an ODE solver's right-hand side is (the paper's setting); writes `x_out`. `u` (n) is
+/// the law's output buffer. Stage times: `t` (linearly implicit Euler), `t, t + dt` (ROS2),
 /// `t, t + dt/2, t + dt/2, t + dt` (RK4); the first stage is always `(t, x)`. `W` keeps only
 /// the plant's stiff terms (the law is treated explicitly), which a W-method allows without
-/// losing its order. On success `pd` holds the evaluation at `x`. The law also gets the
-/// plant's workspace, to hand over model terms it computed at the stage's state
-/// ([`PlantData::adopt_model_terms`]); it must not change anything else there.
+/// losing its order. On success `pd.outputs` holds the evaluation at `x`. The law also gets
+/// the evaluation's workspace, to hand over model terms it computed at the stage's state
+/// ([`Workspace::adopt_model_terms`]); it must not change anything else there.
 ///
 /// The law's error type `E` is the caller's (any type a plant error converts into), so a
 /// controller failure reaches the caller as itself.
@@ -98,26 +170,26 @@ pub fn step_with_feedback<E: From<Error>>(
     t: f64,
     dt: f64,
     method: Method,
-    law: &mut impl FnMut(f64, &[f64], &mut [f64], &mut PlantData) -> std::result::Result<(), E>,
+    law: &mut impl FnMut(f64, &[f64], &mut [f64], &mut Workspace) -> std::result::Result<(), E>,
     u: &mut [f64],
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
-    let mut feedback = |pd: &mut PlantData, offset: f64, x_stage: &[f64]| {
-        law(t + offset, x_stage, u, pd)?;
-        evaluate(plant, pd, x_stage, u).map_err(E::from)
-    };
+    let mut feedback =
+        |ws: &mut Workspace, out: &mut PlantOutputs, offset: f64, x_stage: &[f64]| {
+            law(t + offset, x_stage, u, ws)?;
+            evaluate(plant, ws, x_stage, u, out).map_err(E::from)
+        };
     step_with(plant, pd, x, dt, method, &mut feedback, x_out)
 }
 
-/// One step whose dynamics at each stage come from `eval(pd, offset, x_stage)`: the stage's
-/// time offset from the step start and its state; `eval` leaves the derivative in `pd`.
+/// One step whose dynamics at each stage come from `eval` ([`StageEvaluation`]).
 fn step_with<E: From<Error>>(
     plant: &Plant,
     pd: &mut PlantData,
     x: &[f64],
     dt: f64,
     method: Method,
-    eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
+    eval: &mut impl StageEvaluation<E>,
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
     match method {
@@ -132,27 +204,22 @@ fn ros2<E: From<Error>>(
     pd: &mut PlantData,
     x: &[f64],
     dt: f64,
-    eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
+    eval: &mut impl StageEvaluation<E>,
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
-    let [k1, mut k2, mut rhs, combo] = implicit_first_stage(plant, pd, x, GAMMA * dt, eval)?;
-    // Keep the step-start outputs (the W solve leaves them alone): the second evaluation
-    // would overwrite them.
-    pd.save_outputs();
-    let mut x_stage = std::mem::take(&mut pd.x_stage);
-    retract(plant, x, &k1, dt, &mut x_stage);
+    implicit_first_stage(plant, pd, x, GAMMA * dt, eval)?;
+    // The step start's outputs stay in `pd.outputs`; the second stage evaluates into the
+    // integrator's own.
+    let (ws, cache) = (&mut pd.workspace, &mut pd.integrator);
+    let [k1, k2, rhs, _] = &mut cache.stages;
+    retract(plant, x, k1, dt, &mut cache.x_stage);
     // The second stage sits at t + dt: the time row of W is the identity, so k1_t = 1.
-    let second = eval(pd, dt, &x_stage);
-    if second.is_ok() {
-        linear_combination(&mut rhs, [(1.0, &pd.xdot), (-2.0, &k1)]);
-        solve_implicit(plant, pd, &rhs, &mut k2);
-        linear_combination(&mut rhs, [(1.5, &k1), (0.5, &k2)]);
-        retract(plant, x, &rhs, dt, x_out);
-    }
-    pd.stage = [k1, k2, rhs, combo];
-    pd.x_stage = x_stage;
-    pd.restore_outputs();
-    second
+    eval(ws, &mut cache.stage_outputs, dt, &cache.x_stage)?;
+    linear_combination(rhs, [(1.0, &cache.stage_outputs.xdot), (-2.0, k1)]);
+    cache.w.solve(plant, rhs, k2);
+    linear_combination(rhs, [(1.5, k1), (0.5, k2)]);
+    retract(plant, x, rhs, dt, x_out);
+    Ok(())
 }
 
 /// `out = a x + b y` for `[(a, x), (b, y)]`, over the slices (nalgebra's vector `axpy` and
@@ -173,38 +240,50 @@ fn implicit_euler<E: From<Error>>(
     pd: &mut PlantData,
     x: &[f64],
     dt: f64,
-    eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
+    eval: &mut impl StageEvaluation<E>,
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
-    let [k1, k2, rhs, combo] = implicit_first_stage(plant, pd, x, dt, eval)?;
-    retract(plant, x, &k1, dt, x_out);
-    pd.stage = [k1, k2, rhs, combo];
+    implicit_first_stage(plant, pd, x, dt, eval)?;
+    retract(plant, x, &pd.integrator.stages[0], dt, x_out);
     Ok(())
 }
 
-/// The first stage of the linearly implicit methods: the dynamics at the step start, `W`
-/// prepared for `g` (`gamma dt`) and `W k1 = f(x)` solved. Returns the stage buffers
-/// `[k1, k2, rhs, combo]` taken from `pd`; the caller gives them back.
+/// The first stage of the linearly implicit methods: the dynamics at the step start (into
+/// `pd.outputs`), `W` prepared for `g` (`gamma dt`) and `W k1 = f(x)` solved into the first
+/// stage vector.
 fn implicit_first_stage<E: From<Error>>(
     plant: &Plant,
     pd: &mut PlantData,
     x: &[f64],
     g: f64,
-    eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
-) -> std::result::Result<[DVector<f64>; 4], E> {
-    eval(pd, 0.0, x)?;
-    prepare_implicit(plant, pd, g)?;
-    let [mut k1, k2, mut rhs, combo] = std::mem::take(&mut pd.stage);
-    copy_contiguous(&mut rhs, &pd.xdot);
-    solve_implicit(plant, pd, &rhs, &mut k1);
-    Ok([k1, k2, rhs, combo])
+    eval: &mut impl StageEvaluation<E>,
+) -> std::result::Result<(), E> {
+    let PlantData {
+        workspace: ws,
+        outputs,
+        integrator: cache,
+    } = pd;
+    eval(ws, outputs, 0.0, x)?;
+    cache.w.prepare(plant, ws, &outputs.saturated, g)?;
+    let [k1, _, rhs, _] = &mut cache.stages;
+    copy_contiguous(rhs, &outputs.xdot);
+    cache.w.solve(plant, rhs, k1);
+    Ok(())
 }
 
 /// Runge-Kutta-Munthe-Kaas correction of a stage's base angular velocity: the stage sits at
 /// `R = exp([u]x) R_n` with `u = scale * previous_omega`, and the rotation vector evolves as
 /// `udot = dexp_u^-1(omega) = omega - u x omega / 2 + u x (u x omega) / 12 + O(|u|^4)`, the
 /// terms a fourth-order method needs (Munthe-Kaas, BIT 38, 1998).
-fn dexp_inv_correction(stage: &mut DVector<f64>, previous: &DVector<f64>, scale: f64) {
+fn dexp_inv_correction(
+    tangent: TangentLayout,
+    stage: &mut DVector<f64>,
+    previous: &DVector<f64>,
+    scale: f64,
+) {
+    // The base's angular velocity: entries 3..6 of `dq` (`nu` in a derivative).
+    let previous = tangent.dq(previous.as_slice());
+    let stage = tangent.split_mut(stage.as_mut_slice()).dq;
     let omega = nalgebra::Vector3::new(stage[3], stage[4], stage[5]);
     let u = nalgebra::Vector3::new(previous[3], previous[4], previous[5]) * scale;
     let u_cross_omega = u.cross(&omega);
@@ -220,43 +299,42 @@ fn rk4<E: From<Error>>(
     pd: &mut PlantData,
     x: &[f64],
     dt: f64,
-    eval: &mut impl FnMut(&mut PlantData, f64, &[f64]) -> std::result::Result<(), E>,
+    eval: &mut impl StageEvaluation<E>,
     x_out: &mut [f64],
 ) -> std::result::Result<(), E> {
-    let [mut k1, mut k2, mut k3, mut sum] = std::mem::take(&mut pd.stage);
-    let mut x_stage = std::mem::take(&mut pd.x_stage);
-    let result = (|| {
-        eval(pd, 0.0, x)?;
-        pd.save_outputs();
-        copy_contiguous(&mut k1, &pd.xdot);
-        retract(plant, x, &k1, 0.5 * dt, &mut x_stage);
-        eval(pd, 0.5 * dt, &x_stage)?;
-        copy_contiguous(&mut k2, &pd.xdot);
-        dexp_inv_correction(&mut k2, &k1, 0.5 * dt);
-        retract(plant, x, &k2, 0.5 * dt, &mut x_stage);
-        eval(pd, 0.5 * dt, &x_stage)?;
-        copy_contiguous(&mut k3, &pd.xdot);
-        dexp_inv_correction(&mut k3, &k2, 0.5 * dt);
-        retract(plant, x, &k3, dt, &mut x_stage);
-        eval(pd, dt, &x_stage)?;
-        // sum = (k1 + 2 k2 + 2 k3 + k4) / 6
-        copy_contiguous(&mut sum, &pd.xdot);
-        dexp_inv_correction(&mut sum, &k3, dt);
-        // Over the slices, in the order of the formula (see `linear_combination`).
-        for (((total, a), b), c) in sum
-            .as_mut_slice()
-            .iter_mut()
-            .zip(k1.as_slice())
-            .zip(k2.as_slice())
-            .zip(k3.as_slice())
-        {
-            *total = (*total + a + 2.0 * b + 2.0 * c) * (1.0 / 6.0);
-        }
-        retract(plant, x, &sum, dt, x_out);
-        pd.restore_outputs();
-        Ok(())
-    })();
-    pd.stage = [k1, k2, k3, sum];
-    pd.x_stage = x_stage;
-    result
+    let tangent = plant.layout().tangent();
+    let PlantData {
+        workspace: ws,
+        outputs,
+        integrator: cache,
+    } = pd;
+    let [k1, k2, k3, sum] = &mut cache.stages;
+    let (stage, x_stage) = (&mut cache.stage_outputs, &mut cache.x_stage);
+    eval(ws, outputs, 0.0, x)?;
+    copy_contiguous(k1, &outputs.xdot);
+    retract(plant, x, k1, 0.5 * dt, x_stage);
+    eval(ws, stage, 0.5 * dt, x_stage)?;
+    copy_contiguous(k2, &stage.xdot);
+    dexp_inv_correction(tangent, k2, k1, 0.5 * dt);
+    retract(plant, x, k2, 0.5 * dt, x_stage);
+    eval(ws, stage, 0.5 * dt, x_stage)?;
+    copy_contiguous(k3, &stage.xdot);
+    dexp_inv_correction(tangent, k3, k2, 0.5 * dt);
+    retract(plant, x, k3, dt, x_stage);
+    eval(ws, stage, dt, x_stage)?;
+    // sum = (k1 + 2 k2 + 2 k3 + k4) / 6
+    copy_contiguous(sum, &stage.xdot);
+    dexp_inv_correction(tangent, sum, k3, dt);
+    // Over the slices, in the order of the formula (see `linear_combination`).
+    for (((total, a), b), c) in sum
+        .as_mut_slice()
+        .iter_mut()
+        .zip(k1.as_slice())
+        .zip(k2.as_slice())
+        .zip(k3.as_slice())
+    {
+        *total = (*total + a + 2.0 * b + 2.0 * c) * (1.0 / 6.0);
+    }
+    retract(plant, x, sum, dt, x_out);
+    Ok(())
 }

@@ -1,17 +1,21 @@
-//! The implicit step's matrix `W = I - g Jf` and its solve.
+//! The implicit step's matrix `W = I - g Jf`, its factor and its solve, with the buffers they
+//! own.
 
-use crate::dynamics::{joint_diagonal, PlantData};
 use crate::error::{Error, Result};
 use crate::plant::{MotorInput, Plant};
-use nalgebra::DVector;
-use sea_dyn::dense::{cholesky_in_place, cholesky_solve_in_place, gemv_few_rows, gemv_tr_few_rows};
+use crate::workspace::Workspace;
+use nalgebra::{DMatrix, DVector};
+use sea_dyn::dense::{
+    cholesky_in_place, cholesky_solve_in_place, copy_contiguous, gemv_few_rows, gemv_tr_few_rows,
+};
+use sea_dyn::tree_factor::TreeFactor;
 
 /// One elastic joint's motor unknowns eliminated from `W k = r`, for the step scale `g`: with
 /// `r_s`, `r_nu`, `r_theta`, `r_thetadot` the joint's entries of `r`,
 /// `k_thetadot = a0 + a1 k_sdot`, `a0 = inv_den r_thetadot - a0_theta r_theta + a0_s r_s`, and
 /// the joint torque's perturbation `t0 + t1 k_sdot`,
 /// `t0 = K (eta r_theta - r_s) + t0_a0 a0`. The coefficients (divisions included) are
-/// computed once per step in [`prepare_implicit`]; the two stage solves only multiply.
+/// computed once per step in [`WMatrix::prepare`]; the two stage solves only multiply.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct MotorElimination {
     inv_den: f64,
@@ -22,124 +26,174 @@ pub(crate) struct MotorElimination {
     t1: f64,
 }
 
-/// Prepares the implicit step's matrix `W = I - g Jf` at the last evaluated state, with `g`
-/// the step scale (`gamma dt`). `Jf` keeps the stiff linear terms exactly: springs, dampers,
-/// the motor velocity loop and the Baumgarte terms, with `M` and `J` frozen (see
-/// `integrator.rs`). Elastic motors are eliminated per joint, leaving an nv-size system.
-pub(crate) fn prepare_implicit(plant: &Plant, pd: &mut PlantData, g: f64) -> Result<()> {
-    let actuation = &plant.actuation;
-    pd.w_g = g;
-    joint_diagonal(plant, &mut pd.diagonal);
-    for (e, p) in actuation.elastic.iter().enumerate() {
-        // A torque-driven (or saturated) motor's acceleration follows the torques through its
-        // inertia; a velocity-looped one is held by the loop.
-        let (torque_driven, gain) = match plant.motor_input {
-            MotorInput::VelocityLoop { gain } if !pd.saturated[e] => (false, gain),
-            _ => (true, 0.0),
-        };
-        let coupling = if torque_driven {
-            g / p.motor_inertia
-        } else {
-            0.0
-        };
-        let (eta, stiffness) = (p.ratio, p.stiffness);
-        let spring_damper = g * stiffness + p.damping;
-        let den = 1.0 + g * gain + coupling * (g * eta * eta * stiffness + eta * eta * p.damping);
-        let a1 = coupling * eta * spring_damper / den;
-        let t1 = spring_damper * (eta * a1 - 1.0);
-        pd.w_motor[e] = MotorElimination {
-            inv_den: 1.0 / den,
-            a0_theta: coupling * eta * eta * stiffness / den,
-            a0_s: coupling * eta * stiffness / den,
-            a1,
-            t0_a0: spring_damper * eta,
-            t1,
-        };
-        let vj = 6 + actuation.elastic_joints[e];
-        pd.diagonal[vj] -= g * t1;
-    }
-    pd.w_factor
-        .factor(&pd.data.mass_matrix, &pd.diagonal)
-        .map_err(|e| e.during("factorising the implicit step matrix"))?;
-    if plant.contacts.is_empty() {
-        return Ok(());
-    }
-    // J at the step start moves to the step's buffer; the next evaluation overwrites every
-    // entry of `contact_jacobian` (or adopts one), so a swap does instead of a copy.
-    std::mem::swap(&mut pd.w_jacobian, &mut pd.contact_jacobian);
-    pd.w_factor
-        .schur_complement(&pd.w_jacobian, &mut pd.w_linv_jt_t, &mut pd.w_schur);
-    cholesky_in_place(&mut pd.w_schur).map_err(|i| {
-        Error::numerical(
-            "implicit step",
-            format!("contact constraints are degenerate (pivot {i})"),
-        )
-    })
+/// `W` for one step (`k = 6 n_contacts`): prepared once at the step start, solved once per
+/// stage.
+#[derive(Clone, Debug)]
+pub(crate) struct WMatrix {
+    /// Step scale `g` (`gamma dt`).
+    g: f64,
+    /// Per elastic joint, the coefficients of the motor elimination (n_e).
+    motor: Vec<MotorElimination>,
+    /// Diagonal of `M~ = M + diag` (nv): the joint regularisation and the eliminated motors.
+    diagonal: Vec<f64>,
+    /// `M~ = L~^T L~` (nv x nv, the tree's sparsity).
+    factor: TreeFactor,
+    /// `J` at the step start (k x nv).
+    jacobian: DMatrix<f64>,
+    /// `(L~^-T J^T)^T` (k x nv).
+    linv_jt_t: DMatrix<f64>,
+    /// `J M~^-1 J^T`, then its Cholesky factor (k x k).
+    schur: DMatrix<f64>,
+    /// The velocity unknowns `z` of a solve (nv).
+    z: DVector<f64>,
+    /// The velocity combination `K_d r_nu + K_p (r_q + g r_nu)` of a solve (nv).
+    combination: DVector<f64>,
+    /// The constraint target, then the multipliers' perturbation, of a solve (k).
+    constraint: DVector<f64>,
 }
 
-/// Solves `W k = r` (tangent vectors, size nd) with the matrix of [`prepare_implicit`].
-///
-/// Per elastic joint the motor unknowns are `k_thetadot = a0 + a1 k_sdot`,
-/// `k_theta = r_theta + g k_thetadot`, and the torque perturbation `t0 + t1 k_sdot`; the
-/// velocity part solves `[M~ J^T; J 0] [z; -df] = [B (t0 + t1 r_sdot); c]` with
-/// `c = -(K_d J r_nu + K_p J (r_q + g r_nu)) / (1 + g K_d + g^2 K_p)`; then `k_nu = r_nu + g z`,
-/// `k_q = r_q + g k_nu`.
-pub(crate) fn solve_implicit(
-    plant: &Plant,
-    pd: &mut PlantData,
-    r: &DVector<f64>,
-    k: &mut DVector<f64>,
-) {
-    let layout = plant.layout();
-    let (nv, ne) = (layout.nv, layout.ne);
-    let g = pd.w_g;
-    let (o_theta, o_nu, o_thetadot) = (nv, nv + ne, 2 * nv + ne);
-    let actuation = &plant.actuation;
-    // z <- B (t0 + t1 r_sdot), keeping a0 per joint in k's thetadot slots for later.
-    let z = &mut pd.scratch_v;
-    z.as_mut_slice().fill(0.0);
-    for (e, (p, m)) in actuation.elastic.iter().zip(&pd.w_motor).enumerate() {
-        let vj = 6 + actuation.elastic_joints[e];
-        let (r_s, r_theta, r_thetadot) = (r[vj], r[o_theta + e], r[o_thetadot + e]);
-        let a0 = m.inv_den * r_thetadot - m.a0_theta * r_theta + m.a0_s * r_s;
-        let t0 = p.stiffness * (p.ratio * r_theta - r_s) + m.t0_a0 * a0;
-        z[vj] = t0 + m.t1 * r[o_nu + vj];
-        k[o_thetadot + e] = a0;
+impl WMatrix {
+    /// Buffers for `plant`.
+    pub(crate) fn new(plant: &Plant) -> Self {
+        let layout = plant.layout();
+        let (nv, ne) = (layout.nv, layout.ne);
+        let k = 6 * plant.contacts.len();
+        Self {
+            g: 0.0,
+            motor: vec![MotorElimination::default(); ne],
+            diagonal: vec![0.0; nv],
+            factor: TreeFactor::new(&plant.model),
+            jacobian: DMatrix::zeros(k, nv),
+            linv_jt_t: DMatrix::zeros(k, nv),
+            schur: DMatrix::zeros(k, k),
+            z: DVector::zeros(nv),
+            combination: DVector::zeros(nv),
+            constraint: DVector::zeros(k),
+        }
     }
-    pd.w_factor.solve_lt(z.as_mut_slice());
-    if !plant.contacts.is_empty() {
+
+    /// Prepares `W = I - g Jf` at the state last evaluated into `ws` (its `M` and `J`), whose
+    /// motors saturated as `saturated` says, with `g` the step scale (`gamma dt`). `Jf` keeps
+    /// the stiff linear terms exactly: springs, dampers, the motor velocity loop and the
+    /// Baumgarte terms, with `M` and `J` frozen (see `integrator/mod.rs`). Elastic motors are
+    /// eliminated per joint, leaving an nv-size system.
+    pub(crate) fn prepare(
+        &mut self,
+        plant: &Plant,
+        ws: &Workspace,
+        saturated: &[bool],
+        g: f64,
+    ) -> Result<()> {
+        let actuation = &plant.actuation;
+        self.g = g;
+        plant.joint_diagonal(&mut self.diagonal);
+        for (e, p) in actuation.elastic.iter().enumerate() {
+            // A torque-driven (or saturated) motor's acceleration follows the torques through
+            // its inertia; a velocity-looped one is held by the loop.
+            let (torque_driven, gain) = match plant.motor_input {
+                MotorInput::VelocityLoop { gain } if !saturated[e] => (false, gain),
+                _ => (true, 0.0),
+            };
+            let coupling = if torque_driven {
+                g / p.motor_inertia
+            } else {
+                0.0
+            };
+            let (eta, stiffness) = (p.ratio, p.stiffness);
+            let spring_damper = g * stiffness + p.damping;
+            let den =
+                1.0 + g * gain + coupling * (g * eta * eta * stiffness + eta * eta * p.damping);
+            let a1 = coupling * eta * spring_damper / den;
+            let t1 = spring_damper * (eta * a1 - 1.0);
+            self.motor[e] = MotorElimination {
+                inv_den: 1.0 / den,
+                a0_theta: coupling * eta * eta * stiffness / den,
+                a0_s: coupling * eta * stiffness / den,
+                a1,
+                t0_a0: spring_damper * eta,
+                t1,
+            };
+            let vj = 6 + actuation.elastic_joints[e];
+            self.diagonal[vj] -= g * t1;
+        }
+        self.factor
+            .factor(&ws.data.mass_matrix, &self.diagonal)
+            .map_err(|e| e.during("factorising the implicit step matrix"))?;
+        if plant.contacts.is_empty() {
+            return Ok(());
+        }
+        // J at the step start: the later stages' evaluations overwrite the workspace's.
+        copy_contiguous(&mut self.jacobian, &ws.contact.jacobian);
+        self.factor
+            .schur_complement(&self.jacobian, &mut self.linv_jt_t, &mut self.schur);
+        cholesky_in_place(&mut self.schur).map_err(|i| {
+            Error::numerical(
+                "implicit step",
+                format!("contact constraints are degenerate (pivot {i})"),
+            )
+        })
+    }
+
+    /// Solves `W k = r` (tangent vectors, size nd) with the matrix of [`WMatrix::prepare`].
+    ///
+    /// Per elastic joint the motor unknowns are `k_thetadot = a0 + a1 k_sdot`,
+    /// `k_theta = r_theta + g k_thetadot`, and the torque perturbation `t0 + t1 k_sdot`; the
+    /// velocity part solves `[M~ J^T; J 0] [z; -df] = [B (t0 + t1 r_sdot); c]` with
+    /// `c = -(K_d J r_nu + K_p J (r_q + g r_nu)) / (1 + g K_d + g^2 K_p)`; then
+    /// `k_nu = r_nu + g z`, `k_q = r_q + g k_nu`.
+    pub(crate) fn solve(&mut self, plant: &Plant, r: &DVector<f64>, k: &mut DVector<f64>) {
+        let tangent = plant.layout().tangent();
+        let g = self.g;
+        let r = tangent.split(r.as_slice());
+        let k = tangent.split_mut(k.as_mut_slice());
+        let actuation = &plant.actuation;
+        // z <- B (t0 + t1 r_sdot), keeping a0 per joint in k's thetadot slots for later.
+        let z = self.z.as_mut_slice();
+        z.fill(0.0);
+        for (e, (p, m)) in actuation.elastic.iter().zip(&self.motor).enumerate() {
+            let vj = 6 + actuation.elastic_joints[e];
+            let (r_s, r_theta, r_thetadot) = (r.dq[vj], r.dtheta[e], r.dthetadot[e]);
+            let a0 = m.inv_den * r_thetadot - m.a0_theta * r_theta + m.a0_s * r_s;
+            let t0 = p.stiffness * (p.ratio * r_theta - r_s) + m.t0_a0 * a0;
+            z[vj] = t0 + m.t1 * r.dnu[vj];
+            k.dthetadot[e] = a0;
+        }
+        self.factor.solve_lt(z);
+        if !plant.contacts.is_empty() {
+            self.solve_constraint(plant, r.dq, r.dnu);
+        }
+        let z = self.z.as_mut_slice();
+        self.factor.solve_l(z);
+        for (i, &z_i) in z.iter().enumerate() {
+            let k_nu = r.dnu[i] + g * z_i;
+            k.dnu[i] = k_nu;
+            k.dq[i] = r.dq[i] + g * k_nu;
+        }
+        for (e, m) in self.motor.iter().enumerate() {
+            let vj = 6 + actuation.elastic_joints[e];
+            let k_thetadot = k.dthetadot[e] + m.a1 * k.dnu[vj];
+            k.dthetadot[e] = k_thetadot;
+            k.dtheta[e] = r.dtheta[e] + g * k_thetadot;
+        }
+    }
+
+    /// The contact part of [`WMatrix::solve`]: `z += Y~ S~^-1 (c - Y~^T z)` with
+    /// `c = -J (K_d r_nu + K_p (r_q + g r_nu)) / (1 + g K_d + g^2 K_p)`, the velocity
+    /// combination formed first so that `J` is applied once (gemv over its columns).
+    fn solve_constraint(&mut self, plant: &Plant, r_q: &[f64], r_nu: &[f64]) {
+        let g = self.g;
         let kp = plant.baumgarte_kp;
         let kd = plant.baumgarte_kd;
         let scale = 1.0 / (1.0 + g * kd + g * g * kp);
-        // c = -J (K_d r_nu + K_p (r_q + g r_nu)) / (1 + g K_d + g^2 K_p), the velocity
-        // combination formed first so that J is applied once (gemv over its columns).
-        let combination = &mut pd.scratch_v2;
-        for i in 0..nv {
-            let r_nu = r[o_nu + i];
-            combination[i] = kd * r_nu + kp * (r[i] + g * r_nu);
+        let combination = self.combination.as_mut_slice();
+        for ((c, &q_i), &nu_i) in combination.iter_mut().zip(r_q).zip(r_nu) {
+            *c = kd * nu_i + kp * (q_i + g * nu_i);
         }
-        let rhs = &mut pd.constraint_rhs;
-        gemv_few_rows(
-            rhs.as_mut_slice(),
-            -scale,
-            &pd.w_jacobian,
-            combination.as_slice(),
-            0.0,
-        );
-        gemv_few_rows(rhs.as_mut_slice(), -1.0, &pd.w_linv_jt_t, z.as_slice(), 1.0);
-        cholesky_solve_in_place(&pd.w_schur, rhs.as_mut_slice());
-        gemv_tr_few_rows(z.as_mut_slice(), 1.0, &pd.w_linv_jt_t, rhs.as_slice(), 1.0);
-    }
-    pd.w_factor.solve_l(z.as_mut_slice());
-    for i in 0..nv {
-        let k_nu = r[o_nu + i] + g * z[i];
-        k[o_nu + i] = k_nu;
-        k[i] = r[i] + g * k_nu;
-    }
-    for e in 0..ne {
-        let vj = 6 + actuation.elastic_joints[e];
-        let k_thetadot = k[o_thetadot + e] + pd.w_motor[e].a1 * k[o_nu + vj];
-        k[o_thetadot + e] = k_thetadot;
-        k[o_theta + e] = r[o_theta + e] + g * k_thetadot;
+        let rhs = self.constraint.as_mut_slice();
+        let z = self.z.as_mut_slice();
+        gemv_few_rows(rhs, -scale, &self.jacobian, combination, 0.0);
+        gemv_few_rows(rhs, -1.0, &self.linv_jt_t, z, 1.0);
+        cholesky_solve_in_place(&self.schur, rhs);
+        gemv_tr_few_rows(z, 1.0, &self.linv_jt_t, rhs, 1.0);
     }
 }

@@ -188,8 +188,14 @@ impl ClosedLoopSystem {
     /// `out = f(x)`, the closed-loop vector field (tangent derivative) in continuous time.
     pub fn vector_field(&mut self, x: &[f64], out: &mut DVector<f64>) -> Result<()> {
         self.control(x)?;
-        sea_plant::evaluate(&self.setup.plant, &mut self.pd, x, &self.output.input)?;
-        out.copy_from(&self.pd.xdot);
+        sea_plant::evaluate(
+            &self.setup.plant,
+            &mut self.pd.workspace,
+            x,
+            &self.output.input,
+            &mut self.pd.outputs,
+        )?;
+        out.copy_from(&self.pd.outputs.xdot);
         Ok(())
     }
 

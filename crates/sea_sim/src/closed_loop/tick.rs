@@ -11,7 +11,7 @@ use sea_ctrl::controller::{ControlOutput, MomentumController};
 use sea_ctrl::references::{ComSample, ComTrajectory, PostureReference};
 use sea_dyn::Model;
 use sea_plant::integrator::step_with_feedback;
-use sea_plant::{Method, Plant, PlantData, StateLayout};
+use sea_plant::{Method, Plant, PlantData, StateLayout, Workspace};
 
 /// The controller with its references: the feedback law `(t, x) -> plant input`.
 pub(super) struct Law<'a> {
@@ -92,12 +92,12 @@ impl Law<'_> {
 
     /// After a tick at `x`: hands the controller's model terms, and its contact terms when
     /// its diagonal and contacts are the plant's, to the plant's next evaluation (used only if
-    /// that evaluation is at `x`'s `q` and `nu`; see [`PlantData::adopt_model_terms`] and
-    /// [`PlantData::adopt_contact_terms`]). Results are bitwise those without it.
-    fn hand_over_model_terms(&self, plant: &Plant, pd: &mut PlantData, x: &[f64]) {
+    /// that evaluation is at `x`'s `q` and `nu`; see [`Workspace::adopt_model_terms`] and
+    /// [`Workspace::adopt_contact_terms`]). Results are bitwise those without it.
+    fn hand_over_model_terms(&self, plant: &Plant, ws: &mut Workspace, x: &[f64]) {
         if self.share_model_terms {
-            pd.adopt_model_terms(self.controller.model_data(), &self.layout, x);
-            pd.adopt_contact_terms(plant, &self.controller.factored_contacts());
+            ws.adopt_model_terms(self.controller.model_data(), &self.layout, x);
+            ws.adopt_contact_terms(plant, &self.controller.factored_contacts());
         }
     }
 
@@ -135,9 +135,9 @@ struct PlantOutputs {
 impl PlantOutputs {
     fn copy_from(&mut self, pd: &PlantData) {
         for (target, source) in [
-            (&mut self.wrench, &pd.contact_wrench),
-            (&mut self.motor_torque, &pd.motor_torque),
-            (&mut self.joint_torque, &pd.joint_torque),
+            (&mut self.wrench, &pd.outputs.contact_wrench),
+            (&mut self.motor_torque, &pd.outputs.motor_torque),
+            (&mut self.joint_torque, &pd.outputs.joint_torque),
         ] {
             target.clear();
             target.extend_from_slice(source.as_slice());
@@ -290,8 +290,10 @@ impl<'a> Engine<'a> {
     /// Evaluates the plant at the current state with input `u`, for the record.
     fn evaluate_here(&mut self, u: &[f64]) -> std::result::Result<(), String> {
         self.law
-            .hand_over_model_terms(self.plant, &mut self.pd, &self.x);
-        let result = sea_plant::evaluate(self.plant, &mut self.pd, &self.x, u);
+            .hand_over_model_terms(self.plant, &mut self.pd.workspace, &self.x);
+        let pd = &mut self.pd;
+        let result =
+            sea_plant::evaluate(self.plant, &mut pd.workspace, &self.x, u, &mut pd.outputs);
         self.outputs.copy_from(&self.pd);
         result.map_err(|e| format!("plant: {e}"))
     }
@@ -303,7 +305,7 @@ impl<'a> Engine<'a> {
         self.x_step.copy_from_slice(&self.x);
         // The first step starts where the controller just ticked.
         self.law
-            .hand_over_model_terms(self.plant, &mut self.pd, &self.x_step);
+            .hand_over_model_terms(self.plant, &mut self.pd.workspace, &self.x_step);
         for k in 0..steps {
             let result = sea_plant::step(
                 self.plant,
@@ -335,10 +337,10 @@ impl<'a> Engine<'a> {
         let mut observed = false;
         let (law, first, stage) = (&mut self.law, &mut self.observation, &mut self.stage);
         let plant = self.plant;
-        let mut feedback = |t: f64, x: &[f64], u: &mut [f64], pd: &mut PlantData| -> Result<()> {
+        let mut feedback = |t: f64, x: &[f64], u: &mut [f64], ws: &mut Workspace| -> Result<()> {
             let observation = if observed { &mut *stage } else { &mut *first };
             law.observe(t, x, observation)?;
-            law.hand_over_model_terms(plant, pd, x);
+            law.hand_over_model_terms(plant, ws, x);
             u.copy_from_slice(&observation.output.input);
             observed = true;
             Ok(())

@@ -121,27 +121,6 @@ fn initial_posture(scenario: &Scenario, model: &Model) -> Result<Vec<f64>> {
     }
 }
 
-/// Static joint torques holding `q` with the contacts taking the base wrench (least norm).
-fn static_torques(model: &Model, q: &[f64], contacts: &[usize]) -> Vec<f64> {
-    let mut data = Data::new(model);
-    let gravity = sea_dyn::gravity_forces(model, &mut data, q).clone();
-    let n = model.n_joints();
-    let mut jacobian = nalgebra::DMatrix::zeros(6 * contacts.len(), model.nv());
-    for (c, &frame) in contacts.iter().enumerate() {
-        jacobian
-            .rows_mut(6 * c, 6)
-            .copy_from(sea_dyn::frame_jacobian(model, &mut data, q, frame));
-    }
-    let jb_t = jacobian.columns(0, 6).transpose();
-    let f = jb_t
-        .clone()
-        .pseudo_inverse(1e-12)
-        .map(|p| p * gravity.rows(0, 6))
-        .unwrap_or_else(|_| nalgebra::DVector::zeros(6 * contacts.len()));
-    let torques = gravity.rows(6, n) - jacobian.columns(6, n).transpose() * f;
-    torques.as_slice().to_vec()
-}
-
 /// The contact frames of `robot.contacts`, stance foot first.
 pub fn contact_frames(scenario: &Scenario, model: &Model) -> Result<Vec<FrameId>> {
     scenario
@@ -194,17 +173,9 @@ fn plant(scenario: &Scenario, model: &Model, actuation: &Actuation, q: &[f64]) -
 
 /// The initial state at rest in `q`, springs as `robot.initial_springs` says: preloaded with
 /// the static torques (the run starts in equilibrium) or at rest (no deflection).
-fn initial_state(
-    plant: &Plant,
-    q: &[f64],
-    contacts: &[FrameId],
-    springs: InitialSprings,
-) -> Result<Vec<f64>> {
+fn initial_state(plant: &Plant, q: &[f64], springs: InitialSprings) -> Result<Vec<f64>> {
     let theta = match springs {
-        InitialSprings::Preloaded => {
-            let torques = static_torques(&plant.model, q, contacts);
-            Some(plant.preloaded_motor_angles(q, &torques)?)
-        }
+        InitialSprings::Preloaded => Some(sea_plant::equilibrium::static_motor_angles(plant, q)?),
         // `make_state` without motor angles leaves every spring undeflected.
         InitialSprings::AtRest => None,
     };
@@ -285,7 +256,7 @@ pub fn build(scenario: &Scenario) -> Result<Setup> {
     let contacts = contact_frames(scenario, &model)?;
     let q = initial_configuration(&model, &s0, contacts[0]);
     let plant = plant(scenario, &model, &actuation, &q)?;
-    let x0 = initial_state(&plant, &q, &contacts, scenario.robot.initial_springs)?;
+    let x0 = initial_state(&plant, &q, scenario.robot.initial_springs)?;
     let settings = scenario.controller_settings(&model.joint_names)?;
     let controller = MomentumController::new(&model, &actuation, settings, &q)?;
     let com_reference = com_reference(scenario, &model, &q, contacts[0])?;

@@ -1,0 +1,137 @@
+//! The buffers of one evaluation of the dynamics ([`crate::evaluation::evaluate`]), grouped
+//! by the stage that computes them, each with its shape (`k = 6 n_contacts`); and the
+//! evaluation's outputs ([`PlantOutputs`]), kept wherever the caller says. Declarations and
+//! sizes only: the algorithms that fill them live in `evaluation.rs` (and the integrator's
+//! own buffers in `integrator/`).
+
+use crate::plant::Plant;
+use nalgebra::{DMatrix, DVector};
+use sea_dyn::data::Data;
+use sea_dyn::tree_factor::TreeFactor;
+
+/// Workspace of the evaluation: every intermediate buffer, by stage.
+#[derive(Clone, Debug)]
+pub struct Workspace {
+    /// Stage 1, model terms: kinematics, bias forces `h` (in `data.tau`) and the mass matrix
+    /// `M` (nv x nv) at the evaluated `q`, `nu`.
+    pub data: Data,
+    /// Stage 2, mass factor: the diagonal added to `M` (nv; joint inertia regularisation).
+    pub(crate) diagonal: Vec<f64>,
+    /// Stage 2, mass factor: `M + diag = L^T L` with the tree's sparsity.
+    pub(crate) mass_factor: TreeFactor,
+    /// Stage 3, contact terms (empty without contacts).
+    pub(crate) contact: ContactTerms,
+    /// Stage 4, accelerations (nv): `B tau - h`, then `L^-T (B tau - h)`, then `nudot`.
+    pub(crate) acceleration: DVector<f64>,
+    /// Terms handed over by another user of the same model (`adopt_model_terms`).
+    pub(crate) adopted: Adopted,
+}
+
+/// Stage 3 of the evaluation: the contact Jacobian and the Schur complement.
+#[derive(Clone, Debug)]
+pub(crate) struct ContactTerms {
+    /// Stacked contact Jacobian `J` (k x nv).
+    pub(crate) jacobian: DMatrix<f64>,
+    /// `Y^T = (L^-T J^T)^T` with `M = L^T L` (k x nv: one contiguous k-column per velocity).
+    pub(crate) linv_jt_t: DMatrix<f64>,
+    /// `J M^-1 J^T`, then its Cholesky factor (k x k).
+    pub(crate) schur: DMatrix<f64>,
+    /// Constraint acceleration target, then the multipliers (k).
+    pub(crate) target: DVector<f64>,
+}
+
+/// Model (and contact) terms adopted from another user of the model, waiting for the next
+/// evaluation at exactly the state they were computed at.
+#[derive(Clone, Debug)]
+pub(crate) struct Adopted {
+    /// `[q; nu]` (nq + nv) of the adopted terms.
+    pub(crate) state: Vec<f64>,
+    /// Whether `data`'s model terms are adopted and still unused.
+    pub(crate) model: bool,
+    /// Whether the mass factor and the contact terms (stage 2, 3) are adopted too.
+    pub(crate) contacts: bool,
+    /// `Jdot nu` of the adopted contact terms (k).
+    pub(crate) jdot_nu: DVector<f64>,
+}
+
+impl Workspace {
+    /// Buffers for `plant`.
+    pub fn new(plant: &Plant) -> Self {
+        let layout = plant.layout();
+        let nv = layout.nv;
+        let k = 6 * plant.contacts.len();
+        Self {
+            data: Data::new(&plant.model),
+            diagonal: vec![0.0; nv],
+            mass_factor: TreeFactor::new(&plant.model),
+            contact: ContactTerms {
+                jacobian: DMatrix::zeros(k, nv),
+                linv_jt_t: DMatrix::zeros(k, nv),
+                schur: DMatrix::zeros(k, k),
+                target: DVector::zeros(k),
+            },
+            acceleration: DVector::zeros(nv),
+            adopted: Adopted {
+                state: vec![0.0; layout.nq + nv],
+                model: false,
+                contacts: false,
+                jdot_nu: DVector::zeros(k),
+            },
+        }
+    }
+}
+
+/// The outputs of one evaluation: the tangent derivative and what the plant reports at the
+/// evaluated state. [`crate::evaluation::evaluate`] writes them where its caller says (the
+/// integrator: the step-start evaluation into the caller's outputs, later stages into its own).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlantOutputs {
+    /// Tangent derivative `[nu; thetadot; nudot; thetaddot]` (nd; blocks:
+    /// [`sea_dyn::TangentLayout`]).
+    pub xdot: DVector<f64>,
+    /// Contact wrenches `[f; n]` per contact at the frame origins, world axes (k).
+    pub contact_wrench: DVector<f64>,
+    /// Joint torques applied to the links (n): spring-damper torque or rigid input.
+    pub joint_torque: DVector<f64>,
+    /// Motor torques after saturation (n_e), motor side.
+    pub motor_torque: DVector<f64>,
+    /// Whether each motor torque hit its limit (n_e).
+    pub saturated: Vec<bool>,
+    /// Largest contact position error [m].
+    pub drift_position: f64,
+    /// Largest contact rotation error [rad].
+    pub drift_rotation: f64,
+}
+
+impl PlantOutputs {
+    /// Zeroed outputs sized for `plant`.
+    pub fn new(plant: &Plant) -> Self {
+        let layout = plant.layout();
+        let ne = layout.ne;
+        Self {
+            xdot: DVector::zeros(layout.nd()),
+            contact_wrench: DVector::zeros(6 * plant.contacts.len()),
+            joint_torque: DVector::zeros(plant.model.n_joints()),
+            motor_torque: DVector::zeros(ne),
+            saturated: vec![false; ne],
+            drift_position: 0.0,
+            drift_rotation: 0.0,
+        }
+    }
+
+    /// Copies `other` (outputs of the same plant) into `self`; allocates nothing.
+    pub fn copy_from(&mut self, other: &PlantOutputs) {
+        let vectors = [
+            (&mut self.xdot, &other.xdot),
+            (&mut self.contact_wrench, &other.contact_wrench),
+            (&mut self.joint_torque, &other.joint_torque),
+            (&mut self.motor_torque, &other.motor_torque),
+        ];
+        for (target, source) in vectors {
+            target.as_mut_slice().copy_from_slice(source.as_slice());
+        }
+        self.saturated.copy_from_slice(&other.saturated);
+        self.drift_position = other.drift_position;
+        self.drift_rotation = other.drift_rotation;
+    }
+}
