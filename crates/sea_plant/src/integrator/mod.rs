@@ -32,12 +32,18 @@ use w_matrix::{prepare_implicit, solve_implicit};
 
 mod w_matrix;
 
-/// Integration method.
+/// Integration method; with the `serde` feature, named "ros2", "implicit_euler" or "rk4".
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum Method {
     /// ROS2 Rosenbrock-W, order 2, L-stable (the default).
     Ros2,
     /// Linearly implicit Euler (one stage of the same W), order 1.
+    #[cfg_attr(feature = "serde", serde(rename = "implicit_euler"))]
     LinearlyImplicitEuler,
     /// Classical explicit Runge-Kutta, order 4.
     Rk4,
