@@ -56,12 +56,21 @@ fn actuator_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<Actuat
             "keys among kind, ratio, motor_inertia, stiffness, damping, torque_limit",
             format!("unknown actuator key '{}'", error.key),
         )),
-        Err(error) => Err(argument_error(
-            &format!("{where_}['{}']", error.key),
-            &error.rule,
-            dict.get_item(&error.key)?
-                .map_or("?".into(), |v| v.to_string()),
-        )),
+        Err(error) => {
+            let expected = match error.key.as_str() {
+                "kind" => format!("one of {}", ActuatorKind::allowed()),
+                _ => "a number".to_string(),
+            };
+            let shown = match dict.get_item(&error.key)? {
+                Some(value) => value.repr()?.to_string(),
+                None => "?".to_string(),
+            };
+            Err(argument_error(
+                &format!("{where_}['{}']", error.key),
+                &expected,
+                shown,
+            ))
+        }
     }
 }
 
@@ -135,8 +144,9 @@ impl PyPlant {
     /// Builds a plant.
     ///
     /// `actuator`: the default actuator of every joint, "rigid", "elastic" (the paper's iCub
-    /// SEA) or a dict (ratio, motor_inertia, stiffness, damping, torque_limit); `actuators`:
-    /// per-joint overrides by name. `contacts`: frame names held at their pose in `contact_q`
+    /// SEA) or a dict of a scenario's actuator keys (kind, ratio, motor_inertia, stiffness,
+    /// damping, torque_limit; missing keys the paper's SEA's); `actuators`: per-joint
+    /// overrides by name. `contacts`: frame names held at their pose in `contact_q`
     /// (None: no contacts).
     /// `friction`, `foot_x`, `foot_y`: the sole's friction coefficient and rectangle (sole
     /// frame) for the wrench margins; unset, the default contact surface.
