@@ -181,7 +181,8 @@ class Plant:
     ) -> Plant:
         """``actuator``: default for every joint, "rigid" (default), "elastic" (the paper's
         iCub SEA: ratio 0.01, motor_inertia 1e-5, stiffness 350, damping 0.25) or a dict of
-        those keys plus ``torque_limit``; ``actuators``: per-joint overrides by name.
+        those keys plus ``torque_limit`` and ``kind`` (a scenario's actuator table, read the
+        same way); ``actuators``: per-joint overrides by name.
         ``contacts``: frame names held at their pose in ``contact_q`` (None: no contacts).
         ``baumgarte_kp``, ``baumgarte_kd``: contact stabilisation gains; None keeps the plant's
         default (the original study's K_p = 50 and K_d = 2 sqrt(K_p), its critical damping).

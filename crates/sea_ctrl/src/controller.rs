@@ -39,8 +39,13 @@ use sea_dyn::dense::{copy_contiguous, copy_into_rows};
 use sea_dyn::spatial::Pose;
 use sea_dyn::{Actuation, Data, ElasticParameters, FrameId, Model, StateLayout};
 
-/// Which controller.
+/// Which controller; with the `serde` feature, named "sea" or "rigid".
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum ControllerKind {
     /// The SEA controller (desired motor velocities).
     Sea,

@@ -7,9 +7,10 @@ use crate::scenario::toml_literal;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_sim::analysis::{
-    linearize_with, stability_margin_report, Linearization, LinearizeOptions, MarginMethod,
-    MarginOptions, Sampling,
+    linearize_with, stability_margin_report, ControlTiming, Linearization, LinearizeOptions,
+    MarginMethod, MarginOptions,
 };
+use sea_sim::scenario::{Sampling, Setting};
 use std::collections::HashMap;
 use std::path::PathBuf;
 
@@ -30,19 +31,21 @@ pub(crate) fn override_pairs(
 fn sampling_arg(
     sampling: Option<&str>,
     scenario: &sea_sim::scenario::Scenario,
-) -> PyResult<Option<Sampling>> {
-    match sampling {
-        None => Ok(None),
-        Some("continuous") => Ok(Some(Sampling::Continuous)),
-        Some("zero_order_hold") => Ok(Some(Sampling::ZeroOrderHold {
-            period: 1.0 / scenario.controller.rate_hz,
-        })),
-        Some(other) => Err(argument_error(
+) -> PyResult<Option<ControlTiming>> {
+    let Some(name) = sampling else {
+        return Ok(None);
+    };
+    let sampling = Sampling::from_name(name).ok_or_else(|| {
+        argument_error(
             "sampling",
-            "None, \"continuous\" or \"zero_order_hold\"",
-            format!("\"{other}\""),
-        )),
-    }
+            &format!("None or one of {}", Sampling::allowed()),
+            format!("'{name}'"),
+        )
+    })?;
+    Ok(Some(ControlTiming::of(
+        sampling,
+        scenario.controller.rate_hz,
+    )))
 }
 
 /// The fields of a linearisation (see `sea_momentum.analysis.Linearization`).
@@ -70,10 +73,7 @@ fn linearization_fields<'py>(py: Python<'py>, lin: &Linearization) -> PyResult<B
     d.set_item("residual", lin.equilibrium.residual)?;
     d.set_item("newton_iterations", lin.equilibrium.iterations)?;
     d.set_item("map_residual", lin.map_residual)?;
-    let (name, period) = match lin.sampling {
-        Sampling::Continuous => ("continuous", None),
-        Sampling::ZeroOrderHold { period } => ("zero_order_hold", Some(period)),
-    };
+    let (name, period) = (lin.sampling.sampling().name(), lin.sampling.period());
     d.set_item("sampling", name)?;
     d.set_item("control_period", period)?;
     d.set_item("time", lin.time)?;

@@ -13,7 +13,7 @@ use crate::plant::PyPlant;
 use crate::scenario::toml_literal;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sea_ctrl::controller::{ControlOutput, ControllerKind, MomentumController};
+use sea_ctrl::controller::{ControlOutput, MomentumController};
 use sea_ctrl::qp::QpStatus;
 use sea_ctrl::references::{ComTrajectory, PostureReference};
 use sea_dyn::{Model, StateLayout};
@@ -270,10 +270,7 @@ impl PyController {
     /// "sea" or "rigid".
     #[getter]
     fn kind(&self) -> &'static str {
-        match self.controller.settings().kind {
-            ControllerKind::Sea => "sea",
-            ControllerKind::Rigid => "rigid",
-        }
+        sea_sim::scenario::Setting::name(self.controller.settings().kind)
     }
 
     /// Contact frame names, the rows of `ControlOutput.wrenches`.
@@ -345,7 +342,7 @@ impl PyScenario {
             controller: Py::new(py, controller)?,
             initial_state: setup.x0,
             schedule,
-            method: scenario.plant.method.clone(),
+            method: sea_sim::scenario::Setting::name(scenario.plant.method).into(),
             duration: scenario.simulation.duration_s,
         })
     }

@@ -7,76 +7,104 @@ use crate::model::PyModel;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sea_dyn::{Actuation, Actuator, ElasticParameters};
+use sea_dyn::{Actuation, Actuator};
 use sea_plant::{ContactLimits, Method, MotorInput, Plant, PlantData};
+use sea_sim::scenario::{ActuatorConfig, ActuatorKind, Setting};
 use std::collections::HashMap;
 use std::sync::atomic::Ordering;
 
-/// Parameters of an elastic actuator from a dict with keys ratio, motor_inertia, stiffness,
-/// damping and optional torque_limit; `where_` names the dict in errors.
-fn elastic_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<ElasticParameters> {
-    const KEYS: [&str; 5] = [
-        "ratio",
-        "motor_inertia",
-        "stiffness",
-        "damping",
-        "torque_limit",
-    ];
-    for key in dict.keys() {
-        let key: String = key.extract()?;
-        if !KEYS.contains(&key.as_str()) {
-            return Err(argument_error(
-                where_,
-                &format!("keys among {KEYS:?}"),
-                format!("unknown actuator key '{key}'"),
-            ));
-        }
+/// A Python value of an actuator dict as TOML: a number (NaN and infinities included) or a
+/// string (`kind`); `None` is `None` (the key is left out: no torque limit).
+fn actuator_value(
+    value: &Bound<'_, PyAny>,
+    key: &str,
+    where_: &str,
+) -> PyResult<Option<toml::Value>> {
+    if value.is_none() {
+        return Ok(None);
     }
-    let defaults = ElasticParameters::paper_icub();
-    let get = |key: &str, default: f64| -> PyResult<f64> {
-        match dict.get_item(key)? {
-            Some(value) => value
-                .extract::<f64>()
-                .map_err(|_| argument_error(&format!("{where_}['{key}']"), "a number", &value)),
-            None => Ok(default),
-        }
-    };
-    let torque_limit = match dict.get_item("torque_limit")? {
-        Some(value) if !value.is_none() => Some(value.extract::<f64>().map_err(|_| {
-            argument_error(
-                &format!("{where_}['torque_limit']"),
-                "a number or None",
-                &value,
-            )
-        })?),
-        _ => None,
-    };
-    Ok(ElasticParameters {
-        ratio: get("ratio", defaults.ratio)?,
-        motor_inertia: get("motor_inertia", defaults.motor_inertia)?,
-        stiffness: get("stiffness", defaults.stiffness)?,
-        damping: get("damping", defaults.damping)?,
-        torque_limit,
-    })
+    if let Ok(text) = value.extract::<String>() {
+        return Ok(Some(toml::Value::String(text)));
+    }
+    match value.extract::<f64>() {
+        Ok(number) => Ok(Some(toml::Value::Float(number))),
+        Err(_) => Err(argument_error(
+            &format!("{where_}['{key}']"),
+            "a number",
+            value,
+        )),
+    }
 }
 
-/// An actuator from `"rigid"` or a dict of elastic parameters.
+/// An actuator from a dict of the keys of a scenario's actuator table (`kind`, ratio,
+/// motor_inertia, stiffness, damping, torque_limit; defaults: the paper's iCub SEA), read by
+/// the scenario schema ([`ActuatorConfig::from_table`]); `where_` names the dict in errors.
+fn actuator_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<Actuator> {
+    let mut table = toml::Table::new();
+    for (key, value) in dict.iter() {
+        let key: String = key
+            .extract()
+            .map_err(|_| argument_error(where_, "a dict with str keys", &key))?;
+        if let Some(value) = actuator_value(&value, &key, where_)? {
+            table.insert(key, value);
+        }
+    }
+    match ActuatorConfig::from_table(table) {
+        Ok(config) => Ok(config.actuator()),
+        Err(error) if error.rule.starts_with("unknown field") => Err(argument_error(
+            where_,
+            "keys among kind, ratio, motor_inertia, stiffness, damping, torque_limit",
+            format!("unknown actuator key '{}'", error.key),
+        )),
+        Err(error) => {
+            let expected = match error.key.as_str() {
+                "kind" => format!("one of {}", ActuatorKind::allowed()),
+                _ => "a number".to_string(),
+            };
+            let shown = match dict.get_item(&error.key)? {
+                Some(value) => value.repr()?.to_string(),
+                None => "?".to_string(),
+            };
+            Err(argument_error(
+                &format!("{where_}['{}']", error.key),
+                &expected,
+                shown,
+            ))
+        }
+    }
+}
+
+/// An actuator from a kind ("rigid", "elastic": the paper's iCub SEA) or a dict of parameters.
 fn actuator_from_py(value: &Bound<'_, PyAny>, where_: &str) -> PyResult<Actuator> {
     if let Ok(text) = value.extract::<String>() {
-        return match text.as_str() {
-            "rigid" => Ok(Actuator::Rigid),
-            "elastic" => Ok(Actuator::Elastic(ElasticParameters::paper_icub())),
-            other => Err(argument_error(
+        let kind = ActuatorKind::from_name(&text).ok_or_else(|| {
+            argument_error(
                 where_,
-                "'rigid', 'elastic' or a dict of parameters",
-                format!("'{other}'"),
-            )),
+                &format!("one of {} or a dict of parameters", ActuatorKind::allowed()),
+                format!("'{text}'"),
+            )
+        })?;
+        let config = ActuatorConfig {
+            kind,
+            ..ActuatorConfig::default()
         };
+        return Ok(config.actuator());
     }
     let dict = value
         .cast::<PyDict>()
         .map_err(|_| argument_error(where_, "'rigid', 'elastic' or a dict", value))?;
-    Ok(Actuator::Elastic(elastic_from_dict(dict, where_)?))
+    actuator_from_dict(dict, where_)
+}
+
+/// The integrator called `name` ("ros2", "implicit_euler" or "rk4").
+fn method_arg(name: &str) -> PyResult<Method> {
+    Method::from_name(name).ok_or_else(|| {
+        argument_error(
+            "method",
+            &format!("one of {}", Method::allowed()),
+            format!("'{name}'"),
+        )
+    })
 }
 
 /// Checks the arguments of `Plant(...)` that the Rust plant does not check itself (its gains
@@ -151,8 +179,9 @@ impl PyPlant {
     /// Builds a plant.
     ///
     /// `actuator`: the default actuator of every joint, "rigid", "elastic" (the paper's iCub
-    /// SEA) or a dict (ratio, motor_inertia, stiffness, damping, torque_limit); `actuators`:
-    /// per-joint overrides by name. `contacts`: frame names held at their pose in `contact_q`
+    /// SEA) or a dict of a scenario's actuator keys (kind, ratio, motor_inertia, stiffness,
+    /// damping, torque_limit; missing keys the paper's SEA's); `actuators`: per-joint
+    /// overrides by name. `contacts`: frame names held at their pose in `contact_q`
     /// (None: no contacts).
     /// `friction`, `foot_x`, `foot_y`: the sole's friction coefficient and rectangle (sole
     /// frame) for the wrench margins; unset, the default contact surface.
@@ -420,7 +449,7 @@ impl PyPlant {
         dt: f64,
         method: &str,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let method = Method::parse(method).map_err(to_py)?;
+        let method = method_arg(method)?;
         if !(dt.is_finite() && dt > 0.0) {
             return Err(argument_error("dt", "a positive finite number", dt));
         }
@@ -459,7 +488,7 @@ impl PyPlant {
         method: &str,
         record_every: usize,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let method = Method::parse(method).map_err(to_py)?;
+        let method = method_arg(method)?;
         check_record_size(&self.plant, n_steps, record_every)?;
         self.load(x0, u)?;
         let (plant, data, x, u) = (&self.plant, &mut self.data, &self.x, &self.u);

@@ -2,8 +2,8 @@
 
 use sea_sim::analysis::system::difference;
 use sea_sim::analysis::{
-    linearize, linearize_with, stability_margin, stability_margin_report, Linearization,
-    LinearizeOptions, MarginMethod, MarginOptions, Sampling,
+    linearize, linearize_with, stability_margin, stability_margin_report, ControlTiming,
+    Linearization, LinearizeOptions, MarginMethod, MarginOptions,
 };
 use sea_sim::scenario::Scenario;
 use std::path::PathBuf;
@@ -128,8 +128,8 @@ fn predicted_growth_matches_simulation_nominal_at_200hz() {
 fn nominal_is_stable_and_independent_of_the_step() {
     let scenario = load(&[]);
     for sampling in [
-        Sampling::Continuous,
-        Sampling::ZeroOrderHold { period: 1e-3 },
+        ControlTiming::Continuous,
+        ControlTiming::ZeroOrderHold { period: 1e-3 },
     ] {
         let lin = linearize_with(
             &scenario,

@@ -17,7 +17,7 @@ use sea_ctrl::qp::{
 };
 use sea_dyn::sample::Lcg;
 use sea_sim::closed_loop::{build, run_setup_with_sinks};
-use sea_sim::scenario::presets::ICUB_QP_REGULARIZATION;
+use sea_sim::scenario::icub;
 use sea_sim::scenario::Scenario;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
@@ -74,7 +74,7 @@ fn cross_checked(name: &str, file: &str, overrides: &[(&str, &str)]) -> CrossChe
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
     let scenario = Scenario::from_file(&path, &pairs).unwrap();
-    assert_eq!(scenario.qp_solver().unwrap(), QpSolver::ActiveSet);
+    assert_eq!(scenario.controller.qp_solver, QpSolver::ActiveSet);
     let mut setup = build(&scenario).unwrap();
     setup.controller.set_qp_cross_check(true);
     let cancel = AtomicBool::new(false);
@@ -140,7 +140,7 @@ fn problems(run: &CrossChecked) -> Vec<String> {
 fn agreement_problems(name: &str, a: &QpAgreement) -> Vec<String> {
     let mut problems = Vec::new();
     let scale = a.max_wrench.max(1.0);
-    let bound = scaled_difference_bound(ICUB_QP_REGULARIZATION);
+    let bound = scaled_difference_bound(icub().qp_regularization);
     if a.max_scaled_difference > bound {
         problems.push(format!(
             "{name}: wrenches differ by {:.2e} sqrt(1 + |J|), bound {bound:.2e}",
@@ -278,12 +278,12 @@ fn random_wrench_qp(seed: u64, two_feet: bool) -> RandomQp {
     if two_feet {
         let sigma = DMatrix::from_fn(25, k, |_, _| 0.3 * rng.next_signed());
         let tau_bias = DVector::from_fn(25, |_, _| 50.0 * rng.next_signed());
-        torque_norm_objective(&sigma, &tau_bias, ICUB_QP_REGULARIZATION, &mut p, &mut c);
+        torque_norm_objective(&sigma, &tau_bias, icub().qp_regularization, &mut p, &mut c);
         let b = &momentum_map * &feasible;
         (p, c, Some((momentum_map, b)), rotations)
     } else {
         let target = DVector::from_fn(6, |_, _| 200.0 * rng.next_signed());
-        let regularization = ICUB_QP_REGULARIZATION;
+        let regularization = icub().qp_regularization;
         momentum_tracking_objective(&momentum_map, &target, regularization, &mut p, &mut c);
         (p, c, None, rotations)
     }

@@ -51,8 +51,14 @@ use cross_check::{Compared, CrossCheck};
 use nalgebra::{DMatrix, DVector, Matrix3};
 use problem::SoleFrameProblem;
 
-/// Which solver solves the wrench QP when the minimiser without inequalities is not taken.
+/// Which solver solves the wrench QP when the minimiser without inequalities is not taken;
+/// with the `serde` feature, named as [`QpSolver::name`] says.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum QpSolver {
     /// The dense Goldfarb-Idnani active-set method ([`active_set`]), Clarabel as fallback.
     #[default]
@@ -71,11 +77,6 @@ impl QpSolver {
             QpSolver::ActiveSet => "active_set",
             QpSolver::Clarabel => "clarabel",
         }
-    }
-
-    /// The solver called `name` (see [`Self::name`]), `None` if there is none.
-    pub fn parse(name: &str) -> Option<QpSolver> {
-        Self::ALL.into_iter().find(|solver| solver.name() == name)
     }
 }
 

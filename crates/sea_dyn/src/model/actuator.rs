@@ -12,8 +12,15 @@ use crate::error::{Error, Result};
 use crate::model::Model;
 use std::collections::HashMap;
 
-/// Parameters of one elastic actuator.
+/// Parameters of one elastic actuator. With the `serde` feature, a table of these keys (any
+/// subset: a missing key takes [`ElasticParameters::default`]'s value, an unknown key is an
+/// error).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct ElasticParameters {
     /// Transmission ratio `Gamma` (joint angle per motor angle), e.g. 0.01 for 1/100.
     pub ratio: f64,

@@ -5,7 +5,14 @@
 //! the original study's (docs/references.md#original-study-contact-wrench-qp).
 
 /// Friction coefficients and foot rectangle of one sole, sole frame (x forward, z normal).
+/// With the `serde` feature, a table of these keys (missing keys take the default's values,
+/// unknown keys are errors).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct ContactSurface {
     /// Coulomb friction coefficient `mu`.
     pub friction: f64,

@@ -38,31 +38,21 @@ use w_matrix::WMatrix;
 
 mod w_matrix;
 
-/// Integration method.
+/// Integration method; with the `serde` feature, named "ros2", "implicit_euler" or "rk4".
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum Method {
     /// ROS2 Rosenbrock-W, order 2, L-stable (the default).
     Ros2,
     /// Linearly implicit Euler (one stage of the same W), order 1.
+    #[cfg_attr(feature = "serde", serde(rename = "implicit_euler"))]
     LinearlyImplicitEuler,
     /// Classical explicit Runge-Kutta, order 4.
     Rk4,
-}
-
-impl Method {
-    /// Parses "ros2", "implicit_euler" or "rk4".
-    pub fn parse(name: &str) -> Result<Method> {
-        match name {
-            "ros2" => Ok(Method::Ros2),
-            "implicit_euler" => Ok(Method::LinearlyImplicitEuler),
-            "rk4" => Ok(Method::Rk4),
-            other => Err(Error::invalid(
-                "method",
-                "'ros2', 'implicit_euler' or 'rk4'",
-                format!("'{other}'"),
-            )),
-        }
-    }
 }
 
 /// The integrator's own buffers, for every method.

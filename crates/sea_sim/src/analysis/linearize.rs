@@ -13,7 +13,7 @@
 //!    the map), and the eigenvector of the least stable mode with its dominant states.
 
 use super::eigen::{eigenvalues, eigenvector, spectrum_distance};
-use super::system::{difference, ClosedLoopSystem, Sampling};
+use super::system::{difference, ClosedLoopSystem, ControlTiming};
 use crate::error::Result;
 use crate::scenario::Scenario;
 use nalgebra::{Complex, DMatrix, DVector};
@@ -23,8 +23,8 @@ use nalgebra::{Complex, DMatrix, DVector};
 pub struct LinearizeOptions {
     /// Time at which the references are frozen [s] (default 0).
     pub time: f64,
-    /// Sampling (default: the scenario's `controller.sampling`, [`Sampling::of_scenario`]).
-    pub sampling: Option<Sampling>,
+    /// Sampling (default: the scenario's `controller.sampling`, [`ControlTiming::of_scenario`]).
+    pub sampling: Option<ControlTiming>,
     /// Relative finite-difference step of the reported Jacobian.
     pub step: f64,
     /// Second relative step, for the step-sensitivity check (`None`: no check).
@@ -68,7 +68,7 @@ pub struct Equilibrium {
 #[derive(Clone, Debug)]
 pub struct Linearization {
     /// Sampling analysed.
-    pub sampling: Sampling,
+    pub sampling: ControlTiming,
     /// Time at which the references were frozen [s].
     pub time: f64,
     /// The equilibrium (state, convergence, residual).
@@ -168,13 +168,13 @@ pub fn jacobian(system: &mut ClosedLoopSystem, x: &[f64], step: f64) -> Result<D
         sea_plant::retract(&plant, x, &direction, h, &mut x_plus);
         sea_plant::retract(&plant, x, &direction, -h, &mut x_minus);
         match system.sampling {
-            Sampling::Continuous => {
+            ControlTiming::Continuous => {
                 system.vector_field(&x_plus, &mut f_plus)?;
                 system.vector_field(&x_minus, &mut f_minus)?;
                 column.copy_from(&f_plus);
                 column -= &f_minus;
             }
-            Sampling::ZeroOrderHold { .. } => {
+            ControlTiming::ZeroOrderHold { .. } => {
                 system.period_map(&x_plus, &mut m_plus)?;
                 system.period_map(&x_minus, &mut m_minus)?;
                 difference(&system.layout, &m_minus, &m_plus, &mut column);
@@ -193,7 +193,7 @@ pub fn equilibrium(
 ) -> Result<Equilibrium> {
     let nd = system.layout.nd();
     let continuous_sampling = system.sampling;
-    system.sampling = Sampling::Continuous;
+    system.sampling = ControlTiming::Continuous;
     let result = (|| {
         let plant = system.plant().clone();
         let mut x = x_start.to_vec();
@@ -374,9 +374,9 @@ pub fn closed_loop_system(
     let setup = crate::scenario::build(scenario)?;
     let sampling = match options.sampling {
         Some(sampling) => sampling,
-        None => Sampling::of_scenario(scenario)?,
+        None => ControlTiming::of_scenario(scenario),
     };
-    let method = sea_plant::Method::parse(&scenario.plant.method)?;
+    let method = scenario.plant.method;
     ClosedLoopSystem::new(setup, options.time, sampling, scenario.plant.dt, method)
 }
 

@@ -15,4 +15,4 @@ pub use margin::{
     stability_margin, stability_margin_report, MarginMethod, MarginOptions, MarginReport,
     MarginSample,
 };
-pub use system::{ClosedLoopSystem, Sampling};
+pub use system::{ClosedLoopSystem, ControlTiming};

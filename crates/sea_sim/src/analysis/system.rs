@@ -8,15 +8,16 @@
 //! with `x (+) dx` = [`sea_plant::retract`] and `y (-) x` = [`difference`].
 
 use crate::error::{Error, Result};
-use crate::scenario::{Scenario, Setup};
+use crate::scenario::{Sampling, Scenario, Setup};
 use nalgebra::DVector;
 use sea_ctrl::controller::{ControlOutput, MomentumController};
 use sea_ctrl::references::ComSample;
 use sea_plant::{Method, Plant, PlantData, StateLayout};
 
-/// How the controller is sampled.
+/// When the controller is evaluated: the sampling setting ([`Sampling`]) with, in zero-order
+/// hold, its period.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Sampling {
+pub enum ControlTiming {
     /// Evaluated wherever the dynamics are (the paper's setting: inside ode15s).
     Continuous,
     /// Evaluated every `period` seconds and held in between.
@@ -26,26 +27,43 @@ pub enum Sampling {
     },
 }
 
-impl Sampling {
-    /// The scenario's sampling: `controller.sampling`, the period from `controller.rate_hz`.
-    pub fn of_scenario(scenario: &Scenario) -> Result<Sampling> {
-        Ok(
-            match crate::closed_loop::Sampling::parse(&scenario.controller.sampling)? {
-                crate::closed_loop::Sampling::Continuous => Sampling::Continuous,
-                crate::closed_loop::Sampling::ZeroOrderHold => Sampling::ZeroOrderHold {
-                    period: 1.0 / scenario.controller.rate_hz,
-                },
+impl ControlTiming {
+    /// The timing of `sampling` at the control rate `rate_hz` (used in zero-order hold).
+    pub fn of(sampling: Sampling, rate_hz: f64) -> ControlTiming {
+        match sampling {
+            Sampling::Continuous => ControlTiming::Continuous,
+            Sampling::ZeroOrderHold => ControlTiming::ZeroOrderHold {
+                period: 1.0 / rate_hz,
             },
-        )
+        }
+    }
+
+    /// The scenario's timing: `controller.sampling`, the period from `controller.rate_hz`.
+    pub fn of_scenario(scenario: &Scenario) -> ControlTiming {
+        Self::of(scenario.controller.sampling, scenario.controller.rate_hz)
+    }
+
+    /// The sampling setting.
+    pub fn sampling(&self) -> Sampling {
+        match self {
+            ControlTiming::Continuous => Sampling::Continuous,
+            ControlTiming::ZeroOrderHold { .. } => Sampling::ZeroOrderHold,
+        }
+    }
+
+    /// The control period [s] (`None` in continuous time).
+    pub fn period(&self) -> Option<f64> {
+        match *self {
+            ControlTiming::Continuous => None,
+            ControlTiming::ZeroOrderHold { period } => Some(period),
+        }
     }
 
     /// A short label: "continuous" or "zero_order_hold at R Hz".
     pub fn label(&self) -> String {
-        match self {
-            Sampling::Continuous => "continuous".into(),
-            Sampling::ZeroOrderHold { period } => {
-                format!("zero_order_hold at {:.6} Hz", 1.0 / period)
-            }
+        match self.period() {
+            None => self.sampling().name().into(),
+            Some(period) => format!("{} at {:.6} Hz", self.sampling().name(), 1.0 / period),
         }
     }
 }
@@ -93,8 +111,8 @@ pub struct ClosedLoopSystem {
     pub reference: ComSample,
     /// The frozen desired posture.
     pub s_desired: Vec<f64>,
-    /// Sampling of the controller.
-    pub sampling: Sampling,
+    /// When the controller is evaluated.
+    pub sampling: ControlTiming,
     /// Plant steps per control period (zero-order hold).
     pub steps_per_period: usize,
     /// Integration method of the plant.
@@ -113,7 +131,7 @@ impl ClosedLoopSystem {
     pub fn new(
         setup: Setup,
         t: f64,
-        sampling: Sampling,
+        sampling: ControlTiming,
         plant_dt: f64,
         method: Method,
     ) -> Result<Self> {
@@ -127,8 +145,8 @@ impl ClosedLoopSystem {
         let mut s_desired = vec![0.0; setup.model.n_joints()];
         setup.posture.at(t, &mut s_desired);
         let steps_per_period = match sampling {
-            Sampling::Continuous => 1,
-            Sampling::ZeroOrderHold { period } => {
+            ControlTiming::Continuous => 1,
+            ControlTiming::ZeroOrderHold { period } => {
                 if !(period.is_finite() && period > 0.0) {
                     return Err(Error::config(
                         "controller.rate_hz",
@@ -167,10 +185,7 @@ impl ClosedLoopSystem {
 
     /// The control period [s] (`None` in continuous time).
     pub fn period(&self) -> Option<f64> {
-        match self.sampling {
-            Sampling::Continuous => None,
-            Sampling::ZeroOrderHold { period } => Some(period),
-        }
+        self.sampling.period()
     }
 
     /// Computes and stores the controller's input at `x`.
@@ -230,8 +245,8 @@ impl ClosedLoopSystem {
     /// period in zero-order hold (the displacement of one period).
     pub fn displacement(&mut self, x: &[f64], out: &mut DVector<f64>) -> Result<()> {
         match self.sampling {
-            Sampling::Continuous => self.vector_field(x, out),
-            Sampling::ZeroOrderHold { .. } => {
+            ControlTiming::Continuous => self.vector_field(x, out),
+            ControlTiming::ZeroOrderHold { .. } => {
                 let mut mapped = vec![0.0; x.len()];
                 self.period_map(x, &mut mapped)?;
                 difference(&self.layout, x, &mapped, out);

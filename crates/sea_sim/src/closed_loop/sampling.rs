@@ -7,39 +7,10 @@
 //!   paper, whose controller runs inside ode15s's right-hand side; the run is split into equal
 //!   steps not longer than `plant.dt` and `controller.rate_hz` is not used.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
+/// The setting, typed in the scenario schema.
+pub use crate::scenario::Sampling;
 use crate::scenario::Scenario;
-
-/// How the controller is sampled.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Sampling {
-    /// At `controller.rate_hz`, the input held between ticks (`"zero_order_hold"`).
-    ZeroOrderHold,
-    /// At every integrator stage (`"continuous"`).
-    Continuous,
-}
-
-impl Sampling {
-    /// Parses `"zero_order_hold"` or `"continuous"`.
-    pub fn parse(name: &str) -> Result<Sampling> {
-        match name {
-            "zero_order_hold" => Ok(Sampling::ZeroOrderHold),
-            "continuous" => Ok(Sampling::Continuous),
-            other => Err(Error::config(
-                "controller.sampling",
-                format!("expected \"zero_order_hold\" or \"continuous\", got \"{other}\""),
-            )),
-        }
-    }
-
-    /// The scenario name of the setting.
-    pub fn name(self) -> &'static str {
-        match self {
-            Sampling::ZeroOrderHold => "zero_order_hold",
-            Sampling::Continuous => "continuous",
-        }
-    }
-}
 
 /// The time grid of a run: samples `0..=last_sample` at `index * period` (control ticks with
 /// zero-order hold, plant steps in continuous mode); between two samples, `steps_per_period`
@@ -62,7 +33,7 @@ impl Schedule {
     /// The grid of `scenario` (`controller.sampling`, `controller.rate_hz`, `plant.dt`,
     /// `simulation.duration_s`).
     pub fn of(scenario: &Scenario) -> Result<Schedule> {
-        let sampling = Sampling::parse(&scenario.controller.sampling)?;
+        let sampling = scenario.controller.sampling;
         let (duration, max_step) = (scenario.simulation.duration_s, scenario.plant.dt);
         Ok(match sampling {
             Sampling::ZeroOrderHold => {
@@ -122,14 +93,5 @@ mod tests {
             assert!(span / n as f64 <= bound * (1.0 + 1e-9));
             assert!(span / (n - 1) as f64 > bound);
         }
-    }
-
-    #[test]
-    fn sampling_names_round_trip() {
-        for sampling in [Sampling::ZeroOrderHold, Sampling::Continuous] {
-            assert_eq!(Sampling::parse(sampling.name()).unwrap(), sampling);
-        }
-        let message = Sampling::parse("sampled").unwrap_err().to_string();
-        assert!(message.contains("controller.sampling"), "{message}");
     }
 }

@@ -5,7 +5,7 @@
 use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
 use super::statistics::RunEnd;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::scenario::{Scenario, Setup};
 use sea_ctrl::controller::{ControlOutput, MomentumController};
 use sea_ctrl::references::{ComSample, ComTrajectory, PostureReference};
@@ -181,8 +181,7 @@ impl<'a> Engine<'a> {
     /// The loop of `setup` on the grid of `scenario`, at the initial state.
     pub fn new(scenario: &'a Scenario, setup: &'a mut Setup) -> Result<Engine<'a>> {
         let schedule = Schedule::of(scenario)?;
-        let method = Method::parse(&scenario.plant.method)
-            .map_err(|e| Error::config("plant.method", e.to_string()))?;
+        let method = scenario.plant.method;
         let Setup {
             model,
             plant,

@@ -42,7 +42,7 @@ impl SceneSource {
     /// The scene of `scenario`: its resolved URDF and the contact surface its controller and
     /// plant share (`[controller.contact]` foot_x, foot_y).
     pub fn of_scenario(scenario: &crate::scenario::Scenario) -> Self {
-        let contact = &scenario.controller.contact;
+        let contact = &scenario.controller.contact.surface;
         Self {
             urdf: scenario.resolve(&scenario.robot.urdf),
             foot: Some(FootRectangle {

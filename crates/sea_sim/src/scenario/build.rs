@@ -2,10 +2,12 @@
 //! and references of one run.
 
 use crate::error::{Error, Result};
-use crate::scenario::presets::{ICUB25_JOINTS, ICUB_LEFT_STANCE, ICUB_TWO_FEET_DEG};
-use crate::scenario::{expand_joint_groups, InitialSprings, Scenario};
+use crate::scenario::{
+    expand_joint_groups, icub, ComOrigin, ControllerKind, InitialSprings, RobotDescription,
+    Scenario,
+};
 use nalgebra::Vector3;
-use sea_ctrl::controller::{ControllerKind, MomentumController};
+use sea_ctrl::controller::MomentumController;
 use sea_ctrl::references::{ComTrajectory, PostureReference};
 use sea_dyn::spatial::quaternion_from_rotation;
 use sea_dyn::{Actuation, Data, FrameId, LoadOptions, Model};
@@ -30,14 +32,14 @@ pub struct Setup {
     pub elastic_names: Vec<String>,
 }
 
-/// The robot model: the URDF reduced to `robot.joints` (default: the paper's 25 iCub joints).
+/// The robot model: the URDF reduced to `robot.joints` (default: the robot description's).
 fn load_model(scenario: &Scenario) -> Result<Model> {
     let urdf = scenario.resolve(&scenario.robot.urdf);
     let joints = scenario
         .robot
         .joints
         .clone()
-        .unwrap_or_else(|| ICUB25_JOINTS.map(String::from).to_vec());
+        .unwrap_or_else(|| icub().joints.clone());
     Ok(Model::from_urdf_file(
         &urdf,
         &LoadOptions {
@@ -50,75 +52,89 @@ fn load_model(scenario: &Scenario) -> Result<Model> {
 /// Every joint's actuator: `[actuators]`, then the per-joint overrides.
 pub fn actuation(scenario: &Scenario, model: &Model) -> Result<Actuation> {
     let actuators = &scenario.actuators;
-    let default = actuators.default.actuator("actuators")?;
+    let default = actuators.default.actuator();
     let mut overrides = HashMap::new();
     for (name, config) in &actuators.overrides {
-        let key = format!("actuators.overrides.{name}");
         if model.joint_index(name).is_none() {
+            let key = format!("actuators.overrides.{name}");
             return Err(Error::config(key, "unknown joint"));
         }
-        overrides.insert(name.clone(), config.actuator(&key)?);
+        overrides.insert(name.clone(), config.actuator());
     }
     Actuation::new(model, default, &overrides)
         .map_err(|e| Error::config("actuators", e.to_string()))
 }
 
-/// The initial joint positions `s0` (n) of `robot.initial_posture`: a posture of the original
-/// study (in the model's joint order), zero, or explicit radians.
+/// The initial joint positions `s0` (n) of `robot.initial_posture`: a posture of the robot
+/// description (in the model's joint order), zero, or explicit radians.
 fn initial_posture(scenario: &Scenario, model: &Model) -> Result<Vec<f64>> {
-    let value = &scenario.robot.initial_posture;
-    let paper_order = |values: &[f64]| -> Result<Vec<f64>> {
-        model
-            .joint_names
-            .iter()
-            .map(|name| {
-                ICUB25_JOINTS
-                    .iter()
-                    .position(|j| j == name)
-                    .map(|k| values[k])
-                    .ok_or_else(|| {
-                        Error::config(
-                            "robot.initial_posture",
-                            format!("no value for joint '{name}'"),
-                        )
-                    })
-            })
-            .collect()
-    };
-    match value {
-        toml::Value::String(s) if s == "left_stance" => paper_order(&ICUB_LEFT_STANCE),
-        toml::Value::String(s) if s == "two_feet" => paper_order(&ICUB_TWO_FEET_DEG.map(f64::to_radians)),
-        toml::Value::String(s) if s == "zero" => Ok(vec![0.0; model.n_joints()]),
-        toml::Value::Array(items) => {
-            if items.len() != model.n_joints() {
-                return Err(Error::invalid(
-                    "robot.initial_posture",
-                    format!("needs {} numbers (one per joint)", model.n_joints()),
-                    format!("{} entries", items.len()),
-                ));
-            }
-            items
-                .iter()
-                .enumerate()
-                .map(|(i, v)| {
-                    v.as_float()
-                        .or(v.as_integer().map(|i| i as f64))
-                        .filter(|x| x.is_finite())
-                        .ok_or_else(|| {
-                            Error::invalid(
-                                format!("robot.initial_posture[{i}]"),
-                                "must be a finite number (radians)",
-                                v,
-                            )
-                        })
-                })
-                .collect()
+    let robot = icub();
+    match &scenario.robot.initial_posture {
+        toml::Value::String(name) if name == "zero" => Ok(vec![0.0; model.n_joints()]),
+        toml::Value::String(name) if robot.postures.contains_key(name) => {
+            described_posture(robot, name, model)
         }
-        other => Err(Error::config(
-            "robot.initial_posture",
-            format!("expected \"left_stance\", \"two_feet\", \"zero\" or a list of radians, got {other}"),
-        )),
+        toml::Value::Array(items) => explicit_posture(items, model),
+        other => {
+            let names = robot.postures.keys().map(|name| format!("\"{name}\", "));
+            Err(Error::config(
+                "robot.initial_posture",
+                format!(
+                    "expected {}\"zero\" or a list of radians, got {other}",
+                    names.collect::<String>()
+                ),
+            ))
+        }
     }
+}
+
+/// The posture `name` of `robot` in the model's joint order.
+fn described_posture(robot: &RobotDescription, name: &str, model: &Model) -> Result<Vec<f64>> {
+    let angles = robot.postures[name].radians();
+    model
+        .joint_names
+        .iter()
+        .map(|joint| {
+            robot
+                .joints
+                .iter()
+                .position(|j| j == joint)
+                .map(|k| angles[k])
+                .ok_or_else(|| {
+                    Error::config(
+                        "robot.initial_posture",
+                        format!("no value for joint '{joint}'"),
+                    )
+                })
+        })
+        .collect()
+}
+
+/// Explicit radians, one per joint of the model.
+fn explicit_posture(items: &[toml::Value], model: &Model) -> Result<Vec<f64>> {
+    if items.len() != model.n_joints() {
+        return Err(Error::invalid(
+            "robot.initial_posture",
+            format!("needs {} numbers (one per joint)", model.n_joints()),
+            format!("{} entries", items.len()),
+        ));
+    }
+    items
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            v.as_float()
+                .or(v.as_integer().map(|i| i as f64))
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    Error::invalid(
+                        format!("robot.initial_posture[{i}]"),
+                        "must be a finite number (radians)",
+                        v,
+                    )
+                })
+        })
+        .collect()
 }
 
 /// The contact frames of `robot.contacts`, stance foot first.
@@ -157,13 +173,13 @@ fn plant(scenario: &Scenario, model: &Model, actuation: &Actuation, q: &[f64]) -
     plant.baumgarte_kp = config.baumgarte_kp;
     plant.baumgarte_kd = config.baumgarte_kd();
     plant.joint_inertia_regularization = config.joint_inertia_regularization;
-    plant.motor_input = match scenario.controller_kind() {
+    plant.motor_input = match scenario.controller.kind {
         ControllerKind::Sea => MotorInput::VelocityLoop {
             gain: config.motor_velocity_gain,
         },
         ControllerKind::Rigid => MotorInput::Torque,
     };
-    plant.contact_limits = scenario.controller.contact.surface();
+    plant.contact_limits = scenario.controller.contact.surface;
     plant
         .validate()
         .map_err(|e| Error::config("plant", e.to_string()))?;
@@ -194,19 +210,13 @@ pub fn com_reference(
     let r = &scenario.reference;
     let mut data = Data::new(model);
     let com0 = sea_dyn::com(model, &mut data, q);
-    let origin = match r.com_origin.as_str() {
-        "stance_sole" => {
+    let origin = match r.com_origin {
+        ComOrigin::StanceSole => {
             sea_dyn::forward_kinematics(model, &mut data, q);
             let sole = sea_dyn::frame_placement(model, &data, stance).translation;
             Vector3::new(sole.x, sole.y, com0.z)
         }
-        "initial" => com0,
-        other => {
-            return Err(Error::config(
-                "reference.com_origin",
-                format!("expected \"stance_sole\" or \"initial\", got \"{other}\""),
-            ))
-        }
+        ComOrigin::Initial => com0,
     };
     let direction = Vector3::from(r.com_direction);
     if direction.norm() < 1e-12 {

@@ -1,0 +1,260 @@
+//! From TOML text to the TOML tree the schema reads: `--set key=value` overrides, and the
+//! errors of both steps naming what is wrong (the line of malformed TOML; the dotted key,
+//! the rule and the value of a schema error).
+
+use super::settings::{not_one_of, quoted_list};
+use crate::error::{Error, Result};
+use serde::de::DeserializeOwned;
+
+/// The result of reading a table on its own.
+pub type TableResult<T> = std::result::Result<T, TableError>;
+
+/// Parses `value` of an override as TOML (number, bool, array, quoted string), else as a bare
+/// string.
+fn override_value(value: &str) -> toml::Value {
+    let wrapped = format!("v = {value}");
+    match toml::from_str::<toml::Table>(&wrapped) {
+        Ok(mut table) => table
+            .remove("v")
+            .unwrap_or(toml::Value::String(value.into())),
+        Err(_) => toml::Value::String(value.into()),
+    }
+}
+
+/// Applies `key.path=value` to a TOML tree, creating tables as needed.
+pub fn apply_override(root: &mut toml::Table, key: &str, value: &str) -> Result<()> {
+    let parts: Vec<&str> = key.split('.').collect();
+    if parts.iter().any(|p| p.is_empty()) {
+        return Err(Error::config(key, "malformed override key"));
+    }
+    let mut table = root;
+    for part in &parts[..parts.len() - 1] {
+        let entry = table
+            .entry(part.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        table = entry
+            .as_table_mut()
+            .ok_or_else(|| Error::config(key, format!("'{part}' is not a table")))?;
+    }
+    table.insert(parts[parts.len() - 1].to_string(), override_value(value));
+    Ok(())
+}
+
+/// A TOML syntax error with the line and column of its span in `text`.
+pub(crate) fn syntax_error(error: &toml::de::Error, text: &str) -> Error {
+    let (line, column) = match error.span() {
+        Some(span) => {
+            let (line, column) = sea_dyn::error::line_column(text, span.start);
+            (Some(line), Some(column))
+        }
+        None => (None, None),
+    };
+    Error::Parse {
+        file: None,
+        line,
+        column,
+        message: format!("malformed TOML: {}", error.message().trim()),
+    }
+}
+
+/// A schema (serde) error of the whole scenario `root`, naming the dotted key it is about.
+/// serde says only "invalid type: unit variant" of a setting given a number or a list: the
+/// value is then looked up in `root` and shown.
+pub(crate) fn schema_error(error: &toml::de::Error, root: &toml::Table) -> Error {
+    let error = TableError::of(error);
+    if error.rule.starts_with("invalid type: unit variant") {
+        if let Some(value) = lookup(root, &error.key) {
+            let rule = format!(
+                "invalid type: {} `{value}`, expected a string",
+                value.type_str()
+            );
+            return Error::config(error.key, rule);
+        }
+    }
+    error.into_error()
+}
+
+/// The value at the dotted `key` of `root`.
+fn lookup<'a>(root: &'a toml::Table, key: &str) -> Option<&'a toml::Value> {
+    let (tables, last) = match key.rsplit_once('.') {
+        Some((tables, last)) => (Some(tables), last),
+        None => (None, key),
+    };
+    let mut table = root;
+    for part in tables.into_iter().flat_map(|t| t.split('.')) {
+        table = table.get(part)?.as_table()?;
+    }
+    table.get(last)
+}
+
+/// A schema error of a table read on its own: the dotted key relative to the table ("" for
+/// the table itself) and the rule it breaks.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TableError {
+    /// The key, relative to the table read.
+    pub key: String,
+    /// serde's message, e.g. "unknown field `stifness`, expected one of ...".
+    pub rule: String,
+}
+
+impl TableError {
+    /// The key and rule of a serde error. `toml` appends the path of the value
+    /// ("in `controller.postural_scale`"); for an unknown or missing field the path is its
+    /// table and the field is named in the message, so the key is `table.field`; a sub-table
+    /// read on its own names its key in the message ("in `overrides.l_knee.stiffness`: rule",
+    /// [`Self::within`]).
+    pub fn of(error: &toml::de::Error) -> Self {
+        let text = error.to_string();
+        let text = text.trim();
+        let (rule, path) = match text.rsplit_once("\nin `") {
+            Some((rule, path)) => (rule.trim(), path.trim_end_matches('`')),
+            None => (text, ""),
+        };
+        let nested = rule
+            .strip_prefix("in `")
+            .and_then(|rest| rest.split_once("`: "));
+        if let Some((inner, rule)) = nested {
+            return Self::new(dotted(path, inner), rule);
+        }
+        let field = ["unknown field `", "missing field `"]
+            .iter()
+            .find_map(|prefix| rule.strip_prefix(prefix))
+            .and_then(|rest| rest.split('`').next());
+        Self::new(dotted(path, field.unwrap_or("")), rule)
+    }
+
+    fn new(key: String, rule: &str) -> Self {
+        Self {
+            key,
+            rule: rule.to_string(),
+        }
+    }
+
+    /// The same error of a table read without the keys `taken` (read on their own): an
+    /// unknown field's message lists them among the expected fields.
+    pub fn besides(self, taken: &[&str]) -> Self {
+        let Some((unknown, expected)) = self.rule.split_once(", expected ") else {
+            return self;
+        };
+        if !unknown.starts_with("unknown field `") {
+            return self;
+        }
+        let names = taken
+            .iter()
+            .copied()
+            .chain(expected.split('`').skip(1).step_by(2));
+        let listed: Vec<String> = names.map(|name| format!("`{name}`")).collect();
+        let rule = format!("{unknown}, expected one of {}", listed.join(", "));
+        Self { rule, ..self }
+    }
+
+    /// The same error with its key under `table`.
+    pub fn under(self, table: &str) -> Self {
+        Self {
+            key: dotted(table, &self.key),
+            ..self
+        }
+    }
+
+    /// The message of this error for the enclosing table, `prefix` naming this table in it
+    /// ("" for the enclosing table itself, "overrides.NAME." for a sub-table): read back by
+    /// [`Self::of`] as the key `prefix + key`.
+    pub fn within(&self, prefix: &str) -> String {
+        let key = dotted(prefix.trim_end_matches('.'), &self.key);
+        if key.is_empty() {
+            self.rule.clone()
+        } else {
+            format!("in `{key}`: {}", self.rule)
+        }
+    }
+
+    /// The scenario error: serde's unknown variant becomes "must be one of 'a', 'b', got 'x'".
+    pub fn into_error(self) -> Error {
+        let key = if self.key.is_empty() {
+            "scenario".to_string()
+        } else {
+            self.key
+        };
+        match unknown_variant(&self.rule) {
+            Some((value, allowed)) => not_one_of(&key, value, &allowed),
+            None => Error::config(key, self.rule),
+        }
+    }
+}
+
+/// `a.b` of `a` and `b`, either possibly empty.
+fn dotted(a: &str, b: &str) -> String {
+    match (a.is_empty(), b.is_empty()) {
+        (true, _) => b.to_string(),
+        (false, true) => a.to_string(),
+        (false, false) => format!("{a}.{b}"),
+    }
+}
+
+/// The value and the allowed names (quoted list) of serde's "unknown variant `x`, expected
+/// `a` or `b`" (or "expected one of `a`, `b`, `c`").
+fn unknown_variant(rule: &str) -> Option<(&str, String)> {
+    let (value, expected) = rule
+        .strip_prefix("unknown variant `")?
+        .split_once("`, expected ")?;
+    let names = expected.split('`').skip(1).step_by(2);
+    Some((value, quoted_list(names)))
+}
+
+/// Reads `T` from a table on its own, whose keys `taken` were removed (and read) before.
+pub(crate) fn table_as<T: DeserializeOwned>(table: toml::Table, taken: &[&str]) -> TableResult<T> {
+    toml::Value::Table(table)
+        .try_into()
+        .map_err(|e: toml::de::Error| TableError::of(&e).besides(taken))
+}
+
+/// Removes `key` from `table` and reads its value (`None` when absent).
+pub(crate) fn take<T: DeserializeOwned>(
+    table: &mut toml::Table,
+    key: &str,
+) -> TableResult<Option<T>> {
+    table
+        .remove(key)
+        .map(|value| {
+            value
+                .try_into()
+                .map_err(|e: toml::de::Error| TableError::of(&e).under(key))
+        })
+        .transpose()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn serde_variant_lists_become_the_allowed_names() {
+        assert_eq!(
+            unknown_variant("unknown variant `zoh`, expected `continuous` or `zero_order_hold`"),
+            Some(("zoh", "'continuous', 'zero_order_hold'".to_string()))
+        );
+        assert_eq!(
+            unknown_variant("unknown variant `x`, expected one of `ros2`, `implicit_euler`, `rk4`"),
+            Some(("x", "'ros2', 'implicit_euler', 'rk4'".to_string()))
+        );
+        assert_eq!(unknown_variant("invalid type: integer `3`"), None);
+    }
+
+    #[test]
+    fn sub_table_messages_read_back_as_their_key() {
+        let error = TableError {
+            key: "stifness".into(),
+            rule: "unknown field `stifness`, expected `ratio`".into(),
+        };
+        assert_eq!(
+            error.within("overrides.l_knee."),
+            "in `overrides.l_knee.stifness`: unknown field `stifness`, expected `ratio`"
+        );
+        let top = TableError {
+            key: String::new(),
+            rule: "invalid type".into(),
+        };
+        assert_eq!(top.within(""), "invalid type");
+        assert_eq!(top.within("overrides.x."), "in `overrides.x`: invalid type");
+    }
+}

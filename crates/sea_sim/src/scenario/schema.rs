@@ -1,0 +1,342 @@
+//! The tables of a scenario file, typed: each key is read once, by serde, into its type
+//! (domain types where one exists: [`ElasticParameters`], [`ContactConstraints`] with its
+//! [`sea_dyn::ContactSurface`], the settings of [`super::settings`]). Every table rejects
+//! unknown keys and is `#[serde(default)]`: a missing key takes the table's default, built
+//! from the domain types' defaults and the robot description ([`super::robots::icub`]).
+
+use super::parse::{table_as, take, TableResult};
+use super::robots::icub;
+use super::settings::{ActuatorKind, ComOrigin, ControllerKind, Method, QpSolver, Sampling};
+use sea_ctrl::qp::ContactConstraints;
+use sea_dyn::{critical_damping, Actuator, ElasticParameters};
+use sea_plant::Plant;
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer};
+use std::collections::BTreeMap;
+
+/// `[robot]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotConfig {
+    /// URDF path (required).
+    pub urdf: String,
+    /// Moving joints (default: the robot description's, the paper's 25 iCub joints).
+    #[serde(default)]
+    pub joints: Option<Vec<String>>,
+    /// Contact frames, stance foot first (default: the robot description's, the left sole).
+    #[serde(default = "default_contacts")]
+    pub contacts: Vec<String>,
+    /// A posture of the robot description ("left_stance", "two_feet": the original study's),
+    /// "zero" or explicit radians.
+    #[serde(default = "left_stance")]
+    pub initial_posture: toml::Value,
+    /// The springs at the start: "preloaded" (default) or "at_rest" ([`InitialSprings`]).
+    #[serde(default)]
+    pub initial_springs: InitialSprings,
+}
+
+/// `robot.initial_springs`: the spring deflections of the initial state (the robot is at rest
+/// in `robot.initial_posture` either way).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InitialSprings {
+    /// Deflected by the static joint torques, so the run starts in equilibrium.
+    #[default]
+    Preloaded,
+    /// Undeflected (`Gamma theta = s`): the controller must first load the springs, the
+    /// original study's start of the saturation experiment, which drives the large initial
+    /// motor velocity peak the paper shows.
+    AtRest,
+}
+
+/// The robot description's contact frames (serde default of `robot.contacts`).
+fn default_contacts() -> Vec<String> {
+    icub().contacts.clone()
+}
+
+/// The original study's one-foot posture (serde default of `robot.initial_posture`).
+fn left_stance() -> toml::Value {
+    toml::Value::String("left_stance".into())
+}
+
+/// One actuator: `[actuators]` (every joint's) or `[actuators.overrides.NAME]` (one joint's,
+/// its keys on top of `[actuators]`): `kind` and the keys of [`ElasticParameters`] (defaults:
+/// the paper's iCub SEA, [`ElasticParameters::paper_icub`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ActuatorConfig {
+    /// Elastic or rigid.
+    pub kind: ActuatorKind,
+    /// The parameters of an elastic actuator.
+    pub parameters: ElasticParameters,
+}
+
+impl ActuatorConfig {
+    /// Reads an actuator table on its own (`kind` and the parameters' keys); the error's key
+    /// is relative to the table. The scenario's `[actuators]` and the Python bindings'
+    /// actuator dicts are read here.
+    pub fn from_table(mut table: toml::Table) -> TableResult<Self> {
+        let kind = take(&mut table, "kind")?.unwrap_or_default();
+        let parameters = table_as(table, &["kind"])?;
+        Ok(Self { kind, parameters })
+    }
+
+    /// The actuator this table describes.
+    pub fn actuator(&self) -> Actuator {
+        match self.kind {
+            ActuatorKind::Rigid => Actuator::Rigid,
+            ActuatorKind::Elastic => Actuator::Elastic(self.parameters),
+        }
+    }
+}
+
+/// `[actuators]`: the default actuator of every joint (the keys of [`ActuatorConfig`]) plus
+/// per-joint overrides (`[actuators.overrides.NAME]`, any subset of the same keys).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ActuatorsConfig {
+    /// The actuator of every joint without an override.
+    pub default: ActuatorConfig,
+    /// Per-joint actuators by joint name, each `[actuators]` with its override's keys replaced.
+    pub overrides: BTreeMap<String, ActuatorConfig>,
+}
+
+impl<'de> Deserialize<'de> for ActuatorsConfig {
+    /// `[actuators]` without `overrides` is read as an [`ActuatorConfig`]; each override is
+    /// that table with the override's keys replaced, read the same way.
+    fn deserialize<D>(deserializer: D) -> std::result::Result<Self, D::Error>
+    where
+        D: Deserializer<'de>,
+    {
+        let mut table = toml::Table::deserialize(deserializer)?;
+        let overrides = match table.remove("overrides") {
+            None => toml::Table::new(),
+            Some(toml::Value::Table(overrides)) => overrides,
+            Some(other) => {
+                return Err(D::Error::custom(format!(
+                    "`overrides` must be a table of joint names, got {}",
+                    other.type_str()
+                )))
+            }
+        };
+        let default = ActuatorConfig::from_table(table.clone())
+            .map_err(|e| D::Error::custom(e.within("")))?;
+        let mut resolved = BTreeMap::new();
+        for (name, value) in overrides {
+            let toml::Value::Table(keys) = value else {
+                return Err(D::Error::custom(format!(
+                    "`overrides.{name}` must be a table of actuator keys, got {}",
+                    value.type_str()
+                )));
+            };
+            let mut merged = table.clone();
+            merged.extend(keys);
+            let actuator = ActuatorConfig::from_table(merged)
+                .map_err(|e| D::Error::custom(e.within(&format!("overrides.{name}."))))?;
+            resolved.insert(name, actuator);
+        }
+        Ok(Self {
+            default,
+            overrides: resolved,
+        })
+    }
+}
+
+/// `[plant]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PlantConfig {
+    /// Baumgarte position gain [1/s^2] (default [`Plant::DEFAULT_BAUMGARTE_KP`]).
+    pub baumgarte_kp: f64,
+    /// Baumgarte velocity gain [1/s] (default: [`sea_dyn::critical_damping`] of the kp).
+    pub baumgarte_kd: Option<f64>,
+    /// Motor velocity loop gain K_m [1/s] (default: the robot description's).
+    pub motor_velocity_gain: f64,
+    /// Added to the plant's joint inertia diagonal [kg m^2] (default: the robot
+    /// description's).
+    pub joint_inertia_regularization: f64,
+    /// Integration step [s].
+    pub dt: f64,
+    /// The integrator: "ros2" (default), "implicit_euler" or "rk4".
+    pub method: Method,
+}
+
+impl Default for PlantConfig {
+    fn default() -> Self {
+        Self {
+            baumgarte_kp: Plant::DEFAULT_BAUMGARTE_KP,
+            baumgarte_kd: None,
+            motor_velocity_gain: icub().motor_velocity_gain,
+            joint_inertia_regularization: icub().joint_inertia_regularization,
+            dt: 1e-3,
+            method: Method::Ros2,
+        }
+    }
+}
+
+impl PlantConfig {
+    /// The Baumgarte velocity gain: `baumgarte_kd`, or the critical damping of the kp.
+    pub fn baumgarte_kd(&self) -> f64 {
+        self.baumgarte_kd
+            .unwrap_or_else(|| critical_damping(self.baumgarte_kp))
+    }
+}
+
+/// `[controller]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ControllerConfig {
+    /// "sea" (default) or "rigid".
+    pub kind: ControllerKind,
+    /// Control rate [Hz] with zero-order hold (unused in continuous sampling).
+    pub rate_hz: f64,
+    /// "zero_order_hold" (the controller at `rate_hz`, its input held; the default) or
+    /// "continuous" (the controller at every integrator stage, as in the paper).
+    pub sampling: Sampling,
+    /// Controller damping estimate = true damping x scale.
+    pub damping_estimate_scale: f64,
+    /// Controller stiffness estimate = true stiffness x scale.
+    pub stiffness_estimate_scale: f64,
+    /// Momentum integral gains (linear xyz, angular xyz; default: the robot description's
+    /// for one or two feet).
+    pub momentum_integral: Option<[f64; 6]>,
+    /// Momentum proportional gains (default: the critical damping of the integral gains).
+    pub momentum_proportional: Option<[f64; 6]>,
+    /// Postural stiffness per joint before `postural_scale` (default: the robot
+    /// description's by joint group).
+    pub postural_stiffness: Option<Vec<f64>>,
+    /// Scale of the postural stiffness (default: the robot description's).
+    pub postural_scale: f64,
+    /// Pseudo-inverse damping (default: the robot description's).
+    pub pinv_damping: f64,
+    /// QP Hessian regulariser (default: the robot description's).
+    pub qp_regularization: f64,
+    /// Skip the QP solver when the QP's minimiser without inequalities satisfies them (it is
+    /// then the optimum); `false` runs the solver every tick.
+    pub qp_unconstrained_first: bool,
+    /// The QP solver: "active_set" (Goldfarb-Idnani, Clarabel as fallback; the default) or
+    /// "clarabel".
+    pub qp_solver: QpSolver,
+    /// Rigid controller: include the motor reflected inertia (Remark 1).
+    pub reflected_inertia: bool,
+    /// Added to the controller model's joint inertia diagonal [kg m^2] (default: the robot
+    /// description's).
+    pub joint_inertia_regularization: f64,
+    /// `[controller.contact]`: the QP's contact constraints, whose contact surface the plant
+    /// also uses for its wrench margins (one flat table: `facets`, `min_normal_force` and the
+    /// keys of [`sea_dyn::ContactSurface`]; defaults [`ContactConstraints::default`]).
+    #[serde(deserialize_with = "contact_constraints")]
+    pub contact: ContactConstraints,
+}
+
+impl Default for ControllerConfig {
+    fn default() -> Self {
+        let robot = icub();
+        Self {
+            kind: ControllerKind::Sea,
+            rate_hz: 1000.0,
+            sampling: Sampling::default(),
+            damping_estimate_scale: 1.0,
+            stiffness_estimate_scale: 1.0,
+            momentum_integral: None,
+            momentum_proportional: None,
+            postural_stiffness: None,
+            postural_scale: robot.postural_scale,
+            pinv_damping: robot.pinv_damping,
+            qp_regularization: robot.qp_regularization,
+            qp_unconstrained_first: true,
+            qp_solver: QpSolver::default(),
+            reflected_inertia: true,
+            joint_inertia_regularization: robot.joint_inertia_regularization,
+            contact: ContactConstraints::default(),
+        }
+    }
+}
+
+/// Reads `[controller.contact]`: `facets` and `min_normal_force`, the other keys the contact
+/// surface's.
+fn contact_constraints<'de, D>(deserializer: D) -> std::result::Result<ContactConstraints, D::Error>
+where
+    D: Deserializer<'de>,
+{
+    let table = toml::Table::deserialize(deserializer)?;
+    contact_table(table).map_err(|e| D::Error::custom(e.within("")))
+}
+
+/// [`ContactConstraints`] of a `[controller.contact]` table read on its own.
+fn contact_table(mut table: toml::Table) -> TableResult<ContactConstraints> {
+    let defaults = ContactConstraints::default();
+    let facets = take(&mut table, "facets")?.unwrap_or(defaults.facets);
+    let min_normal_force =
+        take(&mut table, "min_normal_force")?.unwrap_or(defaults.min_normal_force);
+    Ok(ContactConstraints {
+        surface: table_as(table, &["facets", "min_normal_force"])?,
+        facets,
+        min_normal_force,
+    })
+}
+
+/// `[reference]`: the CoM sinusoid `origin + (1 - exp(-t / smooth_start)) A sin(2 pi f t)
+/// direction` and the postural step (defaults: no motion; the direction and the 1 s smooth
+/// start are the original study's).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ReferenceConfig {
+    /// CoM sinusoid amplitude [m].
+    pub com_amplitude: f64,
+    /// CoM sinusoid frequency [Hz].
+    pub com_frequency: f64,
+    /// CoM sinusoid direction (world).
+    pub com_direction: [f64; 3],
+    /// Smooth-start time constant [s].
+    pub com_smooth_start: f64,
+    /// "stance_sole" (default): CoM x, y above the stance sole origin (z initial); "initial":
+    /// the initial CoM.
+    pub com_origin: ComOrigin,
+    /// Postural step [deg].
+    pub posture_step_deg: f64,
+    /// Joints (or groups of the robot description: "torso", "arms", "left_arm", "right_arm",
+    /// "upper_body") that get the step.
+    pub posture_step_joints: Vec<String>,
+    /// Time of the step [s].
+    pub posture_step_time: f64,
+}
+
+impl Default for ReferenceConfig {
+    fn default() -> Self {
+        Self {
+            com_amplitude: 0.0,
+            com_frequency: 0.0,
+            com_direction: [0.0, 1.0, 0.0],
+            com_smooth_start: 1.0,
+            com_origin: ComOrigin::default(),
+            posture_step_deg: 0.0,
+            posture_step_joints: Vec::new(),
+            posture_step_time: 0.0,
+        }
+    }
+}
+
+/// `[simulation]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SimulationConfig {
+    /// Simulated time [s].
+    pub duration_s: f64,
+    /// Record (and log) every this many samples: control ticks with zero-order hold, plant
+    /// steps in continuous sampling (the last sample and a diverging one are always recorded).
+    pub record_every: usize,
+    /// The run is diverged when the CoM error exceeds this [m].
+    pub divergence_com_error_m: f64,
+    /// The run is diverged when the joint error norm exceeds this [rad].
+    pub divergence_joint_error_rad: f64,
+}
+
+impl Default for SimulationConfig {
+    fn default() -> Self {
+        Self {
+            duration_s: 10.0,
+            record_every: 10,
+            divergence_com_error_m: 0.1,
+            divergence_joint_error_rad: 1.0,
+        }
+    }
+}
