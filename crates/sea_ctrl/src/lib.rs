@@ -19,6 +19,7 @@
 pub mod active_set;
 pub mod controller;
 pub mod error;
+pub mod feedback;
 pub mod momentum;
 pub mod qp;
 pub mod references;
