@@ -20,6 +20,7 @@
 
 pub mod controller;
 pub mod error;
+pub mod feedback;
 pub mod joint_loop;
 pub mod momentum;
 pub mod qp;

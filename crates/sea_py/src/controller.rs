@@ -13,7 +13,8 @@ use crate::plant::PyPlant;
 use crate::scenario::toml_literal;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sea_ctrl::controller::{ControlOutput, MomentumController};
+use sea_ctrl::controller::MomentumController;
+use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::qp::QpStatus;
 use sea_ctrl::references::{ComTrajectory, PostureReference};
 use sea_dyn::{Model, StateLayout};
@@ -23,7 +24,8 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 /// The momentum controller with its CoM and postural references: `tick(t, x)` is the
-/// closed loop's feedback law at time `t` and plant state `x`.
+/// closed loop's feedback law ([`FeedbackLaw`], the one the native loop runs) at time `t` and
+/// plant state `x`.
 ///
 /// State x = [q (nq), theta (n_e), nu (nv), thetadot (n_e)] (theta, thetadot: elastic joints
 /// only; a rigid robot has x = [q, nu]). Build it from a `Model` with the keys of a scenario's
@@ -31,18 +33,12 @@ use std::path::PathBuf;
 /// `Controller.from_table`), or take a scenario's (`Scenario.load(path).controller`).
 #[pyclass(name = "Controller", module = "sea_momentum._native", unsendable)]
 pub struct PyController {
-    controller: MomentumController,
-    com_reference: ComTrajectory,
-    posture: PostureReference,
-    layout: StateLayout,
+    /// The feedback law: the controller, its references and the last tick's outputs.
+    law: FeedbackLaw,
     contacts: Vec<String>,
     joint_names: Vec<String>,
-    /// Postural reference `s_d(t)` of the last tick (n).
-    s_desired: Vec<f64>,
     /// The state of the last tick, copied from Python (nx).
     x: Vec<f64>,
-    /// The last tick's outputs (allocated once).
-    output: ControlOutput,
 }
 
 impl PyController {
@@ -54,17 +50,11 @@ impl PyController {
         layout: StateLayout,
         joint_names: Vec<String>,
     ) -> Self {
-        let output = controller.new_output();
         Self {
             contacts: controller.settings().contacts.clone(),
-            s_desired: posture.initial.clone(),
             x: Vec::with_capacity(layout.nx()),
-            controller,
-            com_reference,
-            posture,
-            layout,
+            law: FeedbackLaw::new(controller, com_reference, posture, layout),
             joint_names,
-            output,
         }
     }
 
@@ -105,33 +95,32 @@ impl PyController {
             model.joint_names.clone(),
         ))
     }
+}
 
-    /// The tick's outputs, with the CoM reference `com_reference` (world) they tracked, as a
-    /// `sea_momentum.controller.ControlOutput`.
-    fn output_object<'py>(
-        &self,
-        py: Python<'py>,
-        com_reference: &[f64],
-    ) -> PyResult<Bound<'py, PyAny>> {
-        let out = &self.output;
-        let fields = PyDict::new(py);
-        fields.set_item("com_reference", vector_out(py, com_reference))?;
-        fields.set_item("input", vector_out(py, &out.input))?;
-        fields.set_item("joint_command", vector_out(py, &out.joint_command))?;
-        fields.set_item("thetadot_desired", vector_out(py, &out.thetadot_desired))?;
-        fields.set_item("wrenches", matrix_rows_out(py, out.wrenches.as_slice(), 6))?;
-        let (status, message) = match &out.qp_status {
-            QpStatus::Solved => ("solved", ""),
-            QpStatus::Fallback(reason) => ("fallback", reason.as_str()),
-        };
-        fields.set_item("qp_status", status)?;
-        fields.set_item("qp_message", message)?;
-        fields.set_item("com", vector_out(py, out.com.as_slice()))?;
-        fields.set_item("momentum", vector_out(py, out.momentum.as_slice()))?;
-        py.import("sea_momentum.controller")?
-            .getattr("ControlOutput")?
-            .call((), Some(&fields))
-    }
+/// A tick's outputs with the CoM reference (world) they tracked, as a
+/// `sea_momentum.controller.ControlOutput`.
+fn output_object<'py>(py: Python<'py>, observation: &Observation) -> PyResult<Bound<'py, PyAny>> {
+    let out = &observation.output;
+    let fields = PyDict::new(py);
+    fields.set_item(
+        "com_reference",
+        vector_out(py, observation.reference.position.as_slice()),
+    )?;
+    fields.set_item("input", vector_out(py, &out.input))?;
+    fields.set_item("joint_command", vector_out(py, &out.joint_command))?;
+    fields.set_item("thetadot_desired", vector_out(py, &out.thetadot_desired))?;
+    fields.set_item("wrenches", matrix_rows_out(py, out.wrenches.as_slice(), 6))?;
+    let (status, message) = match &out.qp_status {
+        QpStatus::Solved => ("solved", ""),
+        QpStatus::Fallback(reason) => ("fallback", reason.as_str()),
+    };
+    fields.set_item("qp_status", status)?;
+    fields.set_item("qp_message", message)?;
+    fields.set_item("com", vector_out(py, out.com.as_slice()))?;
+    fields.set_item("momentum", vector_out(py, out.momentum.as_slice()))?;
+    py.import("sea_momentum.controller")?
+        .getattr("ControlOutput")?
+        .call((), Some(&fields))
 }
 
 /// A scenario holding only the tables a controller needs: `[robot]` with `contacts` and the
@@ -247,30 +236,20 @@ impl PyController {
         if !t.is_finite() {
             return Err(argument_error("t", "a finite time [s]", t));
         }
-        vector_arg(x, "x", self.layout.nx(), &mut self.x)?;
-        let reference = self.com_reference.sample(t);
-        self.posture.at(t, &mut self.s_desired);
-        self.controller
-            .compute_into(
-                &self.x,
-                &self.layout,
-                &reference,
-                &self.s_desired,
-                &mut self.output,
-            )
-            .map_err(to_py)?;
-        self.output_object(py, reference.position.as_slice())
+        vector_arg(x, "x", self.law.layout().nx(), &mut self.x)?;
+        let observation = self.law.tick(t, &self.x).map_err(to_py)?;
+        output_object(py, observation)
     }
 
     /// The CoM reference at `t` [s]: position (3,) in world [m].
     fn com_reference<'py>(&self, py: Python<'py>, t: f64) -> Bound<'py, numpy::PyArray1<f64>> {
-        vector_out(py, self.com_reference.sample(t).position.as_slice())
+        vector_out(py, self.law.com_reference().sample(t).position.as_slice())
     }
 
     /// "sea" or "rigid".
     #[getter]
     fn kind(&self) -> &'static str {
-        sea_sim::scenario::Setting::name(self.controller.settings().kind)
+        sea_sim::scenario::Setting::name(self.law.controller().settings().kind)
     }
 
     /// Contact frame names, the rows of `ControlOutput.wrenches`.
@@ -288,13 +267,13 @@ impl PyController {
     /// Size of the state `tick` reads, nq + nv + 2 n_e.
     #[getter]
     fn nx(&self) -> usize {
-        self.layout.nx()
+        self.law.layout().nx()
     }
 
     /// QP solves so far that fell back to the unconstrained solution.
     #[getter]
     fn qp_failures(&self) -> usize {
-        self.controller.qp_failures()
+        self.law.controller().qp_failures()
     }
 }
 

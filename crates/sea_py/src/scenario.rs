@@ -5,7 +5,8 @@ use crate::errors::{argument_error, to_py};
 use crate::interrupt::run_interruptible;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sea_sim::closed_loop::{run_with_sinks, McapSink, RecordSink, RunRecord};
+use sea_sim::closed_loop::{run_with_sinks, RecordSink, RunRecord};
+use sea_sim::mcap_log::McapSink;
 use std::collections::HashMap;
 use std::path::PathBuf;
 

@@ -8,8 +8,10 @@
 //! [`McapLogger::finish`] or, silently, when the logger is dropped, so an interrupted or
 //! diverged run still leaves a readable file. [`McapLogger::flush`] closes the current chunk
 //! and flushes it to disk, so even a killed process leaves data that MCAP recovery tools read;
-//! [`ThreadedMcapLogger`] does so every second of wall time.
+//! [`ThreadedMcapLogger`] does so every second of wall time. [`McapSink`] is the log as a
+//! [`RecordSink`] of the closed loop.
 
+use crate::closed_loop::{OwnedSample, RecordSink, RunInfo, Sample};
 use crate::error::Error;
 use crate::foxglove::{SampleEncoder, SceneSource, StaticScene, Topic};
 use crate::Result;
@@ -23,40 +25,7 @@ use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// One sample of a closed-loop run (all world axes, SI units).
-#[derive(Clone, Copy, Debug)]
-pub struct LogSample<'a> {
-    /// Simulation time [s]; becomes the message log and publish time (ns, negative clamps to 0).
-    pub time_s: f64,
-    /// Configuration `[p_B; quaternion (w, x, y, z); s]` (nq = 7 + n).
-    pub q: &'a [f64],
-    /// Velocity `[pdot_B; omega_B; sdot]` (nv = 6 + n).
-    pub nu: &'a [f64],
-    /// Motor angles of the elastic joints [rad] (n_e; may be empty).
-    pub theta: &'a [f64],
-    /// Motor velocities [rad/s] (n_e).
-    pub thetadot: &'a [f64],
-    /// Desired motor velocities [rad/s] (n_e; empty for the rigid controller).
-    pub thetadot_desired: &'a [f64],
-    /// Centre of mass [m].
-    pub com: [f64; 3],
-    /// Centre-of-mass reference [m].
-    pub com_reference: [f64; 3],
-    /// Centroidal momentum `[m pdot_com; L_com]`.
-    pub momentum: [f64; 6],
-    /// Contact wrenches, 6 per contact `[force; moment]` [N, Nm].
-    pub contact_wrenches: &'a [f64],
-    /// Motor torques [Nm] (n_e, or the n joint torques for rigid joints).
-    pub motor_torques: &'a [f64],
-    /// Joint torques [Nm or N] (n).
-    pub joint_torques: &'a [f64],
-    /// QP status, e.g. `"solved"` or `"fallback"`.
-    pub qp_status: &'a str,
-    /// Number of QP failures so far.
-    pub qp_failures: usize,
-}
-
-/// Incremental MCAP writer of [`LogSample`]s; see the module documentation for the channels.
+/// Incremental MCAP writer of [`Sample`]s; see the module documentation for the channels.
 pub struct McapLogger {
     out: Output,
     encoder: SampleEncoder,
@@ -234,10 +203,11 @@ impl McapLogger {
 
     /// Writes one sample on every channel (log_time = publish_time = time_s in ns).
     ///
-    /// Errors: [`Error::Log`] when `q` or `nu` do not have the model's sizes, when
+    /// Errors: [`Error::Log`] when the state does not have its layout's size, when `q` or `nu`
+    /// do not have the model's sizes, when
     /// `contact_wrenches` is not a multiple of 6 long, when the logger is finished or when
     /// MCAP writing fails; [`Error::Io`] naming the file when the OS refuses a write.
-    pub fn log(&mut self, sample: &LogSample<'_>) -> Result<()> {
+    pub fn log(&mut self, sample: &Sample<'_>) -> Result<()> {
         if self.out.writer.is_none() {
             return Err(Error::Log("the log is already finished".into()));
         }
@@ -277,74 +247,6 @@ impl Drop for McapLogger {
 
 /// Media type of the URDF attachment.
 const URDF_MEDIA_TYPE: &str = "application/xml";
-
-/// A [`LogSample`] that owns its data, to cross to the writer thread.
-struct OwnedSample {
-    time_s: f64,
-    /// `q`, `nu`, `theta`, `thetadot`, `thetadot_desired`, `contact_wrenches`,
-    /// `motor_torques`, `joint_torques`, concatenated; `ends` marks where each stops.
-    values: Vec<f64>,
-    ends: [usize; 8],
-    com: [f64; 3],
-    com_reference: [f64; 3],
-    momentum: [f64; 6],
-    qp_status: String,
-    qp_failures: usize,
-}
-
-impl OwnedSample {
-    fn new(sample: &LogSample<'_>) -> Self {
-        let parts = [
-            sample.q,
-            sample.nu,
-            sample.theta,
-            sample.thetadot,
-            sample.thetadot_desired,
-            sample.contact_wrenches,
-            sample.motor_torques,
-            sample.joint_torques,
-        ];
-        let mut values = Vec::with_capacity(parts.iter().map(|p| p.len()).sum());
-        let mut ends = [0; 8];
-        for (end, part) in ends.iter_mut().zip(parts) {
-            values.extend_from_slice(part);
-            *end = values.len();
-        }
-        Self {
-            time_s: sample.time_s,
-            values,
-            ends,
-            com: sample.com,
-            com_reference: sample.com_reference,
-            momentum: sample.momentum,
-            qp_status: sample.qp_status.to_string(),
-            qp_failures: sample.qp_failures,
-        }
-    }
-
-    fn sample(&self) -> LogSample<'_> {
-        let part = |k: usize| {
-            let start = if k == 0 { 0 } else { self.ends[k - 1] };
-            &self.values[start..self.ends[k]]
-        };
-        LogSample {
-            time_s: self.time_s,
-            q: part(0),
-            nu: part(1),
-            theta: part(2),
-            thetadot: part(3),
-            thetadot_desired: part(4),
-            contact_wrenches: part(5),
-            motor_torques: part(6),
-            joint_torques: part(7),
-            com: self.com,
-            com_reference: self.com_reference,
-            momentum: self.momentum,
-            qp_status: &self.qp_status,
-            qp_failures: self.qp_failures,
-        }
-    }
-}
 
 /// Samples queued for the writer thread before [`ThreadedMcapLogger::log`] waits.
 const QUEUE_SAMPLES: usize = 4096;
@@ -394,9 +296,9 @@ impl ThreadedMcapLogger {
     }
 
     /// Queues a sample (waits only when the writer is [`QUEUE_SAMPLES`] behind).
-    pub fn log(&mut self, sample: &LogSample<'_>) -> Result<()> {
+    pub fn log(&mut self, sample: &Sample<'_>) -> Result<()> {
         let queued = match &self.sender {
-            Some(sender) => sender.send(OwnedSample::new(sample)).is_ok(),
+            Some(sender) => sender.send(sample.to_owned()).is_ok(),
             None => false,
         };
         if queued {
@@ -444,5 +346,48 @@ impl std::fmt::Debug for McapLogger {
             .field("finished", &self.out.writer.is_none())
             .field("messages", &self.out.sequence)
             .finish()
+    }
+}
+
+/// The MCAP log as a sink of the closed loop: the file is created by `begin` and finished
+/// (summary and index written) by `finish`, or when the sink is dropped, so a diverged or
+/// interrupted run leaves a readable log. Memory stays bounded: samples wait in the writer
+/// thread's bounded queue.
+pub struct McapSink {
+    path: PathBuf,
+    logger: Option<ThreadedMcapLogger>,
+}
+
+impl McapSink {
+    /// A sink that will write `path`.
+    pub fn new(path: impl Into<PathBuf>) -> Self {
+        Self {
+            path: path.into(),
+            logger: None,
+        }
+    }
+}
+
+impl RecordSink for McapSink {
+    fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
+        let mut logger =
+            McapLogger::create(&self.path, run.model, run.elastic_joints, run.contacts)?;
+        logger.set_scene(&SceneSource::of_scenario(run.scenario))?;
+        self.logger = Some(ThreadedMcapLogger::spawn(logger));
+        Ok(())
+    }
+
+    fn record(&mut self, sample: &Sample<'_>) -> Result<()> {
+        match self.logger.as_mut() {
+            Some(logger) => logger.log(sample),
+            None => Ok(()),
+        }
+    }
+
+    fn finish(&mut self) -> Result<()> {
+        match self.logger.take() {
+            Some(logger) => logger.finish(),
+            None => Ok(()),
+        }
     }
 }

@@ -371,7 +371,8 @@ impl FieldValue {
 
 impl SweepRow {
     /// The summary fields other than `status` and `reason` (those are [`Self::status`] and
-    /// [`Self::message`]), named as in [`summary_columns`]; missing for a failed run.
+    /// [`Self::message`]) and `reason_kind`, named as in [`summary_columns`]; missing for a
+    /// failed run.
     pub fn summary_values(&self) -> Vec<(String, FieldValue)> {
         let json = self.summary.as_ref().map(Summary::to_json);
         summary_columns()
@@ -406,7 +407,7 @@ pub fn summary_columns() -> Vec<String> {
     match blank.to_json() {
         serde_json::Value::Object(map) => map
             .keys()
-            .filter(|name| *name != "status" && *name != "reason")
+            .filter(|name| !matches!(name.as_str(), "status" | "reason" | "reason_kind"))
             .cloned()
             .collect(),
         _ => Vec::new(),

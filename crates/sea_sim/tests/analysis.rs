@@ -37,7 +37,7 @@ fn load(overrides: &[(&str, &str)]) -> Scenario {
 /// the mode's period) fitted by least squares in log scale over `[start, end - margin]`,
 /// where `end` is the divergence time.
 fn simulated_growth(scenario: &Scenario, lin: &Linearization, window: usize, start: f64) -> f64 {
-    let (record, summary) = sea_sim::closed_loop::run(scenario, None, |_, _| {}).unwrap();
+    let (record, summary) = sea_sim::closed_loop::run(scenario, |_, _| {}).unwrap();
     assert_eq!(summary.status, "diverged", "{summary:?}");
     let end = summary.diverged_at_s.unwrap() - 0.05;
     let setup = sea_sim::scenario::build(scenario).unwrap();

@@ -61,7 +61,7 @@ fn continuous_sampling_converges_with_at_least_the_order_of_ros2() {
                 ("simulation.record_every", every),
                 ("simulation.duration_s", "2.0"),
             ]);
-            let (record, summary) = run(&scenario, None, |_, _| {}).unwrap();
+            let (record, summary) = run(&scenario, |_, _| {}).unwrap();
             assert_eq!(summary.status, "completed", "{}", summary.reason);
             assert_eq!(summary.sampling, "continuous");
             com_rows(&record)
@@ -98,7 +98,7 @@ fn zero_order_hold_takes_any_rate() {
         ("simulation.duration_s", "0.5"),
         ("simulation.record_every", "1"),
     ]);
-    let (record, summary) = run(&scenario, None, |_, _| {}).unwrap();
+    let (record, summary) = run(&scenario, |_, _| {}).unwrap();
     assert_eq!(summary.status, "completed", "{}", summary.reason);
     assert_eq!(summary.sampling, "zero_order_hold");
     assert_eq!(record.time.len(), 401);
@@ -114,7 +114,7 @@ fn the_sample_that_crosses_a_bound_is_recorded() {
         ("simulation.divergence_com_error_m", "0.005"),
         ("simulation.record_every", "1000"),
     ]);
-    let (record, summary) = run(&scenario, None, |_, _| {}).unwrap();
+    let (record, summary) = run(&scenario, |_, _| {}).unwrap();
     assert_eq!(summary.status, "diverged");
     let at = summary.diverged_at_s.unwrap();
     assert_eq!(record.time.last(), Some(&at));
@@ -138,7 +138,7 @@ fn the_sample_that_crosses_a_bound_is_recorded() {
         ("controller.damping_estimate_scale", "0.4"),
         ("simulation.record_every", "1000"),
     ]);
-    let (record, summary) = run(&scenario, None, |_, _| {}).unwrap();
+    let (record, summary) = run(&scenario, |_, _| {}).unwrap();
     assert_eq!(summary.status, "diverged");
     assert_eq!(record.time.last().copied(), summary.diverged_at_s);
     let last = *record.joint_error_norm.last().unwrap();
@@ -228,7 +228,7 @@ fn figures(summary: &Summary) -> Vec<f64> {
 #[test]
 fn the_summary_does_not_depend_on_the_sinks() {
     let scenario = tracking(&[("simulation.duration_s", "1.5")]);
-    let (record, recorded) = run(&scenario, None, |_, _| {}).unwrap();
+    let (record, recorded) = run(&scenario, |_, _| {}).unwrap();
     let unrecorded =
         run_with_sinks(&scenario, &mut [], &AtomicBool::new(false), |_, _| {}).unwrap();
     assert_eq!(figures(&recorded), figures(&unrecorded));

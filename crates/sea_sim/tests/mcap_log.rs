@@ -4,9 +4,11 @@
 
 use foxglove::messages::{FrameTransforms, SceneUpdate};
 use foxglove::Decode;
-use sea_dyn::{Data, LoadOptions, Model};
+use sea_ctrl::qp::QpStatus;
+use sea_dyn::{Data, LoadOptions, Model, StateLayout};
+use sea_sim::closed_loop::Sample;
 use sea_sim::foxglove::{FootRectangle, SceneSource, ARROW_M_PER_N};
-use sea_sim::mcap_log::{LogSample, McapLogger, ThreadedMcapLogger};
+use sea_sim::mcap_log::{McapLogger, ThreadedMcapLogger};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
@@ -85,23 +87,29 @@ fn log_samples(model: &Model, path: &std::path::Path, count: usize) -> McapLogge
 }
 
 /// Calls `f` with `count` varied samples.
-fn for_each_sample(model: &Model, count: usize, mut f: impl FnMut(&LogSample)) {
+fn for_each_sample(model: &Model, count: usize, mut f: impl FnMut(&Sample)) {
     let n = model.n_joints();
+    let layout = StateLayout {
+        nq: model.nq(),
+        nv: model.nv(),
+        ne: n,
+    };
+    let (solved, fallback) = (QpStatus::Solved, QpStatus::Fallback("test".into()));
     for k in 0..count {
+        // The state [q; theta; nu; thetadot].
         let q = configuration(model, k);
-        let nu: Vec<f64> = (0..model.nv()).map(|i| 0.01 * (i + k) as f64).collect();
-        let theta: Vec<f64> = q[7..].iter().map(|s| s + 0.01).collect();
-        let thetadot = vec![0.1; n];
+        let mut state = q.clone();
+        state.extend(q[7..].iter().map(|s| s + 0.01));
+        state.extend((0..model.nv()).map(|i| 0.01 * (i + k) as f64));
+        state.extend(std::iter::repeat_n(0.1, n));
         let thetadot_desired = vec![0.2; n];
         let wrenches: Vec<f64> = (0..12).map(|i| i as f64 + k as f64).collect();
         let motor_torques = vec![1.0; n];
         let joint_torques = vec![2.0; n];
-        let sample = LogSample {
+        let sample = Sample {
             time_s: k as f64 * 0.01,
-            q: &q,
-            nu: &nu,
-            theta: &theta,
-            thetadot: &thetadot,
+            state: &state,
+            layout,
             thetadot_desired: &thetadot_desired,
             com: [0.0, 0.0, 0.5],
             com_reference: [0.01, 0.0, 0.5],
@@ -109,7 +117,9 @@ fn for_each_sample(model: &Model, count: usize, mut f: impl FnMut(&LogSample)) {
             contact_wrenches: &wrenches,
             motor_torques: &motor_torques,
             joint_torques: &joint_torques,
-            qp_status: if k % 10 == 9 { "fallback" } else { "solved" },
+            com_error_norm: 0.01,
+            joint_error_norm: 0.0,
+            qp_status: if k % 10 == 9 { &fallback } else { &solved },
             qp_failures: k / 10,
         };
         f(&sample);
@@ -288,7 +298,7 @@ fn threaded_logger_writes_the_same_file_and_reports_writer_errors() {
     let mut outcomes = Vec::new();
     for_each_sample(&model, 3, |sample| {
         let mut truncated = *sample;
-        truncated.q = &sample.q[..5];
+        truncated.state = &sample.state[..5];
         outcomes.push(logger.log(&truncated));
     });
     assert!(outcomes[0].is_ok(), "the first log only queues");
@@ -319,14 +329,15 @@ fn bad_sizes_are_errors_and_unwritable_path_is_io_error() {
     let model = model();
     let file = TempFile::new("bad");
     let mut logger = McapLogger::create(&file.0, &model, &[], &[]).unwrap();
-    let q = model.neutral();
-    let nu = vec![0.0; model.nv()];
-    let mut sample = LogSample {
+    // A rigid robot's state [q; nu], first with q cut to 5 entries.
+    let (nq, nv) = (model.nq(), model.nv());
+    let mut state = model.neutral();
+    state.extend(std::iter::repeat_n(0.0, nv));
+    let short: Vec<f64> = state[..5].iter().chain(&state[nq..]).copied().collect();
+    let mut sample = Sample {
         time_s: 0.0,
-        q: &q[..5],
-        nu: &nu,
-        theta: &[],
-        thetadot: &[],
+        state: &short,
+        layout: StateLayout { nq: 5, nv, ne: 0 },
         thetadot_desired: &[],
         com: [0.0; 3],
         com_reference: [0.0; 3],
@@ -334,11 +345,16 @@ fn bad_sizes_are_errors_and_unwritable_path_is_io_error() {
         contact_wrenches: &[],
         motor_torques: &[],
         joint_torques: &[],
-        qp_status: "solved",
+        com_error_norm: 0.0,
+        joint_error_norm: 0.0,
+        qp_status: &QpStatus::Solved,
         qp_failures: 0,
     };
     assert!(matches!(logger.log(&sample), Err(sea_sim::Error::Log(_))));
-    sample.q = &q;
+    // A state shorter than its layout.
+    sample.layout.nq = nq;
+    assert!(matches!(logger.log(&sample), Err(sea_sim::Error::Log(_))));
+    sample.state = &state;
     sample.contact_wrenches = &[0.0; 7];
     assert!(matches!(logger.log(&sample), Err(sea_sim::Error::Log(_))));
     sample.contact_wrenches = &[0.0; 6];

@@ -12,6 +12,7 @@ mod support;
 
 use counting::allocations;
 use nalgebra::DMatrix;
+use sea_ctrl::feedback::FeedbackLaw;
 use sea_ctrl::qp::QpCounters;
 use sea_ctrl::torque_map::{PosturalTask, TorqueMap};
 use sea_dyn::sample::Lcg;
@@ -326,4 +327,27 @@ fn controller_tick_allocates_nothing_when_the_active_set_solves_the_qp() {
         offenders.is_empty(),
         "controller ticks allocate: {offenders:?}"
     );
+}
+
+#[test]
+fn the_feedback_law_allocates_nothing_after_a_warm_up() {
+    // The closed loop's law (`sea_ctrl::feedback`): references, the controller's tick and the
+    // tracking errors, into the held observation (`tick`) and into a caller's (`observe`);
+    // two feet, the QP solved by the active set at every tick.
+    let mut setup = two_feet(&[("controller.qp_unconstrained_first", "false")]);
+    let mut rng = Lcg::new(23);
+    let states: Vec<Vec<f64>> = (0..3).map(|_| perturbed(&setup, 0.01, &mut rng)).collect();
+    let layout = setup.plant.layout();
+    let (com_reference, posture) = (setup.com_reference.clone(), setup.posture.clone());
+    let mut law = FeedbackLaw::new(&mut setup.controller, com_reference, posture, layout);
+    let mut stage = law.new_observation();
+    law.tick(1.0, &states[0]).unwrap();
+    law.observe(1.0, &states[0], &mut stage).unwrap();
+    let ticked = allocations(|| {
+        law.tick(1.2, &states[1]).unwrap();
+    });
+    let observed = allocations(|| law.observe(1.3, &states[2], &mut stage).unwrap());
+    assert_eq!((ticked, observed), (0, 0), "allocations of tick, observe");
+    assert_eq!(law.last().time, 1.2);
+    assert_eq!(stage.time, 1.3);
 }

@@ -178,7 +178,7 @@ impl Judge<'_> {
                 (lin.stable, Some(lin.growth_rate))
             }
             MarginMethod::Simulate => {
-                let (_, summary) = crate::closed_loop::run(&scenario, None, |_, _| {})?;
+                let (_, summary) = crate::closed_loop::run(&scenario, |_, _| {})?;
                 (summary.status == "completed", None)
             }
         };

@@ -19,7 +19,8 @@
 use clap::{Args, Parser, Subcommand};
 use sea_dyn::{LoadOptions, Model};
 use sea_sim::analysis::margin::MarginOptions;
-use sea_sim::closed_loop::{run_with_sinks, McapSink, RecordSink};
+use sea_sim::closed_loop::{run_with_sinks, RecordSink};
+use sea_sim::mcap_log::McapSink;
 use sea_sim::output::{check_distinct, OutputFile};
 use sea_sim::scenario::Scenario;
 use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};

@@ -2,19 +2,23 @@
 //! (at every integrator stage), the plant with its motor velocity loop, divergence detection,
 //! recording into sinks, online summary statistics, and cancellation.
 //!
-//! - [`tick`]: one sample period (the controller's evaluation, the bounds, the plant's
-//!   advance);
+//! - [`tick`]: one sample period (the feedback law's evaluation, [`sea_ctrl::feedback`], the
+//!   bounds, the plant's advance);
 //! - [`sampling`]: `controller.sampling` and the run's time grid;
-//! - [`record`]: [`Sample`], the [`RecordSink`] trait, the in-memory [`RunRecord`] and the
-//!   MCAP [`McapSink`];
-//! - [`statistics`]: running statistics and the [`Summary`].
+//! - [`record`]: [`Sample`], the [`RecordSink`] trait and the in-memory [`RunRecord`];
+//! - [`statistics`]: running statistics, how a run ended ([`RunEnd`], [`Divergence`]) and the
+//!   [`Summary`].
+//!
+//! The loop knows its outputs only as [`RecordSink`]s: the MCAP log
+//! ([`crate::mcap_log::McapSink`]) and the live view ([`crate::foxglove::live::LiveSink`]) are
+//! sinks above it.
 //!
 //! A run stops as "diverged" when the controller or a plant step fails, the state is not
 //! finite, the CoM error exceeds `simulation.divergence_com_error_m` or the joint error norm
 //! exceeds `simulation.divergence_joint_error_rad`; the sample that crossed a bound is the
-//! last one recorded, and the reason names the quantity, its value and the bound. A raised
-//! cancellation flag stops the run at the next sample with status "interrupted". Either way
-//! the sinks are finished (the MCAP log gets its summary section).
+//! last one recorded, and the reason ([`Divergence`]) names the quantity, its value and the
+//! bound. A raised cancellation flag stops the run at the next sample with status
+//! "interrupted". Either way the sinks are finished (the MCAP log gets its summary section).
 
 mod record;
 mod sampling;
@@ -22,32 +26,27 @@ mod statistics;
 mod tick;
 
 pub use crate::scenario::{build, Setup};
-pub use record::{write_qp_status, McapSink, RecordSink, RunInfo, RunRecord, Sample};
+pub use record::{OwnedSample, RecordSink, RunInfo, RunRecord, Sample};
 pub use sampling::{equal_steps, Sampling, Schedule};
-pub use statistics::{RunEnd, RunTotals, RunningStatistics, Summary};
+pub use statistics::{Divergence, RunEnd, RunTotals, RunningStatistics, Summary};
 
 use crate::error::Result;
 use crate::scenario::Scenario;
-use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use tick::Engine;
 
-/// Runs a scenario into an in-memory record and, when `mcap` is given, an MCAP log;
-/// `progress(t, duration)` is called about once per simulated second. Not cancellable: see
+/// Runs a scenario into an in-memory record; `progress(t, duration)` is called about once per
+/// simulated second. Not cancellable, no other sink (an MCAP log, the live view): see
 /// [`run_with_sinks`].
-pub fn run(
-    scenario: &Scenario,
-    mcap: Option<&Path>,
-    progress: impl FnMut(f64, f64),
-) -> Result<(RunRecord, Summary)> {
+pub fn run(scenario: &Scenario, progress: impl FnMut(f64, f64)) -> Result<(RunRecord, Summary)> {
     let mut record = RunRecord::default();
-    let mut log = mcap.map(McapSink::new);
-    let mut sinks: Vec<&mut dyn RecordSink> = vec![&mut record];
-    if let Some(log) = log.as_mut() {
-        sinks.push(log);
-    }
-    let summary = run_with_sinks(scenario, &mut sinks, &AtomicBool::new(false), progress)?;
+    let summary = run_with_sinks(
+        scenario,
+        &mut [&mut record],
+        &AtomicBool::new(false),
+        progress,
+    )?;
     Ok((record, summary))
 }
 
@@ -91,10 +90,11 @@ pub fn run_setup_with_sinks(
         .fold(Ok(()), Result::and);
     let (end, duration_s) = outcome?;
     finished?;
-    let solves = engine.law.controller.qp_solves();
+    let controller = engine.law.controller();
+    let solves = controller.qp_solves();
     let totals = RunTotals {
         duration_s,
-        qp_failures: engine.law.controller.qp_failures(),
+        qp_failures: controller.qp_failures(),
         qp_active_set_solves: solves.active_set,
         qp_clarabel_solves: solves.clarabel,
         wall_time_s: start.elapsed().as_secs_f64(),

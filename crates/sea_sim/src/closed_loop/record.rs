@@ -1,14 +1,12 @@
 //! What a run records: one [`Sample`] per recorded tick, handed to [`RecordSink`]s as it is
-//! taken, so a run keeps only what its sinks keep. Sinks: [`RunRecord`] (in memory, what
-//! Python gets), [`McapSink`] (the MCAP log, written on its own thread with a bounded queue),
-//! or none (the summary statistics are computed online either way).
+//! taken, so a run keeps only what its sinks keep. The loop knows sinks only through the
+//! trait: the in-memory [`RunRecord`] (what Python gets) is here; the MCAP log
+//! ([`crate::mcap_log::McapSink`]) and the live view ([`crate::foxglove::live::LiveSink`]) sit
+//! above the loop. With no sink, only the summary statistics are computed (online).
 
 use crate::error::Result;
-use crate::foxglove::SceneSource;
-use crate::mcap_log::{LogSample, McapLogger, ThreadedMcapLogger};
 use sea_ctrl::qp::QpStatus;
 use sea_dyn::{Model, StateLayout};
-use std::path::PathBuf;
 
 /// What a sink learns before the first sample.
 #[derive(Clone, Copy, Debug)]
@@ -26,7 +24,8 @@ pub struct RunInfo<'a> {
 }
 
 /// One recorded sample of a run: the plant state at `time_s`, the controller's evaluation
-/// there and the plant outputs at that state (world axes, SI units).
+/// there and the plant outputs at that state (world axes, SI units). A view of the loop's
+/// buffers; [`Sample::to_owned`] copies it (e.g. to cross to a writer thread).
 #[derive(Clone, Copy, Debug)]
 pub struct Sample<'a> {
     /// Time [s].
@@ -138,83 +137,90 @@ impl RecordSink for RunRecord {
     }
 }
 
-/// The MCAP log as a sink: the file is created by `begin` and finished (summary and index
-/// written) by `finish`, or when the sink is dropped, so a diverged or interrupted run leaves
-/// a readable log. Memory stays bounded: samples wait in the writer thread's bounded queue.
-pub struct McapSink {
-    path: PathBuf,
-    logger: Option<ThreadedMcapLogger>,
-}
+impl<'a> Sample<'a> {
+    /// Configuration `[p_B; quaternion (w, x, y, z); s]` (nq).
+    pub fn q(&self) -> &'a [f64] {
+        self.layout.q(self.state)
+    }
 
-impl McapSink {
-    /// A sink that will write `path`.
-    pub fn new(path: impl Into<PathBuf>) -> Self {
-        Self {
-            path: path.into(),
-            logger: None,
+    /// Velocity `[pdot_B; omega_B; sdot]` (nv).
+    pub fn nu(&self) -> &'a [f64] {
+        self.layout.nu(self.state)
+    }
+
+    /// Motor angles of the elastic joints [rad] (n_e; empty for a rigid robot).
+    pub fn theta(&self) -> &'a [f64] {
+        self.layout.theta(self.state)
+    }
+
+    /// Motor velocities of the elastic joints [rad/s] (n_e).
+    pub fn thetadot(&self) -> &'a [f64] {
+        self.layout.thetadot(self.state)
+    }
+
+    /// A copy that owns its data; [`OwnedSample::sample`] views it as this sample.
+    pub fn to_owned(&self) -> OwnedSample {
+        let parts = [
+            self.state,
+            self.thetadot_desired,
+            self.contact_wrenches,
+            self.motor_torques,
+            self.joint_torques,
+        ];
+        let mut values = Vec::with_capacity(parts.iter().map(|p| p.len()).sum());
+        let mut ends = [0; 5];
+        for (end, part) in ends.iter_mut().zip(parts) {
+            values.extend_from_slice(part);
+            *end = values.len();
+        }
+        OwnedSample {
+            values,
+            ends,
+            qp_status: self.qp_status.clone(),
+            scalars: Sample {
+                state: &[],
+                thetadot_desired: &[],
+                contact_wrenches: &[],
+                motor_torques: &[],
+                joint_torques: &[],
+                qp_status: &NO_STATUS,
+                ..*self
+            },
         }
     }
 }
 
-impl Sample<'_> {
-    /// The logged row of this sample (MCAP and live view), with `qp_status` the text of
-    /// [`Sample::qp_status`] ([`write_qp_status`]).
-    pub fn log_sample<'s>(&'s self, qp_status: &'s str) -> LogSample<'s> {
-        let layout = &self.layout;
-        LogSample {
-            time_s: self.time_s,
-            q: layout.q(self.state),
-            nu: layout.nu(self.state),
-            theta: layout.theta(self.state),
-            thetadot: layout.thetadot(self.state),
-            thetadot_desired: self.thetadot_desired,
-            com: self.com,
-            com_reference: self.com_reference,
-            momentum: self.momentum,
-            contact_wrenches: self.contact_wrenches,
-            motor_torques: self.motor_torques,
-            joint_torques: self.joint_torques,
-            qp_status,
-            qp_failures: self.qp_failures,
-        }
-    }
+/// The QP status of [`OwnedSample::scalars`], a placeholder never read.
+static NO_STATUS: QpStatus = QpStatus::Solved;
+
+/// A [`Sample`] that owns its data ([`Sample::to_owned`]): the slices concatenated in one
+/// buffer, the QP status cloned.
+#[derive(Clone, Debug)]
+pub struct OwnedSample {
+    /// `state`, `thetadot_desired`, `contact_wrenches`, `motor_torques`, `joint_torques`,
+    /// concatenated; `ends` marks where each stops.
+    values: Vec<f64>,
+    ends: [usize; 5],
+    qp_status: QpStatus,
+    /// The sample's other fields (its slices empty).
+    scalars: Sample<'static>,
 }
 
-/// The logged text of a QP status, `"solved"` or `"fallback: <reason>"`, into `text` (cleared
-/// first; no allocation once `text` is large enough).
-pub fn write_qp_status(status: &QpStatus, text: &mut String) {
-    text.clear();
-    match status {
-        QpStatus::Solved => text.push_str("solved"),
-        QpStatus::Fallback(reason) => {
-            text.push_str("fallback: ");
-            text.push_str(reason);
-        }
-    }
-}
-
-impl RecordSink for McapSink {
-    fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
-        let mut logger =
-            McapLogger::create(&self.path, run.model, run.elastic_joints, run.contacts)?;
-        logger.set_scene(&SceneSource::of_scenario(run.scenario))?;
-        self.logger = Some(ThreadedMcapLogger::spawn(logger));
-        Ok(())
-    }
-
-    fn record(&mut self, sample: &Sample<'_>) -> Result<()> {
-        let Some(logger) = self.logger.as_mut() else {
-            return Ok(());
+impl OwnedSample {
+    /// The sample this copy was made of.
+    pub fn sample(&self) -> Sample<'_> {
+        let part = |k: usize| {
+            let start = if k == 0 { 0 } else { self.ends[k - 1] };
+            &self.values[start..self.ends[k]]
         };
-        let mut qp_status = String::new();
-        write_qp_status(sample.qp_status, &mut qp_status);
-        logger.log(&sample.log_sample(&qp_status))
-    }
-
-    fn finish(&mut self) -> Result<()> {
-        match self.logger.take() {
-            Some(logger) => logger.finish(),
-            None => Ok(()),
+        Sample {
+            state: part(0),
+            thetadot_desired: part(1),
+            contact_wrenches: part(2),
+            motor_torques: part(3),
+            joint_torques: part(4),
+            qp_status: &self.qp_status,
+            ..self.scalars
         }
     }
 }

@@ -44,6 +44,80 @@ impl RunningStatistics {
     }
 }
 
+/// Why a run diverged: a bound crossed, a non-finite state, or a failure of the controller or
+/// the plant. [`std::fmt::Display`] gives the summary's `reason`, [`Divergence::kind`] a
+/// stable machine-readable name (the summary JSON's `reason_kind`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Divergence {
+    /// The CoM error norm crossed `simulation.divergence_com_error_m` (a NaN error counts).
+    ComErrorOverBound {
+        /// `|p_com - p_com_d|` [m].
+        value: f64,
+        /// The bound [m].
+        bound: f64,
+    },
+    /// The joint error norm crossed `simulation.divergence_joint_error_rad` (a NaN error
+    /// counts).
+    JointErrorOverBound {
+        /// `|s - s_d|` [rad].
+        value: f64,
+        /// The bound [rad].
+        bound: f64,
+    },
+    /// A plant step gave a state that is not finite.
+    NonFiniteState,
+    /// The controller failed at the sample (its error message).
+    ControllerFailed(String),
+    /// The plant's evaluation at the last sample failed (its error message).
+    PlantFailed(String),
+    /// A plant step with the input held failed (its error message).
+    PlantStepFailed(String),
+    /// Continuous sampling: the step with the controller at its stages failed, in the
+    /// controller at a later stage or in the plant (the error message).
+    StepFailed(String),
+}
+
+impl Divergence {
+    /// A stable machine-readable name: `"com_error_over_bound"`, `"joint_error_over_bound"`,
+    /// `"non_finite_state"`, `"controller_failed"`, `"plant_failed"`, `"plant_step_failed"` or
+    /// `"step_failed"`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Divergence::ComErrorOverBound { .. } => "com_error_over_bound",
+            Divergence::JointErrorOverBound { .. } => "joint_error_over_bound",
+            Divergence::NonFiniteState => "non_finite_state",
+            Divergence::ControllerFailed(_) => "controller_failed",
+            Divergence::PlantFailed(_) => "plant_failed",
+            Divergence::PlantStepFailed(_) => "plant_step_failed",
+            Divergence::StepFailed(_) => "step_failed",
+        }
+    }
+}
+
+impl std::fmt::Display for Divergence {
+    /// The quantity, its value and the bound, or the failure: `CoM error 0.0051 m over the
+    /// bound 0.005 m`, `joint error norm 1.0312 rad over the bound 1 rad`, `non-finite state`,
+    /// `controller: ...`, `plant: ...`, `plant step: ...`, `step: ...`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Divergence::ComErrorOverBound { value, bound } => {
+                write!(f, "CoM error {value:.4} m over the bound {bound} m")
+            }
+            Divergence::JointErrorOverBound { value, bound } => {
+                write!(
+                    f,
+                    "joint error norm {value:.4} rad over the bound {bound} rad"
+                )
+            }
+            Divergence::NonFiniteState => f.write_str("non-finite state"),
+            Divergence::ControllerFailed(error) => write!(f, "controller: {error}"),
+            Divergence::PlantFailed(error) => write!(f, "plant: {error}"),
+            Divergence::PlantStepFailed(error) => write!(f, "plant step: {error}"),
+            Divergence::StepFailed(error) => write!(f, "step: {error}"),
+        }
+    }
+}
+
 /// How a run ended.
 #[derive(Clone, Debug, PartialEq)]
 pub enum RunEnd {
@@ -54,7 +128,7 @@ pub enum RunEnd {
         /// Time of the sample that diverged [s].
         at_s: f64,
         /// The quantity and its value, or the failure.
-        reason: String,
+        reason: Divergence,
     },
     /// The cancellation flag was raised; the run stopped at the next sample.
     Interrupted,
@@ -69,6 +143,27 @@ impl RunEnd {
             RunEnd::Interrupted => "interrupted",
         }
     }
+
+    /// The machine-readable reason: `None` when completed, `"interrupted"`, or the
+    /// [`Divergence::kind`].
+    pub fn reason_kind(&self) -> Option<&'static str> {
+        match self {
+            RunEnd::Completed => None,
+            RunEnd::Diverged { reason, .. } => Some(reason.kind()),
+            RunEnd::Interrupted => Some("interrupted"),
+        }
+    }
+}
+
+impl std::fmt::Display for RunEnd {
+    /// The summary's `reason`: empty when completed, `interrupted`, or the divergence's text.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RunEnd::Completed => Ok(()),
+            RunEnd::Diverged { reason, .. } => reason.fmt(f),
+            RunEnd::Interrupted => f.write_str("interrupted"),
+        }
+    }
 }
 
 /// The summary of a run (also written as JSON by `sea-sim`).
@@ -78,8 +173,11 @@ pub struct Summary {
     pub status: String,
     /// Time of divergence [s].
     pub diverged_at_s: Option<f64>,
-    /// Why it diverged (the quantity and its value) or "interrupted"; empty when completed.
+    /// Why it diverged (the quantity and its value) or "interrupted"; empty when completed
+    /// (the text of [`RunEnd`]).
     pub reason: String,
+    /// The reason's machine-readable kind ([`RunEnd::reason_kind`]): `None` when completed.
+    pub reason_kind: Option<&'static str>,
     /// Control sampling: "zero_order_hold" or "continuous".
     pub sampling: String,
     /// Simulated time reached [s].
@@ -130,16 +228,16 @@ impl Summary {
         statistics: &RunningStatistics,
         totals: RunTotals,
     ) -> Summary {
-        let (diverged_at_s, reason) = match end {
-            RunEnd::Completed => (None, String::new()),
-            RunEnd::Diverged { at_s, reason } => (Some(*at_s), reason.clone()),
-            RunEnd::Interrupted => (None, "interrupted".to_string()),
+        let diverged_at_s = match end {
+            RunEnd::Diverged { at_s, .. } => Some(*at_s),
+            RunEnd::Completed | RunEnd::Interrupted => None,
         };
         let wall = totals.wall_time_s;
         Summary {
             status: end.status().to_string(),
             diverged_at_s,
-            reason,
+            reason: end.to_string(),
+            reason_kind: end.reason_kind(),
             sampling: sampling.to_string(),
             duration_s: totals.duration_s,
             com_error_rms_m: statistics.com_error_rms(),
@@ -165,6 +263,7 @@ impl Summary {
             "status": self.status,
             "diverged_at_s": self.diverged_at_s,
             "reason": self.reason,
+            "reason_kind": self.reason_kind,
             "sampling": self.sampling,
             "duration_s": self.duration_s,
             "com_error_rms_m": self.com_error_rms_m,
@@ -202,5 +301,59 @@ mod tests {
         assert_eq!(statistics.com_error_lateral_max, 0.002);
         assert_eq!(statistics.joint_error_last, 2.0);
         assert_eq!(statistics.motor_velocity_peak, 6.0);
+    }
+
+    #[test]
+    fn reasons_read_as_the_summary_texts_with_stable_kinds() {
+        let cases = [
+            (
+                Divergence::ComErrorOverBound {
+                    value: 0.00512345,
+                    bound: 0.005,
+                },
+                "CoM error 0.0051 m over the bound 0.005 m",
+                "com_error_over_bound",
+            ),
+            (
+                Divergence::JointErrorOverBound {
+                    value: 1.03121,
+                    bound: 1.0,
+                },
+                "joint error norm 1.0312 rad over the bound 1 rad",
+                "joint_error_over_bound",
+            ),
+            (
+                Divergence::NonFiniteState,
+                "non-finite state",
+                "non_finite_state",
+            ),
+            (
+                Divergence::ControllerFailed("x has 3 entries".into()),
+                "controller: x has 3 entries",
+                "controller_failed",
+            ),
+            (
+                Divergence::PlantFailed("e".into()),
+                "plant: e",
+                "plant_failed",
+            ),
+            (
+                Divergence::PlantStepFailed("e".into()),
+                "plant step: e",
+                "plant_step_failed",
+            ),
+            (Divergence::StepFailed("e".into()), "step: e", "step_failed"),
+        ];
+        for (reason, text, kind) in cases {
+            assert_eq!(reason.to_string(), text);
+            assert_eq!(reason.kind(), kind);
+            let end = RunEnd::Diverged { at_s: 0.5, reason };
+            assert_eq!(end.to_string(), text);
+            assert_eq!(end.reason_kind(), Some(kind));
+        }
+        assert_eq!(RunEnd::Completed.to_string(), "");
+        assert_eq!(RunEnd::Completed.reason_kind(), None);
+        assert_eq!(RunEnd::Interrupted.to_string(), "interrupted");
+        assert_eq!(RunEnd::Interrupted.reason_kind(), Some("interrupted"));
     }
 }

@@ -1,15 +1,16 @@
-//! The channels of a run and the encoding of one [`LogSample`] into their messages, shared by
+//! The channels of a run and the encoding of one [`Sample`] into their messages, shared by
 //! the MCAP log and the live server.
 
 use super::scene::{Markers, StaticScene};
 use super::WORLD_FRAME;
+use crate::closed_loop::Sample;
 use crate::error::Error;
-use crate::mcap_log::LogSample;
 use crate::Result;
 use ::foxglove::messages::{
     FrameTransform, FrameTransforms, Quaternion, SceneUpdate, Timestamp, Vector3,
 };
 use ::foxglove::{Encode, Schema};
+use sea_ctrl::qp::QpStatus;
 use sea_dyn::spatial::quaternion_from_rotation;
 use sea_dyn::{Data, Model};
 use serde::Serialize;
@@ -253,7 +254,7 @@ struct BasePoseMsg<'a> {
     angular_velocity: &'a [f64],
 }
 
-/// Encodes [`LogSample`]s into the messages of every [`Topic`]. Holds the model (for the link
+/// Encodes [`Sample`]s into the messages of every [`Topic`]. Holds the model (for the link
 /// poses of `/tf` and the sole positions of the wrench arrows) and reuses its messages and
 /// buffer between samples.
 pub struct SampleEncoder {
@@ -272,6 +273,8 @@ pub struct SampleEncoder {
     scene: Option<StaticScene>,
     markers: Markers,
     buffer: Vec<u8>,
+    /// The text of the sample's QP status ([`write_qp_status`]).
+    qp_text: String,
 }
 
 impl SampleEncoder {
@@ -303,6 +306,7 @@ impl SampleEncoder {
             scene: None,
             markers: Markers::new(contact_names),
             buffer: Vec::with_capacity(8192),
+            qp_text: String::new(),
         }
     }
 
@@ -321,21 +325,28 @@ impl SampleEncoder {
         &self.contact_labels[..self.contact_frames.len()]
     }
 
-    /// Checks the sizes of `q`, `nu` and the wrenches.
+    /// Checks the sizes of the state (against its layout), `q`, `nu` and the wrenches.
     ///
     /// Errors: [`Error::Log`] naming the wrong size.
-    pub fn check(&self, sample: &LogSample<'_>) -> Result<()> {
-        let (nq, nv) = (self.model.nq(), self.model.nv());
-        if sample.q.len() != nq {
+    pub fn check(&self, sample: &Sample<'_>) -> Result<()> {
+        let nx = sample.layout.nx();
+        if sample.state.len() != nx {
             return Err(Error::Log(format!(
-                "q has {} entries, the model needs nq = {nq}",
-                sample.q.len()
+                "the state has {} entries, its layout needs nx = {nx}",
+                sample.state.len()
             )));
         }
-        if sample.nu.len() != nv {
+        let (nq, nv) = (self.model.nq(), self.model.nv());
+        if sample.q().len() != nq {
+            return Err(Error::Log(format!(
+                "q has {} entries, the model needs nq = {nq}",
+                sample.q().len()
+            )));
+        }
+        if sample.nu().len() != nv {
             return Err(Error::Log(format!(
                 "nu has {} entries, the model needs nv = {nv}",
-                sample.nu.len()
+                sample.nu().len()
             )));
         }
         if sample.contact_wrenches.len() % 6 != 0 {
@@ -353,12 +364,12 @@ impl SampleEncoder {
     /// Errors: those of [`Self::check`] and of `emit`.
     pub fn encode(
         &mut self,
-        sample: &LogSample<'_>,
+        sample: &Sample<'_>,
         mut emit: impl FnMut(Topic, u64, &[u8]) -> Result<()>,
     ) -> Result<()> {
         self.check(sample)?;
         let time = nanoseconds(sample.time_s);
-        if self.encode_tf(time, sample.q) {
+        if self.encode_tf(time, sample.q()) {
             emit(Topic::Tf, time, &self.buffer)?;
         }
         if self.encode_scene(time, sample) {
@@ -405,7 +416,7 @@ impl SampleEncoder {
 
     /// `/scene` into the buffer: the static part, then the markers; `false` when a marker is
     /// not finite.
-    fn encode_scene(&mut self, time: u64, sample: &LogSample<'_>) -> bool {
+    fn encode_scene(&mut self, time: u64, sample: &Sample<'_>) -> bool {
         self.buffer.clear();
         if let Some(scene) = &self.scene {
             self.buffer.extend_from_slice(&scene.encoded);
@@ -421,7 +432,7 @@ impl SampleEncoder {
     }
 
     /// One of our JSON channels into the buffer.
-    fn encode_json(&mut self, topic: Topic, sample: &LogSample<'_>) -> Result<()> {
+    fn encode_json(&mut self, topic: Topic, sample: &Sample<'_>) -> Result<()> {
         let buffer = &mut self.buffer;
         let result = match topic {
             Topic::Com => serde_json::to_writer(
@@ -443,8 +454,8 @@ impl SampleEncoder {
                 buffer,
                 &JointStateMsg {
                     names: &self.model.joint_names,
-                    position: &sample.q[7..],
-                    velocity: &sample.nu[6..],
+                    position: &sample.q()[7..],
+                    velocity: &sample.nu()[6..],
                     torque: sample.joint_torques,
                 },
             ),
@@ -452,8 +463,8 @@ impl SampleEncoder {
                 buffer,
                 &MotorStateMsg {
                     names: &self.elastic_joint_names,
-                    position: sample.theta,
-                    velocity: sample.thetadot,
+                    position: sample.theta(),
+                    velocity: sample.thetadot(),
                     velocity_desired: sample.thetadot_desired,
                     torque: sample.motor_torques,
                 },
@@ -475,25 +486,41 @@ impl SampleEncoder {
                     .collect();
                 serde_json::to_writer(buffer, &ContactWrenchesMsg { contacts })
             }
-            Topic::Qp => serde_json::to_writer(
-                buffer,
-                &QpStatusMsg {
-                    status: sample.qp_status,
-                    failures: sample.qp_failures,
-                },
-            ),
+            Topic::Qp => {
+                write_qp_status(sample.qp_status, &mut self.qp_text);
+                serde_json::to_writer(
+                    buffer,
+                    &QpStatusMsg {
+                        status: &self.qp_text,
+                        failures: sample.qp_failures,
+                    },
+                )
+            }
             Topic::Base => serde_json::to_writer(
                 buffer,
                 &BasePoseMsg {
-                    position: &sample.q[..3],
-                    orientation_wxyz: &sample.q[3..7],
-                    linear_velocity: &sample.nu[..3],
-                    angular_velocity: &sample.nu[3..6],
+                    position: &sample.q()[..3],
+                    orientation_wxyz: &sample.q()[3..7],
+                    linear_velocity: &sample.nu()[..3],
+                    angular_velocity: &sample.nu()[3..6],
                 },
             ),
             Topic::Tf | Topic::Scene => unreachable!("protobuf channels"),
         };
         result.map_err(|e| Error::Log(format!("{}: {e}", topic.name())))
+    }
+}
+
+/// The logged text of a QP status, `"solved"` or `"fallback: <reason>"`, into `text` (cleared
+/// first; no allocation once `text` is large enough).
+fn write_qp_status(status: &QpStatus, text: &mut String) {
+    text.clear();
+    match status {
+        QpStatus::Solved => text.push_str("solved"),
+        QpStatus::Fallback(reason) => {
+            text.push_str("fallback: ");
+            text.push_str(reason);
+        }
     }
 }
 

@@ -10,7 +10,7 @@
 //! of a tick).
 
 use super::{SampleEncoder, SceneSource, StaticScene, Topic};
-use crate::closed_loop::{write_qp_status, RecordSink, RunInfo, Sample};
+use crate::closed_loop::{RecordSink, RunInfo, Sample};
 use crate::error::Error;
 use crate::Result;
 use ::foxglove::{ChannelBuilder, Context, PartialMetadata, RawChannel, WebSocketServer};
@@ -97,7 +97,6 @@ pub struct LiveSink {
     encoder: Option<SampleEncoder>,
     /// Wall time and simulated time of the first sample.
     origin: Option<(Instant, f64)>,
-    qp_status: String,
 }
 
 impl LiveSink {
@@ -109,7 +108,6 @@ impl LiveSink {
             server: LiveServer::start(port)?,
             encoder: None,
             origin: None,
-            qp_status: String::new(),
         })
     }
 
@@ -146,10 +144,8 @@ impl RecordSink for LiveSink {
         let Some(encoder) = self.encoder.as_mut() else {
             return Ok(());
         };
-        write_qp_status(sample.qp_status, &mut self.qp_status);
-        let log_sample = sample.log_sample(&self.qp_status);
         let server = &self.server;
-        encoder.encode(&log_sample, |topic, time, message| {
+        encoder.encode(sample, |topic, time, message| {
             server.publish(topic, time, message);
             Ok(())
         })
