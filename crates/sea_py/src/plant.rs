@@ -172,6 +172,19 @@ impl PyPlant {
         self.plant.check_state(&self.x).map_err(to_py)?;
         vector_arg(u, "u", self.plant.model.n_joints(), &mut self.u)
     }
+
+    /// Loads `x` and `u` and evaluates the plant there (outputs in `self.data.outputs`).
+    fn evaluate_at(&mut self, x: &Bound<'_, PyAny>, u: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.load(x, u)?;
+        sea_plant::evaluate(
+            &self.plant,
+            &mut self.data.workspace,
+            &self.x,
+            &self.u,
+            &mut self.data.outputs,
+        )
+        .map_err(to_py)
+    }
 }
 
 #[pymethods]
@@ -377,15 +390,7 @@ impl PyPlant {
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.load(x, u)?;
-        sea_plant::evaluate(
-            &self.plant,
-            &mut self.data.workspace,
-            &self.x,
-            &self.u,
-            &mut self.data.outputs,
-        )
-        .map_err(to_py)?;
+        self.evaluate_at(x, u)?;
         let mut out = vec![0.0; self.plant.layout().nx()];
         sea_plant::state_derivative(&self.plant, &self.x, &self.data.outputs.xdot, &mut out);
         Ok(PyArray1::from_vec(py, out))
@@ -400,15 +405,7 @@ impl PyPlant {
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        self.load(x, u)?;
-        sea_plant::evaluate(
-            &self.plant,
-            &mut self.data.workspace,
-            &self.x,
-            &self.u,
-            &mut self.data.outputs,
-        )
-        .map_err(to_py)?;
+        self.evaluate_at(x, u)?;
         let d = &self.data;
         let fields = PyDict::new(py);
         fields.set_item(

@@ -100,7 +100,8 @@ impl PlantSide<'_> {
     ) -> std::result::Result<(), Divergence> {
         hand_over.give(law, self.plant, &mut self.pd.workspace, x);
         let u = &law.last().output.input;
-        let result = sea_plant::evaluate(self.plant, &mut self.pd.workspace, x, u, &mut self.outputs);
+        let result =
+            sea_plant::evaluate(self.plant, &mut self.pd.workspace, x, u, &mut self.outputs);
         result.map_err(|e| Divergence::PlantFailed(e.to_string()))
     }
 
