@@ -7,7 +7,7 @@ controller, all joints elastic, the CoM reference moving), over the first 0.3 s.
 holds the start's transient: the left ankle's motor velocity rings at about 83 Hz with peaks
 of 90 rad/s, decaying to below 1 rad/s by 0.03 s. Against it, ``run_scenario`` in continuous
 mode (ROS2) at plant steps of 1, 0.5, 0.25 and 0.125 ms. Errors: max-norm of the state
-difference with motor quantities on the joint side (``eta theta``, ``eta thetadot``, so that
+difference with motor quantities on the joint side (``Gamma theta``, ``Gamma thetadot``, so that
 positions [rad, m] and velocities [rad/s, m/s] of links and motors are comparable), at the
 final time and over the whole trajectory (every plant step, against Radau's dense output).
 
@@ -109,7 +109,7 @@ def loaded_openblas_libraries() -> list[ctypes.CDLL]:
 
 
 def joint_side(x: np.ndarray, scenario: sm.Scenario) -> np.ndarray:
-    """Rows of states ``[q, theta, nu, thetadot]`` with the motor blocks times eta."""
+    """Rows of states ``[q, theta, nu, thetadot]`` with the motor blocks times Gamma."""
     nq, nv, ne = scenario.model.nq, scenario.model.nv, len(scenario.plant.elastic_joints)
     scaled = np.array(np.atleast_2d(x), dtype=np.float64)
     scaled[:, nq : nq + ne] *= ETA

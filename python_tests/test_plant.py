@@ -68,7 +68,7 @@ def momentum(model, plant, x) -> np.ndarray:
 
 
 def joint_side(plant, x) -> np.ndarray:
-    """State with motor quantities on the joint side (eta theta, eta thetadot), so errors of
+    """State with motor quantities on the joint side (Gamma theta, Gamma thetadot), so errors of
     different components are comparable."""
     d = plant.split_state(x)
     return np.concatenate([d["q"], d["nu"], ETA * d["theta"], ETA * d["thetadot"]])

@@ -17,16 +17,16 @@ pub struct Contact {
     pub name: String,
     /// Frame index.
     pub frame: FrameId,
-    /// Desired `world_H_frame`.
-    pub reference: Pose,
+    /// Desired pose of the frame, `world_H_frame`, where the contact holds it.
+    pub world_h_frame_desired: Pose,
 }
 
 impl Contact {
     /// The pose error of the frame at `pose` from its reference, world axes: the position
     /// error `p - p_ref` [m] and the rotation error ([`rotation_error`], [rad]).
     pub fn pose_error(&self, pose: &Pose) -> (Vector3<f64>, Vector3<f64>) {
-        let position_error = pose.translation - self.reference.translation;
-        let rotation_err = rotation_error(&pose.rotation, &self.reference.rotation);
+        let position_error = pose.translation - self.world_h_frame_desired.translation;
+        let rotation_err = rotation_error(&pose.rotation, &self.world_h_frame_desired.rotation);
         (position_error, rotation_err)
     }
 }

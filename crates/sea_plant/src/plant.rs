@@ -5,11 +5,11 @@
 //! joint in coordinate order: rigid joint, the joint torque; elastic joint, the motor torque
 //! (`MotorInput::Torque`) or the desired motor velocity of the motor velocity loop
 //! (`MotorInput::VelocityLoop`, paper eq:tauMotors:
-//! `tau_m = -b K_m (thetadot - thetadot_d) + eta tau`, saturated at the torque limit).
+//! `tau_m = -I_m K_m (thetadot - thetadot_d) + Gamma tau`, saturated at the torque limit).
 //!
 //! Equations (paper eq:elasticSystem, eq:constraints_acc):
-//! - elastic joint torque `tau = k_s (eta theta - s) + k_d (eta thetadot - sdot)`,
-//!   motor `b thetaddot = tau_m - eta tau`;
+//! - elastic joint torque `tau = K_S (Gamma theta - s) + K_D (Gamma thetadot - sdot)`,
+//!   motor `I_m thetaddot = tau_m - Gamma tau`;
 //! - `M nudot + h = B tau + J^T f`, `J nudot + Jdot nu = -(K_d J nu + K_p e)` (Baumgarte), where
 //!   `J` stacks the contact frame Jacobians (6 rows each, `[v; omega]` of the frame origin,
 //!   world axes), `e` stacks the pose errors `[p - p_ref; rotation error]` and `f` the contact
@@ -131,7 +131,7 @@ impl Plant {
             contacts.push(Contact {
                 name: name.clone(),
                 frame,
-                reference: frame_placement(&self.model, &data, frame),
+                world_h_frame_desired: frame_placement(&self.model, &data, frame),
             });
         }
         self.contacts = contacts;

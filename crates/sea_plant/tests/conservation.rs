@@ -1,10 +1,10 @@
 //! Conservation laws of the free-floating SEA robot (no contacts), checked against quantities
 //! written from their definitions, not against the plant's own outputs.
 //!
-//! - Energy: without damping (`k_d = 0`) and with zero motor and rigid-joint inputs, the
-//!   spring-damper torque `tau` does work `sdot . tau` on the links and `-eta thetadot tau` on
+//! - Energy: without damping (`K_D = 0`) and with zero motor and rigid-joint inputs, the
+//!   spring-damper torque `tau` does work `sdot . tau` on the links and `-Gamma thetadot tau` on
 //!   the rotors (paper eq:alpha, eq:motors), so `0.5 nu^T M nu + sum 0.5 b thetadot^2 +
-//!   sum 0.5 k_s (eta theta - s)^2 - m g . p_com` is constant. An integrator of order `p`
+//!   sum 0.5 K_S (Gamma theta - s)^2 - m g . p_com` is constant. An integrator of order `p`
 //!   drifts by `O(dt^p)` over a fixed time: each halving of `dt` divides the drift by about
 //!   `2^p` (RK4: 16, ROS2: 4).
 //! - Momentum: the plant models the motors as in eq:motors, `I_m thetaddot = tau_m - Gamma tau`,
@@ -123,7 +123,7 @@ fn ros2(dt: f64, duration: f64, finest_tolerance: f64) -> EnergyCheck {
     }
 }
 
-/// Undamped SEA (k_d = 0).
+/// Undamped SEA (K_D = 0).
 fn undamped(stiffness: f64, motor_inertia: f64, ratio: f64) -> ElasticParameters {
     sea(stiffness, 0.0, motor_inertia, ratio)
 }

@@ -113,7 +113,7 @@ fn pose_errors(plant: &Plant, q: &[f64]) -> (DVector<f64>, Vec<Vector3<f64>>) {
     let mut origins = Vec::new();
     for (c, contact) in plant.contacts.iter().enumerate() {
         let pose = sea_dyn::frame_placement(model, &data, contact.frame);
-        let reference = &contact.reference;
+        let reference = &contact.world_h_frame_desired;
         let rotation = log_so3(&(pose.rotation * reference.rotation.transpose()));
         error
             .rows_mut(6 * c, 3)
@@ -202,7 +202,7 @@ fn check_multipliers(name: &str, plant: &Plant, x: &[f64], u: &[f64]) {
 }
 
 /// Largest relative residual of eq:alpha (`tau`), eq:tauMotors (`tau_m`) and eq:motors
-/// (`b thetaddot = tau_m - eta tau`) over the elastic joints.
+/// (`I_m thetaddot = tau_m - Gamma tau`) over the elastic joints.
 fn motor_residual(plant: &Plant, pd: &PlantData, x: &[f64], u: &[f64]) -> f64 {
     let layout = plant.layout();
     let (s, sdot) = (layout.s(x), layout.sdot(x));

@@ -5,7 +5,7 @@
 //!   shrinks per halving of `dt` by about `2^p`: p = 2 for ROS2 (a W-method: second order for
 //!   any W, so also with the frozen `M`, `J` of its W-matrix), 1 for the linearly implicit
 //!   Euler step, 4 for RK4 (on the rotation as Runge-Kutta-Munthe-Kaas).
-//! - Stiffness: with `k_s = 1e4 Nm/rad` on light links the spring modes reach thousands of
+//! - Stiffness: with `K_S = 1e4 Nm/rad` on light links the spring modes reach thousands of
 //!   rad/s; at `dt = 1 ms` RK4 is outside its stability region (`|dt lambda| < 2.79` on the
 //!   imaginary axis) and blows up, while the L-stable ROS2 stays bounded.
 
@@ -141,7 +141,7 @@ fn orders_on_the_icub_in_contact_with_the_motor_velocity_loop() {
     }
 }
 
-/// The iCub with stiff springs (`k_s = 1e4`) on both feet, motor velocity loop, no joint
+/// The iCub with stiff springs (`K_S = 1e4`) on both feet, motor velocity loop, no joint
 /// inertia regularisation (light wrists: fast spring modes).
 fn stiff_icub() -> (Plant, Vec<f64>) {
     let model = shipped("icub25.urdf");
@@ -204,7 +204,7 @@ fn ros2_stays_bounded_on_stiff_springs_where_rk4_diverges() {
 
 #[test]
 fn ros2_does_not_create_energy_on_stiff_undamped_springs() {
-    // Free floating, no gravity, k_d = 0: the exact energy is constant; the L-stable ROS2 may
+    // Free floating, no gravity, K_D = 0: the exact energy is constant; the L-stable ROS2 may
     // only dissipate the unresolved modes, never add energy.
     let model = shipped("icub25.urdf");
     let plant = weightless(

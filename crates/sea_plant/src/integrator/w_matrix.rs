@@ -14,7 +14,7 @@ use sea_dyn::tree_factor::TreeFactor;
 /// `r_s`, `r_nu`, `r_theta`, `r_thetadot` the joint's entries of `r`,
 /// `k_thetadot = a0 + a1 k_sdot`, `a0 = inv_den r_thetadot - a0_theta r_theta + a0_s r_s`, and
 /// the joint torque's perturbation `t0 + t1 k_sdot`,
-/// `t0 = K (eta r_theta - r_s) + t0_a0 a0`. The coefficients (divisions included) are
+/// `t0 = K (Gamma r_theta - r_s) + t0_a0 a0`. The coefficients (divisions included) are
 /// computed once per step in [`WMatrix::prepare`]; the two stage solves only multiply.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct MotorElimination {
@@ -99,18 +99,19 @@ impl WMatrix {
             } else {
                 0.0
             };
-            let (eta, stiffness) = (p.ratio, p.stiffness);
+            let (ratio, stiffness) = (p.ratio, p.stiffness);
             let spring_damper = g * stiffness + p.damping;
-            let den =
-                1.0 + g * gain + coupling * (g * eta * eta * stiffness + eta * eta * p.damping);
-            let a1 = coupling * eta * spring_damper / den;
-            let t1 = spring_damper * (eta * a1 - 1.0);
+            let den = 1.0
+                + g * gain
+                + coupling * (g * ratio * ratio * stiffness + ratio * ratio * p.damping);
+            let a1 = coupling * ratio * spring_damper / den;
+            let t1 = spring_damper * (ratio * a1 - 1.0);
             self.motor[e] = MotorElimination {
                 inv_den: 1.0 / den,
-                a0_theta: coupling * eta * eta * stiffness / den,
-                a0_s: coupling * eta * stiffness / den,
+                a0_theta: coupling * ratio * ratio * stiffness / den,
+                a0_s: coupling * ratio * stiffness / den,
                 a1,
-                t0_a0: spring_damper * eta,
+                t0_a0: spring_damper * ratio,
                 t1,
             };
             let vj = 6 + actuation.elastic_joints[e];

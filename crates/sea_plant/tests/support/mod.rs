@@ -61,8 +61,8 @@ pub fn weightless(mut model: Model, actuation: Actuation) -> Plant {
 }
 
 /// A state at configuration `q` with joint and base velocities in `[-v, v]`, spring
-/// deflections `eta theta - s` in `[-deflection, deflection]` and motor velocities (joint side,
-/// `eta thetadot`) in `[-v, v]`.
+/// deflections `Gamma theta - s` in `[-deflection, deflection]` and motor velocities (joint side,
+/// `Gamma thetadot`) in `[-v, v]`.
 pub fn random_state(plant: &Plant, q: &[f64], v: f64, deflection: f64, rng: &mut Lcg) -> Vec<f64> {
     let nu: Vec<f64> = (0..plant.model.nv())
         .map(|_| v * rng.next_signed())
@@ -107,7 +107,7 @@ pub struct Energy {
     pub links: f64,
     /// Rotors: `sum 0.5 b thetadot^2`.
     pub motors: f64,
-    /// Springs: `sum 0.5 k_s (eta theta - s)^2`.
+    /// Springs: `sum 0.5 K_S (Gamma theta - s)^2`.
     pub springs: f64,
     /// Gravity: `-m g . p_com` (g the model's gravity vector).
     pub gravity: f64,
