@@ -203,6 +203,13 @@ fn check_multipliers(name: &str, plant: &Plant, x: &[f64], u: &[f64]) {
 
 /// Largest relative residual of eq:alpha (`tau`), eq:tauMotors (`tau_m`) and eq:motors
 /// (`I_m thetaddot = tau_m - Gamma tau`) over the elastic joints.
+/// A fresh workspace evaluated at `(x, u)`: the reference of the bitwise comparisons.
+fn evaluated(plant: &Plant, x: &[f64], u: &[f64]) -> PlantData {
+    let mut pd = PlantData::new(plant);
+    evaluate(plant, &mut pd.workspace, x, u, &mut pd.outputs).unwrap();
+    pd
+}
+
 fn motor_residual(plant: &Plant, pd: &PlantData, x: &[f64], u: &[f64]) -> f64 {
     let layout = plant.layout();
     let (s, sdot) = (layout.s(x), layout.sdot(x));
@@ -316,15 +323,7 @@ fn the_step_leaves_the_step_start_outputs_in_plant_data() {
     let mut rng = Lcg::new(4);
     let x = perturbed_state(&plant, &q, &mut rng);
     let u = vec![0.0; plant.model.n_joints()];
-    let mut reference = PlantData::new(&plant);
-    evaluate(
-        &plant,
-        &mut reference.workspace,
-        &x,
-        &u,
-        &mut reference.outputs,
-    )
-    .unwrap();
+    let reference = evaluated(&plant, &x, &u);
     for method in [Method::Ros2, Method::LinearlyImplicitEuler, Method::Rk4] {
         let mut pd = PlantData::new(&plant);
         let mut next = x.clone();
@@ -386,15 +385,7 @@ fn adopted_model_terms_give_the_same_evaluation_and_only_at_their_state() {
         sea_dyn::crba_after_rnea(&plant.model, &mut data);
         data
     };
-    let mut reference = PlantData::new(&plant);
-    evaluate(
-        &plant,
-        &mut reference.workspace,
-        &x,
-        &u,
-        &mut reference.outputs,
-    )
-    .unwrap();
+    let reference = evaluated(&plant, &x, &u);
     let mut pd = PlantData::new(&plant);
     pd.workspace.adopt_model_terms(&terms_at(&x), &layout, &x);
     evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).unwrap();
