@@ -39,7 +39,7 @@ pub mod spatial;
 // The algorithm, model and linear-algebra files keep short paths (`sea_dyn::rnea`, ...).
 pub use algorithms::{centroidal, crba, jacobian, kinematics, rnea, split};
 pub use linalg::{dense, tree_factor};
-pub use model::{actuator, configuration, contact_surface, data, state, urdf};
+pub use model::{actuator, configuration, contact_surface, data, resources, state, urdf};
 
 pub use actuator::{Actuation, Actuator, ElasticParameters};
 pub use centroidal::{
@@ -58,6 +58,7 @@ pub use kinematics::{
     frame_placement,
 };
 pub use model::{Frame, FrameId, Joint, JointKind, Model};
+pub use resources::PackageDirs;
 pub use rnea::{bias_forces, gravity_forces, rnea};
 pub use split::CentroidalSplit;
 pub use state::{StateLayout, TangentBlocks, TangentLayout};

@@ -13,6 +13,7 @@ pub mod configuration;
 pub mod contact_surface;
 pub mod data;
 pub(crate) mod inertia_check;
+pub mod resources;
 pub mod state;
 pub mod urdf;
 
