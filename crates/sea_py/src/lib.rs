@@ -34,7 +34,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::sweep_batch, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // The paper's 25 iCub joints, defined once in sea_sim's presets.
-    let icub25 = pyo3::types::PyTuple::new(m.py(), sea_sim::scenario::robots::icub::ICUB25_JOINTS)?;
+    let icub25 = pyo3::types::PyTuple::new(m.py(), sea_sim::scenario::icub().joints.iter())?;
     m.add("ICUB25_JOINTS", icub25)?;
     Ok(())
 }

@@ -3,8 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::scenario::{
-    expand_joint_groups, icub, ComOrigin, ControllerKind, InitialSprings, RobotDescription,
-    Scenario,
+    expand_joint_groups, ComOrigin, ControllerKind, InitialSprings, RobotDescription, Scenario,
 };
 use nalgebra::Vector3;
 use sea_ctrl::controller::MomentumController;
@@ -32,21 +31,24 @@ pub struct Setup {
     pub elastic_names: Vec<String>,
 }
 
-/// The robot model: the URDF reduced to `robot.joints` (default: the robot description's).
+/// The robot model: the URDF reduced to `robot.joints` (default: the robot description's),
+/// with a frame for each `LINK:x,y,z` contact.
 fn load_model(scenario: &Scenario) -> Result<Model> {
     let urdf = scenario.resolve(&scenario.robot.urdf);
     let joints = scenario
         .robot
         .joints
         .clone()
-        .unwrap_or_else(|| icub().joints.clone());
-    Ok(Model::from_urdf_file(
+        .unwrap_or_else(|| scenario.description.joints.clone());
+    let mut model = Model::from_urdf_file(
         &urdf,
         &LoadOptions {
             joints: Some(joints),
             ..Default::default()
         },
-    )?)
+    )?;
+    crate::scenario::robots::add_contact_frames(&mut model, &scenario.robot.contacts)?;
+    Ok(model)
 }
 
 /// Every joint's actuator: `[actuators]`, then the per-joint overrides.
@@ -68,7 +70,7 @@ pub fn actuation(scenario: &Scenario, model: &Model) -> Result<Actuation> {
 /// The initial joint positions `s0` (n) of `robot.initial_posture`: a posture of the robot
 /// description (in the model's joint order), zero, or explicit radians.
 fn initial_posture(scenario: &Scenario, model: &Model) -> Result<Vec<f64>> {
-    let robot = icub();
+    let robot = scenario.description.as_ref();
     match &scenario.robot.initial_posture {
         toml::Value::String(name) if name == "zero" => Ok(vec![0.0; model.n_joints()]),
         toml::Value::String(name) if robot.postures.contains_key(name) => {
@@ -238,7 +240,11 @@ pub fn posture_reference(
     s0: Vec<f64>,
 ) -> Result<PostureReference> {
     let r = &scenario.reference;
-    let stepped = expand_joint_groups(&r.posture_step_joints, &model.joint_names)?;
+    let stepped = expand_joint_groups(
+        &scenario.description,
+        &r.posture_step_joints,
+        &model.joint_names,
+    )?;
     let step = model
         .joint_names
         .iter()

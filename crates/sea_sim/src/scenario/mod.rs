@@ -9,7 +9,8 @@
 //!
 //! Defaults are written once: in the domain types ([`ElasticParameters::default`],
 //! [`ContactConstraints::default`], [`sea_plant::Plant::DEFAULT_BAUMGARTE_KP`],
-//! [`sea_dyn::critical_damping`]) and in the robot description ([`robots::icub`]).
+//! [`sea_dyn::critical_damping`]) and in the robot description the scenario names
+//! (`robot.description`, [`robots`]; the paper's iCub, `robots/icub_paper.toml`, by default).
 
 pub mod build;
 pub mod parse;
@@ -26,6 +27,7 @@ pub use schema::{
     ReferenceConfig, RobotConfig, SimulationConfig,
 };
 pub use settings::{ActuatorKind, ComOrigin, ControllerKind, Method, QpSolver, Sampling, Setting};
+pub use std::sync::Arc;
 
 use crate::error::{Error, Result};
 use parse::{schema_error, syntax_error};
@@ -64,6 +66,15 @@ pub struct Scenario {
     /// Folder of the scenario file (for relative paths).
     #[serde(skip)]
     pub base_dir: PathBuf,
+    /// The robot description of `robot.description` (the paper's iCub by default), read
+    /// before the tables: their defaults come from it.
+    #[serde(skip, default = "paper_icub")]
+    pub description: Arc<RobotDescription>,
+}
+
+/// The built-in description (serde default of [`Scenario::description`], replaced when read).
+fn paper_icub() -> Arc<RobotDescription> {
+    Arc::new(icub().clone())
 }
 
 impl Scenario {
@@ -77,12 +88,31 @@ impl Scenario {
         for (key, value) in overrides {
             apply_override(&mut root, key, value)?;
         }
+        let source = robots::defaults::take_and_apply(&mut root, base_dir)?;
         let mut scenario: Scenario = toml::Value::Table(root.clone())
             .try_into()
             .map_err(|e: toml::de::Error| schema_error(&e, &root))?;
         scenario.base_dir = base_dir.to_path_buf();
+        scenario.description = Arc::new(source.description);
+        scenario.resolve_urdf_uri()?;
         scenario.validate()?;
         Ok(scenario)
+    }
+
+    /// Replaces a `package://` or `file://` URI in `robot.urdf` by the file it names (the
+    /// scenario's `robot.package_dirs` first, then the environment's); an error names the key.
+    fn resolve_urdf_uri(&mut self) -> Result<()> {
+        let uri = &self.robot.urdf;
+        if !uri.contains("://") {
+            return Ok(());
+        }
+        let user = self.robot.package_dirs.iter().map(|d| self.resolve(d));
+        let dirs = sea_dyn::PackageDirs::from_environment(user);
+        let path = dirs
+            .resolve(uri, &self.base_dir)
+            .map_err(|e| Error::invalid("robot.urdf", e.to_string(), uri))?;
+        self.robot.urdf = path.display().to_string();
+        Ok(())
     }
 
     /// Reads a scenario file with overrides.
@@ -118,7 +148,7 @@ impl Scenario {
         let integral = self
             .controller
             .momentum_integral
-            .unwrap_or_else(|| icub().momentum_integral.gains(one_foot));
+            .unwrap_or_else(|| self.description.momentum_integral.gains(one_foot));
         let proportional = self
             .controller
             .momentum_proportional
@@ -133,7 +163,10 @@ impl Scenario {
             }
             None => joint_names
                 .iter()
-                .map(|name| icub().postural_stiffness.of(name, &self.robot.contacts))
+                .map(|name| {
+                    let stiffness = &self.description.postural_stiffness;
+                    stiffness.of(name, &self.robot.contacts)
+                })
                 .collect(),
         }
         .into_iter()
@@ -160,12 +193,16 @@ impl Scenario {
     }
 }
 
-/// Expands joint names and groups of the robot description ("torso", "arms", "left_arm",
-/// "right_arm", "upper_body") into joint names, in order.
-pub fn expand_joint_groups(entries: &[String], joint_names: &[String]) -> Result<Vec<String>> {
+/// Expands joint names and groups of the robot description `robot` (the iCub's: "torso",
+/// "arms", "left_arm", "right_arm", "upper_body") into joint names, in order.
+pub fn expand_joint_groups(
+    robot: &RobotDescription,
+    entries: &[String],
+    joint_names: &[String],
+) -> Result<Vec<String>> {
     let mut out = Vec::new();
     for entry in entries {
-        if let Some(group) = icub().group(entry, joint_names) {
+        if let Some(group) = robot.group(entry, joint_names) {
             out.extend(group);
         } else if joint_names.contains(entry) {
             out.push(entry.clone());

@@ -14,16 +14,24 @@ use serde::de::Error as _;
 use serde::{Deserialize, Deserializer};
 use std::collections::BTreeMap;
 
-/// `[robot]`.
+/// `[robot]`. Its key `description` names the robot description the scenario's defaults come
+/// from (a built-in name, "icub_paper" by default, a file or an inline table:
+/// [`super::robots::source`]); it is read before this table ([`super::robots::defaults`]).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotConfig {
-    /// URDF path (required).
+    /// URDF: a path (relative to the scenario's folder, else the working directory) or a
+    /// `package://NAME/PATH` or `file://` URI (required unless the description names one).
     pub urdf: String,
+    /// Folders searched first for `package://` URIs (relative to the scenario's folder),
+    /// before the environment's ([`sea_dyn::PackageDirs::from_environment`]).
+    #[serde(default)]
+    pub package_dirs: Vec<String>,
     /// Moving joints (default: the robot description's, the paper's 25 iCub joints).
     #[serde(default)]
     pub joints: Option<Vec<String>>,
-    /// Contact frames, stance foot first (default: the robot description's, the left sole).
+    /// Contacts, stance foot first: frame names or `LINK:x,y,z` points of a link
+    /// ([`super::robots::ContactSpec`]; default: the robot description's).
     #[serde(default = "default_contacts")]
     pub contacts: Vec<String>,
     /// A posture of the robot description ("left_stance", "two_feet": the original study's),

@@ -1,12 +1,21 @@
-//! Robot descriptions: the robot-specific data a scenario's defaults come from (joints,
-//! named postures, contacts, joint groups, gains). Each is plain data
-//! ([`RobotDescription`], deserialisable, so it can be read from a file); the one robot today
-//! is the paper's iCub ([`icub`]).
+//! Robot descriptions: the robot-specific data a scenario's defaults come from (URDF, joints,
+//! named postures, contacts, foot rectangle, actuators, joint groups, gains). Each is plain
+//! data ([`RobotDescription`]) read from TOML: the paper's iCub (`robots/icub_paper.toml`,
+//! built in, [`icub`]), a file, or a table inline in the scenario ([`source`]); a scenario
+//! takes its defaults from the one it names ([`defaults`]). Contacts are frame names or
+//! `LINK:x,y,z` points of a link ([`contact`]).
 
+pub mod contact;
+pub mod defaults;
 pub mod icub;
+pub mod source;
 
+pub use contact::{add_contact_frames, ContactSpec};
 pub use icub::icub;
+pub use source::{load_description, DescriptionSource};
 
+use crate::error::{Error, Result};
+use sea_dyn::ElasticParameters;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -14,15 +23,37 @@ use std::collections::BTreeMap;
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotDescription {
+    /// The URDF (the default of `robot.urdf`): a path, relative to the description's file (to
+    /// the scenario's for a description inline in it), or a `package://` or `file://` URI.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub urdf: Option<String>,
     /// The moving joints (the default of `robot.joints`), in the order of [`Self::postures`].
     pub joints: Vec<String>,
     /// Named initial postures (`robot.initial_posture = "NAME"`), one angle per joint of
     /// [`Self::joints`].
     pub postures: BTreeMap<String, Posture>,
-    /// Contact frames, stance foot first (the default of `robot.contacts`).
+    /// Contacts, stance foot first (the default of `robot.contacts`): frame names or
+    /// `LINK:x,y,z` ([`ContactSpec`]).
     pub contacts: Vec<String>,
+    /// The posture a scenario starts in (the default of `robot.initial_posture`): a name of
+    /// [`Self::postures`] or "zero".
+    pub initial_posture: String,
+    /// The foot rectangle in the contact frame (the default of `controller.contact.foot_x`
+    /// and `foot_y`; absent: [`sea_dyn::ContactSurface::default`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub foot: Option<FootRectangle>,
+    /// Every joint's elastic actuator (the default of `[actuators]`' parameters; absent:
+    /// [`ElasticParameters::default`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub actuator: Option<ElasticParameters>,
+    /// Per-joint elastic actuators by joint name (the defaults of
+    /// `[actuators.overrides.NAME]`; the scenario's `[actuators]` keys do not replace them,
+    /// its overrides do).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub actuator_overrides: BTreeMap<String, ElasticParameters>,
     /// Joint groups by name (`reference.posture_step_joints`): each the joints its selectors
     /// pick, selector after selector, each in the model's joint order.
+    #[serde(default)]
     pub joint_groups: BTreeMap<String, Vec<JointSelector>>,
     /// Postural stiffness by joint, before [`Self::postural_scale`].
     pub postural_stiffness: PosturalStiffness,
@@ -40,6 +71,16 @@ pub struct RobotDescription {
     pub pinv_damping: f64,
     /// QP Hessian regulariser (the default of `controller.qp_regularization`).
     pub qp_regularization: f64,
+}
+
+/// A foot's contact rectangle in the contact frame [m] (x forward, z the ground's normal).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FootRectangle {
+    /// `[min, max]` along the contact frame's x axis.
+    pub x: [f64; 2],
+    /// `[min, max]` along the contact frame's y axis.
+    pub y: [f64; 2],
 }
 
 /// A named posture: joint angles in `unit`.
@@ -100,16 +141,22 @@ impl JointSelector {
 #[serde(deny_unknown_fields)]
 pub struct PosturalStiffness {
     /// Leg prefixes ("l", "r"): a contact frame starting with one makes that leg the stance leg.
+    #[serde(default)]
     pub sides: Vec<String>,
     /// The leg's joints after `SIDE_`, in the order of the two leg tables.
+    #[serde(default)]
     pub leg_joints: Vec<String>,
     /// The stance leg's stiffness, order of [`Self::leg_joints`].
+    #[serde(default)]
     pub stance_leg: Vec<f64>,
     /// A swing leg's stiffness, order of [`Self::leg_joints`].
+    #[serde(default)]
     pub swing_leg: Vec<f64>,
     /// Other joints by exact name.
+    #[serde(default)]
     pub by_name: BTreeMap<String, f64>,
     /// Other joints by the end of their name, first match.
+    #[serde(default)]
     pub by_suffix: Vec<(String, f64)>,
     /// Any other joint.
     pub other: f64,
@@ -164,6 +211,64 @@ impl MomentumIntegral {
 }
 
 impl RobotDescription {
+    /// Reads a description from TOML text; `origin` names it in errors (a file, or the
+    /// built-in name).
+    pub fn from_toml(text: &str, origin: &str) -> Result<Self> {
+        let description: Self = toml::from_str(text).map_err(|e| {
+            let error = crate::scenario::TableError::of(&e);
+            Error::config(
+                format!("robot description {origin}: {}", error.key),
+                error.rule,
+            )
+        })?;
+        description.check(origin)?;
+        Ok(description)
+    }
+
+    /// Checks the lengths that tie its tables together: one angle per joint in every
+    /// posture, one stiffness per leg joint, one or two contacts, a known initial posture.
+    pub fn check(&self, origin: &str) -> Result<()> {
+        let key = |name: &str| format!("robot description {origin}: {name}");
+        for (name, posture) in &self.postures {
+            if posture.angles.len() != self.joints.len() {
+                return Err(Error::invalid(
+                    key(&format!("postures.{name}.angles")),
+                    format!("needs one angle per joint ({})", self.joints.len()),
+                    format!("{} angles", posture.angles.len()),
+                ));
+            }
+        }
+        let legs = &self.postural_stiffness;
+        for (name, table) in [
+            ("stance_leg", &legs.stance_leg),
+            ("swing_leg", &legs.swing_leg),
+        ] {
+            if table.len() != legs.leg_joints.len() {
+                return Err(Error::invalid(
+                    key(&format!("postural_stiffness.{name}")),
+                    format!("needs one entry per leg joint ({})", legs.leg_joints.len()),
+                    format!("{} entries", table.len()),
+                ));
+            }
+        }
+        if self.contacts.is_empty() || self.contacts.len() > 2 {
+            return Err(Error::invalid(
+                key("contacts"),
+                "one or two contacts",
+                format!("{:?}", self.contacts),
+            ));
+        }
+        let posture = &self.initial_posture;
+        if posture != "zero" && !self.postures.contains_key(posture) {
+            return Err(Error::invalid(
+                key("initial_posture"),
+                "must be \"zero\" or a name of `postures`",
+                posture,
+            ));
+        }
+        Ok(())
+    }
+
     /// The joints of `group` (a name of [`Self::joint_groups`]) among `joint_names`, `None`
     /// for an unknown group.
     pub fn group(&self, group: &str, joint_names: &[String]) -> Option<Vec<String>> {
