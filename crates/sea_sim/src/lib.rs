@@ -9,6 +9,7 @@ pub mod bench;
 pub mod closed_loop;
 pub mod error;
 pub mod foxglove;
+pub mod init;
 pub mod mcap_log;
 pub mod output;
 pub mod scenario;

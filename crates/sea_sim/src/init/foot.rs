@@ -1,0 +1,170 @@
+//! The foot rectangle of a contact from the collision geometry of its foot: every collision
+//! shape of the links fused into the contact's body (boxes' corners, cylinders' and
+//! capsules' bounding boxes, spheres' lowest points, the vertices of STL and OBJ meshes),
+//! expressed in the contact frame; the points within [`SOLE_BAND`] of the lowest one are the
+//! sole, their bounding box in x and y the rectangle.
+
+use crate::error::{Error, Result};
+use crate::scenario::robots::FootRectangle;
+use nalgebra::Vector3;
+use sea_dyn::spatial::Pose;
+use sea_dyn::{FrameId, Model, PackageDirs};
+use std::path::Path;
+
+/// Points up to this height above the lowest collision point are on the sole [m].
+pub const SOLE_BAND: f64 = 0.01;
+
+/// The rectangle of the contact `frame` and the height of the lowest collision point in the
+/// contact frame [m] (0 when the frame is on the sole), from the URDF `urdf_text` in
+/// `urdf_dir`; `contact` names the contact in errors.
+pub fn foot_rectangle(
+    model: &Model,
+    frame: FrameId,
+    urdf_text: &str,
+    urdf_dir: &Path,
+    dirs: &PackageDirs,
+    contact: &str,
+) -> Result<(FootRectangle, f64)> {
+    let robot = urdf_rs::read_from_string(urdf_text).map_err(|e| {
+        no_geometry(
+            contact,
+            &format!("the URDF's collision geometry cannot be read ({e})"),
+        )
+    })?;
+    let body = model.frames[frame].body;
+    let contact_h_body = model.frames[frame].body_h_frame.inverse();
+    let mut points = Vec::new();
+    for link in &robot.links {
+        let Some(link_frame) = model.frames.iter().find(|f| f.name == link.name) else {
+            continue;
+        };
+        if link_frame.body != body {
+            continue;
+        }
+        let contact_h_link = contact_h_body.compose(&link_frame.body_h_frame);
+        for collision in &link.collision {
+            let origin = &collision.origin;
+            let link_h_shape = Pose::from_xyz_rpy(origin.xyz.0, origin.rpy.0);
+            let contact_h_shape = contact_h_link.compose(&link_h_shape);
+            shape_points(
+                &collision.geometry,
+                &contact_h_shape,
+                urdf_dir,
+                dirs,
+                &mut points,
+            )
+            .map_err(|rule| no_geometry(contact, &rule))?;
+        }
+    }
+    rectangle_of(&points).ok_or_else(|| {
+        no_geometry(
+            contact,
+            "its link has no collision geometry to measure the sole on",
+        )
+    })
+}
+
+/// The error of a foot that cannot be measured.
+fn no_geometry(contact: &str, rule: &str) -> Error {
+    Error::config(
+        "robot.contacts",
+        format!("cannot measure the foot of '{contact}': {rule}; give the rectangle with --foot X0,X1,Y0,Y1"),
+    )
+}
+
+/// The sole rectangle of `points` (contact frame) and the lowest point's height.
+fn rectangle_of(points: &[Vector3<f64>]) -> Option<(FootRectangle, f64)> {
+    let lowest = points.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+    if !lowest.is_finite() {
+        return None;
+    }
+    let sole: Vec<&Vector3<f64>> = points
+        .iter()
+        .filter(|p| p.z <= lowest + SOLE_BAND)
+        .collect();
+    let range = |axis: usize| {
+        let values = sole.iter().map(|p| p[axis]);
+        let min = values.clone().fold(f64::INFINITY, f64::min);
+        [min, values.fold(f64::NEG_INFINITY, f64::max)]
+    };
+    Some((
+        FootRectangle {
+            x: range(0),
+            y: range(1),
+        },
+        lowest,
+    ))
+}
+
+/// Appends the points of one collision shape, in the contact frame.
+fn shape_points(
+    geometry: &urdf_rs::Geometry,
+    contact_h_shape: &Pose,
+    urdf_dir: &Path,
+    dirs: &PackageDirs,
+    points: &mut Vec<Vector3<f64>>,
+) -> std::result::Result<(), String> {
+    let mut local = Vec::new();
+    match geometry {
+        urdf_rs::Geometry::Box { size } => box_corners(size.0, &mut local),
+        urdf_rs::Geometry::Cylinder { radius, length } => {
+            box_corners([2.0 * radius, 2.0 * radius, *length], &mut local)
+        }
+        urdf_rs::Geometry::Capsule { radius, length } => box_corners(
+            [2.0 * radius, 2.0 * radius, length + 2.0 * radius],
+            &mut local,
+        ),
+        urdf_rs::Geometry::Sphere { radius } => {
+            // Only its lowest point (in the contact frame) touches the ground.
+            let center = contact_h_shape.translation;
+            points.push(center - Vector3::z() * *radius);
+            return Ok(());
+        }
+        urdf_rs::Geometry::Mesh { filename, scale } => {
+            let file = dirs
+                .resolve(filename, urdf_dir)
+                .map_err(|e| e.to_string())?;
+            let scale = scale.map_or([1.0; 3], |s| [s[0], s[1], s[2]]);
+            for vertex in super::mesh::vertices(&file)? {
+                local.push(Vector3::new(
+                    vertex[0] * scale[0],
+                    vertex[1] * scale[1],
+                    vertex[2] * scale[2],
+                ));
+            }
+        }
+    }
+    points.extend(local.iter().map(|p| contact_h_shape.transform_point(p)));
+    Ok(())
+}
+
+/// The 8 corners of a box of `size` centred at the origin.
+fn box_corners(size: [f64; 3], out: &mut Vec<Vector3<f64>>) {
+    for corner in 0..8 {
+        let sign = |bit: usize| if corner & (1 << bit) == 0 { -0.5 } else { 0.5 };
+        out.push(Vector3::new(
+            sign(0) * size[0],
+            sign(1) * size[1],
+            sign(2) * size[2],
+        ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_sole_is_the_band_above_the_lowest_point() {
+        let points = [
+            Vector3::new(-0.1, -0.05, -0.02),
+            Vector3::new(0.2, 0.05, -0.015),
+            Vector3::new(0.5, 0.5, 0.1),
+        ];
+        let (rectangle, lowest) = rectangle_of(&points).unwrap();
+        assert_eq!(rectangle.x, [-0.1, 0.2]);
+        assert_eq!(rectangle.y, [-0.05, 0.05]);
+        assert_eq!(lowest, -0.02);
+        assert!(rectangle_of(&[]).is_none());
+    }
+}

@@ -1,0 +1,33 @@
+//! The controller's gains for a new robot. The momentum gains act per unit of momentum (the
+//! CoM error obeys `xddot + K_p xdot + K_i x = 0` whatever the mass), so the paper's iCub
+//! gains on two feet carry over unchanged; the postural stiffness of each joint is its
+//! inertia in the standing posture (the diagonal of `M`) times [`POSTURAL_FREQUENCY`] squared,
+//! so every joint's postural task has the same bandwidth; the joint inertia regularisation
+//! scales with the robot's mass from the iCub's (0.1 kg m^2 for 33 kg).
+
+use crate::scenario::robots::icub;
+use sea_dyn::{Data, Model};
+
+/// Natural frequency of each joint's postural task [rad/s].
+pub const POSTURAL_FREQUENCY: f64 = 3.0;
+/// The iCub's mass [kg] of the regularisation's scaling (the paper's model, urdf/icub25.urdf).
+pub const ICUB_MASS: f64 = 33.0;
+
+/// The postural stiffness of each joint at the configuration `q` [Nm/rad].
+pub fn postural_stiffness(model: &Model, q: &[f64], regularization: f64) -> Vec<f64> {
+    let mut data = Data::new(model);
+    let mass_matrix = sea_dyn::crba(model, &mut data, q);
+    let omega2 = POSTURAL_FREQUENCY * POSTURAL_FREQUENCY;
+    (0..model.n_joints())
+        .map(|k| {
+            let inertia = mass_matrix[(6 + k, 6 + k)] + regularization;
+            (omega2 * inertia * 1e3).round() / 1e3
+        })
+        .collect()
+}
+
+/// The joint inertia regularisation of a robot of `mass` [kg m^2].
+pub fn joint_inertia_regularization(mass: f64) -> f64 {
+    let scaled = icub().joint_inertia_regularization * mass / ICUB_MASS;
+    (scaled * 1e3).round() / 1e3
+}

@@ -1,0 +1,161 @@
+//! `sea-sim init`: a two-feet balancing scenario for a robot the program has never seen, from
+//! its URDF and its two contacts alone. The scenario carries its robot description inline
+//! (`[robot.description]`): every joint a series elastic actuator scaled to the robot
+//! ([`actuators`]), a standing posture found by inverse kinematics ([`posture`]), the foot
+//! rectangle measured on the collision geometry ([`foot`], [`mesh`]) unless given, gains
+//! scaled to the robot ([`gains`]); the run is the paper's CoM sinusoid (1 cm, 0.2 Hz,
+//! lateral) for 5 s. The file is written beside its target and renamed over it only when
+//! complete ([`crate::output::OutputFile`]).
+
+pub mod actuators;
+pub mod foot;
+pub mod gains;
+pub mod mesh;
+pub mod posture;
+pub mod write;
+
+use crate::error::{Error, Result};
+use crate::scenario::robots::{add_contact_frames, ContactSpec, FootRectangle};
+use sea_dyn::{FrameId, LoadOptions, Model, PackageDirs};
+use std::path::{Path, PathBuf};
+
+/// What `sea-sim init` is given.
+#[derive(Clone, Debug, Default)]
+pub struct InitOptions {
+    /// The URDF: a path or a `package://` / `file://` URI.
+    pub urdf: String,
+    /// The two contacts, left then right (the first is the stance sole the world is placed
+    /// on): frame names or `LINK:x,y,z`.
+    pub contacts: [String; 2],
+    /// The foot rectangle (contact frame) of both feet; `None` measures it.
+    pub foot: Option<FootRectangle>,
+    /// Folders searched first for `package://` URIs.
+    pub package_dirs: Vec<PathBuf>,
+    /// The scenario file to write.
+    pub out: PathBuf,
+    /// The scenario's name (default: the robot's name and "two_feet").
+    pub name: Option<String>,
+}
+
+/// What `init` found, for the user.
+#[derive(Clone, Debug)]
+pub struct InitReport {
+    /// The file written.
+    pub out: PathBuf,
+    /// The robot's name, mass [kg] and number of joints.
+    pub robot: (String, f64, usize),
+    /// The foot rectangles used (left, right) and whether they were measured.
+    pub feet: [FootRectangle; 2],
+    /// Whether the rectangles were measured on the collision geometry.
+    pub measured: bool,
+    /// How far the base was lowered [m] and the posture's task error left.
+    pub lowering_m: f64,
+    /// The posture's largest task error [m or rad].
+    pub residual: f64,
+    /// The model's warnings (doubtful inertias, fused massless links).
+    pub warnings: Vec<String>,
+}
+
+/// Reads `FOOT` as `X0,X1,Y0,Y1` (metres, contact frame) with `x0 < x1` and `y0 < y1`.
+pub fn parse_foot(text: &str) -> Result<FootRectangle> {
+    let bad = |rule: &str| Error::invalid("foot", rule, format!("'{text}'"));
+    let values: Vec<f64> = text
+        .split(',')
+        .map(|part| part.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect::<Option<_>>()
+        .ok_or_else(|| bad("must be four finite numbers X0,X1,Y0,Y1 [m]"))?;
+    let [x0, x1, y0, y1] = values[..] else {
+        return Err(bad("must be four finite numbers X0,X1,Y0,Y1 [m]"));
+    };
+    check_foot(&FootRectangle {
+        x: [x0, x1],
+        y: [y0, y1],
+    })
+}
+
+/// `rectangle` when its minima are below its maxima.
+pub fn check_foot(rectangle: &FootRectangle) -> Result<FootRectangle> {
+    for (axis, [min, max]) in [("x", rectangle.x), ("y", rectangle.y)] {
+        if !(min < max) {
+            return Err(Error::invalid(
+                "foot",
+                format!("must have {axis}0 < {axis}1 (contact frame) [m]"),
+                format!("{axis}0 = {min}, {axis}1 = {max}"),
+            ));
+        }
+    }
+    Ok(*rectangle)
+}
+
+/// Writes the scenario of `options` and says what it found.
+pub fn init(options: &InitOptions) -> Result<InitReport> {
+    let dirs = PackageDirs::from_environment(options.package_dirs.iter().cloned());
+    let urdf_file = resolve_urdf(&options.urdf, &dirs)?;
+    let text = std::fs::read_to_string(&urdf_file).map_err(|e| Error::io(&urdf_file, e))?;
+    let mut model = Model::from_urdf_str(&text, &LoadOptions::default())
+        .map_err(|e| Error::from(e.in_file(&urdf_file)))?;
+    for contact in &options.contacts {
+        ContactSpec::parse(contact)?;
+    }
+    add_contact_frames(&mut model, &options.contacts)?;
+    let feet = options
+        .contacts
+        .clone()
+        .map(|name| model.frame_id(&name).expect("added above"));
+    one_contact_per_leg(&model, feet, &options.contacts)?;
+    let urdf_dir = urdf_file.parent().unwrap_or(Path::new("."));
+    let (rectangles, measured) = match &options.foot {
+        Some(foot) => ([check_foot(foot)?; 2], false),
+        None => {
+            let measure = |k: usize| {
+                foot::foot_rectangle(
+                    &model,
+                    feet[k],
+                    &text,
+                    urdf_dir,
+                    &dirs,
+                    &options.contacts[k],
+                )
+                .map(|(rectangle, _)| rectangle)
+            };
+            ([measure(0)?, measure(1)?], true)
+        }
+    };
+    let standing = posture::standing_posture(&model, feet, rectangles)?;
+    let written = write::write_scenario(options, &model, feet, rectangles, &standing)?;
+    Ok(InitReport {
+        out: written,
+        robot: (model.name.clone(), model.total_mass(), model.n_joints()),
+        feet: rectangles,
+        measured,
+        lowering_m: standing.lowering_m,
+        residual: standing.residual,
+        warnings: model.warnings.iter().map(|w| w.to_string()).collect(),
+    })
+}
+
+/// The URDF file of `urdf` (a path or a URI); an error names the argument.
+fn resolve_urdf(urdf: &str, dirs: &PackageDirs) -> Result<PathBuf> {
+    dirs.resolve(urdf, Path::new("."))
+        .map_err(|e| Error::invalid("urdf", format!("cannot find the URDF: {e}"), urdf))
+}
+
+/// Two contacts on two different legs: the first bodies below the base on their support paths
+/// differ (otherwise one leg, or one foot, carries both and the robot cannot stand).
+fn one_contact_per_leg(model: &Model, feet: [FrameId; 2], names: &[String; 2]) -> Result<()> {
+    let leg = |frame: FrameId| {
+        model
+            .support_path(model.frames[frame].body)
+            .first()
+            .copied()
+    };
+    match (leg(feet[0]), leg(feet[1])) {
+        (Some(left), Some(right)) if left != right => Ok(()),
+        _ => Err(Error::invalid(
+            "robot.contacts",
+            "the robot cannot stand: the two contacts must be on two different legs (these \
+             hang from the same link below the base, or on the base itself)",
+            format!("'{}', '{}'", names[0], names[1]),
+        )),
+    }
+}

@@ -1,0 +1,191 @@
+//! The scenario `sea-sim init` writes: its robot description inline (`[robot.description]`)
+//! and the paper's CoM sinusoid on two feet, written beside the target and renamed over it
+//! when complete.
+
+use super::posture::Standing;
+use super::{actuators, gains, InitOptions};
+use crate::error::{Error, Result};
+use crate::output::OutputFile;
+use crate::scenario::robots::AngleUnit;
+use crate::scenario::robots::{
+    icub, FootRectangle, MomentumIntegral, PosturalStiffness, Posture, RobotDescription,
+};
+use sea_dyn::{FrameId, Model};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The CoM sinusoid of the scenario: amplitude [m], frequency [Hz], duration [s].
+pub const COM_SINUSOID: (f64, f64, f64) = (0.01, 0.2, 5.0);
+
+/// Writes the scenario; returns the path written.
+pub fn write_scenario(
+    options: &InitOptions,
+    model: &Model,
+    feet: [FrameId; 2],
+    rectangles: [FootRectangle; 2],
+    standing: &Standing,
+) -> Result<PathBuf> {
+    let description = describe(options, model, feet, rectangles, standing)?;
+    let name = options
+        .name
+        .clone()
+        .unwrap_or_else(|| format!("{}_two_feet", model.name));
+    let text = scenario_text(options, &name, &description)?;
+    let mut file = OutputFile::create(&options.out)?;
+    file.write_all(text.as_bytes())?;
+    file.commit()?;
+    Ok(options.out.clone())
+}
+
+/// The robot description of the new robot.
+fn describe(
+    options: &InitOptions,
+    model: &Model,
+    feet: [FrameId; 2],
+    rectangles: [FootRectangle; 2],
+    standing: &Standing,
+) -> Result<RobotDescription> {
+    let mut q = model.neutral();
+    q[7..].copy_from_slice(&standing.joints);
+    let torques = sea_plant::equilibrium::static_torques(model, &q, &feet);
+    let elastic = actuators::scaled_actuators(&torques);
+    let regularization = gains::joint_inertia_regularization(model.total_mass());
+    let stiffness = gains::postural_stiffness(model, &q, regularization);
+    let paper = icub();
+    Ok(RobotDescription {
+        urdf: Some(urdf_as_written(&options.urdf, &options.out)),
+        joints: model.joint_names.clone(),
+        postures: BTreeMap::from([(
+            "standing".to_string(),
+            Posture {
+                unit: AngleUnit::Rad,
+                angles: standing.joints.clone(),
+            },
+        )]),
+        contacts: options.contacts.to_vec(),
+        initial_posture: "standing".into(),
+        foot: Some(common_rectangle(rectangles)?),
+        actuator: None,
+        actuator_overrides: model.joint_names.iter().cloned().zip(elastic).collect(),
+        joint_groups: BTreeMap::new(),
+        postural_stiffness: PosturalStiffness {
+            sides: Vec::new(),
+            leg_joints: Vec::new(),
+            stance_leg: Vec::new(),
+            swing_leg: Vec::new(),
+            by_name: model.joint_names.iter().cloned().zip(stiffness).collect(),
+            by_suffix: Vec::new(),
+            other: 0.0,
+        },
+        postural_scale: 1.0,
+        momentum_integral: MomentumIntegral {
+            one_foot: paper.momentum_integral.one_foot,
+            two_feet: paper.momentum_integral.two_feet,
+        },
+        motor_velocity_gain: paper.motor_velocity_gain,
+        joint_inertia_regularization: regularization,
+        pinv_damping: paper.pinv_damping,
+        qp_regularization: paper.qp_regularization,
+    })
+}
+
+/// The rectangle inside both feet's (one rectangle serves both contacts).
+fn common_rectangle(rectangles: [FootRectangle; 2]) -> Result<FootRectangle> {
+    let [left, right] = rectangles;
+    let both = |a: [f64; 2], b: [f64; 2]| [a[0].max(b[0]), a[1].min(b[1])];
+    let common = FootRectangle {
+        x: both(left.x, right.x),
+        y: both(left.y, right.y),
+    };
+    super::check_foot(&common).map_err(|_| {
+        Error::invalid(
+            "foot",
+            "the two measured foot rectangles do not overlap in their contact frames; give \
+             one with --foot X0,X1,Y0,Y1",
+            format!("{left:?}, {right:?}"),
+        )
+    })
+}
+
+/// The URDF as the scenario names it: a URI as given, a path relative to the scenario's folder
+/// (absolute when no relative path joins them).
+fn urdf_as_written(urdf: &str, out: &Path) -> String {
+    if urdf.contains("://") {
+        return urdf.to_string();
+    }
+    let absolute = |p: &Path| std::path::absolute(p).ok();
+    let folder = out.parent().filter(|p| !p.as_os_str().is_empty());
+    let (Some(file), Some(dir)) = (
+        absolute(Path::new(urdf)),
+        absolute(folder.unwrap_or(Path::new("."))),
+    ) else {
+        return urdf.to_string();
+    };
+    relative(&file, &dir).unwrap_or(file).display().to_string()
+}
+
+/// `file` relative to `dir` (both absolute).
+fn relative(file: &Path, dir: &Path) -> Option<PathBuf> {
+    let file: Vec<_> = file.components().collect();
+    let dir: Vec<_> = dir.components().collect();
+    let common = file.iter().zip(&dir).take_while(|(a, b)| a == b).count();
+    if common == 0 {
+        return None;
+    }
+    let mut out: PathBuf = dir[common..].iter().map(|_| "..").collect();
+    out.extend(file[common..].iter());
+    Some(out)
+}
+
+/// The scenario's TOML text.
+fn scenario_text(options: &InitOptions, name: &str, robot: &RobotDescription) -> Result<String> {
+    let (amplitude, frequency, duration) = COM_SINUSOID;
+    let mut root = toml::Table::new();
+    root.insert("name".into(), name.into());
+    let mut robot_table = toml::Table::new();
+    if !options.package_dirs.is_empty() {
+        let dirs = options
+            .package_dirs
+            .iter()
+            .map(|d| d.display().to_string().into());
+        robot_table.insert("package_dirs".into(), toml::Value::Array(dirs.collect()));
+    }
+    let description = toml::Table::try_from(robot)
+        .map_err(|e| Error::config("robot.description", e.to_string()))?;
+    robot_table.insert("description".into(), description.into());
+    root.insert("robot".into(), robot_table.into());
+    let reference: toml::Table = toml::from_str(&format!(
+        "com_amplitude = {amplitude:?}\ncom_frequency = {frequency:?}\n\
+         com_direction = [0.0, 1.0, 0.0]\ncom_origin = \"initial\"\n"
+    ))
+    .map_err(|e| Error::config("reference", e.to_string()))?;
+    root.insert("reference".into(), reference.into());
+    let mut simulation = toml::Table::new();
+    simulation.insert("duration_s".into(), duration.into());
+    root.insert("simulation".into(), simulation.into());
+    let body = toml::to_string(&root).map_err(|e| Error::config("scenario", e.to_string()))?;
+    Ok(format!("{}{body}", header(options)))
+}
+
+/// The comment on top of the file: how it was made.
+fn header(options: &InitOptions) -> String {
+    let foot = match &options.foot {
+        Some(f) => format!(" --foot {},{},{},{}", f.x[0], f.x[1], f.y[0], f.y[1]),
+        None => String::new(),
+    };
+    format!(
+        "# Written by `sea-sim init {} --contacts {} {}{foot}`: a two-feet balancing scenario\n\
+         # with its robot description inline ([robot.description]): SEA on every joint scaled\n\
+         # to the robot, the standing posture found by inverse kinematics, the foot rectangle\n\
+         # {}, gains scaled to the robot (README, \"Your robot\").\n\
+         # The run: the CoM follows a lateral sinusoid (1 cm, 0.2 Hz) for 5 s.\n\n",
+        options.urdf,
+        options.contacts[0],
+        options.contacts[1],
+        if options.foot.is_some() {
+            "given"
+        } else {
+            "measured on the feet's collision geometry"
+        }
+    )
+}
