@@ -20,6 +20,7 @@ from ._native import (
     SeaIOError,
     SolverError,
     __version__,
+    init_scenario,
 )
 from .analysis import Linearization, linearize, stability_margin
 from .closed_loop_rhs import closed_loop_rhs
@@ -29,6 +30,7 @@ from .scenario import ScenarioResult, run_scenario
 from .sweep import SweepResult, sweep
 
 __all__ = [
+    "init_scenario",
     "ICUB25_JOINTS",
     "ControlOutput",
     "Controller",

@@ -262,6 +262,20 @@ def run_scenario_native(
     the run at its next tick (the MCAP log is finished) and raises ``KeyboardInterrupt`` whose
     ``partial`` attribute is this dict so far (summary status "interrupted")."""
 
+def init_scenario(
+    urdf: str,
+    contacts: tuple[str, str],
+    out: str | PathLike[str],
+    foot: tuple[float, float, float, float] | None = None,
+    package_dirs: list[str | PathLike[str]] | None = None,
+) -> dict[str, object]:
+    """``sea-sim init`` from Python: writes a two-feet balancing scenario for the robot of
+    ``urdf`` (a path or a ``package://`` / ``file://`` URI) standing on ``contacts`` (frame
+    names or ``LINK:x,y,z``), the foot rectangle ``foot`` (x0, x1, y0, y1, contact frame, m)
+    or measured on the collision geometry; returns ``out``, ``robot``, ``mass``, ``joints``,
+    ``foot_x``, ``foot_y``, ``measured``, ``lowering_m``, ``residual``, ``warnings``. Bad
+    input raises ``ScenarioError`` naming the element (nothing is written)."""
+
 # --- Stability analysis (sea_momentum.analysis) ---
 
 def linearize_native(

@@ -12,6 +12,7 @@ mod analysis;
 mod arrays;
 mod controller;
 mod errors;
+mod init;
 mod interrupt;
 mod model;
 mod plant;
@@ -32,6 +33,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::sweep_grid, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(init::init_scenario, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // The paper's 25 iCub joints, defined once in sea_sim's presets.
     let icub25 = pyo3::types::PyTuple::new(m.py(), sea_sim::scenario::icub().joints.iter())?;

@@ -1,0 +1,170 @@
+//! `sea-sim init` (sea_sim::init): a scenario for a robot it has never seen, and bad input
+//! refused with an error naming the element, nothing written.
+
+use sea_sim::init::{init, parse_foot, InitOptions};
+use sea_sim::scenario::robots::FootRectangle;
+use sea_sim::scenario::{build, Scenario};
+use std::path::{Path, PathBuf};
+
+/// The paper's iCub URDF of the repository.
+fn icub_urdf() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../urdf/icub25.urdf")
+        .display()
+        .to_string()
+}
+
+/// A fresh folder for one test's output.
+fn folder(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sea_sim_init_{test}_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Options for the iCub on its two soles, writing into `dir`.
+fn icub_options(dir: &Path) -> InitOptions {
+    InitOptions {
+        urdf: icub_urdf(),
+        contacts: ["l_sole".into(), "r_sole".into()],
+        foot: Some(FootRectangle {
+            x: [-0.05, 0.10],
+            y: [-0.025, 0.025],
+        }),
+        out: dir.join("icub_two_feet.toml"),
+        ..Default::default()
+    }
+}
+
+/// The error message of `options` and whether the output file was left absent.
+fn refused(options: &InitOptions) -> String {
+    let message = init(options).unwrap_err().to_string();
+    assert!(!options.out.exists(), "{message}: the file was written");
+    let dir = options.out.parent().unwrap();
+    let left: Vec<_> = std::fs::read_dir(dir).unwrap().collect();
+    assert!(left.is_empty(), "{message}: {left:?} left behind");
+    message
+}
+
+#[test]
+fn the_written_scenario_builds_with_both_soles_flat_on_the_ground() {
+    let dir = folder("icub");
+    let options = icub_options(&dir);
+    let report = init(&options).unwrap();
+    assert!(report.residual < 1e-6, "{}", report.residual);
+    let scenario = Scenario::from_file(&options.out, &[]).unwrap();
+    assert_eq!(scenario.robot.contacts, ["l_sole", "r_sole"]);
+    let setup = build(&scenario).unwrap();
+    let mut data = sea_dyn::Data::new(&setup.model);
+    let q = &setup.x0[..setup.model.nq()];
+    sea_dyn::forward_kinematics(&setup.model, &mut data, q);
+    for name in ["l_sole", "r_sole"] {
+        let frame = setup.model.frame_id(name).unwrap();
+        let sole = sea_dyn::frame_placement(&setup.model, &data, frame);
+        assert!(
+            sole.translation.z.abs() < 1e-6,
+            "{name}: {}",
+            sole.translation
+        );
+        assert!(
+            (sole.rotation[(2, 2)] - 1.0).abs() < 1e-9,
+            "{name} not flat"
+        );
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn a_contact_link_that_does_not_exist_is_named() {
+    let dir = folder("unknown_link");
+    for contact in ["l_sloe", "l_foot_link:0,0,0"] {
+        let mut options = icub_options(&dir);
+        options.contacts[0] = contact.into();
+        let message = refused(&options);
+        let link = contact.split(':').next().unwrap();
+        assert!(
+            message.contains("robot.contacts") && message.contains(&format!("'{link}'")),
+            "{message}"
+        );
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn a_foot_rectangle_with_x0_not_below_x1_is_refused() {
+    let message = parse_foot("0.1,0.1,-0.05,0.05").unwrap_err().to_string();
+    assert!(
+        message.contains("foot") && message.contains("x0 < x1"),
+        "{message}"
+    );
+    let message = parse_foot("0.1,x,-0.05,0.05").unwrap_err().to_string();
+    assert!(message.contains("four finite numbers"), "{message}");
+    let dir = folder("foot");
+    let mut options = icub_options(&dir);
+    options.foot = Some(FootRectangle {
+        x: [0.1, -0.05],
+        y: [-0.025, 0.025],
+    });
+    let message = refused(&options);
+    assert!(message.contains("x0 = 0.1, x1 = -0.05"), "{message}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A robot with one leg ending in two toes.
+const ONE_LEG: &str = r#"<robot name="one_leg">
+  <link name="base"><inertial><mass value="5"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="thigh"><inertial><origin xyz="0 0 -0.2"/><mass value="2"/><inertia ixx="0.02" iyy="0.02" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="shin"><inertial><origin xyz="0 0 -0.2"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.005" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="toe_a"/><link name="toe_b"/>
+  <joint name="hip" type="revolute"><parent link="base"/><child link="thigh"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+  <joint name="knee" type="revolute"><parent link="thigh"/><child link="shin"/><origin xyz="0 0 -0.4"/><axis xyz="0 1 0"/><limit lower="0" upper="2" effort="10" velocity="1"/></joint>
+  <joint name="toe_a_fix" type="fixed"><parent link="shin"/><child link="toe_a"/><origin xyz="0.05 0.05 -0.4"/></joint>
+  <joint name="toe_b_fix" type="fixed"><parent link="shin"/><child link="toe_b"/><origin xyz="0.05 -0.05 -0.4"/></joint>
+</robot>"#;
+
+#[test]
+fn a_robot_that_cannot_stand_is_refused() {
+    let dir = folder("one_leg");
+    let urdf_dir = folder("one_leg_urdf");
+    let urdf = urdf_dir.join("one_leg.urdf");
+    std::fs::write(&urdf, ONE_LEG).unwrap();
+    let mut options = icub_options(&dir);
+    options.urdf = urdf.display().to_string();
+    options.contacts = ["toe_a".into(), "toe_b".into()];
+    let message = refused(&options);
+    assert!(
+        message.contains("cannot stand") && message.contains("'toe_a', 'toe_b'"),
+        "{message}"
+    );
+    let mut same_leg = icub_options(&dir);
+    same_leg.contacts = ["l_sole".into(), "l_ankle_2".into()];
+    let message = refused(&same_leg);
+    assert!(message.contains("cannot stand"), "{message}");
+    std::fs::remove_dir_all(dir).unwrap();
+    std::fs::remove_dir_all(urdf_dir).unwrap();
+}
+
+#[test]
+fn an_unresolvable_package_uri_is_named() {
+    let dir = folder("package");
+    let mut options = icub_options(&dir);
+    options.urdf = "package://no_such_package_xyz/robots/robot.urdf".into();
+    let message = refused(&options);
+    assert!(
+        message.contains("urdf") && message.contains("no_such_package_xyz"),
+        "{message}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn a_link_point_with_a_bad_number_is_named() {
+    let dir = folder("bad_number");
+    let mut options = icub_options(&dir);
+    options.contacts[1] = "r_ankle_2:0,0,-0.0x3".into();
+    let message = refused(&options);
+    assert!(
+        message.contains("robot.contacts") && message.contains("'-0.0x3' is not a finite number"),
+        "{message}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
