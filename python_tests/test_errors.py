@@ -136,3 +136,45 @@ def test_full_disk_is_an_oserror_naming_the_file_and_the_cause():
     assert info.value.errno == errno.ENOSPC, str(info.value)
     assert info.value.strerror == "No space left on device"
     assert info.value.filename == "/dev/full"
+
+
+# ---- sea_momentum.init_scenario (sea-sim init): bad input names the element, writes nothing ----
+
+ICUB_SOLES = ("l_sole", "r_sole")
+ONE_LEG_URDF = """<robot name="one_leg">
+  <link name="base"><inertial><mass value="5"/>
+    <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="shin"><inertial><origin xyz="0 0 -0.2"/><mass value="1"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.005" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="toe_a"/><link name="toe_b"/>
+  <joint name="knee" type="revolute"><parent link="base"/><child link="shin"/>
+    <axis xyz="0 1 0"/><limit lower="0" upper="2" effort="10" velocity="1"/></joint>
+  <joint name="a" type="fixed"><parent link="shin"/><child link="toe_a"/>
+    <origin xyz="0 0.05 -0.4"/></joint>
+  <joint name="b" type="fixed"><parent link="shin"/><child link="toe_b"/>
+    <origin xyz="0 -0.05 -0.4"/></joint>
+</robot>"""
+
+
+@pytest.mark.parametrize(
+    "urdf, contacts, foot, named",
+    [
+        ("icub", ("l_sloe", "r_sole"), None, "unknown frame 'l_sloe'"),
+        ("icub", ("nolink:0,0,0", "r_sole"), None, "unknown link 'nolink'"),
+        ("icub", ICUB_SOLES, (0.1, 0.0, -0.02, 0.02), "x0 < x1"),
+        ("one_leg", ("toe_a", "toe_b"), (-0.05, 0.1, -0.02, 0.02), "cannot stand"),
+        ("package://no_such_robot/robots/robot.urdf", ICUB_SOLES, None, "no_such_robot"),
+        ("icub", ("l_sole", "r_ankle_2:0,0,1e"), None, "'1e' is not a finite number"),
+    ],
+)
+def test_init_refuses_bad_input_naming_the_element(tmp_path, urdf, contacts, foot, named):
+    if urdf == "icub":
+        urdf = str(ROOT / "urdf" / "icub25.urdf")
+    elif urdf == "one_leg":
+        (tmp_path / "one_leg.urdf").write_text(ONE_LEG_URDF)
+        urdf = str(tmp_path / "one_leg.urdf")
+    out = tmp_path / "out" / "scenario.toml"
+    out.parent.mkdir()
+    with pytest.raises(sm.ScenarioError, match=named.replace("(", r"\(")):
+        sm.init_scenario(urdf, contacts, out, foot=foot)
+    assert list(out.parent.iterdir()) == []

@@ -33,13 +33,14 @@ __all__ = [
     "sweep_grid",
     "sweep",
     "sweep_batch",
+    "init_scenario",
     "__version__",
     "ICUB25_JOINTS",
 ]
 
 __version__: str
 ICUB25_JOINTS: tuple[str, ...]
-"""The paper's 25 iCub joints in the original study's order (defined once, in Rust)."""
+"""The paper's 25 iCub joints, original study's order (defined in robots/icub_paper.toml)."""
 
 class SeaError(Exception):
     """Base of every sea_momentum error (MCAP logging failures other than I/O raise it as is)."""
