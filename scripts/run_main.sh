@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The main job: installs sea-momentum and reproduces the paper's three experiments on the iCub
-# (figures, MCAP logs, outcome table beside the paper's), then the dynamics check and the
-# benchmarks. Everything goes under out/ (or the directory given as $1). Installs into the
-# project virtual environment .venv, created on the first run (see scripts/setup_env.sh).
+# (figures, MCAP logs, outcome table beside the paper's), Talos balancing on two feet (a robot
+# set up by `sea-sim init`), then the dynamics check and the benchmarks. Everything goes under
+# out/ (or the directory given as $1). Installs into the project virtual environment .venv,
+# created on the first run (see scripts/setup_env.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-out}"
@@ -21,6 +22,13 @@ python -m sea_momentum reproduce --out "$out"
 echo "== sea-sim on the tracking scenario (native binary, MCAP + summary)"
 "$sea_sim" run scenarios/paper/tracking.toml --mcap "$out/tracking_sea_sim.mcap" \
     --summary "$out/tracking_sea_sim_summary.json" --quiet > /dev/null
+
+echo "== a robot set up by sea-sim init: Talos on two feet (example-robot-data, CoM sinusoid 1 cm / 0.2 Hz, 5 s)"
+# The scenario names its URDF as package://example-robot-data/...: found in the share folder of
+# the environment's cmeel prefix (example-robot-data, a test extra installed by setup_env.sh).
+"$sea_sim" run scenarios/robots/talos_two_feet.toml --mcap "$out/talos_two_feet.mcap" \
+    --summary "$out/talos_two_feet_summary.json" --quiet > /dev/null
+python scripts/plot_com.py scenarios/robots/talos_two_feet.toml "$out/talos_two_feet_com.png"
 
 echo "== dynamics check on urdf/icub25.urdf"
 python -m sea_momentum check --urdf urdf/icub25.urdf --out "$out"
