@@ -10,8 +10,9 @@ use sea_dyn::{Data, Model};
 
 /// Natural frequency of each joint's postural task [rad/s].
 pub const POSTURAL_FREQUENCY: f64 = 3.0;
-/// The iCub's mass [kg] of the regularisation's scaling (the paper's model, urdf/icub25.urdf).
-pub const ICUB_MASS: f64 = 33.0;
+/// The mass of the paper's iCub, `urdf/icub25.urdf` [kg], from which the regularisation is
+/// scaled (docs/references.md#robots-set-up-by-sea-sim-init).
+pub const ICUB_MASS: f64 = 33.06;
 
 /// The postural stiffness of each joint at the configuration `q` [Nm/rad].
 pub fn postural_stiffness(model: &Model, q: &[f64], regularization: f64) -> Vec<f64> {
