@@ -174,7 +174,7 @@ pub fn jacobian(system: &mut ClosedLoopSystem, x: &[f64], step: f64) -> Result<D
                 column.copy_from(&f_plus);
                 column -= &f_minus;
             }
-            ControlTiming::ZeroOrderHold { .. } => {
+            ControlTiming::ZeroOrderHold { .. } | ControlTiming::MultiRate { .. } => {
                 system.period_map(&x_plus, &mut m_plus)?;
                 system.period_map(&x_minus, &mut m_minus)?;
                 difference(&system.layout, &m_minus, &m_plus, &mut column);
