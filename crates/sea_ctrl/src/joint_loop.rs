@@ -84,6 +84,11 @@ pub struct JointTorqueLoop {
     held: Vec<f64>,
     /// The plant input (n): rigid joints the held torque, elastic joints `thetadot_d`.
     input: Vec<f64>,
+    /// Joint stiffness `K_j` [Nm/rad] of the joint impedance added to `tau_d` at every inner
+    /// tick (0: none).
+    joint_stiffness: f64,
+    /// The held postural reference `s_d` of each elastic joint (n_e) [rad].
+    s_desired: Vec<f64>,
 }
 
 impl JointTorqueLoop {
@@ -104,7 +109,19 @@ impl JointTorqueLoop {
             bandwidths,
             held: vec![0.0; actuation.n_elastic()],
             input: vec![0.0; controller.model().n_joints()],
+            joint_stiffness: 0.0,
+            s_desired: vec![0.0; actuation.n_elastic()],
         }
+    }
+
+    /// With a joint impedance of stiffness `stiffness` [Nm/rad] on every elastic joint: each
+    /// inner tick adds `K_j (s_d - s)` (the measured `s`, the held postural reference) to
+    /// `tau_d`. It stiffens the stance knee's slow mode, which the momentum task hardly sees
+    /// near a straight knee, against the torque gain error `K_S / K_S^` of a stiffness
+    /// estimate (README, "At the robot's rate").
+    pub fn with_joint_stiffness(mut self, stiffness: f64) -> Self {
+        self.joint_stiffness = stiffness;
+        self
     }
 
     /// The loop's estimates (n_e), e.g. to give each joint its own stiffness error.
@@ -118,8 +135,15 @@ impl JointTorqueLoop {
     }
 
     /// Holds the torques of a whole-body tick `output` computed at state `x`: `tau*` (rigid
-    /// controller) or `p(x) + beta*` (SEA controller); rigid joints' inputs are kept as given.
-    pub fn hold(&mut self, output: &ControlOutput, layout: &StateLayout, x: &[f64]) {
+    /// controller) or `p(x) + beta*` (SEA controller), and the tick's postural reference
+    /// `s_desired` (n); rigid joints' inputs are kept as given.
+    pub fn hold(
+        &mut self,
+        output: &ControlOutput,
+        layout: &StateLayout,
+        x: &[f64],
+        s_desired: &[f64],
+    ) {
         self.input.copy_from_slice(&output.input);
         let (theta, s, sdot) = (layout.theta(x), layout.s(x), layout.sdot(x));
         let joints = self.elastic_joints.iter().zip(&self.estimates);
@@ -131,6 +155,7 @@ impl JointTorqueLoop {
                 }
             };
             self.held[e] = output.joint_command[j] + p;
+            self.s_desired[e] = s_desired[j];
         }
     }
 
@@ -140,10 +165,11 @@ impl JointTorqueLoop {
         let (theta, s, sdot) = (layout.theta(x), layout.s(x), layout.sdot(x));
         let joints = self.elastic_joints.iter().zip(&self.estimates);
         for (e, (&j, estimate)) in joints.enumerate() {
+            let impedance = self.joint_stiffness * (self.s_desired[e] - s[j]);
             self.input[j] = torque_loop_motor_velocity(
                 estimate,
                 self.bandwidths[e],
-                self.held[e],
+                self.held[e] + impedance,
                 theta[e],
                 s[j],
                 sdot[j],

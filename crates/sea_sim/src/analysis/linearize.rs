@@ -377,7 +377,13 @@ pub fn closed_loop_system(
         None => ControlTiming::of_scenario(scenario),
     };
     let method = scenario.plant.method;
-    ClosedLoopSystem::new(setup, options.time, sampling, scenario.plant.dt, method)
+    let mut system =
+        ClosedLoopSystem::new(setup, options.time, sampling, scenario.plant.dt, method)?;
+    if scenario.controller.sampling == crate::scenario::Sampling::MultiRate {
+        let joint_loop = scenario.controller.joint_loop(system.controller());
+        system.set_joint_loop(Some(joint_loop));
+    }
+    Ok(system)
 }
 
 /// Linearises the closed loop of `scenario` with the references frozen at `t` (default 0), in

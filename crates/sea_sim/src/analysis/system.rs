@@ -236,6 +236,13 @@ impl ClosedLoopSystem {
         self.joint_loop.as_mut()
     }
 
+    /// Replaces the joint torque loops (`None`: the controller's input goes to the plant as
+    /// it is). A multi-rate scenario's loops apply whatever the timing: continuous time runs
+    /// them continuously, zero-order hold ticks them once per period.
+    pub fn set_joint_loop(&mut self, joint_loop: Option<JointTorqueLoop>) {
+        self.joint_loop = joint_loop;
+    }
+
     /// Computes and stores the controller's input at `x` (multi-rate: holds its torques and
     /// ticks the joint loops at `x`).
     fn control(&mut self, x: &[f64]) -> Result<()> {
@@ -247,7 +254,7 @@ impl ClosedLoopSystem {
             &mut self.output,
         )?;
         if let Some(joint_loop) = &mut self.joint_loop {
-            joint_loop.hold(&self.output, &self.layout, x);
+            joint_loop.hold(&self.output, &self.layout, x, &self.s_desired);
             joint_loop.tick(&self.layout, x);
         }
         Ok(())

@@ -240,7 +240,7 @@ impl<'a> Engine<'a> {
             share_model_terms: controller.model() == &plant.model,
         };
         let joint_loop = (schedule.sampling == Sampling::MultiRate)
-            .then(|| JointTorqueLoop::new(controller, scenario.controller.torque_bandwidth()));
+            .then(|| scenario.controller.joint_loop(controller));
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         Ok(Engine {
             joint_loop,
@@ -318,7 +318,7 @@ impl<'a> Engine<'a> {
         };
         let (law, hand_over, x) = (&self.law, self.hand_over, &self.x);
         if let Some(joint_loop) = &mut self.joint_loop {
-            joint_loop.hold(&law.last().output, &self.layout, x);
+            joint_loop.hold(&law.last().output, &self.layout, x, law.s_desired());
             joint_loop.tick(&self.layout, x);
         }
         let failure = match (&stop, &mut self.joint_loop) {

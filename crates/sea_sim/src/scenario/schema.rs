@@ -205,6 +205,10 @@ pub struct ControllerConfig {
     /// `torque_bandwidth_hz` (with the SEA controller: the paper's law, inputDesMotVel, with
     /// its measurements refreshed at the inner rate).
     pub torque_loop_paper_law: bool,
+    /// `multi_rate`: stiffness [Nm/rad] of a joint impedance `K_j (s_d - s)` added to the
+    /// held torque at every joint loop tick (default 0: none;
+    /// [`sea_ctrl::joint_loop::JointTorqueLoop::with_joint_stiffness`]).
+    pub joint_stiffness: f64,
     /// Controller damping estimate = true damping x scale.
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
@@ -252,6 +256,7 @@ impl Default for ControllerConfig {
             torque_bandwidth_hz: sea_ctrl::joint_loop::DEFAULT_TORQUE_BANDWIDTH
                 / (2.0 * std::f64::consts::PI),
             torque_loop_paper_law: false,
+            joint_stiffness: 0.0,
             damping_estimate_scale: 1.0,
             stiffness_estimate_scale: 1.0,
             momentum_integral: None,
@@ -281,6 +286,16 @@ impl ControllerConfig {
     /// per joint.
     pub fn torque_bandwidth(&self) -> Option<f64> {
         (!self.torque_loop_paper_law).then(|| 2.0 * std::f64::consts::PI * self.torque_bandwidth_hz)
+    }
+
+    /// `multi_rate`: the joint loops of `controller`'s elastic joints with these settings
+    /// (bandwidth, joint stiffness).
+    pub fn joint_loop(
+        &self,
+        controller: &sea_ctrl::MomentumController,
+    ) -> sea_ctrl::joint_loop::JointTorqueLoop {
+        sea_ctrl::joint_loop::JointTorqueLoop::new(controller, self.torque_bandwidth())
+            .with_joint_stiffness(self.joint_stiffness)
     }
 }
 

@@ -325,6 +325,7 @@ fn simulation(scenario: &Scenario) -> Result<()> {
 fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
     positive("controller.torque_bandwidth_hz", c.torque_bandwidth_hz)?;
     positive("controller.inner_rate_hz", c.inner_rate_hz)?;
+    non_negative("controller.joint_stiffness", c.joint_stiffness)?;
     if c.sampling != Sampling::MultiRate {
         return Ok(());
     }
