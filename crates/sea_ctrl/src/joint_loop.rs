@@ -26,7 +26,11 @@
 //! `K_m`, as on real SEA joints, whose torque loops reach 20 to 70 Hz
 //! (docs/references.md, "Control rates of real robots").
 //!
-//! [`DEFAULT_TORQUE_BANDWIDTH`] is 2 pi 20 Hz: with `K_m = 200 1/s` the poles are
+//! [`JointTorqueLoop`] runs these loops for all elastic joints between two whole-body ticks
+//! (`controller.sampling = "multi_rate"` in `sea_sim`).
+//!
+//! [`DEFAULT_TORQUE_BANDWIDTH`] is 2 pi 20 Hz, below the closed-loop torque bandwidths reported
+//! for real SEAs (30 Hz to above 70 Hz, docs/references.md): with `K_m = 200 1/s` the poles are
 //! `-100 +- 123i` (damping ratio 0.63, 25 Hz natural frequency), and the loop sampled at
 //! 1 kHz has a spectral radius 0.91 whatever the estimates.
 
