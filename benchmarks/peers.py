@@ -13,6 +13,7 @@ Ratios printed (below 1: ours is faster):
 - the same tick with Clarabel on every tick / ``mj_step``;
 - the same tick with the active-set QP solver on every tick / ``mj_step``;
 - one simulated second of the closed loop at 1 kHz / 1000 ``mj_step``;
+- one simulated second of the multi-rate loop (QP at 100 Hz, joint loops at 1 kHz) / 1000 ``mj_step``;
 - the continuous-time closed loop (controller at every integrator stage) / the 1 kHz one.
 
 Run: ``python benchmarks/peers.py [--runs 3] [--batches 31] [--steps 500] [--json FILE]
@@ -147,6 +148,7 @@ RATIOS = [
     ("tick with Clarabel every tick / mj_step", "controller_tick_clarabel_us", 1.0, 1),
     ("tick with the active set every tick / mj_step", "controller_tick_active_set_us", 1.0, 1),
     ("closed loop, 1 simulated s at 1 kHz / 1000 mj_step", "closed_loop_second_ms", 1e3, 1000),
+    ("closed loop, 1 simulated s multi-rate 100 Hz / 1 kHz / 1000 mj_step", "closed_loop_second_multi_rate_ms", 1e3, 1000),
 ]
 
 

@@ -46,6 +46,13 @@ def test_negative_postural_scale_names_its_key():
     assert "-1" in str(info.value)
 
 
+def test_multi_rate_inner_rate_not_a_multiple_names_its_key():
+    overrides = {"controller.sampling": "multi_rate", "controller.rate_hz": 100.0, "controller.inner_rate_hz": 1050.0}
+    with pytest.raises(sm.ScenarioError, match="whole multiple") as info:
+        sm.run_scenario(TRACKING, overrides)
+    assert info.value.key == "controller.inner_rate_hz"
+
+
 def test_negative_proportional_gain_names_the_proportional_gain():
     gains = [1.0, 1.0, -1.0, 1.0, 1.0, 1.0]
     with pytest.raises(sm.ScenarioError) as info:

@@ -433,7 +433,8 @@ class Scenario:
         """Index of the last tick (duration / control_period)."""
     @property
     def sampling(self) -> str:
-        """"zero_order_hold" or "continuous"."""
+        """"zero_order_hold", "continuous" or "multi_rate" (whose joint loops only the native
+        run executes)."""
     @property
     def method(self) -> str:
         """The plant's integrator (``Plant.step``'s ``method``)."""

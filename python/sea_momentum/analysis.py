@@ -43,7 +43,9 @@ class Linearization(Result):
       ratio, velocities divided by the mode's rate, so all are link-side position amplitudes);
     - ``equilibrium`` (nx,), ``converged``, ``residual`` (``|f|_inf`` there),
       ``newton_iterations``, ``map_residual`` (``|Phi(x) (-) x|_inf``, zero-order hold only);
-    - ``sampling`` ("continuous" | "zero_order_hold"), ``control_period`` [s] or None,
+    - ``sampling`` ("continuous" | "zero_order_hold" | "multi_rate"), ``control_period`` [s]
+      (multi-rate: the whole-body period, the map over it with the joint loops ticking inside)
+      or None,
       ``time`` [s] at which the references were frozen;
     - ``step`` and ``check_step``: the relative finite-difference steps; ``eigenvalue_change``
       (the largest relative change of an eigenvalue between them; defective eigenvalues move
@@ -96,7 +98,8 @@ def linearize(
 
     ``overrides`` are scenario keys, e.g. ``{"controller.damping_estimate_scale": 0.4}``;
     ``sampling`` is None (the scenario's ``controller.sampling``), ``"continuous"`` or
-    ``"zero_order_hold"`` (at ``controller.rate_hz``). Raises ``ScenarioError`` naming a bad
+    ``"zero_order_hold"`` (at ``controller.rate_hz``) or ``"multi_rate"`` (the whole-body
+    period map with the joint torque loops at ``controller.inner_rate_hz``). Raises ``ScenarioError`` naming a bad
     key.
     """
     raw = linearize_native(os.fspath(scenario), t, dict(overrides or {}), sampling)

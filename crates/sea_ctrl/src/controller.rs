@@ -351,6 +351,17 @@ impl MomentumController {
         &self.qp.agreement
     }
 
+    /// The controller's actuation (the plant's, true parameters).
+    pub fn actuation(&self) -> &Actuation {
+        &self.actuation
+    }
+
+    /// The controller's elastic parameter estimates (n_e, order of the actuation's elastic
+    /// joints): true stiffness and damping times the settings' scales.
+    pub fn estimates(&self) -> &[ElasticParameters] {
+        &self.estimates
+    }
+
     /// The controller's robot model.
     pub fn model(&self) -> &Model {
         &self.model

@@ -26,11 +26,17 @@
 //! `K_m`, as on real SEA joints, whose torque loops reach 20 to 70 Hz
 //! (docs/references.md, "Control rates of real robots").
 //!
-//! [`DEFAULT_TORQUE_BANDWIDTH`] is 2 pi 20 Hz: with `K_m = 200 1/s` the poles are
+//! [`JointTorqueLoop`] runs these loops for all elastic joints between two whole-body ticks
+//! (`controller.sampling = "multi_rate"` in `sea_sim`).
+//!
+//! [`DEFAULT_TORQUE_BANDWIDTH`] is 2 pi 20 Hz, below the closed-loop torque bandwidths reported
+//! for real SEAs (30 Hz to above 70 Hz, docs/references.md): with `K_m = 200 1/s` the poles are
 //! `-100 +- 123i` (damping ratio 0.63, 25 Hz natural frequency), and the loop sampled at
 //! 1 kHz has a spectral radius 0.91 whatever the estimates.
 
-use sea_dyn::ElasticParameters;
+use crate::controller::{ControlOutput, ControllerKind, MomentumController};
+use crate::sea::spring_torque_without_motor_velocity;
+use sea_dyn::{ElasticParameters, StateLayout};
 
 /// Default bandwidth `omega_t` of the joint torque loop [rad/s]: 2 pi 20 Hz (module doc).
 pub const DEFAULT_TORQUE_BANDWIDTH: f64 = 2.0 * std::f64::consts::PI * 20.0;
@@ -57,6 +63,129 @@ pub fn torque_loop_motor_velocity(
 /// (inputDesMotVel with `tau_d = p + beta*`): `K_S^ / K_D^`.
 pub fn paper_law_bandwidth(estimate: &ElasticParameters) -> f64 {
     estimate.stiffness / estimate.damping
+}
+
+/// The joint loops of all elastic joints between two whole-body ticks: the desired joint
+/// torques `tau_d` held from the last tick ([`JointTorqueLoop::hold`]) and, at every inner
+/// tick, the plant input with each elastic joint's desired motor velocity from
+/// [`torque_loop_motor_velocity`] at the freshly measured state ([`JointTorqueLoop::tick`]).
+/// Rigid joints keep the tick's torque. Allocation-free after [`JointTorqueLoop::new`].
+///
+/// `tau_d` is the whole-body controller's joint torque: `tau*` of the rigid controller
+/// (`controller.kind = "rigid"`, the rigid model's QP) or `p + beta*` of the SEA controller
+/// (labels p, inputTorquesSOTu), `p` at the tick's state; with one contact both are the same
+/// QP's `tau*` (the SEA QP only moves `p` from `h_j` into the unknown).
+#[derive(Clone, Debug)]
+pub struct JointTorqueLoop {
+    kind: ControllerKind,
+    /// Coordinate index (joint order) of each elastic joint (n_e).
+    elastic_joints: Vec<usize>,
+    /// The loop's elastic parameter estimates (n_e): the controller's, unless replaced.
+    estimates: Vec<ElasticParameters>,
+    /// `omega_t` of each elastic joint (n_e) [rad/s].
+    bandwidths: Vec<f64>,
+    /// `tau_d` of each elastic joint (n_e) [Nm].
+    held: Vec<f64>,
+    /// The plant input (n): rigid joints the held torque, elastic joints `thetadot_d`.
+    input: Vec<f64>,
+    /// Joint stiffness `K_j` [Nm/rad] of the joint impedance added to `tau_d` at every inner
+    /// tick (0: none).
+    joint_stiffness: f64,
+    /// The held postural reference `s_d` of each elastic joint (n_e) [rad].
+    s_desired: Vec<f64>,
+}
+
+impl JointTorqueLoop {
+    /// The loops of `controller`'s elastic joints with its estimates and bandwidth
+    /// `omega_t` [rad/s], or (`None`) each joint's [`paper_law_bandwidth`] `K_S^ / K_D^` (the
+    /// paper's law with the SEA controller), holding zero torques.
+    pub fn new(controller: &MomentumController, bandwidth: Option<f64>) -> Self {
+        let actuation = controller.actuation();
+        let estimates = controller.estimates().to_vec();
+        let bandwidths = estimates
+            .iter()
+            .map(|estimate| bandwidth.unwrap_or_else(|| paper_law_bandwidth(estimate)))
+            .collect();
+        Self {
+            kind: controller.settings().kind,
+            elastic_joints: actuation.elastic_joints.clone(),
+            estimates,
+            bandwidths,
+            held: vec![0.0; actuation.n_elastic()],
+            input: vec![0.0; controller.model().n_joints()],
+            joint_stiffness: 0.0,
+            s_desired: vec![0.0; actuation.n_elastic()],
+        }
+    }
+
+    /// With a joint impedance of stiffness `stiffness` [Nm/rad] on every elastic joint: each
+    /// inner tick adds `K_j (s_d - s)` (the measured `s`, the held postural reference) to
+    /// `tau_d`. It stiffens the stance knee's slow mode, which the momentum task hardly sees
+    /// near a straight knee, against the torque gain error `K_S / K_S^` of a stiffness
+    /// estimate (README, "At the robot's rate").
+    pub fn with_joint_stiffness(mut self, stiffness: f64) -> Self {
+        self.joint_stiffness = stiffness;
+        self
+    }
+
+    /// The loop's estimates (n_e), e.g. to give each joint its own stiffness error.
+    pub fn estimates_mut(&mut self) -> &mut [ElasticParameters] {
+        &mut self.estimates
+    }
+
+    /// The held desired joint torques `tau_d` (n_e) [Nm].
+    pub fn held_torques(&self) -> &[f64] {
+        &self.held
+    }
+
+    /// Holds the torques of a whole-body tick `output` computed at state `x`: `tau*` (rigid
+    /// controller) or `p(x) + beta*` (SEA controller), and the tick's postural reference
+    /// `s_desired` (n); rigid joints' inputs are kept as given.
+    pub fn hold(
+        &mut self,
+        output: &ControlOutput,
+        layout: &StateLayout,
+        x: &[f64],
+        s_desired: &[f64],
+    ) {
+        self.input.copy_from_slice(&output.input);
+        let (theta, s, sdot) = (layout.theta(x), layout.s(x), layout.sdot(x));
+        let joints = self.elastic_joints.iter().zip(&self.estimates);
+        for (e, (&j, estimate)) in joints.enumerate() {
+            let p = match self.kind {
+                ControllerKind::Rigid => 0.0,
+                ControllerKind::Sea => {
+                    spring_torque_without_motor_velocity(estimate, theta[e], s[j], sdot[j])
+                }
+            };
+            self.held[e] = output.joint_command[j] + p;
+            self.s_desired[e] = s_desired[j];
+        }
+    }
+
+    /// One inner tick at the measured state `x`: the plant input (n) with the desired motor
+    /// velocity of every elastic joint.
+    pub fn tick(&mut self, layout: &StateLayout, x: &[f64]) -> &[f64] {
+        let (theta, s, sdot) = (layout.theta(x), layout.s(x), layout.sdot(x));
+        let joints = self.elastic_joints.iter().zip(&self.estimates);
+        for (e, (&j, estimate)) in joints.enumerate() {
+            let impedance = self.joint_stiffness * (self.s_desired[e] - s[j]);
+            self.input[j] = torque_loop_motor_velocity(
+                estimate,
+                self.bandwidths[e],
+                self.held[e] + impedance,
+                theta[e],
+                s[j],
+                sdot[j],
+            );
+        }
+        &self.input
+    }
+
+    /// The plant input of the last [`Self::tick`] (n).
+    pub fn input(&self) -> &[f64] {
+        &self.input
+    }
 }
 
 #[cfg(test)]

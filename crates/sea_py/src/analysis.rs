@@ -42,10 +42,7 @@ fn sampling_arg(
             format!("'{name}'"),
         )
     })?;
-    Ok(Some(ControlTiming::of(
-        sampling,
-        scenario.controller.rate_hz,
-    )))
+    Ok(Some(ControlTiming::of(sampling, &scenario.controller)))
 }
 
 /// The fields of a linearisation (see `sea_momentum.analysis.Linearization`).

@@ -161,15 +161,27 @@ pub fn bench_controller(
 /// `closed_loop_second_ms`: wall time [ms] of one simulated second of the closed loop (the
 /// two-feet scenario of [`bench_controller`], plant step 1 ms, controller at 1 kHz with
 /// zero-order hold, no recording); `closed_loop_second_continuous_ms`: the same with the
-/// controller evaluated at every integrator stage (the paper's continuous-time setting).
+/// controller evaluated at every integrator stage (the paper's continuous-time setting);
+/// `closed_loop_second_multi_rate_ms`: the robot's rates (`multi_rate`: the rigid model's QP
+/// at 100 Hz, the joint torque loops at 1 kHz).
 /// Median over `runs` runs; `None` when `urdf` is not the paper's iCub or a run diverges.
 pub fn bench_closed_loop(urdf: &str, runs: usize) -> Option<Vec<(&'static str, f64)>> {
     let mut figures = Vec::new();
-    for (key, sampling) in [
-        ("closed_loop_second_ms", "zero_order_hold"),
-        ("closed_loop_second_continuous_ms", "continuous"),
+    for (key, controller) in [
+        (
+            "closed_loop_second_ms",
+            "rate_hz = 1000.0\nsampling = \"zero_order_hold\"",
+        ),
+        (
+            "closed_loop_second_continuous_ms",
+            "rate_hz = 1000.0\nsampling = \"continuous\"",
+        ),
+        (
+            "closed_loop_second_multi_rate_ms",
+            "rate_hz = 100.0\nsampling = \"multi_rate\"\ninner_rate_hz = 1000.0\n\
+             kind = \"rigid\"\nreflected_inertia = false",
+        ),
     ] {
-        let controller = format!("rate_hz = 1000.0\nsampling = {sampling:?}");
         let scenario = two_feet_scenario(urdf, &controller, "duration_s = 1.0")?;
         let mut wall_ms = Vec::with_capacity(runs);
         for _ in 0..runs.max(1) {

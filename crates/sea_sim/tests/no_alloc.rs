@@ -351,3 +351,40 @@ fn the_feedback_law_allocates_nothing_after_a_warm_up() {
     assert_eq!(law.last().time, 1.2);
     assert_eq!(stage.time, 1.3);
 }
+
+/// The joint torque loops of `multi_rate` (the inner tick on the hot path, 10 per whole-body
+/// tick, and the hold after each whole-body tick) allocate nothing.
+#[test]
+fn joint_torque_loop_hold_and_tick_allocate_nothing() {
+    let mut setup = setup(&[
+        ("controller.sampling", "multi_rate"),
+        ("controller.kind", "rigid"),
+        ("controller.joint_stiffness", "10"),
+    ]);
+    let layout = setup.plant.layout();
+    let mut rng = Lcg::new(7);
+    let states: Vec<Vec<f64>> = (0..3).map(|_| perturbed(&setup, 0.01, &mut rng)).collect();
+    let s_desired = setup.posture.initial.clone();
+    let output = setup
+        .controller
+        .compute(
+            &states[0],
+            &layout,
+            &setup.com_reference.sample(0.0),
+            &s_desired,
+        )
+        .unwrap();
+    let mut joint_loop = sea_ctrl::joint_loop::JointTorqueLoop::new(&setup.controller, Some(125.0))
+        .with_joint_stiffness(10.0);
+    let counts: Vec<usize> = states
+        .iter()
+        .map(|x| {
+            allocations(|| {
+                joint_loop.hold(&output, &layout, x, &s_desired);
+                joint_loop.tick(&layout, x);
+            })
+        })
+        .collect();
+    assert_eq!(counts[1..], [0, 0], "{counts:?}");
+    assert!(joint_loop.input().iter().all(|v| v.is_finite()));
+}

@@ -174,7 +174,7 @@ pub fn jacobian(system: &mut ClosedLoopSystem, x: &[f64], step: f64) -> Result<D
                 column.copy_from(&f_plus);
                 column -= &f_minus;
             }
-            ControlTiming::ZeroOrderHold { .. } => {
+            ControlTiming::ZeroOrderHold { .. } | ControlTiming::MultiRate { .. } => {
                 system.period_map(&x_plus, &mut m_plus)?;
                 system.period_map(&x_minus, &mut m_minus)?;
                 difference(&system.layout, &m_minus, &m_plus, &mut column);
@@ -377,7 +377,13 @@ pub fn closed_loop_system(
         None => ControlTiming::of_scenario(scenario),
     };
     let method = scenario.plant.method;
-    ClosedLoopSystem::new(setup, options.time, sampling, scenario.plant.dt, method)
+    let mut system =
+        ClosedLoopSystem::new(setup, options.time, sampling, scenario.plant.dt, method)?;
+    if scenario.controller.sampling == crate::scenario::Sampling::MultiRate {
+        let joint_loop = scenario.controller.joint_loop(system.controller());
+        system.set_joint_loop(Some(joint_loop));
+    }
+    Ok(system)
 }
 
 /// Linearises the closed loop of `scenario` with the references frozen at `t` (default 0), in

@@ -1,16 +1,20 @@
 //! The closed loop as an autonomous system: the controller is static state feedback (its
 //! integral terms are functions of the state), so with the references frozen at one instant
 //! the loop is `xdot = f(x) = F(x, u(x))` in continuous time, or the map
-//! `x_{k+1} = Phi(x_k)` over one control period with `u(x_k)` held (zero-order hold).
+//! `x_{k+1} = Phi(x_k)` over one control period with `u(x_k)` held (zero-order hold). In
+//! multi-rate sampling `Phi` is the map over one whole-body period: the controller's torques
+//! held, the joint torque loops ticking at the inner rate on the measured state; its
+//! continuous-time counterpart `f` runs the joint loops continuously (the equilibria agree).
 //!
 //! Both live on the state manifold; vectors are on its tangent space
 //! `dx = [dq (nv); dtheta (n_e); dnu (nv); dthetadot (n_e)]` (see `sea_dyn::StateLayout`),
 //! with `x (+) dx` = [`sea_plant::retract`] and `y (-) x` = [`difference`].
 
 use crate::error::{Error, Result};
-use crate::scenario::{Sampling, Scenario, Setup};
+use crate::scenario::{ControllerConfig, Sampling, Scenario, Setup};
 use nalgebra::DVector;
 use sea_ctrl::controller::{ControlOutput, MomentumController};
+use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::references::ComSample;
 use sea_plant::{Method, Plant, PlantData, StateLayout};
 
@@ -25,22 +29,40 @@ pub enum ControlTiming {
         /// Control period [s].
         period: f64,
     },
+    /// The whole-body controller every `period` seconds, its torques held; the joint torque
+    /// loops `inner_ticks` times per period.
+    MultiRate {
+        /// Whole-body period [s].
+        period: f64,
+        /// Joint loop ticks per period.
+        inner_ticks: usize,
+        /// The joint loops' bandwidth [rad/s] (`None`: the paper's `K_S^ / K_D^`).
+        bandwidth: Option<f64>,
+    },
 }
 
 impl ControlTiming {
-    /// The timing of `sampling` at the control rate `rate_hz` (used in zero-order hold).
-    pub fn of(sampling: Sampling, rate_hz: f64) -> ControlTiming {
+    /// The timing of `sampling` with the rates and bandwidth of `controller`
+    /// (`controller.rate_hz`, `inner_rate_hz`, the torque loop's bandwidth).
+    pub fn of(sampling: Sampling, controller: &ControllerConfig) -> ControlTiming {
+        let period = 1.0 / controller.rate_hz();
         match sampling {
             Sampling::Continuous => ControlTiming::Continuous,
-            Sampling::ZeroOrderHold => ControlTiming::ZeroOrderHold {
-                period: 1.0 / rate_hz,
+            Sampling::ZeroOrderHold => ControlTiming::ZeroOrderHold { period },
+            Sampling::MultiRate => ControlTiming::MultiRate {
+                period,
+                inner_ticks: crate::closed_loop::inner_ticks(
+                    controller.rate_hz(),
+                    controller.inner_rate_hz,
+                ),
+                bandwidth: controller.torque_bandwidth(),
             },
         }
     }
 
     /// The scenario's timing: `controller.sampling`, the period from `controller.rate_hz`.
     pub fn of_scenario(scenario: &Scenario) -> ControlTiming {
-        Self::of(scenario.controller.sampling, scenario.controller.rate_hz)
+        Self::of(scenario.controller.sampling, &scenario.controller)
     }
 
     /// The sampling setting.
@@ -48,6 +70,7 @@ impl ControlTiming {
         match self {
             ControlTiming::Continuous => Sampling::Continuous,
             ControlTiming::ZeroOrderHold { .. } => Sampling::ZeroOrderHold,
+            ControlTiming::MultiRate { .. } => Sampling::MultiRate,
         }
     }
 
@@ -55,7 +78,17 @@ impl ControlTiming {
     pub fn period(&self) -> Option<f64> {
         match *self {
             ControlTiming::Continuous => None,
-            ControlTiming::ZeroOrderHold { period } => Some(period),
+            ControlTiming::ZeroOrderHold { period } | ControlTiming::MultiRate { period, .. } => {
+                Some(period)
+            }
+        }
+    }
+
+    /// Joint loop ticks per period (1 unless multi-rate).
+    pub fn inner_ticks(&self) -> usize {
+        match *self {
+            ControlTiming::MultiRate { inner_ticks, .. } => inner_ticks.max(1),
+            _ => 1,
         }
     }
 
@@ -113,8 +146,10 @@ pub struct ClosedLoopSystem {
     pub s_desired: Vec<f64>,
     /// When the controller is evaluated.
     pub sampling: ControlTiming,
-    /// Plant steps per control period (zero-order hold).
+    /// Plant steps per control period (zero-order hold, multi-rate).
     pub steps_per_period: usize,
+    /// The joint torque loops (multi-rate).
+    joint_loop: Option<JointTorqueLoop>,
     /// Integration method of the plant.
     pub method: Method,
     pd: PlantData,
@@ -144,17 +179,24 @@ impl ClosedLoopSystem {
         reference.acceleration.fill(0.0);
         let mut s_desired = vec![0.0; setup.model.n_joints()];
         setup.posture.at(t, &mut s_desired);
-        let steps_per_period = match sampling {
-            ControlTiming::Continuous => 1,
-            ControlTiming::ZeroOrderHold { period } => {
+        let steps_per_period = match sampling.period() {
+            None => 1,
+            Some(period) => {
                 if !(period.is_finite() && period > 0.0) {
                     return Err(Error::config(
                         "controller.rate_hz",
                         format!("control period must be positive, got {period}"),
                     ));
                 }
-                crate::closed_loop::equal_steps(period, plant_dt)
+                let inner = sampling.inner_ticks();
+                inner * crate::closed_loop::equal_steps(period / inner as f64, plant_dt)
             }
+        };
+        let joint_loop = match sampling {
+            ControlTiming::MultiRate { bandwidth, .. } => {
+                Some(JointTorqueLoop::new(&setup.controller, bandwidth))
+            }
+            _ => None,
         };
         let pd = PlantData::new(&setup.plant);
         let nx = layout.nx();
@@ -164,6 +206,7 @@ impl ClosedLoopSystem {
             s_desired,
             sampling,
             steps_per_period,
+            joint_loop,
             method,
             pd,
             output: setup.controller.new_output(),
@@ -188,7 +231,20 @@ impl ClosedLoopSystem {
         self.sampling.period()
     }
 
-    /// Computes and stores the controller's input at `x`.
+    /// The joint torque loops (multi-rate), e.g. to give each joint its own estimate.
+    pub fn joint_loop_mut(&mut self) -> Option<&mut JointTorqueLoop> {
+        self.joint_loop.as_mut()
+    }
+
+    /// Replaces the joint torque loops (`None`: the controller's input goes to the plant as
+    /// it is). A multi-rate scenario's loops apply whatever the timing: continuous time runs
+    /// them continuously, zero-order hold ticks them once per period.
+    pub fn set_joint_loop(&mut self, joint_loop: Option<JointTorqueLoop>) {
+        self.joint_loop = joint_loop;
+    }
+
+    /// Computes and stores the controller's input at `x` (multi-rate: holds its torques and
+    /// ticks the joint loops at `x`).
     fn control(&mut self, x: &[f64]) -> Result<()> {
         self.setup.controller.compute_into(
             x,
@@ -197,6 +253,10 @@ impl ClosedLoopSystem {
             &self.s_desired,
             &mut self.output,
         )?;
+        if let Some(joint_loop) = &mut self.joint_loop {
+            joint_loop.hold(&self.output, &self.layout, x, &self.s_desired);
+            joint_loop.tick(&self.layout, x);
+        }
         Ok(())
     }
 
@@ -207,14 +267,18 @@ impl ClosedLoopSystem {
             &self.setup.plant,
             &mut self.pd.workspace,
             x,
-            &self.output.input,
+            match &self.joint_loop {
+                Some(joint_loop) => joint_loop.input(),
+                None => &self.output.input,
+            },
             &mut self.pd.outputs,
         )?;
         out.copy_from(&self.pd.outputs.xdot);
         Ok(())
     }
 
-    /// `x_out = Phi(x)`: the plant over one control period with the input `u(x)` held.
+    /// `x_out = Phi(x)`: the plant over one control period with the input `u(x)` held
+    /// (multi-rate: the torques held, the joint loops ticking on the measured state).
     pub fn period_map(&mut self, x: &[f64], x_out: &mut [f64]) -> Result<()> {
         let period = self.period().ok_or_else(|| {
             Error::config(
@@ -225,12 +289,21 @@ impl ClosedLoopSystem {
         self.control(x)?;
         let dt = period / self.steps_per_period as f64;
         self.x_step.copy_from_slice(x);
-        for _ in 0..self.steps_per_period {
+        let steps_per_inner = self.steps_per_period / self.sampling.inner_ticks();
+        for k in 0..self.steps_per_period {
+            if k > 0 && k % steps_per_inner == 0 {
+                if let Some(joint_loop) = &mut self.joint_loop {
+                    joint_loop.tick(&self.layout, &self.x_step);
+                }
+            }
             sea_plant::step(
                 &self.setup.plant,
                 &mut self.pd,
                 &self.x_step,
-                &self.output.input,
+                match &self.joint_loop {
+                    Some(joint_loop) => joint_loop.input(),
+                    None => &self.output.input,
+                },
                 dt,
                 self.method,
                 &mut self.x_next,
@@ -246,7 +319,7 @@ impl ClosedLoopSystem {
     pub fn displacement(&mut self, x: &[f64], out: &mut DVector<f64>) -> Result<()> {
         match self.sampling {
             ControlTiming::Continuous => self.vector_field(x, out),
-            ControlTiming::ZeroOrderHold { .. } => {
+            ControlTiming::ZeroOrderHold { .. } | ControlTiming::MultiRate { .. } => {
                 let mut mapped = vec![0.0; x.len()];
                 self.period_map(x, &mut mapped)?;
                 difference(&self.layout, x, &mapped, out);

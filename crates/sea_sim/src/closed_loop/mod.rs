@@ -27,7 +27,7 @@ mod tick;
 
 pub use crate::scenario::{build, Setup};
 pub use record::{OwnedSample, RecordSink, RunInfo, RunRecord, Sample};
-pub use sampling::{equal_steps, Sampling, Schedule};
+pub use sampling::{equal_steps, inner_ticks, Sampling, Schedule};
 pub use statistics::{Divergence, RunEnd, RunTotals, RunningStatistics, Summary};
 
 use crate::error::Result;

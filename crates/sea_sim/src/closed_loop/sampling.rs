@@ -6,6 +6,10 @@
 //! - Continuous: the controller is evaluated at every stage of every plant step, as in the
 //!   paper, whose controller runs inside ode15s's right-hand side; the run is split into equal
 //!   steps not longer than `plant.dt` and `controller.rate_hz` is not used.
+//! - Multi-rate: the whole-body controller at `controller.rate_hz` (the samples), its desired
+//!   joint torques held over its period; that period is `inner_ticks` periods of the joint
+//!   torque loops (`controller.inner_rate_hz`), each split into the smallest whole number of
+//!   equal plant steps not longer than `plant.dt`.
 
 use crate::error::Result;
 /// The setting, typed in the scenario schema.
@@ -23,6 +27,9 @@ pub struct Schedule {
     pub period: f64,
     /// Plant steps between two samples (1 in continuous mode).
     pub steps_per_period: usize,
+    /// Joint loop ticks per sample period (multi-rate; 1 otherwise): each holds its input
+    /// over `steps_per_period / inner_ticks` plant steps.
+    pub inner_ticks: usize,
     /// Plant step [s], at most `plant.dt`.
     pub step: f64,
     /// Index of the last sample (the end of the run).
@@ -37,12 +44,13 @@ impl Schedule {
         let (duration, max_step) = (scenario.simulation.duration_s, scenario.plant.dt);
         Ok(match sampling {
             Sampling::ZeroOrderHold => {
-                let period = 1.0 / scenario.controller.rate_hz;
+                let period = 1.0 / scenario.controller.rate_hz();
                 let steps_per_period = equal_steps(period, max_step);
                 Schedule {
                     sampling,
                     period,
                     steps_per_period,
+                    inner_ticks: 1,
                     step: period / steps_per_period as f64,
                     last_sample: (duration / period).round() as usize,
                 }
@@ -54,11 +62,32 @@ impl Schedule {
                     sampling,
                     period: step,
                     steps_per_period: 1,
+                    inner_ticks: 1,
                     step,
                     last_sample: steps,
                 }
             }
+            Sampling::MultiRate => {
+                let controller = &scenario.controller;
+                let period = 1.0 / controller.rate_hz();
+                let inner_ticks = inner_ticks(controller.rate_hz(), controller.inner_rate_hz);
+                let steps_per_inner = equal_steps(period / inner_ticks as f64, max_step);
+                let steps_per_period = inner_ticks * steps_per_inner;
+                Schedule {
+                    sampling,
+                    period,
+                    steps_per_period,
+                    inner_ticks,
+                    step: period / steps_per_period as f64,
+                    last_sample: (duration / period).round() as usize,
+                }
+            }
         })
+    }
+
+    /// Plant steps per joint loop tick.
+    pub fn steps_per_inner_tick(&self) -> usize {
+        self.steps_per_period / self.inner_ticks
     }
 
     /// Time of sample `index` [s].
@@ -74,9 +103,37 @@ pub fn equal_steps(span: f64, max_step: f64) -> usize {
     ((span / max_step) * (1.0 - ROUNDING)).ceil().max(1.0) as usize
 }
 
+/// Joint loop ticks per whole-body period: `inner_rate_hz / rate_hz`, rounded (validation
+/// requires a whole multiple, at least 1).
+pub fn inner_ticks(rate_hz: f64, inner_rate_hz: f64) -> usize {
+    (inner_rate_hz / rate_hz).round().max(1.0) as usize
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn multi_rate_splits_the_period_into_inner_ticks_of_whole_steps() {
+        let mut scenario: Scenario = toml::from_str(
+            "[robot]\nurdf = \"x.urdf\"\n[controller]\nsampling = \"multi_rate\"\n\
+             [plant]\ndt = 0.0004",
+        )
+        .unwrap();
+        let schedule = Schedule::of(&scenario).unwrap();
+        assert_eq!(schedule.period, 0.01);
+        assert_eq!(schedule.inner_ticks, 10);
+        assert_eq!(schedule.steps_per_inner_tick(), 3);
+        assert_eq!(schedule.steps_per_period, 30);
+        assert_eq!(schedule.last_sample, 1000);
+        scenario.controller.rate_hz = Some(250.0);
+        scenario.controller.inner_rate_hz = 2000.0;
+        let schedule = Schedule::of(&scenario).unwrap();
+        assert_eq!(
+            (schedule.inner_ticks, schedule.steps_per_inner_tick()),
+            (8, 2)
+        );
+    }
 
     #[test]
     fn equal_steps_are_the_fewest_not_longer_than_the_bound() {

@@ -9,6 +9,7 @@ use super::statistics::{Divergence, RunEnd};
 use crate::error::Result;
 use crate::scenario::{Scenario, Setup};
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
+use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::MomentumController;
 use sea_dyn::Model;
 use sea_plant::integrator::step_with_feedback;
@@ -105,6 +106,63 @@ impl PlantSide<'_> {
         result.map_err(|e| Divergence::PlantFailed(e.to_string()))
     }
 
+    /// Evaluates the plant at `x` with input `u` (n), for the record (the multi-rate loop's
+    /// input at the sample).
+    fn evaluate_input(
+        &mut self,
+        law: &Law<'_>,
+        hand_over: HandOver,
+        x: &[f64],
+        u: &[f64],
+    ) -> std::result::Result<(), Divergence> {
+        hand_over.give(law, self.plant, &mut self.pd.workspace, x);
+        let result =
+            sea_plant::evaluate(self.plant, &mut self.pd.workspace, x, u, &mut self.outputs);
+        result.map_err(|e| Divergence::PlantFailed(e.to_string()))
+    }
+
+    /// Multi-rate: the plant over one whole-body period from `x` into `x_next`, the law's
+    /// desired joint torques held in `joint_loop` (already held and ticked at `x`); every
+    /// `schedule.steps_per_inner_tick()` steps the joint loop ticks again at the measured
+    /// state. The first step's start evaluation gives the outputs at `x`.
+    fn advance_multi_rate(
+        &mut self,
+        law: &Law<'_>,
+        hand_over: HandOver,
+        x: &[f64],
+        schedule: &Schedule,
+        joint_loop: &mut JointTorqueLoop,
+    ) -> std::result::Result<(), Divergence> {
+        let layout = law.layout();
+        self.x_step.copy_from_slice(x);
+        hand_over.give(law, self.plant, &mut self.pd.workspace, &self.x_step);
+        let steps_per_inner = schedule.steps_per_inner_tick();
+        for k in 0..schedule.steps_per_period {
+            if k > 0 && k % steps_per_inner == 0 {
+                joint_loop.tick(&layout, &self.x_step);
+            }
+            let result = sea_plant::step(
+                self.plant,
+                &mut self.pd,
+                &self.x_step,
+                joint_loop.input(),
+                schedule.step,
+                self.method,
+                &mut self.x_next,
+            );
+            if k == 0 {
+                self.outputs.copy_from(&self.pd.outputs);
+            }
+            result.map_err(|e| Divergence::PlantStepFailed(e.to_string()))?;
+            if self.x_next.iter().any(|v| !v.is_finite()) {
+                return Err(Divergence::NonFiniteState);
+            }
+            std::mem::swap(&mut self.x_step, &mut self.x_next);
+        }
+        self.x_next.copy_from_slice(&self.x_step);
+        Ok(())
+    }
+
     /// Zero-order hold: the plant steps over one control period from `x` with the law's last
     /// input held, into `x_next`; the first step's start evaluation gives the outputs at `x`.
     fn advance_held(
@@ -159,6 +217,8 @@ pub(super) struct Engine<'a> {
     x: Vec<f64>,
     /// The evaluations at the later integrator stages (continuous sampling), not recorded.
     stage: Observation,
+    /// The joint torque loops (multi-rate sampling).
+    joint_loop: Option<JointTorqueLoop>,
 }
 
 impl<'a> Engine<'a> {
@@ -179,8 +239,11 @@ impl<'a> Engine<'a> {
         let hand_over = HandOver {
             share_model_terms: controller.model() == &plant.model,
         };
+        let joint_loop = (schedule.sampling == Sampling::MultiRate)
+            .then(|| scenario.controller.joint_loop(controller));
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         Ok(Engine {
+            joint_loop,
             scenario,
             model,
             elastic_names,
@@ -253,11 +316,20 @@ impl<'a> Engine<'a> {
             None if last => Some(RunEnd::Completed),
             None => None,
         };
-        let failure = match stop {
-            Some(_) => self.side.evaluate_at(&self.law, self.hand_over, &self.x),
-            None => self
-                .side
-                .advance_held(&self.law, self.hand_over, &self.x, &self.schedule),
+        let (law, hand_over, x) = (&self.law, self.hand_over, &self.x);
+        if let Some(joint_loop) = &mut self.joint_loop {
+            joint_loop.hold(&law.last().output, &self.layout, x, law.s_desired());
+            joint_loop.tick(&self.layout, x);
+        }
+        let failure = match (&stop, &mut self.joint_loop) {
+            (Some(_), None) => self.side.evaluate_at(law, hand_over, x),
+            (Some(_), Some(joints)) => self.side.evaluate_input(law, hand_over, x, joints.input()),
+            (None, None) => self.side.advance_held(law, hand_over, x, &self.schedule),
+            (None, Some(joints)) => {
+                let schedule = &self.schedule;
+                self.side
+                    .advance_multi_rate(law, hand_over, x, schedule, joints)
+            }
         };
         let end = match failure {
             Err(reason) => Some(RunEnd::Diverged { at_s: time, reason }),

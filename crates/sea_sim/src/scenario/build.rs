@@ -3,7 +3,8 @@
 
 use crate::error::{Error, Result};
 use crate::scenario::{
-    expand_joint_groups, ComOrigin, ControllerKind, InitialSprings, RobotDescription, Scenario,
+    expand_joint_groups, ComOrigin, ControllerKind, InitialSprings, RobotDescription, Sampling,
+    Scenario,
 };
 use nalgebra::Vector3;
 use sea_ctrl::controller::MomentumController;
@@ -168,18 +169,19 @@ fn initial_configuration(model: &Model, s0: &[f64], stance: FrameId) -> Vec<f64>
 
 /// The plant of `[plant]` with the contacts of `robot.contacts` held at their pose in `q`; the
 /// elastic joints take desired motor velocities (motor velocity loop) under the SEA controller
-/// and motor torques under the rigid one.
+/// or the joint loops of `multi_rate`, and motor torques under the rigid one otherwise.
 fn plant(scenario: &Scenario, model: &Model, actuation: &Actuation, q: &[f64]) -> Result<Plant> {
     let config = &scenario.plant;
     let mut plant = Plant::new(model.clone(), actuation.clone());
     plant.baumgarte_kp = config.baumgarte_kp;
     plant.baumgarte_kd = config.baumgarte_kd();
     plant.joint_inertia_regularization = config.joint_inertia_regularization;
+    let joint_loops = scenario.controller.sampling == Sampling::MultiRate;
     plant.motor_input = match scenario.controller.kind {
-        ControllerKind::Sea => MotorInput::VelocityLoop {
+        ControllerKind::Rigid if !joint_loops => MotorInput::Torque,
+        _ => MotorInput::VelocityLoop {
             gain: config.motor_velocity_gain,
         },
-        ControllerKind::Rigid => MotorInput::Torque,
     };
     plant.contact_limits = scenario.controller.contact.surface;
     plant

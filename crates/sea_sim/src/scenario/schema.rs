@@ -194,11 +194,29 @@ impl PlantConfig {
 pub struct ControllerConfig {
     /// "sea" (default) or "rigid".
     pub kind: ControllerKind,
-    /// Control rate [Hz] with zero-order hold (unused in continuous sampling).
-    pub rate_hz: f64,
-    /// "zero_order_hold" (the controller at `rate_hz`, its input held; the default) or
-    /// "continuous" (the controller at every integrator stage, as in the paper).
+    /// Control rate [Hz] with zero-order hold, the whole-body rate in `multi_rate` (unused in
+    /// continuous sampling); default [`Sampling::default_rate_hz`], read through
+    /// [`ControllerConfig::rate_hz`].
+    pub rate_hz: Option<f64>,
+    /// "zero_order_hold" (the controller at `rate_hz`, its input held; the default),
+    /// "continuous" (the controller at every integrator stage, as in the paper) or
+    /// "multi_rate" (the whole-body controller at `rate_hz`, the joint torque loops at
+    /// `inner_rate_hz`).
     pub sampling: Sampling,
+    /// `multi_rate`: rate of the joint torque loops [Hz], a whole multiple of `rate_hz`
+    /// (default 1 kHz, the iCub's motor boards).
+    pub inner_rate_hz: f64,
+    /// `multi_rate`: bandwidth `omega_t / 2 pi` of the joint torque loops [Hz] (default 20 Hz,
+    /// [`sea_ctrl::joint_loop::DEFAULT_TORQUE_BANDWIDTH`]).
+    pub torque_bandwidth_hz: f64,
+    /// `multi_rate`: run each joint loop at the paper's bandwidth `K_S^ / K_D^` instead of
+    /// `torque_bandwidth_hz` (with the SEA controller: the paper's law, inputDesMotVel, with
+    /// its measurements refreshed at the inner rate).
+    pub torque_loop_paper_law: bool,
+    /// `multi_rate`: stiffness [Nm/rad] of a joint impedance `K_j (s_d - s)` added to the
+    /// held torque at every joint loop tick (default 0: none;
+    /// [`sea_ctrl::joint_loop::JointTorqueLoop::with_joint_stiffness`]).
+    pub joint_stiffness: f64,
     /// Controller damping estimate = true damping x scale.
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
@@ -240,8 +258,13 @@ impl Default for ControllerConfig {
         let robot = icub();
         Self {
             kind: ControllerKind::Sea,
-            rate_hz: 1000.0,
+            rate_hz: None,
             sampling: Sampling::default(),
+            inner_rate_hz: 1000.0,
+            torque_bandwidth_hz: sea_ctrl::joint_loop::DEFAULT_TORQUE_BANDWIDTH
+                / (2.0 * std::f64::consts::PI),
+            torque_loop_paper_law: false,
+            joint_stiffness: 0.0,
             damping_estimate_scale: 1.0,
             stiffness_estimate_scale: 1.0,
             momentum_integral: None,
@@ -256,6 +279,31 @@ impl Default for ControllerConfig {
             joint_inertia_regularization: robot.joint_inertia_regularization,
             contact: ContactConstraints::default(),
         }
+    }
+}
+
+impl ControllerConfig {
+    /// `controller.rate_hz`, or its default under `controller.sampling`
+    /// ([`Sampling::default_rate_hz`]) [Hz].
+    pub fn rate_hz(&self) -> f64 {
+        self.rate_hz
+            .unwrap_or_else(|| self.sampling.default_rate_hz())
+    }
+
+    /// `multi_rate`: the joint loops' bandwidth [rad/s], `None` for the paper's `K_S^ / K_D^`
+    /// per joint.
+    pub fn torque_bandwidth(&self) -> Option<f64> {
+        (!self.torque_loop_paper_law).then(|| 2.0 * std::f64::consts::PI * self.torque_bandwidth_hz)
+    }
+
+    /// `multi_rate`: the joint loops of `controller`'s elastic joints with these settings
+    /// (bandwidth, joint stiffness).
+    pub fn joint_loop(
+        &self,
+        controller: &sea_ctrl::MomentumController,
+    ) -> sea_ctrl::joint_loop::JointTorqueLoop {
+        sea_ctrl::joint_loop::JointTorqueLoop::new(controller, self.torque_bandwidth())
+            .with_joint_stiffness(self.joint_stiffness)
     }
 }
 

@@ -95,15 +95,25 @@ pub enum Sampling {
     /// At `controller.rate_hz`, the input held between ticks (the default).
     #[default]
     ZeroOrderHold,
+    /// The robot's architecture: the whole-body controller at `controller.rate_hz` (default
+    /// 100 Hz), its desired joint torques held, and per elastic joint a torque loop
+    /// (`sea_ctrl::joint_loop`) at `controller.inner_rate_hz` that sets the desired motor
+    /// velocity from the measured deflection and joint velocity.
+    MultiRate,
 }
 
 impl Setting for Sampling {
-    const ALL: &'static [Self] = &[Sampling::Continuous, Sampling::ZeroOrderHold];
+    const ALL: &'static [Self] = &[
+        Sampling::Continuous,
+        Sampling::ZeroOrderHold,
+        Sampling::MultiRate,
+    ];
 
     fn name(self) -> &'static str {
         match self {
             Sampling::ZeroOrderHold => "zero_order_hold",
             Sampling::Continuous => "continuous",
+            Sampling::MultiRate => "multi_rate",
         }
     }
 }
@@ -112,6 +122,16 @@ impl Sampling {
     /// The scenario name of the setting ([`Setting::name`], callable without the trait).
     pub fn name(self) -> &'static str {
         Setting::name(self)
+    }
+
+    /// The default of `controller.rate_hz` [Hz] under this sampling: 1 kHz (the paper's
+    /// sampled-data study), 100 Hz for the whole-body loop of `multi_rate` (the iCub's
+    /// whole-body controllers' rate, docs/references.md "Control rates of real robots").
+    pub fn default_rate_hz(self) -> f64 {
+        match self {
+            Sampling::Continuous | Sampling::ZeroOrderHold => 1000.0,
+            Sampling::MultiRate => 100.0,
+        }
     }
 }
 
@@ -202,7 +222,7 @@ mod tests {
         assert_eq!(
             message,
             "scenario key 'controller.sampling': must be one of 'continuous', \
-             'zero_order_hold', got 'zoh'"
+             'zero_order_hold', 'multi_rate', got 'zoh'"
         );
     }
 }

@@ -214,7 +214,8 @@ fn actuator(table: &str, config: &ActuatorConfig, sea_controller: bool) -> Resul
 /// `[controller]` without its contact table: rate, estimates, gains and regularisers.
 fn controller(scenario: &Scenario) -> Result<()> {
     let c = &scenario.controller;
-    positive("controller.rate_hz", c.rate_hz)?;
+    positive("controller.rate_hz", c.rate_hz())?;
+    joint_loop_rates(c)?;
     positive(
         "controller.damping_estimate_scale",
         c.damping_estimate_scale,
@@ -319,6 +320,36 @@ fn simulation(scenario: &Scenario) -> Result<()> {
     Ok(())
 }
 
+/// The joint loops of `multi_rate`: a positive bandwidth, and an inner rate that is a whole
+/// multiple (at least 1) of `controller.rate_hz`.
+fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
+    positive("controller.torque_bandwidth_hz", c.torque_bandwidth_hz)?;
+    positive("controller.inner_rate_hz", c.inner_rate_hz)?;
+    non_negative("controller.joint_stiffness", c.joint_stiffness)?;
+    if c.sampling != Sampling::MultiRate {
+        return Ok(());
+    }
+    let ratio = c.inner_rate_hz / c.rate_hz();
+    if ratio < 1.0 - 1e-9 {
+        return Err(Error::invalid(
+            "controller.inner_rate_hz",
+            format!("must be at least controller.rate_hz ({} Hz)", c.rate_hz()),
+            c.inner_rate_hz,
+        ));
+    }
+    if (ratio - ratio.round()).abs() > 1e-9 * ratio {
+        return Err(Error::invalid(
+            "controller.inner_rate_hz",
+            format!(
+                "must be a whole multiple of controller.rate_hz ({} Hz)",
+                c.rate_hz()
+            ),
+            c.inner_rate_hz,
+        ));
+    }
+    Ok(())
+}
+
 /// The run's plant steps (or controller samples, whichever are more) must not exceed
 /// [`MAX_RUN_STEPS`]; the key named is the one that makes the count huge.
 fn run_length(scenario: &Scenario) -> Result<()> {
@@ -326,14 +357,14 @@ fn run_length(scenario: &Scenario) -> Result<()> {
     let plant_steps = duration / scenario.plant.dt;
     let samples = match scenario.controller.sampling {
         Sampling::Continuous => 0.0,
-        Sampling::ZeroOrderHold => duration * scenario.controller.rate_hz,
+        Sampling::ZeroOrderHold | Sampling::MultiRate => duration * scenario.controller.rate_hz(),
     };
     if plant_steps.max(samples) <= MAX_RUN_STEPS {
         return Ok(());
     }
     // Name the value furthest from its default (10 s, 1 ms, 1 kHz): that is the typo.
     let defaults = (SimulationConfig::default(), PlantConfig::default());
-    let default_rate = ControllerConfig::default().rate_hz;
+    let default_rate = scenario.controller.sampling.default_rate_hz();
     let candidates = [
         (
             "simulation.duration_s",
@@ -347,7 +378,7 @@ fn run_length(scenario: &Scenario) -> Result<()> {
         ),
         (
             "controller.rate_hz",
-            scenario.controller.rate_hz,
+            scenario.controller.rate_hz(),
             samples / duration / default_rate,
         ),
     ];
