@@ -358,7 +358,7 @@ mod tests {
             (
                 "controller.sampling",
                 "zoh",
-                "'continuous', 'zero_order_hold'",
+                "'continuous', 'zero_order_hold', 'multi_rate'",
             ),
             (
                 "controller.qp_solver",
