@@ -10,6 +10,7 @@ pub mod closed_loop;
 pub mod error;
 pub mod foxglove;
 pub mod mcap_log;
+pub mod meshes;
 pub mod output;
 pub mod scenario;
 pub mod sweep;
