@@ -259,14 +259,18 @@ pub fn visual_rgba(robot: &urdf_rs::Robot, material: Option<&urdf_rs::Material>)
 /// The visuals of the URDF file `urdf` (all links), with the package directories of `user_dirs`
 /// then the environment's, and the mesh warnings.
 ///
-/// Errors: the file cannot be read or does not parse.
+/// Errors: [`crate::Error::Io`] when the file cannot be read, [`crate::Error::Dynamics`] when
+/// it does not parse.
 pub fn urdf_file_visuals(
     urdf: &Path,
     user_dirs: &[PathBuf],
     triangle_budget: usize,
-) -> Result<RobotVisuals, String> {
-    let text = std::fs::read_to_string(urdf).map_err(|e| format!("{}: {e}", urdf.display()))?;
-    let robot = sea_dyn::urdf::parse_urdf(&text).map_err(|e| format!("{}: {e}", urdf.display()))?;
+) -> crate::Result<RobotVisuals> {
+    let text = std::fs::read_to_string(urdf).map_err(|source| crate::Error::Io {
+        path: urdf.display().to_string(),
+        source,
+    })?;
+    let robot = sea_dyn::urdf::parse_urdf(&text).map_err(|e| e.in_file(urdf))?;
     let dirs = PackageDirs::from_environment(user_dirs.iter().cloned());
     let urdf_dir = urdf.parent().unwrap_or(Path::new("."));
     Ok(robot_visuals(
