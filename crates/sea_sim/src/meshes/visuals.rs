@@ -283,3 +283,83 @@ pub fn urdf_file_visuals(
         },
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An ASCII STL of `n` separate triangles (a strip along x).
+    fn strip_stl(n: usize) -> String {
+        let mut text = String::from("solid strip\n");
+        for k in 0..n {
+            let x = k as f32;
+            text += &format!(
+                "facet normal 0 0 1\nouter loop\nvertex {x} 0 0\nvertex {} 0 0\nvertex {x} 1 0\nendloop\nendfacet\n",
+                x + 1.0
+            );
+        }
+        text + "endsolid strip\n"
+    }
+
+    /// A robot whose `base` has a box, the STL `pkg/meshes/a.stl` through `package://` (twice,
+    /// scaled by 2 the second time), a missing file and an unknown package.
+    fn robot(dir: &Path) -> urdf_rs::Robot {
+        std::fs::create_dir_all(dir.join("pkg/meshes")).unwrap();
+        std::fs::write(dir.join("pkg/meshes/a.stl"), strip_stl(100)).unwrap();
+        let mesh = |file: &str, scale: &str| {
+            format!(
+                r#"<visual><origin xyz="0 0 1"/><geometry><mesh filename="{file}" scale="{scale}"/></geometry></visual>"#
+            )
+        };
+        let text = format!(
+            r#"<robot name="r"><link name="base">
+            <visual><geometry><box size="1 2 3"/></geometry></visual>
+            {}{}{}{}</link></robot>"#,
+            mesh("package://pkg/meshes/a.stl", "1 1 1"),
+            mesh("package://pkg/meshes/a.stl", "2 2 2"),
+            mesh("missing.stl", "1 1 1"),
+            mesh("package://nowhere/a.stl", "1 1 1"),
+        );
+        urdf_rs::read_from_string(&text).unwrap()
+    }
+
+    #[test]
+    fn meshes_are_placed_cut_to_the_budget_and_bad_ones_are_warnings() {
+        let dir = std::env::temp_dir().join(format!("sea_sim_visuals_{}", std::process::id()));
+        let robot = robot(&dir);
+        let dirs = PackageDirs::new([dir.clone()]);
+        let options = VisualOptions {
+            urdf_dir: &dir,
+            package_dirs: &dirs,
+            triangle_budget: 100,
+        };
+        let found = robot_visuals(&robot, None, &options);
+        assert_eq!(found.visuals.len(), 3, "the box and the two drawn meshes");
+        assert!(matches!(
+            found.visuals[0].shape,
+            Shape::Box {
+                size: [1.0, 2.0, 3.0]
+            }
+        ));
+        for (visual, scale) in found.visuals[1..].iter().zip([1.0, 2.0]) {
+            let Shape::Mesh(mesh) = &visual.shape else {
+                panic!("a mesh")
+            };
+            assert!(mesh.triangles.len() <= 50, "half the budget each");
+            assert_eq!(visual.link_placement, Placement::IDENTITY);
+            // Scaled, then moved by the origin (z + 1) into the link frame.
+            let top = mesh.positions.iter().map(|p| p[1]).fold(0.0, f32::max);
+            assert_eq!(top, scale as f32);
+            assert!(mesh.positions.iter().all(|p| p[2] == 1.0));
+        }
+        let warnings: Vec<String> = found.warnings.iter().map(ToString::to_string).collect();
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(warnings[0].starts_with("link 'base': mesh 'missing.stl' not drawn: "));
+        assert!(warnings[1].contains("package://nowhere/a.stl"));
+        assert!(
+            warnings[1].contains(&dir.display().to_string()),
+            "the dirs searched"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}
