@@ -1,7 +1,7 @@
 """The MCAP log read back with the `mcap` package as Foxglove would: every message decodes
 against its schema (protobuf with `mcap-protobuf-support`, JSON validated with `jsonschema`),
-every `/scene` entity hangs on a frame that `/tf` defines, the robot's bodies come from the URDF,
-and the URDF is attached."""
+every `/robot` and `/scene` entity hangs on a frame that `/tf` defines, the robot's bodies come
+from the URDF (on `/robot`, once), and the URDF is attached."""
 
 from __future__ import annotations
 
@@ -20,7 +20,9 @@ import sea_momentum as sm
 ROOT = Path(__file__).resolve().parents[1]
 TRACKING = ROOT / "scenarios" / "paper" / "tracking.toml"
 URDF = ROOT / "urdf" / "icub25.urdf"
-PROTOBUF_TOPICS = {"/tf": "foxglove.FrameTransforms", "/scene": "foxglove.SceneUpdate"}
+PROTOBUF_TOPICS = {"/tf": "foxglove.FrameTransforms", "/scene": "foxglove.SceneUpdate", "/robot": "foxglove.SceneUpdate"}
+#: Written once, with the first sample: the robot's bodies (frame-locked, lifetime 0).
+ONCE_TOPICS = {"/robot"}
 JSON_TOPICS = {"/com", "/momentum", "/joints", "/motors", "/contact_wrenches", "/qp", "/base"}
 
 
@@ -57,7 +59,8 @@ def test_every_channel_decodes_once_per_recorded_sample(log):
     result, messages, _ = log
     counts = Counter(topic for topic, _, _, _ in messages)
     assert set(counts) == set(PROTOBUF_TOPICS) | JSON_TOPICS
-    assert all(count == len(result.time) for count in counts.values()), counts
+    assert all(count == 1 for topic, count in counts.items() if topic in ONCE_TOPICS), counts
+    assert all(count == len(result.time) for topic, count in counts.items() if topic not in ONCE_TOPICS), counts
     for topic, schema, _, _ in messages:
         if topic in PROTOBUF_TOPICS:
             assert schema == PROTOBUF_TOPICS[topic]
@@ -82,12 +85,15 @@ def test_scene_entities_hang_on_tf_frames_and_draw_the_urdf(log):
             for transform in decoded.transforms:
                 tf_frames |= {transform.parent_frame_id, transform.child_frame_id}
     scenes = [decoded for topic, _, _, decoded in messages if topic == "/scene"]
+    (robot,) = [(time, decoded) for topic, _, time, decoded in messages if topic == "/robot"]
     assert scenes
-    for scene in scenes:
+    assert robot[0] == min(time for _, _, time, _ in messages), "/robot comes with the first sample"
+    for scene in scenes + [robot[1]]:
         for entity in scene.entities:
             assert entity.frame_id in tf_frames, f"{entity.id}: {entity.frame_id} not in /tf"
     entities = {entity.id: entity for entity in scenes[-1].entities}
-    bodies = {id_.removeprefix("link/"): e for id_, e in entities.items() if id_.startswith("link/")}
+    assert not any(id_.startswith("link/") for id_ in entities)
+    bodies = {e.id.removeprefix("link/"): e for e in robot[1].entities if e.id.startswith("link/")}
     visuals = _urdf_links_with_visuals()
     assert {name: len(e.cubes) + len(e.cylinders) + len(e.spheres) for name, e in bodies.items()} == visuals
     assert all(e.frame_locked and e.frame_id == name for name, e in bodies.items())
@@ -134,3 +140,4 @@ def test_layout_plots_fields_the_log_has(log):
             assert int(index.rstrip("]")) < len(value), path
     three_d = next(c for key, c in layout["configById"].items() if key.startswith("3D!"))
     assert "/scene" in three_d["topics"]
+    assert three_d["topics"]["/robot"]["visible"]

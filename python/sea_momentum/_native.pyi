@@ -9,7 +9,8 @@ world z. Arrays are float64; array-likes are accepted and converted.
 from os import PathLike
 from typing import Mapping, Sequence, final
 
-from numpy.typing import ArrayLike
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 # Not re-exported: float64 arrays (shapes in each docstring) and the typed results.
 from .arrays import FloatArray
@@ -34,13 +35,17 @@ __all__ = [
     "sweep",
     "sweep_batch",
     "init_scenario",
+    "link_meshes",
     "__version__",
     "ICUB25_JOINTS",
+    "PICTURE_TRIANGLE_BUDGET",
 ]
 
 __version__: str
 ICUB25_JOINTS: tuple[str, ...]
-"""The paper's 25 iCub joints, original study's order (defined in robots/icub_paper.toml)."""
+"""The paper's 25 iCub joints in the original study's order (defined once, in Rust)."""
+PICTURE_TRIANGLE_BUDGET: int
+"""Default triangles of all the robot's meshes in a picture (``link_meshes``)."""
 
 class SeaError(Exception):
     """Base of every sea_momentum error (MCAP logging failures other than I/O raise it as is)."""
@@ -251,8 +256,10 @@ def run_scenario_native(
     overrides: Mapping[str, object] | None = None,
     mcap: str | None = None,
     progress: bool = False,
+    package_dirs: Sequence[str] | None = None,
 ) -> dict[str, object]:
     """Runs a TOML scenario natively (GIL released); use ``sea_momentum.run_scenario``.
+    ``package_dirs`` are searched first for the URDF's ``package://`` meshes of the log.
 
     Returns float64 arrays (m recorded ticks): ``time`` (m,), ``x`` (m, nx),
     ``thetadot_desired`` (m, n_e), ``com`` (m, 3), ``com_reference`` (m, 3), ``momentum``
@@ -276,6 +283,22 @@ def init_scenario(
     or measured on the collision geometry; returns ``out``, ``robot``, ``mass``, ``joints``,
     ``foot_x``, ``foot_y``, ``measured``, ``lowering_m``, ``residual``, ``warnings``. Bad
     input raises ``ScenarioError`` naming the element (nothing is written)."""
+
+# --- The robot's meshes (sea_momentum.pictures) ---
+
+def link_meshes(
+    urdf: str | PathLike[str],
+    package_dirs: Sequence[str | PathLike[str]] | None = None,
+    triangle_budget: int = 4000,
+    strict: bool = False,
+) -> tuple[list[tuple[str, FloatArray, NDArray[np.int64], tuple[float, float, float, float]]], list[str]]:
+    """The mesh visuals of a URDF file (STL, OBJ, DAE), decimated to about ``triangle_budget``
+    triangles for the whole robot: ``(meshes, warnings)``, ``meshes`` a list of ``(link,
+    vertices (n, 3) float64 in the link frame [m], triangles (m, 3) int64, rgba)``, ``warnings``
+    one message per mesh not drawn (link, URI, why). ``package://`` URIs are looked up in
+    ``package_dirs``, then ROS_PACKAGE_PATH, AMENT/CMAKE_PREFIX_PATH, the Python environment's
+    cmeel prefix, then above the URDF. ``strict=True`` raises ``ModelError`` instead of
+    warning; an unreadable URDF raises ``SeaIOError`` or ``ModelError``."""
 
 # --- Stability analysis (sea_momentum.analysis) ---
 

@@ -1,5 +1,7 @@
-"""Pictures of the robot: the URDF's visual primitives (boxes, cylinders, spheres; meshes are
-skipped) placed at the link poses of ``Model.frame_pose`` and drawn with matplotlib's 3D axes.
+"""Pictures of the robot: the URDF's visuals (boxes, cylinders, spheres, and meshes read and
+decimated in Rust by :func:`~sea_momentum._native.link_meshes`) placed at the link poses of
+``Model.frame_pose`` and drawn with matplotlib's 3D axes; mesh triangles are shaded by a
+light from the camera's side.
 
 - :func:`robot_strip`: a strip of the robot at chosen instants of a run (PNG);
 - :func:`robot_animation`: the run as an animated GIF (matplotlib's ``PillowWriter``);
@@ -15,12 +17,13 @@ import dataclasses
 import os
 import pathlib
 import sys
+import warnings
 import xml.etree.ElementTree as ET
 from typing import TYPE_CHECKING, Any, Sequence, Union
 
 import numpy as np
 
-from ._native import Model
+from ._native import PICTURE_TRIANGLE_BUDGET, Model, link_meshes
 from .arrays import FloatArray
 
 if TYPE_CHECKING:
@@ -36,17 +39,28 @@ VIEW_AZIMUTH_DEG = -35.0
 DEFAULT_RGBA = (0.62, 0.66, 0.72, 1.0)
 #: Facets of the polygon that approximates a cylinder's circle and a sphere's meridians.
 ROUND_FACETS = 12
+# The default triangle budget, PICTURE_TRIANGLE_BUDGET (imported above), is defined in Rust:
+# matplotlib sorts and draws every triangle in every frame, the time of a GIF grows with it.
+#: Direction the light comes from (world axes, unit): front-left-above, as the camera looks.
+LIGHT_DIRECTION = np.array([0.6, -0.5, 0.62]) / np.linalg.norm([0.6, -0.5, 0.62])
+#: Brightness of a mesh triangle facing away from the light (1 when facing it).
+AMBIENT_LIGHT = 0.45
+#: Edge colour and width of the primitives' faces (mesh triangles have no edges).
+PRIMITIVE_EDGE_RGBA = (0.2, 0.2, 0.2, 0.35)
+PRIMITIVE_EDGE_WIDTH = 0.3
 
 
 @dataclasses.dataclass(frozen=True)
 class Visual:
-    """One URDF visual primitive of a link."""
+    """One URDF visual of a link."""
 
     link: str  #: the link (a frame of the model)
-    link_H_visual: FloatArray  #: (4, 4) placement of the primitive in the link frame
-    kind: str  #: "box", "cylinder" or "sphere"
-    size: tuple[float, ...]  #: box (x, y, z); cylinder (radius, length along z); sphere (radius,)
+    link_H_visual: FloatArray  #: (4, 4) placement of the visual in the link frame
+    kind: str  #: "box", "cylinder", "sphere" or "mesh"
+    size: tuple[float, ...]  #: box (x, y, z); cylinder (radius, length along z); sphere (radius,); mesh ()
     rgba: tuple[float, float, float, float]  #: colour
+    #: mesh only: (n, 3) vertices [m] and (m, 3) vertex indices of its triangles
+    mesh: tuple[FloatArray, Any] | None = None
 
 
 def _rotation_rpy(roll: float, pitch: float, yaw: float) -> FloatArray:
@@ -65,8 +79,30 @@ def _floats(text: str | None, default: str) -> list[float]:
     return [float(v) for v in (text or default).split()]
 
 
-def urdf_visuals(urdf: str | os.PathLike[str]) -> list[Visual]:
-    """The box, cylinder and sphere visuals of a URDF file (meshes are skipped)."""
+def urdf_visuals(
+    urdf: str | os.PathLike[str],
+    package_dirs: Sequence[str | os.PathLike[str]] = (),
+    triangle_budget: int = PICTURE_TRIANGLE_BUDGET,
+) -> list[Visual]:
+    """The visuals of a URDF file: boxes, cylinders, spheres, then meshes (decimated to about
+    ``triangle_budget`` triangles for the whole robot; ``package://`` URIs looked up in
+    ``package_dirs`` first). A mesh that cannot be read is left out with a ``UserWarning``
+    naming the link, the URI and why."""
+    return _primitive_visuals(urdf) + _mesh_visuals(urdf, package_dirs, triangle_budget)
+
+
+def _mesh_visuals(
+    urdf: str | os.PathLike[str], package_dirs: Sequence[str | os.PathLike[str]], triangle_budget: int
+) -> list[Visual]:
+    """The mesh visuals, in their link frames, read by the native module."""
+    meshes, problems = link_meshes(os.fspath(urdf), [os.fspath(d) for d in package_dirs], triangle_budget)
+    for problem in problems:
+        warnings.warn(f"{urdf}: {problem}", UserWarning, stacklevel=3)
+    return [Visual(link, np.eye(4), "mesh", (), rgba, (vertices, triangles)) for link, vertices, triangles, rgba in meshes]
+
+
+def _primitive_visuals(urdf: str | os.PathLike[str]) -> list[Visual]:
+    """The box, cylinder and sphere visuals of a URDF file."""
     root = ET.parse(urdf).getroot()
     colours = {
         m.get("name"): tuple(_floats(m.find("color").get("rgba"), "1 1 1 1"))  # type: ignore[union-attr]
@@ -126,18 +162,47 @@ def _faces(kind: str, size: tuple[float, ...]) -> list[FloatArray]:
     ]
 
 
-def robot_faces(model: Model, q: FloatArray, visuals: Sequence[Visual]) -> tuple[list[FloatArray], list[Any]]:
-    """The world-frame faces of every visual at configuration ``q`` and their colours."""
-    faces, colours = [], []
+def _mesh_faces(visual: Visual, world_H_link: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The world-frame triangles ((m, 3, 3)) of a mesh visual and their shaded colours ((m, 4))."""
+    assert visual.mesh is not None
+    vertices, triangles = visual.mesh
+    world_vertices = vertices @ world_H_link[:3, :3].T + world_H_link[:3, 3]
+    corners = world_vertices[triangles]
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    lengths = np.linalg.norm(normals, axis=1)
+    facing = np.abs(normals @ LIGHT_DIRECTION) / np.where(lengths > 0, lengths, 1.0)
+    brightness = AMBIENT_LIGHT + (1.0 - AMBIENT_LIGHT) * facing
+    colours = np.empty((len(corners), 4))
+    colours[:, :3] = np.clip(np.outer(brightness, visual.rgba[:3]), 0.0, 1.0)
+    colours[:, 3] = visual.rgba[3]
+    return corners, colours
+
+
+def robot_faces(
+    model: Model, q: FloatArray, visuals: Sequence[Visual]
+) -> tuple[list[FloatArray], list[Any], list[float]]:
+    """The world-frame faces of every visual at configuration ``q``, their colours (mesh
+    triangles shaded) and their edge widths (primitives outlined, mesh triangles not: they are
+    many and small)."""
+    faces: list[FloatArray] = []
+    colours: list[Any] = []
+    edges: list[float] = []
     poses: dict[str, FloatArray] = {}
     for visual in visuals:
         if visual.link not in poses:
             poses[visual.link] = model.frame_pose(q, visual.link)
         world_H_visual = poses[visual.link] @ visual.link_H_visual
+        if visual.kind == "mesh":
+            corners, shaded = _mesh_faces(visual, world_H_visual)
+            faces.extend(corners)
+            colours.extend(shaded)
+            edges.extend([0.0] * len(corners))
+            continue
         for face in _faces(visual.kind, visual.size):
             faces.append(face @ world_H_visual[:3, :3].T + world_H_visual[:3, 3])
             colours.append(visual.rgba)
-    return faces, colours
+            edges.append(PRIMITIVE_EDGE_WIDTH)
+    return faces, colours, edges
 
 
 def _draw(ax: Any, model: Model, q: FloatArray, visuals: Sequence[Visual], bounds: FloatArray, title: str) -> None:
@@ -150,10 +215,14 @@ def _draw(ax: Any, model: Model, q: FloatArray, visuals: Sequence[Visual], bound
     # among themselves by their collection.
     ax.computed_zorder = False
     (x0, y0, z0), (x1, y1, z1) = bounds
+    # The limits are the bounds: no autoscaling on collections (faces of different vertex
+    # counts, primitives' quads and mesh triangles, upset it).
+    ax.set_autoscale_on(False)
     floor = np.array([[x0, y0, 0.0], [x1, y0, 0.0], [x1, y1, 0.0], [x0, y1, 0.0]])
     ax.add_collection3d(Poly3DCollection([floor], facecolors=(0.85, 0.85, 0.8, 0.5)))
-    faces, colours = robot_faces(model, q, visuals)
-    ax.add_collection3d(Poly3DCollection(faces, facecolors=colours, edgecolors=(0.2, 0.2, 0.2, 0.35), linewidths=0.3))
+    faces, colours, widths = robot_faces(model, q, visuals)
+    robot = Poly3DCollection(faces, facecolors=colours, edgecolors=PRIMITIVE_EDGE_RGBA, linewidths=widths)
+    ax.add_collection3d(robot)
     com = model.com(q)
     ax.plot([com[0], com[0]], [com[1], com[1]], [com[2], 0.0], color="red", lw=0.8, ls=":")
     ax.scatter(*com, color="red", s=18, depthshade=False)
@@ -167,11 +236,20 @@ def _draw(ax: Any, model: Model, q: FloatArray, visuals: Sequence[Visual], bound
 
 
 def _bounds(model: Model, qs: Sequence[FloatArray], visuals: Sequence[Visual], margin: float = 0.05) -> FloatArray:
-    """One box holding the robot at every configuration of ``qs`` and the floor at z = 0."""
-    points = np.concatenate([np.concatenate(robot_faces(model, q, visuals)[0]) for q in qs])
+    """One box holding the robot at every configuration of ``qs`` and the floor at z = 0 (a
+    robot without visuals: its frames' origins)."""
+    points = np.concatenate([_robot_points(model, q, visuals) for q in qs])
     low = np.minimum(points.min(axis=0), [np.inf, np.inf, 0.0]) - margin
     high = points.max(axis=0) + margin
     return np.array([low, high])
+
+
+def _robot_points(model: Model, q: FloatArray, visuals: Sequence[Visual]) -> FloatArray:
+    """The corners of every face at ``q``, or the frames' origins when there is no face."""
+    faces = robot_faces(model, q, visuals)[0]
+    if faces:
+        return np.concatenate(faces)
+    return np.array([model.frame_pose(q, frame)[:3, 3] for frame in model.frame_names])
 
 
 def robot_strip(
@@ -181,11 +259,13 @@ def robot_strip(
     times: Times,
     path: str | os.PathLike[str],
     title: str | None = None,
+    package_dirs: Sequence[str | os.PathLike[str]] = (),
 ) -> pathlib.Path:
-    """A PNG strip of the robot at configurations ``qs`` (each nq) labelled with ``times``."""
+    """A PNG strip of the robot at configurations ``qs`` (each nq) labelled with ``times``
+    (``package_dirs``: see :func:`urdf_visuals`)."""
     import matplotlib.pyplot as plt
 
-    visuals = urdf_visuals(urdf)
+    visuals = urdf_visuals(urdf, package_dirs)
     bounds = _bounds(model, qs, visuals)
     fig = plt.figure(figsize=(2.6 * len(qs), 3.6))
     for k, (q, t) in enumerate(zip(qs, times)):
@@ -208,15 +288,16 @@ def robot_animation(
     path: str | os.PathLike[str],
     fps: int = 10,
     title: str | None = None,
+    package_dirs: Sequence[str | os.PathLike[str]] = (),
 ) -> pathlib.Path | None:
     """An animated GIF of the robot through ``qs``; None when Pillow is missing (then nothing
-    is written)."""
+    is written). ``package_dirs``: see :func:`urdf_visuals`."""
     import matplotlib.pyplot as plt
     from matplotlib.animation import FuncAnimation, PillowWriter
 
     if not PillowWriter.isAvailable():
         return None
-    visuals = urdf_visuals(urdf)
+    visuals = urdf_visuals(urdf, package_dirs)
     bounds = _bounds(model, qs, visuals)
     fig = plt.figure(figsize=(4.0, 4.6))
     ax = fig.add_subplot(projection="3d")
@@ -253,10 +334,12 @@ def scenario_pictures(
     instants: Times | None = None,
     title: str | None = None,
     animation_frames: int = 40,
+    package_dirs: Sequence[str | os.PathLike[str]] = (),
 ) -> list[pathlib.Path]:
     """Writes ``out/{stem}_strip.png`` (the robot at ``instants``, default five evenly spaced
     over the run, each at the nearest recorded sample) and ``out/{stem}.gif`` (about
-    ``animation_frames`` frames) for a run of the scenario file ``scenario``. Returns the paths."""
+    ``animation_frames`` frames) for a run of the scenario file ``scenario``; ``package_dirs``:
+    see :func:`urdf_visuals`. Returns the paths."""
     scenario = pathlib.Path(scenario)
     urdf = _scenario_urdf(scenario)
     model = Model.from_urdf(urdf, joints=result.joint_names)
@@ -264,9 +347,11 @@ def scenario_pictures(
     chosen = np.linspace(time[0], time[-1], 5) if instants is None else np.asarray(instants)
     rows = [int(np.argmin(abs(time - t))) for t in chosen]
     out = pathlib.Path(out)
-    written = [robot_strip(model, urdf, [result.q[r] for r in rows], time[rows], out / f"{stem}_strip.png", title)]
+    strip = out / f"{stem}_strip.png"
+    written = [robot_strip(model, urdf, [result.q[r] for r in rows], time[rows], strip, title, package_dirs)]
     frames = np.unique(np.linspace(0, len(time) - 1, animation_frames).round().astype(int))
-    gif = robot_animation(model, urdf, [result.q[r] for r in frames], time[frames], out / f"{stem}.gif", title=title)
+    qs = [result.q[r] for r in frames]
+    gif = robot_animation(model, urdf, qs, time[frames], out / f"{stem}.gif", title=title, package_dirs=package_dirs)
     if gif is not None:
         written.append(gif)
     return written

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 from ._native import run_scenario_native
 from .arrays import FloatArray
@@ -80,6 +80,7 @@ def run_scenario(
     overrides: Mapping[str, Any] | None = None,
     mcap: str | os.PathLike[str] | None = None,
     progress: bool = False,
+    package_dirs: Sequence[str | os.PathLike[str]] = (),
 ) -> ScenarioResult:
     """Runs the scenario file ``path``.
 
@@ -87,7 +88,8 @@ def run_scenario(
     "controller.damping_estimate_scale": 1.45, "simulation.duration_s": 5}``; unknown keys raise
     ``ValueError`` naming the key. ``mcap`` writes a Foxglove-ready log (finished even when the
     run diverges). A diverged run is not an error: see ``result.status`` and ``result.summary``
-    (a :class:`~sea_momentum.results.RunSummary`).
+    (a :class:`~sea_momentum.results.RunSummary`). ``package_dirs`` are searched first for the
+    URDF's ``package://`` meshes drawn in the log (as ``sea-sim run --package-dir``).
 
     Ctrl-C stops the run within a fraction of a second (the MCAP log is finished) and raises
     ``KeyboardInterrupt``; what was computed is its ``partial`` attribute, a
@@ -104,6 +106,7 @@ def run_scenario(
             dict(overrides or {}),
             None if mcap is None else os.fspath(mcap),
             progress,
+            [os.fspath(d) for d in package_dirs],
         )
     except KeyboardInterrupt as interrupt:
         partial = getattr(interrupt, "partial", None)

@@ -18,6 +18,7 @@ mod model;
 mod plant;
 mod scenario;
 mod sweep;
+mod visuals;
 
 /// The native module `sea_momentum._native`.
 #[pymodule]
@@ -34,9 +35,14 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_batch, m)?)?;
     m.add_function(wrap_pyfunction!(init::init_scenario, m)?)?;
+    m.add_function(wrap_pyfunction!(visuals::link_meshes, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // The paper's 25 iCub joints, defined once in sea_sim's presets.
     let icub25 = pyo3::types::PyTuple::new(m.py(), sea_sim::scenario::icub().joints.iter())?;
     m.add("ICUB25_JOINTS", icub25)?;
+    m.add(
+        "PICTURE_TRIANGLE_BUDGET",
+        sea_sim::meshes::visuals::PICTURE_TRIANGLE_BUDGET,
+    )?;
     Ok(())
 }

@@ -57,19 +57,22 @@ pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<Stri
 /// (time, x, thetadot_desired, com, com_reference, momentum, contact_wrenches, motor_torques,
 /// joint_error_norm, qp_solved; float64, one row per recorded tick), the layout (nq, nv, ne),
 /// names, and the summary as a dict of the fields of `sea_momentum.results.RunSummary`.
+/// `package_dirs` are searched first for the URDF's `package://` meshes drawn in the log.
 ///
 /// Ctrl-C stops the run at its next control tick (the MCAP log is finished) and raises
 /// `KeyboardInterrupt` whose `partial` attribute is this dict for the samples computed, with
 /// summary status "interrupted".
 #[pyfunction]
-#[pyo3(signature = (path, overrides=None, mcap=None, progress=false))]
+#[pyo3(signature = (path, overrides=None, mcap=None, progress=false, package_dirs=None))]
 pub fn run_scenario_native<'py>(
     py: Python<'py>,
     path: PathBuf,
     overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
     mcap: Option<PathBuf>,
     progress: bool,
+    package_dirs: Option<Vec<PathBuf>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let package_dirs = package_dirs.unwrap_or_default();
     let mut pairs = Vec::new();
     for (key, value) in overrides.unwrap_or_default() {
         let text = toml_literal(&value, &key)?;
@@ -78,7 +81,9 @@ pub fn run_scenario_native<'py>(
     let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
     let (outcome, interrupt) = run_interruptible(py, |cancel| {
         let mut record = RunRecord::default();
-        let mut log = mcap.as_deref().map(McapSink::new);
+        let mut log = mcap
+            .as_deref()
+            .map(|path| McapSink::new(path).with_package_dirs(&package_dirs));
         let mut sinks: Vec<&mut dyn RecordSink> = vec![&mut record];
         if let Some(log) = log.as_mut() {
             sinks.push(log);

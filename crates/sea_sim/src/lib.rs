@@ -11,6 +11,7 @@ pub mod error;
 pub mod foxglove;
 pub mod init;
 pub mod mcap_log;
+pub mod meshes;
 pub mod output;
 pub mod scenario;
 pub mod sweep;

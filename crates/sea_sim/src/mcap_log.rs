@@ -1,8 +1,10 @@
 //! MCAP log of a closed-loop run, for Foxglove: the channels of [`crate::foxglove`] (`/tf` and
 //! `/scene` as the Foxglove SDK's protobuf messages, our own channels as JSON with a JSON
-//! Schema; see there for the table and the choice of encodings), and the URDF as an attachment
-//! (named after the file, media type `application/xml`) once [`McapLogger::set_scene`] is
-//! called.
+//! Schema; see there for the table and the choice of encodings). Once
+//! [`McapLogger::set_scene`] is called: the URDF as an attachment (named after the file, media
+//! type `application/xml`), the robot's bodies (meshes included, decimated) as one `/robot`
+//! message at the first sample's time, and a metadata record `scene` counting the visuals
+//! drawn and naming each mesh not drawn (`mesh_warnings`, `warning_<k>`).
 //!
 //! Chunks are LZ4-compressed. The file is finished (summary and index written) by
 //! [`McapLogger::finish`] or, silently, when the logger is dropped, so an interrupted or
@@ -13,9 +15,11 @@
 
 use crate::closed_loop::{OwnedSample, RecordSink, RunInfo, Sample};
 use crate::error::Error;
-use crate::foxglove::{SampleEncoder, SceneSource, StaticScene, Topic};
+use crate::foxglove::{SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC};
+use crate::meshes::visuals::MeshWarning;
 use crate::Result;
 use mcap::records::MessageHeader;
+use mcap::records::Metadata;
 use mcap::{Attachment, Compression, WriteOptions, Writer};
 use sea_dyn::Model;
 use std::borrow::Cow;
@@ -31,6 +35,8 @@ pub struct McapLogger {
     encoder: SampleEncoder,
     /// MCAP channel id of each [`Topic`] (index [`Topic::index`]).
     channels: [u16; Topic::ALL.len()],
+    /// The `/robot` channel and its message, until written (with the first sample).
+    robot: Option<(u16, Vec<u8>)>,
 }
 
 /// The MCAP writer with its sequence counter and serialisation buffer.
@@ -163,6 +169,7 @@ impl McapLogger {
             },
             encoder: SampleEncoder::new(model, elastic_joint_names, contact_names),
             channels,
+            robot: None,
         })
     }
 
@@ -171,18 +178,21 @@ impl McapLogger {
         &self.out.path
     }
 
-    /// Draws the robot of `source` on `/scene` from the next sample on (bodies from the URDF's
-    /// visuals, the support polygon) and attaches the URDF to the log (named after the file,
-    /// media type `application/xml`).
+    /// Draws the robot of `source`: its bodies on `/robot` (written with the next sample), the
+    /// support polygon on `/scene` from the next sample on; attaches the URDF to the log (named
+    /// after the file, media type `application/xml`) and records the mesh warnings in the
+    /// metadata record `scene`. Returns the mesh visuals not drawn.
     ///
     /// Errors: [`Error::Io`] when the URDF cannot be read or the attachment written,
-    /// [`Error::Log`] when the URDF does not parse or the log is finished.
-    pub fn set_scene(&mut self, source: &SceneSource) -> Result<()> {
-        let scene = StaticScene::build(
+    /// [`Error::Log`] when the URDF does not parse, the log is finished, or (strict source) a
+    /// mesh cannot be drawn.
+    pub fn set_scene(&mut self, source: &SceneSource) -> Result<Vec<MeshWarning>> {
+        let mut scene = StaticScene::build(
             source,
             &self.encoder.link_frames(),
             self.encoder.contact_names(),
         )?;
+        let path = &self.out.path;
         let writer = self
             .out
             .writer
@@ -196,9 +206,26 @@ impl McapLogger {
                 media_type: URDF_MEDIA_TYPE.to_string(),
                 data: Cow::Borrowed(&scene.urdf_text),
             })
-            .map_err(mcap_error(&self.out.path))?;
+            .map_err(mcap_error(path))?;
+        writer
+            .write_metadata(&scene_metadata(&scene))
+            .map_err(mcap_error(path))?;
+        let schema = Topic::Scene.schema();
+        let schema_id = writer
+            .add_schema(&schema.name, &schema.encoding, &schema.data)
+            .map_err(mcap_error(path))?;
+        let channel = writer
+            .add_channel(
+                schema_id,
+                ROBOT_TOPIC,
+                &Topic::Scene.message_encoding(),
+                &BTreeMap::new(),
+            )
+            .map_err(mcap_error(path))?;
+        self.robot = Some((channel, std::mem::take(&mut scene.robot)));
+        let warnings = std::mem::take(&mut scene.warnings);
         self.encoder.set_scene(scene);
-        Ok(())
+        Ok(warnings)
     }
 
     /// Writes one sample on every channel (log_time = publish_time = time_s in ns).
@@ -210,6 +237,10 @@ impl McapLogger {
     pub fn log(&mut self, sample: &Sample<'_>) -> Result<()> {
         if self.out.writer.is_none() {
             return Err(Error::Log("the log is already finished".into()));
+        }
+        if let Some((channel, robot)) = self.robot.take() {
+            self.out
+                .write(channel, crate::foxglove::nanoseconds(sample.time_s), &robot)?;
         }
         let (out, channels) = (&mut self.out, &self.channels);
         self.encoder.encode(sample, |topic, time, message| {
@@ -242,6 +273,24 @@ impl McapLogger {
 impl Drop for McapLogger {
     fn drop(&mut self) {
         let _ = self.out.finish();
+    }
+}
+
+/// The metadata record `scene`: visuals drawn, and each mesh not drawn.
+fn scene_metadata(scene: &StaticScene) -> Metadata {
+    let mut metadata = BTreeMap::from([
+        ("visuals_drawn".to_string(), scene.visuals_drawn.to_string()),
+        (
+            "mesh_warnings".to_string(),
+            scene.warnings.len().to_string(),
+        ),
+    ]);
+    for (k, warning) in scene.warnings.iter().enumerate() {
+        metadata.insert(format!("warning_{k}"), warning.to_string());
+    }
+    Metadata {
+        name: "scene".to_string(),
+        metadata,
     }
 }
 
@@ -355,6 +404,8 @@ impl std::fmt::Debug for McapLogger {
 /// thread's bounded queue.
 pub struct McapSink {
     path: PathBuf,
+    /// Searched first for the URDF's `package://` meshes.
+    package_dirs: Vec<PathBuf>,
     logger: Option<ThreadedMcapLogger>,
 }
 
@@ -363,8 +414,16 @@ impl McapSink {
     pub fn new(path: impl Into<PathBuf>) -> Self {
         Self {
             path: path.into(),
+            package_dirs: Vec::new(),
             logger: None,
         }
+    }
+
+    /// The same sink looking for `package://` meshes in `dirs` first (then the environment's
+    /// package directories, then above the URDF).
+    pub fn with_package_dirs(mut self, dirs: &[PathBuf]) -> Self {
+        self.package_dirs = dirs.to_vec();
+        self
     }
 }
 
@@ -372,7 +431,10 @@ impl RecordSink for McapSink {
     fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
         let mut logger =
             McapLogger::create(&self.path, run.model, run.elastic_joints, run.contacts)?;
-        logger.set_scene(&SceneSource::of_scenario(run.scenario))?;
+        let source = SceneSource::of_scenario(run.scenario).with_package_dirs(&self.package_dirs);
+        for warning in logger.set_scene(&source)? {
+            eprintln!("warning: {}: {warning}", self.path.display());
+        }
         self.logger = Some(ThreadedMcapLogger::spawn(logger));
         Ok(())
     }

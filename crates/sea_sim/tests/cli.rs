@@ -701,3 +701,45 @@ fn sighup_ignored() -> bool {
         .and_then(|mask| u64::from_str_radix(mask.trim(), 16).ok())
         .is_some_and(|mask| mask & 1 == 1)
 }
+
+#[test]
+fn package_dir_finds_the_meshes_a_run_warns_about_without_it() {
+    let ws = Workspace::new("package_dir");
+    let packages = ws.path("packages");
+    std::fs::create_dir_all(packages.join("my_pkg/meshes")).unwrap();
+    let stl = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0.1 0 0\nvertex 0 0.1 0\nendloop\nendfacet\nendsolid t\n";
+    std::fs::write(packages.join("my_pkg/meshes/part.stl"), stl).unwrap();
+    // icub25 with a mesh on root_link, after its own visual, in a folder beside `packages`.
+    let icub = std::fs::read_to_string(format!("{REPO}/urdf/icub25.urdf")).unwrap();
+    let (head, tail) = icub.split_once("<link name=\"root_link\">").unwrap();
+    let (root, rest) = tail.split_once("</link>").unwrap();
+    let mesh = r#"<visual><geometry><mesh filename="package://my_pkg/meshes/part.stl"/></geometry></visual>"#;
+    std::fs::create_dir_all(ws.path("robot")).unwrap();
+    let urdf = ws.path("robot/icub_mesh.urdf");
+    std::fs::write(
+        &urdf,
+        format!("{head}<link name=\"root_link\">{root}{mesh}</link>{rest}"),
+    )
+    .unwrap();
+    let set_urdf = format!("robot.urdf={}", urdf.display());
+    let scenario = ws.scenario();
+    let run = |extra: &[&str]| {
+        let mcap = ws.path("run.mcap");
+        let mut args = vec!["run", &scenario, "--set", SHORT_RUN, "--set", &set_urdf];
+        args.extend(["--quiet", "--mcap", mcap.to_str().unwrap()]);
+        args.extend(extra);
+        let out = sea_sim(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        assert!(finished_mcap_messages(&mcap) > 0);
+        text(&out.stderr)
+    };
+    let warned = run(&[]);
+    assert!(warned.contains("warning:"), "{warned}");
+    assert!(warned.contains("link 'root_link'"), "{warned}");
+    assert!(
+        warned.contains("package://my_pkg/meshes/part.stl"),
+        "{warned}"
+    );
+    let found = run(&["--package-dir", packages.to_str().unwrap()]);
+    assert!(found.is_empty(), "{found}");
+}

@@ -79,10 +79,11 @@ fn a_websocket_client_receives_the_advertised_channels_and_messages() {
         "foxglove.sdk.v1"
     );
 
-    // Every channel is advertised with its encoding and schema name.
+    // Every channel is advertised with its encoding and schema name (and `/robot`).
     let expected: BTreeSet<&str> = sea_sim::foxglove::Topic::ALL
         .iter()
         .map(|t| t.name())
+        .chain([sea_sim::foxglove::ROBOT_TOPIC])
         .collect();
     let mut advertised: BTreeMap<String, serde_json::Value> = BTreeMap::new();
     while advertised.len() < expected.len() {
@@ -104,6 +105,7 @@ fn a_websocket_client_receives_the_advertised_channels_and_messages() {
     assert_eq!(topics, expected);
     assert_eq!(advertised["/tf"]["encoding"], "protobuf");
     assert_eq!(advertised["/scene"]["schemaName"], "foxglove.SceneUpdate");
+    assert_eq!(advertised["/robot"]["schemaName"], "foxglove.SceneUpdate");
     assert_eq!(advertised["/com"]["encoding"], "json");
 
     // Subscribed to /com, the client receives message data (opcode 0x01) with JSON in it.

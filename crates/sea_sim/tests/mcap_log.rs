@@ -1,6 +1,6 @@
 //! The MCAP logger writes a file Foxglove and the `mcap` reader accept, also when dropped
-//! without `finish()`; `/tf` and `/scene` decode as the SDK's protobuf messages, the robot's
-//! scene entities sit on `/tf` frames and the URDF is attached.
+//! without `finish()`; `/tf`, `/robot` and `/scene` decode as the SDK's protobuf messages, the
+//! robot's scene entities sit on `/tf` frames and the URDF is attached.
 
 use foxglove::messages::{FrameTransforms, SceneUpdate};
 use foxglove::Decode;
@@ -170,6 +170,13 @@ fn check_file(model: &Model, bytes: &[u8], count: usize) {
         let message = message.expect("message");
         let topic = message.channel.topic.clone();
         let schema = message.channel.schema.as_ref().expect("schema");
+        if topic == "/robot" {
+            // The robot's bodies, once, with the first sample (checked by the scene test).
+            assert_eq!(schema.name, "foxglove.SceneUpdate");
+            assert_eq!(message.channel.message_encoding, "protobuf");
+            *counts.entry(topic).or_default() += 1;
+            continue;
+        }
         let position = TOPICS
             .iter()
             .position(|(t, _)| *t == topic)
@@ -257,6 +264,7 @@ fn check_file(model: &Model, bytes: &[u8], count: usize) {
     for (topic, _) in TOPICS {
         assert_eq!(counts.get(topic), Some(&count), "message count of {topic}");
     }
+    assert!(counts.get("/robot").is_none_or(|n| *n == 1), "one /robot");
 }
 
 #[test]
@@ -433,8 +441,8 @@ fn scene_draws_the_urdf_on_tf_frames_and_the_urdf_is_attached() {
     };
     let mut logger = create(&model, &file.0);
     let source = SceneSource {
-        urdf: PathBuf::from(URDF),
         foot: Some(foot),
+        ..SceneSource::new(URDF)
     };
     logger.set_scene(&source).expect("scene");
     for_each_sample(&model, 5, |sample| logger.log(sample).expect("log"));
@@ -450,14 +458,20 @@ fn scene_draws_the_urdf_on_tf_frames_and_the_urdf_is_attached() {
         .filter(|l| !l.visual.is_empty())
         .map(|l| l.name.as_str())
         .collect();
-    let scene = mcap::MessageStream::new(&bytes)
-        .unwrap()
-        .map(Result::unwrap)
-        .find(|m| m.channel.topic == "/scene")
-        .expect("a /scene message");
-    let scene = SceneUpdate::decode(&scene.data[..]).unwrap();
+    let first = |topic: &str| {
+        let message = mcap::MessageStream::new(&bytes)
+            .unwrap()
+            .map(Result::unwrap)
+            .find(|m| m.channel.topic == topic)
+            .unwrap_or_else(|| panic!("a {topic} message"));
+        assert_eq!(message.log_time, 0, "{topic} with the first sample");
+        SceneUpdate::decode(&message.data[..]).unwrap()
+    };
+    let scene = first("/scene");
+    let robot = first("/robot");
+    assert!(scene.entities.iter().all(|e| !e.id.starts_with("link/")));
     let mut drawn_links = BTreeSet::new();
-    for entity in &scene.entities {
+    for entity in scene.entities.iter().chain(&robot.entities) {
         assert!(
             entity.frame_id == "world" || link_frames.contains(entity.frame_id.as_str()),
             "{}: frame {} is not in /tf",
@@ -473,12 +487,11 @@ fn scene_draws_the_urdf_on_tf_frames_and_the_urdf_is_attached() {
         drawn_links, visual_links,
         "one body entity per link with visuals"
     );
-    let primitives: usize = scene
+    let primitives: usize = robot
         .entities
         .iter()
         .map(|e| e.cubes.len() + e.spheres.len() + e.cylinders.len())
-        .sum::<usize>()
-        - 2; // the CoM spheres
+        .sum::<usize>();
     assert_eq!(
         primitives,
         urdf.links.iter().map(|l| l.visual.len()).sum::<usize>()

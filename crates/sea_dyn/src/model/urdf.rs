@@ -42,10 +42,17 @@ impl Model {
 
     /// Builds a model from URDF text.
     pub fn from_urdf_str(text: &str, options: &LoadOptions) -> Result<Model> {
-        let robot = urdf_rs::read_from_string(&without_empty_textures(text))
-            .map_err(|e| Error::parse(format!("cannot parse URDF: {e}")))?;
-        build(&robot, options)
+        build(&parse_urdf(text)?, options)
     }
+}
+
+/// The URDF text parsed by `urdf-rs`, as the model reads it (empty `<texture>` elements
+/// tolerated, see `without_empty_textures`); for readers of the URDF's other parts (visuals).
+///
+/// Errors: [`Error::Parse`] when the text is not a URDF.
+pub fn parse_urdf(text: &str) -> Result<urdf_rs::Robot> {
+    urdf_rs::read_from_string(&without_empty_textures(text))
+        .map_err(|e| Error::parse(format!("cannot parse URDF: {e}")))
 }
 
 /// The text without `<texture>` elements that have no `filename` attribute.

@@ -110,6 +110,10 @@ struct RunArgs {
     #[arg(long, value_name = "N", default_value_t = sea_sim::foxglove::live::DEFAULT_LIVE_PORT,
           requires = "live")]
     port: u16,
+    /// Look for the URDF's `package://` meshes in DIR first (repeatable; then ROS_PACKAGE_PATH,
+    /// AMENT/CMAKE_PREFIX_PATH, the Python environment's cmeel prefix, then above the URDF).
+    #[arg(long = "package-dir", value_name = "DIR")]
+    package_dirs: Vec<PathBuf>,
 }
 
 /// Options of `sea-sim bench`.
@@ -433,8 +437,15 @@ fn run_scenario(args: &RunArgs, interrupts: &Interrupts) -> sea_sim::Result<Outc
     }
     let mut progress = Progress::new(args.quiet, duration_s);
     // Only the log keeps samples: memory stays bounded however long the run.
-    let mut log = outputs.mcap.as_ref().map(|o| McapSink::new(o.path()));
-    let mut live = args.live.then(|| start_live(args.port)).transpose()?;
+    let mut log = outputs
+        .mcap
+        .as_ref()
+        .map(|o| McapSink::new(o.path()).with_package_dirs(&args.package_dirs));
+    let mut live = args
+        .live
+        .then(|| start_live(args.port))
+        .transpose()?
+        .map(|live| live.with_package_dirs(&args.package_dirs));
     let mut sinks: Vec<&mut dyn RecordSink> = log
         .iter_mut()
         .map(|sink| sink as &mut dyn RecordSink)

@@ -9,7 +9,7 @@
 //! a run slower than real time is not slowed further by more than the encoding (about a fifth
 //! of a tick).
 
-use super::{SampleEncoder, SceneSource, StaticScene, Topic};
+use super::{SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC};
 use crate::closed_loop::{RecordSink, RunInfo, Sample};
 use crate::error::Error;
 use crate::Result;
@@ -29,7 +29,13 @@ pub struct LiveServer {
     _context: Arc<Context>,
     server: Option<::foxglove::WebSocketServerHandle>,
     channels: Vec<Arc<RawChannel>>,
+    /// `/robot`, republished every [`ROBOT_REPUBLISH_INTERVAL`].
+    robot: Arc<RawChannel>,
 }
+
+/// Wall time between two `/robot` messages of the live view: a client that connects late
+/// sees the robot within this time.
+const ROBOT_REPUBLISH_INTERVAL: Duration = Duration::from_secs(1);
 
 impl LiveServer {
     /// Starts the server on [`LIVE_HOST`]:`port` (0: any free port) and advertises every
@@ -38,17 +44,19 @@ impl LiveServer {
     /// Errors: [`Error::Log`] when the server cannot start (e.g. the port is taken).
     pub fn start(port: u16) -> Result<Self> {
         let context = Context::new();
+        let channel = |name: &str, topic: Topic| {
+            ChannelBuilder::new(name)
+                .context(&context)
+                .message_encoding(topic.message_encoding())
+                .schema(topic.schema())
+                .build_raw()
+                .map_err(|e| Error::Log(format!("live channel {name}: {e}")))
+        };
         let channels = Topic::ALL
             .iter()
-            .map(|topic| {
-                ChannelBuilder::new(topic.name())
-                    .context(&context)
-                    .message_encoding(topic.message_encoding())
-                    .schema(topic.schema())
-                    .build_raw()
-                    .map_err(|e| Error::Log(format!("live channel {}: {e}", topic.name())))
-            })
+            .map(|topic| channel(topic.name(), *topic))
             .collect::<Result<Vec<_>>>()?;
+        let robot = channel(ROBOT_TOPIC, Topic::Scene)?;
         let server = WebSocketServer::new()
             .name("sea-sim")
             .context(&context)
@@ -59,6 +67,7 @@ impl LiveServer {
             _context: context,
             server: Some(server),
             channels,
+            robot,
         })
     }
 
@@ -74,7 +83,7 @@ impl LiveServer {
 
     /// Closes the channels and stops the server.
     fn stop(&mut self) {
-        for channel in &self.channels {
+        for channel in self.channels.iter().chain([&self.robot]) {
             channel.close();
         }
         if let Some(server) = self.server.take() {
@@ -97,6 +106,10 @@ pub struct LiveSink {
     encoder: Option<SampleEncoder>,
     /// Wall time and simulated time of the first sample.
     origin: Option<(Instant, f64)>,
+    /// The `/robot` message and when it was last published.
+    robot: Option<(Vec<u8>, Option<Instant>)>,
+    /// Searched first for the URDF's `package://` meshes.
+    package_dirs: Vec<std::path::PathBuf>,
 }
 
 impl LiveSink {
@@ -108,7 +121,16 @@ impl LiveSink {
             server: LiveServer::start(port)?,
             encoder: None,
             origin: None,
+            robot: None,
+            package_dirs: Vec::new(),
         })
+    }
+
+    /// The same sink looking for `package://` meshes in `dirs` first (then the environment's
+    /// package directories, then above the URDF).
+    pub fn with_package_dirs(mut self, dirs: &[std::path::PathBuf]) -> Self {
+        self.package_dirs = dirs.to_vec();
+        self
     }
 
     /// The port the server listens on.
@@ -129,11 +151,12 @@ impl LiveSink {
 impl RecordSink for LiveSink {
     fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
         let mut encoder = SampleEncoder::new(run.model, run.elastic_joints, run.contacts);
-        let scene = StaticScene::build(
-            &SceneSource::of_scenario(run.scenario),
+        let mut scene = StaticScene::build(
+            &SceneSource::of_scenario(run.scenario).with_package_dirs(&self.package_dirs),
             &encoder.link_frames(),
             run.contacts,
         )?;
+        self.robot = Some((std::mem::take(&mut scene.robot), None));
         encoder.set_scene(scene);
         self.encoder = Some(encoder);
         Ok(())
@@ -145,6 +168,15 @@ impl RecordSink for LiveSink {
             return Ok(());
         };
         let server = &self.server;
+        if let Some((robot, published)) = self.robot.as_mut() {
+            if published.is_none_or(|at| at.elapsed() >= ROBOT_REPUBLISH_INTERVAL) {
+                let time = super::nanoseconds(sample.time_s);
+                server
+                    .robot
+                    .log_with_meta(robot, PartialMetadata::with_log_time(time));
+                *published = Some(Instant::now());
+            }
+        }
         encoder.encode(sample, |topic, time, message| {
             server.publish(topic, time, message);
             Ok(())

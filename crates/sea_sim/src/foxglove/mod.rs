@@ -4,7 +4,8 @@
 //! | topic               | encoding | schema                          | content                                         |
 //! |---------------------|----------|---------------------------------|-------------------------------------------------|
 //! | `/tf`               | protobuf | `foxglove.FrameTransforms`      | `world_H_link` of every URDF link               |
-//! | `/scene`            | protobuf | `foxglove.SceneUpdate`          | robot bodies, support polygon, CoM, wrenches    |
+//! | `/robot` (once)     | protobuf | `foxglove.SceneUpdate`          | robot bodies: URDF boxes, cylinders, spheres, meshes |
+//! | `/scene`            | protobuf | `foxglove.SceneUpdate`          | support polygon, CoM, wrenches                  |
 //! | `/com`              | json     | `sea_momentum.Com`              | CoM, its reference, `error = com - ref`         |
 //! | `/momentum`         | json     | `sea_momentum.Momentum`         | centroidal momentum `[m pdot_com; L_com]`       |
 //! | `/joints`           | json     | `sea_momentum.JointState`       | `s`, `sdot`, joint torques                      |
@@ -21,21 +22,26 @@
 //! SDK type fits them, JSON needs no decoder package to read back (`json.loads`), and
 //! Foxglove plots JSON fields by path (`/com.error[0]`) just as protobuf ones.
 //!
-//! `/scene` draws the robot with no setup: one frame-locked entity per link with the URDF's
-//! boxes, cylinders and spheres (`frame_id` = link name, as in `/tf`), the foot rectangle of
-//! each contact as a closed line in the sole frame (the support polygon), the CoM and its
-//! reference as spheres, and the contact forces as arrows at the soles, in the `world` frame.
+//! `/robot` and `/scene` draw the robot with no setup: `/robot`, written once (at the first
+//! sample; see [`scene`] for why and for seeking), has one frame-locked entity per link with the
+//! URDF's boxes, cylinders, spheres and meshes (`frame_id` = link name, as in `/tf`); `/scene`
+//! has the foot rectangle of each contact as a closed line in the sole frame (the support
+//! polygon), the CoM and its reference as spheres, and the contact forces as arrows at the
+//! soles, in the `world` frame.
 //! Units are SI, axes are world axes, `log_time = publish_time = time_s` in nanoseconds.
 //! Non-finite numbers (a diverged run) are JSON `null`; a `/tf` or `/scene` message is skipped
 //! when a pose in it is not finite, since Foxglove needs numbers there.
 
 mod channels;
 pub mod live;
-mod scene;
+pub mod scene;
 
 pub use channels::{nanoseconds, SampleEncoder, Topic};
 pub(crate) use scene::StaticScene;
 pub use scene::{FootRectangle, SceneSource, ARROW_M_PER_N};
+
+/// The topic of the robot's bodies (`foxglove.SceneUpdate`, one message per log).
+pub const ROBOT_TOPIC: &str = "/robot";
 
 /// The fixed frame: parent of every link in `/tf`, frame of the CoM and wrench markers.
 pub const WORLD_FRAME: &str = "world";

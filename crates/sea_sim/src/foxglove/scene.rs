@@ -1,25 +1,45 @@
-//! The `/scene` channel (`foxglove.SceneUpdate`): the robot drawn from the URDF's visual
-//! primitives, the support polygon, the CoM and its reference, the contact wrenches.
+//! The robot's scene: `/robot` (`foxglove.SceneUpdate`, once) draws the URDF's visuals, boxes,
+//! cylinders, spheres and meshes, one frame-locked entity per link; `/scene` (every sample)
+//! draws the support polygon, the CoM and its reference, the contact wrenches.
 //!
-//! The static part (robot bodies and foot rectangles, frame-locked to the link frames of `/tf`)
-//! is encoded once; every sample appends the moving markers. Protobuf concatenation merges
-//! repeated fields, so `static ++ markers` is one `SceneUpdate` holding both entity lists, and
-//! each `/scene` message is complete: a seek or a late live client shows the whole robot.
+//! Why two topics: meshes weigh about a megabyte (a budget of
+//! [`SCENE_TRIANGLE_BUDGET`] triangles per robot), too much to repeat in every sample. The
+//! robot's entities have lifetime 0 (kept until replaced) and are frame-locked, so one message
+//! draws the robot for the whole run, moving with `/tf`. After a seek Foxglove reads, for each
+//! topic, the last message at or before the new time, i.e. this one: the robot stays drawn.
+//! The live view republishes it every second for clients that connect late.
+//!
+//! The static part of `/scene` (the foot rectangles, frame-locked to the soles) is encoded
+//! once; every sample appends the moving markers. Protobuf concatenation merges repeated
+//! fields, so `static ++ markers` is one `SceneUpdate` holding both entity lists, and each
+//! `/scene` message is complete.
+//!
+//! Meshes are drawn as `TriangleListPrimitive`s (points and indices in the link frame), not as
+//! embedded model files (`ModelPrimitive`): no up-axis convention to match (Foxglove turns
+//! glTF and STL models from y-up to z-up), flat shading and both faces lit by Foxglove, and
+//! readable back by any protobuf reader. A mesh that cannot be drawn is a warning (kept in the
+//! log's metadata), the rest of the robot is drawn; [`SceneSource::strict`] makes it an error.
 
 use crate::error::Error;
+use crate::meshes::visuals::{
+    robot_visuals, MeshWarning, Shape, Visual, VisualOptions, SCENE_TRIANGLE_BUDGET,
+};
+use crate::meshes::{Placement, TriangleMesh};
 use crate::Result;
 use ::foxglove::messages::{
     line_primitive, ArrowPrimitive, Color, CubePrimitive, CylinderPrimitive, LinePrimitive, Point3,
-    Pose, Quaternion, SceneEntity, SceneUpdate, SpherePrimitive, Timestamp, Vector3,
+    Pose, Quaternion, SceneEntity, SceneUpdate, SpherePrimitive, Timestamp, TriangleListPrimitive,
+    Vector3,
 };
 use ::foxglove::Encode;
 use nalgebra::Vector3 as V3;
-use sea_dyn::spatial::{quaternion_from_rotation, rotation_from_rpy};
+use sea_dyn::resources::PackageDirs;
+use sea_dyn::spatial::quaternion_from_rotation;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
-/// Where the scene comes from: the URDF (visuals and the MCAP attachment) and the contact
-/// surface of each foot.
+/// Where the scene comes from: the URDF (visuals and the MCAP attachment), where its meshes
+/// are, and the contact surface of each foot.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneSource {
     /// The URDF file the model was loaded from.
@@ -27,6 +47,10 @@ pub struct SceneSource {
     /// The rectangle of every contact in its own frame, drawn as the support polygon; `None`
     /// draws none.
     pub foot: Option<FootRectangle>,
+    /// Where `package://` mesh URIs are looked for (and then above the URDF).
+    pub package_dirs: PackageDirs,
+    /// A mesh that cannot be drawn is an error (default: a warning, the rest is drawn).
+    pub strict: bool,
 }
 
 /// A foot's contact rectangle in the contact (sole) frame [m].
@@ -39,17 +63,44 @@ pub struct FootRectangle {
 }
 
 impl SceneSource {
-    /// The scene of `scenario`: its resolved URDF and the contact surface its controller and
-    /// plant share (`[controller.contact]` foot_x, foot_y).
+    /// The scene of `urdf` with no feet, the package directories of the environment, and
+    /// warnings for meshes that cannot be drawn.
+    pub fn new(urdf: impl Into<PathBuf>) -> Self {
+        Self {
+            urdf: urdf.into(),
+            foot: None,
+            package_dirs: PackageDirs::from_environment(Vec::<PathBuf>::new()),
+            strict: false,
+        }
+    }
+
+    /// The scene of `scenario`: its resolved URDF, the package directories of the environment
+    /// and the contact surface its controller and plant share (`[controller.contact]` foot_x,
+    /// foot_y).
     pub fn of_scenario(scenario: &crate::scenario::Scenario) -> Self {
         let contact = &scenario.controller.contact.surface;
         Self {
-            urdf: scenario.resolve(&scenario.robot.urdf),
             foot: Some(FootRectangle {
                 x: contact.foot_x,
                 y: contact.foot_y,
             }),
+            ..Self::new(scenario.resolve(&scenario.robot.urdf))
         }
+    }
+
+    /// The same scene with `dirs` searched first for `package://` URIs (then the
+    /// environment's, then above the URDF).
+    pub fn with_package_dirs(mut self, dirs: &[PathBuf]) -> Self {
+        let mut all = dirs.to_vec();
+        all.extend(
+            self.package_dirs
+                .dirs
+                .iter()
+                .filter(|d| !dirs.contains(d))
+                .cloned(),
+        );
+        self.package_dirs = PackageDirs::new(all);
+        self
     }
 }
 
@@ -59,13 +110,17 @@ pub(crate) struct StaticScene {
     pub file_name: String,
     /// The URDF as read.
     pub urdf_text: Vec<u8>,
-    /// Entities frame-locked to link frames (bodies, support polygon), protobuf-encoded as a
-    /// `SceneUpdate`.
+    /// The robot: one frame-locked entity per link with visuals, protobuf-encoded as a
+    /// `SceneUpdate` (the `/robot` message).
+    pub robot: Vec<u8>,
+    /// The static part of `/scene`: the support polygon, protobuf-encoded as a `SceneUpdate`.
     pub encoded: Vec<u8>,
+    /// The mesh visuals not drawn.
+    pub warnings: Vec<MeshWarning>,
+    /// Number of visuals drawn.
+    pub visuals_drawn: usize,
 }
 
-/// Colour of the visuals whose material has none.
-const DEFAULT_BODY_COLOR: [f64; 4] = [0.7, 0.7, 0.72, 1.0];
 /// Colour of the support polygon.
 const SUPPORT_COLOR: [f64; 4] = [0.1, 0.6, 1.0, 1.0];
 /// Line width of the support polygon [m].
@@ -78,10 +133,12 @@ const COM_REFERENCE_DIAMETER_M: f64 = 0.035;
 pub const ARROW_M_PER_N: f64 = 0.0015;
 
 impl StaticScene {
-    /// Reads the URDF of `source` and builds the bodies of the links in `link_frames` and the
-    /// foot rectangles of `contacts` (names not in `link_frames` draw nothing).
+    /// Reads the URDF of `source` and builds the bodies of the links in `link_frames` (meshes
+    /// decimated to [`SCENE_TRIANGLE_BUDGET`] triangles) and the foot rectangles of `contacts`
+    /// (names not in `link_frames` draw nothing).
     ///
-    /// Errors: [`Error::Io`] when the URDF cannot be read, [`Error::Log`] when it does not parse.
+    /// Errors: [`Error::Io`] when the URDF cannot be read, [`Error::Log`] when it does not parse
+    /// or, with [`SceneSource::strict`], when a mesh cannot be drawn.
     pub fn build(
         source: &SceneSource,
         link_frames: &[String],
@@ -92,23 +149,43 @@ impl StaticScene {
             path: path.display().to_string(),
             source,
         })?;
-        let robot = urdf_rs::read_from_string(&String::from_utf8_lossy(&urdf_text))
+        let robot = sea_dyn::urdf::parse_urdf(&String::from_utf8_lossy(&urdf_text))
             .map_err(|e| Error::Log(format!("{}: {e}", path.display())))?;
         let frames: HashSet<&str> = link_frames.iter().map(String::as_str).collect();
-        let mut update = SceneUpdate {
-            deletions: Vec::new(),
-            entities: robot_entities(&robot, &frames),
+        let options = VisualOptions {
+            urdf_dir: path.parent().unwrap_or(Path::new(".")),
+            package_dirs: &source.package_dirs,
+            triangle_budget: SCENE_TRIANGLE_BUDGET,
         };
+        let visuals = robot_visuals(&robot, Some(&frames), &options);
+        if source.strict && !visuals.warnings.is_empty() {
+            return Err(Error::Log(format!(
+                "{}: {}",
+                path.display(),
+                visuals
+                    .warnings
+                    .iter()
+                    .map(ToString::to_string)
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            )));
+        }
+        let mut support = SceneUpdate::default();
         if let Some(foot) = source.foot {
             let feet = contacts.iter().filter(|c| frames.contains(c.as_str()));
-            update
-                .entities
-                .extend(feet.map(|c| support_polygon(c, foot)));
+            support.entities = feet.map(|c| support_polygon(c, foot)).collect();
         }
+        let robot_update = SceneUpdate {
+            deletions: Vec::new(),
+            entities: link_entities(&visuals.visuals),
+        };
         Ok(Self {
             file_name: file_name(path),
             urdf_text,
-            encoded: encode_to_vec(&update),
+            robot: encode_to_vec(&robot_update),
+            encoded: encode_to_vec(&support),
+            warnings: visuals.warnings,
+            visuals_drawn: visuals.visuals.len(),
         })
     }
 }
@@ -127,47 +204,71 @@ fn file_name(path: &Path) -> String {
         .unwrap_or_else(|| path.display().to_string())
 }
 
-/// One frame-locked entity per link with visuals, id `link/<name>`; boxes, cylinders and
-/// spheres are drawn, meshes and capsules skipped (the iCub model has none).
-fn robot_entities(robot: &urdf_rs::Robot, frames: &HashSet<&str>) -> Vec<SceneEntity> {
-    let mut entities = Vec::new();
-    for link in robot
-        .links
-        .iter()
-        .filter(|l| frames.contains(l.name.as_str()))
-    {
-        let mut entity = frame_locked_entity(&link.name, format!("link/{}", link.name));
-        for visual in &link.visual {
-            let pose = Some(visual_pose(&visual.origin));
-            let color = Some(material_color(robot, visual.material.as_ref()));
-            match &visual.geometry {
-                urdf_rs::Geometry::Box { size } => entity.cubes.push(CubePrimitive {
-                    pose,
-                    size: Some(vector(size.0)),
-                    color,
-                }),
-                urdf_rs::Geometry::Cylinder { radius, length } => {
-                    entity.cylinders.push(CylinderPrimitive {
-                        pose,
-                        size: Some(vector([2.0 * radius, 2.0 * radius, *length])),
-                        bottom_scale: 1.0,
-                        top_scale: 1.0,
-                        color,
-                    })
-                }
-                urdf_rs::Geometry::Sphere { radius } => entity.spheres.push(SpherePrimitive {
-                    pose,
-                    size: Some(vector([2.0 * radius; 3])),
-                    color,
-                }),
-                _ => {}
+/// One frame-locked entity per link with visuals, id `link/<name>`, in the order of the links'
+/// first visuals.
+fn link_entities(visuals: &[Visual]) -> Vec<SceneEntity> {
+    let mut entities: Vec<SceneEntity> = Vec::new();
+    for visual in visuals {
+        let id = format!("link/{}", visual.link);
+        let index = match entities.iter().position(|e| e.id == id) {
+            Some(index) => index,
+            None => {
+                entities.push(frame_locked_entity(&visual.link, id));
+                entities.len() - 1
             }
-        }
-        if !(entity.cubes.is_empty() && entity.cylinders.is_empty() && entity.spheres.is_empty()) {
-            entities.push(entity);
-        }
+        };
+        add_visual(&mut entities[index], visual);
     }
     entities
+}
+
+/// Adds the primitive that draws `visual` to `entity`.
+fn add_visual(entity: &mut SceneEntity, visual: &Visual) {
+    let pose = Some(placement_pose(&visual.link_placement));
+    let color = Some(color(visual.rgba));
+    match &visual.shape {
+        Shape::Box { size } => entity.cubes.push(CubePrimitive {
+            pose,
+            size: Some(vector(*size)),
+            color,
+        }),
+        Shape::Cylinder { radius, length } => entity.cylinders.push(CylinderPrimitive {
+            pose,
+            size: Some(vector([2.0 * radius, 2.0 * radius, *length])),
+            bottom_scale: 1.0,
+            top_scale: 1.0,
+            color,
+        }),
+        Shape::Sphere { radius } => entity.spheres.push(SpherePrimitive {
+            pose,
+            size: Some(vector([2.0 * radius; 3])),
+            color,
+        }),
+        Shape::Mesh(mesh) => entity.triangles.push(triangle_list(mesh, pose, color)),
+    }
+}
+
+/// A mesh as an indexed triangle list.
+fn triangle_list(
+    mesh: &TriangleMesh,
+    pose: Option<Pose>,
+    color: Option<Color>,
+) -> TriangleListPrimitive {
+    TriangleListPrimitive {
+        pose,
+        points: mesh
+            .positions
+            .iter()
+            .map(|p| Point3 {
+                x: f64::from(p[0]),
+                y: f64::from(p[1]),
+                z: f64::from(p[2]),
+            })
+            .collect(),
+        color,
+        colors: Vec::new(),
+        indices: mesh.triangles.iter().flatten().copied().collect(),
+    }
 }
 
 /// An empty entity `id` that moves with `frame_id` (lifetime: until replaced).
@@ -209,30 +310,11 @@ fn support_polygon(contact: &str, foot: FootRectangle) -> SceneEntity {
     entity
 }
 
-/// The visual's `origin` as a pose in its link frame (URDF rpy: fixed axes x, y, z).
-fn visual_pose(origin: &urdf_rs::Pose) -> Pose {
-    let [roll, pitch, yaw] = origin.rpy.0;
-    let [w, x, y, z] = quaternion_from_rotation(&rotation_from_rpy(roll, pitch, yaw));
-    Pose {
-        position: Some(vector(origin.xyz.0)),
-        orientation: Some(Quaternion { x, y, z, w }),
-    }
-}
-
-/// The visual's own colour, else its named material's in the robot's material list, else
-/// [`DEFAULT_BODY_COLOR`].
-fn material_color(robot: &urdf_rs::Robot, material: Option<&urdf_rs::Material>) -> Color {
-    let named = |m: &urdf_rs::Material| {
-        robot
-            .materials
-            .iter()
-            .find(|global| global.name == m.name)
-            .and_then(|global| global.color.clone())
-    };
-    let rgba = material
-        .and_then(|m| m.color.clone().or_else(|| named(m)))
-        .map_or(DEFAULT_BODY_COLOR, |c| c.rgba.0);
-    color(rgba)
+/// A placement's rotation and translation as a pose (the scale is not a pose's: meshes carry
+/// theirs in their points).
+fn placement_pose(placement: &Placement) -> Pose {
+    let rotation = nalgebra::Matrix3::from_fn(|r, c| placement.rotation[r][c]);
+    pose_at(placement.translation, quaternion_from_rotation(&rotation))
 }
 
 /// The moving markers of `/scene` in the world frame: CoM, its reference, one arrow per
