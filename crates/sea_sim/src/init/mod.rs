@@ -76,7 +76,8 @@ pub fn parse_foot(text: &str) -> Result<FootRectangle> {
 /// `rectangle` when its minima are below its maxima.
 pub fn check_foot(rectangle: &FootRectangle) -> Result<FootRectangle> {
     for (axis, [min, max]) in [("x", rectangle.x), ("y", rectangle.y)] {
-        if !(min < max) {
+        // NaN compares to nothing: refused too.
+        if min.partial_cmp(&max) != Some(std::cmp::Ordering::Less) {
             return Err(Error::invalid(
                 "foot",
                 format!("must have {axis}0 < {axis}1 (contact frame) [m]"),
