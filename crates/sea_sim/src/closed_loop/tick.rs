@@ -3,6 +3,7 @@
 //! divergence bounds, and the plant's advance to the next sample with the input held
 //! (zero-order hold) or the law at every integrator stage (continuous).
 
+use super::contact_check::ContactCheck;
 use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
 use super::statistics::{Divergence, RunEnd};
@@ -159,6 +160,8 @@ pub(super) struct Engine<'a> {
     x: Vec<f64>,
     /// The evaluations at the later integrator stages (continuous sampling), not recorded.
     stage: Observation,
+    /// Fall detection on the plant's outputs at each sample.
+    contact_check: ContactCheck,
 }
 
 impl<'a> Engine<'a> {
@@ -199,6 +202,7 @@ impl<'a> Engine<'a> {
                 outputs: PlantOutputs::new(plant),
             },
             x: x0.clone(),
+            contact_check: ContactCheck::new(plant),
         })
     }
 
@@ -232,8 +236,26 @@ impl<'a> Engine<'a> {
     /// (evaluating the plant for the record) when a bound is crossed, `interrupted` is set or
     /// the run is over, and otherwise advances the plant to the next sample (see
     /// [`Engine::commit`]). `Err` carries the reason when the controller fails at the sample
-    /// itself (then there is nothing to record).
+    /// itself (then there is nothing to record). A foot whose wrench at the sample violates
+    /// a contact constraint ends the run as [`RunEnd::Fell`] (unless it diverged there).
     pub fn period(
+        &mut self,
+        index: usize,
+        interrupted: bool,
+    ) -> std::result::Result<Period, Divergence> {
+        let mut period = self.period_unchecked(index, interrupted)?;
+        if !matches!(period.end, Some(RunEnd::Diverged { .. })) {
+            let (plant, outputs) = (self.side.plant, &self.side.outputs);
+            if let Some(fall) = self.contact_check.fall(plant, &self.x, outputs) {
+                let at_s = self.schedule.time(index);
+                period.end = Some(RunEnd::Fell { at_s, fall });
+            }
+        }
+        Ok(period)
+    }
+
+    /// [`Engine::period`] without the fall check.
+    fn period_unchecked(
         &mut self,
         index: usize,
         interrupted: bool,
