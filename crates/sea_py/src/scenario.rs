@@ -145,6 +145,12 @@ fn summary_fields<'py>(
     let fields = PyDict::new(py);
     fields.set_item("status", &summary.status)?;
     fields.set_item("diverged_at_s", summary.diverged_at_s)?;
+    let fall = summary.fall.as_ref();
+    fields.set_item("fell_at_s", fall.map(|f| f.at_s))?;
+    fields.set_item("fall_foot", fall.map(|f| f.foot.as_str()))?;
+    fields.set_item("fall_constraint", fall.map(|f| f.constraint))?;
+    fields.set_item("fall_value", fall.map(|f| f.value))?;
+    fields.set_item("fall_bound", fall.map(|f| f.bound))?;
     fields.set_item("reason", &summary.reason)?;
     fields.set_item("sampling", &summary.sampling)?;
     fields.set_item("duration_s", summary.duration_s)?;

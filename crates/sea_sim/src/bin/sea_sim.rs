@@ -592,6 +592,10 @@ fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
         "method": report.method.name(),
         "range": [lower, upper],
         "boundaries": report.boundaries,
+        "conclusion": report.conclusion().name(),
+        "own_value": report.own_value,
+        "own_value_stable": report.own_value_stable(),
+        "stable_island": report.island().map(|ends| ends.map(|end| end.value())),
         "evaluations": report.evaluations(),
         "samples": samples,
     });
@@ -610,15 +614,48 @@ fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
     Ok(())
 }
 
-/// The margin report for a reader: the boundaries, then every evaluation in value order.
+/// What the margin scan found, in words: the boundaries or the range's one verdict, then the
+/// scenario's own value and its stable island.
+fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -> String {
+    use sea_sim::analysis::margin::{IslandEnd, MarginConclusion};
+    let [lower, upper] = report.range;
+    let mut text = match report.conclusion() {
+        MarginConclusion::Boundaries => {
+            let boundaries: Vec<String> =
+                report.boundaries.iter().map(|b| format!("{b}")).collect();
+            format!("stability changes at [{}]", boundaries.join(", "))
+        }
+        MarginConclusion::StableOverRange => format!("stable over [{lower}, {upper}]"),
+        MarginConclusion::UnstableOverRange => {
+            format!("unstable over the whole scanned range [{lower}, {upper}]")
+        }
+    };
+    let end = |end: IslandEnd| match end {
+        IslandEnd::Boundary(value) => format!("{value}"),
+        IslandEnd::RangeEnd(value) => format!("{value} (range end)"),
+    };
+    text += &match (report.own_value, report.own_value_stable(), report.island()) {
+        (_, _, Some([low, high])) => format!(
+            "; the scenario's own value {} lies in the stable island [{}, {}]",
+            report.own_value.unwrap_or(f64::NAN),
+            end(low),
+            end(high)
+        ),
+        (Some(own), Some(false), _) => format!("; the scenario's own value {own} is unstable"),
+        (Some(own), _, _) => format!("; the scenario's own value {own} is outside the range"),
+        (None, _, _) => "; the scenario's own value is not a readable number".to_string(),
+    };
+    text
+}
+
+/// The margin report for a reader: the verdict, then every evaluation in value order.
 fn margin_table(report: &sea_sim::analysis::margin::MarginReport) -> String {
-    let boundaries: Vec<String> = report.boundaries.iter().map(|b| format!("{b}")).collect();
     let mut table = format!(
-        "{} ({} method, {} evaluations): stability changes at [{}]",
+        "{} ({} method, {} evaluations): {}",
         report.parameter,
         report.method.name(),
         report.evaluations(),
-        boundaries.join(", ")
+        margin_verdict(report)
     );
     let mut samples: Vec<_> = report.samples.iter().collect();
     samples.sort_by(|a, b| a.value.total_cmp(&b.value));
