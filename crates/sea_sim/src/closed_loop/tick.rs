@@ -8,7 +8,7 @@ use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
 use super::statistics::{Divergence, RunEnd};
 use crate::error::Result;
-use crate::scenario::{Scenario, Setup};
+use crate::scenario::{DisturbanceSchedule, Scenario, Setup};
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::MomentumController;
 use sea_dyn::Model;
@@ -89,16 +89,20 @@ struct PlantSide<'a> {
     u: Vec<f64>,
     /// The plant's outputs at the state of the current sample.
     outputs: PlantOutputs,
+    /// `[[disturbances]]`: which external wrench acts at each plant step.
+    disturbances: DisturbanceSchedule,
 }
 
 impl PlantSide<'_> {
-    /// Evaluates the plant at `x` with the law's last input, for the record.
+    /// Evaluates the plant at `x` (time `time`) with the law's last input, for the record.
     fn evaluate_at(
         &mut self,
         law: &Law<'_>,
         hand_over: HandOver,
         x: &[f64],
+        time: f64,
     ) -> std::result::Result<(), Divergence> {
+        self.disturbances.apply(&mut self.pd.workspace, time);
         hand_over.give(law, self.plant, &mut self.pd.workspace, x);
         let u = &law.last().output.input;
         let result =
@@ -106,20 +110,23 @@ impl PlantSide<'_> {
         result.map_err(|e| Divergence::PlantFailed(e.to_string()))
     }
 
-    /// Zero-order hold: the plant steps over one control period from `x` with the law's last
-    /// input held, into `x_next`; the first step's start evaluation gives the outputs at `x`.
+    /// Zero-order hold: the plant steps over one control period from `x` (time `time`) with
+    /// the law's last input held, into `x_next`; the first step's start evaluation gives the
+    /// outputs at `x`.
     fn advance_held(
         &mut self,
         law: &Law<'_>,
         hand_over: HandOver,
         x: &[f64],
-        schedule: &Schedule,
+        (time, schedule): (f64, &Schedule),
     ) -> std::result::Result<(), Divergence> {
         let u = &law.last().output.input;
         self.x_step.copy_from_slice(x);
         // The first step starts where the controller just ticked.
         hand_over.give(law, self.plant, &mut self.pd.workspace, &self.x_step);
         for k in 0..schedule.steps_per_period {
+            let step_start = time + k as f64 * schedule.step;
+            self.disturbances.apply(&mut self.pd.workspace, step_start);
             let result = sea_plant::step(
                 self.plant,
                 &mut self.pd,
@@ -182,6 +189,13 @@ impl<'a> Engine<'a> {
         let hand_over = HandOver {
             share_model_terms: controller.model() == &plant.model,
         };
+        let mut pd = PlantData::new(plant);
+        let disturbances = DisturbanceSchedule::new(
+            &scenario.disturbances,
+            &plant.model,
+            schedule.step,
+            &mut pd.workspace,
+        )?;
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         Ok(Engine {
             scenario,
@@ -195,11 +209,12 @@ impl<'a> Engine<'a> {
             side: PlantSide {
                 plant,
                 method,
-                pd: PlantData::new(plant),
+                pd,
                 x_next: x0.clone(),
                 x_step: x0.clone(),
                 u: vec![0.0; model.n_joints()],
                 outputs: PlantOutputs::new(plant),
+                disturbances,
             },
             x: x0.clone(),
             contact_check: ContactCheck::new(plant),
@@ -276,10 +291,13 @@ impl<'a> Engine<'a> {
             None => None,
         };
         let failure = match stop {
-            Some(_) => self.side.evaluate_at(&self.law, self.hand_over, &self.x),
-            None => self
+            Some(_) => self
                 .side
-                .advance_held(&self.law, self.hand_over, &self.x, &self.schedule),
+                .evaluate_at(&self.law, self.hand_over, &self.x, time),
+            None => {
+                self.side
+                    .advance_held(&self.law, self.hand_over, &self.x, (time, &self.schedule))
+            }
         };
         let end = match failure {
             Err(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
@@ -296,6 +314,7 @@ impl<'a> Engine<'a> {
         let mut observed = false;
         let (law, stage, hand_over) = (&mut self.law, &mut self.stage, self.hand_over);
         let side = &mut self.side;
+        side.disturbances.apply(&mut side.pd.workspace, time);
         let plant = side.plant;
         let mut feedback = |t: f64, x: &[f64], u: &mut [f64], ws: &mut Workspace| -> Result<()> {
             let input = if observed {

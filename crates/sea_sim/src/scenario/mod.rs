@@ -12,6 +12,7 @@
 //! [`sea_dyn::critical_damping`]) and in the robot description ([`robots::icub`]).
 
 pub mod build;
+pub mod disturbances;
 pub mod parse;
 pub mod robots;
 pub mod schema;
@@ -19,6 +20,7 @@ pub mod settings;
 pub mod validate;
 
 pub use build::{build, Setup};
+pub use disturbances::{DisturbanceConfig, DisturbanceSchedule};
 pub use parse::{apply_override, TableError};
 pub use robots::{icub, RobotDescription};
 pub use schema::{
@@ -61,6 +63,9 @@ pub struct Scenario {
     /// `[simulation]`.
     #[serde(default)]
     pub simulation: SimulationConfig,
+    /// `[[disturbances]]`: external wrenches on links over time windows (none by default).
+    #[serde(default)]
+    pub disturbances: Vec<DisturbanceConfig>,
     /// Folder of the scenario file (for relative paths).
     #[serde(skip)]
     pub base_dir: PathBuf,
