@@ -6,6 +6,7 @@
 pub mod eigen;
 pub mod linearize;
 pub mod margin;
+pub mod push;
 pub mod system;
 
 pub use linearize::{

@@ -19,6 +19,7 @@
 use clap::{Args, Parser, Subcommand};
 use sea_dyn::{LoadOptions, Model};
 use sea_sim::analysis::margin::MarginOptions;
+use sea_sim::analysis::push::PushOptions;
 use sea_sim::closed_loop::{run_with_sinks, RecordSink};
 use sea_sim::mcap_log::McapSink;
 use sea_sim::output::{check_distinct, OutputFile};
@@ -58,6 +59,10 @@ enum Command {
     /// Find the values of one numeric scenario key where the closed loop's stability changes
     /// (grid scan, then bisection); prints a JSON report.
     Margin(MarginArgs),
+    /// Find, per direction, the largest impulse of a short push on a link that the closed loop
+    /// recovers from (bisection on full runs, directions in parallel), with the stance's
+    /// capture-point bound; prints a JSON report.
+    Push(PushArgs),
 }
 
 /// Options of `sea-sim run`.
@@ -170,6 +175,37 @@ struct MarginArgs {
     /// Print the JSON report on stdout instead of a table.
     #[arg(long)]
     json: bool,
+}
+
+/// Options of `sea-sim push`.
+#[derive(Args, Debug)]
+struct PushArgs {
+    /// Scenario file (TOML), e.g. scenarios/robot_rate/push_two_feet.toml; its own
+    /// `[[disturbances]]` are replaced by the push.
+    scenario: PathBuf,
+    /// Directions, comma-separated: forward, backward, left, right (the first contact's sole
+    /// axes).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "forward,backward,left,right"
+    )]
+    directions: Vec<String>,
+    /// The pushed link.
+    #[arg(long, default_value_t = PushOptions::default().link)]
+    link: String,
+    /// Start of the push [s].
+    #[arg(long, default_value_t = PushOptions::default().start_s)]
+    start: f64,
+    /// Length of the push [s].
+    #[arg(long, default_value_t = PushOptions::default().duration_s)]
+    duration: f64,
+    /// Bisection resolution [N s].
+    #[arg(long, default_value_t = PushOptions::default().tolerance_n_s)]
+    tolerance: f64,
+    /// Override a scenario value, e.g. `--set controller.kind=rigid` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
+    overrides: Vec<(String, String)>,
 }
 
 /// `LOWER:UPPER` of `--range`.
@@ -669,6 +705,52 @@ fn margin_table(report: &sea_sim::analysis::margin::MarginReport) -> String {
     table
 }
 
+// ---- push ----
+
+/// `sea-sim push`: the push table as JSON on stdout.
+fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
+    use sea_sim::analysis::push::{push_table, PushDirection};
+    let directions = args
+        .directions
+        .iter()
+        .map(|name| PushDirection::parse(name))
+        .collect::<sea_sim::Result<Vec<_>>>()?;
+    let options = PushOptions {
+        link: args.link.clone(),
+        start_s: args.start,
+        duration_s: args.duration,
+        tolerance_n_s: args.tolerance,
+    };
+    let table = push_table(&args.scenario, &args.overrides, &options, &directions)?;
+    let rows: Vec<serde_json::Value> = table
+        .iter()
+        .map(|row| {
+            let fall = row.failed_summary.as_ref().map(|s| s.to_json());
+            serde_json::json!({
+                "direction": row.direction.name(),
+                "capture_point_impulse_n_s": row.capture_point_impulse,
+                "recovered_impulse_n_s": row.recovered_impulse,
+                "failed_impulse_n_s": row.failed_impulse,
+                "failed_status": fall.as_ref().map(|j| j["status"].clone()),
+                "failed_reason": fall.as_ref().map(|j| j["reason"].clone()),
+                "runs": row.runs,
+            })
+        })
+        .collect();
+    let json = serde_json::json!({
+        "scenario": args.scenario,
+        "overrides": args.overrides.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>(),
+        "link": options.link,
+        "start_s": options.start_s,
+        "duration_s": options.duration_s,
+        "directions": rows,
+    });
+    let text = serde_json::to_string_pretty(&json)
+        .map_err(|e| sea_sim::Error::Log(format!("push JSON: {e}")))?;
+    print_out(text);
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -681,6 +763,7 @@ fn main() -> ExitCode {
     let outcome = match &cli.command {
         Command::Bench(args) => run_bench(args).map(|()| Outcome::Completed),
         Command::Margin(args) => run_margin(args).map(|()| Outcome::Completed),
+        Command::Push(args) => run_push(args).map(|()| Outcome::Completed),
         Command::Sweep(args) => match Interrupts::install() {
             Ok(interrupts) => run_sweep_command(args, &interrupts),
             Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),
