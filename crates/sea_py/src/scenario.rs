@@ -39,6 +39,17 @@ pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<Stri
     if let Ok(number) = value.extract::<f64>() {
         return Ok(toml::Value::Float(number).to_string());
     }
+    // A dict is an inline table (e.g. one `[[disturbances]]` entry).
+    if let Ok(table) = value.cast::<PyDict>() {
+        let parts = table
+            .iter()
+            .map(|(name, item)| {
+                let name = toml::Value::String(name.str()?.to_string()).to_string();
+                Ok(format!("{name} = {}", toml_literal(&item, key)?))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(format!("{{{}}}", parts.join(", ")));
+    }
     if let Ok(items) = value.try_iter() {
         let parts = items
             .map(|item| toml_literal(&item?, key))
