@@ -185,3 +185,25 @@ def test_init_refuses_bad_input_naming_the_element(tmp_path, urdf, contacts, foo
     with pytest.raises(sm.ScenarioError, match=named.replace("(", r"\(")):
         sm.init_scenario(urdf, contacts, out, foot=foot)
     assert list(out.parent.iterdir()) == []
+
+
+PUSH = ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml"
+
+
+@pytest.mark.parametrize(
+    "field, value, key",
+    [
+        ("force", [1.0, float("nan"), 0.0], "disturbances[0].force"),
+        ("torque", [float("inf"), 0.0, 0.0], "disturbances[0].torque"),
+        ("start_s", -1.0, "disturbances[0].start_s"),
+        ("start_s", float("nan"), "disturbances[0].start_s"),
+        ("duration_s", -0.1, "disturbances[0].duration_s"),
+        ("link", "no_such_link", "disturbances[0].link"),
+        ("start_s", 1.0001, "disturbances[0].start_s"),  # not on the 0.25 ms plant step grid
+    ],
+)
+def test_bad_disturbance_names_its_key(field, value, key):
+    push = {"link": "root_link", "force": [1.0, 0.0, 0.0], "start_s": 1.0, "duration_s": 0.1, field: value}
+    with pytest.raises(sm.ScenarioError) as info:
+        sm.run_scenario(PUSH, {"disturbances": [push], "simulation.duration_s": 0.01})
+    assert info.value.key == key, str(info.value)

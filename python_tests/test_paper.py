@@ -128,11 +128,14 @@ def test_damping_underestimated_by_60_percent_diverges_sampled_at_1khz():
 
 def test_rigid_controller_diverges_after_the_step_and_sea_converges():
     sea = sm.run_scenario(PAPER / "step_sea.toml", {"simulation.duration_s": 5.0})
-    rigid = sm.run_scenario(PAPER / "step_rigid.toml")  # grows for seconds, then diverges
+    # The oscillation grows for seconds; the stance foot's centre of pressure leaves the sole
+    # (about 3.3 s) long before the joint error reaches its divergence bound (7.6 s).
+    rigid = sm.run_scenario(PAPER / "step_rigid.toml")
     assert sea.status == "completed"
     assert sea.joint_error_norm[-1] < 0.2
-    assert rigid.status == "diverged"
-    assert rigid.summary.diverged_at_s > 0.5  # after the step
+    assert rigid.status == "fell"
+    assert rigid.summary.fall_foot == "l_sole" and rigid.summary.fall_constraint == "center_of_pressure"
+    assert rigid.summary.fell_at_s > 0.5  # after the step
     assert rigid.summary.motor_velocity_peak_rad_s > 5 * sea.summary.motor_velocity_peak_rad_s
 
 

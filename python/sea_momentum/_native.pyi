@@ -327,7 +327,10 @@ def stability_margin_native(
 ) -> dict[str, object]:
     """Stability boundaries of a scenario key (GIL released); use
     ``sea_momentum.stability_margin``. Returns ``parameter``, ``boundaries`` (ascending),
-    ``method``, ``evaluations`` and ``samples`` (list of (value, stable, growth_rate or None))."""
+    ``conclusion`` ("boundaries" | "stable_over_range" | "unstable_over_range"), ``own_value``
+    (the scenario's value, or None), ``own_value_stable``, ``stable_island`` ((low, high)
+    containing the own value, or None), ``method``, ``evaluations`` and ``samples`` (list of
+    (value, stable, growth_rate or None))."""
 
 # --- Sweeps (sea_momentum.sweep, sea_momentum.ray_backend) ---
 

@@ -30,8 +30,9 @@ from .arrays import FloatArray
 #: unsolvable step.
 Status = Literal["completed", "diverged"]
 
-#: How a scenario run ended: as :data:`Status`, or stopped by Ctrl-C ("interrupted").
-RunStatus = Literal["completed", "diverged", "interrupted"]
+#: How a scenario run ended: as :data:`Status`, stopped by Ctrl-C ("interrupted"), or a foot's
+#: contact wrench left what a unilateral contact with friction transmits ("fell").
+RunStatus = Literal["completed", "diverged", "interrupted", "fell"]
 
 _R = TypeVar("_R", bound="Result")
 
@@ -120,11 +121,23 @@ class RunSummary(Result):
     """Summary statistics of a closed-loop scenario run (the ``--summary`` JSON of ``sea-sim``)."""
 
     status: RunStatus
-    """"completed", "diverged" or "interrupted"."""
+    """"completed", "diverged", "interrupted" or "fell"."""
     diverged_at_s: Optional[float]
     """Time of the divergence [s], None otherwise."""
+    fell_at_s: Optional[float]
+    """Time of the fall [s] (status "fell"), None otherwise."""
+    fall_foot: Optional[str]
+    """The contact frame whose wrench violated a constraint (status "fell")."""
+    fall_constraint: Optional[Literal["normal_force", "friction", "center_of_pressure"]]
+    """Which constraint: normal force > 0, friction cone, CoP inside the sole (status "fell")."""
+    fall_value: Optional[float]
+    """The violating value: normal force [N], friction ratio ``|f_t| / f_z`` or CoP coordinate
+    in the sole frame [m] (status "fell")."""
+    fall_bound: Optional[float]
+    """The bound crossed: 0 N, ``mu`` or the sole edge [m] (status "fell")."""
     reason: str
-    """Why it diverged (the quantity and its value) or "interrupted"; "" when completed."""
+    """Why it diverged (the quantity and its value), fell (the foot and constraint) or
+    "interrupted"; "" when completed."""
     sampling: str
     """Control sampling: "zero_order_hold" or "continuous"."""
     duration_s: float

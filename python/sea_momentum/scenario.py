@@ -41,7 +41,7 @@ class ScenarioResult(Result):
 
     @property
     def status(self) -> RunStatus:
-        """"completed", "diverged" or "interrupted"."""
+        """"completed", "diverged", "interrupted" or "fell"."""
         return self.summary.status
 
     def motor(self, joint: str) -> int:

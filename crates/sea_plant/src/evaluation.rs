@@ -124,6 +124,7 @@ pub fn evaluate(
     for j in 0..model.n_joints() {
         acceleration[6 + j] += out.joint_torque[j];
     }
+    crate::external::add_generalized_force(model, &mut ws.data, &ws.external, acceleration);
     ws.mass_factor.solve_lt(acceleration);
     if !plant.contacts.is_empty() {
         contact_terms(plant, ws, nu, adopted_contacts, out);

@@ -15,6 +15,7 @@
 //! - [`equilibrium`]: static torques and the spring preload holding a configuration at rest;
 //! - [`evaluation`]: one evaluation of the forward dynamics ([`evaluate`]) into a workspace and
 //!   the caller's outputs, and the hand-over of terms computed elsewhere;
+//! - [`external`]: external wrenches on links (pushes) as generalised forces `J^T w`;
 //! - [`integrator`]: fixed-step integrators on the state manifold (ROS2 Rosenbrock-W,
 //!   linearly implicit Euler, RK4) with their own buffers ([`IntegratorCache`], the W-matrix
 //!   in `integrator/w_matrix.rs`), and [`PlantData`], what stepping one plant needs;
@@ -27,6 +28,7 @@ pub mod contact;
 pub mod equilibrium;
 pub mod error;
 pub mod evaluation;
+pub mod external;
 pub mod integrator;
 pub mod manifold;
 pub mod plant;
@@ -36,6 +38,7 @@ pub mod workspace;
 pub use contact::{sole_margins, Contact, ContactLimits, WrenchMargins};
 pub use error::{Error, Result};
 pub use evaluation::evaluate;
+pub use external::ExternalWrench;
 pub use integrator::{step, step_with_feedback, IntegratorCache, Method, PlantData};
 pub use manifold::{retract, state_derivative};
 pub use plant::{MotorInput, Plant};

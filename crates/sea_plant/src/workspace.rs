@@ -25,6 +25,9 @@ pub struct Workspace {
     pub(crate) acceleration: DVector<f64>,
     /// Terms handed over by another user of the same model (`adopt_model_terms`).
     pub(crate) adopted: Adopted,
+    /// External wrenches on links, added as `J^T w` to the dynamics while active (empty by
+    /// default; the caller adds them once and switches them per step).
+    pub external: Vec<crate::external::ExternalWrench>,
 }
 
 /// Stage 3 of the evaluation: the contact Jacobian and the Schur complement.
@@ -77,6 +80,7 @@ impl Workspace {
                 contacts: false,
                 jdot_nu: DVector::zeros(k),
             },
+            external: Vec::new(),
         }
     }
 }

@@ -113,8 +113,11 @@ pub fn linearize_native<'py>(
 }
 
 /// The values of `parameter` in `[lower, upper]` where the closed loop's stability changes.
-/// Returns a dict: `parameter`, `boundaries` (ascending), `method`, `evaluations`, `samples`
-/// (a list of (value, stable, growth_rate or None)).
+/// Returns a dict: `parameter`, `boundaries` (ascending), `conclusion` ("boundaries",
+/// "stable_over_range" or "unstable_over_range"), `own_value` (the scenario's value, or None),
+/// `own_value_stable` (None unless evaluated), `stable_island` ((low, high) containing the
+/// own value, or None), `method`, `evaluations`, `samples` (a list of (value, stable,
+/// growth_rate or None)).
 #[pyfunction]
 #[pyo3(signature = (path, parameter, lower, upper, overrides=None, method="eigen", sampling=None, grid_points=9, log_grid=false))]
 #[allow(clippy::too_many_arguments)] // the Python signature, keyword arguments with defaults
@@ -146,6 +149,13 @@ pub fn stability_margin_native<'py>(
     let d = PyDict::new(py);
     d.set_item("parameter", &report.parameter)?;
     d.set_item("boundaries", report.boundaries.clone())?;
+    d.set_item("conclusion", report.conclusion().name())?;
+    d.set_item("own_value", report.own_value)?;
+    d.set_item("own_value_stable", report.own_value_stable())?;
+    let island = report
+        .island()
+        .map(|[low, high]| (low.value(), high.value()));
+    d.set_item("stable_island", island)?;
     d.set_item("method", report.method.name())?;
     d.set_item("evaluations", report.evaluations())?;
     let samples = PyList::empty(py);

@@ -39,6 +39,17 @@ pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<Stri
     if let Ok(number) = value.extract::<f64>() {
         return Ok(toml::Value::Float(number).to_string());
     }
+    // A dict is an inline table (e.g. one `[[disturbances]]` entry).
+    if let Ok(table) = value.cast::<PyDict>() {
+        let parts = table
+            .iter()
+            .map(|(name, item)| {
+                let name = toml::Value::String(name.str()?.to_string()).to_string();
+                Ok(format!("{name} = {}", toml_literal(&item, key)?))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(format!("{{{}}}", parts.join(", ")));
+    }
     if let Ok(items) = value.try_iter() {
         let parts = items
             .map(|item| toml_literal(&item?, key))
@@ -150,6 +161,12 @@ fn summary_fields<'py>(
     let fields = PyDict::new(py);
     fields.set_item("status", &summary.status)?;
     fields.set_item("diverged_at_s", summary.diverged_at_s)?;
+    let fall = summary.fall.as_ref();
+    fields.set_item("fell_at_s", fall.map(|f| f.at_s))?;
+    fields.set_item("fall_foot", fall.map(|f| f.foot.as_str()))?;
+    fields.set_item("fall_constraint", fall.map(|f| f.constraint))?;
+    fields.set_item("fall_value", fall.map(|f| f.value))?;
+    fields.set_item("fall_bound", fall.map(|f| f.bound))?;
     fields.set_item("reason", &summary.reason)?;
     fields.set_item("sampling", &summary.sampling)?;
     fields.set_item("duration_s", summary.duration_s)?;

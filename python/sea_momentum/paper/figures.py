@@ -37,7 +37,7 @@ def figure_tracking(runs: Mapping[str, ScenarioResult], path: pathlib.Path) -> N
     for scale in DAMPING_SCALES:
         result = runs[f"tracking x{scale}"]
         error_mm = (result.com[:, 1] - result.com_reference[:, 1]) * 1e3
-        suffix = "" if stable(result) else f" (diverged at {result.summary.diverged_at_s:.2f} s)"
+        suffix = "" if stable(result) else f" ({outcome(result)})"
         ax.plot(result.time, error_mm, styles[scale], label=f"K_D estimate x{scale}{suffix}")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("lateral CoM error [mm]")

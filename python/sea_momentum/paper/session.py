@@ -23,9 +23,10 @@ def stable(result: Any) -> bool:
 
 
 def outcome(result: ScenarioResult) -> str:
-    """``completed`` or ``diverged at T s``."""
+    """``completed``, ``diverged at T s`` or ``fell at T s``."""
     s = result.summary
-    return s.status + ("" if s.diverged_at_s is None else f" at {s.diverged_at_s:.2f} s")
+    at = s.diverged_at_s if s.fell_at_s is None else s.fell_at_s
+    return s.status + ("" if at is None else f" at {at:.2f} s")
 
 
 @dataclasses.dataclass

@@ -13,7 +13,7 @@ import numpy as np
 from ..analysis import stability_margin
 from ..arrays import BoolArray, FloatArray
 from ..results import Result
-from ..sweep import sweep
+from ..sweep import SweepResult, sweep
 from .session import Session
 from .setting import ZERO_ORDER_HOLD, damping
 
@@ -35,7 +35,7 @@ class StabilityMap(Result):
     stable: BoolArray  #: whether each run completed
     com_error_rms_m: FloatArray  #: NaN where the run diverged
     boundary_rate_hz: list[float | None]
-    diverged_at_s: FloatArray  #: NaN where the run completed
+    diverged_at_s: FloatArray  #: when the run diverged or fell; NaN where it completed
     duration_s: float
     wall_time_s: float
 
@@ -50,8 +50,14 @@ def _sweeps(tracking: pathlib.Path, duration: float) -> tuple[BoolArray, FloatAr
     shape = (len(MAP_SCALES), len(MAP_RATES_HZ))
     stable = np.column_stack([held.stable.reshape(shape), continuous.stable])
     error = np.column_stack([held["com_error_rms_m"].reshape(shape), continuous["com_error_rms_m"]])
-    diverged_at = np.column_stack([held["diverged_at_s"].reshape(shape), continuous["diverged_at_s"]])
+    diverged_at = np.column_stack([_stopped_at(held).reshape(shape), _stopped_at(continuous)])
     return stable, error, diverged_at
+
+
+def _stopped_at(result: SweepResult) -> FloatArray:
+    """When each unstable run of a sweep stopped: its divergence or its fall [s] (NaN when
+    completed)."""
+    return np.asarray(np.fmin(result["diverged_at_s"], result["fell_at_s"]), dtype=float)
 
 
 def _boundary_rates(tracking: pathlib.Path) -> list[float | None]:

@@ -3,7 +3,13 @@
 //!
 //! Two judges of stability: [`MarginMethod::Eigen`] (the growth rate of the linearisation,
 //! negative = stable; the bisection follows the sign of that continuous function) and
-//! [`MarginMethod::Simulate`] (the scenario run completes without diverging).
+//! [`MarginMethod::Simulate`] (the scenario run completes without diverging or falling).
+//!
+//! The scan includes the scenario's own value of the parameter when it lies in the range
+//! ([`scenario_value`]), so that a stable island narrower than the grid's spacing around it
+//! is still seen and bisected on both sides; the report names the stable interval that
+//! contains the scenario's value ([`MarginReport::island`]) and, when the scan saw one side
+//! only, says so ([`MarginReport::conclusion`]) instead of "no boundary".
 
 use super::linearize::{linearize_with, LinearizeOptions};
 use crate::error::{Error, Result};
@@ -89,10 +95,57 @@ pub struct MarginReport {
     pub parameter: String,
     /// The judge.
     pub method: MarginMethod,
+    /// The scanned range `[lower, upper]`.
+    pub range: [f64; 2],
+    /// The scenario's own value of the parameter (with the overrides; `None` when the key is
+    /// not one [`scenario_value`] can read).
+    pub own_value: Option<f64>,
     /// Values where stability changes, ascending.
     pub boundaries: Vec<f64>,
     /// Every evaluation, in the order done.
     pub samples: Vec<MarginSample>,
+}
+
+/// What the scan saw over its whole range.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MarginConclusion {
+    /// Every evaluation was stable: no boundary inside the range (one may lie outside).
+    StableOverRange,
+    /// Every evaluation was unstable: no boundary inside the range (a stable island narrower
+    /// than the scan's resolution, or one outside the range, is not excluded).
+    UnstableOverRange,
+    /// Stability changes inside the range ([`MarginReport::boundaries`]).
+    Boundaries,
+}
+
+impl MarginConclusion {
+    /// `"stable_over_range"`, `"unstable_over_range"` or `"boundaries"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            MarginConclusion::StableOverRange => "stable_over_range",
+            MarginConclusion::UnstableOverRange => "unstable_over_range",
+            MarginConclusion::Boundaries => "boundaries",
+        }
+    }
+}
+
+/// One end of a stable interval: a boundary found by bisection, or the end of the scanned
+/// range (the interval may extend beyond it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum IslandEnd {
+    /// A stability boundary.
+    Boundary(f64),
+    /// The scanned range ends here, still stable.
+    RangeEnd(f64),
+}
+
+impl IslandEnd {
+    /// The value.
+    pub fn value(&self) -> f64 {
+        match *self {
+            IslandEnd::Boundary(value) | IslandEnd::RangeEnd(value) => value,
+        }
+    }
 }
 
 impl MarginReport {
@@ -100,6 +153,86 @@ impl MarginReport {
     pub fn evaluations(&self) -> usize {
         self.samples.len()
     }
+
+    /// Whether every evaluation was stable, every one unstable, or stability changes.
+    pub fn conclusion(&self) -> MarginConclusion {
+        if !self.boundaries.is_empty() {
+            MarginConclusion::Boundaries
+        } else if self.samples.iter().all(|s| s.stable) {
+            MarginConclusion::StableOverRange
+        } else {
+            MarginConclusion::UnstableOverRange
+        }
+    }
+
+    /// Whether the scenario's own value was judged stable (`None` when it was not evaluated:
+    /// unknown, or outside the range).
+    pub fn own_value_stable(&self) -> Option<bool> {
+        let own = self.own_value?;
+        self.samples
+            .iter()
+            .find(|s| s.value == own)
+            .map(|s| s.stable)
+    }
+
+    /// The stable interval that contains the scenario's own value: its ends are the nearest
+    /// boundaries on either side, or the range's ends. `None` when the own value is unstable
+    /// or was not evaluated.
+    pub fn island(&self) -> Option<[IslandEnd; 2]> {
+        if self.own_value_stable() != Some(true) {
+            return None;
+        }
+        let own = self.own_value?;
+        let below = self.boundaries.iter().rev().find(|&&b| b < own);
+        let above = self.boundaries.iter().find(|&&b| b > own);
+        Some([
+            below.map_or(IslandEnd::RangeEnd(self.range[0]), |&b| {
+                IslandEnd::Boundary(b)
+            }),
+            above.map_or(IslandEnd::RangeEnd(self.range[1]), |&b| {
+                IslandEnd::Boundary(b)
+            }),
+        ])
+    }
+}
+
+/// The sections of a scenario whose keys [`scenario_value`] reads, as they were parsed
+/// (defaults filled in).
+#[derive(serde::Serialize)]
+struct ParsedSections<'a> {
+    plant: &'a crate::scenario::PlantConfig,
+    controller: &'a crate::scenario::ControllerConfig,
+    reference: &'a crate::scenario::ReferenceConfig,
+    simulation: &'a crate::scenario::SimulationConfig,
+}
+
+/// The value of the numeric key `parameter` (dotted, e.g. `controller.stiffness_estimate_scale`)
+/// in the scenario at `path` with `overrides`, the schema's default when the file does not set
+/// it. Reads the keys of `[plant]`, `[controller]`, `[reference]` and `[simulation]`;
+/// `Ok(None)` for another key or one without a number.
+pub fn scenario_value(
+    path: &Path,
+    overrides: &[(String, String)],
+    parameter: &str,
+) -> Result<Option<f64>> {
+    let scenario = Scenario::from_file(path, overrides)?;
+    let sections = ParsedSections {
+        plant: &scenario.plant,
+        controller: &scenario.controller,
+        reference: &scenario.reference,
+        simulation: &scenario.simulation,
+    };
+    let table = toml::Table::try_from(&sections)
+        .map_err(|e| Error::config(parameter, format!("reading the scenario's value: {e}")))?;
+    let mut value = Some(&toml::Value::Table(table));
+    for part in parameter.split('.') {
+        value = value.and_then(|v| v.get(part));
+    }
+    Ok(match value {
+        Some(toml::Value::Float(x)) => Some(*x),
+        Some(toml::Value::Integer(n)) => Some(*n as f64),
+        _ => None,
+    })
 }
 
 /// Checks the range: finite, `lower < upper`, positive for a log grid.
@@ -224,7 +357,14 @@ pub fn stability_margin_report(
         options,
         samples: Vec::new(),
     };
-    let values = grid(lower, upper, options);
+    let own_value = scenario_value(path, overrides, parameter)?;
+    let mut values = grid(lower, upper, options);
+    if let Some(own) = own_value.filter(|v| (lower..=upper).contains(v)) {
+        if !values.contains(&own) {
+            values.push(own);
+            values.sort_by(f64::total_cmp);
+        }
+    }
     let mut signs = Vec::with_capacity(values.len());
     for &value in &values {
         signs.push(judge.indicator(value)? >= 0.0);
@@ -249,6 +389,8 @@ pub fn stability_margin_report(
     Ok(MarginReport {
         parameter: parameter.to_string(),
         method: options.method,
+        range: [lower, upper],
+        own_value,
         boundaries,
         samples: judge.samples,
     })

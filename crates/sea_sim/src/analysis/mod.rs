@@ -6,13 +6,14 @@
 pub mod eigen;
 pub mod linearize;
 pub mod margin;
+pub mod push;
 pub mod system;
 
 pub use linearize::{
     linearize, linearize_with, Equilibrium, Linearization, LinearizeOptions, StepCheck,
 };
 pub use margin::{
-    stability_margin, stability_margin_report, MarginMethod, MarginOptions, MarginReport,
-    MarginSample,
+    scenario_value, stability_margin, stability_margin_report, IslandEnd, MarginConclusion,
+    MarginMethod, MarginOptions, MarginReport, MarginSample,
 };
 pub use system::{ClosedLoopSystem, ControlTiming};

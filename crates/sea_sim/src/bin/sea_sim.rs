@@ -19,6 +19,7 @@
 use clap::{Args, Parser, Subcommand};
 use sea_dyn::{LoadOptions, Model};
 use sea_sim::analysis::margin::MarginOptions;
+use sea_sim::analysis::push::PushOptions;
 use sea_sim::closed_loop::{run_with_sinks, RecordSink};
 use sea_sim::mcap_log::McapSink;
 use sea_sim::output::{check_distinct, OutputFile};
@@ -62,6 +63,10 @@ enum Command {
     /// (SEA on every joint, a standing posture, the foot rectangle and gains, all scaled to
     /// the robot); `sea-sim run` balances it with no edit.
     Init(InitArgs),
+    /// Find, per direction, the largest impulse of a short push on a link that the closed loop
+    /// recovers from (bisection on full runs, directions in parallel), with the stance's
+    /// capture-point bound; prints a JSON report.
+    Push(PushArgs),
 }
 
 /// Options of `sea-sim init`.
@@ -199,6 +204,37 @@ struct MarginArgs {
     /// Print the JSON report on stdout instead of a table.
     #[arg(long)]
     json: bool,
+}
+
+/// Options of `sea-sim push`.
+#[derive(Args, Debug)]
+struct PushArgs {
+    /// Scenario file (TOML), e.g. scenarios/robot_rate/push_two_feet.toml; its own
+    /// `[[disturbances]]` are replaced by the push.
+    scenario: PathBuf,
+    /// Directions, comma-separated: forward, backward, left, right (the first contact's sole
+    /// axes).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "forward,backward,left,right"
+    )]
+    directions: Vec<String>,
+    /// The pushed link.
+    #[arg(long, default_value_t = PushOptions::default().link)]
+    link: String,
+    /// Start of the push [s].
+    #[arg(long, default_value_t = PushOptions::default().start_s)]
+    start: f64,
+    /// Length of the push [s].
+    #[arg(long, default_value_t = PushOptions::default().duration_s)]
+    duration: f64,
+    /// Bisection resolution [N s].
+    #[arg(long, default_value_t = PushOptions::default().tolerance_n_s)]
+    tolerance: f64,
+    /// Override a scenario value, e.g. `--set controller.kind=rigid` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
+    overrides: Vec<(String, String)>,
 }
 
 /// `LOWER:UPPER` of `--range`.
@@ -667,6 +703,10 @@ fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
         "method": report.method.name(),
         "range": [lower, upper],
         "boundaries": report.boundaries,
+        "conclusion": report.conclusion().name(),
+        "own_value": report.own_value,
+        "own_value_stable": report.own_value_stable(),
+        "stable_island": report.island().map(|ends| ends.map(|end| end.value())),
         "evaluations": report.evaluations(),
         "samples": samples,
     });
@@ -685,15 +725,48 @@ fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
     Ok(())
 }
 
-/// The margin report for a reader: the boundaries, then every evaluation in value order.
+/// What the margin scan found, in words: the boundaries or the range's one verdict, then the
+/// scenario's own value and its stable island.
+fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -> String {
+    use sea_sim::analysis::margin::{IslandEnd, MarginConclusion};
+    let [lower, upper] = report.range;
+    let mut text = match report.conclusion() {
+        MarginConclusion::Boundaries => {
+            let boundaries: Vec<String> =
+                report.boundaries.iter().map(|b| format!("{b}")).collect();
+            format!("stability changes at [{}]", boundaries.join(", "))
+        }
+        MarginConclusion::StableOverRange => format!("stable over [{lower}, {upper}]"),
+        MarginConclusion::UnstableOverRange => {
+            format!("unstable over the whole scanned range [{lower}, {upper}]")
+        }
+    };
+    let end = |end: IslandEnd| match end {
+        IslandEnd::Boundary(value) => format!("{value}"),
+        IslandEnd::RangeEnd(value) => format!("{value} (range end)"),
+    };
+    text += &match (report.own_value, report.own_value_stable(), report.island()) {
+        (_, _, Some([low, high])) => format!(
+            "; the scenario's own value {} lies in the stable island [{}, {}]",
+            report.own_value.unwrap_or(f64::NAN),
+            end(low),
+            end(high)
+        ),
+        (Some(own), Some(false), _) => format!("; the scenario's own value {own} is unstable"),
+        (Some(own), _, _) => format!("; the scenario's own value {own} is outside the range"),
+        (None, _, _) => "; the scenario's own value is not a readable number".to_string(),
+    };
+    text
+}
+
+/// The margin report for a reader: the verdict, then every evaluation in value order.
 fn margin_table(report: &sea_sim::analysis::margin::MarginReport) -> String {
-    let boundaries: Vec<String> = report.boundaries.iter().map(|b| format!("{b}")).collect();
     let mut table = format!(
-        "{} ({} method, {} evaluations): stability changes at [{}]",
+        "{} ({} method, {} evaluations): {}",
         report.parameter,
         report.method.name(),
         report.evaluations(),
-        boundaries.join(", ")
+        margin_verdict(report)
     );
     let mut samples: Vec<_> = report.samples.iter().collect();
     samples.sort_by(|a, b| a.value.total_cmp(&b.value));
@@ -705,6 +778,52 @@ fn margin_table(report: &sea_sim::analysis::margin::MarginReport) -> String {
         table += &format!("\n  {:14.6}  {verdict:<8}{growth}", sample.value);
     }
     table
+}
+
+// ---- push ----
+
+/// `sea-sim push`: the push table as JSON on stdout.
+fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
+    use sea_sim::analysis::push::{push_table, PushDirection};
+    let directions = args
+        .directions
+        .iter()
+        .map(|name| PushDirection::parse(name))
+        .collect::<sea_sim::Result<Vec<_>>>()?;
+    let options = PushOptions {
+        link: args.link.clone(),
+        start_s: args.start,
+        duration_s: args.duration,
+        tolerance_n_s: args.tolerance,
+    };
+    let table = push_table(&args.scenario, &args.overrides, &options, &directions)?;
+    let rows: Vec<serde_json::Value> = table
+        .iter()
+        .map(|row| {
+            let fall = row.failed_summary.as_ref().map(|s| s.to_json());
+            serde_json::json!({
+                "direction": row.direction.name(),
+                "capture_point_impulse_n_s": row.capture_point_impulse,
+                "recovered_impulse_n_s": row.recovered_impulse,
+                "failed_impulse_n_s": row.failed_impulse,
+                "failed_status": fall.as_ref().map(|j| j["status"].clone()),
+                "failed_reason": fall.as_ref().map(|j| j["reason"].clone()),
+                "runs": row.runs,
+            })
+        })
+        .collect();
+    let json = serde_json::json!({
+        "scenario": args.scenario,
+        "overrides": args.overrides.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>(),
+        "link": options.link,
+        "start_s": options.start_s,
+        "duration_s": options.duration_s,
+        "directions": rows,
+    });
+    let text = serde_json::to_string_pretty(&json)
+        .map_err(|e| sea_sim::Error::Log(format!("push JSON: {e}")))?;
+    print_out(text);
+    Ok(())
 }
 
 fn main() -> ExitCode {
@@ -720,6 +839,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => run_bench(args).map(|()| Outcome::Completed),
         Command::Margin(args) => run_margin(args).map(|()| Outcome::Completed),
         Command::Init(args) => run_init(args).map(|()| Outcome::Completed),
+        Command::Push(args) => run_push(args).map(|()| Outcome::Completed),
         Command::Sweep(args) => match Interrupts::install() {
             Ok(interrupts) => run_sweep_command(args, &interrupts),
             Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),

@@ -6,6 +6,8 @@
 //!   bounds, the plant's advance);
 //! - [`sampling`]: `controller.sampling` and the run's time grid;
 //! - [`record`]: [`Sample`], the [`RecordSink`] trait and the in-memory [`RunRecord`];
+//! - [`contact_check`]: fall detection, each foot's wrench against a unilateral contact with
+//!   friction;
 //! - [`statistics`]: running statistics, how a run ended ([`RunEnd`], [`Divergence`]) and the
 //!   [`Summary`].
 //!
@@ -18,17 +20,21 @@
 //! exceeds `simulation.divergence_joint_error_rad`; the sample that crossed a bound is the
 //! last one recorded, and the reason ([`Divergence`]) names the quantity, its value and the
 //! bound. A raised cancellation flag stops the run at the next sample with status
-//! "interrupted". Either way the sinks are finished (the MCAP log gets its summary section).
+//! "interrupted". A foot whose simulated contact wrench has a non-positive normal force, leaves
+//! the friction cone or puts its centre of pressure outside the sole ends the run as "fell"
+//! (checked at every sample whose plant evaluation succeeded; [`contact_check`]). Either way the sinks are finished (the MCAP log gets its summary section).
 
+pub mod contact_check;
 mod record;
 mod sampling;
 mod statistics;
 mod tick;
 
 pub use crate::scenario::{build, Setup};
+pub use contact_check::{ContactConstraint, Fall};
 pub use record::{OwnedSample, RecordSink, RunInfo, RunRecord, Sample};
 pub use sampling::{equal_steps, inner_ticks, Sampling, Schedule};
-pub use statistics::{Divergence, RunEnd, RunTotals, RunningStatistics, Summary};
+pub use statistics::{Divergence, FallSummary, RunEnd, RunTotals, RunningStatistics, Summary};
 
 use crate::error::Result;
 use crate::scenario::Scenario;

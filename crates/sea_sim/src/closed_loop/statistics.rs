@@ -1,6 +1,8 @@
 //! Summary statistics of a run, computed online (constant memory whatever the run length),
 //! and the run's [`Summary`].
 
+use super::contact_check::Fall;
+
 /// Time after which the lateral CoM error counts (the reference's smooth start is over) [s].
 const LATERAL_ERROR_FROM_S: f64 = 1.0;
 
@@ -132,36 +134,48 @@ pub enum RunEnd {
     },
     /// The cancellation flag was raised; the run stopped at the next sample.
     Interrupted,
+    /// A foot's simulated contact wrench left what a unilateral contact with friction can
+    /// transmit at `at_s` (see [`super::contact_check`]).
+    Fell {
+        /// Time of the sample [s].
+        at_s: f64,
+        /// The foot and the violated constraint.
+        fall: Fall,
+    },
 }
 
 impl RunEnd {
-    /// `"completed"`, `"diverged"` or `"interrupted"`.
+    /// `"completed"`, `"diverged"`, `"interrupted"` or `"fell"`.
     pub fn status(&self) -> &'static str {
         match self {
             RunEnd::Completed => "completed",
             RunEnd::Diverged { .. } => "diverged",
             RunEnd::Interrupted => "interrupted",
+            RunEnd::Fell { .. } => "fell",
         }
     }
 
-    /// The machine-readable reason: `None` when completed, `"interrupted"`, or the
-    /// [`Divergence::kind`].
+    /// The machine-readable reason: `None` when completed, `"interrupted"`, the
+    /// [`Divergence::kind`] or the fall's [`super::ContactConstraint::kind`].
     pub fn reason_kind(&self) -> Option<&'static str> {
         match self {
             RunEnd::Completed => None,
             RunEnd::Diverged { reason, .. } => Some(reason.kind()),
             RunEnd::Interrupted => Some("interrupted"),
+            RunEnd::Fell { fall, .. } => Some(fall.constraint.kind()),
         }
     }
 }
 
 impl std::fmt::Display for RunEnd {
-    /// The summary's `reason`: empty when completed, `interrupted`, or the divergence's text.
+    /// The summary's `reason`: empty when completed, `interrupted`, the divergence's text or
+    /// the fall's (`foot l_sole: centre of pressure x = ...`).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             RunEnd::Completed => Ok(()),
             RunEnd::Diverged { reason, .. } => reason.fmt(f),
             RunEnd::Interrupted => f.write_str("interrupted"),
+            RunEnd::Fell { fall, .. } => fall.fmt(f),
         }
     }
 }
@@ -169,10 +183,12 @@ impl std::fmt::Display for RunEnd {
 /// The summary of a run (also written as JSON by `sea-sim`).
 #[derive(Clone, Debug)]
 pub struct Summary {
-    /// "completed", "diverged" or "interrupted".
+    /// "completed", "diverged", "interrupted" or "fell".
     pub status: String,
     /// Time of divergence [s].
     pub diverged_at_s: Option<f64>,
+    /// The fall, when the run fell ([`RunEnd::Fell`]).
+    pub fall: Option<FallSummary>,
     /// Why it diverged (the quantity and its value) or "interrupted"; empty when completed
     /// (the text of [`RunEnd`]).
     pub reason: String,
@@ -205,6 +221,21 @@ pub struct Summary {
     pub realtime_factor: f64,
 }
 
+/// A fall in the summary: when, which foot, which constraint with its value and bound.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FallSummary {
+    /// Time of the sample [s].
+    pub at_s: f64,
+    /// The contact frame's name.
+    pub foot: String,
+    /// `"normal_force"`, `"friction"` or `"center_of_pressure"`.
+    pub constraint: &'static str,
+    /// The violating value (N, friction ratio or CoP coordinate [m]).
+    pub value: f64,
+    /// The bound it crossed.
+    pub bound: f64,
+}
+
 /// Counters and timing of a run that the statistics do not hold.
 #[derive(Clone, Copy, Debug)]
 pub struct RunTotals {
@@ -230,12 +261,23 @@ impl Summary {
     ) -> Summary {
         let diverged_at_s = match end {
             RunEnd::Diverged { at_s, .. } => Some(*at_s),
-            RunEnd::Completed | RunEnd::Interrupted => None,
+            RunEnd::Completed | RunEnd::Interrupted | RunEnd::Fell { .. } => None,
+        };
+        let fall = match end {
+            RunEnd::Fell { at_s, fall } => Some(FallSummary {
+                at_s: *at_s,
+                foot: fall.foot.clone(),
+                constraint: fall.constraint.kind(),
+                value: fall.constraint.value(),
+                bound: fall.constraint.bound(),
+            }),
+            _ => None,
         };
         let wall = totals.wall_time_s;
         Summary {
             status: end.status().to_string(),
             diverged_at_s,
+            fall,
             reason: end.to_string(),
             reason_kind: end.reason_kind(),
             sampling: sampling.to_string(),
@@ -259,9 +301,15 @@ impl Summary {
 
     /// As JSON.
     pub fn to_json(&self) -> serde_json::Value {
+        let fall = self.fall.as_ref();
         serde_json::json!({
             "status": self.status,
             "diverged_at_s": self.diverged_at_s,
+            "fell_at_s": fall.map(|f| f.at_s),
+            "fall_foot": fall.map(|f| f.foot.as_str()),
+            "fall_constraint": fall.map(|f| f.constraint),
+            "fall_value": fall.map(|f| f.value),
+            "fall_bound": fall.map(|f| f.bound),
             "reason": self.reason,
             "reason_kind": self.reason_kind,
             "sampling": self.sampling,

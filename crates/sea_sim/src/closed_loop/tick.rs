@@ -3,11 +3,12 @@
 //! divergence bounds, and the plant's advance to the next sample with the input held
 //! (zero-order hold) or the law at every integrator stage (continuous).
 
+use super::contact_check::ContactCheck;
 use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
 use super::statistics::{Divergence, RunEnd};
 use crate::error::Result;
-use crate::scenario::{Scenario, Setup};
+use crate::scenario::{DisturbanceSchedule, Scenario, Setup};
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::MomentumController;
@@ -89,16 +90,20 @@ struct PlantSide<'a> {
     u: Vec<f64>,
     /// The plant's outputs at the state of the current sample.
     outputs: PlantOutputs,
+    /// `[[disturbances]]`: which external wrench acts at each plant step.
+    disturbances: DisturbanceSchedule,
 }
 
 impl PlantSide<'_> {
-    /// Evaluates the plant at `x` with the law's last input, for the record.
+    /// Evaluates the plant at `x` (time `time`) with the law's last input, for the record.
     fn evaluate_at(
         &mut self,
         law: &Law<'_>,
         hand_over: HandOver,
         x: &[f64],
+        time: f64,
     ) -> std::result::Result<(), Divergence> {
+        self.disturbances.apply(&mut self.pd.workspace, time);
         hand_over.give(law, self.plant, &mut self.pd.workspace, x);
         let u = &law.last().output.input;
         let result =
@@ -112,9 +117,10 @@ impl PlantSide<'_> {
         &mut self,
         law: &Law<'_>,
         hand_over: HandOver,
-        x: &[f64],
+        (x, time): (&[f64], f64),
         u: &[f64],
     ) -> std::result::Result<(), Divergence> {
+        self.disturbances.apply(&mut self.pd.workspace, time);
         hand_over.give(law, self.plant, &mut self.pd.workspace, x);
         let result =
             sea_plant::evaluate(self.plant, &mut self.pd.workspace, x, u, &mut self.outputs);
@@ -130,7 +136,7 @@ impl PlantSide<'_> {
         law: &Law<'_>,
         hand_over: HandOver,
         x: &[f64],
-        schedule: &Schedule,
+        (time, schedule): (f64, &Schedule),
         joint_loop: &mut JointTorqueLoop,
     ) -> std::result::Result<(), Divergence> {
         let layout = law.layout();
@@ -141,6 +147,8 @@ impl PlantSide<'_> {
             if k > 0 && k % steps_per_inner == 0 {
                 joint_loop.tick(&layout, &self.x_step);
             }
+            let step_start = time + k as f64 * schedule.step;
+            self.disturbances.apply(&mut self.pd.workspace, step_start);
             let result = sea_plant::step(
                 self.plant,
                 &mut self.pd,
@@ -163,20 +171,23 @@ impl PlantSide<'_> {
         Ok(())
     }
 
-    /// Zero-order hold: the plant steps over one control period from `x` with the law's last
-    /// input held, into `x_next`; the first step's start evaluation gives the outputs at `x`.
+    /// Zero-order hold: the plant steps over one control period from `x` (time `time`) with
+    /// the law's last input held, into `x_next`; the first step's start evaluation gives the
+    /// outputs at `x`.
     fn advance_held(
         &mut self,
         law: &Law<'_>,
         hand_over: HandOver,
         x: &[f64],
-        schedule: &Schedule,
+        (time, schedule): (f64, &Schedule),
     ) -> std::result::Result<(), Divergence> {
         let u = &law.last().output.input;
         self.x_step.copy_from_slice(x);
         // The first step starts where the controller just ticked.
         hand_over.give(law, self.plant, &mut self.pd.workspace, &self.x_step);
         for k in 0..schedule.steps_per_period {
+            let step_start = time + k as f64 * schedule.step;
+            self.disturbances.apply(&mut self.pd.workspace, step_start);
             let result = sea_plant::step(
                 self.plant,
                 &mut self.pd,
@@ -219,6 +230,8 @@ pub(super) struct Engine<'a> {
     stage: Observation,
     /// The joint torque loops (multi-rate sampling).
     joint_loop: Option<JointTorqueLoop>,
+    /// Fall detection on the plant's outputs at each sample.
+    contact_check: ContactCheck,
 }
 
 impl<'a> Engine<'a> {
@@ -241,6 +254,13 @@ impl<'a> Engine<'a> {
         };
         let joint_loop = (schedule.sampling == Sampling::MultiRate)
             .then(|| scenario.controller.joint_loop(controller));
+        let mut pd = PlantData::new(plant);
+        let disturbances = DisturbanceSchedule::new(
+            &scenario.disturbances,
+            &plant.model,
+            schedule.step,
+            &mut pd.workspace,
+        )?;
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         Ok(Engine {
             joint_loop,
@@ -255,13 +275,15 @@ impl<'a> Engine<'a> {
             side: PlantSide {
                 plant,
                 method,
-                pd: PlantData::new(plant),
+                pd,
                 x_next: x0.clone(),
                 x_step: x0.clone(),
                 u: vec![0.0; model.n_joints()],
                 outputs: PlantOutputs::new(plant),
+                disturbances,
             },
             x: x0.clone(),
+            contact_check: ContactCheck::new(plant),
         })
     }
 
@@ -295,8 +317,26 @@ impl<'a> Engine<'a> {
     /// (evaluating the plant for the record) when a bound is crossed, `interrupted` is set or
     /// the run is over, and otherwise advances the plant to the next sample (see
     /// [`Engine::commit`]). `Err` carries the reason when the controller fails at the sample
-    /// itself (then there is nothing to record).
+    /// itself (then there is nothing to record). A foot whose wrench at the sample violates
+    /// a contact constraint ends the run as [`RunEnd::Fell`] (unless it diverged there).
     pub fn period(
+        &mut self,
+        index: usize,
+        interrupted: bool,
+    ) -> std::result::Result<Period, Divergence> {
+        let mut period = self.period_unchecked(index, interrupted)?;
+        if !matches!(period.end, Some(RunEnd::Diverged { .. })) {
+            let (plant, outputs) = (self.side.plant, &self.side.outputs);
+            if let Some(fall) = self.contact_check.fall(plant, &self.x, outputs) {
+                let at_s = self.schedule.time(index);
+                period.end = Some(RunEnd::Fell { at_s, fall });
+            }
+        }
+        Ok(period)
+    }
+
+    /// [`Engine::period`] without the fall check.
+    fn period_unchecked(
         &mut self,
         index: usize,
         interrupted: bool,
@@ -322,13 +362,18 @@ impl<'a> Engine<'a> {
             joint_loop.tick(&self.layout, x);
         }
         let failure = match (&stop, &mut self.joint_loop) {
-            (Some(_), None) => self.side.evaluate_at(law, hand_over, x),
-            (Some(_), Some(joints)) => self.side.evaluate_input(law, hand_over, x, joints.input()),
-            (None, None) => self.side.advance_held(law, hand_over, x, &self.schedule),
+            (Some(_), None) => self.side.evaluate_at(law, hand_over, x, time),
+            (Some(_), Some(joints)) => {
+                self.side
+                    .evaluate_input(law, hand_over, (x, time), joints.input())
+            }
+            (None, None) => self
+                .side
+                .advance_held(law, hand_over, x, (time, &self.schedule)),
             (None, Some(joints)) => {
                 let schedule = &self.schedule;
                 self.side
-                    .advance_multi_rate(law, hand_over, x, schedule, joints)
+                    .advance_multi_rate(law, hand_over, x, (time, schedule), joints)
             }
         };
         let end = match failure {
@@ -346,6 +391,7 @@ impl<'a> Engine<'a> {
         let mut observed = false;
         let (law, stage, hand_over) = (&mut self.law, &mut self.stage, self.hand_over);
         let side = &mut self.side;
+        side.disturbances.apply(&mut side.pd.workspace, time);
         let plant = side.plant;
         let mut feedback = |t: f64, x: &[f64], u: &mut [f64], ws: &mut Workspace| -> Result<()> {
             let input = if observed {

@@ -13,6 +13,7 @@
 //! (`robot.description`, [`robots`]; the paper's iCub, `robots/icub_paper.toml`, by default).
 
 pub mod build;
+pub mod disturbances;
 pub mod parse;
 pub mod robots;
 pub mod schema;
@@ -20,6 +21,7 @@ pub mod settings;
 pub mod validate;
 
 pub use build::{build, Setup};
+pub use disturbances::{DisturbanceConfig, DisturbanceSchedule};
 pub use parse::{apply_override, TableError};
 pub use robots::{icub, RobotDescription};
 pub use schema::{
@@ -63,6 +65,9 @@ pub struct Scenario {
     /// `[simulation]`.
     #[serde(default)]
     pub simulation: SimulationConfig,
+    /// `[[disturbances]]`: external wrenches on links over time windows (none by default).
+    #[serde(default)]
+    pub disturbances: Vec<DisturbanceConfig>,
     /// Folder of the scenario file (for relative paths).
     #[serde(skip)]
     pub base_dir: PathBuf,

@@ -11,7 +11,7 @@ use sea_ctrl::qp::ContactConstraints;
 use sea_dyn::{critical_damping, Actuator, ElasticParameters};
 use sea_plant::Plant;
 use serde::de::Error as _;
-use serde::{Deserialize, Deserializer};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::collections::BTreeMap;
 
 /// `[robot]`. Its key `description` names the robot description the scenario's defaults come
@@ -149,7 +149,7 @@ impl<'de> Deserialize<'de> for ActuatorsConfig {
 }
 
 /// `[plant]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PlantConfig {
     /// Baumgarte position gain [1/s^2] (default [`Plant::DEFAULT_BAUMGARTE_KP`]).
@@ -189,7 +189,7 @@ impl PlantConfig {
 }
 
 /// `[controller]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ControllerConfig {
     /// "sea" (default) or "rigid".
@@ -249,7 +249,10 @@ pub struct ControllerConfig {
     /// `[controller.contact]`: the QP's contact constraints, whose contact surface the plant
     /// also uses for its wrench margins (one flat table: `facets`, `min_normal_force` and the
     /// keys of [`sea_dyn::ContactSurface`]; defaults [`ContactConstraints::default`]).
-    #[serde(deserialize_with = "contact_constraints")]
+    #[serde(
+        deserialize_with = "contact_constraints",
+        serialize_with = "contact_constraints_table"
+    )]
     pub contact: ContactConstraints,
 }
 
@@ -317,6 +320,20 @@ where
     contact_table(table).map_err(|e| D::Error::custom(e.within("")))
 }
 
+/// Writes `[controller.contact]` as it is read: one flat table, the surface's keys with
+/// `facets` and `min_normal_force`.
+fn contact_constraints_table<S: Serializer>(
+    contact: &ContactConstraints,
+    serializer: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    use serde::ser::Error as _;
+    let mut table = toml::Table::try_from(contact.surface).map_err(S::Error::custom)?;
+    table.insert("facets".into(), toml::Value::Integer(contact.facets as i64));
+    let min_normal_force = toml::Value::Float(contact.min_normal_force);
+    table.insert("min_normal_force".into(), min_normal_force);
+    table.serialize(serializer)
+}
+
 /// [`ContactConstraints`] of a `[controller.contact]` table read on its own.
 fn contact_table(mut table: toml::Table) -> TableResult<ContactConstraints> {
     let defaults = ContactConstraints::default();
@@ -333,7 +350,7 @@ fn contact_table(mut table: toml::Table) -> TableResult<ContactConstraints> {
 /// `[reference]`: the CoM sinusoid `origin + (1 - exp(-t / smooth_start)) A sin(2 pi f t)
 /// direction` and the postural step (defaults: no motion; the direction and the 1 s smooth
 /// start are the original study's).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ReferenceConfig {
     /// CoM sinusoid amplitude [m].
@@ -372,7 +389,7 @@ impl Default for ReferenceConfig {
 }
 
 /// `[simulation]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimulationConfig {
     /// Simulated time [s].

@@ -35,6 +35,7 @@ pub fn scenario(scenario: &Scenario) -> Result<()> {
     contact(scenario)?;
     reference(scenario)?;
     simulation(scenario)?;
+    super::disturbances::validate(&scenario.disturbances)?;
     run_length(scenario)
 }
 

@@ -1,0 +1,349 @@
+//! Push recovery: the largest impulse of a short push on a link that the closed loop recovers
+//! from (the run completes: no fall, no divergence), found by bisection, and the capture-point
+//! bound of the stance for the same direction.
+//!
+//! The bound is the linear inverted pendulum's: a push of impulse `I` gives the CoM the
+//! velocity `I / m`; the instantaneous capture point `x_com + v / omega0`,
+//! `omega0 = sqrt(g / z_com)`, stays inside the support polygon while
+//! `I <= m d omega0`, `d` the distance from the CoM's ground projection to the polygon's edge
+//! along the push (the polygon: the convex hull of the sole rectangles
+//! `controller.contact.foot_x` x `foot_y` at the contacts' poses).
+
+use crate::closed_loop::{run_with_sinks, Summary};
+use crate::error::{Error, Result};
+use crate::scenario::{build, Scenario};
+use nalgebra::{Vector2, Vector3};
+use rayon::prelude::*;
+use sea_dyn::centroidal::com;
+use sea_dyn::Data;
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+
+/// A push direction in the ground plane, relative to the first contact's sole frame (its x
+/// axis forward, y to the left).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PushDirection {
+    /// Along the sole's +x.
+    Forward,
+    /// Along the sole's -x.
+    Backward,
+    /// Along the sole's +y.
+    Left,
+    /// Along the sole's -y.
+    Right,
+}
+
+impl PushDirection {
+    /// The four directions.
+    pub const ALL: [PushDirection; 4] = [
+        PushDirection::Forward,
+        PushDirection::Backward,
+        PushDirection::Left,
+        PushDirection::Right,
+    ];
+
+    /// `"forward"`, `"backward"`, `"left"` or `"right"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            PushDirection::Forward => "forward",
+            PushDirection::Backward => "backward",
+            PushDirection::Left => "left",
+            PushDirection::Right => "right",
+        }
+    }
+
+    /// Parses a name of [`PushDirection::name`].
+    pub fn parse(name: &str) -> Result<PushDirection> {
+        PushDirection::ALL
+            .into_iter()
+            .find(|d| d.name() == name)
+            .ok_or_else(|| {
+                Error::config(
+                    "direction",
+                    format!("expected forward, backward, left or right, got \"{name}\""),
+                )
+            })
+    }
+
+    /// The unit vector in the sole frame's (x, y).
+    fn in_sole(&self) -> Vector2<f64> {
+        match self {
+            PushDirection::Forward => Vector2::new(1.0, 0.0),
+            PushDirection::Backward => Vector2::new(-1.0, 0.0),
+            PushDirection::Left => Vector2::new(0.0, 1.0),
+            PushDirection::Right => Vector2::new(0.0, -1.0),
+        }
+    }
+}
+
+/// The stance at the scenario's initial state: what the capture-point bound needs.
+#[derive(Clone, Debug)]
+pub struct Stance {
+    /// Total mass [kg].
+    pub mass_kg: f64,
+    /// CoM height above the soles [m].
+    pub com_height_m: f64,
+    /// `sqrt(g / z_com)` [1/s].
+    pub omega0: f64,
+    /// The CoM's ground projection (world x, y) [m].
+    pub com_xy: Vector2<f64>,
+    /// The support polygon (world x, y), counter-clockwise.
+    pub polygon: Vec<Vector2<f64>>,
+    /// The first contact's sole x and y axes projected on the ground (world x, y).
+    pub sole_axes: [Vector2<f64>; 2],
+}
+
+impl Stance {
+    /// The stance of `scenario` at its initial state.
+    pub fn of(scenario: &Scenario) -> Result<Stance> {
+        let setup = build(scenario)?;
+        let (model, plant) = (&setup.model, &setup.plant);
+        let q = &setup.x0[..model.nq()];
+        let com = com(model, &mut Data::new(model), q);
+        let surface = plant.contact_limits;
+        let mut corners = Vec::new();
+        let mut ground = 0.0;
+        for contact in &plant.contacts {
+            let pose = &contact.world_h_frame_desired;
+            ground += pose.translation.z / plant.contacts.len() as f64;
+            for x in surface.foot_x {
+                for y in surface.foot_y {
+                    let corner = pose.translation + pose.rotation * Vector3::new(x, y, 0.0);
+                    corners.push(corner.xy());
+                }
+            }
+        }
+        let first = plant
+            .contacts
+            .first()
+            .ok_or_else(|| Error::config("robot.contacts", "a push needs a stance"))?;
+        let axes = first.world_h_frame_desired.rotation;
+        let com_height_m = com.z - ground;
+        let gravity = model.gravity.norm();
+        Ok(Stance {
+            mass_kg: model.total_mass(),
+            com_height_m,
+            omega0: (gravity / com_height_m).sqrt(),
+            com_xy: com.xy(),
+            polygon: convex_hull(corners),
+            sole_axes: [
+                axes.column(0).xy().normalize(),
+                axes.column(1).xy().normalize(),
+            ],
+        })
+    }
+
+    /// The unit push direction in world (x, y).
+    pub fn direction(&self, direction: PushDirection) -> Vector2<f64> {
+        let d = direction.in_sole();
+        (self.sole_axes[0] * d.x + self.sole_axes[1] * d.y).normalize()
+    }
+
+    /// Distance from the CoM's ground projection to the polygon's edge along `direction` [m].
+    pub fn distance_to_edge(&self, direction: PushDirection) -> f64 {
+        let d = self.direction(direction);
+        let n = self.polygon.len();
+        (0..n)
+            .filter_map(|i| {
+                let (a, b) = (self.polygon[i], self.polygon[(i + 1) % n]);
+                let edge = b - a;
+                let outward = Vector2::new(edge.y, -edge.x);
+                let along = outward.dot(&d);
+                (along > 0.0).then(|| outward.dot(&(a - self.com_xy)) / along)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The capture-point bound on the impulse along `direction`: `m d omega0` [N s].
+    pub fn capture_point_impulse(&self, direction: PushDirection) -> f64 {
+        self.mass_kg * self.distance_to_edge(direction) * self.omega0
+    }
+}
+
+/// The convex hull of `points`, counter-clockwise (Andrew's monotone chain).
+fn convex_hull(mut points: Vec<Vector2<f64>>) -> Vec<Vector2<f64>> {
+    points.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    let cross = |o: Vector2<f64>, a: Vector2<f64>, b: Vector2<f64>| (a - o).perp(&(b - o));
+    let mut hull: Vec<Vector2<f64>> = Vec::new();
+    for pass in 0..2 {
+        let start = hull.len();
+        let sequence: Box<dyn Iterator<Item = &Vector2<f64>>> = if pass == 0 {
+            Box::new(points.iter())
+        } else {
+            Box::new(points.iter().rev())
+        };
+        for &p in sequence {
+            while hull.len() >= start + 2
+                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// The push: where, when, how long, and the bisection's resolution.
+#[derive(Clone, Debug)]
+pub struct PushOptions {
+    /// The pushed link (its origin).
+    pub link: String,
+    /// Start of the push [s] (a whole number of plant steps).
+    pub start_s: f64,
+    /// Length of the push [s] (a whole number of plant steps).
+    pub duration_s: f64,
+    /// The bisection stops when the bracket is narrower than this [N s].
+    pub tolerance_n_s: f64,
+}
+
+impl Default for PushOptions {
+    /// 0.1 s on the iCub's pelvis (`root_link`) at 1 s, to 0.1 N s.
+    fn default() -> Self {
+        Self {
+            link: "root_link".into(),
+            start_s: 1.0,
+            duration_s: 0.1,
+            tolerance_n_s: 0.1,
+        }
+    }
+}
+
+/// One direction's result.
+#[derive(Clone, Debug)]
+pub struct PushResult {
+    /// The direction.
+    pub direction: PushDirection,
+    /// The capture-point bound [N s].
+    pub capture_point_impulse: f64,
+    /// The largest impulse seen recovered [N s].
+    pub recovered_impulse: f64,
+    /// The smallest impulse seen not recovered [N s] (`None`: every tried impulse recovered).
+    pub failed_impulse: Option<f64>,
+    /// The summary of the run at `failed_impulse` (its fall: foot, constraint).
+    pub failed_summary: Option<Summary>,
+    /// Runs done.
+    pub runs: usize,
+}
+
+/// The `[[disturbances]]` override of one push of `impulse` [N s] along `direction` (world).
+fn push_override(options: &PushOptions, direction: Vector2<f64>, impulse: f64) -> (String, String) {
+    let force = direction * (impulse / options.duration_s);
+    let value = format!(
+        "[{{link = \"{}\", force = [{:e}, {:e}, 0.0], start_s = {:e}, duration_s = {:e}}}]",
+        options.link, force.x, force.y, options.start_s, options.duration_s
+    );
+    ("disturbances".to_string(), value)
+}
+
+/// The summary of the scenario at `path` with `overrides` and one push (constant memory).
+pub fn push_run(
+    path: &Path,
+    overrides: &[(String, String)],
+    options: &PushOptions,
+    direction: Vector2<f64>,
+    impulse: f64,
+) -> Result<Summary> {
+    let mut all = overrides.to_vec();
+    all.push(push_override(options, direction, impulse));
+    let scenario = Scenario::from_file(path, &all)?;
+    run_with_sinks(&scenario, &mut [], &AtomicBool::new(false), |_, _| {})
+}
+
+/// Largest recovered impulse along `direction` by bisection between 0 (must be recovered) and
+/// twice the capture-point bound (doubled while still recovered, up to 8 times the bound).
+pub fn recoverable_impulse(
+    path: &Path,
+    overrides: &[(String, String)],
+    options: &PushOptions,
+    direction: PushDirection,
+) -> Result<PushResult> {
+    let stance = Stance::of(&Scenario::from_file(path, overrides)?)?;
+    let bound = stance.capture_point_impulse(direction);
+    let d = stance.direction(direction);
+    let run = |impulse: f64| push_run(path, overrides, options, d, impulse);
+    let mut runs = 0;
+    let mut result = PushResult {
+        direction,
+        capture_point_impulse: bound,
+        recovered_impulse: 0.0,
+        failed_impulse: None,
+        failed_summary: None,
+        runs: 0,
+    };
+    let mut high = 2.0 * bound;
+    while high <= 8.0 * bound {
+        let summary = run(high)?;
+        runs += 1;
+        if summary.status != "completed" {
+            result.failed_impulse = Some(high);
+            result.failed_summary = Some(summary);
+            break;
+        }
+        result.recovered_impulse = high;
+        high *= 2.0;
+    }
+    while let Some(failed) = result.failed_impulse {
+        if failed - result.recovered_impulse <= options.tolerance_n_s {
+            break;
+        }
+        let middle = 0.5 * (result.recovered_impulse + failed);
+        let summary = run(middle)?;
+        runs += 1;
+        if summary.status == "completed" {
+            result.recovered_impulse = middle;
+        } else {
+            result.failed_impulse = Some(middle);
+            result.failed_summary = Some(summary);
+        }
+    }
+    result.runs = runs;
+    Ok(result)
+}
+
+/// [`recoverable_impulse`] for each of `directions`, in parallel (rayon's pool).
+pub fn push_table(
+    path: &Path,
+    overrides: &[(String, String)],
+    options: &PushOptions,
+    directions: &[PushDirection],
+) -> Result<Vec<PushResult>> {
+    directions
+        .par_iter()
+        .map(|&direction| recoverable_impulse(path, overrides, options, direction))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_hull_of_two_rectangles_and_the_distance_along_each_axis() {
+        // Two 0.15 x 0.05 soles 0.1 m apart: hull x in [-0.05, 0.1], y in [-0.075, 0.075].
+        let mut corners = Vec::new();
+        for y0 in [-0.05, 0.05] {
+            for x in [-0.05, 0.1] {
+                for y in [-0.025, 0.025] {
+                    corners.push(Vector2::new(x, y0 + y));
+                }
+            }
+        }
+        let stance = Stance {
+            mass_kg: 10.0,
+            com_height_m: 9.81,
+            omega0: 1.0,
+            com_xy: Vector2::new(0.0, 0.0),
+            polygon: convex_hull(corners),
+            sole_axes: [Vector2::new(1.0, 0.0), Vector2::new(0.0, 1.0)],
+        };
+        assert_eq!(stance.polygon.len(), 4);
+        let distances = PushDirection::ALL.map(|d| stance.distance_to_edge(d));
+        let expected = [0.1, 0.05, 0.075, 0.075];
+        for (got, want) in distances.iter().zip(expected) {
+            assert!((got - want).abs() < 1e-12, "{distances:?}");
+        }
+        assert!((stance.capture_point_impulse(PushDirection::Forward) - 1.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,86 @@
+//! The margin scan around the scenario's own value: a stable island narrower than the grid's
+//! spacing is found, and a scan that saw one side only says so (issue 19).
+
+use sea_sim::analysis::{
+    scenario_value, stability_margin_report, IslandEnd, MarginConclusion, MarginMethod,
+    MarginOptions,
+};
+use std::path::PathBuf;
+
+fn tracking() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/paper/tracking.toml")
+}
+
+const STIFFNESS: &str = "controller.stiffness_estimate_scale";
+
+fn report(overrides: &[(&str, &str)], lower: f64, upper: f64) -> sea_sim::analysis::MarginReport {
+    let overrides: Vec<(String, String)> = overrides
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    let options = MarginOptions {
+        method: MarginMethod::Eigen,
+        ..Default::default()
+    };
+    stability_margin_report(&tracking(), &overrides, STIFFNESS, lower, upper, &options).unwrap()
+}
+
+#[test]
+fn the_scenario_value_is_read_with_its_default_and_overrides() {
+    let path = tracking();
+    // Not in the file: the schema's default.
+    assert_eq!(scenario_value(&path, &[], STIFFNESS).unwrap(), Some(1.0));
+    let set = [(STIFFNESS.to_string(), "1.5".to_string())];
+    assert_eq!(scenario_value(&path, &set, STIFFNESS).unwrap(), Some(1.5));
+    // In the file (tracking.toml sets the duration).
+    let duration = scenario_value(&path, &[], "simulation.duration_s").unwrap();
+    assert_eq!(duration, Some(10.0));
+    // A nested key of the flat contact table, and a key that is not a number.
+    let friction = scenario_value(&path, &[], "controller.contact.friction").unwrap();
+    assert_eq!(friction, Some(1.0));
+    assert_eq!(scenario_value(&path, &[], "controller.kind").unwrap(), None);
+}
+
+#[test]
+fn a_stable_island_narrower_than_the_grid_is_found_around_the_scenario_value() {
+    // The 9-point grid over [0.5, 2] (spacing 0.1875) has no stable point: only the
+    // scenario's own value 1.0 is.
+    let report = report(&[], 0.5, 2.0);
+    println!(
+        "{:?} in {} evaluations",
+        report.boundaries,
+        report.evaluations()
+    );
+    assert_eq!(report.own_value, Some(1.0));
+    assert_eq!(report.own_value_stable(), Some(true));
+    assert_eq!(report.conclusion(), MarginConclusion::Boundaries);
+    let [low, high] = report.island().unwrap();
+    assert!(
+        matches!(low, IslandEnd::Boundary(b) if b > 0.9 && b < 1.0),
+        "{low:?}"
+    );
+    assert!(
+        matches!(high, IslandEnd::Boundary(b) if b > 1.0 && b < 1.05),
+        "{high:?}"
+    );
+}
+
+#[test]
+fn one_sided_scans_say_stable_or_unstable_over_the_range() {
+    // Above the island: every point unstable, the scenario's value (1.0) outside the range.
+    let above = report(&[], 1.1, 2.0);
+    assert_eq!(above.conclusion(), MarginConclusion::UnstableOverRange);
+    assert!(above.boundaries.is_empty() && above.island().is_none());
+    assert_eq!(above.own_value_stable(), None);
+    // The scenario's value moved to 1.5: evaluated, and unstable.
+    let moved = report(&[(STIFFNESS, "1.5")], 1.1, 2.0);
+    assert_eq!(moved.own_value_stable(), Some(false));
+    assert!(moved.island().is_none());
+    // Inside the island: stable over the range, the island reaching both range ends.
+    let inside = report(&[], 0.99, 1.0);
+    assert_eq!(inside.conclusion(), MarginConclusion::StableOverRange);
+    assert_eq!(
+        inside.island(),
+        Some([IslandEnd::RangeEnd(0.99), IslandEnd::RangeEnd(1.0)])
+    );
+}
