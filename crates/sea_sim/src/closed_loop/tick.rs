@@ -325,7 +325,8 @@ impl<'a> Engine<'a> {
         interrupted: bool,
     ) -> std::result::Result<Period, Divergence> {
         let mut period = self.period_unchecked(index, interrupted)?;
-        if !matches!(period.end, Some(RunEnd::Diverged { .. })) {
+        let check = self.scenario.simulation.stop_on_fall;
+        if check && !matches!(period.end, Some(RunEnd::Diverged { .. })) {
             let (plant, outputs) = (self.side.plant, &self.side.outputs);
             if let Some(fall) = self.contact_check.fall(plant, &self.x, outputs) {
                 let at_s = self.schedule.time(index);

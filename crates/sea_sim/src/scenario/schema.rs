@@ -401,6 +401,11 @@ pub struct SimulationConfig {
     pub divergence_com_error_m: f64,
     /// The run is diverged when the joint error norm exceeds this [rad].
     pub divergence_joint_error_rad: f64,
+    /// A foot's wrench that a unilateral contact with friction cannot transmit ends the run
+    /// as "fell" (default `true`). `false` keeps the plant's bilateral contacts as the whole
+    /// truth, as in the paper's setting: used to measure the growth of an unstable mode past
+    /// the moment the real robot would have fallen.
+    pub stop_on_fall: bool,
 }
 
 impl Default for SimulationConfig {
@@ -410,6 +415,7 @@ impl Default for SimulationConfig {
             record_every: 10,
             divergence_com_error_m: 0.1,
             divergence_joint_error_rad: 1.0,
+            stop_on_fall: true,
         }
     }
 }
