@@ -10,6 +10,7 @@ import pathlib
 import pytest
 
 import sea_momentum as sm
+from sea_momentum import pictures
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 RMS_BOUND_M = 5e-3
@@ -33,12 +34,18 @@ def example_robot_data_share() -> pathlib.Path:
 
 
 # (name, URDF, contacts): G1 has no sole frames, its soles are four collision spheres of
-# radius 5 mm, 30 mm under each ankle roll link; the iCub of icub-models has sole frames.
+# radius 5 mm, 30 mm under each ankle roll link; Romeo (the small variant, 31 joints) has sole
+# frames and COLLADA foot collision meshes; the iCub of icub-models has sole frames.
 ROBOTS = [
     (
         "g1",
         "package://example-robot-data/robots/g1_description/urdf/g1_29dof_rev_1_0.urdf",
         ("left_ankle_roll_link:0,0,-0.035", "right_ankle_roll_link:0,0,-0.035"),
+    ),
+    (
+        "romeo",
+        "package://example-robot-data/robots/romeo_description/urdf/romeo_small.urdf",
+        ("l_sole", "r_sole"),
     ),
     ("icub_models", "iCubGazeboV2_5/model.urdf", ("l_sole", "r_sole")),
 ]
@@ -73,3 +80,17 @@ def test_the_shipped_talos_scenario_balances(monkeypatch):
     assert summary.status == "completed", summary
     assert summary.duration_s == 5.0
     assert summary.com_error_rms_m < RMS_BOUND_M, summary
+
+
+def test_the_pictures_find_the_urdf_of_a_robot_description(monkeypatch, tmp_path):
+    """The Talos scenario names its URDF in ``[robot.description]`` as a ``package://`` URI:
+    the pictures find it as the run does."""
+    share = example_robot_data_share()
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(share))
+    scenario = ROOT / "scenarios" / "robots" / "talos_two_feet.toml"
+    urdf = sm._native.scenario_urdf(scenario)
+    assert urdf.resolve() == share / "example-robot-data/robots/talos_data/robots/talos_reduced.urdf"
+    result = sm.run_scenario(scenario, {"simulation.duration_s": 0.02})
+    written = pictures.scenario_pictures(scenario, result, tmp_path, "talos", animation_frames=2)
+    assert [p.name for p in written] == ["talos_strip.png", "talos.gif"]
+    assert all(p.stat().st_size > 10_000 for p in written)

@@ -28,7 +28,10 @@ echo "== a robot set up by sea-sim init: Talos on two feet (example-robot-data, 
 # the environment's cmeel prefix (example-robot-data, a test extra installed by setup_env.sh).
 "$sea_sim" run scenarios/robots/talos_two_feet.toml --mcap "$out/talos_two_feet.mcap" \
     --summary "$out/talos_two_feet_summary.json" --quiet > /dev/null
-python scripts/plot_com.py scenarios/robots/talos_two_feet.toml "$out/talos_two_feet_com.png"
+# The CoM plot, and Talos drawn along the run (talos_two_feet_strip.png, talos_two_feet.gif)
+# beside the iCub's pictures.
+python scripts/plot_com.py scenarios/robots/talos_two_feet.toml "$out/talos_two_feet_com.png" \
+    --pictures talos_two_feet
 
 echo "== dynamics check on urdf/icub25.urdf"
 python -m sea_momentum check --urdf urdf/icub25.urdf --out "$out"

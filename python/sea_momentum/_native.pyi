@@ -6,6 +6,7 @@ linear part first; ``M(q) nudot + h(q, nu) = B tau + sum_k J_k^T f_k``; gravity 
 world z. Arrays are float64; array-likes are accepted and converted.
 """
 
+import pathlib
 from os import PathLike
 from typing import Mapping, Sequence, final
 
@@ -29,6 +30,7 @@ __all__ = [
     "Controller",
     "Scenario",
     "run_scenario_native",
+    "scenario_urdf",
     "linearize_native",
     "stability_margin_native",
     "sweep_grid",
@@ -269,6 +271,13 @@ def run_scenario_native(
     ``sea_momentum.results.RunSummary``. Ctrl-C stops
     the run at its next tick (the MCAP log is finished) and raises ``KeyboardInterrupt`` whose
     ``partial`` attribute is this dict so far (summary status "interrupted")."""
+
+def scenario_urdf(path: str | PathLike[str], overrides: Mapping[str, object] | None = None) -> pathlib.Path:
+    """The URDF file of the scenario file ``path`` with ``overrides``, found as
+    ``run_scenario`` finds it: ``robot.urdf`` or the robot description's ``urdf``, a
+    ``package://`` / ``file://`` URI resolved (the scenario's ``robot.package_dirs``, then the
+    environment's), a relative path from the scenario's folder when it exists there. The robot
+    is not built. Raises ScenarioError naming the key."""
 
 def init_scenario(
     urdf: str,

@@ -16,14 +16,13 @@ from __future__ import annotations
 import dataclasses
 import os
 import pathlib
-import sys
 import warnings
 import xml.etree.ElementTree as ET
 from typing import TYPE_CHECKING, Any, Sequence, Union
 
 import numpy as np
 
-from ._native import PICTURE_TRIANGLE_BUDGET, Model, link_meshes
+from ._native import PICTURE_TRIANGLE_BUDGET, Model, link_meshes, scenario_urdf
 from .arrays import FloatArray
 
 if TYPE_CHECKING:
@@ -314,18 +313,6 @@ def robot_animation(
     return path
 
 
-def _scenario_urdf(scenario: pathlib.Path) -> pathlib.Path:
-    """``robot.urdf`` of a scenario file, resolved as the scenario loader does (relative to the
-    file's folder when it exists there)."""
-    if sys.version_info >= (3, 11):
-        import tomllib
-    else:  # pragma: no cover - Python < 3.11
-        import tomli as tomllib
-    urdf = tomllib.loads(scenario.read_text())["robot"]["urdf"]
-    candidate = scenario.parent / urdf
-    return candidate if candidate.exists() else pathlib.Path(urdf)
-
-
 def scenario_pictures(
     scenario: str | os.PathLike[str],
     result: ScenarioResult,
@@ -341,7 +328,7 @@ def scenario_pictures(
     ``animation_frames`` frames) for a run of the scenario file ``scenario``; ``package_dirs``:
     see :func:`urdf_visuals`. Returns the paths."""
     scenario = pathlib.Path(scenario)
-    urdf = _scenario_urdf(scenario)
+    urdf = scenario_urdf(scenario)
     model = Model.from_urdf(urdf, joints=result.joint_names)
     time = result.time
     chosen = np.linspace(time[0], time[-1], 5) if instants is None else np.asarray(instants)

@@ -29,6 +29,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<controller::PyController>()?;
     m.add_class::<controller::PyScenario>()?;
     m.add_function(wrap_pyfunction!(scenario::run_scenario_native, m)?)?;
+    m.add_function(wrap_pyfunction!(scenario::scenario_urdf, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::linearize_native, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::stability_margin_native, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_grid, m)?)?;

@@ -152,6 +152,21 @@ pub fn run_scenario_native<'py>(
     }
 }
 
+/// The URDF file of the scenario file `path` with `overrides`, found as `run_scenario` finds
+/// it: `robot.urdf` or the robot description's `urdf`, a `package://` / `file://` URI resolved
+/// (the scenario's `robot.package_dirs`, then the environment's), a relative path from the
+/// scenario's folder when it exists there. The robot is not built.
+#[pyfunction]
+#[pyo3(signature = (path, overrides=None))]
+pub fn scenario_urdf(
+    path: PathBuf,
+    overrides: Option<HashMap<String, Bound<'_, PyAny>>>,
+) -> PyResult<PathBuf> {
+    let pairs = crate::analysis::override_pairs(overrides)?;
+    let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
+    Ok(scenario.urdf_path())
+}
+
 /// The run summary as the keyword arguments of `sea_momentum.results.RunSummary` (numbers
 /// and strings, no JSON text).
 fn summary_fields<'py>(

@@ -1,6 +1,7 @@
 //! The foot rectangle of a contact from the collision geometry of its foot: every collision
 //! shape of the links fused into the contact's body (boxes' corners, cylinders' and
-//! capsules' bounding boxes, spheres' lowest points, the vertices of STL and OBJ meshes),
+//! capsules' bounding boxes, spheres' lowest points, the vertices of STL, OBJ and COLLADA
+//! meshes read by [`crate::meshes`]),
 //! expressed in the contact frame; the points within [`SOLE_BAND`] of the lowest one are the
 //! sole, their bounding box in x and y the rectangle.
 
@@ -125,11 +126,12 @@ fn shape_points(
                 .resolve(filename, urdf_dir)
                 .map_err(|e| e.to_string())?;
             let scale = scale.map_or([1.0; 3], |s| [s[0], s[1], s[2]]);
-            for vertex in super::mesh::vertices(&file)? {
+            let mesh = crate::meshes::read_mesh(&file).map_err(|e| e.to_string())?;
+            for vertex in &mesh.positions {
                 local.push(Vector3::new(
-                    vertex[0] * scale[0],
-                    vertex[1] * scale[1],
-                    vertex[2] * scale[2],
+                    f64::from(vertex[0]) * scale[0],
+                    f64::from(vertex[1]) * scale[1],
+                    f64::from(vertex[2]) * scale[2],
                 ));
             }
         }
@@ -166,5 +168,33 @@ mod tests {
         assert_eq!(rectangle.y, [-0.05, 0.05]);
         assert_eq!(lowest, -0.02);
         assert!(rectangle_of(&[]).is_none());
+    }
+
+    #[test]
+    fn a_collada_collision_mesh_is_measured_in_metres_and_scaled() {
+        // A sole 10 cm x 20 cm (centimetre units) and one vertex 5 cm above it.
+        let dae = r##"<COLLADA version="1.4.1"><asset><unit meter="0.01"/></asset>
+<library_geometries><geometry id="g"><mesh>
+<source id="p"><float_array id="a" count="15">0 0 0 10 0 0 10 20 0 0 20 0 5 10 5</float_array>
+<technique_common><accessor source="#a" count="5" stride="3"/></technique_common></source>
+<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+<triangles count="2"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2 0 2 4</p></triangles>
+</mesh></geometry></library_geometries></COLLADA>"##;
+        let dir = std::env::temp_dir().join(format!("sea_sim_foot_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("sole.dae"), dae).unwrap();
+        let geometry = urdf_rs::Geometry::Mesh {
+            filename: "sole.dae".into(),
+            scale: Some(urdf_rs::Vec3([2.0, 1.0, 1.0])),
+        };
+        let mut points = Vec::new();
+        let dirs = PackageDirs::from_environment(Vec::<std::path::PathBuf>::new());
+        shape_points(&geometry, &Pose::identity(), &dir, &dirs, &mut points).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let (rectangle, lowest) = rectangle_of(&points).unwrap();
+        assert_eq!(lowest, 0.0);
+        let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() + (a[1] - b[1]).abs() < 1e-6;
+        assert!(close(rectangle.x, [0.0, 0.2]), "{:?}", rectangle.x);
+        assert!(close(rectangle.y, [0.0, 0.2]), "{:?}", rectangle.y);
     }
 }

@@ -2,15 +2,14 @@
 //! its URDF and its two contacts alone. The scenario carries its robot description inline
 //! (`[robot.description]`): every joint a series elastic actuator scaled to the robot
 //! ([`actuators`]), a standing posture found by inverse kinematics ([`posture`]), the foot
-//! rectangle measured on the collision geometry ([`foot`], [`mesh`]) unless given, gains
-//! scaled to the robot ([`gains`]); the run is the paper's CoM sinusoid (1 cm, 0.2 Hz,
-//! lateral) for 5 s. The file is written beside its target and renamed over it only when
+//! rectangle measured on the collision geometry ([`foot`], meshes read by [`crate::meshes`])
+//! unless given, gains scaled to the robot ([`gains`]); the run is the paper's CoM sinusoid
+//! (1 cm, 0.2 Hz, lateral) for 5 s. The file is written beside its target and renamed over it only when
 //! complete ([`crate::output::OutputFile`]).
 
 pub mod actuators;
 pub mod foot;
 pub mod gains;
-pub mod mesh;
 pub mod posture;
 pub mod write;
 

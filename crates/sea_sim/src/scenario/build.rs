@@ -35,7 +35,7 @@ pub struct Setup {
 /// The robot model: the URDF reduced to `robot.joints` (default: the robot description's),
 /// with a frame for each `LINK:x,y,z` contact.
 fn load_model(scenario: &Scenario) -> Result<Model> {
-    let urdf = scenario.resolve(&scenario.robot.urdf);
+    let urdf = scenario.urdf_path();
     let joints = scenario
         .robot
         .joints

@@ -127,6 +127,12 @@ impl Scenario {
         Self::from_toml(&text, overrides, base).map_err(|e| e.in_file(path))
     }
 
+    /// The robot's URDF file: `robot.urdf` (from the scenario or its robot description, a
+    /// `package://` or `file://` URI already resolved when read) through [`Scenario::resolve`].
+    pub fn urdf_path(&self) -> PathBuf {
+        self.resolve(&self.robot.urdf)
+    }
+
     /// Resolves a path of the scenario: relative to its folder if it exists there, else as is.
     pub fn resolve(&self, path: &str) -> PathBuf {
         let candidate = self.base_dir.join(path);
