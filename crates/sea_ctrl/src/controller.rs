@@ -382,6 +382,11 @@ impl MomentumController {
         self.torque_map.factored_contacts(&self.contact_frames)
     }
 
+    /// The contact frames, in the order of the wrenches.
+    pub fn contact_frames(&self) -> &[FrameId] {
+        &self.contact_frames
+    }
+
     /// Settings.
     pub fn settings(&self) -> &ControllerSettings {
         &self.settings

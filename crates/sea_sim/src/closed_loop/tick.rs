@@ -11,6 +11,7 @@ use crate::error::Result;
 use crate::scenario::{DisturbanceSchedule, Scenario, Setup};
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::joint_loop::JointTorqueLoop;
+use sea_ctrl::stiffness_id::StiffnessIdentifier;
 use sea_ctrl::MomentumController;
 use sea_dyn::Model;
 use sea_plant::integrator::step_with_feedback;
@@ -230,6 +231,9 @@ pub(super) struct Engine<'a> {
     stage: Observation,
     /// The joint torque loops (multi-rate sampling).
     joint_loop: Option<JointTorqueLoop>,
+    /// The online stiffness identification feeding the joint loops
+    /// (`controller.stiffness_identification`).
+    identifier: Option<StiffnessIdentifier>,
     /// Fall detection on the plant's outputs at each sample.
     contact_check: ContactCheck,
 }
@@ -254,6 +258,11 @@ impl<'a> Engine<'a> {
         };
         let joint_loop = (schedule.sampling == Sampling::MultiRate)
             .then(|| scenario.controller.joint_loop(controller));
+        let identifier = joint_loop.as_ref().and_then(|joints| {
+            scenario
+                .controller
+                .stiffness_identifier(controller, joints.estimates())
+        });
         let mut pd = PlantData::new(plant);
         let disturbances = DisturbanceSchedule::new(
             &scenario.disturbances,
@@ -264,6 +273,7 @@ impl<'a> Engine<'a> {
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         Ok(Engine {
             joint_loop,
+            identifier,
             scenario,
             model,
             elastic_names,
@@ -359,6 +369,11 @@ impl<'a> Engine<'a> {
         };
         let (law, hand_over, x) = (&self.law, self.hand_over, &self.x);
         if let Some(joint_loop) = &mut self.joint_loop {
+            if let Some(identifier) = &mut self.identifier {
+                let wrenches = &law.last().output.wrenches;
+                let estimates = joint_loop.estimates_mut();
+                identifier.update(&self.layout, x, self.schedule.period, wrenches, estimates);
+            }
             joint_loop.hold(&law.last().output, &self.layout, x, law.s_desired());
             joint_loop.tick(&self.layout, x);
         }

@@ -327,7 +327,15 @@ fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
     positive("controller.torque_bandwidth_hz", c.torque_bandwidth_hz)?;
     positive("controller.inner_rate_hz", c.inner_rate_hz)?;
     non_negative("controller.joint_stiffness", c.joint_stiffness)?;
+    positive("controller.identification_time_s", c.identification_time_s)?;
     if c.sampling != Sampling::MultiRate {
+        if c.stiffness_identification {
+            return Err(Error::invalid(
+                "controller.stiffness_identification",
+                "needs controller.sampling = \"multi_rate\" (it feeds the joint loops)",
+                true,
+            ));
+        }
         return Ok(());
     }
     let ratio = c.inner_rate_hz / c.rate_hz();
