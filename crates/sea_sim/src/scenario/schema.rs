@@ -228,6 +228,16 @@ pub struct ControllerConfig {
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
     pub stiffness_estimate_scale: f64,
+    /// Per joint name, a further factor on that joint's stiffness estimate (e.g.
+    /// `{ l_knee = 1.3 }`; default none).
+    pub stiffness_estimate_joint_scales: BTreeMap<String, f64>,
+    /// The controller's model: every link's mass and rotational inertia times this scale
+    /// (centres of mass unchanged; default 1: the plant's model).
+    pub mass_estimate_scale: f64,
+    /// Per link name, a further factor on that link's mass and rotational inertia in the
+    /// controller's model (a massless link fused into its parent scales that body; default
+    /// none).
+    pub link_mass_estimate_scales: BTreeMap<String, f64>,
     /// Momentum integral gains (linear xyz, angular xyz; default: the robot description's
     /// for one or two feet).
     pub momentum_integral: Option<[f64; 6]>,
@@ -280,6 +290,9 @@ impl Default for ControllerConfig {
                 .time_constant,
             damping_estimate_scale: 1.0,
             stiffness_estimate_scale: 1.0,
+            stiffness_estimate_joint_scales: BTreeMap::new(),
+            mass_estimate_scale: 1.0,
+            link_mass_estimate_scales: BTreeMap::new(),
             momentum_integral: None,
             momentum_proportional: None,
             postural_stiffness: None,
