@@ -16,11 +16,19 @@
 //! measured `nu` over the update period (zero at the first update):
 //!
 //! `tau_model = S (M nudot + h - J^T f)` (the joint rows of the floating-base dynamics), where
-//! the contact wrenches `f` are the commanded ones `f*` corrected to satisfy the base rows
-//! `J_b^T f = (M nudot + h)_b` with the least change (`f = f* + J_b (J_b^T J_b)^-1 r`,
-//! `r = (M nudot + h)_b - J_b^T f*`, `J_b` the base columns of the stacked contact Jacobians):
-//! on one foot this is the measured wrench exactly (six equations, six unknowns); on two feet
-//! the internal force between the feet is taken from `f*`.
+//! the contact wrenches `f` are the given ones `f_0` (measured by the feet's force/torque
+//! sensors, or the commanded `f*`) corrected to satisfy the base rows `J_b^T f = (M nudot +
+//! h)_b` with the least change (`f = f_0 + J_b (J_b^T J_b)^-1 r`, `r = (M nudot + h)_b - J_b^T
+//! f_0`, `J_b` the base columns of the stacked contact Jacobians): on one foot this is the
+//! contact wrench exactly (six equations, six unknowns) whatever `f_0`; on two feet the internal
+//! force between the feet is `f_0`'s, so the commanded `f*` biases the legs' estimates where
+//! sensors do not.
+//!
+//! With measured wrenches the base rows check them: their residual `r` is the robot's
+//! unmodelled external wrench (a push, a hand on the robot), which the correction would put
+//! on the feet and so into the legs' torques. An update whose force residual exceeds
+//! `IdentificationSettings::max_external_force` times the robot's weight is skipped (the
+//! estimates are held through a push).
 //!
 //! Per joint, recursive least squares with exponential forgetting on
 //! `tau_model - K_D^ deltadot = K_S delta` (the spring's damping term removed with the damping
@@ -44,14 +52,20 @@ pub struct IdentificationSettings {
     pub time_constant: f64,
     /// Weight of the prior, as the deflection `delta_0` [rad] of one sample.
     pub prior_deflection: f64,
+    /// With measured wrenches: the largest force residual of the base rows, as a fraction of
+    /// the robot's weight, at which an update is made (module doc); `None` (commanded
+    /// wrenches, whose residual is the momentum error) for no check.
+    pub max_external_force: Option<f64>,
 }
 
 impl Default for IdentificationSettings {
-    /// `T_id` 1 s, `delta_0` 1e-3 rad (0.35 Nm at the iCub's 350 Nm/rad).
+    /// `T_id` 1 s, `delta_0` 1e-3 rad (0.35 Nm at the iCub's 350 Nm/rad), external force
+    /// check at 2 % of the weight (6.5 N on the iCub).
     fn default() -> Self {
         Self {
             time_constant: 1.0,
             prior_deflection: 1e-3,
+            max_external_force: Some(0.02),
         }
     }
 }
@@ -81,6 +95,10 @@ pub struct StiffnessIdentifier {
     contact_jacobian: DMatrix<f64>,
     /// The contact wrenches `f` of this update (6 k).
     wrenches: DVector<f64>,
+    /// Norm of the force residual of the base rows at the last update [N].
+    external_force: f64,
+    /// The robot's weight `m |g|` [N].
+    weight: f64,
 }
 
 impl StiffnessIdentifier {
@@ -110,8 +128,16 @@ impl StiffnessIdentifier {
             generalized_force: DVector::zeros(nv),
             contact_jacobian: DMatrix::zeros(k, nv),
             wrenches: DVector::zeros(k),
+            external_force: 0.0,
+            weight: model.total_mass() * model.gravity.norm(),
             model,
         }
+    }
+
+    /// The norm of the base rows' force residual at the last update [N]: with measured
+    /// wrenches, the unmodelled external force on the robot.
+    pub fn external_force(&self) -> f64 {
+        self.external_force
     }
 
     /// The joint torques `tau_model` (nv; joint rows from 6) of the last update [Nm].
@@ -120,17 +146,24 @@ impl StiffnessIdentifier {
     }
 
     /// One update at the measured state `x` (layout `layout`), `period` [s] after the
-    /// previous one, with the commanded contact wrenches `commanded` (6 k): refines the
-    /// stiffness in `estimates` (n_e, e.g. the joint loop's).
+    /// previous one, with the contact wrenches `wrenches` (6 k, measured or commanded, at the
+    /// contact frames' origins, world axes): refines the stiffness in `estimates` (n_e, e.g.
+    /// the joint loop's). Returns false when the update was skipped (external force check,
+    /// module doc).
     pub fn update(
         &mut self,
         layout: &StateLayout,
         x: &[f64],
         period: f64,
-        commanded: &DVector<f64>,
+        wrenches: &DVector<f64>,
         estimates: &mut [ElasticParameters],
-    ) {
-        self.model_joint_torques(layout, x, period, commanded);
+    ) -> bool {
+        self.model_joint_torques(layout, x, period, wrenches);
+        if let Some(fraction) = self.settings.max_external_force {
+            if self.external_force > fraction * self.weight {
+                return false;
+            }
+        }
         let lambda = (-period / self.settings.time_constant).exp();
         let (theta, s) = (layout.theta(x), layout.s(x));
         let (thetadot, sdot) = (layout.thetadot(x), layout.sdot(x));
@@ -146,22 +179,23 @@ impl StiffnessIdentifier {
             let prior = self.prior[e];
             estimate.stiffness = (*sum_td / *sum_dd).clamp(0.1 * prior, 10.0 * prior);
         }
+        true
     }
 
     /// The identification's fixed point at a state `x` held still (an equilibrium, where
     /// `nudot = 0` and `deltadot = 0`): every sample the same, the prior forgotten, each
     /// joint's estimate is `tau_model / delta` (kept as it is where `|delta| < 1e-9` rad), with
-    /// the commanded wrenches `commanded` (6 k). For the linearisation with the identification
+    /// the contact wrenches `wrenches` (6 k). For the linearisation with the identification
     /// converged; the identifier's own state is left as it was.
     pub fn converged_at(
         &mut self,
         layout: &StateLayout,
         x: &[f64],
-        commanded: &DVector<f64>,
+        wrenches: &DVector<f64>,
         estimates: &mut [ElasticParameters],
     ) {
         let nu_previous = self.nu_previous.take();
-        self.model_joint_torques(layout, x, 1.0, commanded);
+        self.model_joint_torques(layout, x, 1.0, wrenches);
         self.nu_previous = nu_previous;
         let (theta, s) = (layout.theta(x), layout.s(x));
         let joints = self.elastic_joints.iter().zip(estimates.iter_mut());
@@ -182,7 +216,7 @@ impl StiffnessIdentifier {
         layout: &StateLayout,
         x: &[f64],
         period: f64,
-        commanded: &DVector<f64>,
+        wrenches: &DVector<f64>,
     ) {
         let (q, nu) = (layout.q(x), layout.nu(x));
         match &mut self.nu_previous {
@@ -204,22 +238,24 @@ impl StiffnessIdentifier {
             let mut rows = self.contact_jacobian.rows_mut(6 * c, 6);
             rows.copy_from(&self.data.frame_jacobian);
         }
-        self.base_consistent_wrenches(commanded);
+        self.base_consistent_wrenches(wrenches);
         let jacobian = &self.contact_jacobian;
         self.generalized_force
             .gemv_tr(-1.0, jacobian, &self.wrenches, 1.0);
     }
 
-    /// `f = f* + J_b (J_b^T J_b)^-1 (tau_b - J_b^T f*)` into `wrenches`, with the base rows
-    /// `tau_b` of `generalized_force` (before the contact term).
-    fn base_consistent_wrenches(&mut self, commanded: &DVector<f64>) {
-        self.wrenches.copy_from(commanded);
+    /// `f = f_0 + J_b (J_b^T J_b)^-1 (tau_b - J_b^T f_0)` into `self.wrenches` from the given
+    /// `wrenches` `f_0`, with the base rows `tau_b` of `generalized_force` (before the contact
+    /// term).
+    fn base_consistent_wrenches(&mut self, wrenches: &DVector<f64>) {
+        self.wrenches.copy_from(wrenches);
         if self.contact_frames.is_empty() {
             return;
         }
         let base = self.contact_jacobian.fixed_columns::<6>(0);
         let residual: Vector6<f64> =
             self.generalized_force.fixed_rows::<6>(0) - base.tr_mul(&self.wrenches);
+        self.external_force = residual.fixed_rows::<3>(0).norm();
         let normal: Matrix6<f64> = base.tr_mul(&base);
         if let Some(solution) = normal.cholesky().map(|c| c.solve(&residual)) {
             self.wrenches.gemv(1.0, &base, &solution, 1.0);

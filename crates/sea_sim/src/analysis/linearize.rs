@@ -398,7 +398,8 @@ pub fn closed_loop_system(
             .controller
             .stiffness_identifier(system.controller(), joint_loop.estimates());
         system.set_joint_loop(Some(joint_loop));
-        system.set_identifier(identifier);
+        let source = scenario.controller.identification_wrenches;
+        system.set_identifier(identifier.map(|identifier| (identifier, source)));
     }
     Ok(system)
 }

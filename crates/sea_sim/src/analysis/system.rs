@@ -17,6 +17,7 @@ use sea_ctrl::controller::{ControlOutput, MomentumController};
 use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::references::ComSample;
 use sea_ctrl::stiffness_id::StiffnessIdentifier;
+use crate::scenario::IdentificationWrenches;
 use sea_plant::{Method, Plant, PlantData, StateLayout};
 
 /// When the controller is evaluated: the sampling setting ([`Sampling`]) with, in zero-order
@@ -153,7 +154,7 @@ pub struct ClosedLoopSystem {
     joint_loop: Option<JointTorqueLoop>,
     /// The stiffness identification feeding the joint loops, linearised converged
     /// ([`ClosedLoopSystem::converge_identification`]).
-    identifier: Option<StiffnessIdentifier>,
+    identifier: Option<(StiffnessIdentifier, IdentificationWrenches)>,
     /// Integration method of the plant.
     pub method: Method,
     pd: PlantData,
@@ -250,28 +251,34 @@ impl ClosedLoopSystem {
 
     /// Gives the joint loops a stiffness identification (multi-rate,
     /// `controller.stiffness_identification`).
-    pub fn set_identifier(&mut self, identifier: Option<StiffnessIdentifier>) {
+    pub fn set_identifier(
+        &mut self,
+        identifier: Option<(StiffnessIdentifier, IdentificationWrenches)>,
+    ) {
         self.identifier = identifier;
     }
 
     /// With a stiffness identification: sets the joint loops' stiffness estimates to the
     /// identification's fixed point at `x` held still
-    /// ([`StiffnessIdentifier::converged_at`]) and returns true; false without one.
+    /// ([`StiffnessIdentifier::converged_at`]) with the commanded or the plant's contact
+    /// wrenches at `x`, and returns true; false without one.
     pub fn converge_identification(&mut self, x: &[f64]) -> Result<bool> {
-        let (Some(identifier), Some(_)) = (&mut self.identifier, &self.joint_loop) else {
+        if self.identifier.is_none() || self.joint_loop.is_none() {
+            return Ok(false);
+        }
+        let mut xdot = DVector::zeros(self.layout.nd());
+        self.vector_field(x, &mut xdot)?;
+        let (Some((identifier, source)), Some(joint_loop)) =
+            (&mut self.identifier, &mut self.joint_loop)
+        else {
             return Ok(false);
         };
-        self.setup.controller.compute_into(
-            x,
-            &self.layout,
-            &self.reference,
-            &self.s_desired,
-            &mut self.output,
-        )?;
-        if let Some(joint_loop) = &mut self.joint_loop {
-            let estimates = joint_loop.estimates_mut();
-            identifier.converged_at(&self.layout, x, &self.output.wrenches, estimates);
-        }
+        let wrenches = match source {
+            IdentificationWrenches::Measured => &self.pd.outputs.contact_wrench,
+            IdentificationWrenches::Commanded => &self.output.wrenches,
+        };
+        let estimates = joint_loop.estimates_mut();
+        identifier.converged_at(&self.layout, x, wrenches, estimates);
         Ok(true)
     }
 

@@ -8,7 +8,7 @@ use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
 use super::statistics::{Divergence, RunEnd};
 use crate::error::Result;
-use crate::scenario::{DisturbanceSchedule, Scenario, Setup};
+use crate::scenario::{DisturbanceSchedule, IdentificationWrenches, Scenario, Setup};
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::stiffness_id::StiffnessIdentifier;
@@ -369,11 +369,6 @@ impl<'a> Engine<'a> {
         };
         let (law, hand_over, x) = (&self.law, self.hand_over, &self.x);
         if let Some(joint_loop) = &mut self.joint_loop {
-            if let Some(identifier) = &mut self.identifier {
-                let wrenches = &law.last().output.wrenches;
-                let estimates = joint_loop.estimates_mut();
-                identifier.update(&self.layout, x, self.schedule.period, wrenches, estimates);
-            }
             joint_loop.hold(&law.last().output, &self.layout, x, law.s_desired());
             joint_loop.tick(&self.layout, x);
         }
@@ -396,7 +391,27 @@ impl<'a> Engine<'a> {
             Err(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
             Ok(()) => stop,
         };
+        if end.is_none() {
+            self.identify();
+        }
         Ok(Period { end })
+    }
+
+    /// Multi-rate with `controller.stiffness_identification`: one update of the identification
+    /// at the sample's state with the contact wrenches of `controller.identification_wrenches`
+    /// there (measured: the plant's at the sample, from the period's first step); the joint
+    /// loops take the estimates from the next period on.
+    fn identify(&mut self) {
+        let (Some(identifier), Some(joint_loop)) = (&mut self.identifier, &mut self.joint_loop)
+        else {
+            return;
+        };
+        let wrenches = match self.scenario.controller.identification_wrenches {
+            IdentificationWrenches::Measured => &self.side.outputs.contact_wrench,
+            IdentificationWrenches::Commanded => &self.law.last().output.wrenches,
+        };
+        let estimates = joint_loop.estimates_mut();
+        identifier.update(&self.layout, &self.x, self.schedule.period, wrenches, estimates);
     }
 
     /// Continuous sampling: one plant step with the law at every stage, into `x_next`. The

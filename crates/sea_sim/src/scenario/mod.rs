@@ -28,7 +28,10 @@ pub use schema::{
     ActuatorConfig, ActuatorsConfig, ControllerConfig, InitialSprings, PlantConfig,
     ReferenceConfig, RobotConfig, SimulationConfig,
 };
-pub use settings::{ActuatorKind, ComOrigin, ControllerKind, Method, QpSolver, Sampling, Setting};
+pub use settings::{
+    ActuatorKind, ComOrigin, ControllerKind, IdentificationWrenches, Method, QpSolver, Sampling,
+    Setting,
+};
 pub use std::sync::Arc;
 
 use crate::error::{Error, Result};

@@ -6,7 +6,9 @@
 
 use super::parse::{table_as, take, TableResult};
 use super::robots::icub;
-use super::settings::{ActuatorKind, ComOrigin, ControllerKind, Method, QpSolver, Sampling};
+use super::settings::{
+    ActuatorKind, ComOrigin, ControllerKind, IdentificationWrenches, Method, QpSolver, Sampling,
+};
 use sea_ctrl::qp::ContactConstraints;
 use sea_dyn::{critical_damping, Actuator, ElasticParameters};
 use sea_plant::Plant;
@@ -224,6 +226,9 @@ pub struct ControllerConfig {
     /// `multi_rate` with `stiffness_identification`: forgetting time constant of the
     /// identification [s] (default 1 s).
     pub identification_time_s: f64,
+    /// `multi_rate` with `stiffness_identification`: the contact wrenches it takes,
+    /// "measured" (foot force/torque sensors; the default) or "commanded" (the QP's `f*`).
+    pub identification_wrenches: IdentificationWrenches,
     /// Controller damping estimate = true damping x scale.
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
@@ -288,6 +293,7 @@ impl Default for ControllerConfig {
             stiffness_identification: false,
             identification_time_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
                 .time_constant,
+            identification_wrenches: IdentificationWrenches::default(),
             damping_estimate_scale: 1.0,
             stiffness_estimate_scale: 1.0,
             stiffness_estimate_joint_scales: BTreeMap::new(),
@@ -339,8 +345,12 @@ impl ControllerConfig {
         controller: &sea_ctrl::MomentumController,
         prior: &[sea_dyn::ElasticParameters],
     ) -> Option<sea_ctrl::stiffness_id::StiffnessIdentifier> {
+        let measured = self.identification_wrenches == IdentificationWrenches::Measured;
         let settings = sea_ctrl::stiffness_id::IdentificationSettings {
             time_constant: self.identification_time_s,
+            max_external_force: measured
+                .then_some(sea_ctrl::stiffness_id::IdentificationSettings::default())
+                .and_then(|defaults| defaults.max_external_force),
             ..Default::default()
         };
         self.stiffness_identification

@@ -135,6 +135,34 @@ impl Sampling {
     }
 }
 
+/// `controller.identification_wrenches`: the contact wrenches the stiffness identification
+/// takes (`sea_ctrl::stiffness_id`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IdentificationWrenches {
+    /// Measured by force/torque sensors at the feet, as on the iCub, ergoCub and Talos (in
+    /// simulation: the plant's contact wrenches at the sample; the default).
+    #[default]
+    Measured,
+    /// The whole-body controller's commanded `f*` (no sensors): on two feet the internal
+    /// force between the feet is then the commanded one, which biases the legs' estimates.
+    Commanded,
+}
+
+impl Setting for IdentificationWrenches {
+    const ALL: &'static [Self] = &[
+        IdentificationWrenches::Measured,
+        IdentificationWrenches::Commanded,
+    ];
+
+    fn name(self) -> &'static str {
+        match self {
+            IdentificationWrenches::Measured => "measured",
+            IdentificationWrenches::Commanded => "commanded",
+        }
+    }
+}
+
 /// `reference.com_origin`: the origin of the CoM sinusoid.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
