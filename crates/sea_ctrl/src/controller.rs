@@ -174,7 +174,9 @@ impl ControllerSettings {
                 format!("needs {n} entries, got {}", joint_scales.len()),
             ));
         }
-        let joint_scales = joint_scales.iter().map(|&v| ("controller.stiffness_estimate_joint_scales", v));
+        let joint_scales = joint_scales
+            .iter()
+            .map(|&v| ("controller.stiffness_estimate_joint_scales", v));
         for (key, v) in [
             (
                 "controller.damping_estimate_scale",

@@ -129,6 +129,9 @@ mod tests {
             elastic_joints: vec![0],
             elastic: vec![joint()],
         };
-        assert_eq!(controller_estimates(&actuation, 2.0, 0.5, &[]), vec![estimate]);
+        assert_eq!(
+            controller_estimates(&actuation, 2.0, 0.5, &[]),
+            vec![estimate]
+        );
     }
 }

@@ -11,13 +11,13 @@
 //! with `x (+) dx` = [`sea_plant::retract`] and `y (-) x` = [`difference`].
 
 use crate::error::{Error, Result};
+use crate::scenario::IdentificationWrenches;
 use crate::scenario::{ControllerConfig, Sampling, Scenario, Setup};
 use nalgebra::DVector;
 use sea_ctrl::controller::{ControlOutput, MomentumController};
 use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::references::ComSample;
 use sea_ctrl::stiffness_id::StiffnessIdentifier;
-use crate::scenario::IdentificationWrenches;
 use sea_plant::{Method, Plant, PlantData, StateLayout};
 
 /// When the controller is evaluated: the sampling setting ([`Sampling`]) with, in zero-order

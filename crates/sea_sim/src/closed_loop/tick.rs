@@ -411,7 +411,13 @@ impl<'a> Engine<'a> {
             IdentificationWrenches::Commanded => &self.law.last().output.wrenches,
         };
         let estimates = joint_loop.estimates_mut();
-        identifier.update(&self.layout, &self.x, self.schedule.period, wrenches, estimates);
+        identifier.update(
+            &self.layout,
+            &self.x,
+            self.schedule.period,
+            wrenches,
+            estimates,
+        );
     }
 
     /// Continuous sampling: one plant step with the law at every stage, into `x_next`. The

@@ -38,9 +38,9 @@ use crate::error::{Error, Result};
 use parse::{schema_error, syntax_error};
 use sea_ctrl::controller::ControllerSettings;
 use sea_ctrl::qp::ContactConstraints;
-use sea_dyn::{critical_damping, Model};
 #[cfg(doc)]
 use sea_dyn::ElasticParameters;
+use sea_dyn::{critical_damping, Model};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 

@@ -227,7 +227,10 @@ fn controller(scenario: &Scenario) -> Result<()> {
     )?;
     positive("controller.mass_estimate_scale", c.mass_estimate_scale)?;
     for (joint, &scale) in &c.stiffness_estimate_joint_scales {
-        positive(&format!("controller.stiffness_estimate_joint_scales.{joint}"), scale)?;
+        positive(
+            &format!("controller.stiffness_estimate_joint_scales.{joint}"),
+            scale,
+        )?;
     }
     for (key, gains) in [
         ("controller.momentum_integral", c.momentum_integral),
