@@ -24,11 +24,13 @@
 //! force between the feet is `f_0`'s, so the commanded `f*` biases the legs' estimates where
 //! sensors do not.
 //!
-//! With measured wrenches the base rows check them: their residual `r` is the robot's
-//! unmodelled external wrench (a push, a hand on the robot), which the correction would put
-//! on the feet and so into the legs' torques. An update whose force residual exceeds
-//! `IdentificationSettings::max_external_force` times the robot's weight is skipped (the
-//! estimates are held through a push).
+//! With measured wrenches the base rows check them: their residual `r` is the model's error
+//! (steady: a wrong mass) plus the robot's unmodelled external wrench (a push, a hand on the
+//! robot), which the correction would put on the feet and so into the legs' torques. An
+//! update whose force residual departs from its running mean (the steady part, averaged with
+//! the same forgetting over the accepted updates) by more than
+//! `IdentificationSettings::max_external_force` times the robot's weight is skipped: the
+//! estimates are held through a push.
 //!
 //! Per joint, recursive least squares with exponential forgetting on
 //! `tau_model - K_D^ deltadot = K_S delta` (the spring's damping term removed with the damping
@@ -95,8 +97,10 @@ pub struct StiffnessIdentifier {
     contact_jacobian: DMatrix<f64>,
     /// The contact wrenches `f` of this update (6 k).
     wrenches: DVector<f64>,
-    /// Norm of the force residual of the base rows at the last update [N].
-    external_force: f64,
+    /// The base rows' residual `r` of the last update (force, moment) [N, Nm].
+    residual: Vector6<f64>,
+    /// Running mean of `r` over the accepted updates (the model's steady error), once set.
+    residual_mean: Option<Vector6<f64>>,
     /// The robot's weight `m |g|` [N].
     weight: f64,
 }
@@ -128,16 +132,18 @@ impl StiffnessIdentifier {
             generalized_force: DVector::zeros(nv),
             contact_jacobian: DMatrix::zeros(k, nv),
             wrenches: DVector::zeros(k),
-            external_force: 0.0,
+            residual: Vector6::zeros(),
+            residual_mean: None,
             weight: model.total_mass() * model.gravity.norm(),
             model,
         }
     }
 
-    /// The norm of the base rows' force residual at the last update [N]: with measured
-    /// wrenches, the unmodelled external force on the robot.
+    /// The departure of the base rows' force residual from its running mean at the last
+    /// update [N]: with measured wrenches, the unmodelled external force on the robot.
     pub fn external_force(&self) -> f64 {
-        self.external_force
+        let mean = self.residual_mean.unwrap_or(self.residual);
+        (self.residual - mean).fixed_rows::<3>(0).norm()
     }
 
     /// The joint torques `tau_model` (nv; joint rows from 6) of the last update [Nm].
@@ -160,11 +166,13 @@ impl StiffnessIdentifier {
     ) -> bool {
         self.model_joint_torques(layout, x, period, wrenches);
         if let Some(fraction) = self.settings.max_external_force {
-            if self.external_force > fraction * self.weight {
+            if self.external_force() > fraction * self.weight {
                 return false;
             }
         }
         let lambda = (-period / self.settings.time_constant).exp();
+        let mean = self.residual_mean.get_or_insert(self.residual);
+        *mean = lambda * *mean + (1.0 - lambda) * self.residual;
         let (theta, s) = (layout.theta(x), layout.s(x));
         let (thetadot, sdot) = (layout.thetadot(x), layout.sdot(x));
         let joints = self.elastic_joints.iter().zip(estimates.iter_mut());
@@ -255,7 +263,7 @@ impl StiffnessIdentifier {
         let base = self.contact_jacobian.fixed_columns::<6>(0);
         let residual: Vector6<f64> =
             self.generalized_force.fixed_rows::<6>(0) - base.tr_mul(&self.wrenches);
-        self.external_force = residual.fixed_rows::<3>(0).norm();
+        self.residual = residual;
         let normal: Matrix6<f64> = base.tr_mul(&base);
         if let Some(solution) = normal.cholesky().map(|c| c.solve(&residual)) {
             self.wrenches.gemv(1.0, &base, &solution, 1.0);

@@ -214,3 +214,27 @@ fn a_push_does_not_corrupt_the_identification() {
     let (_, summary) = run(&without, |_, _| {}).unwrap();
     assert_ne!(summary.status, "completed", "{summary:?}");
 }
+
+/// A controller model whose masses are all off by 10 % makes the torque loop's torques
+/// inconsistent with the model like a stiffness error does: without identification the
+/// tracking diverges; with it the identified stiffness absorbs the scale (the model's torques
+/// and the identified `K_S^` are off by the same factor) and the goals hold.
+#[test]
+fn identification_absorbs_a_uniform_mass_error_of_the_model() {
+    for scale in ["0.9", "1.1"] {
+        let key = "controller.mass_estimate_scale";
+        let (_, without) = run(&load(&[(key, scale)]), |_, _| {}).unwrap();
+        assert_ne!(without.status, "completed", "x{scale}: {without:?}");
+        let with = load(&[
+            (key, scale),
+            ("controller.stiffness_identification", "true"),
+        ]);
+        let (_, summary) = run(&with, |_, _| {}).unwrap();
+        assert_eq!(summary.status, "completed", "x{scale}: {summary:?}");
+        assert!(summary.com_error_rms_m <= 3.48e-3, "x{scale}: {summary:?}");
+        assert!(
+            summary.joint_error_norm_final_rad < 0.24,
+            "x{scale}: {summary:?}"
+        );
+    }
+}
