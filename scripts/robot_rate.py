@@ -1,0 +1,225 @@
+"""The robot-rate study (issue 19, README "At the robot's rate"): the multi-rate loop (100 Hz
+whole body over 1 kHz joint torque loops) on the paper's tracking, with and without the online
+stiffness identification.
+
+Writes into OUT (default out/robot_rate):
+
+- robustness_map.png: outcome and CoM error of 10 s runs over stiffness estimate x damping
+  estimate, without and with identification, with the period map's eigenvalue boundary along
+  the stiffness axis (damping estimate x1) drawn;
+- push_table.md / push_table.json: the largest push recovered per direction on two feet
+  (``sea-sim push``), beside the capture-point bound and the rigid robot under the rigid
+  controller at 100 Hz;
+- robot_rate.json: every figure of the above.
+
+Usage: python scripts/robot_rate.py [OUT] [--sea-sim PATH]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import pathlib
+import subprocess
+import sys
+from typing import Any
+
+import numpy as np
+
+import sea_momentum as sm
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+TRACKING = ROOT / "scenarios" / "robot_rate" / "tracking_multi_rate.toml"
+PUSH = ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml"
+STIFFNESS = [0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.25, 1.5, 2.0]
+DAMPING = [0.2, 0.5, 1.0, 2.0, 3.0]
+IDENTIFICATION = "controller.stiffness_identification"
+MULTI_RATE = [
+    "controller.sampling=multi_rate",
+    "controller.kind=rigid",
+    "controller.reflected_inertia=false",
+]
+PUSH_SETUPS = {
+    "rigid robot, rigid controller, 100 Hz": [
+        "actuators.kind=rigid",
+        "controller.kind=rigid",
+        "controller.sampling=zero_order_hold",
+        "controller.rate_hz=100",
+    ],
+    "SEA, multi-rate": MULTI_RATE,
+    "SEA, multi-rate, identification from x0.5": MULTI_RATE
+    + [f"{IDENTIFICATION}=true", "controller.stiffness_estimate_scale=0.5"],
+    "SEA, multi-rate, identification from x2": MULTI_RATE
+    + [f"{IDENTIFICATION}=true", "controller.stiffness_estimate_scale=2.0"],
+}
+
+
+def log(message: str) -> None:
+    """A progress line on stderr."""
+    print(f"[robot_rate] {message}", file=sys.stderr, flush=True)
+
+
+def robustness_map(identification: bool) -> dict[str, Any]:
+    """10 s runs over ``STIFFNESS`` x ``DAMPING`` (grid order: damping fastest)."""
+    result = sm.sweep(
+        TRACKING,
+        {
+            "controller.stiffness_estimate_scale": STIFFNESS,
+            "controller.damping_estimate_scale": DAMPING,
+        },
+        overrides={IDENTIFICATION: identification},
+    )
+    shape = (len(STIFFNESS), len(DAMPING))
+    return {
+        "status": np.asarray(result["status"]).reshape(shape).tolist(),
+        "com_error_rms_m": np.asarray(result["com_error_rms_m"]).reshape(shape).tolist(),
+        "joint_error_norm_final_rad": np.asarray(result["joint_error_norm_final_rad"])
+        .reshape(shape)
+        .tolist(),
+    }
+
+
+def growth_rates(identification: bool) -> list[dict[str, Any]]:
+    """The period map's growth rate along ``STIFFNESS`` (damping estimate x1)."""
+    rows = []
+    for scale in STIFFNESS:
+        overrides = {"controller.stiffness_estimate_scale": scale, IDENTIFICATION: identification}
+        lin = sm.linearize(TRACKING, overrides=overrides)
+        rows.append(
+            {
+                "stiffness_scale": scale,
+                "growth_rate": lin.growth_rate,
+                "equilibrium_converged": bool(lin.converged),
+                "dominant_state": lin.dominant_states[0][0] if lin.dominant_states else "",
+            }
+        )
+    return rows
+
+
+def boundaries(rows: list[dict[str, Any]]) -> list[float]:
+    """Stiffness scales where the growth rate changes sign (linear interpolation), between
+    points whose equilibria converged."""
+    found = []
+    for a, b in zip(rows, rows[1:]):
+        if not (a["equilibrium_converged"] and b["equilibrium_converged"]):
+            continue
+        ga, gb = a["growth_rate"], b["growth_rate"]
+        if (ga < 0) != (gb < 0):
+            t = ga / (ga - gb)
+            found.append(a["stiffness_scale"] + t * (b["stiffness_scale"] - a["stiffness_scale"]))
+    return found
+
+
+def push_table(sea_sim: pathlib.Path) -> dict[str, Any]:
+    """``sea-sim push`` for each of ``PUSH_SETUPS``: recovered impulse per direction."""
+    table: dict[str, Any] = {}
+    for label, overrides in PUSH_SETUPS.items():
+        log(f"push: {label}")
+        args = [str(sea_sim), "push", str(PUSH)]
+        for value in overrides:
+            args += ["--set", value]
+        report = json.loads(subprocess.run(args, check=True, capture_output=True, text=True).stdout)
+        table[label] = {
+            d["direction"]: {
+                "recovered_n_s": d["recovered_impulse_n_s"],
+                "capture_point_n_s": d["capture_point_impulse_n_s"],
+                "failed_status": d["failed_status"],
+            }
+            for d in report["directions"]
+        }
+    return table
+
+
+def push_markdown(table: dict[str, Any]) -> list[str]:
+    """The push table as markdown: recovered impulse, % of the capture-point bound and % of
+    the rigid robot's."""
+    labels = list(table)
+    rigid = table[labels[0]]
+    directions = list(rigid)
+    head = "| setup | " + " | ".join(directions) + " |"
+    lines = [head, "| --- |" + " --- |" * len(directions)]
+    bound = [f"{rigid[d]['capture_point_n_s']:.2f}" for d in directions]
+    lines.append("| capture-point bound [N s] | " + " | ".join(bound) + " |")
+    for label in labels:
+        cells = []
+        for d in directions:
+            value = table[label][d]["recovered_n_s"]
+            share = 100 * value / table[label][d]["capture_point_n_s"]
+            of_rigid = 100 * value / rigid[d]["recovered_n_s"]
+            cells.append(f"{value:.2f} ({share:.0f} % of bound, {of_rigid:.0f} % of rigid)")
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def figure(maps: dict[str, Any], rates: dict[str, Any], path: pathlib.Path) -> None:
+    """Two panels (without, with identification): outcome colours, CoM rms in mm, the
+    eigenvalue boundary along the stiffness axis."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    colours = {"completed": 0, "fell": 1, "diverged": 2}
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
+    cmap = matplotlib.colors.ListedColormap(["#7fc97f", "#fdc086", "#f0027f"])
+    for ax, key, title in zip(axes, ["without", "with"], ["without identification", "with identification"]):
+        status = np.array(maps[key]["status"])
+        rms = np.array(maps[key]["com_error_rms_m"]) * 1e3
+        codes = np.vectorize(lambda s: colours.get(s, 2))(status)
+        ax.imshow(codes.T, origin="lower", cmap=cmap, vmin=0, vmax=2, aspect="auto")
+        for i in range(len(STIFFNESS)):
+            for j in range(len(DAMPING)):
+                text = f"{rms[i, j]:.1f}" if status[i, j] == "completed" else status[i, j][0]
+                ax.text(i, j, text, ha="center", va="center", fontsize=7)
+        found = boundaries(rates[key])
+        for b in found:
+            x = np.interp(b, STIFFNESS, np.arange(len(STIFFNESS)))
+            ax.axvline(x, color="k", linestyle="--", linewidth=1)
+        unconverged = [r["stiffness_scale"] for r in rates[key] if not r["equilibrium_converged"]]
+        note = "" if found else "no eigenvalue boundary between converged equilibria"
+        if unconverged:
+            note += f"; no equilibrium found at x{', x'.join(f'{u:g}' for u in unconverged)}"
+        ax.set_xlabel(f"stiffness estimate / true\n{note.strip('; ')}", fontsize=8)
+        ax.set_xticks(range(len(STIFFNESS)), [f"{s:g}" for s in STIFFNESS])
+        ax.set_yticks(range(len(DAMPING)), [f"{d:g}" for d in DAMPING])
+        ax.set_title(f"100 Hz / 1 kHz, {title}\n(CoM rms [mm]; f fell, d diverged)")
+    axes[0].set_ylabel("damping estimate / true")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("out", nargs="?", default="out/robot_rate")
+    parser.add_argument("--sea-sim", default=str(ROOT / "target" / "release" / "sea-sim"))
+    args = parser.parse_args()
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    maps, rates = {}, {}
+    for key, identification in [("without", False), ("with", True)]:
+        log(f"robustness map {key} identification ({len(STIFFNESS) * len(DAMPING)} runs of 10 s)")
+        maps[key] = robustness_map(identification)
+        log(f"period-map growth rates {key} identification ({len(STIFFNESS)} linearisations)")
+        rates[key] = growth_rates(identification)
+    figure(maps, rates, out / "robustness_map.png")
+    pushes = push_table(pathlib.Path(args.sea_sim))
+    (out / "push_table.json").write_text(json.dumps(pushes, indent=2))
+    (out / "push_table.md").write_text("\n".join(push_markdown(pushes)) + "\n")
+    report = {
+        "stiffness_scales": STIFFNESS,
+        "damping_scales": DAMPING,
+        "maps": maps,
+        "growth_rates": rates,
+        "eigenvalue_boundaries": {k: boundaries(v) for k, v in rates.items()},
+        "pushes": pushes,
+    }
+    (out / "robot_rate.json").write_text(json.dumps(report, indent=2, allow_nan=True))
+    completed = {k: sum(s == "completed" for row in m["status"] for s in row) for k, m in maps.items()}
+    log(f"completed runs: {completed} of {len(STIFFNESS) * len(DAMPING)} each; wrote {out}/")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
