@@ -10,16 +10,17 @@ Writes into OUT (default out/robot_rate):
 - push_table.md / push_table.json: the largest push recovered per direction on two feet
   (``sea-sim push``), beside the capture-point bound and the rigid robot under the rigid
   controller at 100 Hz;
-- robot_rate.json: every figure of the above.
+- robot_rate.json: every figure of the above;
+- with ``--outcomes FILE`` (the main job's outcomes.md): its section "At the robot's rate"
+  written (replaced when it is there).
 
-Usage: python scripts/robot_rate.py [OUT] [--sea-sim PATH]
+Usage: python scripts/robot_rate.py [OUT] [--sea-sim PATH] [--outcomes FILE]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import math
 import pathlib
 import subprocess
 import sys
@@ -190,10 +191,50 @@ def figure(maps: dict[str, Any], rates: dict[str, Any], path: pathlib.Path) -> N
     plt.close(fig)
 
 
+SECTION = "## At the robot's rate (100 Hz whole body / 1 kHz joint loops)"
+
+
+def outcomes_section(report: dict[str, Any]) -> list[str]:
+    """The outcomes.md section: the robustness maps' counts, growth rates and the push table."""
+    lines = [SECTION, ""]
+    total = len(STIFFNESS) * len(DAMPING)
+    for key in ["without", "with"]:
+        m = report["maps"][key]
+        statuses = [s for row in m["status"] for s in row]
+        rms = [r for row, srow in zip(m["com_error_rms_m"], m["status"]) for r, s in zip(row, srow) if s == "completed"]
+        worst = f", CoM rms up to {1e3 * max(rms):.2f} mm" if rms else ""
+        lines.append(
+            f"- {key} stiffness identification: {statuses.count('completed')} of {total} runs "
+            f"complete 10 s of tracking (stiffness estimate x{STIFFNESS[0]:g} to x{STIFFNESS[-1]:g}, "
+            f"damping x{DAMPING[0]:g} to x{DAMPING[-1]:g}){worst}; fell {statuses.count('fell')}, "
+            f"diverged {statuses.count('diverged')}."
+        )
+        rates = ", ".join(
+            f"x{r['stiffness_scale']:g} {r['growth_rate']:+.3f}" + ("" if r["equilibrium_converged"] else " (no equilibrium)")
+            for r in report["growth_rates"][key]
+        )
+        lines.append(f"  Period-map growth rates [1/s] (damping x1): {rates}.")
+    lines += ["", "Largest 0.1 s push on the pelvis recovered on two feet [N s] (`sea-sim push`):", ""]
+    lines += push_markdown(report["pushes"])
+    lines += ["", "Figure: robot_rate/robustness_map.png. Mechanism and design: README, \"At the robot's rate\".", ""]
+    return lines
+
+
+def write_outcomes(path: pathlib.Path, lines: list[str]) -> None:
+    """Writes the section into ``path``, replacing an earlier one (up to the next "## ")."""
+    text = path.read_text() if path.exists() else ""
+    if SECTION in text:
+        head, rest = text.split(SECTION, 1)
+        tail = rest[rest.find("\n## ") + 1:] if "\n## " in rest else ""
+        text = head + tail
+    path.write_text(text.rstrip("\n") + "\n\n" + "\n".join(lines))
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", nargs="?", default="out/robot_rate")
     parser.add_argument("--sea-sim", default=str(ROOT / "target" / "release" / "sea-sim"))
+    parser.add_argument("--outcomes", type=pathlib.Path, help="outcomes.md to write the section into")
     args = parser.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -216,6 +257,8 @@ def main() -> int:
         "pushes": pushes,
     }
     (out / "robot_rate.json").write_text(json.dumps(report, indent=2, allow_nan=True))
+    if args.outcomes is not None:
+        write_outcomes(args.outcomes, outcomes_section(report))
     completed = {k: sum(s == "completed" for row in m["status"] for s in row) for k, m in maps.items()}
     log(f"completed runs: {completed} of {len(STIFFNESS) * len(DAMPING)} each; wrote {out}/")
     return 0

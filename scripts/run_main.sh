@@ -34,7 +34,7 @@ python scripts/plot_com.py scenarios/robots/talos_two_feet.toml "$out/talos_two_
     --pictures talos_two_feet
 
 echo "== at the robot's rate: robustness maps and pushes of the 100 Hz / 1 kHz loop (scripts/robot_rate.py)"
-python scripts/robot_rate.py "$out/robot_rate" --sea-sim "$sea_sim"
+python scripts/robot_rate.py "$out/robot_rate" --sea-sim "$sea_sim" --outcomes "$out/outcomes.md"
 
 echo "== dynamics check on urdf/icub25.urdf"
 python -m sea_momentum check --urdf urdf/icub25.urdf --out "$out"
