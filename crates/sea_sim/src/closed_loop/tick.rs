@@ -6,6 +6,7 @@
 use super::contact_check::ContactCheck;
 use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
+use super::sensing::Sensor;
 use super::statistics::{Divergence, RunEnd};
 use crate::error::Result;
 use crate::scenario::{DisturbanceSchedule, Scenario, Setup};
@@ -130,14 +131,15 @@ impl PlantSide<'_> {
     /// Multi-rate: the plant over one whole-body period from `x` into `x_next`, the law's
     /// desired joint torques held in `joint_loop` (already held and ticked at `x`); every
     /// `schedule.steps_per_inner_tick()` steps the joint loop ticks again at the measured
-    /// state. The first step's start evaluation gives the outputs at `x`.
+    /// state (`sensor`'s measurement, the true state without one). The first step's start
+    /// evaluation gives the outputs at `x`.
     fn advance_multi_rate(
         &mut self,
         law: &Law<'_>,
         hand_over: HandOver,
         x: &[f64],
         (time, schedule): (f64, &Schedule),
-        joint_loop: &mut JointTorqueLoop,
+        (joint_loop, mut sensor): (&mut JointTorqueLoop, Option<&mut Sensor>),
     ) -> std::result::Result<(), Divergence> {
         let layout = law.layout();
         self.x_step.copy_from_slice(x);
@@ -145,7 +147,11 @@ impl PlantSide<'_> {
         let steps_per_inner = schedule.steps_per_inner_tick();
         for k in 0..schedule.steps_per_period {
             if k > 0 && k % steps_per_inner == 0 {
-                joint_loop.tick(&layout, &self.x_step);
+                let measured = match sensor.as_deref_mut() {
+                    Some(sensor) => sensor.measure(&self.x_step),
+                    None => &self.x_step,
+                };
+                joint_loop.tick(&layout, measured);
             }
             let step_start = time + k as f64 * schedule.step;
             self.disturbances.apply(&mut self.pd.workspace, step_start);
@@ -232,11 +238,14 @@ pub(super) struct Engine<'a> {
     joint_loop: Option<JointTorqueLoop>,
     /// Fall detection on the plant's outputs at each sample.
     contact_check: ContactCheck,
+    /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
+    sensor: Option<Sensor>,
 }
 
 impl<'a> Engine<'a> {
     /// The loop of `setup` on the grid of `scenario`, at the initial state.
     pub fn new(scenario: &'a Scenario, setup: &'a mut Setup) -> Result<Engine<'a>> {
+        crate::scenario::validate::sensing(scenario)?;
         let schedule = Schedule::of(scenario)?;
         let method = scenario.plant.method;
         let Setup {
@@ -249,8 +258,10 @@ impl<'a> Engine<'a> {
             elastic_names,
         } = setup;
         let layout = plant.layout();
+        let sensor = Sensor::new(&scenario.sensing, &plant.model, layout, x0);
+        // The law's model terms are a measured state's when there is a sensor.
         let hand_over = HandOver {
-            share_model_terms: controller.model() == &plant.model,
+            share_model_terms: controller.model() == &plant.model && sensor.is_none(),
         };
         let joint_loop = (schedule.sampling == Sampling::MultiRate)
             .then(|| scenario.controller.joint_loop(controller));
@@ -284,6 +295,7 @@ impl<'a> Engine<'a> {
             },
             x: x0.clone(),
             contact_check: ContactCheck::new(plant),
+            sensor,
         })
     }
 
@@ -347,20 +359,19 @@ impl<'a> Engine<'a> {
         if self.schedule.sampling == Sampling::Continuous && !(last || interrupted) {
             return self.continuous_period(time);
         }
-        let observation = self
-            .law
-            .tick(time, &self.x)
-            .map_err(|e| Divergence::ControllerFailed(e.to_string()))?;
-        let stop = match bound_crossed(observation, self.scenario) {
+        self.tick_law(time)?;
+        let stop = match bound_crossed(self.law.last(), self.scenario) {
             Some(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
             None if interrupted => Some(RunEnd::Interrupted),
             None if last => Some(RunEnd::Completed),
             None => None,
         };
         let (law, hand_over, x) = (&self.law, self.hand_over, &self.x);
+        let measured = self.sensor.as_ref().map_or(x.as_slice(), Sensor::last);
         if let Some(joint_loop) = &mut self.joint_loop {
-            joint_loop.hold(&law.last().output, &self.layout, x, law.s_desired());
-            joint_loop.tick(&self.layout, x);
+            let output = &law.last().output;
+            joint_loop.hold(output, &self.layout, measured, law.s_desired());
+            joint_loop.tick(&self.layout, measured);
         }
         let failure = match (&stop, &mut self.joint_loop) {
             (Some(_), None) => self.side.evaluate_at(law, hand_over, x, time),
@@ -372,9 +383,14 @@ impl<'a> Engine<'a> {
                 .side
                 .advance_held(law, hand_over, x, (time, &self.schedule)),
             (None, Some(joints)) => {
-                let schedule = &self.schedule;
-                self.side
-                    .advance_multi_rate(law, hand_over, x, (time, schedule), joints)
+                let (schedule, sensor) = (&self.schedule, self.sensor.as_mut());
+                self.side.advance_multi_rate(
+                    law,
+                    hand_over,
+                    x,
+                    (time, schedule),
+                    (joints, sensor),
+                )
             }
         };
         let end = match failure {
@@ -382,6 +398,18 @@ impl<'a> Engine<'a> {
             Ok(()) => stop,
         };
         Ok(Period { end })
+    }
+
+    /// The law's tick at sample time `time`: at the true state, or with a sensor at its
+    /// measurement of it (the observation then carries the true CoM and errors).
+    fn tick_law(&mut self, time: f64) -> std::result::Result<(), Divergence> {
+        let failed = |e: sea_ctrl::Error| Divergence::ControllerFailed(e.to_string());
+        let Some(sensor) = &mut self.sensor else {
+            return self.law.tick(time, &self.x).map(|_| ()).map_err(failed);
+        };
+        self.law.tick(time, sensor.measure(&self.x)).map_err(failed)?;
+        sensor.observe_truth(&mut self.law, &self.side.plant.model, &self.x);
+        Ok(())
     }
 
     /// Continuous sampling: one plant step with the law at every stage, into `x_next`. The
