@@ -37,7 +37,12 @@ pub(super) struct Sensor {
 impl Sensor {
     /// The sensor of `config` for states of `layout` starting at `x0`, or `None` when sensing
     /// is perfect (the controller then reads the true state itself).
-    pub fn new(config: &SensingConfig, model: &Model, layout: StateLayout, x0: &[f64]) -> Option<Self> {
+    pub fn new(
+        config: &SensingConfig,
+        model: &Model,
+        layout: StateLayout,
+        x0: &[f64],
+    ) -> Option<Self> {
         if config.is_perfect() {
             return None;
         }
@@ -50,7 +55,10 @@ impl Sensor {
             (7..layout.nq, config.joint_position_noise_rad),
             (nu + 6..nu + layout.nv, config.joint_velocity_noise_rad_s),
             (theta..theta + layout.ne, config.motor_position_noise_rad),
-            (thetadot..thetadot + layout.ne, config.motor_velocity_noise_rad_s),
+            (
+                thetadot..thetadot + layout.ne,
+                config.motor_velocity_noise_rad_s,
+            ),
         ];
         let slots = config.delay_inner_periods + 1;
         Some(Sensor {

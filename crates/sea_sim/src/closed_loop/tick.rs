@@ -384,13 +384,8 @@ impl<'a> Engine<'a> {
                 .advance_held(law, hand_over, x, (time, &self.schedule)),
             (None, Some(joints)) => {
                 let (schedule, sensor) = (&self.schedule, self.sensor.as_mut());
-                self.side.advance_multi_rate(
-                    law,
-                    hand_over,
-                    x,
-                    (time, schedule),
-                    (joints, sensor),
-                )
+                self.side
+                    .advance_multi_rate(law, hand_over, x, (time, schedule), (joints, sensor))
             }
         };
         let end = match failure {
@@ -407,7 +402,9 @@ impl<'a> Engine<'a> {
         let Some(sensor) = &mut self.sensor else {
             return self.law.tick(time, &self.x).map(|_| ()).map_err(failed);
         };
-        self.law.tick(time, sensor.measure(&self.x)).map_err(failed)?;
+        self.law
+            .tick(time, sensor.measure(&self.x))
+            .map_err(failed)?;
         sensor.observe_truth(&mut self.law, &self.side.plant.model, &self.x);
         Ok(())
     }

@@ -451,9 +451,15 @@ impl SensingConfig {
     pub fn noise(&self) -> [(&'static str, f64); 4] {
         [
             ("joint_position_noise_rad", self.joint_position_noise_rad),
-            ("joint_velocity_noise_rad_s", self.joint_velocity_noise_rad_s),
+            (
+                "joint_velocity_noise_rad_s",
+                self.joint_velocity_noise_rad_s,
+            ),
             ("motor_position_noise_rad", self.motor_position_noise_rad),
-            ("motor_velocity_noise_rad_s", self.motor_velocity_noise_rad_s),
+            (
+                "motor_velocity_noise_rad_s",
+                self.motor_velocity_noise_rad_s,
+            ),
         ]
     }
 
