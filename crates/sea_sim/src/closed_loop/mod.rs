@@ -92,6 +92,13 @@ pub fn run_setup_with_sinks(
         .iter_mut()
         .try_for_each(|sink| sink.begin(&info))
         .and_then(|()| drive(&mut engine, sinks, &mut statistics, cancel, &mut progress));
+    // Each sink learns how the run ended (when it did not fail), then every sink finishes.
+    let outcome = outcome.and_then(|(end, duration_s)| {
+        sinks
+            .iter_mut()
+            .try_for_each(|sink| sink.end(&end))
+            .map(|()| (end, duration_s))
+    });
     let finished = sinks
         .iter_mut()
         .map(|sink| sink.finish())

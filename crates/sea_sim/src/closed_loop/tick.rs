@@ -93,6 +93,8 @@ struct PlantSide<'a> {
     outputs: PlantOutputs,
     /// `[[disturbances]]`: which external wrench acts at each plant step.
     disturbances: DisturbanceSchedule,
+    /// The disturbances' wrenches at the current sample (6 per disturbance), for the record.
+    disturbance_wrenches: Vec<f64>,
 }
 
 impl PlantSide<'_> {
@@ -291,6 +293,7 @@ impl<'a> Engine<'a> {
                 x_step: x0.clone(),
                 u: vec![0.0; model.n_joints()],
                 outputs: PlantOutputs::new(plant),
+                disturbance_wrenches: vec![0.0; 6 * disturbances.len()],
                 disturbances,
             },
             x: x0.clone(),
@@ -355,6 +358,9 @@ impl<'a> Engine<'a> {
         interrupted: bool,
     ) -> std::result::Result<Period, Divergence> {
         let time = self.schedule.time(index);
+        let side = &mut self.side;
+        side.disturbances
+            .wrenches_at(time, &mut side.disturbance_wrenches);
         let last = index == self.schedule.last_sample;
         if self.schedule.sampling == Sampling::Continuous && !(last || interrupted) {
             return self.continuous_period(time);
@@ -494,6 +500,7 @@ impl<'a> Engine<'a> {
             contact_wrenches: outputs.contact_wrench.as_slice(),
             motor_torques: outputs.motor_torque.as_slice(),
             joint_torques: outputs.joint_torque.as_slice(),
+            disturbance_wrenches: &self.side.disturbance_wrenches,
             com_error_norm: observation.com_error,
             joint_error_norm: observation.joint_error,
             qp_status: &output.qp_status,
