@@ -414,6 +414,8 @@ pub struct ThreadedMcapLogger {
 }
 
 /// What the writer thread of a [`ThreadedMcapLogger`] is given.
+// Nearly every item is a sample: boxing it would only add an allocation per sample.
+#[allow(clippy::large_enum_variant)]
 enum Queued {
     /// A sample to log.
     Sample(OwnedSample),
