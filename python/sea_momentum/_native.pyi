@@ -247,7 +247,7 @@ class Plant:
         """Native loop with ``u`` held (GIL released), ``m`` recorded rows (the initial state,
         every ``record_every``-th step, the last one), float64: ``time`` (m,), ``x`` (m, nx),
         ``contact_wrenches`` (m, n_contacts, 6), ``motor_torques`` (m, n_e), ``drift_position``
-        (m,), ``drift_rotation`` (m,); ``status`` ("completed" | "diverged" | "interrupted"),
+        (m,), ``drift_rotation`` (m,); ``status`` ("completed" | "diverged" | "fell" | "interrupted"),
         ``diverged_at`` (float or None), ``message``. Data up to a divergence is kept.
         ``n_steps`` and the record's size are checked first (``ValueError`` giving the memory
         it would need). Ctrl-C raises ``KeyboardInterrupt`` within a fraction of a second; its

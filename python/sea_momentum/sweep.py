@@ -27,7 +27,7 @@ from .results import Result
 GridValues = Union[Sequence[float], FloatArray, IntArray, str]
 
 #: Columns that hold text; every other column is numeric.
-_TEXT_COLUMNS = ("status", "message", "sampling")
+_TEXT_COLUMNS = ("status", "message", "sampling", "fall_foot", "fall_constraint")
 
 
 def grid_specs(grid: Mapping[str, GridValues]) -> list[str]:
@@ -68,7 +68,7 @@ class SweepResult(Result):
     """The runs of a sweep, in grid order (the last key varies fastest).
 
     ``keys``: the grid keys; ``rows``: one dict per run (the grid values by key, ``status``
-    "completed" | "diverged" | "interrupted" | "failed", ``message``, then every summary field:
+    "completed" | "diverged" | "fell" | "interrupted" | "failed", ``message``, then every summary field:
     ``com_error_rms_m``, ``diverged_at_s`` (None unless diverged), ...; summary fields are None
     for a failed run); ``columns``: the same as numpy arrays by name (numbers float64 with NaN
     for None, or int64 for counts; text as str arrays); ``total``: points in the grid;

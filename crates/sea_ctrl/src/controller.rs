@@ -74,6 +74,9 @@ pub struct ControllerSettings {
     pub damping_estimate_scale: f64,
     /// Controller's stiffness estimate = true stiffness x this scale.
     pub stiffness_estimate_scale: f64,
+    /// Per joint (n, coordinate order), a further factor on the stiffness estimate of each
+    /// elastic joint; empty for none.
+    pub stiffness_estimate_joint_scales: Vec<f64>,
     /// Damping of the pseudo-inverse of `Lambda` (original study: 5e-4,
     /// docs/references.md#original-study-contact-wrench-qp).
     pub pinv_damping: f64,
@@ -164,6 +167,16 @@ impl ControllerSettings {
                 "needs one or two contact frames",
             ));
         }
+        let joint_scales = &self.stiffness_estimate_joint_scales;
+        if !joint_scales.is_empty() && joint_scales.len() != n {
+            return Err(Error::config(
+                "controller.stiffness_estimate_joint_scales",
+                format!("needs {n} entries, got {}", joint_scales.len()),
+            ));
+        }
+        let joint_scales = joint_scales
+            .iter()
+            .map(|&v| ("controller.stiffness_estimate_joint_scales", v));
         for (key, v) in [
             (
                 "controller.damping_estimate_scale",
@@ -173,7 +186,10 @@ impl ControllerSettings {
                 "controller.stiffness_estimate_scale",
                 self.stiffness_estimate_scale,
             ),
-        ] {
+        ]
+        .into_iter()
+        .chain(joint_scales)
+        {
             if !(v.is_finite() && v > 0.0) {
                 return Err(Error::config(key, format!("must be positive, got {v}")));
             }
@@ -302,6 +318,7 @@ impl MomentumController {
                 actuation,
                 settings.stiffness_estimate_scale,
                 settings.damping_estimate_scale,
+                &settings.stiffness_estimate_joint_scales,
             ),
             qp,
             minimizer: Minimizer::new(k, equalities),
@@ -380,6 +397,11 @@ impl MomentumController {
     /// and contacts.
     pub fn factored_contacts(&self) -> sea_dyn::tree_factor::FactoredContacts<'_> {
         self.torque_map.factored_contacts(&self.contact_frames)
+    }
+
+    /// The contact frames, in the order of the wrenches.
+    pub fn contact_frames(&self) -> &[FrameId] {
+        &self.contact_frames
     }
 
     /// Settings.

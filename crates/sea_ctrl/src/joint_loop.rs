@@ -128,6 +128,11 @@ impl JointTorqueLoop {
         self
     }
 
+    /// The loop's estimates (n_e).
+    pub fn estimates(&self) -> &[ElasticParameters] {
+        &self.estimates
+    }
+
     /// The loop's estimates (n_e), e.g. to give each joint its own stiffness error.
     pub fn estimates_mut(&mut self) -> &mut [ElasticParameters] {
         &mut self.estimates

@@ -12,7 +12,9 @@
 //!   fallback;
 //! - [`references`]: the CoM trajectory and the postural reference;
 //! - [`joint_loop`]: the joint torque loop of the multi-rate architecture (the paper's law is
-//!   its special case).
+//!   its special case);
+//! - [`stiffness_id`]: online identification of the spring stiffness from the encoders and the
+//!   model.
 //!
 //! docs/architecture.md maps every paper equation to its function.
 
@@ -26,6 +28,7 @@ pub mod momentum;
 pub mod qp;
 pub mod references;
 pub mod sea;
+pub mod stiffness_id;
 pub mod torque_map;
 
 /// The active-set solver at its former path `sea_ctrl::active_set`.

@@ -17,17 +17,21 @@ use sea_dyn::{Actuation, ElasticParameters};
 
 /// The controller's estimates of the elastic parameters, one per elastic joint (order of
 /// `actuation.elastic`): the true stiffness `K_S` and damping `K_D` times the given scales,
-/// the other parameters unchanged.
+/// the other parameters unchanged; the stiffness of joint `j` (coordinate index) also times
+/// `joint_stiffness_scales[j]` when given (empty: none).
 pub fn controller_estimates(
     actuation: &Actuation,
     stiffness_scale: f64,
     damping_scale: f64,
+    joint_stiffness_scales: &[f64],
 ) -> Vec<ElasticParameters> {
+    let joint_scale = |j: usize| joint_stiffness_scales.get(j).copied().unwrap_or(1.0);
     actuation
         .elastic
         .iter()
-        .map(|p| ElasticParameters {
-            stiffness: p.stiffness * stiffness_scale,
+        .zip(&actuation.elastic_joints)
+        .map(|(p, &j)| ElasticParameters {
+            stiffness: p.stiffness * stiffness_scale * joint_scale(j),
             damping: p.damping * damping_scale,
             ..*p
         })
@@ -125,6 +129,9 @@ mod tests {
             elastic_joints: vec![0],
             elastic: vec![joint()],
         };
-        assert_eq!(controller_estimates(&actuation, 2.0, 0.5), vec![estimate]);
+        assert_eq!(
+            controller_estimates(&actuation, 2.0, 0.5, &[]),
+            vec![estimate]
+        );
     }
 }

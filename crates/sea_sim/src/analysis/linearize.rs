@@ -4,7 +4,12 @@
 //!    scenario's initial state, with a backtracking line search on `|f|`; an unstable setting
 //!    has the same equilibrium, so it can be analysed too. In zero-order hold the equilibrium is
 //!    the same point: with `f(x) = 0` every stage of the held-input step vanishes, so
-//!    `Phi(x) = x`; its residual `|Phi(x) (-) x|` is reported as well.
+//!    `Phi(x) = x`; its residual `|Phi(x) (-) x|` is reported as well. With a stiffness
+//!    identification (`controller.stiffness_identification`), its estimates are set to their
+//!    fixed point at the initial state (the plant at rest) and again at the equilibrium found
+//!    with them, which is then found once more: the map is that of
+//!    the loop with the identification converged (its own slow dynamics, time constant
+//!    `controller.identification_time_s`, are not states of the map).
 //! 2. Jacobian on the tangent space by central differences (`A = df/dx` in continuous time,
 //!    `A = dPhi/dx` over one control period in zero-order hold), at two relative steps; the
 //!    change of the spectrum between them is reported, so a result that depends on the step is
@@ -299,7 +304,15 @@ pub fn linearize_system(
     options: &LinearizeOptions,
 ) -> Result<Linearization> {
     let x_start = system.setup.x0.clone();
-    let eq = equilibrium(system, &x_start, options)?;
+    // With a stiffness identification: its estimates converged at the initial state (the
+    // plant at rest), then again at the equilibrium they lead to, from which the equilibrium
+    // is found once more.
+    let identified = system.converge_identification(&x_start)?;
+    let mut eq = equilibrium(system, &x_start, options)?;
+    if identified && system.converge_identification(&eq.state)? {
+        let state = eq.state.clone();
+        eq = equilibrium(system, &state, options)?;
+    }
     let period = system.period();
     let map_residual = match period {
         Some(_) => {
@@ -381,7 +394,11 @@ pub fn closed_loop_system(
         ClosedLoopSystem::new(setup, options.time, sampling, scenario.plant.dt, method)?;
     if scenario.controller.sampling == crate::scenario::Sampling::MultiRate {
         let joint_loop = scenario.controller.joint_loop(system.controller());
+        let identifier = scenario
+            .controller
+            .stiffness_identifier(system.controller(), joint_loop.estimates());
         system.set_joint_loop(Some(joint_loop));
+        system.set_identifier(identifier);
     }
     Ok(system)
 }

@@ -16,6 +16,7 @@ use nalgebra::DVector;
 use sea_ctrl::controller::{ControlOutput, MomentumController};
 use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::references::ComSample;
+use sea_ctrl::stiffness_id::StiffnessIdentifier;
 use sea_plant::{Method, Plant, PlantData, StateLayout};
 
 /// When the controller is evaluated: the sampling setting ([`Sampling`]) with, in zero-order
@@ -150,6 +151,9 @@ pub struct ClosedLoopSystem {
     pub steps_per_period: usize,
     /// The joint torque loops (multi-rate).
     joint_loop: Option<JointTorqueLoop>,
+    /// The stiffness identification feeding the joint loops, linearised converged
+    /// ([`ClosedLoopSystem::converge_identification`]).
+    identifier: Option<StiffnessIdentifier>,
     /// Integration method of the plant.
     pub method: Method,
     pd: PlantData,
@@ -207,6 +211,7 @@ impl ClosedLoopSystem {
             sampling,
             steps_per_period,
             joint_loop,
+            identifier: None,
             method,
             pd,
             output: setup.controller.new_output(),
@@ -241,6 +246,33 @@ impl ClosedLoopSystem {
     /// them continuously, zero-order hold ticks them once per period.
     pub fn set_joint_loop(&mut self, joint_loop: Option<JointTorqueLoop>) {
         self.joint_loop = joint_loop;
+    }
+
+    /// Gives the joint loops a stiffness identification (multi-rate,
+    /// `controller.stiffness_identification`).
+    pub fn set_identifier(&mut self, identifier: Option<StiffnessIdentifier>) {
+        self.identifier = identifier;
+    }
+
+    /// With a stiffness identification: sets the joint loops' stiffness estimates to the
+    /// identification's fixed point at `x` held still
+    /// ([`StiffnessIdentifier::converged_at`]) and returns true; false without one.
+    pub fn converge_identification(&mut self, x: &[f64]) -> Result<bool> {
+        let (Some(identifier), Some(_)) = (&mut self.identifier, &self.joint_loop) else {
+            return Ok(false);
+        };
+        self.setup.controller.compute_into(
+            x,
+            &self.layout,
+            &self.reference,
+            &self.s_desired,
+            &mut self.output,
+        )?;
+        if let Some(joint_loop) = &mut self.joint_loop {
+            let estimates = joint_loop.estimates_mut();
+            identifier.converged_at(&self.layout, x, &self.output.wrenches, estimates);
+        }
+        Ok(true)
     }
 
     /// Computes and stores the controller's input at `x` (multi-rate: holds its torques and

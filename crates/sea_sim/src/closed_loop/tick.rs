@@ -12,6 +12,7 @@ use crate::error::Result;
 use crate::scenario::{DisturbanceSchedule, Scenario, Setup};
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::joint_loop::JointTorqueLoop;
+use sea_ctrl::stiffness_id::StiffnessIdentifier;
 use sea_ctrl::MomentumController;
 use sea_dyn::Model;
 use sea_plant::integrator::step_with_feedback;
@@ -238,6 +239,9 @@ pub(super) struct Engine<'a> {
     stage: Observation,
     /// The joint torque loops (multi-rate sampling).
     joint_loop: Option<JointTorqueLoop>,
+    /// The online stiffness identification feeding the joint loops
+    /// (`controller.stiffness_identification`).
+    identifier: Option<StiffnessIdentifier>,
     /// Fall detection on the plant's outputs at each sample.
     contact_check: ContactCheck,
     /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
@@ -267,6 +271,11 @@ impl<'a> Engine<'a> {
         };
         let joint_loop = (schedule.sampling == Sampling::MultiRate)
             .then(|| scenario.controller.joint_loop(controller));
+        let identifier = joint_loop.as_ref().and_then(|joints| {
+            scenario
+                .controller
+                .stiffness_identifier(controller, joints.estimates())
+        });
         let mut pd = PlantData::new(plant);
         let disturbances = DisturbanceSchedule::new(
             &scenario.disturbances,
@@ -277,6 +286,7 @@ impl<'a> Engine<'a> {
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         Ok(Engine {
             joint_loop,
+            identifier,
             scenario,
             model,
             elastic_names,
@@ -375,6 +385,13 @@ impl<'a> Engine<'a> {
         let (law, hand_over, x) = (&self.law, self.hand_over, &self.x);
         let measured = self.sensor.as_ref().map_or(x.as_slice(), Sensor::last);
         if let Some(joint_loop) = &mut self.joint_loop {
+            // The identification reads the encoders too: the measured state.
+            if let Some(identifier) = &mut self.identifier {
+                let wrenches = &law.last().output.wrenches;
+                let estimates = joint_loop.estimates_mut();
+                let period = self.schedule.period;
+                identifier.update(&self.layout, measured, period, wrenches, estimates);
+            }
             let output = &law.last().output;
             joint_loop.hold(output, &self.layout, measured, law.s_desired());
             joint_loop.tick(&self.layout, measured);

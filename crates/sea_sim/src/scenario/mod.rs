@@ -36,9 +36,9 @@ use crate::error::{Error, Result};
 use parse::{schema_error, syntax_error};
 use sea_ctrl::controller::ControllerSettings;
 use sea_ctrl::qp::ContactConstraints;
-use sea_dyn::critical_damping;
 #[cfg(doc)]
 use sea_dyn::ElasticParameters;
+use sea_dyn::{critical_damping, Model};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -157,6 +157,47 @@ impl Scenario {
         self.controller.contact.clone()
     }
 
+    /// `controller.stiffness_estimate_joint_scales` as one factor per joint (n, coordinate
+    /// order; empty when none is given); an unknown joint name is an error naming it.
+    fn stiffness_estimate_joint_scales(&self, joint_names: &[String]) -> Result<Vec<f64>> {
+        let scales = &self.controller.stiffness_estimate_joint_scales;
+        if scales.is_empty() {
+            return Ok(Vec::new());
+        }
+        let mut out = vec![1.0; joint_names.len()];
+        for (name, &scale) in scales {
+            let key = format!("controller.stiffness_estimate_joint_scales.{name}");
+            let Some(j) = joint_names.iter().position(|joint| joint == name) else {
+                return Err(Error::config(key, "is not a joint of the model"));
+            };
+            out[j] = scale;
+        }
+        Ok(out)
+    }
+
+    /// The controller's model: `model` with the masses and rotational inertias scaled by
+    /// `controller.mass_estimate_scale` and `controller.link_mass_estimate_scales` (an unknown
+    /// link or a non-positive factor is an error naming its key).
+    pub fn controller_model(&self, model: &Model) -> Result<Model> {
+        let mut scales = vec![self.controller.mass_estimate_scale; model.body_inertias.len()];
+        for (link, &scale) in &self.controller.link_mass_estimate_scales {
+            let key = format!("controller.link_mass_estimate_scales.{link}");
+            let Ok(frame) = model.frame_id(link) else {
+                return Err(Error::config(key, "is not a link of the model"));
+            };
+            if !(scale.is_finite() && scale > 0.0) {
+                return Err(Error::config(key, format!("must be positive, got {scale}")));
+            }
+            scales[model.frames[frame].body] *= scale;
+        }
+        let mut scaled = model.clone();
+        for (inertia, scale) in scaled.body_inertias.iter_mut().zip(scales) {
+            inertia.mass *= scale;
+            inertia.inertia_com *= scale;
+        }
+        Ok(scaled)
+    }
+
     /// Controller settings for a model with `joint_names`.
     pub fn controller_settings(&self, joint_names: &[String]) -> Result<ControllerSettings> {
         let one_foot = self.robot.contacts.len() == 1;
@@ -188,6 +229,7 @@ impl Scenario {
         .map(|k| k * self.controller.postural_scale)
         .collect();
         let damping = stiffness.iter().copied().map(critical_damping).collect();
+        let stiffness_estimate_joint_scales = self.stiffness_estimate_joint_scales(joint_names)?;
         Ok(ControllerSettings {
             kind: self.controller.kind,
             contacts: self.robot.contacts.clone(),
@@ -198,6 +240,7 @@ impl Scenario {
             constraints: self.contact_constraints(),
             damping_estimate_scale: self.controller.damping_estimate_scale,
             stiffness_estimate_scale: self.controller.stiffness_estimate_scale,
+            stiffness_estimate_joint_scales,
             pinv_damping: self.controller.pinv_damping,
             qp_regularization: self.controller.qp_regularization,
             reflected_inertia: self.controller.reflected_inertia,

@@ -217,10 +217,27 @@ pub struct ControllerConfig {
     /// held torque at every joint loop tick (default 0: none;
     /// [`sea_ctrl::joint_loop::JointTorqueLoop::with_joint_stiffness`]).
     pub joint_stiffness: f64,
+    /// `multi_rate`: identify each elastic joint's spring stiffness online from the encoders
+    /// and the model ([`sea_ctrl::stiffness_id`]) and give it to the joint loops, starting
+    /// from the estimate `stiffness_estimate_scale` x the true stiffness (default false).
+    pub stiffness_identification: bool,
+    /// `multi_rate` with `stiffness_identification`: forgetting time constant of the
+    /// identification [s] (default 1 s).
+    pub identification_time_s: f64,
     /// Controller damping estimate = true damping x scale.
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
     pub stiffness_estimate_scale: f64,
+    /// Per joint name, a further factor on that joint's stiffness estimate (e.g.
+    /// `{ l_knee = 1.3 }`; default none).
+    pub stiffness_estimate_joint_scales: BTreeMap<String, f64>,
+    /// The controller's model: every link's mass and rotational inertia times this scale
+    /// (centres of mass unchanged; default 1: the plant's model).
+    pub mass_estimate_scale: f64,
+    /// Per link name, a further factor on that link's mass and rotational inertia in the
+    /// controller's model (a massless link fused into its parent scales that body; default
+    /// none).
+    pub link_mass_estimate_scales: BTreeMap<String, f64>,
     /// Momentum integral gains (linear xyz, angular xyz; default: the robot description's
     /// for one or two feet).
     pub momentum_integral: Option<[f64; 6]>,
@@ -268,8 +285,14 @@ impl Default for ControllerConfig {
                 / (2.0 * std::f64::consts::PI),
             torque_loop_paper_law: false,
             joint_stiffness: 0.0,
+            stiffness_identification: false,
+            identification_time_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
+                .time_constant,
             damping_estimate_scale: 1.0,
             stiffness_estimate_scale: 1.0,
+            stiffness_estimate_joint_scales: BTreeMap::new(),
+            mass_estimate_scale: 1.0,
+            link_mass_estimate_scales: BTreeMap::new(),
             momentum_integral: None,
             momentum_proportional: None,
             postural_stiffness: None,
@@ -307,6 +330,21 @@ impl ControllerConfig {
     ) -> sea_ctrl::joint_loop::JointTorqueLoop {
         sea_ctrl::joint_loop::JointTorqueLoop::new(controller, self.torque_bandwidth())
             .with_joint_stiffness(self.joint_stiffness)
+    }
+
+    /// `multi_rate` with `stiffness_identification`: the identifier of `controller`'s elastic
+    /// stiffnesses from the joint loop's estimates `prior`; `None` when it is off.
+    pub fn stiffness_identifier(
+        &self,
+        controller: &sea_ctrl::MomentumController,
+        prior: &[sea_dyn::ElasticParameters],
+    ) -> Option<sea_ctrl::stiffness_id::StiffnessIdentifier> {
+        let settings = sea_ctrl::stiffness_id::IdentificationSettings {
+            time_constant: self.identification_time_s,
+            ..Default::default()
+        };
+        self.stiffness_identification
+            .then(|| sea_ctrl::stiffness_id::StiffnessIdentifier::new(controller, prior, settings))
     }
 }
 

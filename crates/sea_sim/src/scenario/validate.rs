@@ -227,6 +227,13 @@ fn controller(scenario: &Scenario) -> Result<()> {
         "controller.stiffness_estimate_scale",
         c.stiffness_estimate_scale,
     )?;
+    positive("controller.mass_estimate_scale", c.mass_estimate_scale)?;
+    for (joint, &scale) in &c.stiffness_estimate_joint_scales {
+        positive(
+            &format!("controller.stiffness_estimate_joint_scales.{joint}"),
+            scale,
+        )?;
+    }
     for (key, gains) in [
         ("controller.momentum_integral", c.momentum_integral),
         ("controller.momentum_proportional", c.momentum_proportional),
@@ -373,7 +380,15 @@ fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
     positive("controller.torque_bandwidth_hz", c.torque_bandwidth_hz)?;
     positive("controller.inner_rate_hz", c.inner_rate_hz)?;
     non_negative("controller.joint_stiffness", c.joint_stiffness)?;
+    positive("controller.identification_time_s", c.identification_time_s)?;
     if c.sampling != Sampling::MultiRate {
+        if c.stiffness_identification {
+            return Err(Error::invalid(
+                "controller.stiffness_identification",
+                "needs controller.sampling = \"multi_rate\" (it feeds the joint loops)",
+                true,
+            ));
+        }
         return Ok(());
     }
     let ratio = c.inner_rate_hz / c.rate_hz();

@@ -1,0 +1,228 @@
+//! Online identification of the spring stiffness of every elastic joint from the encoders and
+//! the rigid-body model: the joint torque the model says the joint carries, against the
+//! spring deflection the encoders measure.
+//!
+//! Why (README, "At the robot's rate"): the joint torque loop ([`crate::joint_loop`]) measures
+//! the torque as `K_S^ delta`, so it delivers `g tau_d` with the gain `g = K_S / K_S^`. With
+//! `g != 1` the whole-body controller's cancellation of the gravity torques' change with
+//! posture (a negative stiffness of the loaded stance leg) misses a fraction `1 - g`, and the
+//! slow mode of the stance knee turns unstable at a 1 to 2 % error. Identifying `K_S` turns
+//! the torque loop's gain back to 1; what remains is the model's own error, which scales the
+//! identified stiffness and the model's torques alike (a link mass error of `eps` identifies
+//! `(1 + eps) K_S` and asks for `(1 + eps)` times the torque, so the delivered torque is the
+//! one the real robot needs).
+//!
+//! The model's joint torques at the measured state, with `nudot` the finite difference of the
+//! measured `nu` over the update period (zero at the first update):
+//!
+//! `tau_model = S (M nudot + h - J^T f)` (the joint rows of the floating-base dynamics), where
+//! the contact wrenches `f` are the commanded ones `f*` corrected to satisfy the base rows
+//! `J_b^T f = (M nudot + h)_b` with the least change (`f = f* + J_b (J_b^T J_b)^-1 r`,
+//! `r = (M nudot + h)_b - J_b^T f*`, `J_b` the base columns of the stacked contact Jacobians):
+//! on one foot this is the measured wrench exactly (six equations, six unknowns); on two feet
+//! the internal force between the feet is taken from `f*`.
+//!
+//! Per joint, recursive least squares with exponential forgetting on
+//! `tau_model - K_D^ deltadot = K_S delta` (the spring's damping term removed with the damping
+//! estimate): `S_dd <- lambda S_dd + delta^2`, `S_td <- lambda S_td + (tau_model - K_D^
+//! deltadot) delta`, `K_S^ = S_td / S_dd`, `lambda = exp(-T / T_id)`, started from the prior
+//! `K_S^0` with the weight of a deflection `delta_0` (`S_dd = delta_0^2`, `S_td = K_S^0
+//! delta_0^2`). A joint whose torque stays below `K_S^0 delta_0` keeps (nearly) its prior: its
+//! stiffness is not observable, and its torque gain error acts on torques that small.
+//! Estimates are kept within `[K_S^0 / 10, 10 K_S^0]`.
+
+use crate::controller::MomentumController;
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+use sea_dyn::jacobian::frame_jacobian_from_kinematics;
+use sea_dyn::rnea;
+use sea_dyn::{Data, ElasticParameters, FrameId, Model, StateLayout};
+
+/// Settings of [`StiffnessIdentifier`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IdentificationSettings {
+    /// Forgetting time constant `T_id` [s]: older samples weigh `exp(-age / T_id)`.
+    pub time_constant: f64,
+    /// Weight of the prior, as the deflection `delta_0` [rad] of one sample.
+    pub prior_deflection: f64,
+}
+
+impl Default for IdentificationSettings {
+    /// `T_id` 1 s, `delta_0` 1e-3 rad (0.35 Nm at the iCub's 350 Nm/rad).
+    fn default() -> Self {
+        Self {
+            time_constant: 1.0,
+            prior_deflection: 1e-3,
+        }
+    }
+}
+
+/// The identifier of the stiffness of every elastic joint (module doc). Allocation-free after
+/// [`StiffnessIdentifier::new`].
+#[derive(Clone, Debug)]
+pub struct StiffnessIdentifier {
+    model: Model,
+    data: Data,
+    settings: IdentificationSettings,
+    contact_frames: Vec<FrameId>,
+    /// Coordinate index of each elastic joint (n_e).
+    elastic_joints: Vec<usize>,
+    /// The prior `K_S^0` of each elastic joint (n_e) [Nm/rad].
+    prior: Vec<f64>,
+    /// `S_dd` (n_e) [rad^2] and `S_td` (n_e) [Nm rad].
+    sum_deflection_squared: Vec<f64>,
+    sum_torque_deflection: Vec<f64>,
+    /// `nu` of the previous update (nv), when there was one.
+    nu_previous: Option<Vec<f64>>,
+    /// `nudot` (nv) of this update.
+    nudot: Vec<f64>,
+    /// `M nudot + h - J^T f` (nv) of this update: its joint rows are `tau_model`.
+    generalized_force: DVector<f64>,
+    /// Stacked contact Jacobians (6 k x nv).
+    contact_jacobian: DMatrix<f64>,
+    /// The contact wrenches `f` of this update (6 k).
+    wrenches: DVector<f64>,
+}
+
+impl StiffnessIdentifier {
+    /// The identifier of `controller`'s elastic joints, starting from the estimates `prior`
+    /// (n_e, the loop's), with `controller`'s model and contacts.
+    pub fn new(
+        controller: &MomentumController,
+        prior: &[ElasticParameters],
+        settings: IdentificationSettings,
+    ) -> Self {
+        let model = controller.model().clone();
+        let nv = model.nv();
+        let contact_frames = controller.contact_frames().to_vec();
+        let k = 6 * contact_frames.len();
+        let prior: Vec<f64> = prior.iter().map(|p| p.stiffness).collect();
+        let weight = settings.prior_deflection.powi(2);
+        Self {
+            data: Data::new(&model),
+            settings,
+            contact_frames,
+            elastic_joints: controller.actuation().elastic_joints.clone(),
+            sum_deflection_squared: vec![weight; prior.len()],
+            sum_torque_deflection: prior.iter().map(|k_s| k_s * weight).collect(),
+            prior,
+            nu_previous: None,
+            nudot: vec![0.0; nv],
+            generalized_force: DVector::zeros(nv),
+            contact_jacobian: DMatrix::zeros(k, nv),
+            wrenches: DVector::zeros(k),
+            model,
+        }
+    }
+
+    /// The joint torques `tau_model` (nv; joint rows from 6) of the last update [Nm].
+    pub fn model_torques(&self) -> &[f64] {
+        self.generalized_force.as_slice()
+    }
+
+    /// One update at the measured state `x` (layout `layout`), `period` [s] after the
+    /// previous one, with the commanded contact wrenches `commanded` (6 k): refines the
+    /// stiffness in `estimates` (n_e, e.g. the joint loop's).
+    pub fn update(
+        &mut self,
+        layout: &StateLayout,
+        x: &[f64],
+        period: f64,
+        commanded: &DVector<f64>,
+        estimates: &mut [ElasticParameters],
+    ) {
+        self.model_joint_torques(layout, x, period, commanded);
+        let lambda = (-period / self.settings.time_constant).exp();
+        let (theta, s) = (layout.theta(x), layout.s(x));
+        let (thetadot, sdot) = (layout.thetadot(x), layout.sdot(x));
+        let joints = self.elastic_joints.iter().zip(estimates.iter_mut());
+        for (e, (&j, estimate)) in joints.enumerate() {
+            let deflection = estimate.ratio * theta[e] - s[j];
+            let deflection_rate = estimate.ratio * thetadot[e] - sdot[j];
+            let spring = self.generalized_force[6 + j] - estimate.damping * deflection_rate;
+            let sum_dd = &mut self.sum_deflection_squared[e];
+            let sum_td = &mut self.sum_torque_deflection[e];
+            *sum_dd = lambda * *sum_dd + deflection * deflection;
+            *sum_td = lambda * *sum_td + spring * deflection;
+            let prior = self.prior[e];
+            estimate.stiffness = (*sum_td / *sum_dd).clamp(0.1 * prior, 10.0 * prior);
+        }
+    }
+
+    /// The identification's fixed point at a state `x` held still (an equilibrium, where
+    /// `nudot = 0` and `deltadot = 0`): every sample the same, the prior forgotten, each
+    /// joint's estimate is `tau_model / delta` (kept as it is where `|delta| < 1e-9` rad), with
+    /// the commanded wrenches `commanded` (6 k). For the linearisation with the identification
+    /// converged; the identifier's own state is left as it was.
+    pub fn converged_at(
+        &mut self,
+        layout: &StateLayout,
+        x: &[f64],
+        commanded: &DVector<f64>,
+        estimates: &mut [ElasticParameters],
+    ) {
+        let nu_previous = self.nu_previous.take();
+        self.model_joint_torques(layout, x, 1.0, commanded);
+        self.nu_previous = nu_previous;
+        let (theta, s) = (layout.theta(x), layout.s(x));
+        let joints = self.elastic_joints.iter().zip(estimates.iter_mut());
+        for (e, (&j, estimate)) in joints.enumerate() {
+            let deflection = estimate.ratio * theta[e] - s[j];
+            if deflection.abs() >= 1e-9 {
+                let prior = self.prior[e];
+                let stiffness = self.generalized_force[6 + j] / deflection;
+                estimate.stiffness = stiffness.clamp(0.1 * prior, 10.0 * prior);
+            }
+        }
+    }
+
+    /// `M nudot + h - J^T f` at `x` into `generalized_force` (module doc), `nudot` from the
+    /// previous update's `nu` (zero without one).
+    fn model_joint_torques(
+        &mut self,
+        layout: &StateLayout,
+        x: &[f64],
+        period: f64,
+        commanded: &DVector<f64>,
+    ) {
+        let (q, nu) = (layout.q(x), layout.nu(x));
+        match &mut self.nu_previous {
+            Some(previous) => {
+                for ((a, v), v0) in self.nudot.iter_mut().zip(nu).zip(previous.iter()) {
+                    *a = (v - v0) / period;
+                }
+                previous.copy_from_slice(nu);
+            }
+            None => {
+                self.nudot.fill(0.0);
+                self.nu_previous = Some(nu.to_vec());
+            }
+        }
+        let inverse_dynamics = rnea(&self.model, &mut self.data, q, nu, &self.nudot);
+        self.generalized_force.copy_from(inverse_dynamics);
+        for (c, &frame) in self.contact_frames.iter().enumerate() {
+            frame_jacobian_from_kinematics(&self.model, &mut self.data, frame);
+            let mut rows = self.contact_jacobian.rows_mut(6 * c, 6);
+            rows.copy_from(&self.data.frame_jacobian);
+        }
+        self.base_consistent_wrenches(commanded);
+        let jacobian = &self.contact_jacobian;
+        self.generalized_force
+            .gemv_tr(-1.0, jacobian, &self.wrenches, 1.0);
+    }
+
+    /// `f = f* + J_b (J_b^T J_b)^-1 (tau_b - J_b^T f*)` into `wrenches`, with the base rows
+    /// `tau_b` of `generalized_force` (before the contact term).
+    fn base_consistent_wrenches(&mut self, commanded: &DVector<f64>) {
+        self.wrenches.copy_from(commanded);
+        if self.contact_frames.is_empty() {
+            return;
+        }
+        let base = self.contact_jacobian.fixed_columns::<6>(0);
+        let residual: Vector6<f64> =
+            self.generalized_force.fixed_rows::<6>(0) - base.tr_mul(&self.wrenches);
+        let normal: Matrix6<f64> = base.tr_mul(&base);
+        if let Some(solution) = normal.cholesky().map(|c| c.solve(&residual)) {
+            self.wrenches.gemv(1.0, &base, &solution, 1.0);
+        }
+    }
+}
