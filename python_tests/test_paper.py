@@ -187,6 +187,7 @@ def test_run_summary_and_arrays_are_typed():
         "momentum": (m, 6),
         "contact_wrenches": (m, n_contacts, 6),
         "qp_solved": (m,),
+        "disturbance_wrench": (m, 6),
     }
     for name, shape in shapes.items():
         array = getattr(result, name)

@@ -24,3 +24,43 @@ def test_a_small_push_is_recovered_and_a_large_one_falls_on_a_named_foot():
     assert s.fall_bound == 0.1 and s.fall_value is not None and s.fall_value > 0.1
     assert s.fell_at_s is not None and 1.0 < s.fell_at_s < 3.0 and s.diverged_at_s is None
     assert large.time[-1] == s.fell_at_s  # the falling sample is the last one recorded
+
+
+def test_the_push_applied_at_each_sample_is_in_the_result():
+    """``disturbance_wrench`` (m, 6): the push's world wrench at the samples of its window."""
+    import numpy as np
+
+    result = sm.run_scenario(PUSH, {"disturbances": [push(5.0)], "simulation.duration_s": 1.5})
+    wrench = result.disturbance_wrench
+    assert wrench.dtype == np.float64 and wrench.shape == (len(result.time), 6)
+    inside = (result.time >= 1.0 - 1e-9) & (result.time < 1.1 - 1e-9)
+    assert inside.sum() > 10
+    assert (wrench[inside] == [50.0, 0.0, 0.0, 0.0, 0.0, 0.0]).all()
+    assert (wrench[~inside] == 0.0).all()
+
+
+def test_a_fall_is_a_warning_on_events_and_the_run_metadata_of_the_log(tmp_path):
+    """The MCAP of a fall: one ``foxglove.Log`` WARNING on ``/events`` at the fall's time naming
+    the foot and the constraint, and the metadata record ``run`` with the fall's fields."""
+    from mcap.reader import make_reader
+    from mcap_protobuf.decoder import DecoderFactory
+
+    path = tmp_path / "fall.mcap"
+    result = sm.run_scenario(PUSH, {"disturbances": [push(8.0)]}, mcap=path)
+    s = result.summary
+    assert result.status == "fell"
+    with open(path, "rb") as stream:
+        reader = make_reader(stream, decoder_factories=[DecoderFactory()])
+        events = [
+            (message.log_time, decoded)
+            for _, _, message, decoded in reader.iter_decoded_messages(topics=["/events"])
+        ]
+        metadata = {record.name: record.metadata for record in reader.iter_metadata()}
+    assert len(events) == 1
+    time_ns, log = events[0]
+    assert time_ns == round(s.fell_at_s * 1e9)
+    assert log.level == 3  # WARNING
+    assert s.fall_foot in log.message and s.fall_constraint in log.message
+    run = metadata["run"]
+    assert run["status"] == "fell" and run["fall_foot"] == s.fall_foot
+    assert float(run["fall_value"]) == s.fall_value and float(run["fall_bound"]) == s.fall_bound

@@ -266,7 +266,9 @@ def run_scenario_native(
     Returns float64 arrays (m recorded ticks): ``time`` (m,), ``x`` (m, nx),
     ``thetadot_desired`` (m, n_e), ``com`` (m, 3), ``com_reference`` (m, 3), ``momentum``
     (m, 6), ``contact_wrenches`` (m, n_contacts, 6), ``motor_torques`` (m, n_e),
-    ``joint_error_norm`` (m,), ``qp_solved`` (m,); ints ``nq``, ``nv``, ``ne``; name lists
+    ``joint_error_norm`` (m,), ``qp_solved`` (m,), ``disturbance_wrench`` (m, 6: the
+    ``[[disturbances]]`` acting from each sample on, summed, ``[force; torque]`` world axes,
+    each torque about its link's origin); ints ``nq``, ``nv``, ``ne``; name lists
     ``joint_names``, ``elastic_joints``, ``contacts``; ``summary``, the keyword arguments of
     ``sea_momentum.results.RunSummary``. Ctrl-C stops
     the run at its next tick (the MCAP log is finished) and raises ``KeyboardInterrupt`` whose

@@ -34,6 +34,9 @@ class ScenarioResult(Result):
     motor_torques: FloatArray  #: (m, n_e) float64, applied motor torques [N m]
     joint_error_norm: FloatArray  #: (m,) float64, |s - s_d| [rad]
     qp_solved: FloatArray  #: (m,) float64, 1 solved, 0 fallback
+    #: (m, 6) float64, the ``[[disturbances]]`` acting from each sample on, summed:
+    #: [force; torque], world axes, each torque about its link's origin (zero: no push)
+    disturbance_wrench: FloatArray
     joint_names: list[str]  #: joint names in coordinate order
     elastic_joints: list[str]  #: elastic joint names, the columns of the motor arrays
     contacts: list[str]  #: contact frame names, the second axis of ``contact_wrenches``
@@ -68,6 +71,7 @@ class ScenarioResult(Result):
             motor_torques=fields["motor_torques"],
             joint_error_norm=fields["joint_error_norm"],
             qp_solved=fields["qp_solved"],
+            disturbance_wrench=fields["disturbance_wrench"],
             joint_names=list(fields["joint_names"]),
             elastic_joints=list(fields["elastic_joints"]),
             contacts=list(fields["contacts"]),

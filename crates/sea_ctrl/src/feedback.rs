@@ -121,6 +121,18 @@ impl<C: BorrowMut<MomentumController>> FeedbackLaw<C> {
         self.evaluate(time, x, Some(observation))
     }
 
+    /// After a [`Self::tick`] at a measurement of the state (noisy, delayed): replaces the held
+    /// observation's CoM and tracking errors with the true state's, `com` its CoM [m] and `s`
+    /// its joint positions (n), so that what is recorded and checked against the divergence
+    /// bounds is the truth. The rest of the output (the plant input, the momentum) stays the
+    /// measured state's.
+    pub fn observe_truth(&mut self, com: Vector3<f64>, s: &[f64]) {
+        let last = &mut self.last;
+        last.output.com = com;
+        last.com_error = (com - last.reference.position).norm();
+        last.joint_error = joint_error_norm(s, &self.s_desired);
+    }
+
     /// One evaluation into `target`, or into the held observation when `None`.
     fn evaluate(&mut self, time: f64, x: &[f64], target: Option<&mut Observation>) -> Result<()> {
         let observation = match target {

@@ -4,7 +4,11 @@
 //! [`McapLogger::set_scene`] is called: the URDF as an attachment (named after the file, media
 //! type `application/xml`), the robot's bodies (meshes included, decimated) as one `/robot`
 //! message at the first sample's time, and a metadata record `scene` counting the visuals
-//! drawn and naming each mesh not drawn (`mesh_warnings`, `warning_<k>`).
+//! drawn and naming each mesh not drawn (`mesh_warnings`, `warning_<k>`). How the run ended
+//! ([`McapLogger::end`]) is the metadata record `run` (`status`, `reason`, `reason_kind`,
+//! `end_s`; for a fall `fell_at_s`, `fall_foot`, `fall_constraint`, `fall_value`,
+//! `fall_bound`), and a fall is also a `foxglove.Log` message (level WARNING) on `/events` at
+//! its time, so Foxglove's Log panel and timeline show it.
 //!
 //! Chunks are LZ4-compressed. The file is finished (summary and index written) by
 //! [`McapLogger::finish`] or, silently, when the logger is dropped, so an interrupted or
@@ -13,11 +17,13 @@
 //! [`ThreadedMcapLogger`] does so every second of wall time. [`McapSink`] is the log as a
 //! [`RecordSink`] of the closed loop.
 
-use crate::closed_loop::{OwnedSample, RecordSink, RunInfo, Sample};
+use crate::closed_loop::{OwnedSample, RecordSink, RunEnd, RunInfo, Sample};
 use crate::error::Error;
-use crate::foxglove::{SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC};
+use crate::foxglove::{nanoseconds, SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC};
 use crate::meshes::visuals::MeshWarning;
 use crate::Result;
+use ::foxglove::messages::{log::Level, Log, Timestamp};
+use ::foxglove::Encode;
 use mcap::records::MessageHeader;
 use mcap::records::Metadata;
 use mcap::{Attachment, Compression, WriteOptions, Writer};
@@ -248,6 +254,68 @@ impl McapLogger {
         })
     }
 
+    /// Names the disturbances of `/disturbances` by their links (`[[disturbances]]` order).
+    pub fn set_disturbance_links(&mut self, links: &[String]) {
+        self.encoder.set_disturbance_links(links);
+    }
+
+    /// Records how the run ended, `end` at `end_s` (the last sample's time): the metadata
+    /// record `run` and, for a fall, a `foxglove.Log` warning on `/events` at the fall's time
+    /// naming the foot, the constraint, its value and bound.
+    ///
+    /// Errors: [`Error::Log`] when the logger is finished or MCAP writing fails,
+    /// [`Error::Io`] naming the file when the OS refuses a write.
+    pub fn end(&mut self, end: &RunEnd, end_s: f64) -> Result<()> {
+        let path = &self.out.path;
+        let writer = self
+            .out
+            .writer
+            .as_mut()
+            .ok_or_else(|| Error::Log("the log is already finished".into()))?;
+        writer
+            .write_metadata(&run_metadata(end, end_s))
+            .map_err(mcap_error(path))?;
+        let RunEnd::Fell { at_s, fall } = end else {
+            return Ok(());
+        };
+        let schema = Log::get_schema().expect("the SDK gives its schemas");
+        let schema_id = writer
+            .add_schema(&schema.name, &schema.encoding, &schema.data)
+            .map_err(mcap_error(path))?;
+        let channel = writer
+            .add_channel(
+                schema_id,
+                EVENTS_TOPIC,
+                &Log::get_message_encoding(),
+                &BTreeMap::new(),
+            )
+            .map_err(mcap_error(path))?;
+        let time = nanoseconds(*at_s);
+        let (constraint, value, bound) = (
+            fall.constraint.kind(),
+            fall.constraint.value(),
+            fall.constraint.bound(),
+        );
+        let message = Log {
+            timestamp: Some(Timestamp::new(
+                u32::try_from(time / 1_000_000_000).unwrap_or(u32::MAX),
+                (time % 1_000_000_000) as u32,
+            )),
+            level: Level::Warning as i32,
+            message: format!(
+                "fell at t = {at_s} s: {fall} (constraint {constraint}, value {value}, bound \
+                 {bound})"
+            ),
+            name: "sea_sim.fall".to_string(),
+            ..Default::default()
+        };
+        let mut buffer = Vec::new();
+        message
+            .encode(&mut buffer)
+            .map_err(|e| Error::Log(format!("{EVENTS_TOPIC}: {e}")))?;
+        self.out.write(channel, time, &buffer)
+    }
+
     /// Closes the current chunk and flushes everything written so far to the file (the file
     /// still lacks its summary until [`McapLogger::finish`]). Call it now and then in long runs
     /// so that a killed process loses little.
@@ -294,6 +362,36 @@ fn scene_metadata(scene: &StaticScene) -> Metadata {
     }
 }
 
+/// The metadata record `run`: how the run ended (see the module documentation).
+fn run_metadata(end: &RunEnd, end_s: f64) -> Metadata {
+    let mut metadata = BTreeMap::from([
+        ("status".to_string(), end.status().to_string()),
+        ("reason".to_string(), end.to_string()),
+        (
+            "reason_kind".to_string(),
+            end.reason_kind().unwrap_or("").to_string(),
+        ),
+        ("end_s".to_string(), end_s.to_string()),
+    ]);
+    if let RunEnd::Fell { at_s, fall } = end {
+        let constraint = &fall.constraint;
+        metadata.extend([
+            ("fell_at_s".to_string(), at_s.to_string()),
+            ("fall_foot".to_string(), fall.foot.clone()),
+            ("fall_constraint".to_string(), constraint.kind().to_string()),
+            ("fall_value".to_string(), constraint.value().to_string()),
+            ("fall_bound".to_string(), constraint.bound().to_string()),
+        ]);
+    }
+    Metadata {
+        name: "run".to_string(),
+        metadata,
+    }
+}
+
+/// The topic of the run's events (a fall), `foxglove.Log`.
+pub const EVENTS_TOPIC: &str = "/events";
+
 /// Media type of the URDF attachment.
 const URDF_MEDIA_TYPE: &str = "application/xml";
 
@@ -311,20 +409,38 @@ const FLUSH_INTERVAL: Duration = Duration::from_secs(1);
 /// log; a writer error is returned by the next `log` or by `finish`.
 pub struct ThreadedMcapLogger {
     path: PathBuf,
-    sender: Option<std::sync::mpsc::SyncSender<OwnedSample>>,
+    sender: Option<std::sync::mpsc::SyncSender<Queued>>,
     writer: Option<std::thread::JoinHandle<Result<()>>>,
+}
+
+/// What the writer thread of a [`ThreadedMcapLogger`] is given.
+// Nearly every item is a sample: boxing it would only add an allocation per sample.
+#[allow(clippy::large_enum_variant)]
+enum Queued {
+    /// A sample to log.
+    Sample(OwnedSample),
+    /// How the run ended.
+    End(RunEnd),
 }
 
 impl ThreadedMcapLogger {
     /// Moves `logger` to a writer thread.
     pub fn spawn(logger: McapLogger) -> Self {
         let path = logger.path().to_path_buf();
-        let (sender, receiver) = std::sync::mpsc::sync_channel::<OwnedSample>(QUEUE_SAMPLES);
+        let (sender, receiver) = std::sync::mpsc::sync_channel::<Queued>(QUEUE_SAMPLES);
         let writer = std::thread::spawn(move || {
             let mut logger = logger;
             let mut last_flush = Instant::now();
-            for sample in receiver {
-                logger.log(&sample.sample())?;
+            let mut last_time = 0.0;
+            for queued in receiver {
+                match queued {
+                    Queued::Sample(sample) => {
+                        let sample = sample.sample();
+                        last_time = sample.time_s;
+                        logger.log(&sample)?;
+                    }
+                    Queued::End(end) => logger.end(&end, last_time)?,
+                }
                 if last_flush.elapsed() >= FLUSH_INTERVAL {
                     logger.flush()?;
                     last_flush = Instant::now();
@@ -346,8 +462,18 @@ impl ThreadedMcapLogger {
 
     /// Queues a sample (waits only when the writer is [`QUEUE_SAMPLES`] behind).
     pub fn log(&mut self, sample: &Sample<'_>) -> Result<()> {
+        self.send(Queued::Sample(sample.to_owned()))
+    }
+
+    /// Queues how the run ended ([`McapLogger::end`], at the last sample's time).
+    pub fn end(&mut self, end: &RunEnd) -> Result<()> {
+        self.send(Queued::End(end.clone()))
+    }
+
+    /// Queues `item`, or reports the writer's error when it stopped.
+    fn send(&mut self, item: Queued) -> Result<()> {
         let queued = match &self.sender {
-            Some(sender) => sender.send(sample.to_owned()).is_ok(),
+            Some(sender) => sender.send(item).is_ok(),
             None => false,
         };
         if queued {
@@ -431,6 +557,13 @@ impl RecordSink for McapSink {
     fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
         let mut logger =
             McapLogger::create(&self.path, run.model, run.elastic_joints, run.contacts)?;
+        let links: Vec<String> = run
+            .scenario
+            .disturbances
+            .iter()
+            .map(|d| d.link.clone())
+            .collect();
+        logger.set_disturbance_links(&links);
         let source = SceneSource::of_scenario(run.scenario).with_package_dirs(&self.package_dirs);
         for warning in logger.set_scene(&source)? {
             eprintln!("warning: {}: {warning}", self.path.display());
@@ -442,6 +575,13 @@ impl RecordSink for McapSink {
     fn record(&mut self, sample: &Sample<'_>) -> Result<()> {
         match self.logger.as_mut() {
             Some(logger) => logger.log(sample),
+            None => Ok(()),
+        }
+    }
+
+    fn end(&mut self, end: &RunEnd) -> Result<()> {
+        match self.logger.as_mut() {
+            Some(logger) => logger.end(end),
             None => Ok(()),
         }
     }

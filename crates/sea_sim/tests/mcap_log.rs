@@ -15,7 +15,7 @@ use std::path::PathBuf;
 const URDF: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../urdf/mini_biped.urdf");
 
 /// Topics and schema names; the first two are protobuf, the others JSON.
-const TOPICS: [(&str, &str); 9] = [
+const TOPICS: [(&str, &str); 10] = [
     ("/tf", "foxglove.FrameTransforms"),
     ("/scene", "foxglove.SceneUpdate"),
     ("/com", "sea_momentum.Com"),
@@ -25,6 +25,7 @@ const TOPICS: [(&str, &str); 9] = [
     ("/contact_wrenches", "sea_momentum.ContactWrenches"),
     ("/qp", "sea_momentum.QpStatus"),
     ("/base", "sea_momentum.BasePose"),
+    ("/disturbances", "sea_momentum.Disturbances"),
 ];
 
 fn model() -> Model {
@@ -120,6 +121,7 @@ fn for_each_sample(model: &Model, count: usize, mut f: impl FnMut(&Sample)) {
             com_error_norm: 0.01,
             joint_error_norm: 0.0,
             qp_status: if k % 10 == 9 { &fallback } else { &solved },
+            disturbance_wrenches: &[],
             qp_failures: k / 10,
         };
         f(&sample);
@@ -258,6 +260,8 @@ fn check_file(model: &Model, bytes: &[u8], count: usize) {
             "/base" => {
                 assert_eq!(json["orientation_wxyz"].as_array().unwrap().len(), 4);
             }
+            // No `[[disturbances]]` in these samples.
+            "/disturbances" => assert_eq!(json["disturbances"], serde_json::json!([])),
             _ => unreachable!(),
         }
     }
@@ -279,9 +283,9 @@ fn writes_a_readable_file_with_every_channel() {
     // The summary section is present and counts the messages.
     let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
     let stats = summary.stats.expect("statistics");
-    assert_eq!(stats.message_count, 50 * 9);
-    assert_eq!(stats.channel_count, 9);
-    assert_eq!(stats.schema_count, 9);
+    assert_eq!(stats.message_count, 50 * 10);
+    assert_eq!(stats.channel_count, 10);
+    assert_eq!(stats.schema_count, 10);
     assert_eq!(stats.message_start_time, 0);
     assert_eq!(stats.message_end_time, 490_000_000);
     assert!(!summary.chunk_indexes.is_empty());
@@ -298,7 +302,7 @@ fn threaded_logger_writes_the_same_file_and_reports_writer_errors() {
     let bytes = std::fs::read(&file.0).unwrap();
     check_file(&model, &bytes, 40);
     let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
-    assert_eq!(summary.stats.unwrap().message_count, 40 * 9);
+    assert_eq!(summary.stats.unwrap().message_count, 40 * 10);
 
     // A bad sample stops the writer; its error comes back from a later call.
     let bad_file = TempFile::new("threaded_bad");
@@ -329,7 +333,7 @@ fn dropped_logger_still_leaves_a_readable_file() {
     let bytes = std::fs::read(&file.0).unwrap();
     check_file(&model, &bytes, 37);
     let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
-    assert_eq!(summary.stats.unwrap().message_count, 37 * 9);
+    assert_eq!(summary.stats.unwrap().message_count, 37 * 10);
 }
 
 #[test]
@@ -356,6 +360,7 @@ fn bad_sizes_are_errors_and_unwritable_path_is_io_error() {
         com_error_norm: 0.0,
         joint_error_norm: 0.0,
         qp_status: &QpStatus::Solved,
+        disturbance_wrenches: &[],
         qp_failures: 0,
     };
     assert!(matches!(logger.log(&sample), Err(sea_sim::Error::Log(_))));
@@ -388,7 +393,7 @@ fn flushed_chunks_are_readable_before_the_log_is_finished() {
         .expect("header")
         .map_while(Result::ok)
         .count();
-    assert_eq!(recovered, 12 * 9);
+    assert_eq!(recovered, 12 * 10);
     assert!(mcap::Summary::read(&bytes).is_err() || mcap::Summary::read(&bytes).unwrap().is_none());
     logger.finish().expect("finish");
 }

@@ -84,6 +84,7 @@ fn log_size(model: &Model, urdf: Option<&Path>, file: &Path) -> u64 {
             com_error_norm: 0.0,
             joint_error_norm: 0.0,
             qp_status: &QpStatus::Solved,
+            disturbance_wrenches: &[],
             qp_failures: 0,
         };
         logger.log(&sample).unwrap();

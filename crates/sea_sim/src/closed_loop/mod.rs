@@ -5,6 +5,7 @@
 //! - [`tick`]: one sample period (the feedback law's evaluation, [`sea_ctrl::feedback`], the
 //!   bounds, the plant's advance);
 //! - [`sampling`]: `controller.sampling` and the run's time grid;
+//! - `sensing`: `[sensing]`'s measurement model (noise and delay of the controller's state);
 //! - [`record`]: [`Sample`], the [`RecordSink`] trait and the in-memory [`RunRecord`];
 //! - [`contact_check`]: fall detection, each foot's wrench against a unilateral contact with
 //!   friction;
@@ -27,6 +28,7 @@
 pub mod contact_check;
 mod record;
 mod sampling;
+mod sensing;
 mod statistics;
 mod tick;
 
@@ -90,6 +92,13 @@ pub fn run_setup_with_sinks(
         .iter_mut()
         .try_for_each(|sink| sink.begin(&info))
         .and_then(|()| drive(&mut engine, sinks, &mut statistics, cancel, &mut progress));
+    // Each sink learns how the run ended (when it did not fail), then every sink finishes.
+    let outcome = outcome.and_then(|(end, duration_s)| {
+        sinks
+            .iter_mut()
+            .try_for_each(|sink| sink.end(&end))
+            .map(|()| (end, duration_s))
+    });
     let finished = sinks
         .iter_mut()
         .map(|sink| sink.finish())

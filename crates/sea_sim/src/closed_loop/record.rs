@@ -4,6 +4,7 @@
 //! ([`crate::mcap_log::McapSink`]) and the live view ([`crate::foxglove::live::LiveSink`]) sit
 //! above the loop. With no sink, only the summary statistics are computed (online).
 
+use super::statistics::RunEnd;
 use crate::error::Result;
 use sea_ctrl::qp::QpStatus;
 use sea_dyn::{Model, StateLayout};
@@ -48,6 +49,10 @@ pub struct Sample<'a> {
     pub motor_torques: &'a [f64],
     /// Joint torques applied to the links [Nm] (n).
     pub joint_torques: &'a [f64],
+    /// The wrench of each `[[disturbances]]` entry acting from this sample on (during the
+    /// plant step that starts here), 6 per entry `[force; torque]` (world axes, at its link
+    /// origin; zero when inactive).
+    pub disturbance_wrenches: &'a [f64],
     /// `|p_com - p_com_d|` [m].
     pub com_error_norm: f64,
     /// `|s - s_d|` [rad].
@@ -67,6 +72,12 @@ pub trait RecordSink {
 
     /// Takes one sample (in time order).
     fn record(&mut self, sample: &Sample<'_>) -> Result<()>;
+
+    /// Called once after the last sample with how the run ended (not when it failed with an
+    /// error: a sink's or the model's), before [`RecordSink::finish`].
+    fn end(&mut self, _end: &RunEnd) -> Result<()> {
+        Ok(())
+    }
 
     /// Called once after the last sample, also when the run diverged, was interrupted or a
     /// sink failed.
@@ -98,6 +109,9 @@ pub struct RunRecord {
     pub joint_error_norm: Vec<f64>,
     /// 1 when the sample's QP was solved, 0 when it fell back (rows).
     pub qp_solved: Vec<f64>,
+    /// The `[[disturbances]]` acting at each sample, summed (rows x 6): `[force; torque]`,
+    /// world axes, each torque about its own link's origin (zero without a push).
+    pub disturbance_wrench: Vec<f64>,
     /// `(nq, nv, n_e)` of the state rows.
     pub layout: (usize, usize, usize),
     /// Joint names (coordinate order).
@@ -133,6 +147,11 @@ impl RecordSink for RunRecord {
         self.joint_error_norm.push(sample.joint_error_norm);
         let solved = *sample.qp_status == QpStatus::Solved;
         self.qp_solved.push(if solved { 1.0 } else { 0.0 });
+        let mut total = [0.0; 6];
+        for wrench in sample.disturbance_wrenches.chunks_exact(6) {
+            total.iter_mut().zip(wrench).for_each(|(t, w)| *t += w);
+        }
+        self.disturbance_wrench.extend_from_slice(&total);
         Ok(())
     }
 }
@@ -166,9 +185,10 @@ impl<'a> Sample<'a> {
             self.contact_wrenches,
             self.motor_torques,
             self.joint_torques,
+            self.disturbance_wrenches,
         ];
         let mut values = Vec::with_capacity(parts.iter().map(|p| p.len()).sum());
-        let mut ends = [0; 5];
+        let mut ends = [0; 6];
         for (end, part) in ends.iter_mut().zip(parts) {
             values.extend_from_slice(part);
             *end = values.len();
@@ -183,6 +203,7 @@ impl<'a> Sample<'a> {
                 contact_wrenches: &[],
                 motor_torques: &[],
                 joint_torques: &[],
+                disturbance_wrenches: &[],
                 qp_status: &NO_STATUS,
                 ..*self
             },
@@ -198,9 +219,9 @@ static NO_STATUS: QpStatus = QpStatus::Solved;
 #[derive(Clone, Debug)]
 pub struct OwnedSample {
     /// `state`, `thetadot_desired`, `contact_wrenches`, `motor_torques`, `joint_torques`,
-    /// concatenated; `ends` marks where each stops.
+    /// `disturbance_wrenches`, concatenated; `ends` marks where each stops.
     values: Vec<f64>,
-    ends: [usize; 5],
+    ends: [usize; 6],
     qp_status: QpStatus,
     /// The sample's other fields (its slices empty).
     scalars: Sample<'static>,
@@ -219,6 +240,7 @@ impl OwnedSample {
             contact_wrenches: part(2),
             motor_torques: part(3),
             joint_torques: part(4),
+            disturbance_wrenches: part(5),
             qp_status: &self.qp_status,
             ..self.scalars
         }

@@ -6,6 +6,7 @@
 use super::contact_check::ContactCheck;
 use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
+use super::sensing::Sensor;
 use super::statistics::{Divergence, RunEnd};
 use crate::error::Result;
 use crate::scenario::{DisturbanceSchedule, IdentificationWrenches, Scenario, Setup};
@@ -93,6 +94,8 @@ struct PlantSide<'a> {
     outputs: PlantOutputs,
     /// `[[disturbances]]`: which external wrench acts at each plant step.
     disturbances: DisturbanceSchedule,
+    /// The disturbances' wrenches at the current sample (6 per disturbance), for the record.
+    disturbance_wrenches: Vec<f64>,
 }
 
 impl PlantSide<'_> {
@@ -131,14 +134,15 @@ impl PlantSide<'_> {
     /// Multi-rate: the plant over one whole-body period from `x` into `x_next`, the law's
     /// desired joint torques held in `joint_loop` (already held and ticked at `x`); every
     /// `schedule.steps_per_inner_tick()` steps the joint loop ticks again at the measured
-    /// state. The first step's start evaluation gives the outputs at `x`.
+    /// state (`sensor`'s measurement, the true state without one). The first step's start
+    /// evaluation gives the outputs at `x`.
     fn advance_multi_rate(
         &mut self,
         law: &Law<'_>,
         hand_over: HandOver,
         x: &[f64],
         (time, schedule): (f64, &Schedule),
-        joint_loop: &mut JointTorqueLoop,
+        (joint_loop, mut sensor): (&mut JointTorqueLoop, Option<&mut Sensor>),
     ) -> std::result::Result<(), Divergence> {
         let layout = law.layout();
         self.x_step.copy_from_slice(x);
@@ -146,7 +150,11 @@ impl PlantSide<'_> {
         let steps_per_inner = schedule.steps_per_inner_tick();
         for k in 0..schedule.steps_per_period {
             if k > 0 && k % steps_per_inner == 0 {
-                joint_loop.tick(&layout, &self.x_step);
+                let measured = match sensor.as_deref_mut() {
+                    Some(sensor) => sensor.measure(&self.x_step),
+                    None => &self.x_step,
+                };
+                joint_loop.tick(&layout, measured);
             }
             let step_start = time + k as f64 * schedule.step;
             self.disturbances.apply(&mut self.pd.workspace, step_start);
@@ -234,13 +242,18 @@ pub(super) struct Engine<'a> {
     /// The online stiffness identification feeding the joint loops
     /// (`controller.stiffness_identification`).
     identifier: Option<StiffnessIdentifier>,
+    /// The state the identification reads at the current sample (the measured one).
+    identified_state: Vec<f64>,
     /// Fall detection on the plant's outputs at each sample.
     contact_check: ContactCheck,
+    /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
+    sensor: Option<Sensor>,
 }
 
 impl<'a> Engine<'a> {
     /// The loop of `setup` on the grid of `scenario`, at the initial state.
     pub fn new(scenario: &'a Scenario, setup: &'a mut Setup) -> Result<Engine<'a>> {
+        crate::scenario::validate::sensing(scenario)?;
         let schedule = Schedule::of(scenario)?;
         let method = scenario.plant.method;
         let Setup {
@@ -253,8 +266,10 @@ impl<'a> Engine<'a> {
             elastic_names,
         } = setup;
         let layout = plant.layout();
+        let sensor = Sensor::new(&scenario.sensing, &plant.model, layout, x0);
+        // The law's model terms are a measured state's when there is a sensor.
         let hand_over = HandOver {
-            share_model_terms: controller.model() == &plant.model,
+            share_model_terms: controller.model() == &plant.model && sensor.is_none(),
         };
         let joint_loop = (schedule.sampling == Sampling::MultiRate)
             .then(|| scenario.controller.joint_loop(controller));
@@ -274,6 +289,7 @@ impl<'a> Engine<'a> {
         Ok(Engine {
             joint_loop,
             identifier,
+            identified_state: x0.clone(),
             scenario,
             model,
             elastic_names,
@@ -290,10 +306,12 @@ impl<'a> Engine<'a> {
                 x_step: x0.clone(),
                 u: vec![0.0; model.n_joints()],
                 outputs: PlantOutputs::new(plant),
+                disturbance_wrenches: vec![0.0; 6 * disturbances.len()],
                 disturbances,
             },
             x: x0.clone(),
             contact_check: ContactCheck::new(plant),
+            sensor,
         })
     }
 
@@ -353,24 +371,30 @@ impl<'a> Engine<'a> {
         interrupted: bool,
     ) -> std::result::Result<Period, Divergence> {
         let time = self.schedule.time(index);
+        let side = &mut self.side;
+        side.disturbances
+            .wrenches_at(time, &mut side.disturbance_wrenches);
         let last = index == self.schedule.last_sample;
         if self.schedule.sampling == Sampling::Continuous && !(last || interrupted) {
             return self.continuous_period(time);
         }
-        let observation = self
-            .law
-            .tick(time, &self.x)
-            .map_err(|e| Divergence::ControllerFailed(e.to_string()))?;
-        let stop = match bound_crossed(observation, self.scenario) {
+        self.tick_law(time)?;
+        let stop = match bound_crossed(self.law.last(), self.scenario) {
             Some(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
             None if interrupted => Some(RunEnd::Interrupted),
             None if last => Some(RunEnd::Completed),
             None => None,
         };
         let (law, hand_over, x) = (&self.law, self.hand_over, &self.x);
+        let measured = self.sensor.as_ref().map_or(x.as_slice(), Sensor::last);
         if let Some(joint_loop) = &mut self.joint_loop {
-            joint_loop.hold(&law.last().output, &self.layout, x, law.s_desired());
-            joint_loop.tick(&self.layout, x);
+            let output = &law.last().output;
+            joint_loop.hold(output, &self.layout, measured, law.s_desired());
+            joint_loop.tick(&self.layout, measured);
+            // The identification (after the period's advance) reads the encoders too.
+            if self.identifier.is_some() {
+                self.identified_state.copy_from_slice(measured);
+            }
         }
         let failure = match (&stop, &mut self.joint_loop) {
             (Some(_), None) => self.side.evaluate_at(law, hand_over, x, time),
@@ -382,9 +406,9 @@ impl<'a> Engine<'a> {
                 .side
                 .advance_held(law, hand_over, x, (time, &self.schedule)),
             (None, Some(joints)) => {
-                let schedule = &self.schedule;
+                let (schedule, sensor) = (&self.schedule, self.sensor.as_mut());
                 self.side
-                    .advance_multi_rate(law, hand_over, x, (time, schedule), joints)
+                    .advance_multi_rate(law, hand_over, x, (time, schedule), (joints, sensor))
             }
         };
         let end = match failure {
@@ -398,7 +422,7 @@ impl<'a> Engine<'a> {
     }
 
     /// Multi-rate with `controller.stiffness_identification`: one update of the identification
-    /// at the sample's state with the contact wrenches of `controller.identification_wrenches`
+    /// at the sample's measured state with the contact wrenches of `controller.identification_wrenches`
     /// there (measured: the plant's at the sample, from the period's first step); the joint
     /// loops take the estimates from the next period on.
     fn identify(&mut self) {
@@ -413,11 +437,25 @@ impl<'a> Engine<'a> {
         let estimates = joint_loop.estimates_mut();
         identifier.update(
             &self.layout,
-            &self.x,
+            &self.identified_state,
             self.schedule.period,
             wrenches,
             estimates,
         );
+    }
+
+    /// The law's tick at sample time `time`: at the true state, or with a sensor at its
+    /// measurement of it (the observation then carries the true CoM and errors).
+    fn tick_law(&mut self, time: f64) -> std::result::Result<(), Divergence> {
+        let failed = |e: sea_ctrl::Error| Divergence::ControllerFailed(e.to_string());
+        let Some(sensor) = &mut self.sensor else {
+            return self.law.tick(time, &self.x).map(|_| ()).map_err(failed);
+        };
+        self.law
+            .tick(time, sensor.measure(&self.x))
+            .map_err(failed)?;
+        sensor.observe_truth(&mut self.law, &self.side.plant.model, &self.x);
+        Ok(())
     }
 
     /// Continuous sampling: one plant step with the law at every stage, into `x_next`. The
@@ -505,6 +543,7 @@ impl<'a> Engine<'a> {
             contact_wrenches: outputs.contact_wrench.as_slice(),
             motor_torques: outputs.motor_torque.as_slice(),
             joint_torques: outputs.joint_torque.as_slice(),
+            disturbance_wrenches: &self.side.disturbance_wrenches,
             com_error_norm: observation.com_error,
             joint_error_norm: observation.joint_error,
             qp_status: &output.qp_status,

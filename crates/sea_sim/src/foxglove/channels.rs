@@ -36,6 +36,8 @@ pub enum Topic {
     Qp,
     /// `/base`: `sea_momentum.BasePose`.
     Base,
+    /// `/disturbances`: `sea_momentum.Disturbances`.
+    Disturbances,
 }
 
 /// Encoding of our own channels' messages and of their schemas.
@@ -43,7 +45,7 @@ const JSON: (&str, &str) = ("json", "jsonschema");
 
 impl Topic {
     /// Every channel, in the order they are registered.
-    pub const ALL: [Topic; 9] = [
+    pub const ALL: [Topic; 10] = [
         Topic::Tf,
         Topic::Scene,
         Topic::Com,
@@ -53,6 +55,7 @@ impl Topic {
         Topic::ContactWrenches,
         Topic::Qp,
         Topic::Base,
+        Topic::Disturbances,
     ];
 
     /// Position in [`Self::ALL`].
@@ -72,6 +75,7 @@ impl Topic {
             Topic::ContactWrenches => "/contact_wrenches",
             Topic::Qp => "/qp",
             Topic::Base => "/base",
+            Topic::Disturbances => "/disturbances",
         }
     }
 
@@ -97,6 +101,7 @@ impl Topic {
             Topic::ContactWrenches => json("sea_momentum.ContactWrenches", CONTACT_WRENCHES_SCHEMA),
             Topic::Qp => json("sea_momentum.QpStatus", QP_STATUS_SCHEMA),
             Topic::Base => json("sea_momentum.BasePose", BASE_POSE_SCHEMA),
+            Topic::Disturbances => json("sea_momentum.Disturbances", DISTURBANCES_SCHEMA),
         }
     }
 }
@@ -196,6 +201,28 @@ const BASE_POSE_SCHEMA: &str = r#"{
   "required": ["position", "orientation_wxyz", "linear_velocity", "angular_velocity"]
 }"#;
 
+const DISTURBANCES_SCHEMA: &str = r#"{
+  "title": "sea_momentum.Disturbances",
+  "description": "The external wrench of each [[disturbances]] entry from this sample on: force (N) and torque (Nm), world axes at the link origin, zero when inactive",
+  "type": "object",
+  "properties": {
+    "disturbances": {
+      "type": "array",
+      "items": {
+        "type": "object",
+        "properties": {
+          "link": { "type": "string", "description": "The link pushed (URDF link)" },
+          "active": { "type": "boolean" },
+          "force": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 },
+          "torque": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 }
+        },
+        "required": ["link", "active", "force", "torque"]
+      }
+    }
+  },
+  "required": ["disturbances"]
+}"#;
+
 // ---- Bodies of our JSON messages (borrowing, so a sample allocates little). ----
 
 #[derive(Serialize)]
@@ -241,6 +268,19 @@ struct ContactWrenchesMsg<'a> {
 }
 
 #[derive(Serialize)]
+struct DisturbanceMsg<'a> {
+    link: &'a str,
+    active: bool,
+    force: &'a [f64],
+    torque: &'a [f64],
+}
+
+#[derive(Serialize)]
+struct DisturbancesMsg<'a> {
+    disturbances: Vec<DisturbanceMsg<'a>>,
+}
+
+#[derive(Serialize)]
 struct QpStatusMsg<'a> {
     status: &'a str,
     failures: usize,
@@ -267,6 +307,8 @@ pub struct SampleEncoder {
     contact_frames: Vec<Option<usize>>,
     /// Origins of the contact frames in the current sample (world) [m].
     contact_origins: Vec<[f64; 3]>,
+    /// The link of each disturbance, extended by `disturbance_<k>` beyond the given links.
+    disturbance_links: Vec<String>,
     /// `/tf`, child frame names filled once.
     tf: FrameTransforms,
     /// The static part of `/scene`, once set.
@@ -302,6 +344,7 @@ impl SampleEncoder {
                 .map(|c| model.frame_id(c).ok())
                 .collect(),
             contact_origins: Vec::with_capacity(contact_names.len()),
+            disturbance_links: Vec::new(),
             tf,
             scene: None,
             markers: Markers::new(contact_names),
@@ -313,6 +356,12 @@ impl SampleEncoder {
     /// Adds the robot's bodies and support polygon to `/scene`.
     pub(crate) fn set_scene(&mut self, scene: StaticScene) {
         self.scene = Some(scene);
+    }
+
+    /// Names the disturbances of `/disturbances` by their links (`[[disturbances]]` order);
+    /// unnamed ones are `disturbance_<k>`.
+    pub fn set_disturbance_links(&mut self, links: &[String]) {
+        self.disturbance_links = links.to_vec();
     }
 
     /// The link frames (the child frames of `/tf`).
@@ -505,6 +554,24 @@ impl SampleEncoder {
                     angular_velocity: &sample.nu()[3..6],
                 },
             ),
+            Topic::Disturbances => {
+                let wrenches = sample.disturbance_wrenches;
+                while self.disturbance_links.len() < wrenches.len() / 6 {
+                    let k = self.disturbance_links.len();
+                    self.disturbance_links.push(format!("disturbance_{k}"));
+                }
+                let disturbances = wrenches
+                    .chunks_exact(6)
+                    .zip(&self.disturbance_links)
+                    .map(|(w, link)| DisturbanceMsg {
+                        link,
+                        active: w.iter().any(|&v| v != 0.0),
+                        force: &w[..3],
+                        torque: &w[3..],
+                    })
+                    .collect();
+                serde_json::to_writer(buffer, &DisturbancesMsg { disturbances })
+            }
             Topic::Tf | Topic::Scene => unreachable!("protobuf channels"),
         };
         result.map_err(|e| Error::Log(format!("{}: {e}", topic.name())))

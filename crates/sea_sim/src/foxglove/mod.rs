@@ -13,6 +13,8 @@
 //! | `/contact_wrenches` | json     | `sea_momentum.ContactWrenches`  | force and moment of each contact                |
 //! | `/qp`               | json     | `sea_momentum.QpStatus`         | QP status and failure count                     |
 //! | `/base`             | json     | `sea_momentum.BasePose`         | base position, quaternion, velocities           |
+//! | `/disturbances`     | json     | `sea_momentum.Disturbances`     | each `[[disturbances]]` push: link, force, torque |
+//! | `/events` (a fall)  | protobuf | `foxglove.Log`                  | the fall (MCAP only): time, foot, constraint, value, bound |
 //!
 //! Why two encodings: the SDK's typed messages (`foxglove::messages`) are protobuf messages
 //! with their descriptors as schemas, so `/tf` and `/scene` use them as they are, no copied

@@ -65,6 +65,8 @@ pub fn validate(disturbances: &[DisturbanceConfig]) -> Result<()> {
 #[derive(Clone, Debug, Default)]
 pub struct DisturbanceSchedule {
     windows: Vec<(u64, u64)>,
+    /// The wrench `[force; torque]` of each disturbance (world axes, at its link origin).
+    wrenches: Vec<[f64; 6]>,
     step: f64,
 }
 
@@ -91,6 +93,7 @@ impl DisturbanceSchedule {
         ws: &mut Workspace,
     ) -> Result<DisturbanceSchedule> {
         let mut windows = Vec::with_capacity(disturbances.len());
+        let mut wrenches = Vec::with_capacity(disturbances.len());
         for (i, d) in disturbances.iter().enumerate() {
             let key = |name: &str| format!("disturbances[{i}].{name}");
             let frame = model
@@ -102,13 +105,18 @@ impl DisturbanceSchedule {
             let [fx, fy, fz] = d.force;
             let [nx, ny, nz] = d.torque;
             let wrench = [fx, fy, fz, nx, ny, nz];
+            wrenches.push(wrench);
             ws.external.push(ExternalWrench {
                 frame,
                 wrench,
                 active: false,
             });
         }
-        Ok(DisturbanceSchedule { windows, step })
+        Ok(DisturbanceSchedule {
+            windows,
+            wrenches,
+            step,
+        })
     }
 
     /// Switches each wrench of `ws` on or off for the plant step that starts at `time_s`;
@@ -120,6 +128,26 @@ impl DisturbanceSchedule {
         let k = (time_s / self.step).round() as u64;
         for (external, &(start, end)) in ws.external.iter_mut().zip(&self.windows) {
             external.active = start <= k && k < end;
+        }
+    }
+
+    /// The number of disturbances.
+    pub fn len(&self) -> usize {
+        self.windows.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.windows.is_empty()
+    }
+
+    /// The wrench of each disturbance during the plant step that starts at `time_s` into
+    /// `out` (6 per disturbance, `[[disturbances]]` order: `[force; torque]`, world axes at the
+    /// link origin; zero when inactive); allocation-free.
+    pub fn wrenches_at(&self, time_s: f64, out: &mut [f64]) {
+        out.fill(0.0);
+        for i in self.active(time_s) {
+            out[6 * i..6 * i + 6].copy_from_slice(&self.wrenches[i]);
         }
     }
 

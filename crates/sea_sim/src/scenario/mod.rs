@@ -1,4 +1,5 @@
-//! Scenario files (TOML): robot, actuators, plant, controller, references, simulation.
+//! Scenario files (TOML): robot, actuators, plant, controller, references, simulation,
+//! disturbances, sensing.
 //!
 //! Reading one is three steps: the TOML text is parsed into a tree and the `--set key=value`
 //! overrides are applied to it ([`parse`]); serde reads the tree into the typed tables of
@@ -26,7 +27,7 @@ pub use parse::{apply_override, TableError};
 pub use robots::{icub, RobotDescription};
 pub use schema::{
     ActuatorConfig, ActuatorsConfig, ControllerConfig, InitialSprings, PlantConfig,
-    ReferenceConfig, RobotConfig, SimulationConfig,
+    ReferenceConfig, RobotConfig, SensingConfig, SimulationConfig,
 };
 pub use settings::{
     ActuatorKind, ComOrigin, ControllerKind, IdentificationWrenches, Method, QpSolver, Sampling,
@@ -71,6 +72,9 @@ pub struct Scenario {
     /// `[[disturbances]]`: external wrenches on links over time windows (none by default).
     #[serde(default)]
     pub disturbances: Vec<DisturbanceConfig>,
+    /// `[sensing]`: measurement noise and delay of the controller's state (default: perfect).
+    #[serde(default)]
+    pub sensing: SensingConfig,
     /// Folder of the scenario file (for relative paths).
     #[serde(skip)]
     pub base_dir: PathBuf,

@@ -12,6 +12,7 @@ use super::{
     ActuatorConfig, ActuatorKind, ControllerConfig, ControllerKind, PlantConfig, Sampling,
     Scenario, SimulationConfig,
 };
+use crate::closed_loop::inner_ticks;
 use crate::error::{Error, Result};
 
 /// Largest number of friction cone facets: the QP grows by one row per facet and contact, and
@@ -36,6 +37,7 @@ pub fn scenario(scenario: &Scenario) -> Result<()> {
     reference(scenario)?;
     simulation(scenario)?;
     super::disturbances::validate(&scenario.disturbances)?;
+    sensing(scenario)?;
     run_length(scenario)
 }
 
@@ -323,6 +325,50 @@ fn simulation(scenario: &Scenario) -> Result<()> {
             "simulation.record_every",
             "must be at least 1",
             0,
+        ));
+    }
+    Ok(())
+}
+
+/// `[sensing]`: finite non-negative noise, and unless sensing is perfect a sampled controller
+/// (not "continuous") whose measurement delay is at most one whole-body period (the inner
+/// ticks of one period; one with "zero_order_hold"). Also checked when a run starts (a
+/// scenario built in code).
+pub fn sensing(scenario: &Scenario) -> Result<()> {
+    let sensing = &scenario.sensing;
+    for (name, std) in sensing.noise() {
+        non_negative(&format!("sensing.{name}"), std)?;
+    }
+    let delay = sensing.delay_inner_periods;
+    let controller = &scenario.controller;
+    let inner_ticks = match controller.sampling {
+        Sampling::MultiRate => inner_ticks(controller.rate_hz(), controller.inner_rate_hz),
+        Sampling::ZeroOrderHold => 1,
+        Sampling::Continuous if sensing.is_perfect() => return Ok(()),
+        Sampling::Continuous => {
+            let (key, value) = sensing
+                .noise()
+                .into_iter()
+                .find(|&(_, std)| std != 0.0)
+                .map(|(name, std)| (name, std.to_string()))
+                .unwrap_or(("delay_inner_periods", delay.to_string()));
+            return Err(Error::invalid(
+                format!("sensing.{key}"),
+                "must be 0 with controller.sampling = \"continuous\" (noise and delay need a \
+                 sampled controller: \"zero_order_hold\" or \"multi_rate\")",
+                value,
+            ));
+        }
+    };
+    if delay > inner_ticks {
+        return Err(Error::invalid(
+            "sensing.delay_inner_periods",
+            format!(
+                "must be at most one whole-body period, {inner_ticks} inner period(s) with \
+                 controller.sampling = \"{}\"",
+                controller.sampling.name()
+            ),
+            delay,
         ));
     }
     Ok(())

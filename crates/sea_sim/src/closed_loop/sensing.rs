@@ -1,0 +1,108 @@
+//! `[sensing]`'s measurement model: what the controller reads at an inner tick. The true
+//! states of the inner ticks go into a ring of `delay + 1` states (filled with the initial
+//! state, so that before `delay` inner periods the initial state is read); the measurement is
+//! the oldest, with independent Gaussian noise on `s`, `sdot`, `theta` and `thetadot` drawn
+//! from a seeded ChaCha stream (bitwise reproducible, the same on every platform). The
+//! floating base's pose and velocity are read exactly. Allocation-free after
+//! [`Sensor::new`].
+//!
+//! The law evaluated at a measurement reports a measured CoM and measured errors; the run
+//! records the true ones ([`Sensor::observe_truth`]).
+
+use super::tick::Law;
+use crate::scenario::SensingConfig;
+use rand_chacha::rand_core::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
+use sea_dyn::{Data, Model, StateLayout};
+use std::ops::Range;
+
+/// The controller's measurements of the plant's state (one per inner tick).
+pub(super) struct Sensor {
+    /// Noise standard deviation of each noisy block of the state, with the block's range.
+    noise: [(Range<usize>, f64); 4],
+    rng: ChaCha8Rng,
+    /// The last `delay + 1` true states, a ring of `nx`-long slots.
+    history: Vec<f64>,
+    /// Slot of the newest state.
+    newest: usize,
+    /// Number of slots, `delay + 1`.
+    slots: usize,
+    /// The last measurement (nx).
+    measured: Vec<f64>,
+    /// The model's workspace for the true CoM.
+    data: Data,
+}
+
+impl Sensor {
+    /// The sensor of `config` for states of `layout` starting at `x0`, or `None` when sensing
+    /// is perfect (the controller then reads the true state itself).
+    pub fn new(
+        config: &SensingConfig,
+        model: &Model,
+        layout: StateLayout,
+        x0: &[f64],
+    ) -> Option<Self> {
+        if config.is_perfect() {
+            return None;
+        }
+        let (nu, theta, thetadot) = (
+            layout.nu_offset(),
+            layout.theta_offset(),
+            layout.thetadot_offset(),
+        );
+        let noise = [
+            (7..layout.nq, config.joint_position_noise_rad),
+            (nu + 6..nu + layout.nv, config.joint_velocity_noise_rad_s),
+            (theta..theta + layout.ne, config.motor_position_noise_rad),
+            (
+                thetadot..thetadot + layout.ne,
+                config.motor_velocity_noise_rad_s,
+            ),
+        ];
+        let slots = config.delay_inner_periods + 1;
+        Some(Sensor {
+            noise,
+            rng: ChaCha8Rng::seed_from_u64(config.seed),
+            history: x0.repeat(slots),
+            newest: 0,
+            slots,
+            measured: x0.to_vec(),
+            data: Data::new(model),
+        })
+    }
+
+    /// Takes the true state `x` of an inner tick and returns the controller's measurement at
+    /// this tick: the true state `delay` ticks earlier, with noise.
+    pub fn measure(&mut self, x: &[f64]) -> &[f64] {
+        let nx = self.measured.len();
+        self.newest = (self.newest + 1) % self.slots;
+        let oldest = (self.newest + 1) % self.slots;
+        self.history[self.newest * nx..(self.newest + 1) * nx].copy_from_slice(x);
+        self.measured
+            .copy_from_slice(&self.history[oldest * nx..(oldest + 1) * nx]);
+        for (range, std) in &self.noise {
+            if *std == 0.0 {
+                continue;
+            }
+            for value in &mut self.measured[range.clone()] {
+                let draw: f64 = StandardNormal.sample(&mut self.rng);
+                *value += std * draw;
+            }
+        }
+        &self.measured
+    }
+
+    /// The last measurement ([`Sensor::measure`]).
+    pub fn last(&self) -> &[f64] {
+        &self.measured
+    }
+
+    /// After the law's tick at the last measurement: puts the true CoM (of `model` at `x`)
+    /// and the true tracking errors into its observation.
+    pub fn observe_truth(&mut self, law: &mut Law<'_>, model: &Model, x: &[f64]) {
+        let layout = law.layout();
+        let com = sea_dyn::centroidal::com(model, &mut self.data, layout.q(x));
+        law.observe_truth(com, layout.s(x));
+    }
+}
