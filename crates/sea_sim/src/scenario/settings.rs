@@ -140,7 +140,7 @@ impl Sampling {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum IdentificationWrenches {
-    /// Measured by force/torque sensors at the feet, as on the iCub, ergoCub and Talos (in
+    /// Measured by force/torque sensors at the feet, as on the iCub (docs/references.md; in
     /// simulation: the plant's contact wrenches at the sample; the default).
     #[default]
     Measured,
