@@ -46,10 +46,12 @@ def test_columns_rows_and_grid_order(local_result):
     np.testing.assert_array_equal(result["controller.rate_hz"], [100.0, 1000.0, 100.0, 1000.0])
     assert result["com_error_rms_m"].dtype == np.float64
     assert result["qp_failures"].dtype == np.int64
-    # 100 Hz diverges (the sampled SEA loop), 1 kHz completes: both are rows.
-    assert list(result["status"]) == ["diverged", "completed", "diverged", "completed"]
-    assert np.all(np.isnan(result["diverged_at_s"][[1, 3]]))
-    assert np.all(result["diverged_at_s"][[0, 2]] < 0.3)
+    # 100 Hz falls (the sampled SEA loop grows until a foot's wrench leaves its constraints),
+    # 1 kHz completes: both are rows, with the fall's foot and constraint as text columns.
+    assert list(result["status"]) == ["fell", "completed", "fell", "completed"]
+    assert np.all(np.isnan(result["fell_at_s"][[1, 3]]))
+    assert np.all(result["fell_at_s"][[0, 2]] < 0.3)
+    assert list(result["fall_foot"]) == ["l_sole", "", "l_sole", ""]
     assert list(result.stable) == [False, True, False, True]
     assert result.rows[1]["status"] == "completed" and result.rows[1]["message"] == ""
     assert set(result.columns) == set(result.rows[0])
