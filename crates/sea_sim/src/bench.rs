@@ -182,7 +182,7 @@ pub fn bench_closed_loop(urdf: &str, runs: usize) -> Option<Vec<(&'static str, f
              kind = \"rigid\"\nreflected_inertia = false",
         ),
     ] {
-        let scenario = two_feet_scenario(urdf, &controller, "duration_s = 1.0")?;
+        let scenario = two_feet_scenario(urdf, controller, "duration_s = 1.0")?;
         let mut wall_ms = Vec::with_capacity(runs);
         for _ in 0..runs.max(1) {
             let cancel = std::sync::atomic::AtomicBool::new(false);

@@ -325,7 +325,8 @@ impl ControllerConfig {
     /// `multi_rate`: the joint loops' bandwidth [rad/s], `None` for the paper's `K_S^ / K_D^`
     /// per joint.
     pub fn torque_bandwidth(&self) -> Option<f64> {
-        (!self.torque_loop_paper_law).then(|| 2.0 * std::f64::consts::PI * self.torque_bandwidth_hz)
+        (!self.torque_loop_paper_law)
+            .then_some(2.0 * std::f64::consts::PI * self.torque_bandwidth_hz)
     }
 
     /// `multi_rate`: the joint loops of `controller`'s elastic joints with these settings
