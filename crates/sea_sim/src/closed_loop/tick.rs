@@ -131,6 +131,37 @@ impl PlantSide<'_> {
         result.map_err(|e| Divergence::PlantFailed(e.to_string()))
     }
 
+    /// Step `k` of the period that starts at `time`: the plant from `x_step` with input `u`
+    /// (n) and the disturbances of the step's start, the result swapped into `x_step`; the
+    /// first step's start evaluation gives the outputs of the sample.
+    fn step(
+        &mut self,
+        k: usize,
+        (time, schedule): (f64, &Schedule),
+        u: &[f64],
+    ) -> std::result::Result<(), Divergence> {
+        let step_start = time + k as f64 * schedule.step;
+        self.disturbances.apply(&mut self.pd.workspace, step_start);
+        let result = sea_plant::step(
+            self.plant,
+            &mut self.pd,
+            &self.x_step,
+            u,
+            schedule.step,
+            self.method,
+            &mut self.x_next,
+        );
+        if k == 0 {
+            self.outputs.copy_from(&self.pd.outputs);
+        }
+        result.map_err(|e| Divergence::PlantStepFailed(e.to_string()))?;
+        if self.x_next.iter().any(|v| !v.is_finite()) {
+            return Err(Divergence::NonFiniteState);
+        }
+        std::mem::swap(&mut self.x_step, &mut self.x_next);
+        Ok(())
+    }
+
     /// Multi-rate: the plant over one whole-body period from `x` into `x_next`, the law's
     /// desired joint torques held in `joint_loop` (already held and ticked at `x`); every
     /// `schedule.steps_per_inner_tick()` steps the joint loop ticks again at the measured
@@ -156,25 +187,7 @@ impl PlantSide<'_> {
                 };
                 joint_loop.tick(&layout, measured);
             }
-            let step_start = time + k as f64 * schedule.step;
-            self.disturbances.apply(&mut self.pd.workspace, step_start);
-            let result = sea_plant::step(
-                self.plant,
-                &mut self.pd,
-                &self.x_step,
-                joint_loop.input(),
-                schedule.step,
-                self.method,
-                &mut self.x_next,
-            );
-            if k == 0 {
-                self.outputs.copy_from(&self.pd.outputs);
-            }
-            result.map_err(|e| Divergence::PlantStepFailed(e.to_string()))?;
-            if self.x_next.iter().any(|v| !v.is_finite()) {
-                return Err(Divergence::NonFiniteState);
-            }
-            std::mem::swap(&mut self.x_step, &mut self.x_next);
+            self.step(k, (time, schedule), joint_loop.input())?;
         }
         self.x_next.copy_from_slice(&self.x_step);
         Ok(())
@@ -195,25 +208,7 @@ impl PlantSide<'_> {
         // The first step starts where the controller just ticked.
         hand_over.give(law, self.plant, &mut self.pd.workspace, &self.x_step);
         for k in 0..schedule.steps_per_period {
-            let step_start = time + k as f64 * schedule.step;
-            self.disturbances.apply(&mut self.pd.workspace, step_start);
-            let result = sea_plant::step(
-                self.plant,
-                &mut self.pd,
-                &self.x_step,
-                u,
-                schedule.step,
-                self.method,
-                &mut self.x_next,
-            );
-            if k == 0 {
-                self.outputs.copy_from(&self.pd.outputs);
-            }
-            result.map_err(|e| Divergence::PlantStepFailed(e.to_string()))?;
-            if self.x_next.iter().any(|v| !v.is_finite()) {
-                return Err(Divergence::NonFiniteState);
-            }
-            std::mem::swap(&mut self.x_step, &mut self.x_next);
+            self.step(k, (time, schedule), u)?;
         }
         self.x_next.copy_from_slice(&self.x_step);
         Ok(())
