@@ -87,8 +87,10 @@ pub struct StiffnessIdentifier {
     /// `S_dd` (n_e) [rad^2] and `S_td` (n_e) [Nm rad].
     sum_deflection_squared: Vec<f64>,
     sum_torque_deflection: Vec<f64>,
-    /// `nu` of the previous update (nv), when there was one.
-    nu_previous: Option<Vec<f64>>,
+    /// `nu` of the previous update (nv), valid when `has_previous`.
+    nu_previous: Vec<f64>,
+    /// Whether an update came before (`nu_previous` holds its `nu`).
+    has_previous: bool,
     /// `nudot` (nv) of this update.
     nudot: Vec<f64>,
     /// `M nudot + h - J^T f` (nv) of this update: its joint rows are `tau_model`.
@@ -118,16 +120,17 @@ impl StiffnessIdentifier {
         let contact_frames = controller.contact_frames().to_vec();
         let k = 6 * contact_frames.len();
         let prior: Vec<f64> = prior.iter().map(|p| p.stiffness).collect();
-        let weight = settings.prior_deflection.powi(2);
+        let prior_weight = settings.prior_deflection.powi(2);
         Self {
             data: Data::new(&model),
             settings,
             contact_frames,
             elastic_joints: controller.actuation().elastic_joints.clone(),
-            sum_deflection_squared: vec![weight; prior.len()],
-            sum_torque_deflection: prior.iter().map(|k_s| k_s * weight).collect(),
+            sum_deflection_squared: vec![prior_weight; prior.len()],
+            sum_torque_deflection: prior.iter().map(|k_s| k_s * prior_weight).collect(),
             prior,
-            nu_previous: None,
+            nu_previous: vec![0.0; nv],
+            has_previous: false,
             nudot: vec![0.0; nv],
             generalized_force: DVector::zeros(nv),
             contact_jacobian: DMatrix::zeros(k, nv),
@@ -202,9 +205,10 @@ impl StiffnessIdentifier {
         wrenches: &DVector<f64>,
         estimates: &mut [ElasticParameters],
     ) {
-        let nu_previous = self.nu_previous.take();
+        let (has_previous, nu_previous) = (self.has_previous, self.nu_previous.clone());
+        self.has_previous = false;
         self.model_joint_torques(layout, x, 1.0, wrenches);
-        self.nu_previous = nu_previous;
+        (self.has_previous, self.nu_previous) = (has_previous, nu_previous);
         let (theta, s) = (layout.theta(x), layout.s(x));
         let joints = self.elastic_joints.iter().zip(estimates.iter_mut());
         for (e, (&j, estimate)) in joints.enumerate() {
@@ -227,18 +231,15 @@ impl StiffnessIdentifier {
         wrenches: &DVector<f64>,
     ) {
         let (q, nu) = (layout.q(x), layout.nu(x));
-        match &mut self.nu_previous {
-            Some(previous) => {
-                for ((a, v), v0) in self.nudot.iter_mut().zip(nu).zip(previous.iter()) {
-                    *a = (v - v0) / period;
-                }
-                previous.copy_from_slice(nu);
+        if self.has_previous {
+            for ((a, v), v0) in self.nudot.iter_mut().zip(nu).zip(&self.nu_previous) {
+                *a = (v - v0) / period;
             }
-            None => {
-                self.nudot.fill(0.0);
-                self.nu_previous = Some(nu.to_vec());
-            }
+        } else {
+            self.nudot.fill(0.0);
         }
+        self.nu_previous.copy_from_slice(nu);
+        self.has_previous = true;
         let inverse_dynamics = rnea(&self.model, &mut self.data, q, nu, &self.nudot);
         self.generalized_force.copy_from(inverse_dynamics);
         for (c, &frame) in self.contact_frames.iter().enumerate() {
