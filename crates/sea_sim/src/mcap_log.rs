@@ -68,22 +68,46 @@ fn mcap_error(path: &Path) -> impl Fn(mcap::McapError) -> Error + '_ {
 }
 
 impl Output {
+    /// The open writer and the file's path, or [`Error::Log`] once finished.
+    fn open(&mut self) -> Result<(&mut Writer<BufWriter<File>>, &Path)> {
+        match self.writer.as_mut() {
+            Some(writer) => Ok((writer, &self.path)),
+            None => Err(Error::Log("the log is already finished".into())),
+        }
+    }
+
+    /// Registers the schema `(name, encoding, data)` and a channel on `topic` with
+    /// `message_encoding`; returns the channel id.
+    fn add_channel(
+        &mut self,
+        (name, encoding, data): (&str, &str, &[u8]),
+        topic: &str,
+        message_encoding: &str,
+    ) -> Result<u16> {
+        let (writer, path) = self.open()?;
+        let schema_id = writer
+            .add_schema(name, encoding, data)
+            .map_err(mcap_error(path))?;
+        writer
+            .add_channel(schema_id, topic, message_encoding, &BTreeMap::new())
+            .map_err(mcap_error(path))
+    }
+
     /// Writes the encoded `message` on `channel` at `time` (ns).
     fn write(&mut self, channel: u16, time: u64, message: &[u8]) -> Result<()> {
-        let writer = self
-            .writer
-            .as_mut()
-            .ok_or_else(|| Error::Log("the log is already finished".into()))?;
+        let sequence = self.sequence;
+        let (writer, path) = self.open()?;
         let header = MessageHeader {
             channel_id: channel,
-            sequence: self.sequence,
+            sequence,
             log_time: time,
             publish_time: time,
         };
-        self.sequence = self.sequence.wrapping_add(1);
-        writer
+        let written = writer
             .write_to_known_channel(&header, message)
-            .map_err(mcap_error(&self.path))
+            .map_err(mcap_error(path));
+        self.sequence = sequence.wrapping_add(1);
+        written
     }
 
     /// Writes the summary and index, flushes and syncs the file; a no-op once finished.
@@ -104,24 +128,16 @@ impl Output {
 }
 
 /// Adds the schema and channel of every topic; returns the channel ids in [`Topic::ALL`] order.
-fn add_channels(
-    writer: &mut Writer<BufWriter<File>>,
-    path: &Path,
-) -> Result<[u16; Topic::ALL.len()]> {
+fn add_channels(out: &mut Output) -> Result<[u16; Topic::ALL.len()]> {
     let mut channels = [0; Topic::ALL.len()];
     for (id, topic) in channels.iter_mut().zip(Topic::ALL) {
         let schema = topic.schema();
-        let schema_id = writer
-            .add_schema(&schema.name, &schema.encoding, &schema.data)
-            .map_err(mcap_error(path))?;
-        *id = writer
-            .add_channel(
-                schema_id,
-                topic.name(),
-                &topic.message_encoding(),
-                &BTreeMap::new(),
-            )
-            .map_err(mcap_error(path))?;
+        let schema = (
+            schema.name.as_str(),
+            schema.encoding.as_str(),
+            &schema.data[..],
+        );
+        *id = out.add_channel(schema, topic.name(), &topic.message_encoding())?;
     }
     Ok(channels)
 }
@@ -163,16 +179,17 @@ impl McapLogger {
             .compression(Some(Compression::Lz4))
             .profile("")
             .library(concat!("sea_sim ", env!("CARGO_PKG_VERSION")));
-        let mut writer = options
+        let writer = options
             .create(BufWriter::new(file))
             .map_err(mcap_error(path))?;
-        let channels = add_channels(&mut writer, path)?;
+        let mut out = Output {
+            writer: Some(writer),
+            path: path.to_path_buf(),
+            sequence: 0,
+        };
+        let channels = add_channels(&mut out)?;
         Ok(Self {
-            out: Output {
-                writer: Some(writer),
-                path: path.to_path_buf(),
-                sequence: 0,
-            },
+            out,
             encoder: SampleEncoder::new(model, elastic_joint_names, contact_names),
             channels,
             robot: None,
@@ -198,12 +215,7 @@ impl McapLogger {
             &self.encoder.link_frames(),
             self.encoder.contact_names(),
         )?;
-        let path = &self.out.path;
-        let writer = self
-            .out
-            .writer
-            .as_mut()
-            .ok_or_else(|| Error::Log("the log is already finished".into()))?;
+        let (writer, path) = self.out.open()?;
         writer
             .attach(&Attachment {
                 log_time: 0,
@@ -217,17 +229,11 @@ impl McapLogger {
             .write_metadata(&scene_metadata(&scene))
             .map_err(mcap_error(path))?;
         let schema = Topic::Scene.schema();
-        let schema_id = writer
-            .add_schema(&schema.name, &schema.encoding, &schema.data)
-            .map_err(mcap_error(path))?;
-        let channel = writer
-            .add_channel(
-                schema_id,
-                ROBOT_TOPIC,
-                &Topic::Scene.message_encoding(),
-                &BTreeMap::new(),
-            )
-            .map_err(mcap_error(path))?;
+        let channel = self.out.add_channel(
+            (&schema.name, &schema.encoding, &schema.data),
+            ROBOT_TOPIC,
+            &Topic::Scene.message_encoding(),
+        )?;
         self.robot = Some((channel, std::mem::take(&mut scene.robot)));
         let warnings = std::mem::take(&mut scene.warnings);
         self.encoder.set_scene(scene);
@@ -266,12 +272,7 @@ impl McapLogger {
     /// Errors: [`Error::Log`] when the logger is finished or MCAP writing fails,
     /// [`Error::Io`] naming the file when the OS refuses a write.
     pub fn end(&mut self, end: &RunEnd, end_s: f64) -> Result<()> {
-        let path = &self.out.path;
-        let writer = self
-            .out
-            .writer
-            .as_mut()
-            .ok_or_else(|| Error::Log("the log is already finished".into()))?;
+        let (writer, path) = self.out.open()?;
         writer
             .write_metadata(&run_metadata(end, end_s))
             .map_err(mcap_error(path))?;
@@ -279,17 +280,11 @@ impl McapLogger {
             return Ok(());
         };
         let schema = Log::get_schema().expect("the SDK gives its schemas");
-        let schema_id = writer
-            .add_schema(&schema.name, &schema.encoding, &schema.data)
-            .map_err(mcap_error(path))?;
-        let channel = writer
-            .add_channel(
-                schema_id,
-                EVENTS_TOPIC,
-                &Log::get_message_encoding(),
-                &BTreeMap::new(),
-            )
-            .map_err(mcap_error(path))?;
+        let channel = self.out.add_channel(
+            (&schema.name, &schema.encoding, &schema.data),
+            EVENTS_TOPIC,
+            &Log::get_message_encoding(),
+        )?;
         let time = nanoseconds(*at_s);
         let (constraint, value, bound) = (
             fall.constraint.kind(),
