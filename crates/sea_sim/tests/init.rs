@@ -168,3 +168,36 @@ fn a_link_point_with_a_bad_number_is_named() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A mesh the URDF names but that is not there (a missing file, an unknown package) stops the
+/// setup before anything is written, naming the link and the URI.
+#[test]
+fn a_missing_or_unresolvable_mesh_is_named() {
+    let text = std::fs::read_to_string(icub_urdf()).unwrap();
+    for (uri, why) in [
+        ("meshes/no_such_part.stl", "no_such_part.stl"),
+        ("package://no_such_pkg_xyz/part.stl", "no_such_pkg_xyz"),
+    ] {
+        let dir = folder("mesh");
+        let urdf_dir = folder("mesh_urdf");
+        // Beside the chest's own visuals (urdf-rs wants a link's visuals together).
+        let chest = text.find("<link name=\"chest\">").expect("the chest link");
+        let at = chest
+            + text[chest..]
+                .find("<visual")
+                .expect("a visual of the chest");
+        let visual = format!("<visual><geometry><mesh filename=\"{uri}\"/></geometry></visual>");
+        let with_mesh = format!("{}{visual}{}", &text[..at], &text[at..]);
+        let urdf = urdf_dir.join("icub_mesh.urdf");
+        std::fs::write(&urdf, with_mesh).unwrap();
+        let mut options = icub_options(&dir);
+        options.urdf = urdf.display().to_string();
+        let message = refused(&options);
+        assert!(
+            message.contains("link 'chest' visual mesh") && message.contains(why),
+            "{message}"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+        std::fs::remove_dir_all(urdf_dir).unwrap();
+    }
+}

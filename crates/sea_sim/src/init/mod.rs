@@ -10,6 +10,7 @@
 pub mod actuators;
 pub mod foot;
 pub mod gains;
+pub mod mesh_files;
 pub mod posture;
 pub mod write;
 
@@ -104,6 +105,7 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
         .map(|name| model.frame_id(&name).expect("added above"));
     one_contact_per_leg(&model, feet, &options.contacts)?;
     let urdf_dir = urdf_file.parent().unwrap_or(Path::new("."));
+    mesh_files::check_mesh_files(&text, urdf_dir, &dirs)?;
     let (rectangles, measured) = match &options.foot {
         Some(foot) => ([check_foot(foot)?; 2], false),
         None => {
