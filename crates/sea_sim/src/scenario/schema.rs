@@ -346,13 +346,13 @@ impl ControllerConfig {
         controller: &sea_ctrl::MomentumController,
         prior: &[sea_dyn::ElasticParameters],
     ) -> Option<sea_ctrl::stiffness_id::StiffnessIdentifier> {
+        // The external-force check needs measured wrenches (module doc of stiffness_id).
         let measured = self.identification_wrenches == IdentificationWrenches::Measured;
+        let defaults = sea_ctrl::stiffness_id::IdentificationSettings::default();
         let settings = sea_ctrl::stiffness_id::IdentificationSettings {
             time_constant: self.identification_time_s,
-            max_external_force: measured
-                .then_some(sea_ctrl::stiffness_id::IdentificationSettings::default())
-                .and_then(|defaults| defaults.max_external_force),
-            ..Default::default()
+            max_external_force: defaults.max_external_force.filter(|_| measured),
+            ..defaults
         };
         self.stiffness_identification
             .then(|| sea_ctrl::stiffness_id::StiffnessIdentifier::new(controller, prior, settings))
