@@ -16,7 +16,7 @@ def push(impulse_n_s: float) -> dict[str, object]:
 def test_a_small_push_is_recovered_and_a_large_one_falls_on_a_named_foot():
     small = sm.run_scenario(PUSH, {"disturbances": [push(5.0)]})
     assert small.status == "completed" and small.summary.fall_foot is None
-    large = sm.run_scenario(PUSH, {"disturbances": [push(8.0)]})
+    large = sm.run_scenario(PUSH, {"disturbances": [push(20.0)]})
     s = large.summary
     assert large.status == "fell", s.reason
     assert s.fall_foot in ("l_sole", "r_sole")
@@ -46,7 +46,7 @@ def test_a_fall_is_a_warning_on_events_and_the_run_metadata_of_the_log(tmp_path)
     from mcap_protobuf.decoder import DecoderFactory
 
     path = tmp_path / "fall.mcap"
-    result = sm.run_scenario(PUSH, {"disturbances": [push(8.0)]}, mcap=path)
+    result = sm.run_scenario(PUSH, {"disturbances": [push(20.0)]}, mcap=path)
     s = result.summary
     assert result.status == "fell"
     with open(path, "rb") as stream:

@@ -53,6 +53,12 @@ PUSH_SETUPS = {
     + [f"{IDENTIFICATION}=true", "controller.stiffness_estimate_scale=0.5"],
     "SEA, multi-rate, identification from x2": MULTI_RATE
     + [f"{IDENTIFICATION}=true", "controller.stiffness_estimate_scale=2.0"],
+    "SEA, multi-rate, the paper's QP": MULTI_RATE
+    + [
+        "controller.momentum_relaxation=none",
+        "controller.qp_moment_regularization=0",
+        "controller.contact.cop_margin=0",
+    ],
 }
 
 

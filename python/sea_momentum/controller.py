@@ -23,7 +23,7 @@ class ControlOutput(Result):
     joint_command: FloatArray  #: (n,) tau* (rigid controller) or beta* (SEA), joint side [N m]
     thetadot_desired: FloatArray  #: (n_e,) desired motor velocities [rad/s] (empty: rigid controller)
     wrenches: FloatArray  #: (n_contacts, 6) QP contact wrenches [force; torque], world axes, about the contact frame origins
-    qp_status: Literal["solved", "fallback"]  #: "fallback": the QP failed, the unconstrained solution was used
+    qp_status: Literal["solved", "momentum_relaxed", "fallback"]  #: "momentum_relaxed": the momentum equality was infeasible, the closest feasible momentum rate was used; "fallback": the QP failed, the unconstrained solution was used
     qp_message: str  #: why the QP failed ("" when solved)
     com: FloatArray  #: (3,) CoM, world [m]
     momentum: FloatArray  #: (6,) centroidal momentum [m pdot_com; L_com]

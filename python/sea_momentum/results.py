@@ -154,6 +154,9 @@ class RunSummary(Result):
     """Largest ``|thetadot|`` [rad/s]."""
     qp_failures: int
     """Control ticks whose QP failed (the controller fell back)."""
+    qp_relaxed_solves: int
+    """Control ticks whose momentum equality was infeasible and that the relaxed momentum task
+    solved (``controller.momentum_relaxation = "when_infeasible"``)."""
     qp_active_set_solves: int
     """Control ticks whose QP the active-set solver solved."""
     qp_clarabel_solves: int

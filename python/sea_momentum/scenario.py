@@ -33,7 +33,7 @@ class ScenarioResult(Result):
     contact_wrenches: FloatArray  #: (m, n_contacts, 6) float64, simulated wrenches, world axes
     motor_torques: FloatArray  #: (m, n_e) float64, applied motor torques [N m]
     joint_error_norm: FloatArray  #: (m,) float64, |s - s_d| [rad]
-    qp_solved: FloatArray  #: (m,) float64, 1 solved, 0 fallback
+    qp_solved: FloatArray  #: (m,) float64, 1 solved (the relaxed momentum task included), 0 fallback
     #: (m, 6) float64, the ``[[disturbances]]`` acting from each sample on, summed:
     #: [force; torque], world axes, each torque about its link's origin (zero: no push)
     disturbance_wrench: FloatArray

@@ -10,7 +10,8 @@
 //!    + Sigma f` (`beta(f)` for the SEA controller, newJointDynamics);
 //! 4. the QP ([`crate::qp`], inputTorquesSOT / inputTorquesSOTu): one foot `min |A f - b|^2`,
 //!    two feet `min |tau(f)|^2` s.t. `A f = b`; both s.t. the contact constraints
-//!    (frictionCones);
+//!    (frictionCones); two feet, when `A f = b` is infeasible under them and
+//!    [`MomentumRelaxation::WhenInfeasible`] is set, the closest feasible momentum rate;
 //! 5. the plant input: rigid joints `tau*`; elastic joints the desired motor velocity
 //!    `thetadot_d = Gamma^-1 K_D^-1 beta*` (SEA controller, inputDesMotVel, tracked by the
 //!    plant's motor velocity loop eq:tauMotors) or the motor torque `Gamma tau*` (rigid
@@ -26,8 +27,9 @@ use crate::momentum::{
     momentum_map_identity_blocks, momentum_rate_star, set_momentum_map_contact, MomentumJacobian,
 };
 use crate::qp::{
-    momentum_tracking_objective, torque_norm_objective, ContactConstraints, Minimizer, QpAgreement,
-    QpCounters, QpSolver, QpStatus, WrenchQp,
+    add_moment_regularization, momentum_tracking_objective, relaxed_momentum_objective,
+    torque_norm_objective, ContactConstraints, Minimizer, QpAgreement, QpCounters, QpSolver,
+    QpStatus, RelaxedMomentumWeights, WrenchQp,
 };
 use crate::references::ComSample;
 use crate::sea::{
@@ -51,6 +53,26 @@ pub enum ControllerKind {
     Sea,
     /// The rigid-joint controller (joint torques, `tau_m = Gamma tau` on elastic joints).
     Rigid,
+}
+
+/// What the two-feet QP does when its momentum equality `A f = b` is infeasible under the
+/// contact constraints; with the `serde` feature, named "none" or "when_infeasible".
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
+pub enum MomentumRelaxation {
+    /// The paper's QP only: an infeasible tick falls back to the minimiser without the contact
+    /// constraints ([`QpStatus::Fallback`]), whose wrenches the contacts cannot carry.
+    #[default]
+    None,
+    /// An infeasible tick solves the relaxed momentum task instead: the closest momentum rate
+    /// the contacts can produce, the CoM's before the angular momentum
+    /// ([`relaxed_momentum_objective`], [`QpStatus::MomentumRelaxed`]). The centre of pressure
+    /// then sits on the edge of the QP's sole (keep `cop_margin` above 0).
+    WhenInfeasible,
 }
 
 /// Settings of the controller.
@@ -83,6 +105,11 @@ pub struct ControllerSettings {
     /// QP Hessian regulariser (original study: 1e-3,
     /// docs/references.md#original-study-contact-wrench-qp).
     pub qp_regularization: f64,
+    /// Two feet: weight of the contact moments `|n_k|^2` added to the torque-norm objective
+    /// ([`add_moment_regularization`]; 0 in the original study).
+    pub qp_moment_regularization: f64,
+    /// Two feet: what an infeasible momentum equality does.
+    pub momentum_relaxation: MomentumRelaxation,
     /// Rigid controller: add the motor reflected inertia of elastic joints to `M_j`.
     pub reflected_inertia: bool,
     /// Added to the joint diagonal of the controller's `M` [kg m^2].
@@ -209,6 +236,19 @@ impl ControllerSettings {
                 return Err(Error::config(key, message));
             }
         }
+        let moment = self.qp_moment_regularization;
+        if !(moment.is_finite() && moment >= 0.0) {
+            let message = format!("must be finite and non-negative, got {moment}");
+            return Err(Error::config(
+                "controller.qp_moment_regularization",
+                message,
+            ));
+        }
+        let margin = self.constraints.cop_margin;
+        if !(0.0..1.0).contains(&margin) {
+            let message = format!("must be in [0, 1), got {margin}");
+            return Err(Error::config("controller.contact.cop_margin", message));
+        }
         if self.postural_stiffness.len() != n || self.postural_damping.len() != n {
             return Err(Error::config(
                 "controller.postural_stiffness",
@@ -286,6 +326,12 @@ pub struct MomentumController {
     momentum_jacobian: MomentumJacobian,
     /// Total mass [kg].
     mass: f64,
+    /// The relaxed momentum task's QP (no equality rows; two feet, see [`MomentumRelaxation`]).
+    relaxed_qp: WrenchQp,
+    /// The relaxed QP's solution (k).
+    relaxed_wrenches: DVector<f64>,
+    /// Ticks solved by the relaxed momentum task.
+    relaxations: usize,
 }
 
 impl MomentumController {
@@ -331,15 +377,25 @@ impl MomentumController {
             command: DVector::zeros(n),
             momentum_jacobian: MomentumJacobian::new(model, k),
             mass: model.total_mass(),
+            relaxed_qp: WrenchQp::new(n_contacts, 0, &settings.constraints),
+            relaxed_wrenches: DVector::zeros(k),
+            relaxations: 0,
             settings,
             contact_frames,
             contact_references,
         })
     }
 
-    /// QP solves that fell back to the unconstrained solution so far.
+    /// QP solves that fell back to the unconstrained solution so far (the relaxed momentum
+    /// task's rescues not counted).
     pub fn qp_failures(&self) -> usize {
-        self.qp.counters().fallbacks
+        self.qp.counters().fallbacks - self.relaxations
+    }
+
+    /// Ticks whose momentum equality was infeasible and that the relaxed momentum task solved
+    /// ([`MomentumRelaxation::WhenInfeasible`]).
+    pub fn qp_relaxations(&self) -> usize {
+        self.relaxations
     }
 
     /// QP solves so far by path: the minimiser without inequalities (feasible, hence
@@ -489,6 +545,7 @@ impl MomentumController {
         let two_feet = self.contact_frames.len() > 1;
         let found = if two_feet {
             torque_norm_objective(&terms.sigma, &terms.tau_bias, reg, hessian, gradient);
+            add_moment_regularization(hessian, self.settings.qp_moment_regularization);
             self.minimizer.equality_constrained(
                 hessian,
                 gradient,
@@ -503,14 +560,51 @@ impl MomentumController {
                 .unconstrained(hessian, gradient, &mut self.unconstrained)
         };
         let equality = two_feet.then_some((&terms.momentum_map, &terms.momentum_target));
-        self.qp.solve(
+        let status = self.qp.solve(
             hessian,
             gradient,
             equality,
             &terms.contact_rotations,
             found.then_some(&self.unconstrained),
             wrenches,
-        )
+        );
+        let relax = self.settings.momentum_relaxation == MomentumRelaxation::WhenInfeasible;
+        match status {
+            QpStatus::Fallback(_) if two_feet && relax => {
+                self.solve_relaxed(wrenches).unwrap_or(status)
+            }
+            _ => status,
+        }
+    }
+
+    /// The relaxed momentum task of an infeasible two-feet tick into `wrenches` (k):
+    /// `MomentumRelaxed`, or `None` (wrenches untouched) when it fails too.
+    fn solve_relaxed(&mut self, wrenches: &mut DVector<f64>) -> Option<QpStatus> {
+        let terms = &self.terms;
+        let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
+        relaxed_momentum_objective(
+            (&terms.momentum_map, &terms.momentum_target),
+            (&terms.sigma, &terms.tau_bias),
+            RelaxedMomentumWeights::default(),
+            self.settings.qp_regularization,
+            hessian,
+            gradient,
+        );
+        let relaxed = &mut self.relaxed_wrenches;
+        let status = self.relaxed_qp.solve(
+            hessian,
+            gradient,
+            None,
+            &terms.contact_rotations,
+            None,
+            relaxed,
+        );
+        let solved = status == QpStatus::Solved;
+        if solved {
+            wrenches.copy_from(relaxed);
+            self.relaxations += 1;
+        }
+        solved.then_some(QpStatus::MomentumRelaxed)
     }
 
     /// Maps the joint-side command `self.command` to the plant input in `out`: rigid joints

@@ -112,6 +112,7 @@ fn output_object<'py>(py: Python<'py>, observation: &Observation) -> PyResult<Bo
     fields.set_item("wrenches", matrix_rows_out(py, out.wrenches.as_slice(), 6))?;
     let (status, message) = match &out.qp_status {
         QpStatus::Solved => ("solved", ""),
+        QpStatus::MomentumRelaxed => ("momentum_relaxed", ""),
         QpStatus::Fallback(reason) => ("fallback", reason.as_str()),
     };
     fields.set_item("qp_status", status)?;

@@ -202,6 +202,7 @@ fn summary_fields<'py>(
         summary.motor_velocity_peak_rad_s,
     )?;
     fields.set_item("qp_failures", summary.qp_failures)?;
+    fields.set_item("qp_relaxed_solves", summary.qp_relaxed_solves)?;
     fields.set_item("qp_active_set_solves", summary.qp_active_set_solves)?;
     fields.set_item("qp_clarabel_solves", summary.qp_clarabel_solves)?;
     fields.set_item("wall_time_s", summary.wall_time_s)?;

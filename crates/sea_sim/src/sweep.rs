@@ -394,6 +394,7 @@ pub fn summary_columns() -> Vec<String> {
     let totals = RunTotals {
         duration_s: 0.0,
         qp_failures: 0,
+        qp_relaxed_solves: 0,
         qp_active_set_solves: 0,
         qp_clarabel_solves: 0,
         wall_time_s: 0.0,

@@ -9,13 +9,13 @@ use sea_sim::scenario::Scenario;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
-/// An 8 N s forward push (80 N over 0.1 s at 1 s) on the two-feet iCub: it falls (README,
-/// "Pushes, falls and sensing": 6.07 N s is recovered).
+/// A 20 N s forward push (200 N over 0.1 s at 1 s) on the two-feet iCub: it falls (README,
+/// "Pushes, falls and sensing": 7.01 N s is recovered).
 fn pushed() -> Scenario {
     let path =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/robot_rate/push_two_feet.toml");
     let push =
-        "[{link = \"root_link\", force = [80.0, 0.0, 0.0], start_s = 1.0, duration_s = 0.1}]";
+        "[{link = \"root_link\", force = [200.0, 0.0, 0.0], start_s = 1.0, duration_s = 0.1}]";
     let pairs = [
         ("disturbances", push),
         ("simulation.record_every", "1"),
@@ -47,14 +47,14 @@ fn a_fall_after_a_push_is_in_the_log_with_the_push() {
     assert_eq!(summary.status, "fell", "{summary:?}");
     let fall = summary.fall.clone().unwrap();
 
-    // The record: the push summed per sample, [80, 0, 0, 0, 0, 0] inside its window.
+    // The record: the push summed per sample, [200, 0, 0, 0, 0, 0] inside its window.
     let in_window = |t: f64| (1.0 - 1e-9..1.1 - 1e-9).contains(&t);
     for (t, wrench) in record
         .time
         .iter()
         .zip(record.disturbance_wrench.chunks_exact(6))
     {
-        let expected = if in_window(*t) { 80.0 } else { 0.0 };
+        let expected = if in_window(*t) { 200.0 } else { 0.0 };
         assert_eq!(wrench, [expected, 0.0, 0.0, 0.0, 0.0, 0.0], "t = {t}");
     }
 
@@ -71,7 +71,7 @@ fn a_fall_after_a_push_is_in_the_log_with_the_push() {
                 assert_eq!(entry["torque"], serde_json::json!([0.0, 0.0, 0.0]));
                 if in_window(t) {
                     assert_eq!(entry["active"], true, "t = {t}");
-                    assert_eq!(entry["force"], serde_json::json!([80.0, 0.0, 0.0]));
+                    assert_eq!(entry["force"], serde_json::json!([200.0, 0.0, 0.0]));
                     pushed_samples += 1;
                 } else {
                     assert_eq!(entry["active"], false, "t = {t}");
@@ -86,10 +86,10 @@ fn a_fall_after_a_push_is_in_the_log_with_the_push() {
             _ => {}
         }
     }
-    // Every recorded sample is logged (it falls during the push, about 0.07 s into it, at
+    // Every recorded sample is logged (it falls during the push, about 0.02 s into it, at
     // 0.25 ms per sample).
     let window = record.time.iter().filter(|&&t| in_window(t)).count();
-    assert!(window > 200, "{window}");
+    assert!(window > 50, "{window}");
     assert_eq!(pushed_samples, window);
     assert_eq!(quiet_samples, record.time.len() - window);
     // One fall event, at the fall's time, naming the foot and the constraint.

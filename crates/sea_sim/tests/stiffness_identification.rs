@@ -182,34 +182,37 @@ fn two_feet(overrides: &[(&str, &str)]) -> Scenario {
 
 /// On two feet the internal force between the feet is not in the model: with the feet's
 /// measured wrenches the identification holds x0.5 and x2 with the posture kept (final joint
-/// error below 0.03 rad); with the commanded `f*` instead, x2 leaves a larger posture error.
+/// error below 0.03 rad); with the commanded `f*` instead, x2 leaves a larger posture error
+/// (with the push scenario's QP, whose moment weight moves the internal force, it diverges).
 #[test]
 fn two_feet_identification_takes_the_measured_wrenches() {
     let key = "controller.stiffness_estimate_scale";
-    let mut final_errors = Vec::new();
-    for (scale, wrenches) in [
+    let summaries: Vec<_> = [
         ("0.5", "measured"),
         ("2.0", "measured"),
         ("2.0", "commanded"),
-    ] {
+    ]
+    .into_iter()
+    .map(|(scale, wrenches)| {
         let wrenches = format!("\"{wrenches}\"");
         let scenario = two_feet(&[
             (key, scale),
             ("disturbances", "[]"),
             ("controller.identification_wrenches", &wrenches),
         ]);
-        let (_, summary) = run(&scenario, |_, _| {}).unwrap();
-        assert_eq!(
-            summary.status, "completed",
-            "x{scale} {wrenches}: {summary:?}"
-        );
-        final_errors.push(summary.joint_error_norm_final_rad);
+        run(&scenario, |_, _| {}).unwrap().1
+    })
+    .collect();
+    for measured in &summaries[..2] {
+        assert_eq!(measured.status, "completed", "{measured:?}");
+        assert!(measured.joint_error_norm_final_rad < 0.03, "{measured:?}");
     }
+    let commanded = &summaries[2];
+    let worse = 2.0 * summaries[1].joint_error_norm_final_rad;
     assert!(
-        final_errors[0] < 0.03 && final_errors[1] < 0.03,
-        "{final_errors:?}"
+        commanded.status != "completed" || commanded.joint_error_norm_final_rad > worse,
+        "{commanded:?}"
     );
-    assert!(final_errors[2] > 2.0 * final_errors[1], "{final_errors:?}");
 }
 
 /// A push (4 N s forward on the pelvis, 0.1 s) while the identification runs from a x2

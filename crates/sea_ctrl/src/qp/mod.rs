@@ -28,7 +28,9 @@
 //!    variables;
 //! 3. Clarabel (interior point; file `clarabel.rs`), the reference: when selected, or when the
 //!    active set fails (iteration limit, infeasible, numerically singular);
-//! 4. the unconstrained solution with a `Fallback` status when Clarabel fails too.
+//! 4. the unconstrained solution with a `Fallback` status when Clarabel fails too (the
+//!    controller may then solve the relaxed momentum task, [`relaxed_momentum_objective`], on a
+//!    second `WrenchQp` without equality rows: `MomentumRelaxed`).
 //!
 //! [`WrenchQp::counters`] counts the solves by path ([`QpCounters`]). With
 //! [`WrenchQp::cross_check`] on, every problem the active set solves is also solved by Clarabel
@@ -44,7 +46,10 @@ pub use self::clarabel::CLARABEL_TOLERANCE;
 pub use active_set::{ActiveSetError, ActiveSetQp};
 pub use cross_check::QpAgreement;
 pub use minimiser::Minimizer;
-pub use problem::{momentum_tracking_objective, torque_norm_objective, ContactConstraints};
+pub use problem::{
+    add_moment_regularization, momentum_tracking_objective, relaxed_momentum_objective,
+    torque_norm_objective, ContactConstraints, RelaxedMomentumWeights,
+};
 
 use self::clarabel::ClarabelQp;
 use cross_check::{Compared, CrossCheck};
@@ -86,6 +91,10 @@ pub enum QpStatus {
     /// Solved: the minimiser without inequalities was feasible, or the active set or Clarabel
     /// solved (Clarabel: `Solved` or `AlmostSolved`).
     Solved,
+    /// Two feet: the QP with the momentum equality was infeasible (every solver failed) and the
+    /// relaxed momentum task (the closest momentum rate the contacts can produce,
+    /// [`relaxed_momentum_objective`]) was solved instead; set by the controller.
+    MomentumRelaxed,
     /// Every solver failed; the unconstrained solution was used (the reason: Clarabel's).
     Fallback(String),
 }

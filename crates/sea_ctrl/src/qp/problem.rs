@@ -16,16 +16,24 @@ pub struct ContactConstraints {
     pub facets: usize,
     /// Minimum normal force [N].
     pub min_normal_force: f64,
+    /// Fraction of the foot rectangle's half-extents the QP keeps free around its edges, in
+    /// `[0, 1)`: the QP's centre of pressure stays in the rectangle shrunk about its centre by
+    /// `1 - cop_margin`, so what the model does not know (a push, the sampling hold) has room
+    /// before the plant's centre of pressure reaches the sole's edge. 0: the whole sole (the
+    /// original study's QP).
+    pub cop_margin: f64,
 }
 
 impl Default for ContactConstraints {
     /// [`ContactSurface::default`] with the original study's 12 facets and 10 N minimum normal
-    /// force (docs/references.md#original-study-contact-wrench-qp).
+    /// force (docs/references.md#original-study-contact-wrench-qp), the whole sole for the
+    /// centre of pressure.
     fn default() -> Self {
         Self {
             surface: ContactSurface::default(),
             facets: 12,
             min_normal_force: 10.0,
+            cop_margin: 0.0,
         }
     }
 }
@@ -59,7 +67,10 @@ impl ContactConstraints {
         c[(r + 1, 5)] = 1.0;
         c[(r + 2, 2)] = -surface.torsional_friction;
         c[(r + 2, 5)] = -1.0;
-        let ([x_min, x_max], [y_min, y_max]) = (surface.foot_x, surface.foot_y);
+        let ([x_min, x_max], [y_min, y_max]) = (
+            self.cop_range(surface.foot_x),
+            self.cop_range(surface.foot_y),
+        );
         c[(r + 3, 2)] = -x_max;
         c[(r + 3, 4)] = -1.0;
         c[(r + 4, 2)] = x_min;
@@ -69,6 +80,16 @@ impl ContactConstraints {
         c[(r + 6, 2)] = y_min;
         c[(r + 6, 3)] = -1.0;
         (c, b)
+    }
+}
+
+impl ContactConstraints {
+    /// The QP's centre-of-pressure interval on one sole axis: `[min, max]` shrunk about its
+    /// centre by `1 - cop_margin` [m]
+    /// (exactly `[min, max]` for a zero margin).
+    pub fn cop_range(&self, [min, max]: [f64; 2]) -> [f64; 2] {
+        let inset = 0.5 * (max - min) * self.cop_margin;
+        [min + inset, max - inset]
     }
 }
 
@@ -104,6 +125,77 @@ pub fn momentum_tracking_objective(
     hessian.gemm_tr(2.0, momentum_map, momentum_map, 0.0);
     gradient.gemv_tr(-2.0, momentum_map, momentum_target, 0.0);
     add_to_diagonal(hessian, 2.0 * regularization);
+}
+
+/// Adds `weight |n_k|^2` over every contact's moment `n_k` (the last 3 of its 6 entries) to
+/// an objective's Hessian `P` (k x k; `P += 2 weight` on those diagonal entries). The norm of a
+/// moment is the same in world and sole axes, so the term is frame-free; with two feet it
+/// makes the QP carry a moment by moving normal force between the feet before it moves a
+/// sole's centre of pressure.
+pub fn add_moment_regularization(hessian: &mut DMatrix<f64>, weight: f64) {
+    for contact in 0..hessian.nrows() / 6 {
+        for r in 3..6 {
+            hessian[(6 * contact + r, 6 * contact + r)] += 2.0 * weight;
+        }
+    }
+}
+
+/// Weights of the relaxed momentum task ([`relaxed_momentum_objective`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RelaxedMomentumWeights {
+    /// Weight of the angular rows of `A f - b` against the linear rows' 1 [1/m^2]: below 1 the
+    /// relaxed QP gives up angular momentum first and keeps the CoM's (a hip strategy).
+    pub angular: f64,
+    /// Weight of `|tau(f)|^2` [1/m^2]: small, it picks among the wrenches that realise the
+    /// same momentum rate.
+    pub torque: f64,
+}
+
+impl Default for RelaxedMomentumWeights {
+    /// Angular 0.1, torque 1e-4.
+    fn default() -> Self {
+        Self {
+            angular: 0.1,
+            torque: 1e-4,
+        }
+    }
+}
+
+/// The relaxed momentum task of two feet, for a tick where the contact constraints admit no
+/// `f` with `A f = b` (inputTorquesSOT is then infeasible): the closest momentum rate the
+/// contacts can produce, `|W^(1/2) (A f - b)|^2 + w_tau |tau_bias + Sigma f|^2 + reg |f|^2`
+/// with `W = diag(1, 1, 1, w_ang, w_ang, w_ang)`, as `0.5 f^T P f + c^T f`: `P = 2 (A^T W A +
+/// w_tau Sigma^T Sigma + reg I)`, `c = 2 (w_tau Sigma^T tau_bias - A^T W b)` (k x k, k), from
+/// the momentum map `A` (6 x k), `b = Hdot* - [m g; 0]` (6) and the torque map (`Sigma` n x k,
+/// `tau_bias` n). Allocates nothing.
+pub fn relaxed_momentum_objective(
+    momentum: (&DMatrix<f64>, &DVector<f64>),
+    torque: (&DMatrix<f64>, &DVector<f64>),
+    weights: RelaxedMomentumWeights,
+    regularization: f64,
+    hessian: &mut DMatrix<f64>,
+    gradient: &mut DVector<f64>,
+) {
+    let (sigma, tau_bias) = torque;
+    torque_norm_objective(
+        sigma,
+        tau_bias,
+        regularization / weights.torque,
+        hessian,
+        gradient,
+    );
+    *hessian *= weights.torque;
+    *gradient *= weights.torque;
+    let (a, b) = momentum;
+    for r in 0..6 {
+        let w = if r < 3 { 1.0 } else { weights.angular };
+        for i in 0..a.ncols() {
+            gradient[i] -= 2.0 * w * a[(r, i)] * b[r];
+            for j in 0..a.ncols() {
+                hessian[(i, j)] += 2.0 * w * a[(r, i)] * a[(r, j)];
+            }
+        }
+    }
 }
 
 fn add_to_diagonal(matrix: &mut DMatrix<f64>, value: f64) {
@@ -276,5 +368,73 @@ impl SoleFrameProblem {
             .map(|(column, w_j)| column.dot(w) * w_j)
             .sum();
         0.5 * quadratic + self.gradient.dot(w)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pseudo_random(rows: usize, cols: usize, seed: u64) -> DMatrix<f64> {
+        let mut state = seed;
+        DMatrix::from_fn(rows, cols, |_, _| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        })
+    }
+
+    #[test]
+    fn the_cop_margin_shrinks_the_rectangle_about_its_centre() {
+        let mut constraints = ContactConstraints::default();
+        assert_eq!(constraints.cop_range([-0.05, 0.10]), [-0.05, 0.10]);
+        constraints.cop_margin = 0.2;
+        let [low, high] = constraints.cop_range([-0.05, 0.10]);
+        assert!((low - (0.025 - 0.06)).abs() < 1e-15 && (high - (0.025 + 0.06)).abs() < 1e-15);
+        // The sole rows bound the CoP by the shrunk rectangle: n_y = -x F_z at the new edge.
+        let (c, b) = constraints.sole_rows();
+        let r = constraints.facets;
+        let at_toe = DVector::from_column_slice(&[0.0, 0.0, 100.0, 0.0, -high * 100.0, 0.0]);
+        assert!(((&c * &at_toe)[r + 3] - b[r + 3]).abs() < 1e-12);
+    }
+
+    /// The relaxed objective's minimiser is the weighted least-squares solution written with
+    /// whole matrices: `(A^T W A + w_tau S^T S + reg I) f = A^T W b - w_tau S^T tau_bias`.
+    #[test]
+    fn the_relaxed_objective_is_the_weighted_least_squares_of_the_momentum_task() {
+        let (k, n) = (12, 9);
+        let (a, sigma) = (pseudo_random(6, k, 1), pseudo_random(n, k, 2));
+        let b = DVector::from_column_slice(pseudo_random(6, 1, 3).as_slice());
+        let tau_bias = DVector::from_column_slice(pseudo_random(n, 1, 4).as_slice());
+        let weights = RelaxedMomentumWeights::default();
+        let reg = 1e-3;
+        let (mut p, mut c) = (DMatrix::zeros(k, k), DVector::zeros(k));
+        relaxed_momentum_objective((&a, &b), (&sigma, &tau_bias), weights, reg, &mut p, &mut c);
+        let w = DMatrix::from_diagonal(&DVector::from_row_slice(&[
+            1.0,
+            1.0,
+            1.0,
+            weights.angular,
+            weights.angular,
+            weights.angular,
+        ]));
+        let normal = a.transpose() * &w * &a
+            + sigma.transpose() * &sigma * weights.torque
+            + DMatrix::identity(k, k) * reg;
+        let rhs = a.transpose() * &w * &b - sigma.transpose() * &tau_bias * weights.torque;
+        let expected = normal.lu().solve(&rhs).unwrap();
+        let found = p.lu().solve(&(-c)).unwrap();
+        assert!((found - &expected).norm() < 1e-10 * expected.norm());
+    }
+
+    #[test]
+    fn the_moment_weight_lands_on_the_moments_of_every_contact() {
+        let mut p = DMatrix::zeros(12, 12);
+        add_moment_regularization(&mut p, 3.0);
+        let diagonal: Vec<f64> = p.diagonal().iter().copied().collect();
+        let one = [0.0, 0.0, 0.0, 6.0, 6.0, 6.0];
+        assert_eq!(diagonal, [one, one].concat());
+        assert_eq!(p.sum(), 6.0 * 6.0);
     }
 }

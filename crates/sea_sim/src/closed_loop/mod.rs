@@ -110,6 +110,7 @@ pub fn run_setup_with_sinks(
     let totals = RunTotals {
         duration_s,
         qp_failures: controller.qp_failures(),
+        qp_relaxed_solves: controller.qp_relaxations(),
         qp_active_set_solves: solves.active_set,
         qp_clarabel_solves: solves.clarabel,
         wall_time_s: start.elapsed().as_secs_f64(),

@@ -107,7 +107,8 @@ pub struct RunRecord {
     pub motor_torques: Vec<f64>,
     /// Joint error norm |s - s_d| (rows) [rad].
     pub joint_error_norm: Vec<f64>,
-    /// 1 when the sample's QP was solved, 0 when it fell back (rows).
+    /// 1 when the sample's QP was solved (the relaxed momentum task included), 0 when it fell
+    /// back (rows).
     pub qp_solved: Vec<f64>,
     /// The `[[disturbances]]` acting at each sample, summed (rows x 6): `[force; torque]`,
     /// world axes, each torque about its own link's origin (zero without a push).
@@ -145,7 +146,7 @@ impl RecordSink for RunRecord {
             .extend_from_slice(sample.contact_wrenches);
         self.motor_torques.extend_from_slice(sample.motor_torques);
         self.joint_error_norm.push(sample.joint_error_norm);
-        let solved = *sample.qp_status == QpStatus::Solved;
+        let solved = !matches!(sample.qp_status, QpStatus::Fallback(_));
         self.qp_solved.push(if solved { 1.0 } else { 0.0 });
         let mut total = [0.0; 6];
         for wrench in sample.disturbance_wrenches.chunks_exact(6) {

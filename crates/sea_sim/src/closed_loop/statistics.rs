@@ -210,6 +210,9 @@ pub struct Summary {
     pub motor_velocity_peak_rad_s: f64,
     /// QP solves that fell back.
     pub qp_failures: usize,
+    /// Ticks whose momentum equality was infeasible and that the relaxed momentum task solved
+    /// (`controller.momentum_relaxation = "when_infeasible"`).
+    pub qp_relaxed_solves: usize,
     /// QP solves done by the active-set solver.
     pub qp_active_set_solves: usize,
     /// QP solves done by Clarabel (selected, or the active set's fallback; the ticks solved
@@ -243,6 +246,9 @@ pub struct RunTotals {
     pub duration_s: f64,
     /// QP solves that fell back.
     pub qp_failures: usize,
+    /// Ticks whose momentum equality was infeasible and that the relaxed momentum task solved
+    /// (`controller.momentum_relaxation = "when_infeasible"`).
+    pub qp_relaxed_solves: usize,
     /// QP solves done by the active-set solver.
     pub qp_active_set_solves: usize,
     /// QP solves done by Clarabel.
@@ -288,6 +294,7 @@ impl Summary {
             joint_error_norm_final_rad: statistics.joint_error_last,
             motor_velocity_peak_rad_s: statistics.motor_velocity_peak,
             qp_failures: totals.qp_failures,
+            qp_relaxed_solves: totals.qp_relaxed_solves,
             qp_active_set_solves: totals.qp_active_set_solves,
             qp_clarabel_solves: totals.qp_clarabel_solves,
             wall_time_s: wall,
@@ -320,6 +327,7 @@ impl Summary {
             "joint_error_norm_final_rad": self.joint_error_norm_final_rad,
             "motor_velocity_peak_rad_s": self.motor_velocity_peak_rad_s,
             "qp_failures": self.qp_failures,
+            "qp_relaxed_solves": self.qp_relaxed_solves,
             "qp_active_set_solves": self.qp_active_set_solves,
             "qp_clarabel_solves": self.qp_clarabel_solves,
             "wall_time_s": self.wall_time_s,

@@ -578,12 +578,14 @@ impl SampleEncoder {
     }
 }
 
-/// The logged text of a QP status, `"solved"` or `"fallback: <reason>"`, into `text` (cleared
+/// The logged text of a QP status, `"solved"`, `"momentum_relaxed"` or `"fallback: <reason>"`,
+/// into `text` (cleared
 /// first; no allocation once `text` is large enough).
 fn write_qp_status(status: &QpStatus, text: &mut String) {
     text.clear();
     match status {
         QpStatus::Solved => text.push_str("solved"),
+        QpStatus::MomentumRelaxed => text.push_str("momentum_relaxed"),
         QpStatus::Fallback(reason) => {
             text.push_str("fallback: ");
             text.push_str(reason);

@@ -246,6 +246,8 @@ impl Scenario {
             stiffness_estimate_joint_scales,
             pinv_damping: self.controller.pinv_damping,
             qp_regularization: self.controller.qp_regularization,
+            qp_moment_regularization: self.controller.qp_moment_regularization,
+            momentum_relaxation: self.controller.momentum_relaxation,
             reflected_inertia: self.controller.reflected_inertia,
             joint_inertia_regularization: self.controller.joint_inertia_regularization,
             qp_unconstrained_first: self.controller.qp_unconstrained_first,
@@ -449,7 +451,7 @@ mod tests {
         assert!(message.contains("one of `kind`, `ratio`"), "{message}");
         let (_, message) = refusal("controller.contact.frictoin", "1");
         assert!(
-            message.contains("`facets`, `min_normal_force`, `friction`"),
+            message.contains("`facets`, `min_normal_force`, `cop_margin`, `friction`"),
             "{message}"
         );
     }

@@ -7,7 +7,8 @@
 use super::parse::{table_as, take, TableResult};
 use super::robots::icub;
 use super::settings::{
-    ActuatorKind, ComOrigin, ControllerKind, IdentificationWrenches, Method, QpSolver, Sampling,
+    ActuatorKind, ComOrigin, ControllerKind, IdentificationWrenches, Method, MomentumRelaxation,
+    QpSolver, Sampling,
 };
 use sea_ctrl::qp::ContactConstraints;
 use sea_dyn::{critical_damping, Actuator, ElasticParameters};
@@ -257,6 +258,14 @@ pub struct ControllerConfig {
     pub pinv_damping: f64,
     /// QP Hessian regulariser (default: the robot description's).
     pub qp_regularization: f64,
+    /// Two feet: weight of the contact moments `|n|^2` in the QP's objective (0, the original
+    /// study's objective; the push scenarios' 30 moves normal force between the feet before
+    /// they move a sole's centre of pressure).
+    pub qp_moment_regularization: f64,
+    /// Two feet, when the momentum equality is infeasible under the contact constraints:
+    /// "none" (the paper's QP; the minimiser without the contact constraints is used) or
+    /// "when_infeasible" (the closest momentum rate the contacts can produce).
+    pub momentum_relaxation: MomentumRelaxation,
     /// Skip the QP solver when the QP's minimiser without inequalities satisfies them (it is
     /// then the optimum); `false` runs the solver every tick.
     pub qp_unconstrained_first: bool,
@@ -269,8 +278,9 @@ pub struct ControllerConfig {
     /// description's).
     pub joint_inertia_regularization: f64,
     /// `[controller.contact]`: the QP's contact constraints, whose contact surface the plant
-    /// also uses for its wrench margins (one flat table: `facets`, `min_normal_force` and the
-    /// keys of [`sea_dyn::ContactSurface`]; defaults [`ContactConstraints::default`]).
+    /// also uses for its wrench margins (one flat table: `facets`, `min_normal_force`,
+    /// `cop_margin` and the keys of [`sea_dyn::ContactSurface`]; defaults
+    /// [`ContactConstraints::default`]).
     #[serde(
         deserialize_with = "contact_constraints",
         serialize_with = "contact_constraints_table"
@@ -305,6 +315,8 @@ impl Default for ControllerConfig {
             postural_scale: robot.postural_scale,
             pinv_damping: robot.pinv_damping,
             qp_regularization: robot.qp_regularization,
+            qp_moment_regularization: 0.0,
+            momentum_relaxation: MomentumRelaxation::default(),
             qp_unconstrained_first: true,
             qp_solver: QpSolver::default(),
             reflected_inertia: true,
@@ -359,8 +371,8 @@ impl ControllerConfig {
     }
 }
 
-/// Reads `[controller.contact]`: `facets` and `min_normal_force`, the other keys the contact
-/// surface's.
+/// Reads `[controller.contact]`: `facets`, `min_normal_force` and `cop_margin`, the other keys
+/// the contact surface's.
 fn contact_constraints<'de, D>(deserializer: D) -> std::result::Result<ContactConstraints, D::Error>
 where
     D: Deserializer<'de>,
@@ -370,7 +382,7 @@ where
 }
 
 /// Writes `[controller.contact]` as it is read: one flat table, the surface's keys with
-/// `facets` and `min_normal_force`.
+/// `facets`, `min_normal_force` and `cop_margin`.
 fn contact_constraints_table<S: Serializer>(
     contact: &ContactConstraints,
     serializer: S,
@@ -380,6 +392,8 @@ fn contact_constraints_table<S: Serializer>(
     table.insert("facets".into(), toml::Value::Integer(contact.facets as i64));
     let min_normal_force = toml::Value::Float(contact.min_normal_force);
     table.insert("min_normal_force".into(), min_normal_force);
+    let cop_margin = toml::Value::Float(contact.cop_margin);
+    table.insert("cop_margin".into(), cop_margin);
     table.serialize(serializer)
 }
 
@@ -389,10 +403,12 @@ fn contact_table(mut table: toml::Table) -> TableResult<ContactConstraints> {
     let facets = take(&mut table, "facets")?.unwrap_or(defaults.facets);
     let min_normal_force =
         take(&mut table, "min_normal_force")?.unwrap_or(defaults.min_normal_force);
+    let cop_margin = take(&mut table, "cop_margin")?.unwrap_or(defaults.cop_margin);
     Ok(ContactConstraints {
-        surface: table_as(table, &["facets", "min_normal_force"])?,
+        surface: table_as(table, &["facets", "min_normal_force", "cop_margin"])?,
         facets,
         min_normal_force,
+        cop_margin,
     })
 }
 

@@ -13,10 +13,11 @@
 //! | `controller.kind`      | [`ControllerKind`] | `sea_ctrl` |
 //! | `controller.sampling`  | [`Sampling`]     | here       |
 //! | `controller.qp_solver` | [`QpSolver`]     | `sea_ctrl` |
+//! | `controller.momentum_relaxation` | [`MomentumRelaxation`] | `sea_ctrl` |
 //! | `reference.com_origin` | [`ComOrigin`]    | here       |
 
 use crate::error::{Error, Result};
-pub use sea_ctrl::controller::ControllerKind;
+pub use sea_ctrl::controller::{ControllerKind, MomentumRelaxation};
 pub use sea_ctrl::qp::QpSolver;
 pub use sea_plant::Method;
 use serde::{Deserialize, Serialize};
@@ -208,6 +209,17 @@ impl Setting for ControllerKind {
     }
 }
 
+impl Setting for MomentumRelaxation {
+    const ALL: &'static [Self] = &[MomentumRelaxation::None, MomentumRelaxation::WhenInfeasible];
+
+    fn name(self) -> &'static str {
+        match self {
+            MomentumRelaxation::None => "none",
+            MomentumRelaxation::WhenInfeasible => "when_infeasible",
+        }
+    }
+}
+
 impl Setting for QpSolver {
     const ALL: &'static [Self] = &QpSolver::ALL;
 
@@ -239,6 +251,7 @@ mod tests {
         names_agree_with_serde::<ControllerKind>();
         names_agree_with_serde::<Sampling>();
         names_agree_with_serde::<QpSolver>();
+        names_agree_with_serde::<MomentumRelaxation>();
         names_agree_with_serde::<ComOrigin>();
     }
 

@@ -249,13 +249,17 @@ fn controller(scenario: &Scenario) -> Result<()> {
     non_negative("controller.pinv_damping", c.pinv_damping)?;
     non_negative("controller.qp_regularization", c.qp_regularization)?;
     non_negative(
+        "controller.qp_moment_regularization",
+        c.qp_moment_regularization,
+    )?;
+    non_negative(
         "controller.joint_inertia_regularization",
         c.joint_inertia_regularization,
     )
 }
 
 /// `[controller.contact]`: positive friction, non-negative torsional friction and minimum
-/// normal force, a foot rectangle with min < max, and 3..=64 facets.
+/// normal force, a CoP margin in [0, 1), a foot rectangle with min < max, and 3..=64 facets.
 fn contact(scenario: &Scenario) -> Result<()> {
     let c = &scenario.controller.contact;
     let surface = &c.surface;
@@ -265,6 +269,13 @@ fn contact(scenario: &Scenario) -> Result<()> {
         surface.torsional_friction,
     )?;
     non_negative("controller.contact.min_normal_force", c.min_normal_force)?;
+    if !(0.0..1.0).contains(&c.cop_margin) {
+        return Err(Error::invalid(
+            "controller.contact.cop_margin",
+            "must be in [0, 1) (a fraction of the sole's half-extents)",
+            c.cop_margin,
+        ));
+    }
     for (key, [min, max]) in [
         ("controller.contact.foot_x", surface.foot_x),
         ("controller.contact.foot_y", surface.foot_y),
@@ -551,6 +562,30 @@ mod tests {
                 "NaN",
             ),
             (
+                "controller.contact.cop_margin",
+                "1.0",
+                "controller.contact.cop_margin",
+                "1",
+            ),
+            (
+                "controller.contact.cop_margin",
+                "-0.1",
+                "controller.contact.cop_margin",
+                "-0.1",
+            ),
+            (
+                "controller.qp_moment_regularization",
+                "nan",
+                "controller.qp_moment_regularization",
+                "NaN",
+            ),
+            (
+                "controller.momentum_relaxation",
+                "\"always\"",
+                "controller.momentum_relaxation",
+                "always",
+            ),
+            (
                 "controller.contact.facets",
                 "0",
                 "controller.contact.facets",
@@ -762,6 +797,9 @@ mod tests {
             [("controller.contact.facets", "64")],
             [("controller.contact.min_normal_force", "0.0")],
             [("controller.contact.torsional_friction", "0.0")],
+            [("controller.contact.cop_margin", "0.0")],
+            [("controller.contact.cop_margin", "0.99")],
+            [("controller.momentum_relaxation", "\"when_infeasible\"")],
             [("reference.com_smooth_start", "0.0")],
             [("controller.pinv_damping", "0.0")],
             [("reference.com_amplitude", "-0.01")],
