@@ -256,6 +256,7 @@ NUMBER_KEYS = [
     "controller.pinv_damping",
     "controller.qp_regularization",
     "controller.qp_moment_regularization",
+    "controller.identification_deflection_noise_rad",
     "controller.joint_inertia_regularization",
     "controller.contact.friction",
     "controller.contact.facets",

@@ -230,6 +230,11 @@ pub struct ControllerConfig {
     /// `multi_rate` with `stiffness_identification`: the contact wrenches it takes,
     /// "measured" (foot force/torque sensors; the default) or "commanded" (the QP's `f*`).
     pub identification_wrenches: IdentificationWrenches,
+    /// `multi_rate` with `stiffness_identification`: the standard deviation of the noise on a
+    /// measured spring deflection [rad] that the identification removes from its sums
+    /// (bias-compensated least squares; `sea_ctrl::stiffness_id`, "Encoder noise"); the
+    /// encoders' specification, e.g. `sqrt(sigma_s^2 + (ratio sigma_theta)^2)`. Default 0.
+    pub identification_deflection_noise_rad: f64,
     /// Controller damping estimate = true damping x scale.
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
@@ -304,6 +309,7 @@ impl Default for ControllerConfig {
             identification_time_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
                 .time_constant,
             identification_wrenches: IdentificationWrenches::default(),
+            identification_deflection_noise_rad: 0.0,
             damping_estimate_scale: 1.0,
             stiffness_estimate_scale: 1.0,
             stiffness_estimate_joint_scales: BTreeMap::new(),
@@ -364,6 +370,7 @@ impl ControllerConfig {
         let settings = sea_ctrl::stiffness_id::IdentificationSettings {
             time_constant: self.identification_time_s,
             max_external_force: defaults.max_external_force.filter(|_| measured),
+            deflection_noise: self.identification_deflection_noise_rad,
             ..defaults
         };
         self.stiffness_identification

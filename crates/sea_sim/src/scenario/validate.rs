@@ -253,6 +253,10 @@ fn controller(scenario: &Scenario) -> Result<()> {
         c.qp_moment_regularization,
     )?;
     non_negative(
+        "controller.identification_deflection_noise_rad",
+        c.identification_deflection_noise_rad,
+    )?;
+    non_negative(
         "controller.joint_inertia_regularization",
         c.joint_inertia_regularization,
     )
@@ -578,6 +582,12 @@ mod tests {
                 "nan",
                 "controller.qp_moment_regularization",
                 "NaN",
+            ),
+            (
+                "controller.identification_deflection_noise_rad",
+                "-1e-4",
+                "controller.identification_deflection_noise_rad",
+                "-0.0001",
             ),
             (
                 "controller.momentum_relaxation",
