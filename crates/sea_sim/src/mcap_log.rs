@@ -276,7 +276,7 @@ impl McapLogger {
         writer
             .write_metadata(&run_metadata(end, end_s))
             .map_err(mcap_error(path))?;
-        let RunEnd::Fell { at_s, fall } = end else {
+        let Some((time, buffer)) = fall_event(end)? else {
             return Ok(());
         };
         let schema = Log::get_schema().expect("the SDK gives its schemas");
@@ -285,29 +285,6 @@ impl McapLogger {
             EVENTS_TOPIC,
             &Log::get_message_encoding(),
         )?;
-        let time = nanoseconds(*at_s);
-        let (constraint, value, bound) = (
-            fall.constraint.kind(),
-            fall.constraint.value(),
-            fall.constraint.bound(),
-        );
-        let message = Log {
-            timestamp: Some(Timestamp::new(
-                u32::try_from(time / 1_000_000_000).unwrap_or(u32::MAX),
-                (time % 1_000_000_000) as u32,
-            )),
-            level: Level::Warning as i32,
-            message: format!(
-                "fell at t = {at_s} s: {fall} (constraint {constraint}, value {value}, bound \
-                 {bound})"
-            ),
-            name: "sea_sim.fall".to_string(),
-            ..Default::default()
-        };
-        let mut buffer = Vec::new();
-        message
-            .encode(&mut buffer)
-            .map_err(|e| Error::Log(format!("{EVENTS_TOPIC}: {e}")))?;
         self.out.write(channel, time, &buffer)
     }
 
@@ -386,6 +363,40 @@ fn run_metadata(end: &RunEnd, end_s: f64) -> Metadata {
 
 /// The topic of the run's events (a fall), `foxglove.Log`.
 pub const EVENTS_TOPIC: &str = "/events";
+
+/// A fall's `/events` message: its time [ns] and the encoded `foxglove.Log` (level WARNING,
+/// name `sea_sim.fall`, the foot, constraint, value and bound in the text); `None` for a run
+/// that did not fall. Shared by the MCAP log and the live view.
+///
+/// Errors: [`Error::Log`] when the message does not encode.
+pub(crate) fn fall_event(end: &RunEnd) -> Result<Option<(u64, Vec<u8>)>> {
+    let RunEnd::Fell { at_s, fall } = end else {
+        return Ok(None);
+    };
+    let time = nanoseconds(*at_s);
+    let (constraint, value, bound) = (
+        fall.constraint.kind(),
+        fall.constraint.value(),
+        fall.constraint.bound(),
+    );
+    let message = Log {
+        timestamp: Some(Timestamp::new(
+            u32::try_from(time / 1_000_000_000).unwrap_or(u32::MAX),
+            (time % 1_000_000_000) as u32,
+        )),
+        level: Level::Warning as i32,
+        message: format!(
+            "fell at t = {at_s} s: {fall} (constraint {constraint}, value {value}, bound {bound})"
+        ),
+        name: "sea_sim.fall".to_string(),
+        ..Default::default()
+    };
+    let mut buffer = Vec::new();
+    message
+        .encode(&mut buffer)
+        .map_err(|e| Error::Log(format!("{EVENTS_TOPIC}: {e}")))?;
+    Ok(Some((time, buffer)))
+}
 
 /// Media type of the URDF attachment.
 const URDF_MEDIA_TYPE: &str = "application/xml";
@@ -552,13 +563,7 @@ impl RecordSink for McapSink {
     fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
         let mut logger =
             McapLogger::create(&self.path, run.model, run.elastic_joints, run.contacts)?;
-        let links: Vec<String> = run
-            .scenario
-            .disturbances
-            .iter()
-            .map(|d| d.link.clone())
-            .collect();
-        logger.set_disturbance_links(&links);
+        logger.set_disturbance_links(&run.scenario.disturbance_links());
         let source = SceneSource::of_scenario(run.scenario).with_package_dirs(&self.package_dirs);
         for warning in logger.set_scene(&source)? {
             eprintln!("warning: {}: {warning}", self.path.display());

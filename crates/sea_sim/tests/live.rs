@@ -32,8 +32,18 @@ impl Drop for Running {
 /// Starts `sea-sim run --live --port 0` for `duration_s` simulated seconds; returns the
 /// process and the port it printed.
 fn start(duration_s: f64) -> (Running, u16) {
-    let child = Command::new(env!("CARGO_BIN_EXE_sea-sim"))
-        .args(["run", SCENARIO, "--live", "--port", "0", "--quiet", "--set"])
+    start_scenario(SCENARIO, duration_s, &[])
+}
+
+/// [`start`] for `scenario` with the `--set` overrides `overrides`.
+fn start_scenario(scenario: &str, duration_s: f64, overrides: &[&str]) -> (Running, u16) {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_sea-sim"));
+    command.args(["run", scenario, "--live", "--port", "0", "--quiet"]);
+    for value in overrides {
+        command.args(["--set", value]);
+    }
+    let child = command
+        .arg("--set")
         .arg(format!("simulation.duration_s={duration_s}"))
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -83,7 +93,10 @@ fn a_websocket_client_receives_the_advertised_channels_and_messages() {
     let expected: BTreeSet<&str> = sea_sim::foxglove::Topic::ALL
         .iter()
         .map(|t| t.name())
-        .chain([sea_sim::foxglove::ROBOT_TOPIC])
+        .chain([
+            sea_sim::foxglove::ROBOT_TOPIC,
+            sea_sim::mcap_log::EVENTS_TOPIC,
+        ])
         .collect();
     let mut advertised: BTreeMap<String, serde_json::Value> = BTreeMap::new();
     while advertised.len() < expected.len() {
@@ -141,5 +154,68 @@ fn a_websocket_client_receives_the_advertised_channels_and_messages() {
         wall > 0.8 * simulated,
         "wall {wall:.3} s for {simulated:.3} s simulated: not paced"
     );
+    let _ = socket.close(None);
+}
+
+/// The handshake of a client offering the Foxglove subprotocols, on `port`.
+fn connect(port: u16) -> tungstenite::WebSocket<TcpStream> {
+    let stream = TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    stream.set_read_timeout(Some(DEADLINE)).unwrap();
+    let mut request = format!("ws://127.0.0.1:{port}")
+        .into_client_request()
+        .unwrap();
+    request.headers_mut().insert(
+        "Sec-WebSocket-Protocol",
+        "foxglove.sdk.v1, foxglove.websocket.v1".parse().unwrap(),
+    );
+    tungstenite::client(request, stream).expect("handshake").0
+}
+
+/// A run that falls (a 20 N s push on the pelvis of the two-feet iCub, about 1.02 s into the
+/// run): a client subscribed to `/events` receives the fall's `foxglove.Log` message.
+#[test]
+fn a_fall_reaches_the_live_view_on_events() {
+    const PUSH: &str = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenarios/robot_rate/push_two_feet.toml"
+    );
+    let started = Instant::now();
+    let push = "disturbances=[{link = \"root_link\", force = [200.0, 0.0, 0.0], start_s = 1.0, \
+                duration_s = 0.1}]";
+    let (_running, port) = start_scenario(PUSH, 3.0, &[push]);
+    let mut socket = connect(port);
+    let events = loop {
+        assert!(
+            started.elapsed() < DEADLINE,
+            "advertise within the deadline"
+        );
+        let Message::Text(text) = socket.read().expect("a message") else {
+            continue;
+        };
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let channels = json["channels"].as_array().cloned().unwrap_or_default();
+        if let Some(channel) = channels.iter().find(|c| c["topic"] == "/events") {
+            assert_eq!(channel["schemaName"], "foxglove.Log");
+            break channel["id"].clone();
+        }
+    };
+    let subscribe = serde_json::json!({
+        "op": "subscribe",
+        "subscriptions": [{"id": 3, "channelId": events}],
+    });
+    socket
+        .send(Message::text(subscribe.to_string()))
+        .expect("subscribe");
+    loop {
+        assert!(started.elapsed() < DEADLINE, "the fall within the deadline");
+        let Message::Binary(data) = socket.read().expect("a message") else {
+            continue;
+        };
+        assert_eq!(u32::from_le_bytes(data[1..5].try_into().unwrap()), 3);
+        let text = String::from_utf8_lossy(&data[13..]);
+        assert!(text.contains("fell at t = 1.0"), "{text}");
+        assert!(text.contains("center_of_pressure"), "{text}");
+        break;
+    }
     let _ = socket.close(None);
 }

@@ -1,9 +1,13 @@
 //! A push that ends in a fall, as the MCAP log and the record show it: `/disturbances` has the
 //! push's wrench at the samples of its window (zero elsewhere), the record's
-//! `disturbance_wrench` the same sum, and the fall is a `foxglove.Log` warning on `/events` at
-//! its time plus the metadata record `run`.
+//! `disturbance_wrench` the same sum, `/scene` an arrow at the pushed link as long as the push
+//! (zero outside it), and the fall is a `foxglove.Log` warning on `/events` at its time plus the
+//! metadata record `run`.
 
+use foxglove::messages::SceneUpdate;
+use foxglove::Decode;
 use sea_sim::closed_loop::{run_with_sinks, RecordSink, RunRecord};
+use sea_sim::foxglove::ARROW_M_PER_N;
 use sea_sim::mcap_log::{McapSink, EVENTS_TOPIC};
 use sea_sim::scenario::Scenario;
 use std::path::{Path, PathBuf};
@@ -60,6 +64,7 @@ fn a_fall_after_a_push_is_in_the_log_with_the_push() {
 
     let bytes = std::fs::read(&file.0).unwrap();
     let (mut pushed_samples, mut quiet_samples, mut events) = (0, 0, Vec::new());
+    let mut arrows_drawn = 0;
     for message in mcap::MessageStream::new(&bytes).unwrap() {
         let message = message.unwrap();
         let t = message.log_time as f64 * 1e-9;
@@ -78,6 +83,21 @@ fn a_fall_after_a_push_is_in_the_log_with_the_push() {
                     quiet_samples += 1;
                 }
             }
+            "/scene" => {
+                let scene = SceneUpdate::decode(&message.data[..]).expect("protobuf /scene");
+                let push = scene
+                    .entities
+                    .iter()
+                    .find(|e| e.id == "push/0/root_link")
+                    .expect("the push's arrow");
+                let length = push.arrows[0].shaft_length;
+                if in_window(t) {
+                    assert!((length - 200.0 * ARROW_M_PER_N).abs() < 1e-12, "t = {t}");
+                    arrows_drawn += 1;
+                } else {
+                    assert_eq!(length, 0.0, "t = {t}");
+                }
+            }
             EVENTS_TOPIC => {
                 let schema = message.channel.schema.as_ref().unwrap();
                 assert_eq!(schema.name, "foxglove.Log");
@@ -91,6 +111,7 @@ fn a_fall_after_a_push_is_in_the_log_with_the_push() {
     let window = record.time.iter().filter(|&&t| in_window(t)).count();
     assert!(window > 50, "{window}");
     assert_eq!(pushed_samples, window);
+    assert_eq!(arrows_drawn, window);
     assert_eq!(quiet_samples, record.time.len() - window);
     // One fall event, at the fall's time, naming the foot and the constraint.
     assert_eq!(events.len(), 1);

@@ -1,7 +1,7 @@
 //! The channels of a run and the encoding of one [`Sample`] into their messages, shared by
 //! the MCAP log and the live server.
 
-use super::scene::{Markers, StaticScene};
+use super::scene::{ForceArrows, Markers, StaticScene};
 use super::WORLD_FRAME;
 use crate::closed_loop::Sample;
 use crate::error::Error;
@@ -309,6 +309,10 @@ pub struct SampleEncoder {
     contact_origins: Vec<[f64; 3]>,
     /// The link of each disturbance, extended by `disturbance_<k>` beyond the given links.
     disturbance_links: Vec<String>,
+    /// Frame of each given disturbance link (`None`: not a model frame, no arrow).
+    disturbance_frames: Vec<Option<usize>>,
+    /// Origins of the disturbance links in the current sample (world) [m].
+    disturbance_origins: Vec<[f64; 3]>,
     /// `/tf`, child frame names filled once.
     tf: FrameTransforms,
     /// The static part of `/scene`, once set.
@@ -345,6 +349,8 @@ impl SampleEncoder {
                 .collect(),
             contact_origins: Vec::with_capacity(contact_names.len()),
             disturbance_links: Vec::new(),
+            disturbance_frames: Vec::new(),
+            disturbance_origins: Vec::new(),
             tf,
             scene: None,
             markers: Markers::new(contact_names),
@@ -359,9 +365,13 @@ impl SampleEncoder {
     }
 
     /// Names the disturbances of `/disturbances` by their links (`[[disturbances]]` order);
-    /// unnamed ones are `disturbance_<k>`.
+    /// unnamed ones are `disturbance_<k>`. Each link of the model gets a push arrow in
+    /// `/scene`.
     pub fn set_disturbance_links(&mut self, links: &[String]) {
         self.disturbance_links = links.to_vec();
+        self.disturbance_frames = links.iter().map(|l| self.model.frame_id(l).ok()).collect();
+        self.disturbance_origins = vec![[0.0; 3]; links.len()];
+        self.markers.set_pushes(links);
     }
 
     /// The link frames (the child frames of `/tf`).
@@ -459,6 +469,15 @@ impl SampleEncoder {
             });
             self.contact_origins.push(origin);
         }
+        let pushed = self.disturbance_frames.iter();
+        for (origin, frame) in self.disturbance_origins.iter_mut().zip(pushed) {
+            // A link that is not a model frame keeps its arrow at the world origin (the
+            // scenario check refuses such links before a run).
+            if let Some(id) = *frame {
+                let t = sea_dyn::frame_placement(&self.model, &self.data, id).translation;
+                *origin = [t.x, t.y, t.z];
+            }
+        }
         self.buffer.clear();
         finite && self.tf.encode(&mut self.buffer).is_ok()
     }
@@ -470,12 +489,18 @@ impl SampleEncoder {
         if let Some(scene) = &self.scene {
             self.buffer.extend_from_slice(&scene.encoded);
         }
+        let contacts = ForceArrows {
+            wrenches: sample.contact_wrenches,
+            points: &self.contact_origins,
+        };
+        let pushes = ForceArrows {
+            wrenches: sample.disturbance_wrenches,
+            points: &self.disturbance_origins,
+        };
         self.markers.encode(
             time_stamp(time),
-            sample.com,
-            sample.com_reference,
-            sample.contact_wrenches,
-            &self.contact_origins,
+            [sample.com, sample.com_reference],
+            (contacts, pushes),
             &mut self.buffer,
         )
     }

@@ -4,16 +4,21 @@
 //! simulated time, so the robot moves in the Foxglove app ("Open connection", Foxglove
 //! WebSocket, `ws://127.0.0.1:PORT`) as fast as it would move in reality.
 //!
+//! A fall is published on `/events` (`foxglove.Log`, the MCAP log's message) when the run
+//! ends, so the app's Log panel shows it live.
+//!
 //! Pacing sleeps in [`RecordSink::record`], i.e. on the loop's thread: the loop is held back to
 //! real time by design. Encoding runs there too, in the time the loop would otherwise sleep;
 //! a run slower than real time is not slowed further by more than the encoding (about a fifth
 //! of a tick).
 
 use super::{SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC};
-use crate::closed_loop::{RecordSink, RunInfo, Sample};
+use crate::closed_loop::{RecordSink, RunEnd, RunInfo, Sample};
 use crate::error::Error;
+use crate::mcap_log::{fall_event, EVENTS_TOPIC};
 use crate::Result;
-use ::foxglove::{ChannelBuilder, Context, PartialMetadata, RawChannel, WebSocketServer};
+use ::foxglove::messages::Log;
+use ::foxglove::{ChannelBuilder, Context, Encode, PartialMetadata, RawChannel, WebSocketServer};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -31,11 +36,17 @@ pub struct LiveServer {
     channels: Vec<Arc<RawChannel>>,
     /// `/robot`, republished every [`ROBOT_REPUBLISH_INTERVAL`].
     robot: Arc<RawChannel>,
+    /// `/events`: a fall, when the run ends.
+    events: Arc<RawChannel>,
 }
 
 /// Wall time between two `/robot` messages of the live view: a client that connects late
 /// sees the robot within this time.
 const ROBOT_REPUBLISH_INTERVAL: Duration = Duration::from_secs(1);
+
+/// Wall time the server stays up after the run ends, so that the last messages (and a fall on
+/// `/events`) reach the clients before it closes their connections.
+const LINGER: Duration = Duration::from_millis(500);
 
 impl LiveServer {
     /// Starts the server on [`LIVE_HOST`]:`port` (0: any free port) and advertises every
@@ -57,6 +68,12 @@ impl LiveServer {
             .map(|topic| channel(topic.name(), *topic))
             .collect::<Result<Vec<_>>>()?;
         let robot = channel(ROBOT_TOPIC, Topic::Scene)?;
+        let events = ChannelBuilder::new(EVENTS_TOPIC)
+            .context(&context)
+            .message_encoding(Log::get_message_encoding())
+            .schema(Log::get_schema())
+            .build_raw()
+            .map_err(|e| Error::Log(format!("live channel {EVENTS_TOPIC}: {e}")))?;
         let server = WebSocketServer::new()
             .name("sea-sim")
             .context(&context)
@@ -68,6 +85,7 @@ impl LiveServer {
             server: Some(server),
             channels,
             robot,
+            events,
         })
     }
 
@@ -83,7 +101,7 @@ impl LiveServer {
 
     /// Closes the channels and stops the server.
     fn stop(&mut self) {
-        for channel in self.channels.iter().chain([&self.robot]) {
+        for channel in self.channels.iter().chain([&self.robot, &self.events]) {
             channel.close();
         }
         if let Some(server) = self.server.take() {
@@ -158,6 +176,7 @@ impl RecordSink for LiveSink {
         )?;
         self.robot = Some((std::mem::take(&mut scene.robot), None));
         encoder.set_scene(scene);
+        encoder.set_disturbance_links(&run.scenario.disturbance_links());
         self.encoder = Some(encoder);
         Ok(())
     }
@@ -183,7 +202,16 @@ impl RecordSink for LiveSink {
         })
     }
 
+    fn end(&mut self, end: &RunEnd) -> Result<()> {
+        if let Some((time, message)) = fall_event(end)? {
+            let meta = PartialMetadata::with_log_time(time);
+            self.server.events.log_with_meta(&message, meta);
+        }
+        Ok(())
+    }
+
     fn finish(&mut self) -> Result<()> {
+        std::thread::sleep(LINGER);
         self.server.stop();
         Ok(())
     }

@@ -5,7 +5,7 @@
 //! |---------------------|----------|---------------------------------|-------------------------------------------------|
 //! | `/tf`               | protobuf | `foxglove.FrameTransforms`      | `world_H_link` of every URDF link               |
 //! | `/robot` (once)     | protobuf | `foxglove.SceneUpdate`          | robot bodies: URDF boxes, cylinders, spheres, meshes |
-//! | `/scene`            | protobuf | `foxglove.SceneUpdate`          | support polygon, CoM, wrenches                  |
+//! | `/scene`            | protobuf | `foxglove.SceneUpdate`          | support polygon, CoM, wrenches, pushes          |
 //! | `/com`              | json     | `sea_momentum.Com`              | CoM, its reference, `error = com - ref`         |
 //! | `/momentum`         | json     | `sea_momentum.Momentum`         | centroidal momentum `[m pdot_com; L_com]`       |
 //! | `/joints`           | json     | `sea_momentum.JointState`       | `s`, `sdot`, joint torques                      |
@@ -28,8 +28,9 @@
 //! sample; see [`scene`] for why and for seeking), has one frame-locked entity per link with the
 //! URDF's boxes, cylinders, spheres and meshes (`frame_id` = link name, as in `/tf`); `/scene`
 //! has the foot rectangle of each contact as a closed line in the sole frame (the support
-//! polygon), the CoM and its reference as spheres, and the contact forces as arrows at the
-//! soles, in the `world` frame.
+//! polygon), the CoM and its reference as spheres, the contact forces as arrows at the soles,
+//! and each `[[disturbances]]` push as a blue arrow ending at its link (zero length while it
+//! is off), in the `world` frame.
 //! Units are SI, axes are world axes, `log_time = publish_time = time_s` in nanoseconds.
 //! Non-finite numbers (a diverged run) are JSON `null`; a `/tf` or `/scene` message is skipped
 //! when a pose in it is not finite, since Foxglove needs numbers there.

@@ -318,11 +318,42 @@ fn placement_pose(placement: &Placement) -> Pose {
 }
 
 /// The moving markers of `/scene` in the world frame: CoM, its reference, one arrow per
-/// contact. Kept between samples and updated in place (no allocation per sample).
+/// contact (from the sole along its force), one per `[[disturbances]]` push (pointing at its
+/// link's origin, zero length while the push is off). Kept between samples and updated in
+/// place (no allocation per sample).
 pub(crate) struct Markers {
     update: SceneUpdate,
     /// Number of contact arrows (entities after the two spheres).
     arrows: usize,
+    /// Number of push arrows (entities after the contact arrows).
+    pushes: usize,
+}
+
+/// Forces to draw: 6 entries per force (the first 3 the force [N], world axes) and the
+/// world point each applies at [m].
+pub(crate) struct ForceArrows<'a> {
+    /// `[force; torque]` per arrow (6 each).
+    pub wrenches: &'a [f64],
+    /// The application points.
+    pub points: &'a [[f64; 3]],
+}
+
+impl ForceArrows<'_> {
+    /// The force of arrow `k` and its point (zeros beyond the given ones).
+    fn get(&self, k: usize) -> ([f64; 3], [f64; 3]) {
+        let force = self.wrenches.get(6 * k..6 * k + 3).unwrap_or(&[0.0; 3]);
+        let point = self.points.get(k).copied().unwrap_or([0.0; 3]);
+        ([force[0], force[1], force[2]], point)
+    }
+
+    /// Whether the first `arrows` forces and points are finite.
+    fn finite(&self, arrows: usize) -> bool {
+        let used = (6 * arrows.min(self.points.len())).min(self.wrenches.len());
+        self.wrenches[..used]
+            .iter()
+            .chain(self.points.iter().flatten())
+            .all(|v| v.is_finite())
+    }
 }
 
 /// Entity ids and colours of the two CoM spheres.
@@ -351,16 +382,10 @@ impl Markers {
             })
             .collect();
         for contact in contacts {
-            let mut entity = world_entity(format!("wrench/{contact}"));
-            entity.arrows.push(ArrowPrimitive {
-                pose: Some(identity_pose()),
-                shaft_length: 0.0,
-                shaft_diameter: 0.012,
-                head_length: 0.04,
-                head_diameter: 0.03,
-                color: Some(color([0.9, 0.1, 0.1, 1.0])),
-            });
-            entities.push(entity);
+            entities.push(arrow_entity(
+                format!("wrench/{contact}"),
+                [0.9, 0.1, 0.1, 1.0],
+            ));
         }
         Self {
             update: SceneUpdate {
@@ -368,29 +393,37 @@ impl Markers {
                 entities,
             },
             arrows: contacts.len(),
+            pushes: 0,
         }
     }
 
+    /// Adds one push arrow per link of `links` (ids `push/<k>/<link>`, `[[disturbances]]`
+    /// order), replacing earlier ones.
+    pub fn set_pushes(&mut self, links: &[String]) {
+        let kept = COM_ENTITIES.len() + self.arrows;
+        self.update.entities.truncate(kept);
+        for (k, link) in links.iter().enumerate() {
+            let id = format!("push/{k}/{link}");
+            let entity = arrow_entity(id, [0.2, 0.4, 1.0, 1.0]);
+            self.update.entities.push(entity);
+        }
+        self.pushes = links.len();
+    }
+
     /// Sets the markers of one sample and appends their encoding to `buffer`: `com`,
-    /// `com_reference`, and for contact `k` the force `wrenches[6k..6k+3]` applied at
-    /// `origins[k]` (world axes). Returns `false`, appending nothing, when a value is not
-    /// finite (Foxglove needs numbers).
+    /// `com_reference`, for contact `k` the force of `contacts` applied at its point, for push
+    /// `k` the force of `pushes` ending at its point (world axes). Returns `false`, appending
+    /// nothing, when a value is not finite (Foxglove needs numbers).
     pub fn encode(
         &mut self,
         stamp: Timestamp,
-        com: [f64; 3],
-        com_reference: [f64; 3],
-        wrenches: &[f64],
-        origins: &[[f64; 3]],
+        [com, com_reference]: [[f64; 3]; 2],
+        (contacts, pushes): (ForceArrows<'_>, ForceArrows<'_>),
         buffer: &mut Vec<u8>,
     ) -> bool {
-        let used = 6 * self.arrows.min(origins.len());
-        let finite = com
-            .iter()
-            .chain(&com_reference)
-            .chain(&wrenches[..used.min(wrenches.len())])
-            .chain(origins.iter().flatten())
-            .all(|v| v.is_finite());
+        let finite = com.iter().chain(&com_reference).all(|v| v.is_finite())
+            && contacts.finite(self.arrows)
+            && pushes.finite(self.pushes);
         if !finite {
             return false;
         }
@@ -399,18 +432,35 @@ impl Markers {
             entity.timestamp = Some(stamp);
             entity.spheres[0].pose = Some(pose_at(position, [1.0, 0.0, 0.0, 0.0]));
         }
-        for (k, entity) in arrows.iter_mut().enumerate() {
+        let (contact_arrows, push_arrows) = arrows.split_at_mut(self.arrows);
+        for (k, entity) in contact_arrows.iter_mut().enumerate() {
             entity.timestamp = Some(stamp);
-            let force = wrenches.get(6 * k..6 * k + 3).unwrap_or(&[0.0; 3]);
-            let origin = origins.get(k).copied().unwrap_or([0.0; 3]);
-            set_arrow(
-                &mut entity.arrows[0],
-                origin,
-                [force[0], force[1], force[2]],
-            );
+            let (force, point) = contacts.get(k);
+            set_arrow(&mut entity.arrows[0], point, force);
+        }
+        for (k, entity) in push_arrows.iter_mut().enumerate() {
+            entity.timestamp = Some(stamp);
+            let (force, point) = pushes.get(k);
+            // Drawn ending at the pushed link: its tail one arrow length before the point.
+            let tail = std::array::from_fn(|i| point[i] - force[i] * ARROW_M_PER_N);
+            set_arrow(&mut entity.arrows[0], tail, force);
         }
         Encode::encode(&self.update, buffer).is_ok()
     }
+}
+
+/// A world entity `id` with one arrow of colour `rgba`, zero length until set.
+fn arrow_entity(id: String, rgba: [f64; 4]) -> SceneEntity {
+    let mut entity = world_entity(id);
+    entity.arrows.push(ArrowPrimitive {
+        pose: Some(identity_pose()),
+        shaft_length: 0.0,
+        shaft_diameter: 0.012,
+        head_length: 0.04,
+        head_diameter: 0.03,
+        color: Some(color(rgba)),
+    });
+    entity
 }
 
 /// Points `arrow` from `origin` along `force`, [`ARROW_M_PER_N`] long per newton.

@@ -160,6 +160,12 @@ impl Scenario {
         self.controller.contact.clone()
     }
 
+    /// The link of each `[[disturbances]]` entry, in order (the logs name and draw pushes by
+    /// them).
+    pub fn disturbance_links(&self) -> Vec<String> {
+        self.disturbances.iter().map(|d| d.link.clone()).collect()
+    }
+
     /// `controller.stiffness_estimate_joint_scales` as one factor per joint (n, coordinate
     /// order; empty when none is given); an unknown joint name is an error naming it.
     fn stiffness_estimate_joint_scales(&self, joint_names: &[String]) -> Result<Vec<f64>> {
