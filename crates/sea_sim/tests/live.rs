@@ -74,16 +74,7 @@ fn a_websocket_client_receives_the_advertised_channels_and_messages() {
     let started = Instant::now();
     let (_running, port) = start(duration_s);
 
-    let stream = TcpStream::connect(("127.0.0.1", port)).expect("connect");
-    stream.set_read_timeout(Some(DEADLINE)).unwrap();
-    let mut request = format!("ws://127.0.0.1:{port}")
-        .into_client_request()
-        .unwrap();
-    request.headers_mut().insert(
-        "Sec-WebSocket-Protocol",
-        "foxglove.sdk.v1, foxglove.websocket.v1".parse().unwrap(),
-    );
-    let (mut socket, response) = tungstenite::client(request, stream).expect("handshake");
+    let (mut socket, response) = connect(port);
     assert_eq!(
         response.headers()["Sec-WebSocket-Protocol"],
         "foxglove.sdk.v1"
@@ -157,8 +148,14 @@ fn a_websocket_client_receives_the_advertised_channels_and_messages() {
     let _ = socket.close(None);
 }
 
-/// The handshake of a client offering the Foxglove subprotocols, on `port`.
-fn connect(port: u16) -> tungstenite::WebSocket<TcpStream> {
+/// The handshake of a client offering the Foxglove subprotocols, on `port`: the socket and
+/// the server's response.
+fn connect(
+    port: u16,
+) -> (
+    tungstenite::WebSocket<TcpStream>,
+    tungstenite::handshake::client::Response,
+) {
     let stream = TcpStream::connect(("127.0.0.1", port)).expect("connect");
     stream.set_read_timeout(Some(DEADLINE)).unwrap();
     let mut request = format!("ws://127.0.0.1:{port}")
@@ -168,7 +165,7 @@ fn connect(port: u16) -> tungstenite::WebSocket<TcpStream> {
         "Sec-WebSocket-Protocol",
         "foxglove.sdk.v1, foxglove.websocket.v1".parse().unwrap(),
     );
-    tungstenite::client(request, stream).expect("handshake").0
+    tungstenite::client(request, stream).expect("handshake")
 }
 
 /// A run that falls (a 20 N s push on the pelvis of the two-feet iCub, about 1.02 s into the
@@ -183,7 +180,7 @@ fn a_fall_reaches_the_live_view_on_events() {
     let push = "disturbances=[{link = \"root_link\", force = [200.0, 0.0, 0.0], start_s = 1.0, \
                 duration_s = 0.1}]";
     let (_running, port) = start_scenario(PUSH, 3.0, &[push]);
-    let mut socket = connect(port);
+    let (mut socket, _) = connect(port);
     let events = loop {
         assert!(
             started.elapsed() < DEADLINE,

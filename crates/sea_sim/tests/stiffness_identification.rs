@@ -19,22 +19,28 @@ fn load(overrides: &[(&str, &str)]) -> Scenario {
     Scenario::from_file(&path, &pairs).unwrap()
 }
 
-/// At the initial state (the plant at rest on one foot, its springs holding the robot), the
-/// model's joint torques are the springs' torques `K_S delta` of the plant, and the
-/// identification started from estimates off by x2 finds the true stiffness of every joint
-/// that carries a torque.
-#[test]
-fn at_rest_the_model_torques_are_the_spring_torques_and_the_stiffness_is_found() {
-    let scenario = load(&[("controller.stiffness_estimate_scale", "2.0")]);
-    let mut setup = sea_sim::scenario::build(&scenario).unwrap();
-    let layout = setup.plant.layout();
-    let x0 = setup.x0.clone();
+/// The tracking scenario with `overrides` built, and the controller's output at its initial
+/// state (the plant at rest on one foot).
+fn at_rest(overrides: &[(&str, &str)]) -> (sea_sim::scenario::Setup, sea_ctrl::ControlOutput) {
+    let mut setup = sea_sim::scenario::build(&load(overrides)).unwrap();
+    let (layout, x0) = (setup.plant.layout(), setup.x0.clone());
     let s_desired = x0[7..7 + setup.model.n_joints()].to_vec();
     let reference = setup.com_reference.sample(0.0);
     let output = setup
         .controller
         .compute(&x0, &layout, &reference, &s_desired)
         .unwrap();
+    (setup, output)
+}
+
+/// At the initial state (the plant at rest on one foot, its springs holding the robot), the
+/// model's joint torques are the springs' torques `K_S delta` of the plant, and the
+/// identification started from estimates off by x2 finds the true stiffness of every joint
+/// that carries a torque.
+#[test]
+fn at_rest_the_model_torques_are_the_spring_torques_and_the_stiffness_is_found() {
+    let (setup, output) = at_rest(&[("controller.stiffness_estimate_scale", "2.0")]);
+    let (layout, x0) = (setup.plant.layout(), setup.x0.clone());
     let mut estimates = setup.controller.estimates().to_vec();
     let settings = IdentificationSettings::default();
     let mut identifier = StiffnessIdentifier::new(&setup.controller, &estimates, settings);
@@ -68,16 +74,8 @@ fn at_rest_the_model_torques_are_the_spring_torques_and_the_stiffness_is_found()
 /// deflection is at least the noise (within 25 % up to 5 sigma, 5 % above).
 #[test]
 fn encoder_noise_biases_plain_least_squares_and_the_compensation_removes_it() {
-    let scenario = load(&[]);
-    let mut setup = sea_sim::scenario::build(&scenario).unwrap();
-    let layout = setup.plant.layout();
-    let x0 = setup.x0.clone();
-    let s_desired = x0[7..7 + setup.model.n_joints()].to_vec();
-    let reference = setup.com_reference.sample(0.0);
-    let output = setup
-        .controller
-        .compute(&x0, &layout, &reference, &s_desired)
-        .unwrap();
+    let (setup, output) = at_rest(&[]);
+    let (layout, x0) = (setup.plant.layout(), setup.x0.clone());
     let truth = setup.plant.actuation.clone();
     let sigma = 1e-4;
     let identify = |deflection_noise: f64| {
