@@ -413,7 +413,11 @@ class Controller:
     ) -> Controller:
         """``Controller(model, contacts, q0, actuators=..., reference=..., **table)``."""
     def tick(self, t: float, x: ArrayLike) -> ControlOutput:
-        """One tick at time ``t`` [s] and state ``x`` (nx)."""
+        """One tick at time ``t`` [s] and state ``x`` (nx). With ``multi_rate`` sampling the
+        joint loops hold the tick's torques and ``input`` is their first inner tick's."""
+    def inner_tick(self, x: ArrayLike) -> FloatArray:
+        """``multi_rate`` only: one joint torque loop tick at state ``x`` (nx) between two
+        ticks, the plant input (n); ``ValueError`` for another sampling."""
     def com_reference(self, t: float) -> FloatArray:
         """The CoM reference at ``t``, (3,) world [m]."""
     @property
@@ -436,7 +440,9 @@ class Controller:
 class Scenario:
     """A scenario file built as ``run_scenario`` builds it. With zero-order-hold sampling, the
     run is ``out = controller.tick(k * control_period, x)`` then ``steps_per_tick`` times
-    ``x = plant.step(x, out.input, plant_dt, method)``, from ``initial_state``."""
+    ``x = plant.step(x, out.input, plant_dt, method)``, from ``initial_state``; with
+    ``multi_rate`` the input is renewed by ``controller.inner_tick(x)`` before every step ``j > 0``
+    of the period with ``j % steps_per_inner_tick == 0``."""
 
     @staticmethod
     def load(path: str | PathLike[str], overrides: Mapping[str, object] | None = None) -> Scenario:
@@ -466,12 +472,15 @@ class Scenario:
     def steps_per_tick(self) -> int:
         """Plant steps per tick."""
     @property
+    def steps_per_inner_tick(self) -> int:
+        """Plant steps per joint-loop tick (``multi_rate``; else ``steps_per_tick``)."""
+    @property
     def last_tick(self) -> int:
         """Index of the last tick (duration / control_period)."""
     @property
     def sampling(self) -> str:
-        """"zero_order_hold", "continuous" or "multi_rate" (whose joint loops only the native
-        run executes)."""
+        """"zero_order_hold", "continuous" or "multi_rate" (``Controller.inner_tick`` runs its
+        joint loops; the stiffness identification runs in the native run only)."""
     @property
     def method(self) -> str:
         """The plant's integrator (``Plant.step``'s ``method``)."""

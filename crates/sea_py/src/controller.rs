@@ -4,7 +4,8 @@
 //!
 //! Both are built by `sea_sim::scenario` (the scenario's `build`, or the same functions on a
 //! model given from Python), so a Python loop of `Controller.tick` and `Plant.step` is the run
-//! of `run_scenario`.
+//! of `run_scenario`; with `controller.sampling = "multi_rate"`, `Controller.inner_tick` runs
+//! the joint torque loops between two ticks, as the native loop does.
 
 use crate::arrays::{matrix_rows_out, vector_arg, vector_out};
 use crate::errors::{argument_error, to_py};
@@ -15,11 +16,12 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sea_ctrl::controller::MomentumController;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
+use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::qp::QpStatus;
 use sea_ctrl::references::{ComTrajectory, PostureReference};
 use sea_dyn::{Model, StateLayout};
 use sea_sim::closed_loop::Schedule;
-use sea_sim::scenario::{build, Scenario};
+use sea_sim::scenario::{build, Sampling, Scenario};
 use std::collections::HashMap;
 use std::path::PathBuf;
 
@@ -39,20 +41,26 @@ pub struct PyController {
     joint_names: Vec<String>,
     /// The state of the last tick, copied from Python (nx).
     x: Vec<f64>,
+    /// `multi_rate`: the joint torque loops (`None` otherwise).
+    joint_loop: Option<JointTorqueLoop>,
 }
 
 impl PyController {
-    /// The object of a built controller and its references, reading states of `layout`.
+    /// The object of a built controller and its references, reading states of `layout`, with
+    /// the joint torque loops of `scenario`'s `[controller]` when it is `multi_rate`.
     fn new_built(
         controller: MomentumController,
-        com_reference: ComTrajectory,
-        posture: PostureReference,
+        (com_reference, posture): (ComTrajectory, PostureReference),
         layout: StateLayout,
         joint_names: Vec<String>,
+        scenario: &Scenario,
     ) -> Self {
+        let settings = &scenario.controller;
+        let multi_rate = settings.sampling == Sampling::MultiRate;
         Self {
             contacts: controller.settings().contacts.clone(),
             x: Vec::with_capacity(layout.nx()),
+            joint_loop: multi_rate.then(|| settings.joint_loop(&controller)),
             law: FeedbackLaw::new(controller, com_reference, posture, layout),
             joint_names,
         }
@@ -89,24 +97,29 @@ impl PyController {
         let layout = StateLayout::new(model, &actuation);
         Ok(Self::new_built(
             controller,
-            com_reference,
-            posture,
+            (com_reference, posture),
             layout,
             model.joint_names.clone(),
+            &scenario,
         ))
     }
 }
 
 /// A tick's outputs with the CoM reference (world) they tracked, as a
-/// `sea_momentum.controller.ControlOutput`.
-fn output_object<'py>(py: Python<'py>, observation: &Observation) -> PyResult<Bound<'py, PyAny>> {
+/// `sea_momentum.controller.ControlOutput`; `input` is the plant input (the tick's, or the
+/// joint loops' first with `multi_rate`).
+fn output_object<'py>(
+    py: Python<'py>,
+    observation: &Observation,
+    input: &[f64],
+) -> PyResult<Bound<'py, PyAny>> {
     let out = &observation.output;
     let fields = PyDict::new(py);
     fields.set_item(
         "com_reference",
         vector_out(py, observation.reference.position.as_slice()),
     )?;
-    fields.set_item("input", vector_out(py, &out.input))?;
+    fields.set_item("input", vector_out(py, input))?;
     fields.set_item("joint_command", vector_out(py, &out.joint_command))?;
     fields.set_item("thetadot_desired", vector_out(py, &out.thetadot_desired))?;
     fields.set_item("wrenches", matrix_rows_out(py, out.wrenches.as_slice(), 6))?;
@@ -227,7 +240,8 @@ impl PyController {
 
     /// One controller tick at time `t` [s] and plant state `x` (nx): a
     /// `sea_momentum.ControlOutput` (plant input, joint command, desired motor velocities,
-    /// QP wrenches, QP status, CoM, momentum, CoM reference).
+    /// QP wrenches, QP status, CoM, momentum, CoM reference). With `multi_rate` the tick's
+    /// joint torques are held by the joint loops and `input` is their first inner tick's.
     fn tick<'py>(
         &mut self,
         py: Python<'py>,
@@ -237,9 +251,40 @@ impl PyController {
         if !t.is_finite() {
             return Err(argument_error("t", "a finite time [s]", t));
         }
-        vector_arg(x, "x", self.law.layout().nx(), &mut self.x)?;
-        let observation = self.law.tick(t, &self.x).map_err(to_py)?;
-        output_object(py, observation)
+        let layout = self.law.layout();
+        vector_arg(x, "x", layout.nx(), &mut self.x)?;
+        self.law.tick(t, &self.x).map_err(to_py)?;
+        let observation = self.law.last();
+        let input = match &mut self.joint_loop {
+            Some(joint_loop) => {
+                joint_loop.hold(&observation.output, &layout, &self.x, self.law.s_desired());
+                joint_loop.tick(&layout, &self.x)
+            }
+            None => &observation.output.input,
+        };
+        output_object(py, observation, input)
+    }
+
+    /// `controller.sampling = "multi_rate"`: one tick of the joint torque loops at the
+    /// measured state `x` (nx) between two `tick`s (every `Scenario.steps_per_inner_tick`
+    /// plant steps after the first): the plant input (n), each elastic joint's desired motor
+    /// velocity from the held joint torque and the measured deflection. The stiffness
+    /// identification runs in the native loop only.
+    fn inner_tick<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        let layout = self.law.layout();
+        let Some(joint_loop) = &mut self.joint_loop else {
+            return Err(argument_error(
+                "Controller.inner_tick",
+                "a controller with controller.sampling = \"multi_rate\"",
+                "another sampling",
+            ));
+        };
+        vector_arg(x, "x", layout.nx(), &mut self.x)?;
+        Ok(vector_out(py, joint_loop.tick(&layout, &self.x)))
     }
 
     /// The CoM reference at `t` [s]: position (3,) in world [m].
@@ -310,10 +355,10 @@ impl PyScenario {
         let layout = setup.plant.layout();
         let controller = PyController::new_built(
             setup.controller,
-            setup.com_reference,
-            setup.posture,
+            (setup.com_reference, setup.posture),
             layout,
             setup.model.joint_names.clone(),
+            &scenario,
         );
         Ok(Self {
             name: scenario.name.clone(),
@@ -376,14 +421,23 @@ impl PyScenario {
         self.schedule.steps_per_period
     }
 
+    /// Plant steps per joint-loop tick (`multi_rate`: `steps_per_tick` over the inner ticks
+    /// of a period, `controller.inner_rate_hz / controller.rate_hz`; otherwise
+    /// `steps_per_tick`).
+    #[getter]
+    fn steps_per_inner_tick(&self) -> usize {
+        self.schedule.steps_per_inner_tick()
+    }
+
     /// Number of ticks of the run after the first (`simulation.duration_s / control_period`).
     #[getter]
     fn last_tick(&self) -> usize {
         self.schedule.last_sample
     }
 
-    /// `controller.sampling`: "zero_order_hold" (a tick / step loop is the run) or
-    /// "continuous" (the controller at every integrator stage).
+    /// `controller.sampling`: "zero_order_hold" (a tick / step loop is the run),
+    /// "multi_rate" (a tick, then `Controller.inner_tick` every `steps_per_inner_tick` steps)
+    /// or "continuous" (the controller at every integrator stage).
     #[getter]
     fn sampling(&self) -> &'static str {
         self.schedule.sampling.name()
