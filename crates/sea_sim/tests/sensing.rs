@@ -125,6 +125,20 @@ fn a_delay_changes_the_trajectory() {
     assert!(rms_one.is_finite() && rms_two.is_finite());
 }
 
+/// The linearisation has no delayed states: a delay is refused naming its key (not analysed
+/// as if it were absent); noise alone is the noiseless loop's linearisation.
+#[test]
+fn linearize_refuses_a_delay_and_ignores_noise() {
+    let delayed = load(&[("sensing.delay_inner_periods", "1")]).unwrap();
+    let message = sea_sim::analysis::linearize(&delayed, None)
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("sensing.delay_inner_periods"), "{message}");
+    let noisy = sea_sim::analysis::linearize(&load(&NOISE).unwrap(), None).unwrap();
+    let clean = sea_sim::analysis::linearize(&load(&[]).unwrap(), None).unwrap();
+    assert_eq!(noisy.least_stable_rate, clean.least_stable_rate);
+}
+
 /// The error of `load(overrides)`, which must name `key`.
 fn assert_refused(overrides: &[(&str, &str)], key: &str) {
     match load(overrides) {

@@ -16,10 +16,15 @@
 //!    visible.
 //! 3. Eigenvalues (balanced real Schur form), growth rates (`Re lambda`, or `log|mu| / T` for
 //!    the map), and the eigenvector of the least stable mode with its dominant states.
+//!
+//! `[sensing]`: the linearisation is of the loop with exact measurements. Noise does not move
+//! the mean dynamics and is ignored; a measurement delay would need the delayed states in the
+//! map, which it does not have, so a scenario with `sensing.delay_inner_periods > 0` is
+//! refused (naming the key) rather than analysed without its delay.
 
 use super::eigen::{eigenvalues, eigenvector, spectrum_distance};
 use super::system::{difference, ClosedLoopSystem, ControlTiming};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::scenario::Scenario;
 use nalgebra::{Complex, DMatrix, DVector};
 
@@ -379,11 +384,21 @@ pub fn linearize_system(
     })
 }
 
-/// The closed loop of `scenario` with the references frozen at `options.time`.
+/// The closed loop of `scenario` with the references frozen at `options.time`; a sensing delay
+/// is refused (module doc).
 pub fn closed_loop_system(
     scenario: &Scenario,
     options: &LinearizeOptions,
 ) -> Result<ClosedLoopSystem> {
+    let delay = scenario.sensing.delay_inner_periods;
+    if delay > 0 {
+        return Err(Error::invalid(
+            "sensing.delay_inner_periods",
+            "must be 0 to linearise: the period map has no delayed states (the analysis would \
+             be of the loop without its delay)",
+            delay,
+        ));
+    }
     let setup = crate::scenario::build(scenario)?;
     let sampling = match options.sampling {
         Some(sampling) => sampling,
