@@ -356,6 +356,8 @@ impl MomentumController {
         let mut qp = WrenchQp::new(n_contacts, equalities, &settings.constraints);
         qp.unconstrained_first = settings.qp_unconstrained_first;
         qp.solver = settings.qp_solver;
+        let mut relaxed_qp = WrenchQp::new(n_contacts, 0, &settings.constraints);
+        relaxed_qp.solver = settings.qp_solver;
         Ok(Self {
             model: model.clone(),
             data,
@@ -377,7 +379,7 @@ impl MomentumController {
             command: DVector::zeros(n),
             momentum_jacobian: MomentumJacobian::new(model, k),
             mass: model.total_mass(),
-            relaxed_qp: WrenchQp::new(n_contacts, 0, &settings.constraints),
+            relaxed_qp,
             relaxed_wrenches: DVector::zeros(k),
             relaxations: 0,
             settings,
