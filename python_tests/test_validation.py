@@ -257,6 +257,7 @@ NUMBER_KEYS = [
     "controller.qp_regularization",
     "controller.qp_moment_regularization",
     "controller.identification_deflection_noise_rad",
+    "controller.identification_hold_s",
     "controller.joint_inertia_regularization",
     "controller.contact.friction",
     "controller.contact.facets",

@@ -324,6 +324,28 @@ fn a_push_does_not_corrupt_the_identification() {
     assert_ne!(summary.status, "completed", "{summary:?}");
 }
 
+/// A push once the identification has converged (5.5 N s forward at 3 s, from a x0.5
+/// estimate): with the estimates held for `identification_hold_s` (1 s) after the push was
+/// detected the robot recovers; identifying through the recovery (hold 0) it does not.
+#[test]
+fn converged_estimates_are_held_through_the_recovery_from_a_push() {
+    let push =
+        "[{ link = \"root_link\", force = [55.0, 0.0, 0.0], start_s = 3.0, duration_s = 0.1 }]";
+    let key = "controller.stiffness_estimate_scale";
+    let run_with_hold = |hold: &str| {
+        let scenario = two_feet(&[
+            (key, "0.5"),
+            ("disturbances", push),
+            ("controller.identification_hold_s", hold),
+        ]);
+        run(&scenario, |_, _| {}).unwrap().1
+    };
+    let held = run_with_hold("1.0");
+    assert_eq!(held.status, "completed", "{held:?}");
+    let not_held = run_with_hold("0.0");
+    assert_ne!(not_held.status, "completed", "{not_held:?}");
+}
+
 /// A controller model whose masses are all off by 10 % makes the torque loop's torques
 /// inconsistent with the model like a stiffness error does: without identification the
 /// tracking diverges; with it the identified stiffness absorbs the scale (the model's torques

@@ -235,6 +235,10 @@ pub struct ControllerConfig {
     /// (bias-compensated least squares; `sea_ctrl::stiffness_id`, "Encoder noise"); the
     /// encoders' specification, e.g. `sqrt(sigma_s^2 + (ratio sigma_theta)^2)`. Default 0.
     pub identification_deflection_noise_rad: f64,
+    /// `multi_rate` with `stiffness_identification` and measured wrenches: how long the
+    /// converged estimates stay held after a push was detected [s] (`sea_ctrl::stiffness_id`;
+    /// default 1 s).
+    pub identification_hold_s: f64,
     /// Controller damping estimate = true damping x scale.
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
@@ -310,6 +314,8 @@ impl Default for ControllerConfig {
                 .time_constant,
             identification_wrenches: IdentificationWrenches::default(),
             identification_deflection_noise_rad: 0.0,
+            identification_hold_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
+                .hold_after_external_force,
             damping_estimate_scale: 1.0,
             stiffness_estimate_scale: 1.0,
             stiffness_estimate_joint_scales: BTreeMap::new(),
@@ -371,6 +377,7 @@ impl ControllerConfig {
             time_constant: self.identification_time_s,
             max_external_force: defaults.max_external_force.filter(|_| measured),
             deflection_noise: self.identification_deflection_noise_rad,
+            hold_after_external_force: self.identification_hold_s,
             ..defaults
         };
         self.stiffness_identification

@@ -256,6 +256,7 @@ fn controller(scenario: &Scenario) -> Result<()> {
         "controller.identification_deflection_noise_rad",
         c.identification_deflection_noise_rad,
     )?;
+    non_negative("controller.identification_hold_s", c.identification_hold_s)?;
     non_negative(
         "controller.joint_inertia_regularization",
         c.joint_inertia_regularization,
