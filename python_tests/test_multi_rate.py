@@ -3,6 +3,8 @@ robot-rate scenario (the whole-body QP at 100 Hz, the joint torque loops at 1 kH
 
 from pathlib import Path
 
+import pytest
+
 import sea_momentum as sm
 
 MULTI_RATE = Path(__file__).resolve().parents[1] / "scenarios" / "robot_rate" / "tracking_multi_rate.toml"
@@ -19,3 +21,15 @@ def test_the_paper_law_with_500_hz_joint_loops_is_unstable():
     overrides = {"controller.kind": "sea", "controller.torque_loop_paper_law": True, "controller.inner_rate_hz": 500.0}
     lin = sm.linearize(MULTI_RATE, overrides=overrides, sampling="multi_rate")
     assert not lin.stable and lin.growth_rate > 10.0
+
+
+def test_a_delay_is_in_the_period_map_and_refused_in_continuous_time():
+    nominal = sm.linearize(MULTI_RATE)
+    nd = nominal.matrix.shape[0]
+    lin = sm.linearize(MULTI_RATE, overrides={"sensing.delay_inner_periods": 9})
+    assert lin.matrix.shape == (10 * nd, 10 * nd)
+    assert len(lin.state_names) == 10 * nd and lin.state_names[nd].endswith("@-1")
+    # Nine inner periods of delay destabilise the 20 Hz torque loop of the free leg.
+    assert not lin.stable and lin.growth_rate > 0.5
+    with pytest.raises(sm.ScenarioError, match="sensing.delay_inner_periods"):
+        sm.linearize(MULTI_RATE, overrides={"sensing.delay_inner_periods": 1}, sampling="continuous")

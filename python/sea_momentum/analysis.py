@@ -28,11 +28,13 @@ __all__ = ["Linearization", "linearize", "stability_margin"]
 
 @dataclasses.dataclass(frozen=True)
 class Linearization(Result):
-    """The linearised closed loop (float64 arrays; nd = 2 nv + 2 n_e); a
+    """The linearised closed loop (float64 arrays; nd = 2 nv + 2 n_e, times ``d + 1`` for a
+    period map with ``sensing.delay_inner_periods = d``: its state is the history of the last
+    ``d + 1`` inner-tick states, the older slots' names suffixed ``@-i``); a
     :class:`~sea_momentum.results.Result` (``lin["growth_rate"]``, ``lin.to_dict()``).
 
     - ``matrix`` (nd, nd): the Jacobian of the vector field [1/s] (continuous) or of the
-      period map (zero-order hold), on the tangent space;
+      period map (zero-order hold, multi-rate), on the tangent space;
     - ``eigenvalues`` (nd,) complex, least stable first; ``growth_rates`` (nd,) [1/s]: the real
       part, or ``log|mu| / T`` for the period map; ``growth_rate`` the largest, ``stable``
       whether it is negative;

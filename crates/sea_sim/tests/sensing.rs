@@ -125,17 +125,28 @@ fn a_delay_changes_the_trajectory() {
     assert!(rms_one.is_finite() && rms_two.is_finite());
 }
 
-/// The linearisation has no delayed states: a delay is refused naming its key (not analysed
-/// as if it were absent); noise alone is the noiseless loop's linearisation.
+/// The linearisation carries a delay's states (the history of `d + 1` states, refused in
+/// continuous time where it has no finite state, naming the key); noise alone is the
+/// noiseless loop's linearisation.
 #[test]
-fn linearize_refuses_a_delay_and_ignores_noise() {
+fn linearize_carries_a_delay_and_ignores_noise() {
+    use sea_sim::analysis::{linearize_with, ControlTiming, LinearizeOptions};
     let delayed = load(&[("sensing.delay_inner_periods", "1")]).unwrap();
-    let message = sea_sim::analysis::linearize(&delayed, None)
+    let clean = sea_sim::analysis::linearize(&load(&[]).unwrap(), None).unwrap();
+    let lin = sea_sim::analysis::linearize(&delayed, None).unwrap();
+    let nd = clean.matrix.nrows();
+    assert_eq!(lin.matrix.shape(), (2 * nd, 2 * nd));
+    assert_eq!(lin.state_names[nd], format!("{}@-1", lin.state_names[0]));
+    assert_ne!(lin.least_stable_rate, clean.least_stable_rate);
+    let continuous = LinearizeOptions {
+        sampling: Some(ControlTiming::Continuous),
+        ..Default::default()
+    };
+    let message = linearize_with(&delayed, &continuous)
         .unwrap_err()
         .to_string();
     assert!(message.contains("sensing.delay_inner_periods"), "{message}");
     let noisy = sea_sim::analysis::linearize(&load(&NOISE).unwrap(), None).unwrap();
-    let clean = sea_sim::analysis::linearize(&load(&[]).unwrap(), None).unwrap();
     assert_eq!(noisy.least_stable_rate, clean.least_stable_rate);
 }
 

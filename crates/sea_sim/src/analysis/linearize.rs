@@ -17,14 +17,17 @@
 //! 3. Eigenvalues (balanced real Schur form), growth rates (`Re lambda`, or `log|mu| / T` for
 //!    the map), and the eigenvector of the least stable mode with its dominant states.
 //!
-//! `[sensing]`: the linearisation is of the loop with exact measurements. Noise does not move
-//! the mean dynamics and is ignored; a measurement delay would need the delayed states in the
-//! map, which it does not have, so a scenario with `sensing.delay_inner_periods > 0` is
-//! refused (naming the key) rather than analysed without its delay.
+//! `[sensing]`: noise does not move the mean dynamics and is ignored. A measurement delay of
+//! `d = sensing.delay_inner_periods` inner periods is in the map: its state is the history of
+//! the last `d + 1` inner-tick states (`system` module doc), so the Jacobian is
+//! `(d + 1) nd` square and the tangent coordinates of the older slots are named with the
+//! suffix `@-i` (`i` inner periods earlier). The equilibrium is the undelayed loop's, every
+//! slot at it. Continuous time has no finite-dimensional delayed state: a delay there is
+//! refused, naming the key.
 
 use super::eigen::{eigenvalues, eigenvector, spectrum_distance};
-use super::system::{difference, ClosedLoopSystem, ControlTiming};
-use crate::error::{Error, Result};
+use super::system::{difference_slots, ClosedLoopSystem, ControlTiming};
+use crate::error::Result;
 use crate::scenario::Scenario;
 use nalgebra::{Complex, DMatrix, DVector};
 
@@ -85,7 +88,8 @@ pub struct Linearization {
     pub equilibrium: Equilibrium,
     /// `|Phi(x) (-) x|_inf` at the equilibrium (zero-order hold only).
     pub map_residual: Option<f64>,
-    /// The Jacobian on the tangent space (nd x nd): of `f` (continuous) or of `Phi` (sampled).
+    /// The Jacobian on the tangent space: of `f` (continuous, nd x nd) or of `Phi` (sampled,
+    /// `(d + 1) nd` square with a measurement delay of `d` inner periods).
     pub matrix: DMatrix<f64>,
     /// Its eigenvalues, least stable first (1/s in continuous time; multipliers of one period
     /// in zero-order hold).
@@ -98,9 +102,10 @@ pub struct Linearization {
     pub stable: bool,
     /// The least stable eigenvalue as a continuous-time rate [1/s] (`log(mu) / T` sampled).
     pub least_stable_rate: Complex<f64>,
-    /// Names of the tangent coordinates (nd).
+    /// Names of the tangent coordinates (as the matrix's rows; [`delayed_state_names`]).
     pub state_names: Vec<String>,
-    /// The eigenvector of the least stable mode (nd, largest entry real positive).
+    /// The eigenvector of the least stable mode (as the matrix's rows, largest entry real
+    /// positive).
     pub least_stable_mode: DVector<Complex<f64>>,
     /// Dominant states of that mode with their weights (largest 1), see [`dominant_states`].
     pub dominant_states: Vec<(String, f64)>,
@@ -145,49 +150,73 @@ pub fn state_names(joint_names: &[String], elastic_names: &[String]) -> Vec<Stri
     out
 }
 
-/// Finite-difference scale of each tangent coordinate: `max(1, |value|)` of the matching state
-/// entry (motor angles are large), 1 for the base rotation.
-fn coordinate_scales(system: &ClosedLoopSystem, x: &[f64]) -> Vec<f64> {
+/// The tangent coordinates' names of a history of `slots` states: [`state_names`], then the
+/// same names suffixed `@-i` for the state `i` inner periods earlier.
+pub fn delayed_state_names(names: &[String], slots: usize) -> Vec<String> {
+    let mut out = names.to_vec();
+    for slot in 1..slots {
+        out.extend(names.iter().map(|n| format!("{n}@-{slot}")));
+    }
+    out
+}
+
+/// Finite-difference scale of each tangent coordinate of a history `z` of states:
+/// `max(1, |value|)` of the matching state entry (motor angles are large), 1 for the base
+/// rotation.
+fn coordinate_scales(system: &ClosedLoopSystem, z: &[f64]) -> Vec<f64> {
     let layout = system.layout;
     let nd = layout.nd();
-    (0..nd)
-        .map(|k| match k {
-            3..=5 => 1.0,
-            0..=2 => x[k].abs().max(1.0),
-            _ => x[k + 1].abs().max(1.0),
+    z.chunks_exact(layout.nx())
+        .flat_map(|x| {
+            (0..nd).map(move |k| match k {
+                3..=5 => 1.0,
+                0..=2 => x[k].abs().max(1.0),
+                _ => x[k + 1].abs().max(1.0),
+            })
         })
         .collect()
 }
 
-/// The Jacobian on the tangent space at `x` by central differences of relative step `step`:
-/// of `f` in continuous time, of `Phi` in zero-order hold.
-pub fn jacobian(system: &mut ClosedLoopSystem, x: &[f64], step: f64) -> Result<DMatrix<f64>> {
-    let nd = system.layout.nd();
-    let scales = coordinate_scales(system, x);
+/// The Jacobian on the tangent space at `z` by central differences of relative step `step`:
+/// of `f` in continuous time (`z` one state), of `Phi` when sampled (`z` a history of
+/// [`ClosedLoopSystem::slots`] states).
+pub fn jacobian(system: &mut ClosedLoopSystem, z: &[f64], step: f64) -> Result<DMatrix<f64>> {
+    let (nx, nd) = (system.layout.nx(), system.layout.nd());
+    let n = z.len() / nx * nd;
+    let scales = coordinate_scales(system, z);
     let plant = system.plant().clone();
-    let mut matrix = DMatrix::zeros(nd, nd);
+    let mut matrix = DMatrix::zeros(n, n);
     let mut direction = DVector::zeros(nd);
-    let (mut x_plus, mut x_minus) = (x.to_vec(), x.to_vec());
+    let (mut z_plus, mut z_minus) = (z.to_vec(), z.to_vec());
     let (mut f_plus, mut f_minus) = (DVector::zeros(nd), DVector::zeros(nd));
-    let (mut m_plus, mut m_minus) = (x.to_vec(), x.to_vec());
-    let mut column = DVector::zeros(nd);
-    for j in 0..nd {
+    let (mut m_plus, mut m_minus) = (z.to_vec(), z.to_vec());
+    let mut column = DVector::zeros(n);
+    for j in 0..n {
         let h = step * scales[j];
+        let slot = (j / nd) * nx..(j / nd + 1) * nx;
         direction.fill(0.0);
-        direction[j] = 1.0;
-        sea_plant::retract(&plant, x, &direction, h, &mut x_plus);
-        sea_plant::retract(&plant, x, &direction, -h, &mut x_minus);
+        direction[j % nd] = 1.0;
+        z_plus.copy_from_slice(z);
+        z_minus.copy_from_slice(z);
+        sea_plant::retract(
+            &plant,
+            &z[slot.clone()],
+            &direction,
+            h,
+            &mut z_plus[slot.clone()],
+        );
+        sea_plant::retract(&plant, &z[slot.clone()], &direction, -h, &mut z_minus[slot]);
         match system.sampling {
             ControlTiming::Continuous => {
-                system.vector_field(&x_plus, &mut f_plus)?;
-                system.vector_field(&x_minus, &mut f_minus)?;
+                system.vector_field(&z_plus, &mut f_plus)?;
+                system.vector_field(&z_minus, &mut f_minus)?;
                 column.copy_from(&f_plus);
                 column -= &f_minus;
             }
             ControlTiming::ZeroOrderHold { .. } | ControlTiming::MultiRate { .. } => {
-                system.period_map(&x_plus, &mut m_plus)?;
-                system.period_map(&x_minus, &mut m_minus)?;
-                difference(&system.layout, &m_minus, &m_plus, &mut column);
+                system.period_map(&z_plus, &mut m_plus)?;
+                system.period_map(&z_minus, &mut m_minus)?;
+                difference_slots(&system.layout, &m_minus, &m_plus, &mut column);
             }
         }
         matrix.column_mut(j).copy_from(&(&column / (2.0 * h)));
@@ -267,7 +296,8 @@ fn sorted_spectrum(a: &DMatrix<f64>, period: Option<f64>) -> (Vec<Complex<f64>>,
 /// The dominant states of a mode: entries of the eigenvector made comparable (motor angles and
 /// velocities times the transmission ratio, i.e. link side; velocities divided by the mode's
 /// rate `max(|lambda|, 1)`, i.e. as position amplitudes), normalised to a largest weight of 1,
-/// the `count` largest with weight above 0.05.
+/// the `count` largest with weight above 0.05. The mode may be of a delayed history (several
+/// slots of `2 (nv + n_e)` coordinates, [`delayed_state_names`]).
 pub fn dominant_states(
     mode: &DVector<Complex<f64>>,
     names: &[String],
@@ -277,14 +307,17 @@ pub fn dominant_states(
     count: usize,
 ) -> Vec<(String, f64)> {
     let ne = ratios.len();
+    let nd = 2 * (nv + ne);
     let speed = rate.norm().max(1.0);
     let weights: Vec<f64> = (0..mode.len())
-        .map(|k| {
+        .map(|entry| {
+            // The coordinate within its slot of a delayed history.
+            let k = entry % nd;
             let motor =
                 |offset: usize| (k >= offset && k < offset + ne).then(|| ratios[k - offset]);
             let ratio = motor(nv).or(motor(2 * nv + ne)).unwrap_or(1.0);
             let velocity = if k >= nv + ne { 1.0 / speed } else { 1.0 };
-            mode[k].norm() * ratio * velocity
+            mode[entry].norm() * ratio * velocity
         })
         .collect();
     let largest = weights
@@ -319,19 +352,22 @@ pub fn linearize_system(
         eq = equilibrium(system, &state, options)?;
     }
     let period = system.period();
+    // The history at the equilibrium: every slot at it.
+    let slots = system.slots();
+    let z = eq.state.repeat(slots);
     let map_residual = match period {
         Some(_) => {
-            let mut displacement = DVector::zeros(system.layout.nd());
-            system.displacement(&eq.state, &mut displacement)?;
+            let mut displacement = DVector::zeros(slots * system.layout.nd());
+            system.displacement(&z, &mut displacement)?;
             Some(displacement.amax())
         }
         None => None,
     };
-    let matrix = jacobian(system, &eq.state, options.step)?;
+    let matrix = jacobian(system, &z, options.step)?;
     let (values, rates) = sorted_spectrum(&matrix, period);
     let step_check = match options.check_step {
         Some(check) => {
-            let other = jacobian(system, &eq.state, check)?;
+            let other = jacobian(system, &z, check)?;
             let (other_values, other_rates) = sorted_spectrum(&other, period);
             Some(StepCheck {
                 step: check,
@@ -349,7 +385,10 @@ pub fn linearize_system(
         Some(t) => least.ln() / t,
     };
     let mode = eigenvector(&matrix, least);
-    let names = state_names(&system.setup.model.joint_names, &system.setup.elastic_names);
+    let names = delayed_state_names(
+        &state_names(&system.setup.model.joint_names, &system.setup.elastic_names),
+        slots,
+    );
     let ratios: Vec<f64> = system
         .plant()
         .actuation
@@ -384,21 +423,12 @@ pub fn linearize_system(
     })
 }
 
-/// The closed loop of `scenario` with the references frozen at `options.time`; a sensing delay
-/// is refused (module doc).
+/// The closed loop of `scenario` with the references frozen at `options.time`, with its
+/// sensing delay (`sensing.delay_inner_periods`, refused in continuous time).
 pub fn closed_loop_system(
     scenario: &Scenario,
     options: &LinearizeOptions,
 ) -> Result<ClosedLoopSystem> {
-    let delay = scenario.sensing.delay_inner_periods;
-    if delay > 0 {
-        return Err(Error::invalid(
-            "sensing.delay_inner_periods",
-            "must be 0 to linearise: the period map has no delayed states (the analysis would \
-             be of the loop without its delay)",
-            delay,
-        ));
-    }
     let setup = crate::scenario::build(scenario)?;
     let sampling = match options.sampling {
         Some(sampling) => sampling,
@@ -416,6 +446,7 @@ pub fn closed_loop_system(
         let source = scenario.controller.identification_wrenches;
         system.set_identifier(identifier.map(|identifier| (identifier, source)));
     }
+    system.set_delay(scenario.sensing.delay_inner_periods)?;
     Ok(system)
 }
 

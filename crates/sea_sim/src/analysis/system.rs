@@ -9,6 +9,13 @@
 //! Both live on the state manifold; vectors are on its tangent space
 //! `dx = [dq (nv); dtheta (n_e); dnu (nv); dthetadot (n_e)]` (see `sea_dyn::StateLayout`),
 //! with `x (+) dx` = [`sea_plant::retract`] and `y (-) x` = [`difference`].
+//!
+//! A measurement delay of `d` inner periods (`sensing.delay_inner_periods`, sampled loops
+//! only) makes the map's state the history `z = [x(t); x(t - h); ...; x(t - d h)]`, `h` the
+//! inner period (the control period in zero-order hold): the controller's tick `j` of the
+//! period reads `x(t + (j - d) h)`, from `z` while `j < d`, and `Phi(z)` is the history at
+//! `t + T`, which the period's own inner states fill because `d h <= T`. Each of the `d + 1`
+//! slots is a state (`nx`) and its tangent (`nd`); `d = 0` is the map above.
 
 use crate::error::{Error, Result};
 use crate::scenario::IdentificationWrenches;
@@ -152,6 +159,10 @@ pub struct ClosedLoopSystem {
     pub steps_per_period: usize,
     /// The joint torque loops (multi-rate).
     joint_loop: Option<JointTorqueLoop>,
+    /// Measurement delay in inner periods (sampled loops; 0 in continuous time).
+    delay: usize,
+    /// The true states at the period's inner ticks and at its end ((inner ticks + 1) x nx).
+    inner_states: Vec<f64>,
     /// The stiffness identification feeding the joint loops, linearised converged
     /// ([`ClosedLoopSystem::converge_identification`]).
     identifier: Option<(StiffnessIdentifier, IdentificationWrenches)>,
@@ -212,6 +223,8 @@ impl ClosedLoopSystem {
             sampling,
             steps_per_period,
             joint_loop,
+            delay: 0,
+            inner_states: vec![0.0; (sampling.inner_ticks() + 1) * nx],
             identifier: None,
             method,
             pd,
@@ -240,6 +253,45 @@ impl ClosedLoopSystem {
     /// The joint torque loops (multi-rate), e.g. to give each joint its own estimate.
     pub fn joint_loop_mut(&mut self) -> Option<&mut JointTorqueLoop> {
         self.joint_loop.as_mut()
+    }
+
+    /// Sets the measurement delay to `delay` inner periods (`sensing.delay_inner_periods`):
+    /// the period map's state becomes the history of `delay + 1` states (module doc). Refused
+    /// in continuous time (a delay there has infinitely many states) and beyond one period.
+    pub fn set_delay(&mut self, delay: usize) -> Result<()> {
+        const KEY: &str = "sensing.delay_inner_periods";
+        if delay > 0 && self.sampling == ControlTiming::Continuous {
+            return Err(Error::invalid(
+                KEY,
+                "must be 0 to linearise in continuous time (a delayed loop has no finite \
+                 state there; linearise the sampled loop)",
+                delay,
+            ));
+        }
+        let inner_ticks = self.sampling.inner_ticks();
+        if delay > inner_ticks {
+            return Err(Error::invalid(
+                KEY,
+                format!("must be at most the {inner_ticks} inner periods of one control period"),
+                delay,
+            ));
+        }
+        self.delay = delay;
+        Ok(())
+    }
+
+    /// The measurement delay [inner periods].
+    pub fn delay(&self) -> usize {
+        self.delay
+    }
+
+    /// States in the linearised object's state: `delay + 1` for a period map, 1 in continuous
+    /// time.
+    pub fn slots(&self) -> usize {
+        match self.sampling {
+            ControlTiming::Continuous => 1,
+            _ => self.delay + 1,
+        }
     }
 
     /// Replaces the joint torque loops (`None`: the controller's input goes to the plant as
@@ -316,23 +368,32 @@ impl ClosedLoopSystem {
         Ok(())
     }
 
-    /// `x_out = Phi(x)`: the plant over one control period with the input `u(x)` held
-    /// (multi-rate: the torques held, the joint loops ticking on the measured state).
-    pub fn period_map(&mut self, x: &[f64], x_out: &mut [f64]) -> Result<()> {
+    /// `z_out = Phi(z)`: the plant over one control period with the input `u` held
+    /// (multi-rate: the torques held, the joint loops ticking on the measured state). `z` and
+    /// `z_out` are histories of [`ClosedLoopSystem::slots`] states, newest first (module doc);
+    /// without a delay, one state.
+    pub fn period_map(&mut self, z: &[f64], z_out: &mut [f64]) -> Result<()> {
         let period = self.period().ok_or_else(|| {
             Error::config(
                 "controller.sampling",
                 "continuous sampling has no period map",
             )
         })?;
-        self.control(x)?;
+        let (nx, delay) = (self.layout.nx(), self.delay);
+        let inner_ticks = self.sampling.inner_ticks();
+        self.inner_states[..nx].copy_from_slice(&z[..nx]);
+        // Tick 0 reads the history's oldest slot (`measurement` at tick 0).
+        self.control(&z[delay * nx..(delay + 1) * nx])?;
         let dt = period / self.steps_per_period as f64;
-        self.x_step.copy_from_slice(x);
-        let steps_per_inner = self.steps_per_period / self.sampling.inner_ticks();
+        self.x_step.copy_from_slice(&z[..nx]);
+        let steps_per_inner = self.steps_per_period / inner_ticks;
         for k in 0..self.steps_per_period {
             if k > 0 && k % steps_per_inner == 0 {
+                let tick = k / steps_per_inner;
+                self.inner_states[tick * nx..(tick + 1) * nx].copy_from_slice(&self.x_step);
                 if let Some(joint_loop) = &mut self.joint_loop {
-                    joint_loop.tick(&self.layout, &self.x_step);
+                    let measured = measurement(z, &self.inner_states, tick, delay, nx);
+                    joint_loop.tick(&self.layout, measured);
                 }
             }
             sea_plant::step(
@@ -349,21 +410,57 @@ impl ClosedLoopSystem {
             )?;
             std::mem::swap(&mut self.x_step, &mut self.x_next);
         }
-        x_out.copy_from_slice(&self.x_step);
+        let end = inner_ticks * nx;
+        self.inner_states[end..end + nx].copy_from_slice(&self.x_step);
+        for (slot, out) in z_out.chunks_exact_mut(nx).enumerate() {
+            let tick = inner_ticks - slot;
+            out.copy_from_slice(&self.inner_states[tick * nx..(tick + 1) * nx]);
+        }
         Ok(())
     }
 
-    /// The linearised object's value at `x`: `f(x)` in continuous time, `Phi(x) (-) x` over one
-    /// period in zero-order hold (the displacement of one period).
+    /// The linearised object's value at `x`: `f(x)` in continuous time, `Phi(z) (-) z` over one
+    /// period when sampled (the displacement of one period; `z` a history of
+    /// [`ClosedLoopSystem::slots`] states, [`difference_slots`]).
     pub fn displacement(&mut self, x: &[f64], out: &mut DVector<f64>) -> Result<()> {
         match self.sampling {
             ControlTiming::Continuous => self.vector_field(x, out),
             ControlTiming::ZeroOrderHold { .. } | ControlTiming::MultiRate { .. } => {
                 let mut mapped = vec![0.0; x.len()];
                 self.period_map(x, &mut mapped)?;
-                difference(&self.layout, x, &mapped, out);
+                difference_slots(&self.layout, x, &mapped, out);
                 Ok(())
             }
         }
+    }
+}
+
+/// The state the controller reads at inner tick `tick` of a period with a delay of `delay`
+/// inner periods: `x(t + (tick - delay) h)`, from the history `z` (newest first) while
+/// `tick < delay`, else from the period's own inner states.
+fn measurement<'a>(
+    z: &'a [f64],
+    inner_states: &'a [f64],
+    tick: usize,
+    delay: usize,
+    nx: usize,
+) -> &'a [f64] {
+    match tick.checked_sub(delay) {
+        Some(past_tick) => &inner_states[past_tick * nx..(past_tick + 1) * nx],
+        None => {
+            let slot = delay - tick;
+            &z[slot * nx..(slot + 1) * nx]
+        }
+    }
+}
+
+/// [`difference`] slot by slot for histories of states (`x.len() / nx` slots): `out` holds the
+/// slots' tangent differences one after the other.
+pub fn difference_slots(layout: &StateLayout, x: &[f64], y: &[f64], out: &mut DVector<f64>) {
+    let (nx, nd) = (layout.nx(), layout.nd());
+    let mut slot_out = DVector::zeros(nd);
+    for (slot, (x_slot, y_slot)) in x.chunks_exact(nx).zip(y.chunks_exact(nx)).enumerate() {
+        difference(layout, x_slot, y_slot, &mut slot_out);
+        out.rows_mut(slot * nd, nd).copy_from(&slot_out);
     }
 }
