@@ -234,7 +234,11 @@ class Plant:
         (floats), ``normal_force``, ``friction_margin``, ``cop_margin`` (n_contacts,) each (sole
         frame, negative when violated)."""
     def step(self, x: ArrayLike, u: ArrayLike, dt: float, method: str = "ros2") -> FloatArray:
-        """One step: "ros2" (Rosenbrock-W, order 2, L-stable), "implicit_euler" or "rk4"."""
+        """One step: "ros2" (Rosenbrock-W, order 2, L-stable), "implicit_euler" or "rk4".
+        A scenario's plant (``Scenario.plant``) lets ``plant.w_refresh_steps`` consecutive
+        steps share the implicit step matrix ``W`` prepared at the first one's start (any ``W``
+        keeps the order; the native run does the same, so a Python loop reproduces it); a
+        plant built with ``Plant(...)`` prepares it at every step."""
     def simulate(
         self,
         x0: ArrayLike,
@@ -455,7 +459,8 @@ class Scenario:
         """The robot model."""
     @property
     def plant(self) -> Plant:
-        """The plant, configured as the scenario says."""
+        """The plant, configured as the scenario says (its steps share ``W`` as
+        ``plant.w_refresh_steps`` says, counted from its first step)."""
     @property
     def controller(self) -> Controller:
         """The controller with the scenario's references."""

@@ -48,11 +48,31 @@ impl Problem {
 
     /// Errors at the final time of `method` with steps `dt / 2^k` (k < levels).
     fn errors(&self, method: Method, dt: f64, levels: usize) -> Vec<f64> {
+        self.errors_sharing_w(method, dt, levels, 1)
+    }
+
+    /// [`Problem::errors`] with up to `w_refresh_steps` consecutive steps sharing `W`.
+    fn errors_sharing_w(
+        &self,
+        method: Method,
+        dt: f64,
+        levels: usize,
+        w_refresh_steps: usize,
+    ) -> Vec<f64> {
         (0..levels)
             .map(|k| {
                 let h = dt / f64::from(1 << k);
                 let steps = (self.final_time / h).round() as usize;
-                let x = run(&self.plant, &self.x0, &self.u, h, steps, method, |_| {});
+                let (x0, u) = (&self.x0, &self.u);
+                let x = run_sharing_w(
+                    &self.plant,
+                    x0,
+                    u,
+                    (h, steps),
+                    method,
+                    w_refresh_steps,
+                    |_| {},
+                );
                 state_distance(&x, &self.reference)
             })
             .collect()
@@ -139,6 +159,49 @@ fn orders_on_the_icub_in_contact_with_the_motor_velocity_loop() {
     ] {
         check_orders("icub", method, &problem.errors(method, dt, levels), order);
     }
+}
+
+/// ROS2 with up to 10 consecutive steps sharing the `W` prepared at the first one's start
+/// (`IntegratorCache::set_w_refresh_steps`): still second order (a W-method), as accurate as
+/// with a `W` per step to a few percent of the error, and bounded on the stiff springs where it
+/// is with its own `W` per step.
+#[test]
+fn ros2_sharing_w_over_steps_keeps_its_order_and_stiff_stability() {
+    let problem = icub_on_one_foot();
+    let shared = problem.errors_sharing_w(Method::Ros2, 2e-3, 4, 10);
+    check_orders("icub, W shared", Method::Ros2, &shared, 2.0);
+    let own = problem.errors(Method::Ros2, 2e-3, 4);
+    assert_ne!(shared, own, "the steps did not share W");
+    for (s, o) in shared.iter().zip(&own) {
+        assert!((s - o).abs() < 0.05 * o, "shared W {s:e}, own W {o:e}");
+    }
+    let (plant, x0) = stiff_icub();
+    let u = vec![0.0; plant.model.n_joints()];
+    let mut pd = PlantData::new(&plant);
+    pd.integrator.set_w_refresh_steps(10);
+    let ros2 = simulate(
+        &plant,
+        &mut pd,
+        &x0,
+        &u,
+        1e-3,
+        1000,
+        Method::Ros2,
+        10,
+        |_| true,
+    )
+    .unwrap();
+    let layout = plant.layout();
+    let peak_speed = ros2
+        .state
+        .chunks(x0.len())
+        .flat_map(|x| layout.nu(x).iter().map(|v| v.abs()))
+        .fold(0.0, f64::max);
+    assert_eq!(ros2.status, Status::Completed);
+    assert!(
+        peak_speed < 1.0,
+        "ROS2, shared W: peak velocity {peak_speed}"
+    );
 }
 
 /// The iCub with stiff springs (`K_S = 1e4`) on both feet, motor velocity loop, no joint

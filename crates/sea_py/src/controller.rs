@@ -363,7 +363,10 @@ impl PyScenario {
         Ok(Self {
             name: scenario.name.clone(),
             model: Py::new(py, PyModel::from_model(setup.model))?,
-            plant: Py::new(py, PyPlant::from_plant(setup.plant))?,
+            plant: Py::new(
+                py,
+                PyPlant::from_plant(setup.plant, scenario.plant.w_refresh_steps),
+            )?,
             controller: Py::new(py, controller)?,
             initial_state: setup.x0,
             schedule,

@@ -156,9 +156,11 @@ pub struct PyPlant {
 }
 
 impl PyPlant {
-    /// The Python object of a built plant (e.g. a scenario's), with a fresh workspace.
-    pub(crate) fn from_plant(plant: Plant) -> Self {
-        let data = PlantData::new(&plant);
+    /// The Python object of a built plant (e.g. a scenario's), with a fresh workspace whose
+    /// steps share `W` over `w_refresh_steps` steps (`plant.w_refresh_steps`).
+    pub(crate) fn from_plant(plant: Plant, w_refresh_steps: usize) -> Self {
+        let mut data = PlantData::new(&plant);
+        data.integrator.set_w_refresh_steps(w_refresh_steps);
         Self {
             plant,
             data,

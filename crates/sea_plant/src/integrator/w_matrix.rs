@@ -26,8 +26,8 @@ pub(crate) struct MotorElimination {
     t1: f64,
 }
 
-/// `W` for one step (`k = 6 n_contacts`): prepared once at the step start, solved once per
-/// stage.
+/// `W` (`k = 6 n_contacts`): prepared at a step start, solved once per stage of that step and
+/// of the steps that reuse it (`IntegratorCache::set_w_refresh_steps`).
 #[derive(Clone, Debug)]
 pub(crate) struct WMatrix {
     /// Step scale `g` (`gamma dt`).
@@ -133,6 +133,11 @@ impl WMatrix {
                 format!("contact constraints are degenerate (pivot {i})"),
             )
         })
+    }
+
+    /// The step scale `g` it was prepared for (0 before the first).
+    pub(crate) fn g(&self) -> f64 {
+        self.g
     }
 
     /// Solves `W k = r` (tangent vectors, size nd) with the matrix of [`WMatrix::prepare`].

@@ -160,9 +160,23 @@ pub fn run(
     dt: f64,
     n: usize,
     method: Method,
+    observe: impl FnMut(&[f64]),
+) -> Vec<f64> {
+    run_sharing_w(plant, x0, u, (dt, n), method, 1, observe)
+}
+
+/// [`run`] with up to `w_refresh_steps` consecutive steps sharing the implicit step's `W`.
+pub fn run_sharing_w(
+    plant: &Plant,
+    x0: &[f64],
+    u: &[f64],
+    (dt, n): (f64, usize),
+    method: Method,
+    w_refresh_steps: usize,
     mut observe: impl FnMut(&[f64]),
 ) -> Vec<f64> {
     let mut pd = PlantData::new(plant);
+    pd.integrator.set_w_refresh_steps(w_refresh_steps);
     let mut x = x0.to_vec();
     let mut next = x0.to_vec();
     observe(&x);

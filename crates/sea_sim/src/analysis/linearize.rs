@@ -447,6 +447,7 @@ pub fn closed_loop_system(
         system.set_identifier(identifier.map(|identifier| (identifier, source)));
     }
     system.set_delay(scenario.sensing.delay_inner_periods)?;
+    system.set_w_refresh_steps(scenario.plant.w_refresh_steps);
     Ok(system)
 }
 

@@ -280,6 +280,13 @@ impl ClosedLoopSystem {
         Ok(())
     }
 
+    /// Lets up to `steps` consecutive plant steps share the implicit step's `W`
+    /// (`plant.w_refresh_steps`); each period map prepares its own at its start, so the map
+    /// is a function of its argument alone.
+    pub fn set_w_refresh_steps(&mut self, steps: usize) {
+        self.pd.integrator.set_w_refresh_steps(steps);
+    }
+
     /// The measurement delay [inner periods].
     pub fn delay(&self) -> usize {
         self.delay
@@ -385,6 +392,7 @@ impl ClosedLoopSystem {
         // Tick 0 reads the history's oldest slot (`measurement` at tick 0).
         self.control(&z[delay * nx..(delay + 1) * nx])?;
         let dt = period / self.steps_per_period as f64;
+        self.pd.integrator.refresh_w();
         self.x_step.copy_from_slice(&z[..nx]);
         let steps_per_inner = self.steps_per_period / inner_ticks;
         for k in 0..self.steps_per_period {

@@ -273,7 +273,7 @@ impl<'a> Engine<'a> {
                 .controller
                 .stiffness_identifier(controller, joints.estimates())
         });
-        let mut pd = PlantData::new(plant);
+        let mut pd = scenario.plant.plant_data(plant);
         let disturbances = DisturbanceSchedule::new(
             &scenario.disturbances,
             &plant.model,

@@ -452,6 +452,14 @@ mod tests {
     }
 
     #[test]
+    fn w_refresh_steps_below_one_are_refused_naming_the_key() {
+        for value in ["0", "-1", "2.5"] {
+            let (named, message) = refusal("plant.w_refresh_steps", value);
+            assert_eq!(named, "plant.w_refresh_steps", "{message}");
+        }
+    }
+
+    #[test]
     fn unknown_keys_list_every_key_of_their_table() {
         let (_, message) = refusal("actuators.stifness", "1");
         assert!(message.contains("one of `kind`, `ratio`"), "{message}");

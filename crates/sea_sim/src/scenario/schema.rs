@@ -168,6 +168,11 @@ pub struct PlantConfig {
     pub dt: f64,
     /// The integrator: "ros2" (default), "implicit_euler" or "rk4".
     pub method: Method,
+    /// Consecutive steps of the linearly implicit methods that may share the step matrix `W`
+    /// and its factors, prepared at the first one's start (default 10; 1: every step its own;
+    /// at least 1). Any `W` keeps the method's order; it is prepared afresh when a motor's
+    /// saturation changes (`sea_plant::IntegratorCache::set_w_refresh_steps`).
+    pub w_refresh_steps: usize,
 }
 
 impl Default for PlantConfig {
@@ -179,11 +184,19 @@ impl Default for PlantConfig {
             joint_inertia_regularization: icub().joint_inertia_regularization,
             dt: 1e-3,
             method: Method::Ros2,
+            w_refresh_steps: 10,
         }
     }
 }
 
 impl PlantConfig {
+    /// Buffers to step `plant` with these settings (`w_refresh_steps`).
+    pub fn plant_data(&self, plant: &Plant) -> sea_plant::PlantData {
+        let mut data = sea_plant::PlantData::new(plant);
+        data.integrator.set_w_refresh_steps(self.w_refresh_steps);
+        data
+    }
+
     /// The Baumgarte velocity gain: `baumgarte_kd`, or the critical damping of the kp.
     pub fn baumgarte_kd(&self) -> f64 {
         self.baumgarte_kd

@@ -159,6 +159,13 @@ fn robot(scenario: &Scenario) -> Result<()> {
 fn plant(scenario: &Scenario) -> Result<()> {
     let p = &scenario.plant;
     positive("plant.dt", p.dt)?;
+    if p.w_refresh_steps == 0 {
+        return Err(Error::invalid(
+            "plant.w_refresh_steps",
+            "must be at least 1 (1: every step prepares its own W)",
+            p.w_refresh_steps,
+        ));
+    }
     positive("plant.motor_velocity_gain", p.motor_velocity_gain)?;
     non_negative("plant.baumgarte_kp", p.baumgarte_kp)?;
     if let Some(kd) = p.baumgarte_kd {
