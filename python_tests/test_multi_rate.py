@@ -33,3 +33,8 @@ def test_a_delay_is_in_the_period_map_and_refused_in_continuous_time():
     assert not lin.stable and lin.growth_rate > 0.5
     with pytest.raises(sm.ScenarioError, match="sensing.delay_inner_periods"):
         sm.linearize(MULTI_RATE, overrides={"sensing.delay_inner_periods": 1}, sampling="continuous")
+
+
+def test_the_delay_margin_is_scanned_at_whole_numbers():
+    boundaries = sm.stability_margin(MULTI_RATE, "sensing.delay_inner_periods", 7, 10, grid_points=4)
+    assert boundaries == [8.5]

@@ -342,6 +342,7 @@ def stability_margin_native(
 ) -> dict[str, object]:
     """Stability boundaries of a scenario key (GIL released); use
     ``sea_momentum.stability_margin``. Returns ``parameter``, ``boundaries`` (ascending),
+    ``integer`` (the key takes whole numbers: each boundary halfway between two),
     ``conclusion`` ("boundaries" | "stable_over_range" | "unstable_over_range"), ``own_value``
     (the scenario's value, or None), ``own_value_stable``, ``stable_island`` ((low, high)
     containing the own value, or None), ``method``, ``evaluations`` and ``samples`` (list of

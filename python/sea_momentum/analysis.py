@@ -123,7 +123,9 @@ def stability_margin(
     closed loop's stability changes, ascending (empty when it never changes), GIL released.
 
     A grid of ``grid_points`` values (logarithmic with ``log_grid``) is scanned and every change
-    bisected to 1e-3 of the range. ``method``: ``"eigen"`` (growth rate of the linearisation
+    bisected to 1e-3 of the range; a key that takes whole numbers (e.g.
+    ``sensing.delay_inner_periods``) is scanned at whole numbers, each boundary halfway between
+    the two neighbours it separates (8.5: one verdict at 8, the other at 9). ``method``: ``"eigen"`` (growth rate of the linearisation
     about the equilibrium at t = 0) or ``"simulate"`` (the scenario run completes). Errors name
     an unknown or non-numeric key, or an empty or inverted range.
     """

@@ -113,7 +113,8 @@ pub fn linearize_native<'py>(
 }
 
 /// The values of `parameter` in `[lower, upper]` where the closed loop's stability changes.
-/// Returns a dict: `parameter`, `boundaries` (ascending), `conclusion` ("boundaries",
+/// Returns a dict: `parameter`, `boundaries` (ascending; for a key that takes whole numbers,
+/// `integer` true, each halfway between two of them), `conclusion` ("boundaries",
 /// "stable_over_range" or "unstable_over_range"), `own_value` (the scenario's value, or None),
 /// `own_value_stable` (None unless evaluated), `stable_island` ((low, high) containing the
 /// own value, or None), `method`, `evaluations`, `samples` (a list of (value, stable,
@@ -149,6 +150,7 @@ pub fn stability_margin_native<'py>(
     let d = PyDict::new(py);
     d.set_item("parameter", &report.parameter)?;
     d.set_item("boundaries", report.boundaries.clone())?;
+    d.set_item("integer", report.integer)?;
     d.set_item("conclusion", report.conclusion().name())?;
     d.set_item("own_value", report.own_value)?;
     d.set_item("own_value_stable", report.own_value_stable())?;

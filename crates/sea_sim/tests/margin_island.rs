@@ -84,3 +84,29 @@ fn one_sided_scans_say_stable_or_unstable_over_the_range() {
         Some([IslandEnd::RangeEnd(0.99), IslandEnd::RangeEnd(1.0)])
     );
 }
+
+/// A key that takes whole numbers is scanned at whole numbers: the delay margin of the
+/// multi-rate design (`sensing.delay_inner_periods`) lies between 8 and 9 inner periods, the
+/// boundary reported halfway; a range holding fewer than two whole numbers is refused.
+#[test]
+fn a_whole_number_key_is_scanned_at_whole_numbers() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/robot_rate/tracking_multi_rate.toml");
+    const DELAY: &str = "sensing.delay_inner_periods";
+    assert_eq!(scenario_value(&path, &[], DELAY).unwrap(), Some(0.0));
+    let options = MarginOptions::default();
+    let report = stability_margin_report(&path, &[], DELAY, 0.0, 10.0, &options).unwrap();
+    assert!(report.integer);
+    assert!(report.samples.iter().all(|s| s.value.fract() == 0.0));
+    assert_eq!(report.boundaries, vec![8.5]);
+    let stable_at = |v: f64| report.samples.iter().find(|s| s.value == v).unwrap().stable;
+    assert!(stable_at(8.0) && !stable_at(9.0));
+    assert_eq!(
+        report.island(),
+        Some([IslandEnd::RangeEnd(0.0), IslandEnd::Boundary(8.5)])
+    );
+    let message = stability_margin_report(&path, &[], DELAY, 0.2, 0.8, &options)
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("whole numbers"), "{message}");
+}

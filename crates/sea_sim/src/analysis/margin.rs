@@ -10,6 +10,11 @@
 //! is still seen and bisected on both sides; the report names the stable interval that
 //! contains the scenario's value ([`MarginReport::island`]) and, when the scan saw one side
 //! only, says so ([`MarginReport::conclusion`]) instead of "no boundary".
+//!
+//! A key that takes whole numbers (e.g. `sensing.delay_inner_periods`) is scanned at whole
+//! numbers only: the grid rounded, bisection down to neighbours, and each boundary reported
+//! halfway between the last value on one side and the first on the other (8.5: one verdict
+//! at 8, the other at 9; [`MarginReport::integer`]).
 
 use super::linearize::{linearize_with, LinearizeOptions};
 use crate::error::{Error, Result};
@@ -102,6 +107,8 @@ pub struct MarginReport {
     pub own_value: Option<f64>,
     /// Values where stability changes, ascending.
     pub boundaries: Vec<f64>,
+    /// Whether the key takes whole numbers (each boundary then lies halfway between two).
+    pub integer: bool,
     /// Every evaluation, in the order done.
     pub samples: Vec<MarginSample>,
 }
@@ -200,6 +207,7 @@ impl MarginReport {
 /// (defaults filled in).
 #[derive(serde::Serialize)]
 struct ParsedSections<'a> {
+    sensing: &'a crate::scenario::SensingConfig,
     plant: &'a crate::scenario::PlantConfig,
     controller: &'a crate::scenario::ControllerConfig,
     reference: &'a crate::scenario::ReferenceConfig,
@@ -208,15 +216,30 @@ struct ParsedSections<'a> {
 
 /// The value of the numeric key `parameter` (dotted, e.g. `controller.stiffness_estimate_scale`)
 /// in the scenario at `path` with `overrides`, the schema's default when the file does not set
-/// it. Reads the keys of `[plant]`, `[controller]`, `[reference]` and `[simulation]`;
-/// `Ok(None)` for another key or one without a number.
+/// it. Reads the keys of `[sensing]`, `[plant]`, `[controller]`, `[reference]` and
+/// `[simulation]`; `Ok(None)` for another key or one without a number.
 pub fn scenario_value(
     path: &Path,
     overrides: &[(String, String)],
     parameter: &str,
 ) -> Result<Option<f64>> {
+    Ok(match scenario_number(path, overrides, parameter)? {
+        Some(toml::Value::Float(x)) => Some(x),
+        Some(toml::Value::Integer(n)) => Some(n as f64),
+        _ => None,
+    })
+}
+
+/// The parsed scenario's value of `parameter` as TOML (a float, an integer, or anything else
+/// the key holds); `None` when the sections read by [`scenario_value`] do not have it.
+fn scenario_number(
+    path: &Path,
+    overrides: &[(String, String)],
+    parameter: &str,
+) -> Result<Option<toml::Value>> {
     let scenario = Scenario::from_file(path, overrides)?;
     let sections = ParsedSections {
+        sensing: &scenario.sensing,
         plant: &scenario.plant,
         controller: &scenario.controller,
         reference: &scenario.reference,
@@ -228,11 +251,7 @@ pub fn scenario_value(
     for part in parameter.split('.') {
         value = value.and_then(|v| v.get(part));
     }
-    Ok(match value {
-        Some(toml::Value::Float(x)) => Some(*x),
-        Some(toml::Value::Integer(n)) => Some(*n as f64),
-        _ => None,
-    })
+    Ok(value.cloned())
 }
 
 /// Checks the range: finite, `lower < upper`, positive for a log grid.
@@ -274,8 +293,18 @@ pub fn scenario_with(
     parameter: &str,
     value: f64,
 ) -> Result<Scenario> {
+    scenario_with_literal(path, overrides, parameter, toml::Value::Float(value))
+}
+
+/// [`scenario_with`] for a value given as a TOML literal (an integer for a whole-number key).
+fn scenario_with_literal(
+    path: &Path,
+    overrides: &[(String, String)],
+    parameter: &str,
+    literal: toml::Value,
+) -> Result<Scenario> {
     let mut all = overrides.to_vec();
-    all.push((parameter.to_string(), toml::Value::Float(value).to_string()));
+    all.push((parameter.to_string(), literal.to_string()));
     match Scenario::from_file(path, &all) {
         Ok(scenario) => Ok(scenario),
         Err(Error::Scenario {
@@ -298,13 +327,20 @@ struct Judge<'a> {
     overrides: &'a [(String, String)],
     parameter: &'a str,
     options: &'a MarginOptions,
+    /// Whether the key takes whole numbers (the values are then integral).
+    integer: bool,
     samples: Vec<MarginSample>,
 }
 
 impl Judge<'_> {
     /// Evaluates stability at `value`; returns a signed indicator (negative = stable).
     fn indicator(&mut self, value: f64) -> Result<f64> {
-        let scenario = scenario_with(self.path, self.overrides, self.parameter, value)?;
+        let literal = if self.integer {
+            toml::Value::Integer(value as i64)
+        } else {
+            toml::Value::Float(value)
+        };
+        let scenario = scenario_with_literal(self.path, self.overrides, self.parameter, literal)?;
         let (stable, growth_rate) = match self.options.method {
             MarginMethod::Eigen => {
                 let lin = linearize_with(&scenario, &self.options.linearize)?;
@@ -324,10 +360,11 @@ impl Judge<'_> {
     }
 }
 
-/// The scan's values.
-fn grid(lower: f64, upper: f64, options: &MarginOptions) -> Vec<f64> {
+/// The scan's values (rounded to whole numbers, ends inside the range and duplicates
+/// dropped, for an `integer` key).
+fn grid(lower: f64, upper: f64, options: &MarginOptions, integer: bool) -> Vec<f64> {
     let n = options.grid_points;
-    (0..n)
+    let mut values: Vec<f64> = (0..n)
         .map(|k| {
             let a = k as f64 / (n - 1) as f64;
             if options.log_grid {
@@ -336,7 +373,24 @@ fn grid(lower: f64, upper: f64, options: &MarginOptions) -> Vec<f64> {
                 lower + a * (upper - lower)
             }
         })
-        .collect()
+        .collect();
+    if integer {
+        for value in &mut values {
+            *value = value.round().clamp(lower.ceil(), upper.floor());
+        }
+        values.dedup();
+    }
+    values
+}
+
+/// Whether a bracket `[a, b]` is narrow enough to stop bisecting: neighbours for an
+/// integer key, else narrower than `width`.
+fn bracket_closed(a: f64, b: f64, width: f64, integer: bool) -> bool {
+    if integer {
+        b - a <= 1.0
+    } else {
+        b - a <= width
+    }
 }
 
 /// The values of `parameter` in `[lower, upper]` where stability changes, with every
@@ -350,15 +404,26 @@ pub fn stability_margin_report(
     options: &MarginOptions,
 ) -> Result<MarginReport> {
     check_range(lower, upper, options)?;
+    let integer = matches!(
+        scenario_number(path, overrides, parameter)?,
+        Some(toml::Value::Integer(_))
+    );
+    if integer && lower.ceil() >= upper.floor() {
+        return Err(Error::config(
+            "range",
+            format!("{parameter} takes whole numbers: [{lower}, {upper}] must hold at least two"),
+        ));
+    }
     let mut judge = Judge {
         path,
         overrides,
         parameter,
         options,
+        integer,
         samples: Vec::new(),
     };
     let own_value = scenario_value(path, overrides, parameter)?;
-    let mut values = grid(lower, upper, options);
+    let mut values = grid(lower, upper, options, integer);
     if let Some(own) = own_value.filter(|v| (lower..=upper).contains(v)) {
         if !values.contains(&own) {
             values.push(own);
@@ -376,8 +441,12 @@ pub fn stability_margin_report(
             continue;
         }
         let (mut a, mut b) = (values[k - 1], values[k]);
-        while b - a > width {
-            let middle = 0.5 * (a + b);
+        while !bracket_closed(a, b, width, integer) {
+            let middle = if integer {
+                (0.5 * (a + b)).floor()
+            } else {
+                0.5 * (a + b)
+            };
             if (judge.indicator(middle)? >= 0.0) == signs[k - 1] {
                 a = middle;
             } else {
@@ -392,6 +461,7 @@ pub fn stability_margin_report(
         range: [lower, upper],
         own_value,
         boundaries,
+        integer,
         samples: judge.samples,
     })
 }

@@ -703,6 +703,7 @@ fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
         "method": report.method.name(),
         "range": [lower, upper],
         "boundaries": report.boundaries,
+        "integer": report.integer,
         "conclusion": report.conclusion().name(),
         "own_value": report.own_value,
         "own_value_stable": report.own_value_stable(),
@@ -731,6 +732,14 @@ fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -> String {
     use sea_sim::analysis::margin::{IslandEnd, MarginConclusion};
     let [lower, upper] = report.range;
     let mut text = match report.conclusion() {
+        MarginConclusion::Boundaries if report.integer => {
+            let between: Vec<String> = report
+                .boundaries
+                .iter()
+                .map(|b| format!("between {} and {}", b - 0.5, b + 0.5))
+                .collect();
+            format!("stability changes {}", between.join(", "))
+        }
         MarginConclusion::Boundaries => {
             let boundaries: Vec<String> =
                 report.boundaries.iter().map(|b| format!("{b}")).collect();
