@@ -93,6 +93,40 @@ fn the_relaxed_momentum_task_recovers_pushes_the_papers_qp_falls_from() {
     }
 }
 
+/// The robot description's momentum gains for two feet hold the CoM stiffly: a 5.5 N s push
+/// sideways (41 % of the capture-point bound) tips the lightly loaded sole of the rigid
+/// controller at 100 Hz while the CoM has barely moved; with compliant horizontal CoM gains
+/// (`scripts/robot_rate.py`'s `COMPLIANT_GAINS`) the CoM moves with the push and the same push
+/// is recovered.
+#[test]
+fn compliant_com_gains_recover_a_sideways_push_the_stiff_ones_fall_from() {
+    let path = push_two_feet();
+    let options = PushOptions::default();
+    let stance = Stance::of(&scenario(&[]).unwrap()).unwrap();
+    let left = stance.direction(PushDirection::Left);
+    let rigid_100_hz = [
+        ("actuators.kind", "\"rigid\""),
+        ("controller.kind", "\"rigid\""),
+        ("controller.sampling", "\"zero_order_hold\""),
+        ("controller.rate_hz", "100.0"),
+    ];
+    let compliant = (
+        "controller.momentum_integral",
+        "[5.0, 3.0, 40.0, 1.0, 5.0, 1.0]",
+    );
+    let pairs = |extra: &[(&str, &str)]| -> Vec<(String, String)> {
+        rigid_100_hz
+            .iter()
+            .chain(extra)
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect()
+    };
+    let stiff = push_run(&path, &pairs(&[]), &options, left, 5.5).unwrap();
+    assert_eq!(stiff.status, "fell", "{}", stiff.reason);
+    let caught = push_run(&path, &pairs(&[compliant]), &options, left, 5.5).unwrap();
+    assert_eq!(caught.status, "completed", "{}", caught.reason);
+}
+
 #[test]
 fn the_capture_point_bound_follows_the_feet_and_the_com_height() {
     let stance = Stance::of(&scenario(&[]).unwrap()).unwrap();
