@@ -22,6 +22,21 @@ fn scenario(overrides: &[(&str, &str)]) -> sea_sim::Result<Scenario> {
     Scenario::from_file(&push_two_feet(), &pairs)
 }
 
+/// The rigid robot under the rigid controller at 100 Hz (zero-order hold), with `extra`
+/// overrides after it.
+fn rigid_100_hz(extra: &[(&str, &str)]) -> Vec<(String, String)> {
+    [
+        ("actuators.kind", "\"rigid\""),
+        ("controller.kind", "\"rigid\""),
+        ("controller.sampling", "\"zero_order_hold\""),
+        ("controller.rate_hz", "100.0"),
+    ]
+    .iter()
+    .chain(extra)
+    .map(|(k, v)| (k.to_string(), v.to_string()))
+    .collect()
+}
+
 #[test]
 fn a_push_below_the_recoverable_impulse_recovers_and_one_above_falls() {
     let path = push_two_feet();
@@ -56,34 +71,21 @@ fn the_relaxed_momentum_task_recovers_pushes_the_papers_qp_falls_from() {
     let path = push_two_feet();
     let options = PushOptions::default();
     let stance = Stance::of(&scenario(&[]).unwrap()).unwrap();
-    let rigid_100_hz = [
-        ("actuators.kind", "\"rigid\""),
-        ("controller.kind", "\"rigid\""),
-        ("controller.sampling", "\"zero_order_hold\""),
-        ("controller.rate_hz", "100.0"),
-    ];
     let papers_qp = [
         ("controller.momentum_relaxation", "\"none\""),
         ("controller.qp_moment_regularization", "0.0"),
         ("controller.contact.cop_margin", "0.0"),
     ];
-    let pairs = |extra: &[(&str, &str)]| -> Vec<(String, String)> {
-        rigid_100_hz
-            .iter()
-            .chain(extra)
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect()
-    };
     for (direction, impulse, edge) in [
         (PushDirection::Backward, 4.0, -0.05),
         (PushDirection::Left, 3.0, 0.025),
     ] {
         let d = stance.direction(direction);
-        let paper = push_run(&path, &pairs(&papers_qp), &options, d, impulse).unwrap();
+        let paper = push_run(&path, &rigid_100_hz(&papers_qp), &options, d, impulse).unwrap();
         assert_eq!(paper.status, "fell", "{direction:?}: {}", paper.reason);
         let fall = paper.fall.unwrap();
         assert_eq!((fall.constraint, fall.bound), ("center_of_pressure", edge));
-        let ours = push_run(&path, &pairs(&[]), &options, d, impulse).unwrap();
+        let ours = push_run(&path, &rigid_100_hz(&[]), &options, d, impulse).unwrap();
         assert_eq!(ours.status, "completed", "{direction:?}: {}", ours.reason);
         assert_eq!(ours.qp_failures, 0);
         if direction == PushDirection::Backward {
@@ -104,26 +106,13 @@ fn compliant_com_gains_recover_a_sideways_push_the_stiff_ones_fall_from() {
     let options = PushOptions::default();
     let stance = Stance::of(&scenario(&[]).unwrap()).unwrap();
     let left = stance.direction(PushDirection::Left);
-    let rigid_100_hz = [
-        ("actuators.kind", "\"rigid\""),
-        ("controller.kind", "\"rigid\""),
-        ("controller.sampling", "\"zero_order_hold\""),
-        ("controller.rate_hz", "100.0"),
-    ];
     let compliant = (
         "controller.momentum_integral",
         "[5.0, 3.0, 40.0, 1.0, 5.0, 1.0]",
     );
-    let pairs = |extra: &[(&str, &str)]| -> Vec<(String, String)> {
-        rigid_100_hz
-            .iter()
-            .chain(extra)
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect()
-    };
-    let stiff = push_run(&path, &pairs(&[]), &options, left, 5.5).unwrap();
+    let stiff = push_run(&path, &rigid_100_hz(&[]), &options, left, 5.5).unwrap();
     assert_eq!(stiff.status, "fell", "{}", stiff.reason);
-    let caught = push_run(&path, &pairs(&[compliant]), &options, left, 5.5).unwrap();
+    let caught = push_run(&path, &rigid_100_hz(&[compliant]), &options, left, 5.5).unwrap();
     assert_eq!(caught.status, "completed", "{}", caught.reason);
 }
 

@@ -107,11 +107,6 @@ impl IntegratorCache {
         self.w_refresh_steps = steps.max(1);
     }
 
-    /// Steps that may share one `W`.
-    pub fn w_refresh_steps(&self) -> usize {
-        self.w_refresh_steps
-    }
-
     /// Makes the next step prepare `W` at its own start (e.g. at a period whose start state
     /// must not depend on earlier calls).
     pub fn refresh_w(&mut self) {

@@ -283,21 +283,12 @@ fn check_range(lower: f64, upper: f64, options: &MarginOptions) -> Result<()> {
     Ok(())
 }
 
-/// The scenario with `parameter = value` on top of `overrides`. When the scenario loads without
-/// the parameter but not with it, the error names the parameter: either its value is out of
-/// range (the schema's own message, which names the key) or the key is unknown or not a
-/// number (serde's "unknown field" or "invalid type").
+/// The scenario with `parameter = literal` (a TOML value: a float, or an integer for a key
+/// that takes whole numbers) on top of `overrides`. When the scenario loads without the
+/// parameter but not with it, the error names the parameter: either its value is out of range
+/// (the schema's own message, which names the key) or the key is unknown or not a number
+/// (serde's "unknown field" or "invalid type").
 pub fn scenario_with(
-    path: &Path,
-    overrides: &[(String, String)],
-    parameter: &str,
-    value: f64,
-) -> Result<Scenario> {
-    scenario_with_literal(path, overrides, parameter, toml::Value::Float(value))
-}
-
-/// [`scenario_with`] for a value given as a TOML literal (an integer for a whole-number key).
-fn scenario_with_literal(
     path: &Path,
     overrides: &[(String, String)],
     parameter: &str,
@@ -340,7 +331,7 @@ impl Judge<'_> {
         } else {
             toml::Value::Float(value)
         };
-        let scenario = scenario_with_literal(self.path, self.overrides, self.parameter, literal)?;
+        let scenario = scenario_with(self.path, self.overrides, self.parameter, literal)?;
         let (stable, growth_rate) = match self.options.method {
             MarginMethod::Eigen => {
                 let lin = linearize_with(&scenario, &self.options.linearize)?;

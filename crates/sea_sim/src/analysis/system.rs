@@ -287,11 +287,6 @@ impl ClosedLoopSystem {
         self.pd.integrator.set_w_refresh_steps(steps);
     }
 
-    /// The measurement delay [inner periods].
-    pub fn delay(&self) -> usize {
-        self.delay
-    }
-
     /// States in the linearised object's state: `delay + 1` for a period map, 1 in continuous
     /// time.
     pub fn slots(&self) -> usize {
