@@ -91,14 +91,7 @@ fn a_websocket_client_receives_the_advertised_channels_and_messages() {
         .collect();
     let mut advertised: BTreeMap<String, serde_json::Value> = BTreeMap::new();
     while advertised.len() < expected.len() {
-        assert!(
-            started.elapsed() < DEADLINE,
-            "advertise within the deadline"
-        );
-        let Message::Text(text) = socket.read().expect("a message") else {
-            continue;
-        };
-        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let json = next_json(&mut socket, started, "advertise");
         if json["op"] == "advertise" {
             for channel in json["channels"].as_array().unwrap() {
                 advertised.insert(channel["topic"].as_str().unwrap().into(), channel.clone());
@@ -113,23 +106,14 @@ fn a_websocket_client_receives_the_advertised_channels_and_messages() {
     assert_eq!(advertised["/com"]["encoding"], "json");
 
     // Subscribed to /com, the client receives message data (opcode 0x01) with JSON in it.
-    let subscribe = serde_json::json!({
-        "op": "subscribe",
-        "subscriptions": [{"id": 7, "channelId": advertised["/com"]["id"]}],
-    });
-    socket
-        .send(Message::text(subscribe.to_string()))
-        .expect("subscribe");
+    subscribe(&mut socket, 7, &advertised["/com"]["id"]);
     let mut times_ns = Vec::new();
     let mut first_at = None;
     // Until the messages span SPAN_S of simulated time.
     const SPAN_S: f64 = 0.5;
     while times_ns.len() < 2 || (times_ns[times_ns.len() - 1] - times_ns[0]) as f64 * 1e-9 < SPAN_S
     {
-        assert!(started.elapsed() < DEADLINE, "messages within the deadline");
-        let Message::Binary(data) = socket.read().expect("a message") else {
-            continue;
-        };
+        let data = next_binary(&mut socket, started, "messages");
         assert_eq!(data[0], 0x01, "message data");
         assert_eq!(u32::from_le_bytes(data[1..5].try_into().unwrap()), 7);
         times_ns.push(u64::from_le_bytes(data[5..13].try_into().unwrap()));
@@ -148,14 +132,45 @@ fn a_websocket_client_receives_the_advertised_channels_and_messages() {
     let _ = socket.close(None);
 }
 
+/// The client's end of the live view.
+type Socket = tungstenite::WebSocket<TcpStream>;
+
+/// The next text message of the server, as JSON, within the deadline counted from `started`
+/// (`what` names the wait in the failure).
+fn next_json(socket: &mut Socket, started: Instant, what: &str) -> serde_json::Value {
+    loop {
+        assert!(started.elapsed() < DEADLINE, "{what} within the deadline");
+        if let Message::Text(text) = socket.read().expect("a message") {
+            return serde_json::from_str(&text).unwrap();
+        }
+    }
+}
+
+/// The next binary message (message data) of the server, within the deadline counted from
+/// `started`.
+fn next_binary(socket: &mut Socket, started: Instant, what: &str) -> Vec<u8> {
+    loop {
+        assert!(started.elapsed() < DEADLINE, "{what} within the deadline");
+        if let Message::Binary(data) = socket.read().expect("a message") {
+            return data.to_vec();
+        }
+    }
+}
+
+/// Subscribes the client's subscription `id` to the channel `channel_id`.
+fn subscribe(socket: &mut Socket, id: u32, channel_id: &serde_json::Value) {
+    let request = serde_json::json!({
+        "op": "subscribe",
+        "subscriptions": [{"id": id, "channelId": channel_id}],
+    });
+    socket
+        .send(Message::text(request.to_string()))
+        .expect("subscribe");
+}
+
 /// The handshake of a client offering the Foxglove subprotocols, on `port`: the socket and
 /// the server's response.
-fn connect(
-    port: u16,
-) -> (
-    tungstenite::WebSocket<TcpStream>,
-    tungstenite::handshake::client::Response,
-) {
+fn connect(port: u16) -> (Socket, tungstenite::handshake::client::Response) {
     let stream = TcpStream::connect(("127.0.0.1", port)).expect("connect");
     stream.set_read_timeout(Some(DEADLINE)).unwrap();
     let mut request = format!("ws://127.0.0.1:{port}")
@@ -182,37 +197,18 @@ fn a_fall_reaches_the_live_view_on_events() {
     let (_running, port) = start_scenario(PUSH, 3.0, &[push]);
     let (mut socket, _) = connect(port);
     let events = loop {
-        assert!(
-            started.elapsed() < DEADLINE,
-            "advertise within the deadline"
-        );
-        let Message::Text(text) = socket.read().expect("a message") else {
-            continue;
-        };
-        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let json = next_json(&mut socket, started, "advertise");
         let channels = json["channels"].as_array().cloned().unwrap_or_default();
         if let Some(channel) = channels.iter().find(|c| c["topic"] == "/events") {
             assert_eq!(channel["schemaName"], "foxglove.Log");
             break channel["id"].clone();
         }
     };
-    let subscribe = serde_json::json!({
-        "op": "subscribe",
-        "subscriptions": [{"id": 3, "channelId": events}],
-    });
-    socket
-        .send(Message::text(subscribe.to_string()))
-        .expect("subscribe");
-    loop {
-        assert!(started.elapsed() < DEADLINE, "the fall within the deadline");
-        let Message::Binary(data) = socket.read().expect("a message") else {
-            continue;
-        };
-        assert_eq!(u32::from_le_bytes(data[1..5].try_into().unwrap()), 3);
-        let text = String::from_utf8_lossy(&data[13..]);
-        assert!(text.contains("fell at t = 1.0"), "{text}");
-        assert!(text.contains("center_of_pressure"), "{text}");
-        break;
-    }
+    subscribe(&mut socket, 3, &events);
+    let data = next_binary(&mut socket, started, "the fall");
+    assert_eq!(u32::from_le_bytes(data[1..5].try_into().unwrap()), 3);
+    let text = String::from_utf8_lossy(&data[13..]);
+    assert!(text.contains("fell at t = 1.0"), "{text}");
+    assert!(text.contains("center_of_pressure"), "{text}");
     let _ = socket.close(None);
 }

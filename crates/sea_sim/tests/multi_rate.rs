@@ -44,6 +44,23 @@ fn simulated_growth(scenario: &Scenario, lin: &Linearization, start: f64, margin
     slope(&points)
 }
 
+/// Prints the predicted and the observed growth rate of `case` and checks that they agree
+/// within 5 % of the predicted one.
+fn assert_growth_within_5_percent(case: &str, lin: &Linearization, observed: f64) {
+    let error = (observed - lin.growth_rate).abs() / lin.growth_rate;
+    println!(
+        "{case}: predicted {:.3} 1/s, observed {observed:.3} 1/s ({:.1} %), {:?}",
+        lin.growth_rate,
+        100.0 * error,
+        lin.dominant_states
+    );
+    assert!(
+        error < 0.05,
+        "predicted {} observed {observed}",
+        lin.growth_rate
+    );
+}
+
 /// Least-squares slope of `points` `(t, y)`.
 fn slope(points: &[(f64, f64)]) -> f64 {
     let count = points.len() as f64;
@@ -87,18 +104,7 @@ fn period_map_growth_matches_simulation_for_the_paper_law_at_500_hz() {
     assert!(lin.equilibrium.converged, "{}", lin.equilibrium.residual);
     assert!(!lin.stable && lin.growth_rate > 1.0, "{}", lin.growth_rate);
     let simulated = simulated_growth(&scenario, &lin, 0.02, 0.02);
-    let error = (simulated - lin.growth_rate).abs() / lin.growth_rate;
-    println!(
-        "paper law, 100 Hz / 500 Hz: predicted {:.2} 1/s, simulated {simulated:.2} 1/s ({:.1} %), {:?}",
-        lin.growth_rate,
-        100.0 * error,
-        lin.dominant_states
-    );
-    assert!(
-        error < 0.05,
-        "predicted {} simulated {simulated}",
-        lin.growth_rate
-    );
+    assert_growth_within_5_percent("paper law, 100 Hz / 500 Hz", &lin, simulated);
 }
 
 /// The default design's period map is stable at 100 Hz / 1 kHz.
@@ -190,18 +196,7 @@ fn delayed_period_map_predicts_the_growth_of_a_delayed_loop() {
     );
     assert!(!lin.stable && lin.growth_rate > 1.0, "{}", lin.growth_rate);
     let simulated = map_growth(&scenario, &lin, 100, 20);
-    let error = (simulated - lin.growth_rate).abs() / lin.growth_rate;
-    println!(
-        "new design, 10 ms delay: predicted {:.3} 1/s, map {simulated:.3} 1/s ({:.1} %), {:?}",
-        lin.growth_rate,
-        100.0 * error,
-        lin.dominant_states
-    );
-    assert!(
-        error < 0.05,
-        "predicted {} simulated {simulated}",
-        lin.growth_rate
-    );
+    assert_growth_within_5_percent("new design, 10 ms delay", &lin, simulated);
 }
 
 /// Growth rate [1/s] of the period map of `scenario` started at `lin`'s equilibrium history
