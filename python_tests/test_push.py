@@ -27,16 +27,24 @@ def test_a_small_push_is_recovered_and_a_large_one_falls_on_a_named_foot():
 
 
 def test_the_push_applied_at_each_sample_is_in_the_result():
-    """``disturbance_wrench`` (m, 6): the push's world wrench at the samples of its window."""
+    """``disturbance_wrench`` (m, 6): the push's world wrench at the samples of its window;
+    ``external_wrench`` (m, 6): the scenario's observer's estimate the controller took, zero
+    before the push, then rising towards the push's force (5 Hz low pass, one period late)."""
     import numpy as np
 
-    result = sm.run_scenario(PUSH, {"disturbances": [push(5.0)], "simulation.duration_s": 1.5})
+    overrides = {"disturbances": [push(5.0)], "simulation.duration_s": 1.5, "simulation.record_every": 1}
+    result = sm.run_scenario(PUSH, overrides)
     wrench = result.disturbance_wrench
     assert wrench.dtype == np.float64 and wrench.shape == (len(result.time), 6)
     inside = (result.time >= 1.0 - 1e-9) & (result.time < 1.1 - 1e-9)
-    assert inside.sum() > 10
+    assert inside.sum() == 10  # the whole-body ticks (100 Hz) of the 0.1 s window
     assert (wrench[inside] == [50.0, 0.0, 0.0, 0.0, 0.0, 0.0]).all()
     assert (wrench[~inside] == 0.0).all()
+    estimate = result.external_wrench
+    assert estimate.dtype == np.float64 and estimate.shape == (len(result.time), 6)
+    assert np.abs(estimate[result.time < 1.0 - 1e-9]).max() < 1.0
+    at_end = estimate[inside][-1]
+    assert 25.0 < at_end[0] < 55.0 and abs(at_end[1]) < 2.0, at_end
 
 
 def test_a_fall_is_a_warning_on_events_and_the_run_metadata_of_the_log(tmp_path):

@@ -45,6 +45,10 @@ REFUSED = [
     ("controller.qp_moment_regularization", -1.0, "controller.qp_moment_regularization"),
     ("controller.contact.cop_margin", 1.0, "controller.contact.cop_margin"),
     ("controller.momentum_relaxation", "always", "controller.momentum_relaxation"),
+    ("controller.external_wrench", "estimated", "controller.external_wrench"),
+    ("controller.external_wrench_bandwidth_hz", 0.0, "controller.external_wrench_bandwidth_hz"),
+    ("controller.external_wrench_bandwidth_hz", NAN, "controller.external_wrench_bandwidth_hz"),
+    ("simulation.stop_at_joint_limits", "yes", "simulation.stop_at_joint_limits"),
     ("simulation.divergence_com_error_m", NAN, "simulation.divergence_com_error_m"),
     ("simulation.divergence_joint_error_rad", 0.0, "simulation.divergence_joint_error_rad"),
     ("simulation.divergence_joint_error_rad", NAN, "simulation.divergence_joint_error_rad"),
@@ -75,6 +79,13 @@ def test_zero_damping_is_fine_with_the_rigid_controller():
         TRACKING, {**TINY, "actuators.damping": 0.0, "controller.kind": "rigid"}
     )
     assert result.status == "completed"
+
+
+def test_the_external_wrench_observer_needs_sampled_control():
+    """The paper's tracking file samples continuously; the observer runs once per period."""
+    with pytest.raises(sm.ScenarioError, match="zero_order_hold") as info:
+        sm.run_scenario(TRACKING, {**TINY, "controller.external_wrench": "observed"})
+    assert info.value.key == "controller.external_wrench"
 
 
 def test_min_normal_force_message_gives_the_weight():
@@ -282,6 +293,7 @@ NUMBER_KEYS = [
     "simulation.record_every",
     "simulation.divergence_com_error_m",
     "simulation.divergence_joint_error_rad",
+    "controller.external_wrench_bandwidth_hz",
     "robot.initial_posture",
 ]
 

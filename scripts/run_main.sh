@@ -35,6 +35,10 @@ python scripts/plot_com.py scenarios/robots/talos_two_feet.toml "$out/talos_two_
 
 echo "== at the robot's rate: robustness maps and pushes of the 100 Hz / 1 kHz loop (scripts/robot_rate.py)"
 python scripts/robot_rate.py "$out/robot_rate" --sea-sim "$sea_sim" --outcomes "$out/outcomes.md"
+# The push scenario as shipped (5 N s forward at 1 s, recovered): the push's arrow, the
+# observer's estimate on /momentum and the recovery in Foxglove.
+"$sea_sim" run scenarios/robot_rate/push_two_feet.toml --mcap "$out/robot_rate/push_two_feet.mcap" \
+    --summary "$out/robot_rate/push_two_feet_summary.json" --quiet > /dev/null
 
 echo "== dynamics check on urdf/icub25.urdf"
 python -m sea_momentum check --urdf urdf/icub25.urdf --out "$out"

@@ -272,7 +272,8 @@ def run_scenario_native(
     (m, 6), ``contact_wrenches`` (m, n_contacts, 6), ``motor_torques`` (m, n_e),
     ``joint_error_norm`` (m,), ``qp_solved`` (m,), ``disturbance_wrench`` (m, 6: the
     ``[[disturbances]]`` acting from each sample on, summed, ``[force; torque]`` world axes,
-    each torque about its link's origin); ints ``nq``, ``nv``, ``ne``; name lists
+    each torque about its link's origin), ``external_wrench`` (m, 6: the external wrench the
+    controller took, ``[force; moment about the CoM]``); ints ``nq``, ``nv``, ``ne``; name lists
     ``joint_names``, ``elastic_joints``, ``contacts``; ``summary``, the keyword arguments of
     ``sea_momentum.results.RunSummary``. Ctrl-C stops
     the run at its next tick (the MCAP log is finished) and raises ``KeyboardInterrupt`` whose
@@ -423,6 +424,12 @@ class Controller:
     def inner_tick(self, x: ArrayLike) -> FloatArray:
         """``multi_rate`` only: one joint torque loop tick at state ``x`` (nx) between two
         ticks, the plant input (n); ``ValueError`` for another sampling."""
+    def set_external_wrench(self, wrench: ArrayLike) -> None:
+        """The external wrench (6,: force, moment about the CoM; world axes) [N, Nm] the
+        controller's dynamics take as acting on the base from the next ``tick`` on, e.g. an
+        estimate of a push; zeros: none. ``ValueError`` for another shape or a non-finite
+        value. The scenario's observer (``controller.external_wrench = "observed"``) runs in
+        the native run only."""
     def com_reference(self, t: float) -> FloatArray:
         """The CoM reference at ``t``, (3,) world [m]."""
     @property

@@ -27,4 +27,5 @@ class ControlOutput(Result):
     qp_message: str  #: why the QP failed ("" when solved)
     com: FloatArray  #: (3,) CoM, world [m]
     momentum: FloatArray  #: (6,) centroidal momentum [m pdot_com; L_com]
+    external_wrench: FloatArray  #: (6,) the external wrench the tick's dynamics took on the base, [force; moment about the CoM], world axes (``Controller.set_external_wrench``; zeros: none)
     com_reference: FloatArray  #: (3,) the CoM reference at t, world [m]

@@ -37,6 +37,10 @@ class ScenarioResult(Result):
     #: (m, 6) float64, the ``[[disturbances]]`` acting from each sample on, summed:
     #: [force; torque], world axes, each torque about its link's origin (zero: no push)
     disturbance_wrench: FloatArray
+    #: (m, 6) float64, the external wrench the controller's dynamics took at each tick:
+    #: [force; moment about the CoM], world axes (``controller.external_wrench = "observed"``:
+    #: the observer's estimate; zero otherwise)
+    external_wrench: FloatArray
     joint_names: list[str]  #: joint names in coordinate order
     elastic_joints: list[str]  #: elastic joint names, the columns of the motor arrays
     contacts: list[str]  #: contact frame names, the second axis of ``contact_wrenches``
@@ -72,6 +76,7 @@ class ScenarioResult(Result):
             joint_error_norm=fields["joint_error_norm"],
             qp_solved=fields["qp_solved"],
             disturbance_wrench=fields["disturbance_wrench"],
+            external_wrench=fields["external_wrench"],
             joint_names=list(fields["joint_names"]),
             elastic_joints=list(fields["elastic_joints"]),
             contacts=list(fields["contacts"]),

@@ -22,6 +22,7 @@
 //! tick is allocated in [`MomentumController::new`].
 
 use crate::error::{Error, Result};
+use crate::external_wrench::base_generalized_force;
 use crate::momentum::{
     desired_momentum, momentum_equality_target, momentum_integral_error,
     momentum_map_identity_blocks, momentum_rate_star, set_momentum_map_contact, MomentumJacobian,
@@ -139,6 +140,9 @@ pub struct ControlOutput {
     pub com: Vector3<f64>,
     /// Centroidal momentum `[m pdot_com; L_com]`.
     pub momentum: Vector6<f64>,
+    /// The external wrench the tick's dynamics took as acting on the base, `[force; moment
+    /// about the CoM]` (world axes; zero: none, [`MomentumController::set_external_wrench`]).
+    pub external_wrench: Vector6<f64>,
 }
 
 impl ControlOutput {
@@ -153,6 +157,7 @@ impl ControlOutput {
             qp_status: QpStatus::Solved,
             com: Vector3::zeros(),
             momentum: Vector6::zeros(),
+            external_wrench: Vector6::zeros(),
         }
     }
 }
@@ -332,6 +337,9 @@ pub struct MomentumController {
     relaxed_wrenches: DVector<f64>,
     /// Ticks solved by the relaxed momentum task.
     relaxations: usize,
+    /// The external wrench the dynamics take as acting on the base, about the CoM, world axes
+    /// [N, Nm] ([`crate::external_wrench`]; zero unless set).
+    external_wrench: Vector6<f64>,
 }
 
 impl MomentumController {
@@ -382,6 +390,7 @@ impl MomentumController {
             relaxed_qp,
             relaxed_wrenches: DVector::zeros(k),
             relaxations: 0,
+            external_wrench: Vector6::zeros(),
             settings,
             contact_frames,
             contact_references,
@@ -467,6 +476,23 @@ impl MomentumController {
         &self.settings
     }
 
+    /// The external wrench (about the CoM, world axes) [N, Nm] that the dynamics of the next
+    /// ticks take as acting on the floating base, e.g. an observer's estimate
+    /// ([`crate::external_wrench`]); zero: none (the paper's controller).
+    pub fn set_external_wrench(&mut self, wrench: &Vector6<f64>) {
+        self.external_wrench = *wrench;
+    }
+
+    /// The momentum map `A` (6 x k, paper hDot) of the last tick.
+    pub fn momentum_map(&self) -> &DMatrix<f64> {
+        &self.terms.momentum_map
+    }
+
+    /// The robot's weight `m g` in the controller's model (world) [N].
+    pub fn weight(&self) -> Vector3<f64> {
+        self.model.gravity * self.mass
+    }
+
     /// An output sized for this controller, for [`Self::compute_into`].
     pub fn new_output(&self) -> ControlOutput {
         let (n, n_motor_velocities, k) = self.output_sizes();
@@ -509,6 +535,7 @@ impl MomentumController {
         self.plant_input(out);
         out.com = com;
         out.momentum = momentum;
+        out.external_wrench = self.external_wrench;
         Ok(())
     }
 
@@ -666,8 +693,9 @@ impl MomentumController {
         Ok((com, momentum))
     }
 
-    /// `M` (in `data`), `h` into the torque map (SEA controller: with hjBar in the joint rows),
-    /// the CoM [m, world] and the centroidal momentum at the state.
+    /// `M` (in `data`), `h` into the torque map (SEA controller: with hjBar in the joint rows;
+    /// less the external wrench's generalized force in the base rows when one is set), the CoM
+    /// [m, world] and the centroidal momentum at the state.
     fn model_terms(&mut self, x: &[f64], layout: &StateLayout) -> (Vector3<f64>, Vector6<f64>) {
         let model = &self.model;
         let (q, nu) = (layout.q(x), layout.nu(x));
@@ -678,6 +706,10 @@ impl MomentumController {
         copy_contiguous(&mut map.bias, sea_dyn::bias_forces(model, data, q, nu));
         let momentum = sea_dyn::centroidal_momentum_from_dynamics(data);
         let com = data.p_base_world + data.p_com_rel;
+        if self.external_wrench != Vector6::zeros() {
+            let force = base_generalized_force(&self.external_wrench, &data.p_com_rel);
+            map.bias.rows_mut(0, 6).axpy(-1.0, &force, 1.0);
+        }
         sea_dyn::crba_after_rnea(model, data);
         if self.settings.kind == ControllerKind::Sea {
             subtract_spring_torque(

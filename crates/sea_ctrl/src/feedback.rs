@@ -76,6 +76,11 @@ impl<C: BorrowMut<MomentumController>> FeedbackLaw<C> {
         self.controller.borrow()
     }
 
+    /// The controller, to set what it holds between ticks (e.g. its external wrench).
+    pub fn controller_mut(&mut self) -> &mut MomentumController {
+        self.controller.borrow_mut()
+    }
+
     /// The CoM reference.
     pub fn com_reference(&self) -> &ComTrajectory {
         &self.com_reference

@@ -13,6 +13,8 @@
 //! - [`references`]: the CoM trajectory and the postural reference;
 //! - [`joint_loop`]: the joint torque loop of the multi-rate architecture (the paper's law is
 //!   its special case);
+//! - [`external_wrench`]: the unmodelled external wrench (a push) estimated from the
+//!   centroidal momentum and the feet's force/torque sensors, taken into the dynamics;
 //! - [`stiffness_id`]: online identification of the spring stiffness from the encoders and the
 //!   model.
 //!
@@ -22,6 +24,7 @@
 
 pub mod controller;
 pub mod error;
+pub mod external_wrench;
 pub mod feedback;
 pub mod joint_loop;
 pub mod momentum;

@@ -132,6 +132,8 @@ fn output_object<'py>(
     fields.set_item("qp_message", message)?;
     fields.set_item("com", vector_out(py, out.com.as_slice()))?;
     fields.set_item("momentum", vector_out(py, out.momentum.as_slice()))?;
+    let external_wrench = out.external_wrench.as_slice();
+    fields.set_item("external_wrench", vector_out(py, external_wrench))?;
     py.import("sea_momentum.controller")?
         .getattr("ControlOutput")?
         .call((), Some(&fields))
@@ -285,6 +287,22 @@ impl PyController {
         };
         vector_arg(x, "x", layout.nx(), &mut self.x)?;
         Ok(vector_out(py, joint_loop.tick(&layout, &self.x)))
+    }
+
+    /// The external wrench `wrench` (6: force, moment about the CoM; world axes) [N, Nm] that
+    /// the controller's dynamics take as acting on the base from the next `tick` on
+    /// (`sea_ctrl::external_wrench`), e.g. a caller's estimate of a push; zeros: none. The
+    /// scenario's observer (`controller.external_wrench = "observed"`) runs in the native run
+    /// only.
+    fn set_external_wrench(&mut self, wrench: &Bound<'_, PyAny>) -> PyResult<()> {
+        let mut values = Vec::with_capacity(6);
+        vector_arg(wrench, "wrench", 6, &mut values)?;
+        if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
+            return Err(argument_error("wrench", "finite values", bad));
+        }
+        let wrench = nalgebra::Vector6::from_column_slice(&values);
+        self.law.controller_mut().set_external_wrench(&wrench);
+        Ok(())
     }
 
     /// The CoM reference at `t` [s]: position (3,) in world [m].

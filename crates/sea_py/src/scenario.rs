@@ -66,7 +66,8 @@ pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<Stri
 /// Runs the scenario file `path` with `overrides` ({"controller.kind": "rigid", ...}; values
 /// are TOML literals or bare strings), optionally writing an MCAP log. Returns a dict of arrays
 /// (time, x, thetadot_desired, com, com_reference, momentum, contact_wrenches, motor_torques,
-/// joint_error_norm, qp_solved, disturbance_wrench; float64, one row per recorded tick), the
+/// joint_error_norm, qp_solved, disturbance_wrench, external_wrench; float64, one row per
+/// recorded tick), the
 /// layout (nq, nv, ne),
 /// names, and the summary as a dict of the fields of `sea_momentum.results.RunSummary`.
 /// `package_dirs` are searched first for the URDF's `package://` meshes drawn in the log.
@@ -139,6 +140,10 @@ pub fn run_scenario_native<'py>(
     dict.set_item(
         "disturbance_wrench",
         matrix_rows_out(py, &record.disturbance_wrench, 6),
+    )?;
+    dict.set_item(
+        "external_wrench",
+        matrix_rows_out(py, &record.external_wrench, 6),
     )?;
     dict.set_item("nq", nq)?;
     dict.set_item("nv", nv)?;

@@ -122,6 +122,7 @@ fn for_each_sample(model: &Model, count: usize, mut f: impl FnMut(&Sample)) {
             joint_error_norm: 0.0,
             qp_status: if k % 10 == 9 { &fallback } else { &solved },
             disturbance_wrenches: &[],
+            external_wrench: [0.0; 6],
             qp_failures: k / 10,
         };
         f(&sample);
@@ -361,6 +362,7 @@ fn bad_sizes_are_errors_and_unwritable_path_is_io_error() {
         joint_error_norm: 0.0,
         qp_status: &QpStatus::Solved,
         disturbance_wrenches: &[],
+        external_wrench: [0.0; 6],
         qp_failures: 0,
     };
     assert!(matches!(logger.log(&sample), Err(sea_sim::Error::Log(_))));

@@ -85,6 +85,7 @@ fn log_size(model: &Model, urdf: Option<&Path>, file: &Path) -> u64 {
             joint_error_norm: 0.0,
             qp_status: &QpStatus::Solved,
             disturbance_wrenches: &[],
+            external_wrench: [0.0; 6],
             qp_failures: 0,
         };
         logger.log(&sample).unwrap();

@@ -326,7 +326,10 @@ fn a_push_does_not_corrupt_the_identification() {
 
 /// A push once the identification has converged (5.5 N s forward at 3 s, from a x0.5
 /// estimate): with the estimates held for `identification_hold_s` (1 s) after the push was
-/// detected the robot recovers; identifying through the recovery (hold 0) it does not.
+/// detected the robot recovers; identifying through the recovery (hold 0) it does not. Measured
+/// on the design without the push observer, with the stiff CoM gains and the joint limits
+/// unchecked, where the recovery moves the robot fast; with the push scenario's design the hold
+/// changes little (`sea-sim push --start 3`: 11.19 N s forward held, 10.98 not held).
 #[test]
 fn converged_estimates_are_held_through_the_recovery_from_a_push() {
     let push =
@@ -337,6 +340,13 @@ fn converged_estimates_are_held_through_the_recovery_from_a_push() {
             (key, "0.5"),
             ("disturbances", push),
             ("controller.identification_hold_s", hold),
+            ("controller.external_wrench", "\"none\""),
+            (
+                "controller.momentum_integral",
+                "[40.0, 45.0, 40.0, 1.0, 5.0, 1.0]",
+            ),
+            ("controller.postural_scale", "0.2"),
+            ("simulation.stop_at_joint_limits", "false"),
         ]);
         run(&scenario, |_, _| {}).unwrap().1
     };

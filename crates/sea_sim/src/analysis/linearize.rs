@@ -23,12 +23,13 @@
 //! `(d + 1) nd` square and the tangent coordinates of the older slots are named with the
 //! suffix `@-i` (`i` inner periods earlier). The equilibrium is the undelayed loop's, every
 //! slot at it. Continuous time has no finite-dimensional delayed state: a delay there is
-//! refused, naming the key.
+//! refused, naming the key. So is an external wrench observer (`controller.external_wrench =
+//! "observed"`), whose estimate is not a state of the map.
 
 use super::eigen::{eigenvalues, eigenvector, spectrum_distance};
 use super::system::{difference_slots, ClosedLoopSystem, ControlTiming};
-use crate::error::Result;
-use crate::scenario::Scenario;
+use crate::error::{Error, Result};
+use crate::scenario::{ExternalWrench, Scenario, Setting};
 use nalgebra::{Complex, DMatrix, DVector};
 
 /// Options of [`linearize_with`].
@@ -424,11 +425,21 @@ pub fn linearize_system(
 }
 
 /// The closed loop of `scenario` with the references frozen at `options.time`, with its
-/// sensing delay (`sensing.delay_inner_periods`, refused in continuous time).
+/// sensing delay (`sensing.delay_inner_periods`, refused in continuous time). An external
+/// wrench observer (`controller.external_wrench = "observed"`) is refused: its estimate is
+/// not a state of the map.
 pub fn closed_loop_system(
     scenario: &Scenario,
     options: &LinearizeOptions,
 ) -> Result<ClosedLoopSystem> {
+    if scenario.controller.external_wrench == ExternalWrench::Observed {
+        return Err(Error::invalid(
+            "controller.external_wrench",
+            "the period map has no state for the observer's estimate (analyse the loop with \
+             \"none\")",
+            ExternalWrench::Observed.name(),
+        ));
+    }
     let setup = crate::scenario::build(scenario)?;
     let sampling = match options.sampling {
         Some(sampling) => sampling,

@@ -43,6 +43,10 @@ pub struct Sample<'a> {
     pub com_reference: [f64; 3],
     /// Centroidal momentum `[m pdot_com; L_com]`.
     pub momentum: [f64; 6],
+    /// The external wrench the controller's dynamics took at this tick, `[force; moment about
+    /// the CoM]` (`controller.external_wrench = "observed"`: the observer's estimate; zero
+    /// otherwise).
+    pub external_wrench: [f64; 6],
     /// Simulated contact wrenches, 6 per contact `[force; moment]` at the frame origins.
     pub contact_wrenches: &'a [f64],
     /// Motor torques applied by the plant [Nm] (n_e).
@@ -101,6 +105,8 @@ pub struct RunRecord {
     pub com_reference: Vec<f64>,
     /// Centroidal momentum (rows x 6).
     pub momentum: Vec<f64>,
+    /// The external wrench the controller took (rows x 6), `[force; moment about the CoM]`.
+    pub external_wrench: Vec<f64>,
     /// Simulated contact wrenches (rows x 6 n_contacts).
     pub contact_wrenches: Vec<f64>,
     /// Motor torques applied by the plant (rows x n_e).
@@ -142,6 +148,8 @@ impl RecordSink for RunRecord {
         self.com.extend_from_slice(&sample.com);
         self.com_reference.extend_from_slice(&sample.com_reference);
         self.momentum.extend_from_slice(&sample.momentum);
+        self.external_wrench
+            .extend_from_slice(&sample.external_wrench);
         self.contact_wrenches
             .extend_from_slice(sample.contact_wrenches);
         self.motor_torques.extend_from_slice(sample.motor_torques);

@@ -66,6 +66,15 @@ pub enum Divergence {
         /// The bound [rad].
         bound: f64,
     },
+    /// With `simulation.stop_at_joint_limits`: a joint left its URDF position limits.
+    JointOutsideLimits {
+        /// The joint's URDF name.
+        joint: String,
+        /// Its position [rad or m].
+        value: f64,
+        /// The limit it crossed [rad or m].
+        limit: f64,
+    },
     /// A plant step gave a state that is not finite.
     NonFiniteState,
     /// The controller failed at the sample (its error message).
@@ -81,12 +90,13 @@ pub enum Divergence {
 
 impl Divergence {
     /// A stable machine-readable name: `"com_error_over_bound"`, `"joint_error_over_bound"`,
-    /// `"non_finite_state"`, `"controller_failed"`, `"plant_failed"`, `"plant_step_failed"` or
+    /// `"joint_outside_limits"`, `"non_finite_state"`, `"controller_failed"`, `"plant_failed"`, `"plant_step_failed"` or
     /// `"step_failed"`.
     pub fn kind(&self) -> &'static str {
         match self {
             Divergence::ComErrorOverBound { .. } => "com_error_over_bound",
             Divergence::JointErrorOverBound { .. } => "joint_error_over_bound",
+            Divergence::JointOutsideLimits { .. } => "joint_outside_limits",
             Divergence::NonFiniteState => "non_finite_state",
             Divergence::ControllerFailed(_) => "controller_failed",
             Divergence::PlantFailed(_) => "plant_failed",
@@ -98,7 +108,8 @@ impl Divergence {
 
 impl std::fmt::Display for Divergence {
     /// The quantity, its value and the bound, or the failure: `CoM error 0.0051 m over the
-    /// bound 0.005 m`, `joint error norm 1.0312 rad over the bound 1 rad`, `non-finite state`,
+    /// bound 0.005 m`, `joint error norm 1.0312 rad over the bound 1 rad`, `joint l_knee at
+    /// -1.9512 beyond its limit -1.9000 (URDF)`, `non-finite state`,
     /// `controller: ...`, `plant: ...`, `plant step: ...`, `step: ...`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -111,6 +122,14 @@ impl std::fmt::Display for Divergence {
                     "joint error norm {value:.4} rad over the bound {bound} rad"
                 )
             }
+            Divergence::JointOutsideLimits {
+                joint,
+                value,
+                limit,
+            } => write!(
+                f,
+                "joint {joint} at {value:.4} beyond its limit {limit:.4} (URDF)"
+            ),
             Divergence::NonFiniteState => f.write_str("non-finite state"),
             Divergence::ControllerFailed(error) => write!(f, "controller: {error}"),
             Divergence::PlantFailed(error) => write!(f, "plant: {error}"),
@@ -377,6 +396,15 @@ mod tests {
                 },
                 "joint error norm 1.0312 rad over the bound 1 rad",
                 "joint_error_over_bound",
+            ),
+            (
+                Divergence::JointOutsideLimits {
+                    joint: "torso_pitch".into(),
+                    value: -0.34951,
+                    limit: -0.3490658503988659,
+                },
+                "joint torso_pitch at -0.3495 beyond its limit -0.3491 (URDF)",
+                "joint_outside_limits",
             ),
             (
                 Divergence::NonFiniteState,

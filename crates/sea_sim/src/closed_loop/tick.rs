@@ -10,6 +10,7 @@ use super::sensing::Sensor;
 use super::statistics::{Divergence, RunEnd};
 use crate::error::Result;
 use crate::scenario::{DisturbanceSchedule, IdentificationWrenches, Scenario, Setup};
+use sea_ctrl::external_wrench::ExternalWrenchObserver;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::stiffness_id::StiffnessIdentifier;
@@ -43,6 +44,30 @@ fn bound_crossed(observation: &Observation, scenario: &Scenario) -> Option<Diver
     } else {
         None
     }
+}
+
+/// With `simulation.stop_at_joint_limits`: the first joint (model order) whose position in
+/// `s` (n) lies outside its URDF limits.
+fn joint_limit_crossed(model: &Model, s: &[f64], scenario: &Scenario) -> Option<Divergence> {
+    if !scenario.simulation.stop_at_joint_limits {
+        return None;
+    }
+    model.joints.iter().find_map(|joint| {
+        let value = s[joint.coordinate];
+        let [lower, upper] = joint.position_limits;
+        let limit = if value < lower {
+            lower
+        } else if value > upper {
+            upper
+        } else {
+            return None;
+        };
+        Some(Divergence::JointOutsideLimits {
+            joint: joint.name.clone(),
+            value,
+            limit,
+        })
+    })
 }
 
 /// `value > bound`, and NaN (an undefined error) counts as over.
@@ -239,6 +264,9 @@ pub(super) struct Engine<'a> {
     identifier: Option<StiffnessIdentifier>,
     /// The state the identification reads at the current sample (the measured one).
     identified_state: Vec<f64>,
+    /// `controller.external_wrench = "observed"`: the observer whose estimate the controller's
+    /// dynamics take.
+    external_wrench: Option<ExternalWrenchObserver>,
     /// Fall detection on the plant's outputs at each sample.
     contact_check: ContactCheck,
     /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
@@ -281,9 +309,13 @@ impl<'a> Engine<'a> {
             &mut pd.workspace,
         )?;
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
+        let external_wrench = scenario
+            .controller
+            .external_wrench_observer(schedule.period);
         Ok(Engine {
             joint_loop,
             identifier,
+            external_wrench,
             identified_state: x0.clone(),
             scenario,
             model,
@@ -374,7 +406,9 @@ impl<'a> Engine<'a> {
             return self.continuous_period(time);
         }
         self.tick_law(time)?;
-        let stop = match bound_crossed(self.law.last(), self.scenario) {
+        let crossed = bound_crossed(self.law.last(), self.scenario)
+            .or_else(|| joint_limit_crossed(self.model, self.layout.s(&self.x), self.scenario));
+        let stop = match crossed {
             Some(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
             None if interrupted => Some(RunEnd::Interrupted),
             None if last => Some(RunEnd::Completed),
@@ -412,6 +446,7 @@ impl<'a> Engine<'a> {
         };
         if end.is_none() {
             self.identify();
+            self.observe_external_wrench();
         }
         Ok(Period { end })
     }
@@ -437,6 +472,24 @@ impl<'a> Engine<'a> {
             wrenches,
             estimates,
         );
+    }
+
+    /// With `controller.external_wrench = "observed"`: one update of the observer with the
+    /// sample's momentum and momentum map (the law's tick) and the plant's contact wrenches
+    /// there (the feet's force/torque sensors); the controller's dynamics take the estimate from
+    /// the next tick on.
+    fn observe_external_wrench(&mut self) {
+        let Some(observer) = &mut self.external_wrench else {
+            return;
+        };
+        let controller = self.law.controller();
+        let estimate = *observer.update(
+            &self.law.last().output.momentum,
+            controller.momentum_map(),
+            self.side.outputs.contact_wrench.as_slice(),
+            &controller.weight(),
+        );
+        self.law.controller_mut().set_external_wrench(&estimate);
     }
 
     /// The law's tick at sample time `time`: at the true state, or with a sensor at its
@@ -535,6 +588,7 @@ impl<'a> Engine<'a> {
             com: [output.com.x, output.com.y, output.com.z],
             com_reference: observation.reference.position.into(),
             momentum: [m[0], m[1], m[2], m[3], m[4], m[5]],
+            external_wrench: output.external_wrench.into(),
             contact_wrenches: outputs.contact_wrench.as_slice(),
             motor_torques: outputs.motor_torque.as_slice(),
             joint_torques: outputs.joint_torque.as_slice(),

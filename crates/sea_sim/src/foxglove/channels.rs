@@ -120,13 +120,14 @@ const COM_SCHEMA: &str = r#"{
 
 const MOMENTUM_SCHEMA: &str = r#"{
   "title": "sea_momentum.Momentum",
-  "description": "Centroidal momentum: linear m pdot_com (kg m/s) and angular L_com (kg m^2/s), world axes",
+  "description": "Centroidal momentum: linear m pdot_com (kg m/s) and angular L_com (kg m^2/s), world axes; the external wrench the controller took (force N, moment about the CoM N m; zeros without an observer)",
   "type": "object",
   "properties": {
     "linear": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 },
-    "angular": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 }
+    "angular": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 },
+    "external_wrench": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 6, "maxItems": 6 }
   },
-  "required": ["linear", "angular"]
+  "required": ["linear", "angular", "external_wrench"]
 }"#;
 
 const JOINT_STATE_SCHEMA: &str = r#"{
@@ -236,6 +237,7 @@ struct ComMsg {
 struct MomentumMsg<'a> {
     linear: &'a [f64],
     angular: &'a [f64],
+    external_wrench: &'a [f64],
 }
 
 #[derive(Serialize)]
@@ -522,6 +524,7 @@ impl SampleEncoder {
                 &MomentumMsg {
                     linear: &sample.momentum[..3],
                     angular: &sample.momentum[3..],
+                    external_wrench: &sample.external_wrench,
                 },
             ),
             Topic::Joints => serde_json::to_writer(

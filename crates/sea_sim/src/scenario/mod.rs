@@ -30,8 +30,8 @@ pub use schema::{
     ReferenceConfig, RobotConfig, SensingConfig, SimulationConfig,
 };
 pub use settings::{
-    ActuatorKind, ComOrigin, ControllerKind, IdentificationWrenches, Method, QpSolver, Sampling,
-    Setting,
+    ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationWrenches, Method,
+    QpSolver, Sampling, Setting,
 };
 pub use std::sync::Arc;
 

@@ -7,8 +7,8 @@
 use super::parse::{table_as, take, TableResult};
 use super::robots::icub;
 use super::settings::{
-    ActuatorKind, ComOrigin, ControllerKind, IdentificationWrenches, Method, MomentumRelaxation,
-    QpSolver, Sampling,
+    ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationWrenches, Method,
+    MomentumRelaxation, QpSolver, Sampling,
 };
 use sea_ctrl::qp::ContactConstraints;
 use sea_dyn::{critical_damping, Actuator, ElasticParameters};
@@ -252,6 +252,15 @@ pub struct ControllerConfig {
     /// converged estimates stay held after a push was detected [s] (`sea_ctrl::stiffness_id`;
     /// default 1 s).
     pub identification_hold_s: f64,
+    /// The unmodelled external wrench (a push): "none" (the paper's controller; the default)
+    /// or "observed" (estimated each whole-body period from the centroidal momentum and the
+    /// feet's measured contact wrenches, and taken into the controller's dynamics as a wrench
+    /// on the base; `sea_ctrl::external_wrench`). Needs sampling "zero_order_hold" or
+    /// "multi_rate".
+    pub external_wrench: ExternalWrench,
+    /// `external_wrench = "observed"`: bandwidth of the estimate's low pass [Hz] (default
+    /// 20).
+    pub external_wrench_bandwidth_hz: f64,
     /// Controller damping estimate = true damping x scale.
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
@@ -329,6 +338,8 @@ impl Default for ControllerConfig {
             identification_deflection_noise_rad: 0.0,
             identification_hold_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
                 .hold_after_external_force,
+            external_wrench: ExternalWrench::default(),
+            external_wrench_bandwidth_hz: 20.0,
             damping_estimate_scale: 1.0,
             stiffness_estimate_scale: 1.0,
             stiffness_estimate_joint_scales: BTreeMap::new(),
@@ -374,6 +385,20 @@ impl ControllerConfig {
     ) -> sea_ctrl::joint_loop::JointTorqueLoop {
         sea_ctrl::joint_loop::JointTorqueLoop::new(controller, self.torque_bandwidth())
             .with_joint_stiffness(self.joint_stiffness)
+    }
+
+    /// `external_wrench = "observed"`: the observer for the whole-body period `period` [s];
+    /// `None` when it is off.
+    pub fn external_wrench_observer(
+        &self,
+        period: f64,
+    ) -> Option<sea_ctrl::external_wrench::ExternalWrenchObserver> {
+        (self.external_wrench == ExternalWrench::Observed).then(|| {
+            sea_ctrl::external_wrench::ExternalWrenchObserver::new(
+                period,
+                self.external_wrench_bandwidth_hz,
+            )
+        })
     }
 
     /// `multi_rate` with `stiffness_identification`: the identifier of `controller`'s elastic
@@ -498,6 +523,11 @@ pub struct SimulationConfig {
     /// truth, as in the paper's setting: used to measure the growth of an unstable mode past
     /// the moment the real robot would have fallen.
     pub stop_on_fall: bool,
+    /// A joint of the true state outside its URDF position limits ends the run as diverged
+    /// (`joint_outside_limits`; default `false`: the paper's plant has no joint limits, and
+    /// the tracking scenarios are bounded by the joint error norm). The push scenarios set it:
+    /// a recovery that bends the robot past its limits is no recovery.
+    pub stop_at_joint_limits: bool,
 }
 
 impl Default for SimulationConfig {
@@ -508,6 +538,7 @@ impl Default for SimulationConfig {
             divergence_com_error_m: 0.1,
             divergence_joint_error_rad: 1.0,
             stop_on_fall: true,
+            stop_at_joint_limits: false,
         }
     }
 }

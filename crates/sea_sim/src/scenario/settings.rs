@@ -164,6 +164,30 @@ impl Setting for IdentificationWrenches {
     }
 }
 
+/// `controller.external_wrench`: what the controller knows of an unmodelled external wrench
+/// (`sea_ctrl::external_wrench`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ExternalWrench {
+    /// Nothing: its dynamics have no external wrench (the paper's controller; the default).
+    #[default]
+    None,
+    /// Estimated from the centroidal momentum and the feet's force/torque sensors (in
+    /// simulation: the plant's contact wrenches at the sample), taken as acting on the base.
+    Observed,
+}
+
+impl Setting for ExternalWrench {
+    const ALL: &'static [Self] = &[ExternalWrench::None, ExternalWrench::Observed];
+
+    fn name(self) -> &'static str {
+        match self {
+            ExternalWrench::None => "none",
+            ExternalWrench::Observed => "observed",
+        }
+    }
+}
+
 /// `reference.com_origin`: the origin of the CoM sinusoid.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]

@@ -9,8 +9,8 @@
 //! (a minimum normal force the robot's weight cannot supply).
 
 use super::{
-    ActuatorConfig, ActuatorKind, ControllerConfig, ControllerKind, PlantConfig, Sampling,
-    Scenario, SimulationConfig,
+    ActuatorConfig, ActuatorKind, ControllerConfig, ControllerKind, ExternalWrench, PlantConfig,
+    Sampling, Scenario, Setting, SimulationConfig,
 };
 use crate::closed_loop::inner_ticks;
 use crate::error::{Error, Result};
@@ -264,10 +264,29 @@ fn controller(scenario: &Scenario) -> Result<()> {
         c.identification_deflection_noise_rad,
     )?;
     non_negative("controller.identification_hold_s", c.identification_hold_s)?;
+    external_wrench(c)?;
     non_negative(
         "controller.joint_inertia_regularization",
         c.joint_inertia_regularization,
     )
+}
+
+/// `controller.external_wrench`: a positive bandwidth; observed only with sampled control (the
+/// observer runs once per whole-body period).
+fn external_wrench(c: &ControllerConfig) -> Result<()> {
+    positive(
+        "controller.external_wrench_bandwidth_hz",
+        c.external_wrench_bandwidth_hz,
+    )?;
+    if c.external_wrench == ExternalWrench::Observed && c.sampling == Sampling::Continuous {
+        return Err(Error::invalid(
+            "controller.external_wrench",
+            "needs controller.sampling = \"zero_order_hold\" or \"multi_rate\" (the \
+             observer runs once per whole-body period)",
+            ExternalWrench::Observed.name(),
+        ));
+    }
+    Ok(())
 }
 
 /// `[controller.contact]`: positive friction, non-negative torsional friction and minimum
@@ -796,6 +815,29 @@ mod tests {
         for solver in sea_ctrl::qp::QpSolver::ALL {
             let value = format!("{:?}", solver.name());
             assert!(error_of(&[("controller.qp_solver", &value)]).is_none());
+        }
+    }
+
+    #[test]
+    fn the_external_wrench_observer_needs_sampled_control_and_a_positive_bandwidth() {
+        let observed = ("controller.external_wrench", "\"observed\"");
+        assert_refused(
+            &[observed, ("controller.sampling", "\"continuous\"")],
+            "controller.external_wrench",
+            "observed",
+        );
+        assert_refused(
+            &[("controller.external_wrench", "\"estimated\"")],
+            "controller.external_wrench",
+            "estimated",
+        );
+        for (bad, shown) in [("0.0", "0"), ("-5.0", "-5"), ("nan", "NaN"), ("inf", "inf")] {
+            let key = "controller.external_wrench_bandwidth_hz";
+            assert_refused(&[(key, bad)], key, shown);
+        }
+        for sampling in ["\"zero_order_hold\"", "\"multi_rate\""] {
+            let sampled = [observed, ("controller.sampling", sampling)];
+            assert!(error_of(&sampled).is_none(), "{sampling}");
         }
     }
 
