@@ -488,9 +488,9 @@ impl MomentumController {
         &self.terms.momentum_map
     }
 
-    /// The robot's weight `m g` in the controller's model (world) [N].
-    pub fn weight(&self) -> Vector3<f64> {
-        self.model.gravity * self.mass
+    /// The robot's mass in the controller's model [kg].
+    pub fn mass(&self) -> f64 {
+        self.mass
     }
 
     /// An output sized for this controller, for [`Self::compute_into`].

@@ -30,14 +30,15 @@
 //! update whose force residual departs from its running mean (the steady part, averaged with
 //! the same forgetting over the accepted updates) by more than
 //! `IdentificationSettings::max_external_force` times the robot's weight, or whose moment
-//! residual (about the base origin) departs by more than that force times
-//! `IdentificationSettings::external_moment_arm`, is skipped: the estimates are held through a
-//! push. The moment matters at a push's first sample: the measured wrenches have already moved
-//! load between the feet while the finite-difference `nudot` (one period late) has not seen
-//! the push, so the force residual is small (1.6 N for a 65 N sideways push on the iCub's
-//! pelvis) but the moment's is not (2.2 Nm), and that one sample put the mismatch into the
-//! lightly loaded legs' joints (their estimates moved by up to 50 %). Once the identification has run `3 T_id` (its estimates
-//! within 5 % of their fixed point), they are also held for
+//! residual (about the CoM, where a uniform mass error has none) departs by more than that
+//! force times `IdentificationSettings::external_moment_arm`, is skipped: the estimates are
+//! held through a push. The moment matters at a push's first sample: the measured wrenches
+//! have already moved load between the feet while the finite-difference `nudot` (one period
+//! late) has not seen the push, so the force residual is small (1.6 N for a 65 N sideways push
+//! on the iCub's pelvis) but the moment's is not (2.2 Nm), and that one sample put the
+//! mismatch into the lightly loaded legs' joints (their estimates moved by up to 50 %). Once
+//! the identification has run `3 T_id` (its estimates within 5 % of their fixed point), they
+//! are also held for
 //! `IdentificationSettings::hold_after_external_force` after the last skipped update: the
 //! recovery from a push moves the robot fast, where the finite-difference `nudot` makes the
 //! model's torques poor (measured: a 5.9 N s push on the converged iCub is recovered with the
@@ -64,7 +65,7 @@
 //! as strong as the noise; otherwise the estimate is held).
 
 use crate::controller::MomentumController;
-use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+use nalgebra::{DMatrix, DVector, Matrix6, Vector3, Vector6};
 use sea_dyn::jacobian::frame_jacobian_from_kinematics;
 use sea_dyn::rnea;
 use sea_dyn::{Data, ElasticParameters, FrameId, Model, StateLayout};
@@ -141,7 +142,7 @@ pub struct StiffnessIdentifier {
     contact_jacobian: DMatrix<f64>,
     /// The contact wrenches `f` of this update (6 k).
     wrenches: DVector<f64>,
-    /// The base rows' residual `r` of the last update (force, moment) [N, Nm].
+    /// The base rows' residual `r` of the last update (force; moment about the CoM) [N, Nm].
     residual: Vector6<f64>,
     /// Running mean of `r` over the accepted updates (the model's steady error), once set.
     residual_mean: Option<Vector6<f64>>,
@@ -195,8 +196,8 @@ impl StiffnessIdentifier {
     }
 
     /// The departure of the base rows' moment residual from its running mean at the last
-    /// update [Nm] (about the base origin, world axes): with measured wrenches, the moment of
-    /// the unmodelled external wrench and the first sample of a push (module doc).
+    /// update [Nm] (about the CoM, world axes): with measured wrenches, the moment of the
+    /// unmodelled external wrench and the first sample of a push (module doc).
     pub fn external_moment(&self) -> f64 {
         let mean = self.residual_mean.unwrap_or(self.residual);
         (self.residual - mean).fixed_rows::<3>(3).norm()
@@ -340,10 +341,26 @@ impl StiffnessIdentifier {
         let base = self.contact_jacobian.fixed_columns::<6>(0);
         let residual: Vector6<f64> =
             self.generalized_force.fixed_rows::<6>(0) - base.tr_mul(&self.wrenches);
-        self.residual = residual;
+        self.residual = about_the_com(&residual, &self.data);
         let normal: Matrix6<f64> = base.tr_mul(&base);
         if let Some(solution) = normal.cholesky().map(|c| c.solve(&residual)) {
             self.wrenches.gemv(1.0, &base, &solution, 1.0);
         }
     }
+}
+
+/// The base rows' wrench `wrench_o` (force; moment about the base origin `O`, world axes) as
+/// force and moment about the CoM, with the body inertias at `O` that `rnea` left in `data`:
+/// a model's mass error then shows as a force only, whatever the posture (its moment about the
+/// CoM is that of the error's own centre of mass, not the moving arm from `O`).
+fn about_the_com(wrench_o: &Vector6<f64>, data: &Data) -> Vector6<f64> {
+    let (mass, first_moment) = data
+        .body_inertia
+        .iter()
+        .fold((0.0, Vector3::zeros()), |(m, h), body| {
+            (m + body.mass, h + body.first_moment)
+        });
+    let force = wrench_o.fixed_rows::<3>(0).into_owned();
+    let moment = wrench_o.fixed_rows::<3>(3) - (first_moment / mass).cross(&force);
+    Vector6::new(force.x, force.y, force.z, moment.x, moment.y, moment.z)
 }

@@ -183,7 +183,7 @@ fn connect(port: u16) -> (Socket, tungstenite::handshake::client::Response) {
     tungstenite::client(request, stream).expect("handshake")
 }
 
-/// A run that falls (a 20 N s push on the pelvis of the two-feet iCub, about 1.02 s into the
+/// A run that falls (a 20 N s push on the pelvis of the two-feet iCub, about 1.08 s into the
 /// run): a client subscribed to `/events` receives the fall's `foxglove.Log` message.
 #[test]
 fn a_fall_reaches_the_live_view_on_events() {

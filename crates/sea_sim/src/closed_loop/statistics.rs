@@ -90,8 +90,8 @@ pub enum Divergence {
 
 impl Divergence {
     /// A stable machine-readable name: `"com_error_over_bound"`, `"joint_error_over_bound"`,
-    /// `"joint_outside_limits"`, `"non_finite_state"`, `"controller_failed"`, `"plant_failed"`, `"plant_step_failed"` or
-    /// `"step_failed"`.
+    /// `"joint_outside_limits"`, `"non_finite_state"`, `"controller_failed"`,
+    /// `"plant_failed"`, `"plant_step_failed"` or `"step_failed"`.
     pub fn kind(&self) -> &'static str {
         match self {
             Divergence::ComErrorOverBound { .. } => "com_error_over_bound",

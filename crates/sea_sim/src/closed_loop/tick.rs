@@ -10,6 +10,7 @@ use super::sensing::Sensor;
 use super::statistics::{Divergence, RunEnd};
 use crate::error::Result;
 use crate::scenario::{DisturbanceSchedule, IdentificationWrenches, Scenario, Setup};
+use nalgebra::DVector;
 use sea_ctrl::external_wrench::ExternalWrenchObserver;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::joint_loop::JointTorqueLoop;
@@ -23,9 +24,15 @@ use sea_plant::{Method, Plant, PlantData, PlantOutputs, StateLayout, Workspace};
 /// run), with clones of its references.
 pub(super) type Law<'a> = FeedbackLaw<&'a mut MomentumController>;
 
-/// The bound `observation` crosses, as the reason of a divergence: the quantity, its value and
-/// the bound. A NaN error counts as crossing.
-fn bound_crossed(observation: &Observation, scenario: &Scenario) -> Option<Divergence> {
+/// The bound the sample crosses, as the reason of a divergence: the law's `observation`'s
+/// errors (the quantity, its value and the bound; a NaN error counts as crossing), then, with
+/// `simulation.stop_at_joint_limits`, the true joint positions `s` (n) against `model`'s
+/// limits.
+fn bound_crossed(
+    observation: &Observation,
+    (model, s): (&Model, &[f64]),
+    scenario: &Scenario,
+) -> Option<Divergence> {
     let simulation = &scenario.simulation;
     let (com_bound, joint_bound) = (
         simulation.divergence_com_error_m,
@@ -41,17 +48,15 @@ fn bound_crossed(observation: &Observation, scenario: &Scenario) -> Option<Diver
             value: observation.joint_error,
             bound: joint_bound,
         })
+    } else if simulation.stop_at_joint_limits {
+        joint_limit_crossed(model, s)
     } else {
         None
     }
 }
 
-/// With `simulation.stop_at_joint_limits`: the first joint (model order) whose position in
-/// `s` (n) lies outside its URDF limits.
-fn joint_limit_crossed(model: &Model, s: &[f64], scenario: &Scenario) -> Option<Divergence> {
-    if !scenario.simulation.stop_at_joint_limits {
-        return None;
-    }
+/// The first joint (model order) whose position in `s` (n) lies outside its URDF limits.
+fn joint_limit_crossed(model: &Model, s: &[f64]) -> Option<Divergence> {
     model.joints.iter().find_map(|joint| {
         let value = s[joint.coordinate];
         let [lower, upper] = joint.position_limits;
@@ -117,6 +122,9 @@ struct PlantSide<'a> {
     u: Vec<f64>,
     /// The plant's outputs at the state of the current sample.
     outputs: PlantOutputs,
+    /// The contact wrenches at the start of the period's last plant step, the period's input
+    /// still held (6 per contact): what the feet's sensors read at the period's end.
+    period_end_wrench: DVector<f64>,
     /// `[[disturbances]]`: which external wrench acts at each plant step.
     disturbances: DisturbanceSchedule,
     /// The disturbances' wrenches at the current sample (6 per disturbance), for the record.
@@ -178,6 +186,10 @@ impl PlantSide<'_> {
         );
         if k == 0 {
             self.outputs.copy_from(&self.pd.outputs);
+        }
+        if k + 1 == schedule.steps_per_period {
+            let wrenches = &self.pd.outputs.contact_wrench;
+            self.period_end_wrench.copy_from(wrenches);
         }
         result.map_err(|e| Divergence::PlantStepFailed(e.to_string()))?;
         if self.x_next.iter().any(|v| !v.is_finite()) {
@@ -266,7 +278,7 @@ pub(super) struct Engine<'a> {
     identified_state: Vec<f64>,
     /// `controller.external_wrench = "observed"`: the observer whose estimate the controller's
     /// dynamics take.
-    external_wrench: Option<ExternalWrenchObserver>,
+    external_wrench_observer: Option<ExternalWrenchObserver>,
     /// Fall detection on the plant's outputs at each sample.
     contact_check: ContactCheck,
     /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
@@ -309,13 +321,13 @@ impl<'a> Engine<'a> {
             &mut pd.workspace,
         )?;
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
-        let external_wrench = scenario
+        let external_wrench_observer = scenario
             .controller
             .external_wrench_observer(schedule.period);
         Ok(Engine {
             joint_loop,
             identifier,
-            external_wrench,
+            external_wrench_observer,
             identified_state: x0.clone(),
             scenario,
             model,
@@ -333,6 +345,7 @@ impl<'a> Engine<'a> {
                 x_step: x0.clone(),
                 u: vec![0.0; model.n_joints()],
                 outputs: PlantOutputs::new(plant),
+                period_end_wrench: PlantOutputs::new(plant).contact_wrench,
                 disturbance_wrenches: vec![0.0; 6 * disturbances.len()],
                 disturbances,
             },
@@ -406,9 +419,8 @@ impl<'a> Engine<'a> {
             return self.continuous_period(time);
         }
         self.tick_law(time)?;
-        let crossed = bound_crossed(self.law.last(), self.scenario)
-            .or_else(|| joint_limit_crossed(self.model, self.layout.s(&self.x), self.scenario));
-        let stop = match crossed {
+        let state = (self.model, self.layout.s(&self.x));
+        let stop = match bound_crossed(self.law.last(), state, self.scenario) {
             Some(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
             None if interrupted => Some(RunEnd::Interrupted),
             None if last => Some(RunEnd::Completed),
@@ -474,21 +486,22 @@ impl<'a> Engine<'a> {
         );
     }
 
-    /// With `controller.external_wrench = "observed"`: one update of the observer with the
-    /// sample's momentum and momentum map (the law's tick) and the plant's contact wrenches
-    /// there (the feet's force/torque sensors); the controller's dynamics take the estimate from
-    /// the next tick on.
+    /// With `controller.external_wrench = "observed"`, after the period: one update of the
+    /// observer with the sample's momentum and momentum map (the law's tick) and the plant's
+    /// contact wrenches at the period's start and end (the feet's force/torque sensors); the
+    /// controller's dynamics take the estimate from the next tick on.
     fn observe_external_wrench(&mut self) {
-        let Some(observer) = &mut self.external_wrench else {
+        let Some(observer) = &mut self.external_wrench_observer else {
             return;
         };
         let controller = self.law.controller();
-        let estimate = *observer.update(
-            &self.law.last().output.momentum,
-            controller.momentum_map(),
-            self.side.outputs.contact_wrench.as_slice(),
-            &controller.weight(),
+        let tick = (&self.law.last().output.momentum, controller.momentum_map());
+        let model = (controller.mass(), &controller.model().gravity);
+        let (at_sample, at_end) = (
+            &self.side.outputs.contact_wrench,
+            &self.side.period_end_wrench,
         );
+        let estimate = *observer.update(tick, at_sample, at_end, model);
         self.law.controller_mut().set_external_wrench(&estimate);
     }
 
@@ -547,7 +560,8 @@ impl<'a> Engine<'a> {
                 Ok(()) => "not evaluated".into(),
             }));
         }
-        let failure = match (bound_crossed(self.law.last(), self.scenario), result) {
+        let state = (self.model, self.layout.s(&self.x));
+        let failure = match (bound_crossed(self.law.last(), state, self.scenario), result) {
             (Some(reason), _) => Some(reason),
             (None, Err(e)) => Some(Divergence::StepFailed(e.to_string())),
             (None, Ok(())) if side.x_next.iter().any(|v| !v.is_finite()) => {

@@ -259,7 +259,7 @@ pub struct ControllerConfig {
     /// "multi_rate".
     pub external_wrench: ExternalWrench,
     /// `external_wrench = "observed"`: bandwidth of the estimate's low pass [Hz] (default
-    /// 20).
+    /// [`sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ`], 5 Hz).
     pub external_wrench_bandwidth_hz: f64,
     /// Controller damping estimate = true damping x scale.
     pub damping_estimate_scale: f64,
@@ -339,7 +339,7 @@ impl Default for ControllerConfig {
             identification_hold_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
                 .hold_after_external_force,
             external_wrench: ExternalWrench::default(),
-            external_wrench_bandwidth_hz: 20.0,
+            external_wrench_bandwidth_hz: sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ,
             damping_estimate_scale: 1.0,
             stiffness_estimate_scale: 1.0,
             stiffness_estimate_joint_scales: BTreeMap::new(),

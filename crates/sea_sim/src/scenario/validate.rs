@@ -413,6 +413,16 @@ pub fn sensing(scenario: &Scenario) -> Result<()> {
             delay,
         ));
     }
+    if delay > 0 && controller.external_wrench == ExternalWrench::Observed {
+        // The observer pairs the measured state's momentum with the feet's wrenches at the
+        // sample: a delay of the one and not the other would show as an external wrench.
+        return Err(Error::invalid(
+            "sensing.delay_inner_periods",
+            "must be 0 with controller.external_wrench = \"observed\" (the contact wrenches \
+             are not delayed)",
+            delay,
+        ));
+    }
     Ok(())
 }
 
@@ -839,6 +849,14 @@ mod tests {
             let sampled = [observed, ("controller.sampling", sampling)];
             assert!(error_of(&sampled).is_none(), "{sampling}");
         }
+    }
+
+    #[test]
+    fn the_external_wrench_observer_refuses_a_sensing_delay() {
+        let observed = ("controller.external_wrench", "\"observed\"");
+        let key = "sensing.delay_inner_periods";
+        assert_refused(&[observed, (key, "1")], key, "1");
+        assert!(error_of(&[observed, (key, "0")]).is_none());
     }
 
     #[test]
