@@ -6,6 +6,8 @@
 //! push; the capture-point bound of the stance; the push window is applied over exactly its
 //! plant steps; bad `[[disturbances]]` input names its key.
 
+mod support;
+
 use nalgebra::{Vector2, Vector3, Vector6};
 use sea_plant::PlantData;
 use sea_sim::analysis::push::{push_run, PushDirection, PushOptions, Stance};
@@ -110,13 +112,7 @@ fn compliant_com_gains_recover_pushes_the_stiff_ones_bend_the_robot_past_its_lim
     let options = PushOptions::default();
     let stance = Stance::of(&scenario(&[]).unwrap()).unwrap();
     let forward = stance.direction(PushDirection::Forward);
-    let stiff_gains = [
-        (
-            "controller.momentum_integral",
-            "[40.0, 45.0, 40.0, 1.0, 5.0, 1.0]",
-        ),
-        ("controller.postural_scale", "0.2"),
-    ];
+    let stiff_gains = support::STIFF_COM_GAINS;
     let blind = [
         stiff_gains[0],
         stiff_gains[1],

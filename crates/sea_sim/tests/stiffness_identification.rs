@@ -3,6 +3,8 @@
 //! tracking against stiffness estimates off by x0.5 to x2, where the loop without it falls or
 //! diverges (README "At the robot's rate").
 
+mod support;
+
 use sea_ctrl::stiffness_id::{IdentificationSettings, StiffnessIdentifier};
 use sea_sim::analysis::linearize;
 use sea_sim::closed_loop::run;
@@ -373,18 +375,15 @@ fn converged_estimates_are_held_through_the_recovery_from_a_push() {
         "[{ link = \"root_link\", force = [55.0, 0.0, 0.0], start_s = 3.0, duration_s = 0.1 }]";
     let key = "controller.stiffness_estimate_scale";
     let run_with_hold = |hold: &str| {
-        let scenario = two_feet(&[
+        let mut overrides = vec![
             (key, "0.5"),
             ("disturbances", push),
             ("controller.identification_hold_s", hold),
             ("controller.external_wrench", "\"none\""),
-            (
-                "controller.momentum_integral",
-                "[40.0, 45.0, 40.0, 1.0, 5.0, 1.0]",
-            ),
-            ("controller.postural_scale", "0.2"),
             ("simulation.stop_at_joint_limits", "false"),
-        ]);
+        ];
+        overrides.extend(support::STIFF_COM_GAINS);
+        let scenario = two_feet(&overrides);
         run(&scenario, |_, _| {}).unwrap().1
     };
     let held = run_with_hold("1.0");

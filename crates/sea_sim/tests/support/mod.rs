@@ -1,5 +1,8 @@
 //! Fixtures shared by the sea_sim integration tests.
 
+// Each test crate that includes this module uses some of its fixtures.
+#![allow(dead_code)]
+
 /// Overrides that put the tracking scenario's iCub on both feet (the original study's two-feet
 /// posture) with a 2 cm, 0.5 Hz CoM sinusoid about the initial CoM.
 pub const TWO_FEET: [(&str, &str); 5] = [
@@ -8,4 +11,15 @@ pub const TWO_FEET: [(&str, &str); 5] = [
     ("reference.com_origin", "initial"),
     ("reference.com_amplitude", "0.02"),
     ("reference.com_frequency", "0.5"),
+];
+
+/// The robot description's momentum gains and postural scale for two feet, which the push
+/// scenario replaces with compliant horizontal CoM gains and a stiffer posture: they hold the
+/// CoM stiffly (README "At the robot's rate", pushes).
+pub const STIFF_COM_GAINS: [(&str, &str); 2] = [
+    (
+        "controller.momentum_integral",
+        "[40.0, 45.0, 40.0, 1.0, 5.0, 1.0]",
+    ),
+    ("controller.postural_scale", "0.2"),
 ];
