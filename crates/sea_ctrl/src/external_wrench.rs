@@ -42,6 +42,7 @@
 
 use crate::momentum::momentum_rate;
 use nalgebra::{DMatrix, DVector, Vector3, Vector6};
+use sea_dyn::spatial::Force;
 
 /// The default bandwidth `f_c` of the estimate's low pass [Hz]: the best of 2, 3, 5, 8 and
 /// 12 Hz for pushes on the iCub (docs/references.md, "External wrench observer").
@@ -116,8 +117,9 @@ impl ExternalWrenchObserver {
 /// the CoM relative to the base origin `O` (world axes) [m] (module doc, use).
 pub fn base_generalized_force(wrench_com: &Vector6<f64>, p_com_rel: &Vector3<f64>) -> Vector6<f64> {
     let force = wrench_com.fixed_rows::<3>(0).into_owned();
-    let moment = wrench_com.fixed_rows::<3>(3) + p_com_rel.cross(&force);
-    Vector6::new(force.x, force.y, force.z, moment.x, moment.y, moment.z)
+    let about_com = Force::new(force, wrench_com.fixed_rows::<3>(3).into_owned());
+    // `O` is at `-p_com_rel` from the CoM.
+    about_com.moment_about(&-p_com_rel).to_vector()
 }
 
 #[cfg(test)]

@@ -65,9 +65,10 @@
 //! as strong as the noise; otherwise the estimate is held).
 
 use crate::controller::MomentumController;
-use nalgebra::{DMatrix, DVector, Matrix6, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 use sea_dyn::jacobian::frame_jacobian_from_kinematics;
 use sea_dyn::rnea;
+use sea_dyn::spatial::{Force, SpatialInertia};
 use sea_dyn::{Data, ElasticParameters, FrameId, Model, StateLayout};
 
 /// Settings of [`StiffnessIdentifier`].
@@ -354,13 +355,11 @@ impl StiffnessIdentifier {
 /// a model's mass error then shows as a force only, whatever the posture (its moment about the
 /// CoM is that of the error's own centre of mass, not the moving arm from `O`).
 fn about_the_com(wrench_o: &Vector6<f64>, data: &Data) -> Vector6<f64> {
-    let (mass, first_moment) = data
-        .body_inertia
-        .iter()
-        .fold((0.0, Vector3::zeros()), |(m, h), body| {
-            (m + body.mass, h + body.first_moment)
-        });
+    let mut whole = SpatialInertia::zero();
+    for body in &data.body_inertia {
+        whole += *body;
+    }
     let force = wrench_o.fixed_rows::<3>(0).into_owned();
-    let moment = wrench_o.fixed_rows::<3>(3) - (first_moment / mass).cross(&force);
-    Vector6::new(force.x, force.y, force.z, moment.x, moment.y, moment.z)
+    let about_o = Force::new(force, wrench_o.fixed_rows::<3>(3).into_owned());
+    about_o.moment_about(&whole.com()).to_vector()
 }
