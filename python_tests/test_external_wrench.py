@@ -44,3 +44,52 @@ def test_the_linearisation_refuses_the_observer_naming_its_key() -> None:
     with pytest.raises(sm.ScenarioError) as info:
         sm.linearize(PUSH)
     assert info.value.key == "controller.external_wrench", str(info.value)
+
+
+MULTI_RATE = Path(__file__).resolve().parents[1] / "scenarios" / "robot_rate" / "tracking_multi_rate.toml"
+
+
+def test_a_generalized_disturbance_moves_the_joint_torques_and_the_contact_wrench() -> None:
+    """A disturbance in a joint row changes that joint's torque by minus it (the contact
+    wrench unchanged: the joint is not on the stance leg); one in the base rows (a downward
+    force of 20 N, as from a model 2 kg light) is carried by the foot: its vertical force grows
+    by 20 N."""
+    scenario = sm.Scenario.load(MULTI_RATE)
+    controller, x = scenario.controller, scenario.initial_state
+    nv = scenario.model.nv
+    free = controller.tick(0.0, x)
+    elbow = controller.joint_names.index("r_elbow")
+    d = np.zeros(nv)
+    d[6 + elbow] = 0.5
+    controller.set_generalized_disturbance(d)
+    on_elbow = controller.tick(0.0, x)
+    np.testing.assert_allclose(on_elbow.wrenches, free.wrenches, rtol=0, atol=1e-6)
+    change = on_elbow.joint_command - free.joint_command
+    assert abs(change[elbow] + 0.5) < 1e-6, change
+    d[:] = 0.0
+    d[2] = -20.0
+    controller.set_generalized_disturbance(d)
+    heavier = controller.tick(0.0, x)
+    # Up to the QP's regularization of the wrench (0.02 N here).
+    assert abs(heavier.wrenches[0, 2] - free.wrenches[0, 2] - 20.0) < 0.1
+    controller.set_generalized_disturbance(np.zeros(nv))
+    again = controller.tick(0.0, x)
+    np.testing.assert_allclose(again.joint_command, free.joint_command, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("size, bad", [(5, 0.0), (None, float("inf"))])
+def test_a_bad_generalized_disturbance_is_refused_naming_the_argument(size, bad) -> None:
+    scenario = sm.Scenario.load(MULTI_RATE)
+    controller, x = scenario.controller, scenario.initial_state
+    nv = scenario.model.nv
+    values = np.zeros(size if size is not None else nv)
+    values[-1] = bad if size is None else values[-1]
+    with pytest.raises(ValueError, match="disturbance"):
+        controller.set_generalized_disturbance(values)
+
+
+def test_the_linearisation_refuses_the_generalized_observer_naming_its_key() -> None:
+    with pytest.raises(sm.ScenarioError) as info:
+        sm.linearize(MULTI_RATE, overrides={"controller.external_wrench": "generalized"})
+    assert info.value.key == "controller.external_wrench", str(info.value)
+    assert "generalized" in str(info.value)

@@ -12,6 +12,10 @@ Writes into OUT (default out/robot_rate):
   controller at 100 Hz; pushed at 1 s, and (``PUSH_CONVERGED``) at 3 s, when the stiffness
   identification has converged; and (``PUSH_PARTS``) with one part of the design changed per
   row (the push not observed, the stiff CoM gains, the paper's QP, ...);
+- model_errors.md: tracking with every link's mass in the controller's model off by a draw
+  from [-10 %, +10 %] (``MASS_DRAWS`` seeded draws) and with stiffness estimates x0.5 / x2,
+  for each way of taking what the model misses (``MODEL_ERROR_SETUPS``: nothing, the
+  centroidal observer, the generalized disturbance observer, the identification, both);
 - robot_rate.json: every figure of the above;
 - with ``--outcomes FILE`` (the main job's outcomes.md): its section "At the robot's rate"
   written (replaced when it is there).
@@ -24,8 +28,11 @@ from __future__ import annotations
 import argparse
 import json
 import pathlib
+import random
 import subprocess
 import sys
+import textwrap
+import xml.etree.ElementTree as ET
 from typing import Any
 
 import numpy as np
@@ -92,7 +99,24 @@ def log(message: str) -> None:
     print(f"[robot_rate] {message}", file=sys.stderr, flush=True)
 
 
-def robustness_map(identification: bool) -> dict[str, Any]:
+#: The robustness maps: (title, overrides of the tracking scenario, whether the period map is
+#: linearised: not with an observer, whose estimate is no state of the map).
+MAPS = {
+    "without": ("without identification", {IDENTIFICATION: False}, True),
+    "with": ("with identification", {IDENTIFICATION: True}, True),
+    "with_observer": (
+        "identification (prior 5 mrad) + generalized observer",
+        {
+            IDENTIFICATION: True,
+            "controller.external_wrench": "generalized",
+            "controller.identification_prior_deflection_rad": 5e-3,
+        },
+        False,
+    ),
+}
+
+
+def robustness_map(overrides: dict[str, Any]) -> dict[str, Any]:
     """10 s runs over ``STIFFNESS`` x ``DAMPING`` (grid order: damping fastest)."""
     result = sm.sweep(
         TRACKING,
@@ -100,7 +124,7 @@ def robustness_map(identification: bool) -> dict[str, Any]:
             "controller.stiffness_estimate_scale": STIFFNESS,
             "controller.damping_estimate_scale": DAMPING,
         },
-        overrides={IDENTIFICATION: identification},
+        overrides=overrides,
     )
     shape = (len(STIFFNESS), len(DAMPING))
     return {
@@ -112,11 +136,12 @@ def robustness_map(identification: bool) -> dict[str, Any]:
     }
 
 
-def growth_rates(identification: bool) -> list[dict[str, Any]]:
-    """The period map's growth rate along ``STIFFNESS`` (damping estimate x1)."""
+def growth_rates(setup: dict[str, Any]) -> list[dict[str, Any]]:
+    """The period map's growth rate along ``STIFFNESS`` (damping estimate x1) with the
+    overrides ``setup``."""
     rows = []
     for scale in STIFFNESS:
-        overrides = {"controller.stiffness_estimate_scale": scale, IDENTIFICATION: identification}
+        overrides = {**setup, "controller.stiffness_estimate_scale": scale}
         lin = sm.linearize(TRACKING, overrides=overrides)
         rows.append(
             {
@@ -141,6 +166,104 @@ def boundaries(rows: list[dict[str, Any]]) -> list[float]:
             t = ga / (ga - gb)
             found.append(a["stiffness_scale"] + t * (b["stiffness_scale"] - a["stiffness_scale"]))
     return found
+
+
+#: Model errors (tracking, multi-rate): how many seeded per-link mass draws, their spread, and
+#: the setups compared (overrides of the tracking scenario).
+MASS_DRAWS = 8
+MASS_SPREAD = 0.1
+MODEL_ERROR_SETUPS = {
+    "nothing (the paper's dynamics)": {},
+    "centroidal observer": {"controller.external_wrench": "observed"},
+    "generalized disturbance observer": {"controller.external_wrench": "generalized"},
+    "stiffness identification": {IDENTIFICATION: True},
+    "identification + generalized observer": {IDENTIFICATION: True, "controller.external_wrench": "generalized"},
+    "identification (prior 5 mrad) + generalized observer": {
+        IDENTIFICATION: True,
+        "controller.external_wrench": "generalized",
+        "controller.identification_prior_deflection_rad": 5e-3,
+    },
+}
+MODEL_ERROR_STIFFNESS = [0.5, 2.0]
+
+
+def mass_draws() -> list[dict[str, float]]:
+    """``MASS_DRAWS`` seeded draws of a mass scale per link of the tracking robot (uniform in
+    1 +- ``MASS_SPREAD``; the links with an inertial element of its URDF)."""
+    urdf = (TRACKING.parent / "../../urdf/icub25.urdf").resolve()
+    links = [link.get("name") for link in ET.parse(urdf).getroot().iter("link") if link.find("inertial") is not None]
+    draws = []
+    for seed in range(MASS_DRAWS):
+        rng = random.Random(seed)
+        draws.append({link: round(rng.uniform(1 - MASS_SPREAD, 1 + MASS_SPREAD), 4) for link in links})
+    return draws
+
+
+def outcome(result: Any) -> dict[str, Any]:
+    """The figures of one run's summary that the model-error table shows."""
+    s = result.summary
+    return {
+        "status": s.status,
+        "at_s": s.diverged_at_s if s.diverged_at_s is not None else s.fell_at_s,
+        "com_error_rms_m": s.com_error_rms_m,
+        "com_error_lateral_max_m": s.com_error_lateral_max_m,
+        "joint_error_norm_final_rad": s.joint_error_norm_final_rad,
+    }
+
+
+def model_error_table() -> dict[str, Any]:
+    """Per setup of ``MODEL_ERROR_SETUPS``: the outcome of each mass draw and of each stiffness
+    estimate of ``MODEL_ERROR_STIFFNESS`` (10 s tracking runs)."""
+    draws = mass_draws()
+    table: dict[str, Any] = {}
+    for label, setup in MODEL_ERROR_SETUPS.items():
+        log(f"model errors: {label} ({len(draws)} mass draws, {len(MODEL_ERROR_STIFFNESS)} stiffness estimates)")
+        masses = [
+            outcome(sm.run_scenario(TRACKING, overrides={**setup, "controller.link_mass_estimate_scales": d}))
+            for d in draws
+        ]
+        stiffness = {
+            f"x{scale:g}": outcome(
+                sm.run_scenario(TRACKING, overrides={**setup, "controller.stiffness_estimate_scale": scale})
+            )
+            for scale in MODEL_ERROR_STIFFNESS
+        }
+        table[label] = {"mass_draws": masses, "stiffness": stiffness}
+    return table
+
+
+def model_error_markdown(table: dict[str, Any]) -> list[str]:
+    """The model-error table as markdown: draws completed, median and worst figures of the
+    completed ones (the true CoM's error), and the stiffness estimates' outcomes."""
+    scales = [f"x{s:g}" for s in MODEL_ERROR_STIFFNESS]
+    lines = [
+        "| what the controller takes of its model's errors | mass draws completed | CoM rms median / max [mm] "
+        "| lateral max median [mm] | final joint error median / max [rad] | "
+        + " | ".join(f"stiffness estimate {s}" for s in scales)
+        + " |",
+        "| --- | --- | --- | --- | --- |" + " --- |" * len(scales),
+    ]
+    for label, row in table.items():
+        done = [r for r in row["mass_draws"] if r["status"] == "completed"]
+        if done:
+            rms = [1e3 * r["com_error_rms_m"] for r in done]
+            lateral = [1e3 * r["com_error_lateral_max_m"] for r in done]
+            joint = [r["joint_error_norm_final_rad"] for r in done]
+            figures = (
+                f"{np.median(rms):.2f} / {max(rms):.2f} | {np.median(lateral):.2f} | "
+                f"{np.median(joint):.3f} / {max(joint):.3f}"
+            )
+        else:
+            figures = "- | - | -"
+        cells = []
+        for s in scales:
+            r = row["stiffness"][s]
+            if r["status"] == "completed":
+                cells.append(f"completed, CoM rms {1e3 * r['com_error_rms_m']:.2f} mm, joint {r['joint_error_norm_final_rad']:.3f} rad")
+            else:
+                cells.append(f"{r['status']} at {r['at_s']:.2f} s")
+        lines.append(f"| {label} | {len(done)} of {len(row['mass_draws'])} | {figures} | " + " | ".join(cells) + " |")
+    return lines
 
 
 def push_table(sea_sim: pathlib.Path, setups: dict[str, list[str]], extra: list[str]) -> dict[str, Any]:
@@ -186,17 +309,18 @@ def push_markdown(table: dict[str, Any]) -> list[str]:
 
 
 def figure(maps: dict[str, Any], rates: dict[str, Any], path: pathlib.Path) -> None:
-    """Two panels (without, with identification): outcome colours, CoM rms in mm, the
-    eigenvalue boundary along the stiffness axis."""
+    """One panel per map of ``MAPS``: outcome colours, CoM rms in mm, the eigenvalue boundary
+    along the stiffness axis where the period map is linearised."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     colours = {"completed": 0, "fell": 1, "diverged": 2}
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
+    fig, axes = plt.subplots(1, len(maps), figsize=(6 * len(maps), 5), sharey=True)
     cmap = matplotlib.colors.ListedColormap(["#7fc97f", "#fdc086", "#f0027f"])
-    for ax, key, title in zip(axes, ["without", "with"], ["without identification", "with identification"]):
+    for ax, key in zip(axes, maps):
+        title = MAPS[key][0]
         status = np.array(maps[key]["status"])
         rms = np.array(maps[key]["com_error_rms_m"]) * 1e3
         codes = np.vectorize(lambda s: colours.get(s, 2))(status)
@@ -205,15 +329,18 @@ def figure(maps: dict[str, Any], rates: dict[str, Any], path: pathlib.Path) -> N
             for j in range(len(DAMPING)):
                 text = f"{rms[i, j]:.1f}" if status[i, j] == "completed" else status[i, j][0]
                 ax.text(i, j, text, ha="center", va="center", fontsize=7)
-        found = boundaries(rates[key])
+        found = boundaries(rates[key]) if key in rates else []
         for b in found:
             x = np.interp(b, STIFFNESS, np.arange(len(STIFFNESS)))
             ax.axvline(x, color="k", linestyle="--", linewidth=1)
-        unconverged = [r["stiffness_scale"] for r in rates[key] if not r["equilibrium_converged"]]
+        unconverged = [r["stiffness_scale"] for r in rates.get(key, []) if not r["equilibrium_converged"]]
         note = "" if found else "no eigenvalue boundary between converged equilibria"
+        if key not in rates:
+            note = "period map not linearised (the observer's estimate is no state of it)"
         if unconverged:
             note += f"; no equilibrium found at x{', x'.join(f'{u:g}' for u in unconverged)}"
-        ax.set_xlabel(f"stiffness estimate / true\n{note.strip('; ')}", fontsize=8)
+        note = "\n".join(textwrap.wrap(note.strip("; "), 90))
+        ax.set_xlabel(f"stiffness estimate / true\n{note}", fontsize=8)
         ax.set_xticks(range(len(STIFFNESS)), [f"{s:g}" for s in STIFFNESS])
         ax.set_yticks(range(len(DAMPING)), [f"{d:g}" for d in DAMPING])
         ax.set_title(f"100 Hz / 1 kHz, {title}\n(CoM rms [mm]; f fell, d diverged)")
@@ -230,17 +357,19 @@ def outcomes_section(report: dict[str, Any]) -> list[str]:
     """The outcomes.md section: the robustness maps' counts, growth rates and the push table."""
     lines = [SECTION, ""]
     total = len(STIFFNESS) * len(DAMPING)
-    for key in ["without", "with"]:
+    for key in report["maps"]:
         m = report["maps"][key]
         statuses = [s for row in m["status"] for s in row]
         rms = [r for row, srow in zip(m["com_error_rms_m"], m["status"]) for r, s in zip(row, srow) if s == "completed"]
         worst = f", CoM rms up to {1e3 * max(rms):.2f} mm" if rms else ""
         lines.append(
-            f"- {key} stiffness identification: {statuses.count('completed')} of {total} runs "
+            f"- {MAPS[key][0]}: {statuses.count('completed')} of {total} runs "
             f"complete 10 s of tracking (stiffness estimate x{STIFFNESS[0]:g} to x{STIFFNESS[-1]:g}, "
             f"damping x{DAMPING[0]:g} to x{DAMPING[-1]:g}){worst}; fell {statuses.count('fell')}, "
             f"diverged {statuses.count('diverged')}."
         )
+        if key not in report["growth_rates"]:
+            continue
         rates = ", ".join(
             f"x{r['stiffness_scale']:g} {r['growth_rate']:+.3f}" + ("" if r["equilibrium_converged"] else " (no equilibrium)")
             for r in report["growth_rates"][key]
@@ -252,6 +381,10 @@ def outcomes_section(report: dict[str, Any]) -> list[str]:
     lines += push_markdown(report["pushes_converged"])
     lines += ["", "What each part of the design brings (one part changed per row):", ""]
     lines += push_markdown(report["pushes_parts"])
+    lines += ["", f"Model errors: every link's mass in the controller's model off by a seeded draw in "
+              f"+-{100 * MASS_SPREAD:g} % ({MASS_DRAWS} draws; CoM errors of the true CoM), and stiffness "
+              "estimates without their per-link draws, 10 s tracking at 100 Hz / 1 kHz:", ""]
+    lines += model_error_markdown(report["model_errors"])
     lines += ["", "Figure: robot_rate/robustness_map.png. Mechanism and design: README, \"At the robot's rate\".", ""]
     return lines
 
@@ -275,11 +408,12 @@ def main() -> int:
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     maps, rates = {}, {}
-    for key, identification in [("without", False), ("with", True)]:
-        log(f"robustness map {key} identification ({len(STIFFNESS) * len(DAMPING)} runs of 10 s)")
-        maps[key] = robustness_map(identification)
-        log(f"period-map growth rates {key} identification ({len(STIFFNESS)} linearisations)")
-        rates[key] = growth_rates(identification)
+    for key, (title, setup, linearised) in MAPS.items():
+        log(f"robustness map, {title} ({len(STIFFNESS) * len(DAMPING)} runs of 10 s)")
+        maps[key] = robustness_map(setup)
+        if linearised:
+            log(f"period-map growth rates, {title} ({len(STIFFNESS)} linearisations)")
+            rates[key] = growth_rates(setup)
     figure(maps, rates, out / "robustness_map.png")
     sea_sim = pathlib.Path(args.sea_sim)
     pushes = push_table(sea_sim, PUSH_SETUPS, [])
@@ -290,7 +424,10 @@ def main() -> int:
     markdown = push_markdown(pushes) + ["", "Pushed at 3 s:", ""] + push_markdown(converged)
     markdown += ["", "One part of the design changed per row:", ""] + push_markdown(parts)
     (out / "push_table.md").write_text("\n".join(markdown) + "\n")
+    model_errors = model_error_table()
+    (out / "model_errors.md").write_text("\n".join(model_error_markdown(model_errors)) + "\n")
     report = {
+        "model_errors": model_errors,
         "stiffness_scales": STIFFNESS,
         "damping_scales": DAMPING,
         "maps": maps,

@@ -430,6 +430,13 @@ class Controller:
         estimate of a push; zeros: none. ``ValueError`` for another shape or a non-finite
         value. The scenario's observer (``controller.external_wrench = "observed"``) runs in
         the native run only."""
+    def set_generalized_disturbance(self, disturbance: ArrayLike) -> None:
+        """The generalized disturbance (nv,: base rows force and moment about the base origin
+        in world axes, then one per joint) [N, Nm] that the controller's dynamics take from
+        the next ``tick`` on (bias forces ``h - d``, its wrench carried by the contacts), e.g.
+        an observer's estimate of what the model misses; zeros: none. ``ValueError`` for
+        another shape or a non-finite value. The scenario's observer
+        (``controller.external_wrench = "generalized"``) runs in the native run only."""
     def com_reference(self, t: float) -> FloatArray:
         """The CoM reference at ``t``, (3,) world [m]."""
     @property

@@ -39,7 +39,7 @@ use crate::sea::{
 use crate::torque_map::{PosturalTask, TorqueMap};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 use sea_dyn::dense::{copy_contiguous, copy_into_rows};
-use sea_dyn::spatial::Pose;
+use sea_dyn::spatial::{Force, Pose};
 use sea_dyn::{Actuation, Data, ElasticParameters, FrameId, Model, StateLayout};
 
 /// Which controller; with the `serde` feature, named "sea" or "rigid".
@@ -340,6 +340,12 @@ pub struct MomentumController {
     /// The external wrench the dynamics take as acting on the base, about the CoM, world axes
     /// [N, Nm] ([`crate::external_wrench`]; zero unless set).
     external_wrench: Vector6<f64>,
+    /// The generalized disturbance `d^` the dynamics take in every row (nv; empty: none,
+    /// [`crate::generalized_disturbance`]).
+    generalized_disturbance: DVector<f64>,
+    /// The wrench about the CoM (world axes) of the generalized disturbance's base rows at the
+    /// last tick, which the momentum task's contact wrenches carry (zero: none).
+    disturbance_wrench: Vector6<f64>,
 }
 
 impl MomentumController {
@@ -391,6 +397,8 @@ impl MomentumController {
             relaxed_wrenches: DVector::zeros(k),
             relaxations: 0,
             external_wrench: Vector6::zeros(),
+            generalized_disturbance: DVector::zeros(0),
+            disturbance_wrench: Vector6::zeros(),
             settings,
             contact_frames,
             contact_references,
@@ -481,6 +489,34 @@ impl MomentumController {
     /// ([`crate::external_wrench`]); zero: none (the paper's controller).
     pub fn set_external_wrench(&mut self, wrench: &Vector6<f64>) {
         self.external_wrench = *wrench;
+    }
+
+    /// The generalized disturbance `d^` (nv) [N, Nm] that the dynamics of the next ticks take
+    /// (bias forces `h - d^`), e.g. an observer's estimate
+    /// ([`crate::generalized_disturbance`]); empty or zero: none (the paper's controller).
+    ///
+    /// # Errors
+    /// `InvalidArgument` when `disturbance` is neither empty nor of size nv.
+    pub fn set_generalized_disturbance(&mut self, disturbance: &DVector<f64>) -> Result<()> {
+        let nv = self.model.nv();
+        if !disturbance.is_empty() && disturbance.len() != nv {
+            return Err(sea_dyn::Error::InvalidArgument {
+                argument: "generalized disturbance".into(),
+                expected: format!("shape ({nv},)"),
+                actual: format!("({},)", disturbance.len()),
+            }
+            .into());
+        }
+        self.generalized_disturbance.clone_from(disturbance);
+        if disturbance.is_empty() {
+            self.disturbance_wrench = Vector6::zeros();
+        }
+        Ok(())
+    }
+
+    /// The generalized disturbance the dynamics take (nv; empty: none).
+    pub fn generalized_disturbance(&self) -> &DVector<f64> {
+        &self.generalized_disturbance
     }
 
     /// The momentum map `A` (6 x k, paper hDot) of the last tick.
@@ -710,6 +746,12 @@ impl MomentumController {
             let force = base_generalized_force(&self.external_wrench, &data.p_com_rel);
             map.bias.rows_mut(0, 6).axpy(-1.0, &force, 1.0);
         }
+        if !self.generalized_disturbance.is_empty() {
+            map.bias -= &self.generalized_disturbance;
+            let d = &self.generalized_disturbance;
+            let at_base = Force::new(d.fixed_rows::<3>(0).into(), d.fixed_rows::<3>(3).into());
+            self.disturbance_wrench = at_base.moment_about(&data.p_com_rel).to_vector();
+        }
         sea_dyn::crba_after_rnea(model, data);
         if self.settings.kind == ControllerKind::Sea {
             subtract_spring_torque(
@@ -765,7 +807,9 @@ impl MomentumController {
             &self.settings.momentum_proportional,
             &self.settings.momentum_integral,
         );
-        let target = momentum_equality_target(&hdot_star, m, &self.model.gravity);
+        let mut target = momentum_equality_target(&hdot_star, m, &self.model.gravity);
+        // The feet carry what the model misses (`crate::generalized_disturbance`).
+        target -= self.disturbance_wrench;
         self.terms.momentum_target.copy_from(&target);
     }
 

@@ -15,6 +15,8 @@
 //!   its special case);
 //! - [`external_wrench`]: the unmodelled external wrench (a push) estimated from the
 //!   centroidal momentum and the feet's force/torque sensors, taken into the dynamics;
+//! - [`generalized_disturbance`]: the generalized force the model misses (link mass errors, a
+//!   wrench on any link) estimated by inverse dynamics, taken into every row of the dynamics;
 //! - [`stiffness_id`]: online identification of the spring stiffness from the encoders and the
 //!   model.
 //!
@@ -26,6 +28,7 @@ pub mod controller;
 pub mod error;
 pub mod external_wrench;
 pub mod feedback;
+pub mod generalized_disturbance;
 pub mod joint_loop;
 pub mod momentum;
 pub mod qp;

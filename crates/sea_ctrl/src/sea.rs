@@ -49,6 +49,18 @@ pub fn spring_torque_without_motor_velocity(
     estimate.stiffness * (estimate.ratio * theta - s) - estimate.damping * sdot
 }
 
+/// The spring-damper torque eq:alpha `K_S (Gamma theta - s) + K_D (Gamma thetadot - sdot)`
+/// [Nm, joint side] of one joint as the robot senses it: its deflection and deflection rate
+/// (encoders) through the parameters `estimate` (label `p` plus the motor velocity term).
+pub fn sensed_spring_torque(
+    estimate: &ElasticParameters,
+    (theta, thetadot): (f64, f64),
+    (s, sdot): (f64, f64),
+) -> f64 {
+    spring_torque_without_motor_velocity(estimate, theta, s, sdot)
+        + estimate.damping * estimate.ratio * thetadot
+}
+
 /// Paper label hjBar: `hbar_j = h_j - p` (label `p`), in place on the joint rows of the bias
 /// forces `h` (nv = 6 + n, `h = [h_b; h_j]`) for the elastic joints `elastic_joints`
 /// (coordinate indices, n_e) with `estimates` (n_e), motor angles `theta` (n_e), joint

@@ -305,6 +305,26 @@ impl PyController {
         Ok(())
     }
 
+    /// The generalized disturbance `d` (nv: base rows `[force; moment about the base origin]`
+    /// in world axes, then one per joint) [N, Nm] that the controller's dynamics take from
+    /// the next `tick` on (bias forces `h - d`, its wrench carried by the contacts;
+    /// `sea_ctrl::generalized_disturbance`), e.g. a caller's observer's estimate of what its
+    /// model misses; zeros: none. The scenario's observer (`controller.external_wrench =
+    /// "generalized"`) runs in the native run only.
+    fn set_generalized_disturbance(&mut self, disturbance: &Bound<'_, PyAny>) -> PyResult<()> {
+        let nv = self.law.controller().model().nv();
+        let mut values = Vec::with_capacity(nv);
+        vector_arg(disturbance, "disturbance", nv, &mut values)?;
+        if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
+            return Err(argument_error("disturbance", "finite values", bad));
+        }
+        let disturbance = nalgebra::DVector::from_vec(values);
+        let controller = self.law.controller_mut();
+        controller
+            .set_generalized_disturbance(&disturbance)
+            .map_err(to_py)
+    }
+
     /// The CoM reference at `t` [s]: position (3,) in world [m].
     fn com_reference<'py>(&self, py: Python<'py>, t: f64) -> Bound<'py, numpy::PyArray1<f64>> {
         vector_out(py, self.law.com_reference().sample(t).position.as_slice())

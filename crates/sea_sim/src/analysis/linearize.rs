@@ -432,12 +432,12 @@ pub fn closed_loop_system(
     scenario: &Scenario,
     options: &LinearizeOptions,
 ) -> Result<ClosedLoopSystem> {
-    if scenario.controller.external_wrench == ExternalWrench::Observed {
+    if scenario.controller.external_wrench != ExternalWrench::None {
         return Err(Error::invalid(
             "controller.external_wrench",
             "the period map has no state for the observer's estimate (analyse the loop with \
              \"none\")",
-            ExternalWrench::Observed.name(),
+            scenario.controller.external_wrench.name(),
         ));
     }
     let setup = crate::scenario::build(scenario)?;

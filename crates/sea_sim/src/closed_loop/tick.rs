@@ -13,10 +13,11 @@ use crate::scenario::{DisturbanceSchedule, IdentificationWrenches, Scenario, Set
 use nalgebra::DVector;
 use sea_ctrl::external_wrench::ExternalWrenchObserver;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
+use sea_ctrl::generalized_disturbance::{AppliedForces, GeneralizedDisturbanceObserver};
 use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::stiffness_id::StiffnessIdentifier;
 use sea_ctrl::MomentumController;
-use sea_dyn::Model;
+use sea_dyn::{Data, ElasticParameters, Model};
 use sea_plant::integrator::step_with_feedback;
 use sea_plant::{Method, Plant, PlantData, PlantOutputs, StateLayout, Workspace};
 
@@ -125,6 +126,9 @@ struct PlantSide<'a> {
     /// The contact wrenches at the start of the period's last plant step, the period's input
     /// still held (6 per contact): what the feet's sensors read at the period's end.
     period_end_wrench: DVector<f64>,
+    /// The joint torques (n) at the start of the period's last plant step: what the joint
+    /// torque sensors read at the period's end.
+    period_end_joint_torque: DVector<f64>,
     /// `[[disturbances]]`: which external wrench acts at each plant step.
     disturbances: DisturbanceSchedule,
     /// The disturbances' wrenches at the current sample (6 per disturbance), for the record.
@@ -190,6 +194,8 @@ impl PlantSide<'_> {
         if k + 1 == schedule.steps_per_period {
             let wrenches = &self.pd.outputs.contact_wrench;
             self.period_end_wrench.copy_from(wrenches);
+            let torques = &self.pd.outputs.joint_torque;
+            self.period_end_joint_torque.copy_from(torques);
         }
         result.map_err(|e| Divergence::PlantStepFailed(e.to_string()))?;
         if self.x_next.iter().any(|v| !v.is_finite()) {
@@ -274,15 +280,24 @@ pub(super) struct Engine<'a> {
     /// The online stiffness identification feeding the joint loops
     /// (`controller.stiffness_identification`).
     identifier: Option<StiffnessIdentifier>,
-    /// The state the identification reads at the current sample (the measured one).
-    identified_state: Vec<f64>,
+    /// The measured state at the current sample, which the identification and the
+    /// generalized disturbance observer read after the period.
+    measured_at_sample: Vec<f64>,
     /// `controller.external_wrench = "observed"`: the observer whose estimate the controller's
     /// dynamics take.
     external_wrench_observer: Option<ExternalWrenchObserver>,
+    /// `controller.external_wrench = "generalized"`: the observer whose estimate the
+    /// controller's dynamics take in every row.
+    disturbance_observer: Option<GeneralizedDisturbanceObserver>,
+    /// The joint torques the observer reads at the period's start and end (n each).
+    sensed_torques: (DVector<f64>, DVector<f64>),
     /// Fall detection on the plant's outputs at each sample.
     contact_check: ContactCheck,
     /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
     sensor: Option<Sensor>,
+    /// Without a sensor, when the controller's model is not the plant's (mass estimates): the
+    /// plant model's buffers for the true CoM that is recorded and checked.
+    truth: Option<Data>,
 }
 
 impl<'a> Engine<'a> {
@@ -303,9 +318,11 @@ impl<'a> Engine<'a> {
         let layout = plant.layout();
         let sensor = Sensor::new(&scenario.sensing, &plant.model, layout, x0);
         // The law's model terms are a measured state's when there is a sensor.
+        let same_model = controller.model() == &plant.model;
         let hand_over = HandOver {
-            share_model_terms: controller.model() == &plant.model && sensor.is_none(),
+            share_model_terms: same_model && sensor.is_none(),
         };
+        let truth = (!same_model && sensor.is_none()).then(|| Data::new(&plant.model));
         let joint_loop = (schedule.sampling == Sampling::MultiRate)
             .then(|| scenario.controller.joint_loop(controller));
         let identifier = joint_loop.as_ref().and_then(|joints| {
@@ -320,15 +337,23 @@ impl<'a> Engine<'a> {
             schedule.step,
             &mut pd.workspace,
         )?;
+        let disturbance_observer = scenario
+            .controller
+            .generalized_disturbance_observer(controller.model(), schedule.period);
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         let external_wrench_observer = scenario
             .controller
             .external_wrench_observer(schedule.period);
         Ok(Engine {
+            disturbance_observer,
+            sensed_torques: (
+                DVector::zeros(model.n_joints()),
+                DVector::zeros(model.n_joints()),
+            ),
             joint_loop,
             identifier,
             external_wrench_observer,
-            identified_state: x0.clone(),
+            measured_at_sample: x0.clone(),
             scenario,
             model,
             elastic_names,
@@ -346,12 +371,14 @@ impl<'a> Engine<'a> {
                 u: vec![0.0; model.n_joints()],
                 outputs: PlantOutputs::new(plant),
                 period_end_wrench: PlantOutputs::new(plant).contact_wrench,
+                period_end_joint_torque: PlantOutputs::new(plant).joint_torque,
                 disturbance_wrenches: vec![0.0; 6 * disturbances.len()],
                 disturbances,
             },
             x: x0.clone(),
             contact_check: ContactCheck::new(plant),
             sensor,
+            truth,
         })
     }
 
@@ -432,10 +459,10 @@ impl<'a> Engine<'a> {
             let output = &law.last().output;
             joint_loop.hold(output, &self.layout, measured, law.s_desired());
             joint_loop.tick(&self.layout, measured);
-            // The identification (after the period's advance) reads the encoders too.
-            if self.identifier.is_some() {
-                self.identified_state.copy_from_slice(measured);
-            }
+        }
+        // The identification and the observer (after the period's advance) read the encoders.
+        if self.identifier.is_some() || self.disturbance_observer.is_some() {
+            self.measured_at_sample.copy_from_slice(measured);
         }
         let failure = match (&stop, &mut self.joint_loop) {
             (Some(_), None) => self.side.evaluate_at(law, hand_over, x, time),
@@ -459,6 +486,7 @@ impl<'a> Engine<'a> {
         if end.is_none() {
             self.identify();
             self.observe_external_wrench();
+            self.observe_generalized_disturbance();
         }
         Ok(Period { end })
     }
@@ -479,7 +507,7 @@ impl<'a> Engine<'a> {
         let estimates = joint_loop.estimates_mut();
         identifier.update(
             &self.layout,
-            &self.identified_state,
+            &self.measured_at_sample,
             self.schedule.period,
             wrenches,
             estimates,
@@ -505,12 +533,68 @@ impl<'a> Engine<'a> {
         self.law.controller_mut().set_external_wrench(&estimate);
     }
 
+    /// With `controller.external_wrench = "generalized"`, after the period: one update of the
+    /// observer with the sample's measured state and the joint torques and contact wrenches at
+    /// the period's start and end (the joint torque and the feet's force/torque sensors); the
+    /// controller's dynamics take the estimate from the next tick on.
+    fn observe_generalized_disturbance(&mut self) {
+        let Some(observer) = &mut self.disturbance_observer else {
+            return;
+        };
+        let controller = self.law.controller();
+        let robot = (controller.model(), controller.contact_frames());
+        let estimates = match &self.joint_loop {
+            Some(joint_loop) => joint_loop.estimates(),
+            None => controller.estimates(),
+        };
+        let elastic = (&controller.actuation().elastic_joints[..], estimates);
+        let (layout, side) = (self.layout, &mut self.side);
+        let x = &self.measured_at_sample;
+        let state = (layout.q(x), layout.nu(x));
+        let (sample_torques, end_torques) = &mut self.sensed_torques;
+        sense_joint_torques(
+            elastic,
+            &layout,
+            x,
+            &side.outputs.joint_torque,
+            sample_torques,
+        );
+        let x_end = &side.x_next;
+        sense_joint_torques(
+            elastic,
+            &layout,
+            x_end,
+            &side.period_end_joint_torque,
+            end_torques,
+        );
+        let at_sample = AppliedForces {
+            joint_torques: sample_torques,
+            contact_wrenches: &side.outputs.contact_wrench,
+        };
+        let at_end = AppliedForces {
+            joint_torques: end_torques,
+            contact_wrenches: &side.period_end_wrench,
+        };
+        let estimate = observer.update(robot, state, at_sample, at_end);
+        let controller = self.law.controller_mut();
+        controller
+            .set_generalized_disturbance(estimate)
+            .expect("the observer is sized for the controller's model");
+    }
+
     /// The law's tick at sample time `time`: at the true state, or with a sensor at its
     /// measurement of it (the observation then carries the true CoM and errors).
     fn tick_law(&mut self, time: f64) -> std::result::Result<(), Divergence> {
         let failed = |e: sea_ctrl::Error| Divergence::ControllerFailed(e.to_string());
         let Some(sensor) = &mut self.sensor else {
-            return self.law.tick(time, &self.x).map(|_| ()).map_err(failed);
+            self.law.tick(time, &self.x).map_err(failed)?;
+            if let Some(data) = &mut self.truth {
+                // The controller's CoM is its model's; record and check the plant's.
+                let (model, q) = (&self.side.plant.model, self.layout.q(&self.x));
+                let com = sea_dyn::centroidal::com(model, data, q);
+                self.law.observe_truth(com, self.layout.s(&self.x));
+            }
+            return Ok(());
         };
         self.law
             .tick(time, sensor.measure(&self.x))
@@ -612,5 +696,25 @@ impl<'a> Engine<'a> {
             qp_status: &output.qp_status,
             qp_failures: self.law.controller().qp_failures(),
         }
+    }
+}
+
+/// The joint torques (n) as the robot senses them at state `x`: an elastic joint's (of
+/// `elastic`: coordinate indices and the loop's estimates) from its deflection through the
+/// estimates ([`sea_ctrl::sea::sensed_spring_torque`]), a rigid joint's the torque applied
+/// (`applied`, n: its motor's torque).
+fn sense_joint_torques(
+    (elastic_joints, estimates): (&[usize], &[ElasticParameters]),
+    layout: &StateLayout,
+    x: &[f64],
+    applied: &DVector<f64>,
+    sensed: &mut DVector<f64>,
+) {
+    sensed.copy_from(applied);
+    let (theta, thetadot) = (layout.theta(x), layout.thetadot(x));
+    let (s, sdot) = (layout.s(x), layout.sdot(x));
+    for (e, (&j, estimate)) in elastic_joints.iter().zip(estimates).enumerate() {
+        let motor = (theta[e], thetadot[e]);
+        sensed[j] = sea_ctrl::sea::sensed_spring_torque(estimate, motor, (s[j], sdot[j]));
     }
 }

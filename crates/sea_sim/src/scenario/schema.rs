@@ -252,13 +252,23 @@ pub struct ControllerConfig {
     /// converged estimates stay held after a push was detected [s] (`sea_ctrl::stiffness_id`;
     /// default 1 s).
     pub identification_hold_s: f64,
+    /// `multi_rate` with `stiffness_identification`: the weight of the prior estimate, as
+    /// the spring deflection `delta_0` [rad] of one sample (`sea_ctrl::stiffness_id`; default
+    /// 1e-3 rad, 0.35 Nm on the iCub). A joint carrying less torque than `K_S^0 delta_0`
+    /// keeps its prior: with `external_wrench = "generalized"`, 5e-3 keeps the model's own
+    /// torque errors on lightly loaded joints (the stance ankle roll) out of the estimates
+    /// (README, "At the robot's rate", model errors).
+    pub identification_prior_deflection_rad: f64,
     /// The unmodelled external wrench (a push): "none" (the paper's controller; the default)
     /// or "observed" (estimated each whole-body period from the centroidal momentum and the
     /// feet's measured contact wrenches, and taken into the controller's dynamics as a wrench
-    /// on the base; `sea_ctrl::external_wrench`). Needs sampling "zero_order_hold" or
-    /// "multi_rate".
+    /// on the base; `sea_ctrl::external_wrench`) or "generalized" (the generalized force the
+    /// model misses, link mass errors included, estimated by inverse dynamics and taken into
+    /// every row of the dynamics; `sea_ctrl::generalized_disturbance`). Needs sampling
+    /// "zero_order_hold" or "multi_rate".
     pub external_wrench: ExternalWrench,
-    /// `external_wrench = "observed"`: bandwidth of the estimate's low pass [Hz] (default
+    /// `external_wrench` "observed" or "generalized": bandwidth of the estimate's low pass
+    /// [Hz] (default
     /// [`sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ`], 5 Hz).
     pub external_wrench_bandwidth_hz: f64,
     /// Controller damping estimate = true damping x scale.
@@ -338,6 +348,8 @@ impl Default for ControllerConfig {
             identification_deflection_noise_rad: 0.0,
             identification_hold_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
                 .hold_after_external_force,
+            identification_prior_deflection_rad:
+                sea_ctrl::stiffness_id::IdentificationSettings::default().prior_deflection,
             external_wrench: ExternalWrench::default(),
             external_wrench_bandwidth_hz: sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ,
             damping_estimate_scale: 1.0,
@@ -401,6 +413,22 @@ impl ControllerConfig {
         })
     }
 
+    /// `external_wrench = "generalized"`: the observer for the controller's `model` and the
+    /// whole-body period `period` [s]; `None` when it is off.
+    pub fn generalized_disturbance_observer(
+        &self,
+        model: &sea_dyn::Model,
+        period: f64,
+    ) -> Option<sea_ctrl::generalized_disturbance::GeneralizedDisturbanceObserver> {
+        (self.external_wrench == ExternalWrench::Generalized).then(|| {
+            sea_ctrl::generalized_disturbance::GeneralizedDisturbanceObserver::new(
+                model,
+                period,
+                self.external_wrench_bandwidth_hz,
+            )
+        })
+    }
+
     /// `multi_rate` with `stiffness_identification`: the identifier of `controller`'s elastic
     /// stiffnesses from the joint loop's estimates `prior`; `None` when it is off.
     pub fn stiffness_identifier(
@@ -416,6 +444,7 @@ impl ControllerConfig {
             max_external_force: defaults.max_external_force.filter(|_| measured),
             deflection_noise: self.identification_deflection_noise_rad,
             hold_after_external_force: self.identification_hold_s,
+            prior_deflection: self.identification_prior_deflection_rad,
             ..defaults
         };
         self.stiffness_identification

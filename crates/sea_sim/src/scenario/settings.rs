@@ -175,15 +175,25 @@ pub enum ExternalWrench {
     /// Estimated from the centroidal momentum and the feet's force/torque sensors (in
     /// simulation: the plant's contact wrenches at the sample), taken as acting on the base.
     Observed,
+    /// The generalized force the controller's model misses (link mass errors, a wrench on any
+    /// link), estimated by inverse dynamics from the encoders, the joint torque sensors and the
+    /// feet's force/torque sensors (`sea_ctrl::generalized_disturbance`), taken into every row
+    /// of the dynamics.
+    Generalized,
 }
 
 impl Setting for ExternalWrench {
-    const ALL: &'static [Self] = &[ExternalWrench::None, ExternalWrench::Observed];
+    const ALL: &'static [Self] = &[
+        ExternalWrench::None,
+        ExternalWrench::Observed,
+        ExternalWrench::Generalized,
+    ];
 
     fn name(self) -> &'static str {
         match self {
             ExternalWrench::None => "none",
             ExternalWrench::Observed => "observed",
+            ExternalWrench::Generalized => "generalized",
         }
     }
 }

@@ -264,6 +264,10 @@ fn controller(scenario: &Scenario) -> Result<()> {
         c.identification_deflection_noise_rad,
     )?;
     non_negative("controller.identification_hold_s", c.identification_hold_s)?;
+    positive(
+        "controller.identification_prior_deflection_rad",
+        c.identification_prior_deflection_rad,
+    )?;
     external_wrench(c)?;
     non_negative(
         "controller.joint_inertia_regularization",
@@ -278,12 +282,12 @@ fn external_wrench(c: &ControllerConfig) -> Result<()> {
         "controller.external_wrench_bandwidth_hz",
         c.external_wrench_bandwidth_hz,
     )?;
-    if c.external_wrench == ExternalWrench::Observed && c.sampling == Sampling::Continuous {
+    if c.external_wrench != ExternalWrench::None && c.sampling == Sampling::Continuous {
         return Err(Error::invalid(
             "controller.external_wrench",
             "needs controller.sampling = \"zero_order_hold\" or \"multi_rate\" (the \
              observer runs once per whole-body period)",
-            ExternalWrench::Observed.name(),
+            c.external_wrench.name(),
         ));
     }
     Ok(())
@@ -413,13 +417,16 @@ pub fn sensing(scenario: &Scenario) -> Result<()> {
             delay,
         ));
     }
-    if delay > 0 && controller.external_wrench == ExternalWrench::Observed {
+    if delay > 0 && controller.external_wrench != ExternalWrench::None {
         // The observer pairs the measured state's momentum with the feet's wrenches at the
         // sample: a delay of the one and not the other would show as an external wrench.
         return Err(Error::invalid(
             "sensing.delay_inner_periods",
-            "must be 0 with controller.external_wrench = \"observed\" (the contact wrenches \
-             are not delayed)",
+            format!(
+                "must be 0 with controller.external_wrench = \"{}\" (the contact wrenches \
+                 are not delayed)",
+                controller.external_wrench.name()
+            ),
             delay,
         ));
     }
@@ -831,11 +838,17 @@ mod tests {
     #[test]
     fn the_external_wrench_observer_needs_sampled_control_and_a_positive_bandwidth() {
         let observed = ("controller.external_wrench", "\"observed\"");
-        assert_refused(
-            &[observed, ("controller.sampling", "\"continuous\"")],
-            "controller.external_wrench",
-            "observed",
-        );
+        for name in ["observed", "generalized"] {
+            let value = format!("{name:?}");
+            assert_refused(
+                &[
+                    ("controller.external_wrench", &value),
+                    ("controller.sampling", "\"continuous\""),
+                ],
+                "controller.external_wrench",
+                name,
+            );
+        }
         assert_refused(
             &[("controller.external_wrench", "\"estimated\"")],
             "controller.external_wrench",
@@ -852,11 +865,22 @@ mod tests {
     }
 
     #[test]
+    fn the_identification_prior_must_be_a_positive_deflection() {
+        let key = "controller.identification_prior_deflection_rad";
+        for (bad, shown) in [("0.0", "0"), ("-1e-3", "-0.001"), ("nan", "NaN")] {
+            assert_refused(&[(key, bad)], key, shown);
+        }
+        assert!(error_of(&[(key, "5e-3")]).is_none());
+    }
+
+    #[test]
     fn the_external_wrench_observer_refuses_a_sensing_delay() {
-        let observed = ("controller.external_wrench", "\"observed\"");
-        let key = "sensing.delay_inner_periods";
-        assert_refused(&[observed, (key, "1")], key, "1");
-        assert!(error_of(&[observed, (key, "0")]).is_none());
+        for name in ["\"observed\"", "\"generalized\""] {
+            let observer = ("controller.external_wrench", name);
+            let key = "sensing.delay_inner_periods";
+            assert_refused(&[observer, (key, "1")], key, "1");
+            assert!(error_of(&[observer, (key, "0")]).is_none());
+        }
     }
 
     #[test]
