@@ -16,6 +16,9 @@ Writes into OUT (default out/robot_rate):
   from [-10 %, +10 %] (``MASS_DRAWS`` seeded draws) and with stiffness estimates x0.5 / x2,
   for each way of taking what the model misses (``MODEL_ERROR_SETUPS``: nothing, the
   centroidal observer, the generalized disturbance observer, the identification, both);
+- noise.md: the tracking with noisy encoders (``NOISE``, seeds 0-3) from stiffness estimates
+  x0.5, x1, x2, with the identification alone and with the design that holds model errors
+  (``NOISE_SETUPS``);
 - robot_rate.json: every figure of the above;
 - with ``--outcomes FILE`` (the main job's outcomes.md): its section "At the robot's rate"
   written (replaced when it is there).
@@ -45,6 +48,12 @@ PUSH = ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml"
 STIFFNESS = [0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.25, 1.5, 2.0]
 DAMPING = [0.2, 0.5, 1.0, 2.0, 3.0]
 IDENTIFICATION = "controller.stiffness_identification"
+#: The design that holds model errors (README, "At the robot's rate", model errors).
+ROBUST: dict[str, Any] = {
+    IDENTIFICATION: True,
+    "controller.external_wrench": "generalized",
+    "controller.identification_prior_deflection_rad": 5e-3,
+}
 #: The push scenario is the robot-rate design (multi-rate, the push observed, compliant CoM
 #: gains, joint limits checked); the rows override it. The rigid robot under the rigid
 #: controller at 100 Hz (zero-order hold), the same controller settings, is each table's
@@ -101,18 +110,10 @@ def log(message: str) -> None:
 
 #: The robustness maps: (title, overrides of the tracking scenario, whether the period map is
 #: linearised: not with an observer, whose estimate is no state of the map).
-MAPS = {
+MAPS: dict[str, tuple[str, dict[str, Any], bool]] = {
     "without": ("without identification", {IDENTIFICATION: False}, True),
     "with": ("with identification", {IDENTIFICATION: True}, True),
-    "with_observer": (
-        "identification (prior 5 mrad) + generalized observer",
-        {
-            IDENTIFICATION: True,
-            "controller.external_wrench": "generalized",
-            "controller.identification_prior_deflection_rad": 5e-3,
-        },
-        False,
-    ),
+    "with_observer": ("identification (prior 5 mrad) + generalized observer", ROBUST, False),
 }
 
 
@@ -172,26 +173,89 @@ def boundaries(rows: list[dict[str, Any]]) -> list[float]:
 #: the setups compared (overrides of the tracking scenario).
 MASS_DRAWS = 8
 MASS_SPREAD = 0.1
-MODEL_ERROR_SETUPS = {
+MODEL_ERROR_SETUPS: dict[str, dict[str, Any]] = {
     "nothing (the paper's dynamics)": {},
     "centroidal observer": {"controller.external_wrench": "observed"},
     "generalized disturbance observer": {"controller.external_wrench": "generalized"},
     "stiffness identification": {IDENTIFICATION: True},
     "identification + generalized observer": {IDENTIFICATION: True, "controller.external_wrench": "generalized"},
-    "identification (prior 5 mrad) + generalized observer": {
-        IDENTIFICATION: True,
-        "controller.external_wrench": "generalized",
-        "controller.identification_prior_deflection_rad": 5e-3,
-    },
+    "identification (prior 5 mrad) + generalized observer": ROBUST,
 }
 MODEL_ERROR_STIFFNESS = [0.5, 2.0]
+
+#: Noisy encoders (every encoder 1e-4 rad, every velocity 1e-2 rad/s; the identification told
+#: the deflection's noise), seeds ``NOISE_SEEDS``, from the stiffness estimates ``NOISE_STIFFNESS``.
+NOISE = {
+    "sensing.joint_position_noise_rad": 1e-4,
+    "sensing.motor_position_noise_rad": 1e-4,
+    "sensing.joint_velocity_noise_rad_s": 1e-2,
+    "sensing.motor_velocity_noise_rad_s": 1e-2,
+    "controller.identification_deflection_noise_rad": 1e-4,
+}
+NOISE_SEEDS = [0, 1, 2, 3]
+NOISE_STIFFNESS = [0.5, 1.0, 2.0]
+NOISE_SETUPS: dict[str, dict[str, Any]] = {
+    "identification": {IDENTIFICATION: True},
+    "identification (prior 5 mrad) + generalized observer": ROBUST,
+}
+
+
+def noise_table() -> dict[str, Any]:
+    """Per setup of ``NOISE_SETUPS``: the outcome of each (stiffness estimate, seed) run."""
+    table: dict[str, Any] = {}
+    for label, setup in NOISE_SETUPS.items():
+        log(f"encoder noise: {label} ({len(NOISE_STIFFNESS) * len(NOISE_SEEDS)} runs)")
+        table[label] = [
+            {
+                "stiffness_scale": scale,
+                "seed": seed,
+                **outcome(
+                    sm.run_scenario(
+                        TRACKING,
+                        overrides={
+                            **setup,
+                            **NOISE,
+                            "controller.stiffness_estimate_scale": scale,
+                            "sensing.seed": seed,
+                        },
+                    )
+                ),
+            }
+            for scale in NOISE_STIFFNESS
+            for seed in NOISE_SEEDS
+        ]
+    return table
+
+
+def noise_markdown(table: dict[str, Any]) -> list[str]:
+    """The noise table as markdown: runs completed, CoM rms and final joint error (median /
+    max over the completed ones)."""
+    lines = [
+        "| noisy encoders, stiffness x0.5 / x1 / x2, 4 seeds | completed | CoM rms median / max [mm] "
+        "| final joint error median / max [rad] | not completed |",
+        "| --- | --- | --- | --- | --- |",
+    ]
+    for label, runs in table.items():
+        done = [r for r in runs if r["status"] == "completed"]
+        rms = [1e3 * r["com_error_rms_m"] for r in done] or [float("nan")]
+        joint = [r["joint_error_norm_final_rad"] for r in done] or [float("nan")]
+        failed = ", ".join(
+            f"x{r['stiffness_scale']:g} seed {r['seed']} {r['status']} at {r['at_s']:.2f} s"
+            for r in runs
+            if r["status"] != "completed"
+        )
+        lines.append(
+            f"| {label} | {len(done)} of {len(runs)} | {np.median(rms):.2f} / {max(rms):.2f} "
+            f"| {np.median(joint):.3f} / {max(joint):.3f} | {failed or '-'} |"
+        )
+    return lines
 
 
 def mass_draws() -> list[dict[str, float]]:
     """``MASS_DRAWS`` seeded draws of a mass scale per link of the tracking robot (uniform in
     1 +- ``MASS_SPREAD``; the links with an inertial element of its URDF)."""
     urdf = (TRACKING.parent / "../../urdf/icub25.urdf").resolve()
-    links = [link.get("name") for link in ET.parse(urdf).getroot().iter("link") if link.find("inertial") is not None]
+    links = [link.get("name", "") for link in ET.parse(urdf).getroot().iter("link") if link.find("inertial") is not None]
     draws = []
     for seed in range(MASS_DRAWS):
         rng = random.Random(seed)
@@ -385,6 +449,8 @@ def outcomes_section(report: dict[str, Any]) -> list[str]:
               f"+-{100 * MASS_SPREAD:g} % ({MASS_DRAWS} draws; CoM errors of the true CoM), and stiffness "
               "estimates without their per-link draws, 10 s tracking at 100 Hz / 1 kHz:", ""]
     lines += model_error_markdown(report["model_errors"])
+    lines += ["", "Noisy encoders (1e-4 rad, 1e-2 rad/s), 10 s tracking at 100 Hz / 1 kHz:", ""]
+    lines += noise_markdown(report["noise"])
     lines += ["", "Figure: robot_rate/robustness_map.png. Mechanism and design: README, \"At the robot's rate\".", ""]
     return lines
 
@@ -426,8 +492,11 @@ def main() -> int:
     (out / "push_table.md").write_text("\n".join(markdown) + "\n")
     model_errors = model_error_table()
     (out / "model_errors.md").write_text("\n".join(model_error_markdown(model_errors)) + "\n")
+    noise = noise_table()
+    (out / "noise.md").write_text("\n".join(noise_markdown(noise)) + "\n")
     report = {
         "model_errors": model_errors,
+        "noise": noise,
         "stiffness_scales": STIFFNESS,
         "damping_scales": DAMPING,
         "maps": maps,

@@ -259,6 +259,10 @@ pub struct ControllerConfig {
     /// torque errors on lightly loaded joints (the stance ankle roll) out of the estimates
     /// (README, "At the robot's rate", model errors).
     pub identification_prior_deflection_rad: f64,
+    /// `multi_rate` with `stiffness_identification`: the estimates stay within this factor
+    /// of the prior, `[K_S^0 / c, c K_S^0]` (`sea_ctrl::stiffness_id`; default 3, more than
+    /// 1).
+    pub identification_range_factor: f64,
     /// The unmodelled external wrench (a push): "none" (the paper's controller; the default)
     /// or "observed" (estimated each whole-body period from the centroidal momentum and the
     /// feet's measured contact wrenches, and taken into the controller's dynamics as a wrench
@@ -350,6 +354,8 @@ impl Default for ControllerConfig {
                 .hold_after_external_force,
             identification_prior_deflection_rad:
                 sea_ctrl::stiffness_id::IdentificationSettings::default().prior_deflection,
+            identification_range_factor: sea_ctrl::stiffness_id::IdentificationSettings::default()
+                .range_factor,
             external_wrench: ExternalWrench::default(),
             external_wrench_bandwidth_hz: sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ,
             damping_estimate_scale: 1.0,
@@ -445,6 +451,7 @@ impl ControllerConfig {
             deflection_noise: self.identification_deflection_noise_rad,
             hold_after_external_force: self.identification_hold_s,
             prior_deflection: self.identification_prior_deflection_rad,
+            range_factor: self.identification_range_factor,
             ..defaults
         };
         self.stiffness_identification

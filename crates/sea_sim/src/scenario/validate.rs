@@ -268,6 +268,14 @@ fn controller(scenario: &Scenario) -> Result<()> {
         "controller.identification_prior_deflection_rad",
         c.identification_prior_deflection_rad,
     )?;
+    let range = c.identification_range_factor;
+    if !(range.is_finite() && range > 1.0) {
+        return Err(Error::invalid(
+            "controller.identification_range_factor",
+            "must be finite and more than 1",
+            shown(range),
+        ));
+    }
     external_wrench(c)?;
     non_negative(
         "controller.joint_inertia_regularization",
@@ -871,6 +879,11 @@ mod tests {
             assert_refused(&[(key, bad)], key, shown);
         }
         assert!(error_of(&[(key, "5e-3")]).is_none());
+        let key = "controller.identification_range_factor";
+        for (bad, shown) in [("1.0", "1"), ("0.5", "0.5"), ("inf", "inf")] {
+            assert_refused(&[(key, bad)], key, shown);
+        }
+        assert!(error_of(&[(key, "10.0")]).is_none());
     }
 
     #[test]
