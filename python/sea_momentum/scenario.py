@@ -39,7 +39,8 @@ class ScenarioResult(Result):
     disturbance_wrench: FloatArray
     #: (m, 6) float64, the external wrench the controller's dynamics took at each tick:
     #: [force; moment about the CoM], world axes (``controller.external_wrench = "observed"``:
-    #: the observer's estimate; zero otherwise)
+    #: the observer's estimate; ``"generalized"``: the disturbance estimate's base rows as a
+    #: wrench about the CoM; zero otherwise)
     external_wrench: FloatArray
     joint_names: list[str]  #: joint names in coordinate order
     elastic_joints: list[str]  #: elastic joint names, the columns of the motor arrays

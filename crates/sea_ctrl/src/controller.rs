@@ -140,8 +140,10 @@ pub struct ControlOutput {
     pub com: Vector3<f64>,
     /// Centroidal momentum `[m pdot_com; L_com]`.
     pub momentum: Vector6<f64>,
-    /// The external wrench the tick's dynamics took as acting on the base, `[force; moment
-    /// about the CoM]` (world axes; zero: none, [`MomentumController::set_external_wrench`]).
+    /// The external wrench the tick's dynamics took, `[force; moment about the CoM]` (world
+    /// axes; zero: none): the one set by [`MomentumController::set_external_wrench`] plus the
+    /// generalized disturbance's base rows as a wrench about the CoM
+    /// ([`MomentumController::set_generalized_disturbance`]), which the contacts carry.
     pub external_wrench: Vector6<f64>,
 }
 
@@ -571,7 +573,7 @@ impl MomentumController {
         self.plant_input(out);
         out.com = com;
         out.momentum = momentum;
-        out.external_wrench = self.external_wrench;
+        out.external_wrench = self.external_wrench + self.disturbance_wrench;
         Ok(())
     }
 
