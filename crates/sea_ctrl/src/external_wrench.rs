@@ -70,7 +70,7 @@ impl ExternalWrenchObserver {
     /// positive.
     pub fn new(period: f64, bandwidth_hz: f64) -> Self {
         Self {
-            blend: 1.0 - (-2.0 * std::f64::consts::PI * bandwidth_hz * period).exp(),
+            blend: low_pass_blend(bandwidth_hz, period),
             period,
             estimate: Vector6::zeros(),
             previous: None,
@@ -110,6 +110,12 @@ impl ExternalWrenchObserver {
         self.period_end_wrenches.clone_from(at_period_end);
         &self.estimate
     }
+}
+
+/// The blend `a = 1 - exp(-2 pi f_c T)` of a first-order low pass with bandwidth
+/// `bandwidth_hz` (`f_c`) sampled every `period` (`T`) [s]: `y_k = y_{k-1} + a (u_k - y_{k-1})`.
+pub fn low_pass_blend(bandwidth_hz: f64, period: f64) -> f64 {
+    1.0 - (-2.0 * std::f64::consts::PI * bandwidth_hz * period).exp()
 }
 
 /// The generalized force (base rows, 6) of the wrench `wrench_com` [N, Nm] about the CoM

@@ -44,6 +44,7 @@
 //! `2 K_S` the correction, a fixed-point iteration through the low pass, is too slow and the
 //! identification is needed (README, "At the robot's rate").
 
+use crate::external_wrench::low_pass_blend;
 use nalgebra::DVector;
 use sea_dyn::{Data, FrameId, Model};
 
@@ -84,7 +85,7 @@ impl GeneralizedDisturbanceObserver {
     pub fn new(model: &Model, period: f64, bandwidth_hz: f64) -> Self {
         let nv = model.nv();
         Self {
-            blend: 1.0 - (-2.0 * std::f64::consts::PI * bandwidth_hz * period).exp(),
+            blend: low_pass_blend(bandwidth_hz, period),
             period,
             estimate: DVector::zeros(nv),
             data: Data::new(model),

@@ -251,10 +251,10 @@ impl StiffnessIdentifier {
         estimates: &mut [ElasticParameters],
     ) -> bool {
         self.model_joint_torques(layout, x, period, wrenches);
-        if self.external_force_hold(period) {
+        let lambda = (-period / self.settings.time_constant).exp();
+        if self.external_force_hold(period, lambda) {
             return false;
         }
-        let lambda = (-period / self.settings.time_constant).exp();
         let mean = self.residual_mean.get_or_insert(self.residual);
         *mean = lambda * *mean + (1.0 - lambda) * self.residual;
         self.sample_weight = lambda * self.sample_weight + 1.0;
@@ -280,15 +280,15 @@ impl StiffnessIdentifier {
     }
 
     /// Whether this update is skipped by the external force check or the hold after it (module
-    /// doc), `period` [s] after the previous update.
-    fn external_force_hold(&mut self, period: f64) -> bool {
+    /// doc), `period` [s] after the previous update, with the forgetting factor `lambda` of
+    /// that period.
+    fn external_force_hold(&mut self, period: f64, lambda: f64) -> bool {
         self.elapsed += period;
         let Some(fraction) = self.settings.max_external_force else {
             return false;
         };
         let (force_bound, moment_bound) = self.external_bounds(fraction);
         let (force, moment) = (self.external_force(), self.external_moment());
-        let lambda = (-period / self.settings.time_constant).exp();
         let (force_square, moment_square) = &mut self.departure_mean_square;
         *force_square = lambda * *force_square + (1.0 - lambda) * force.min(force_bound).powi(2);
         *moment_square =

@@ -5,11 +5,12 @@
 //! diverge, and (its joint torques sensed through the stiffness estimate) a stiffness estimate
 //! off by x0.5 without identification.
 
+mod support;
+
 use nalgebra::DVector;
 use sea_ctrl::generalized_disturbance::{AppliedForces, GeneralizedDisturbanceObserver};
 use sea_sim::closed_loop::run;
 use sea_sim::scenario::Scenario;
-use std::path::PathBuf;
 
 /// Seed 1 of the main job's per-link mass draws (scripts/robot_rate.py, uniform in [0.9,
 /// 1.1]): the model's mass 1.3 kg light, its CoM 4.5 mm off the robot's sideways.
@@ -24,13 +25,7 @@ l_hip_3=0.9919,l_upper_leg=0.9580,l_lower_leg=0.9043,l_ankle_1=1.0675,l_ankle_2=
 l_foot=1.0285}";
 
 fn load(overrides: &[(&str, &str)]) -> Scenario {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios/robot_rate/tracking_multi_rate.toml");
-    let pairs: Vec<(String, String)> = overrides
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    Scenario::from_file(&path, &pairs).unwrap()
+    support::tracking(overrides)
 }
 
 /// At the initial state (the plant at rest on one foot, its springs holding it), the joint

@@ -12,13 +12,7 @@ use sea_sim::scenario::Scenario;
 use std::path::PathBuf;
 
 fn load(overrides: &[(&str, &str)]) -> Scenario {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios/robot_rate/tracking_multi_rate.toml");
-    let pairs: Vec<(String, String)> = overrides
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    Scenario::from_file(&path, &pairs).unwrap()
+    support::tracking(overrides)
 }
 
 /// The tracking scenario with `overrides` built, and the controller's output at its initial

@@ -3,6 +3,24 @@
 // Each test crate that includes this module uses some of its fixtures.
 #![allow(dead_code)]
 
+use sea_sim::scenario::Scenario;
+use std::path::PathBuf;
+
+/// The multi-rate tracking scenario (`scenarios/robot_rate/tracking_multi_rate.toml`) with
+/// `overrides` (dotted key, TOML value).
+///
+/// # Panics
+/// When the scenario does not load with them.
+pub fn tracking(overrides: &[(&str, &str)]) -> Scenario {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/robot_rate/tracking_multi_rate.toml");
+    let pairs: Vec<(String, String)> = overrides
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    Scenario::from_file(&path, &pairs).unwrap()
+}
+
 /// Overrides that put the tracking scenario's iCub on both feet (the original study's two-feet
 /// posture) with a 2 cm, 0.5 Hz CoM sinusoid about the initial CoM.
 pub const TWO_FEET: [(&str, &str); 5] = [
