@@ -269,6 +269,8 @@ NUMBER_KEYS = [
     "controller.qp_moment_regularization",
     "controller.identification_deflection_noise_rad",
     "controller.identification_hold_s",
+    "controller.identification_prior_deflection_rad",
+    "controller.identification_range_factor",
     "controller.joint_inertia_regularization",
     "controller.contact.friction",
     "controller.contact.facets",

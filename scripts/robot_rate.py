@@ -266,10 +266,12 @@ def mass_draws() -> list[dict[str, float]]:
 def outcome(result: Any) -> dict[str, Any]:
     """The figures of one run's summary that the model-error table shows."""
     s = result.summary
+    horizontal = np.asarray(result.com)[:, :2] - np.asarray(result.com_reference)[:, :2]
     return {
         "status": s.status,
         "at_s": s.diverged_at_s if s.diverged_at_s is not None else s.fell_at_s,
         "com_error_rms_m": s.com_error_rms_m,
+        "com_error_horizontal_rms_m": float(np.sqrt(np.mean(np.sum(horizontal**2, axis=1)))),
         "com_error_lateral_max_m": s.com_error_lateral_max_m,
         "joint_error_norm_final_rad": s.joint_error_norm_final_rad,
     }
@@ -302,23 +304,24 @@ def model_error_markdown(table: dict[str, Any]) -> list[str]:
     scales = [f"x{s:g}" for s in MODEL_ERROR_STIFFNESS]
     lines = [
         "| what the controller takes of its model's errors | mass draws completed | CoM rms median / max [mm] "
-        "| lateral max median [mm] | final joint error median / max [rad] | "
+        "| horizontal CoM rms median / max [mm] | lateral max median / max [mm] | final joint error median / max [rad] | "
         + " | ".join(f"stiffness estimate {s}" for s in scales)
         + " |",
-        "| --- | --- | --- | --- | --- |" + " --- |" * len(scales),
+        "| --- | --- | --- | --- | --- | --- |" + " --- |" * len(scales),
     ]
     for label, row in table.items():
         done = [r for r in row["mass_draws"] if r["status"] == "completed"]
         if done:
             rms = [1e3 * r["com_error_rms_m"] for r in done]
+            horizontal = [1e3 * r["com_error_horizontal_rms_m"] for r in done]
             lateral = [1e3 * r["com_error_lateral_max_m"] for r in done]
             joint = [r["joint_error_norm_final_rad"] for r in done]
             figures = (
-                f"{np.median(rms):.2f} / {max(rms):.2f} | {np.median(lateral):.2f} | "
-                f"{np.median(joint):.3f} / {max(joint):.3f}"
+                f"{np.median(rms):.2f} / {max(rms):.2f} | {np.median(horizontal):.2f} / {max(horizontal):.2f} | "
+                f"{np.median(lateral):.2f} / {max(lateral):.2f} | {np.median(joint):.3f} / {max(joint):.3f}"
             )
         else:
-            figures = "- | - | -"
+            figures = "- | - | - | -"
         cells = []
         for s in scales:
             r = row["stiffness"][s]

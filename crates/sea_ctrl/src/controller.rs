@@ -173,7 +173,7 @@ pub struct TaskTerms {
     pub sigma: DMatrix<f64>,
     /// `A` (6 x 6 n_contacts).
     pub momentum_map: DMatrix<f64>,
-    /// `b = Hdot* - m g` (6).
+    /// `b = Hdot* - m g` (6), less the generalized disturbance's wrench `w_d` when one is set.
     pub momentum_target: DVector<f64>,
     /// `world_R_contact` of each contact (the sole frames of the QP's contact constraints).
     pub contact_rotations: Vec<Matrix3<f64>>,
@@ -348,6 +348,9 @@ pub struct MomentumController {
     /// The wrench about the CoM (world axes) of the generalized disturbance's base rows at the
     /// last tick, which the momentum task's contact wrenches carry (zero: none).
     disturbance_wrench: Vector6<f64>,
+    /// The robot's CoM less the model's (world) [m] that the CoM position error takes
+    /// ([`MomentumController::set_com_offset`]; zero: none).
+    com_offset: Vector3<f64>,
 }
 
 impl MomentumController {
@@ -401,6 +404,7 @@ impl MomentumController {
             external_wrench: Vector6::zeros(),
             generalized_disturbance: DVector::zeros(0),
             disturbance_wrench: Vector6::zeros(),
+            com_offset: Vector3::zeros(),
             settings,
             contact_frames,
             contact_references,
@@ -514,6 +518,14 @@ impl MomentumController {
             self.disturbance_wrench = Vector6::zeros();
         }
         Ok(())
+    }
+
+    /// The robot's CoM less the model's, `offset` (world) [m], that the CoM position error of
+    /// the next ticks takes (the momentum task's integral term: the robot's CoM is brought to
+    /// the reference, while the momentum and its map stay the model's, about its CoM), e.g. an
+    /// observer's estimate ([`crate::generalized_disturbance`]); zero: none.
+    pub fn set_com_offset(&mut self, offset: &Vector3<f64>) {
+        self.com_offset = *offset;
     }
 
     /// The generalized disturbance the dynamics take (nv; empty: none).
@@ -732,8 +744,10 @@ impl MomentumController {
     }
 
     /// `M` (in `data`), `h` into the torque map (SEA controller: with hjBar in the joint rows;
-    /// less the external wrench's generalized force in the base rows when one is set), the CoM
-    /// [m, world] and the centroidal momentum at the state.
+    /// less the external wrench's generalized force in the base rows when one is set; less the
+    /// generalized disturbance in every row when one is set, whose base rows' wrench about the
+    /// CoM it keeps for the momentum target), the CoM [m, world] and the centroidal momentum
+    /// at the state.
     fn model_terms(&mut self, x: &[f64], layout: &StateLayout) -> (Vector3<f64>, Vector6<f64>) {
         let model = &self.model;
         let (q, nu) = (layout.q(x), layout.nu(x));
@@ -786,7 +800,9 @@ impl MomentumController {
         }
     }
 
-    /// `b = Hdot* - [m g; 0]` into `self.terms.momentum_target` (hDot, eq:dotH_f, eq:IhTilde).
+    /// `b = Hdot* - [m g; 0] - w_d` into `self.terms.momentum_target` (hDot, eq:dotH_f,
+    /// eq:IhTilde; `w_d` the generalized disturbance's wrench about the CoM, zero without one),
+    /// the CoM position error taken at the robot's CoM (`set_com_offset`).
     fn momentum_target(
         &mut self,
         reference: &ComSample,
@@ -795,9 +811,11 @@ impl MomentumController {
     ) {
         let m = self.mass;
         let (desired, desired_rate) = desired_momentum(m, reference);
+        // The position error is the robot's CoM's (`set_com_offset`); the momentum and its map
+        // stay the model's, about its CoM.
         let integral = momentum_integral_error(
             m,
-            &com,
+            &(com + self.com_offset),
             &reference.position,
             &self.momentum_jacobian.angular,
             &self.posture_error,

@@ -24,8 +24,10 @@
 //! rule, with the applied generalized force `g = S^T tau + sum_c J_c(q)^T f_c` from the
 //! measured joint torques `tau` and contact wrenches `f` (world axes at the contact frames'
 //! origins) at the period's start, after the command of tick `k - 1` took effect (`g^+`), and
-//! at its end, that command still held (`g^-`), as in [`crate::external_wrench`]. The estimate
-//! is its first-order low pass with bandwidth `f_c`:
+//! at its end, that command still held (`g^-`), as in [`crate::external_wrench`]. The loop
+//! updates it at sample `k` once the period that starts there has shown `g_k^+` (its first
+//! plant step); `g_k^-` is what the sensors read at the end of the period before. The
+//! estimate is its first-order low pass with bandwidth `f_c`:
 //!
 //! `d^_k = d^_{k-1} + a (r_k - d^_{k-1})`, `a = 1 - exp(-2 pi f_c T)`, `d^_0 = 0`.
 //!
@@ -45,11 +47,12 @@
 //! identification is needed (README, "At the robot's rate").
 
 use crate::external_wrench::low_pass_blend;
-use nalgebra::DVector;
+use nalgebra::{DVector, Vector3, Vector6};
+use sea_dyn::spatial::Force;
 use sea_dyn::{Data, FrameId, Model};
 
 /// The observer of the generalized disturbance (module doc): its estimate and what it keeps
-/// of the previous sample.
+/// of the previous sample. Allocation-free after [`GeneralizedDisturbanceObserver::new`].
 #[derive(Clone, Debug)]
 pub struct GeneralizedDisturbanceObserver {
     /// `a = 1 - exp(-2 pi f_c T)` of the low pass.
@@ -60,14 +63,29 @@ pub struct GeneralizedDisturbanceObserver {
     estimate: DVector<f64>,
     /// The controller model's kinematics and dynamics buffers.
     data: Data,
-    /// `(q_{k-1}, nu_{k-1}, g_{k-1}^+)` of the previous sample (`None` before the first).
-    previous: Option<(Vec<f64>, Vec<f64>, DVector<f64>)>,
-    /// `(tau_k^-, f_k^-)`: the torques (n) and wrenches (6 per contact) at the end of the
-    /// period that ends at the next sample.
-    period_end: (DVector<f64>, DVector<f64>),
+    /// Whether a sample came before (the `previous` buffers hold it).
+    has_previous: bool,
+    /// `q_{k-1}` (nq) of the previous sample.
+    q_previous: Vec<f64>,
+    /// `nu_{k-1}` (nv) of the previous sample.
+    nu_previous: Vec<f64>,
+    /// `g_{k-1}^+` (nv) of the previous sample.
+    applied_after_previous: DVector<f64>,
+    /// `g_k^-` (nv) of this update.
+    applied_before: DVector<f64>,
     /// `a_k` (nv) [m/s^2, rad/s^2].
     acceleration: Vec<f64>,
+    /// `r_k` (nv) of this update.
+    residual: DVector<f64>,
+    /// The low pass's blend of the CoM offset ([`COM_OFFSET_BANDWIDTH_HZ`]).
+    offset_blend: f64,
+    /// The robot's CoM less the model's, horizontal, low-passed (world) [m].
+    com_offset: Vector3<f64>,
 }
+
+/// The bandwidth of the CoM offset's low pass [Hz] (module doc, CoM offset): the offset is a
+/// property of the posture, and the disturbance's moment is noisy with noisy encoders.
+pub const COM_OFFSET_BANDWIDTH_HZ: f64 = 1.0;
 
 /// What the sensors read at one end of a period: the joint torques (n) [Nm] and the contact
 /// wrenches (6 per contact, `[force; moment]` at the contact frame's origin, world axes).
@@ -89,9 +107,15 @@ impl GeneralizedDisturbanceObserver {
             period,
             estimate: DVector::zeros(nv),
             data: Data::new(model),
-            previous: None,
-            period_end: (DVector::zeros(0), DVector::zeros(0)),
+            has_previous: false,
+            q_previous: vec![0.0; model.nq()],
+            nu_previous: vec![0.0; nv],
+            applied_after_previous: DVector::zeros(nv),
+            applied_before: DVector::zeros(nv),
             acceleration: vec![0.0; nv],
+            residual: DVector::zeros(nv),
+            offset_blend: low_pass_blend(COM_OFFSET_BANDWIDTH_HZ, period),
+            com_offset: Vector3::zeros(),
         }
     }
 
@@ -100,10 +124,18 @@ impl GeneralizedDisturbanceObserver {
         &self.estimate
     }
 
-    /// The update after the period that starts at sample `k`: the measured configuration `q`
-    /// (nq) and velocity `nu` (nv) at sample `k`, the contact frames `contacts` of the
-    /// wrenches, the forces measured at the period's start (`at_sample`, after the command)
-    /// and end (`at_period_end`, the command still held). Returns the new estimate `d^_k`.
+    /// The robot's CoM less the model's (horizontal, world) [m] that the estimate's base rows
+    /// show ([`com_offset`] at the last sample, low-passed at [`COM_OFFSET_BANDWIDTH_HZ`]).
+    pub fn com_offset(&self) -> &Vector3<f64> {
+        &self.com_offset
+    }
+
+    /// The update at sample `k`, once the period that starts there has shown its first forces:
+    /// the measured configuration `q` (nq) and velocity `nu` (nv) at sample `k`, the contact
+    /// frames `contacts` of the wrenches, the forces measured at the end of the period that
+    /// ends at sample `k` (`before`: `g_k^-`, the previous command still held) and at the start
+    /// of the one that begins there (`after`: `g_k^+`, after this sample's command). Returns
+    /// the new estimate `d^_k` (the first update only keeps the sample).
     ///
     /// # Panics
     /// When the sizes do not match `model` and `contacts`.
@@ -111,68 +143,119 @@ impl GeneralizedDisturbanceObserver {
         &mut self,
         (model, contacts): (&Model, &[FrameId]),
         (q, nu): (&[f64], &[f64]),
-        at_sample: AppliedForces<'_>,
-        at_period_end: AppliedForces<'_>,
+        before: AppliedForces<'_>,
+        after: AppliedForces<'_>,
     ) -> &DVector<f64> {
-        match self.previous.take() {
-            Some(previous) => {
-                let residual = self.residual((model, contacts), &previous, (q, nu));
-                self.estimate += self.blend * (residual - &self.estimate);
-            }
-            None => sea_dyn::forward_kinematics(model, &mut self.data, q),
+        if self.has_previous {
+            self.residual((model, contacts), (q, nu), before);
+            self.estimate
+                .axpy(self.blend, &self.residual, 1.0 - self.blend);
+            self.update_com_offset(model);
+        } else {
+            sea_dyn::forward_kinematics(model, &mut self.data, q);
         }
         // The placements in `data` are at `q` now.
-        let applied_after = applied_generalized_force(
-            model,
-            &mut self.data,
-            contacts,
-            at_sample.joint_torques,
-            at_sample.contact_wrenches,
-        );
-        self.previous = Some((q.to_vec(), nu.to_vec(), applied_after));
-        self.period_end.0.clone_from(at_period_end.joint_torques);
-        self.period_end.1.clone_from(at_period_end.contact_wrenches);
+        let after_force = &mut self.applied_after_previous;
+        applied_generalized_force(model, &mut self.data, contacts, after, after_force);
+        self.q_previous.copy_from_slice(q);
+        self.nu_previous.copy_from_slice(nu);
+        self.has_previous = true;
         &self.estimate
     }
 
-    /// `r_k` (module doc) for the previous sample `(q_{k-1}, nu_{k-1}, g_{k-1}^+)` and the
-    /// current `(q_k, nu_k)`; leaves the placements at `q_k` in `data`.
+    /// The CoM offset's low pass with the estimate's base rows as a wrench about the model's
+    /// CoM at the sample (RNEA at it just ran: the body inertias are in `data`).
+    fn update_com_offset(&mut self, model: &Model) {
+        sea_dyn::centroidal_momentum_from_dynamics(&mut self.data);
+        let d = &self.estimate;
+        let at_base = Force::new(d.fixed_rows::<3>(0).into(), d.fixed_rows::<3>(3).into());
+        let about_com = at_base.moment_about(&self.data.p_com_rel).to_vector();
+        let offset = com_offset(&about_com, model.total_mass(), &model.gravity);
+        self.com_offset += self.offset_blend * (offset - self.com_offset);
+    }
+
+    /// `r_k` (module doc) into `self.residual` from the previous sample's buffers, the current
+    /// `(q_k, nu_k)` and `g_k^-` from `before`; leaves the placements at `q_k` in `data`.
     fn residual(
         &mut self,
         (model, contacts): (&Model, &[FrameId]),
-        (q_previous, nu_previous, applied_after): &(Vec<f64>, Vec<f64>, DVector<f64>),
         (q, nu): (&[f64], &[f64]),
-    ) -> DVector<f64> {
-        for ((a, now), before) in self.acceleration.iter_mut().zip(nu).zip(nu_previous) {
-            *a = (now - before) / self.period;
+        before: AppliedForces<'_>,
+    ) {
+        let velocities = nu.iter().zip(&self.nu_previous);
+        for (a, (now, then)) in self.acceleration.iter_mut().zip(velocities) {
+            *a = (now - then) / self.period;
         }
-        let data = &mut self.data;
-        let mut residual =
-            sea_dyn::rnea(model, data, q_previous, nu_previous, &self.acceleration).clone();
-        residual += sea_dyn::rnea(model, data, q, nu, &self.acceleration);
-        residual -= applied_after;
-        let (torques, wrenches) = &self.period_end;
-        residual -= applied_generalized_force(model, data, contacts, torques, wrenches);
-        residual * 0.5
+        let (data, previous) = (&mut self.data, (&self.q_previous, &self.nu_previous));
+        let start = sea_dyn::rnea(model, data, previous.0, previous.1, &self.acceleration);
+        self.residual.copy_from(start);
+        self.residual += sea_dyn::rnea(model, data, q, nu, &self.acceleration);
+        self.residual -= &self.applied_after_previous;
+        applied_generalized_force(model, data, contacts, before, &mut self.applied_before);
+        self.residual -= &self.applied_before;
+        self.residual *= 0.5;
     }
 }
 
-/// `g = S^T tau + sum_c J_c^T f_c` (nv): the generalized force of the joint torques `torques`
-/// (n) and the contact wrenches `wrenches` (6 per contact of `contacts`) with the frame
+/// The horizontal offset [m] of the robot's CoM from the model's that a static disturbance
+/// wrench `wrench` about the model's CoM (world axes; the base rows' wrench) shows, for the
+/// model's `mass` [kg] and `gravity` [m/s^2]: the robot's weight `W = m g + F` acts at the
+/// offset `r`, so `M = r x W`, and the part of `r` normal to `W` is `W x M / |W|^2` (the part
+/// along gravity has no moment). Zero when `W` vanishes.
+pub fn com_offset(wrench: &Vector6<f64>, mass: f64, gravity: &Vector3<f64>) -> Vector3<f64> {
+    let weight = gravity * mass + wrench.fixed_rows::<3>(0);
+    let moment = wrench.fixed_rows::<3>(3).into_owned();
+    let norm_squared = weight.norm_squared();
+    if norm_squared > 0.0 {
+        weight.cross(&moment) / norm_squared
+    } else {
+        Vector3::zeros()
+    }
+}
+
+/// `g = S^T tau + sum_c J_c^T f_c` (nv) into `force`: the generalized force of the joint
+/// torques and contact wrenches `forces` (6 per contact of `contacts`) with the frame
 /// Jacobians from the placements in `data` (forward kinematics done at the configuration).
 fn applied_generalized_force(
     model: &Model,
     data: &mut Data,
     contacts: &[FrameId],
-    torques: &DVector<f64>,
-    wrenches: &DVector<f64>,
-) -> DVector<f64> {
-    let mut force = DVector::zeros(model.nv());
+    forces: AppliedForces<'_>,
+    force: &mut DVector<f64>,
+) {
+    force.fill(0.0);
+    let torques = forces.joint_torques;
     force.rows_mut(6, torques.len()).copy_from(torques);
     for (c, &frame) in contacts.iter().enumerate() {
         sea_dyn::jacobian::frame_jacobian_from_kinematics(model, data, frame);
-        let wrench = wrenches.fixed_rows::<6>(6 * c);
+        let wrench = forces.contact_wrenches.fixed_rows::<6>(6 * c);
         force.gemv_tr(1.0, &data.frame_jacobian, &wrench, 1.0);
     }
-    force
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A model 2 kg light whose CoM is 4 mm beside and 3 mm below the robot's: the wrench the
+    /// model misses about its CoM is the robot's weight with its moment; the offset found is
+    /// the horizontal part, the vertical one does not show.
+    #[test]
+    fn the_com_offset_is_the_horizontal_arm_of_the_missing_weight() {
+        let (gravity, model_mass, robot_mass) = (Vector3::new(0.0, 0.0, -9.81), 30.0, 32.0);
+        let offset = Vector3::new(0.0, 4e-3, 3e-3);
+        let robot_weight = gravity * robot_mass;
+        let force = robot_weight - gravity * model_mass;
+        let moment = offset.cross(&robot_weight);
+        let wrench = Vector6::new(force.x, force.y, force.z, moment.x, moment.y, moment.z);
+        let found = com_offset(&wrench, model_mass, &gravity);
+        assert!(
+            (found - Vector3::new(0.0, 4e-3, 0.0)).norm() < 1e-15,
+            "{found}"
+        );
+        assert_eq!(
+            com_offset(&Vector6::zeros(), 0.0, &gravity),
+            Vector3::zeros()
+        );
+    }
 }

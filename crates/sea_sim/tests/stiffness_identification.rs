@@ -155,46 +155,61 @@ fn encoder_noise_biases_plain_least_squares_and_the_compensation_removes_it() {
     );
 }
 
-/// Standard normal samples (Box-Muller on a 64-bit LCG): deterministic, no dependency.
 /// Velocity noise of 1e-2 rad/s on every joint, at rest: the finite-difference `nudot` puts
 /// several N and Nm into the base rows' residual, past the check's fixed bounds (6.5 N,
-/// 0.65 Nm) at most updates. The bounds rise to the noise (`NOISE_BOUND_FACTOR` times the
-/// departures' rms): after 10 s nearly every update is made, and a 50 N push on the measured
-/// wrench on top of the noise is still skipped.
+/// 0.65 Nm) at most updates, and with exact encoders declared (no deflection noise) the
+/// identification makes none of the last 100. With the noise declared the bounds rise to it
+/// (`NOISE_BOUND_FACTOR` times the departures' rms): 95 or more of the last 100 updates are
+/// made, and a 50 N push on the measured wrench on top of the noise is still skipped.
 #[test]
 fn the_external_force_check_rises_to_the_noise_and_still_sees_a_push() {
     let (setup, output) = at_rest(&[]);
     let (layout, x0) = (setup.plant.layout(), setup.x0.clone());
-    let mut estimates = setup.controller.estimates().to_vec();
-    let settings = IdentificationSettings::default();
-    let mut identifier = StiffnessIdentifier::new(&setup.controller, &estimates, settings);
-    let mut normal = NormalSamples(0x9e37_79b9_7f4a_7c15);
-    let sdot = layout.nu_offset() + 6;
-    let mut x = x0.clone();
     let weight = setup.model.total_mass() * 9.81;
     let fixed = (0.02 * weight, 0.02 * weight * 0.1);
-    let (mut made, mut past_fixed) = (0, 0);
-    for k in 0..1000 {
-        for j in 0..setup.model.n_joints() {
-            x[sdot + j] = x0[sdot + j] + 1e-2 * normal.next();
+    let sdot = layout.nu_offset() + 6;
+    // (updates made, departures past the fixed bounds) of the last 100 of 1000 noisy updates,
+    // and the identifier after them.
+    let noisy_updates = |deflection_noise: f64| {
+        let mut estimates = setup.controller.estimates().to_vec();
+        let settings = IdentificationSettings {
+            deflection_noise,
+            ..IdentificationSettings::default()
+        };
+        let mut identifier = StiffnessIdentifier::new(&setup.controller, &estimates, settings);
+        let mut normal = NormalSamples(0x9e37_79b9_7f4a_7c15);
+        let mut x = x0.clone();
+        let (mut made, mut past_fixed) = (0, 0);
+        for k in 0..1000 {
+            for j in 0..setup.model.n_joints() {
+                x[sdot + j] = x0[sdot + j] + 1e-2 * normal.next();
+            }
+            let update = identifier.update(&layout, &x, 0.01, &output.wrenches, &mut estimates);
+            let departure = (identifier.external_force(), identifier.external_moment());
+            if k >= 900 {
+                made += usize::from(update);
+                past_fixed += usize::from(departure.0 > fixed.0 || departure.1 > fixed.1);
+            }
         }
-        let update = identifier.update(&layout, &x, 0.01, &output.wrenches, &mut estimates);
-        let departure = (identifier.external_force(), identifier.external_moment());
-        if k >= 900 {
-            made += usize::from(update);
-            past_fixed += usize::from(departure.0 > fixed.0 || departure.1 > fixed.1);
-        }
-    }
+        (made, past_fixed, identifier, estimates, x)
+    };
+    let (made, past_fixed, ..) = noisy_updates(0.0);
     assert!(
         past_fixed > 50,
         "{past_fixed} of the last 100 past the fixed bounds"
     );
+    assert_eq!(
+        made, 0,
+        "exact encoders declared: {made} of the last 100 made"
+    );
+    let (made, _, mut identifier, mut estimates, x) = noisy_updates(1e-4);
     assert!(made >= 95, "{made} of the last 100 made");
     let mut pushed = output.wrenches.clone();
     pushed[1] += 50.0;
     assert!(!identifier.update(&layout, &x, 0.01, &pushed, &mut estimates));
 }
 
+/// Standard normal samples (Box-Muller on a 64-bit LCG): deterministic, no dependency.
 struct NormalSamples(u64);
 
 impl NormalSamples {

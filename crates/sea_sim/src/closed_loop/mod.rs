@@ -26,6 +26,7 @@
 //! (checked at every sample whose plant evaluation succeeded; [`contact_check`]). Either way the sinks are finished (the MCAP log gets its summary section).
 
 pub mod contact_check;
+mod disturbance;
 mod record;
 mod sampling;
 mod sensing;

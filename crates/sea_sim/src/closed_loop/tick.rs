@@ -4,6 +4,7 @@
 //! (zero-order hold) or the law at every integrator stage (continuous).
 
 use super::contact_check::ContactCheck;
+use super::disturbance::{DisturbanceObserverLoop, PeriodEnd};
 use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
 use super::sensing::Sensor;
@@ -13,11 +14,10 @@ use crate::scenario::{DisturbanceSchedule, IdentificationWrenches, Scenario, Set
 use nalgebra::DVector;
 use sea_ctrl::external_wrench::ExternalWrenchObserver;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
-use sea_ctrl::generalized_disturbance::{AppliedForces, GeneralizedDisturbanceObserver};
 use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::stiffness_id::StiffnessIdentifier;
 use sea_ctrl::MomentumController;
-use sea_dyn::{Data, ElasticParameters, Model};
+use sea_dyn::{Data, Model};
 use sea_plant::integrator::step_with_feedback;
 use sea_plant::{Method, Plant, PlantData, PlantOutputs, StateLayout, Workspace};
 
@@ -288,9 +288,7 @@ pub(super) struct Engine<'a> {
     external_wrench_observer: Option<ExternalWrenchObserver>,
     /// `controller.external_wrench = "generalized"`: the observer whose estimate the
     /// controller's dynamics take in every row.
-    disturbance_observer: Option<GeneralizedDisturbanceObserver>,
-    /// The joint torques the observer reads at the period's start and end (n each).
-    sensed_torques: (DVector<f64>, DVector<f64>),
+    disturbance_observer: Option<DisturbanceObserverLoop>,
     /// Fall detection on the plant's outputs at each sample.
     contact_check: ContactCheck,
     /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
@@ -337,19 +335,18 @@ impl<'a> Engine<'a> {
             schedule.step,
             &mut pd.workspace,
         )?;
-        let disturbance_observer = scenario
-            .controller
-            .generalized_disturbance_observer(controller.model(), schedule.period);
+        let disturbance_observer = DisturbanceObserverLoop::new(
+            scenario
+                .controller
+                .generalized_disturbance_observer(controller.model(), schedule.period),
+            controller,
+        );
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         let external_wrench_observer = scenario
             .controller
             .external_wrench_observer(schedule.period);
         Ok(Engine {
             disturbance_observer,
-            sensed_torques: (
-                DVector::zeros(model.n_joints()),
-                DVector::zeros(model.n_joints()),
-            ),
             joint_loop,
             identifier,
             external_wrench_observer,
@@ -541,45 +538,34 @@ impl<'a> Engine<'a> {
         let Some(observer) = &mut self.disturbance_observer else {
             return;
         };
-        let controller = self.law.controller();
-        let robot = (controller.model(), controller.contact_frames());
+        let controller = self.law.controller_mut();
+        let side = &self.side;
+        let period_end = PeriodEnd {
+            joint_torque: &side.period_end_joint_torque,
+            contact_wrench: &side.period_end_wrench,
+        };
+        let measured = (&self.layout, self.measured_at_sample.as_slice());
+        // The joint loop's estimates (identified or not); without one, the controller's.
+        let owned;
         let estimates = match &self.joint_loop {
             Some(joint_loop) => joint_loop.estimates(),
-            None => controller.estimates(),
+            None => {
+                owned = controller.estimates().to_vec();
+                &owned
+            }
         };
-        let elastic = (&controller.actuation().elastic_joints[..], estimates);
-        let (layout, side) = (self.layout, &mut self.side);
-        let x = &self.measured_at_sample;
-        let state = (layout.q(x), layout.nu(x));
-        let (sample_torques, end_torques) = &mut self.sensed_torques;
-        sense_joint_torques(
-            elastic,
-            &layout,
-            x,
-            &side.outputs.joint_torque,
-            sample_torques,
-        );
-        let x_end = &side.x_next;
-        sense_joint_torques(
-            elastic,
-            &layout,
-            x_end,
-            &side.period_end_joint_torque,
-            end_torques,
-        );
-        let at_sample = AppliedForces {
-            joint_torques: sample_torques,
-            contact_wrenches: &side.outputs.contact_wrench,
-        };
-        let at_end = AppliedForces {
-            joint_torques: end_torques,
-            contact_wrenches: &side.period_end_wrench,
-        };
-        let estimate = observer.update(robot, state, at_sample, at_end);
-        let controller = self.law.controller_mut();
-        controller
-            .set_generalized_disturbance(estimate)
-            .expect("the observer is sized for the controller's model");
+        observer.observe(controller, measured, estimates, &side.outputs, period_end);
+    }
+
+    /// Without a sensor, when the controller's model is not the plant's: puts the plant's CoM
+    /// (the true one; the controller's is its model's) into the law's observation of the
+    /// current sample, which is recorded and checked.
+    fn observe_true_com(&mut self) {
+        if let Some(data) = &mut self.truth {
+            let (model, q) = (&self.side.plant.model, self.layout.q(&self.x));
+            let com = sea_dyn::centroidal::com(model, data, q);
+            self.law.observe_truth(com, self.layout.s(&self.x));
+        }
     }
 
     /// The law's tick at sample time `time`: at the true state, or with a sensor at its
@@ -588,12 +574,7 @@ impl<'a> Engine<'a> {
         let failed = |e: sea_ctrl::Error| Divergence::ControllerFailed(e.to_string());
         let Some(sensor) = &mut self.sensor else {
             self.law.tick(time, &self.x).map_err(failed)?;
-            if let Some(data) = &mut self.truth {
-                // The controller's CoM is its model's; record and check the plant's.
-                let (model, q) = (&self.side.plant.model, self.layout.q(&self.x));
-                let com = sea_dyn::centroidal::com(model, data, q);
-                self.law.observe_truth(com, self.layout.s(&self.x));
-            }
+            self.observe_true_com();
             return Ok(());
         };
         self.law
@@ -644,11 +625,12 @@ impl<'a> Engine<'a> {
                 Ok(()) => "not evaluated".into(),
             }));
         }
+        self.observe_true_com();
         let state = (self.model, self.layout.s(&self.x));
         let failure = match (bound_crossed(self.law.last(), state, self.scenario), result) {
             (Some(reason), _) => Some(reason),
             (None, Err(e)) => Some(Divergence::StepFailed(e.to_string())),
-            (None, Ok(())) if side.x_next.iter().any(|v| !v.is_finite()) => {
+            (None, Ok(())) if self.side.x_next.iter().any(|v| !v.is_finite()) => {
                 Some(Divergence::NonFiniteState)
             }
             (None, Ok(())) => None,
@@ -696,25 +678,5 @@ impl<'a> Engine<'a> {
             qp_status: &output.qp_status,
             qp_failures: self.law.controller().qp_failures(),
         }
-    }
-}
-
-/// The joint torques (n) as the robot senses them at state `x`: an elastic joint's (of
-/// `elastic`: coordinate indices and the loop's estimates) from its deflection through the
-/// estimates ([`sea_ctrl::sea::sensed_spring_torque`]), a rigid joint's the torque applied
-/// (`applied`, n: its motor's torque).
-fn sense_joint_torques(
-    (elastic_joints, estimates): (&[usize], &[ElasticParameters]),
-    layout: &StateLayout,
-    x: &[f64],
-    applied: &DVector<f64>,
-    sensed: &mut DVector<f64>,
-) {
-    sensed.copy_from(applied);
-    let (theta, thetadot) = (layout.theta(x), layout.thetadot(x));
-    let (s, sdot) = (layout.s(x), layout.sdot(x));
-    for (e, (&j, estimate)) in elastic_joints.iter().zip(estimates).enumerate() {
-        let motor = (theta[e], thetadot[e]);
-        sensed[j] = sea_ctrl::sea::sensed_spring_torque(estimate, motor, (s[j], sdot[j]));
     }
 }

@@ -264,10 +264,14 @@ fn controller(scenario: &Scenario) -> Result<()> {
         c.identification_deflection_noise_rad,
     )?;
     non_negative("controller.identification_hold_s", c.identification_hold_s)?;
-    positive(
-        "controller.identification_prior_deflection_rad",
-        c.identification_prior_deflection_rad,
-    )?;
+    let prior = c.identification_prior_deflection_rad;
+    if !(prior > 0.0 && prior <= 0.1) {
+        return Err(Error::invalid(
+            "controller.identification_prior_deflection_rad",
+            "must be positive and at most 0.1 rad",
+            shown(prior),
+        ));
+    }
     let range = c.identification_range_factor;
     if !(range.is_finite() && range > 1.0) {
         return Err(Error::invalid(
@@ -875,7 +879,12 @@ mod tests {
     #[test]
     fn the_identification_prior_must_be_a_positive_deflection() {
         let key = "controller.identification_prior_deflection_rad";
-        for (bad, shown) in [("0.0", "0"), ("-1e-3", "-0.001"), ("nan", "NaN")] {
+        for (bad, shown) in [
+            ("0.0", "0"),
+            ("-1e-3", "-0.001"),
+            ("nan", "NaN"),
+            ("1e200", "1e200"),
+        ] {
             assert_refused(&[(key, bad)], key, shown);
         }
         assert!(error_of(&[(key, "5e-3")]).is_none());
