@@ -102,12 +102,7 @@ fn encoder_noise_biases_plain_least_squares_and_the_compensation_removes_it() {
     let truth = setup.plant.actuation.clone();
     let sigma = 1e-4;
     let identify = |deflection_noise: f64| {
-        let mut estimates = setup.controller.estimates().to_vec();
-        let settings = IdentificationSettings {
-            deflection_noise,
-            ..IdentificationSettings::default()
-        };
-        let mut identifier = StiffnessIdentifier::new(&setup.controller, &estimates, settings);
+        let (mut identifier, mut estimates) = noise_declared(&setup, deflection_noise);
         let mut normal = NormalSamples(0x2545_f491_4f6c_dd1d);
         let mut x = x0.clone();
         for _ in 0..3000 {
@@ -171,12 +166,7 @@ fn the_external_force_check_rises_to_the_noise_and_still_sees_a_push() {
     // (updates made, departures past the fixed bounds) of the last 100 of 1000 noisy updates,
     // and the identifier after them.
     let noisy_updates = |deflection_noise: f64| {
-        let mut estimates = setup.controller.estimates().to_vec();
-        let settings = IdentificationSettings {
-            deflection_noise,
-            ..IdentificationSettings::default()
-        };
-        let mut identifier = StiffnessIdentifier::new(&setup.controller, &estimates, settings);
+        let (mut identifier, mut estimates) = noise_declared(&setup, deflection_noise);
         let mut normal = NormalSamples(0x9e37_79b9_7f4a_7c15);
         let mut x = x0.clone();
         let (mut made, mut past_fixed) = (0, 0);
@@ -207,6 +197,22 @@ fn the_external_force_check_rises_to_the_noise_and_still_sees_a_push() {
     let mut pushed = output.wrenches.clone();
     pushed[1] += 50.0;
     assert!(!identifier.update(&layout, &x, 0.01, &pushed, &mut estimates));
+}
+
+/// An identifier of `setup`'s controller with the default settings and the encoders' noise on
+/// the deflection declared as `deflection_noise` [rad], and the estimates it refines (the
+/// controller's).
+fn noise_declared(
+    setup: &sea_sim::scenario::Setup,
+    deflection_noise: f64,
+) -> (StiffnessIdentifier, Vec<sea_dyn::ElasticParameters>) {
+    let estimates = setup.controller.estimates().to_vec();
+    let settings = IdentificationSettings {
+        deflection_noise,
+        ..IdentificationSettings::default()
+    };
+    let identifier = StiffnessIdentifier::new(&setup.controller, &estimates, settings);
+    (identifier, estimates)
 }
 
 /// Standard normal samples (Box-Muller on a 64-bit LCG): deterministic, no dependency.
