@@ -500,7 +500,8 @@ class Scenario:
     @property
     def sampling(self) -> str:
         """"zero_order_hold", "continuous" or "multi_rate" (``Controller.inner_tick`` runs its
-        joint loops; the stiffness identification runs in the native run only)."""
+        joint loops; the stiffness identification and its excitation run in the native run
+        only)."""
     @property
     def method(self) -> str:
         """The plant's integrator (``Plant.step``'s ``method``)."""

@@ -35,6 +35,7 @@
 //! 1 kHz has a spectral radius 0.91 whatever the estimates.
 
 use crate::controller::{ControlOutput, ControllerKind, MomentumController};
+use crate::excitation::IdentificationExcitation;
 use crate::sea::spring_torque_without_motor_velocity;
 use sea_dyn::{ElasticParameters, StateLayout};
 
@@ -166,6 +167,12 @@ impl JointTorqueLoop {
             self.held[e] = output.joint_command[j] + p;
             self.s_desired[e] = s_desired[j];
         }
+    }
+
+    /// Adds `excitation` at time `time` [s] to the held desired torques (after
+    /// [`Self::hold`], until the next hold; [`crate::excitation`]).
+    pub fn excite(&mut self, excitation: &IdentificationExcitation, time: f64) {
+        excitation.add_to(time, &mut self.held);
     }
 
     /// One inner tick at the measured state `x`: the plant input (n) with the desired motor

@@ -18,7 +18,9 @@
 //! - [`generalized_disturbance`]: the generalized force the model misses (link mass errors, a
 //!   wrench on any link) estimated by inverse dynamics, taken into every row of the dynamics;
 //! - [`stiffness_id`]: online identification of the spring stiffness from the encoders and the
-//!   model.
+//!   model;
+//! - [`excitation`]: a sinusoidal torque on chosen joints for a while, so that the
+//!   identification sees joints the task leaves unloaded.
 //!
 //! docs/architecture.md maps every paper equation to its function.
 
@@ -26,6 +28,7 @@
 
 pub mod controller;
 pub mod error;
+pub mod excitation;
 pub mod external_wrench;
 pub mod feedback;
 pub mod generalized_disturbance;

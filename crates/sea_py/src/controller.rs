@@ -271,7 +271,8 @@ impl PyController {
     /// measured state `x` (nx) between two `tick`s (every `Scenario.steps_per_inner_tick`
     /// plant steps after the first): the plant input (n), each elastic joint's desired motor
     /// velocity from the held joint torque and the measured deflection. The stiffness
-    /// identification runs in the native loop only.
+    /// identification and its excitation (`controller.identification_excitation_nm`) run in
+    /// the native loop only.
     fn inner_tick<'py>(
         &mut self,
         py: Python<'py>,

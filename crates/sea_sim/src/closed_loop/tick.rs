@@ -12,6 +12,7 @@ use super::statistics::{Divergence, RunEnd};
 use crate::error::Result;
 use crate::scenario::{DisturbanceSchedule, IdentificationWrenches, Scenario, Setup};
 use nalgebra::DVector;
+use sea_ctrl::excitation::IdentificationExcitation;
 use sea_ctrl::external_wrench::ExternalWrenchObserver;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::joint_loop::JointTorqueLoop;
@@ -280,6 +281,9 @@ pub(super) struct Engine<'a> {
     /// The online stiffness identification feeding the joint loops
     /// (`controller.stiffness_identification`).
     identifier: Option<StiffnessIdentifier>,
+    /// `controller.identification_excitation_nm`: the sinusoid added to the joint loops'
+    /// held torques.
+    excitation: Option<IdentificationExcitation>,
     /// The measured state at the current sample, which the identification and the
     /// generalized disturbance observer read after the period.
     measured_at_sample: Vec<f64>,
@@ -328,6 +332,10 @@ impl<'a> Engine<'a> {
                 .controller
                 .stiffness_identifier(controller, joints.estimates())
         });
+        let excitation = match &joint_loop {
+            Some(_) => scenario.controller.identification_excitation(controller)?,
+            None => None,
+        };
         let mut pd = scenario.plant.plant_data(plant);
         let disturbances = DisturbanceSchedule::new(
             &scenario.disturbances,
@@ -349,6 +357,7 @@ impl<'a> Engine<'a> {
             disturbance_observer,
             joint_loop,
             identifier,
+            excitation,
             external_wrench_observer,
             measured_at_sample: x0.clone(),
             scenario,
@@ -455,6 +464,9 @@ impl<'a> Engine<'a> {
         if let Some(joint_loop) = &mut self.joint_loop {
             let output = &law.last().output;
             joint_loop.hold(output, &self.layout, measured, law.s_desired());
+            if let Some(excitation) = &self.excitation {
+                joint_loop.excite(excitation, time);
+            }
             joint_loop.tick(&self.layout, measured);
         }
         // The identification and the observer (after the period's advance) read the encoders.

@@ -263,6 +263,16 @@ pub struct ControllerConfig {
     /// of the prior, `[K_S^0 / c, c K_S^0]` (`sea_ctrl::stiffness_id`; default 3, more than
     /// 1).
     pub identification_range_factor: f64,
+    /// `multi_rate`: per elastic joint name, the amplitude [Nm] of a sinusoid added to its
+    /// desired torque in the joint loop from the start of the run, so that the identification
+    /// sees joints the task leaves unloaded (`sea_ctrl::excitation`; e.g. the legs' roll and
+    /// yaw joints on two feet, the same sign on both legs; default none).
+    pub identification_excitation_nm: BTreeMap<String, f64>,
+    /// `identification_excitation_nm`: the sinusoid's frequency [Hz] (default 1 Hz).
+    pub identification_excitation_hz: f64,
+    /// `identification_excitation_nm`: how long it lasts [s], rounded up to whole cycles
+    /// (default 3 s).
+    pub identification_excitation_s: f64,
     /// The unmodelled external wrench (a push): "none" (the paper's controller; the default)
     /// or "observed" (estimated each whole-body period from the centroidal momentum and the
     /// feet's measured contact wrenches, and taken into the controller's dynamics as a wrench
@@ -356,6 +366,9 @@ impl Default for ControllerConfig {
                 sea_ctrl::stiffness_id::IdentificationSettings::default().prior_deflection,
             identification_range_factor: sea_ctrl::stiffness_id::IdentificationSettings::default()
                 .range_factor,
+            identification_excitation_nm: BTreeMap::new(),
+            identification_excitation_hz: 1.0,
+            identification_excitation_s: 3.0,
             external_wrench: ExternalWrench::default(),
             external_wrench_bandwidth_hz: sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ,
             damping_estimate_scale: 1.0,
@@ -403,6 +416,35 @@ impl ControllerConfig {
     ) -> sea_ctrl::joint_loop::JointTorqueLoop {
         sea_ctrl::joint_loop::JointTorqueLoop::new(controller, self.torque_bandwidth())
             .with_joint_stiffness(self.joint_stiffness)
+    }
+
+    /// `identification_excitation_nm`: the excitation of `controller`'s elastic joints, `None`
+    /// without one; a joint that is not an elastic joint of the model is an error naming its
+    /// key.
+    pub fn identification_excitation(
+        &self,
+        controller: &sea_ctrl::MomentumController,
+    ) -> crate::Result<Option<sea_ctrl::excitation::IdentificationExcitation>> {
+        if self.identification_excitation_nm.is_empty() {
+            return Ok(None);
+        }
+        let (names, actuation) = (&controller.model().joint_names, controller.actuation());
+        let mut amplitudes = vec![0.0; actuation.n_elastic()];
+        for (name, &amplitude) in &self.identification_excitation_nm {
+            let key = format!("controller.identification_excitation_nm.{name}");
+            let Some(j) = names.iter().position(|joint| joint == name) else {
+                return Err(crate::Error::config(key, "is not a joint of the model"));
+            };
+            let Some(e) = actuation.elastic_joints.iter().position(|&k| k == j) else {
+                return Err(crate::Error::config(key, "is not an elastic joint"));
+            };
+            amplitudes[e] = amplitude;
+        }
+        Ok(Some(sea_ctrl::excitation::IdentificationExcitation::new(
+            amplitudes,
+            self.identification_excitation_hz,
+            self.identification_excitation_s,
+        )))
     }
 
     /// `external_wrench = "observed"`: the observer for the whole-body period `period` [s];

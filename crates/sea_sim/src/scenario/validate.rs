@@ -281,10 +281,44 @@ fn controller(scenario: &Scenario) -> Result<()> {
         ));
     }
     external_wrench(c)?;
+    identification_excitation(c)?;
     non_negative(
         "controller.joint_inertia_regularization",
         c.joint_inertia_regularization,
     )
+}
+
+/// `controller.identification_excitation_*`: finite amplitudes, a positive frequency, a
+/// non-negative duration, and multi-rate sampling when any joint is excited (it is added in
+/// the joint loops).
+fn identification_excitation(c: &ControllerConfig) -> Result<()> {
+    positive(
+        "controller.identification_excitation_hz",
+        c.identification_excitation_hz,
+    )?;
+    non_negative(
+        "controller.identification_excitation_s",
+        c.identification_excitation_s,
+    )?;
+    for (joint, &amplitude) in &c.identification_excitation_nm {
+        let key = format!("controller.identification_excitation_nm.{joint}");
+        finite(&key, amplitude)?;
+    }
+    if !c.identification_excitation_nm.is_empty() && c.sampling != Sampling::MultiRate {
+        return Err(Error::invalid(
+            "controller.identification_excitation_nm",
+            "needs controller.sampling = \"multi_rate\" (it is added in the joint loops)",
+            format!(
+                "{{ {} }}",
+                c.identification_excitation_nm
+                    .keys()
+                    .cloned()
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// `controller.external_wrench`: a positive bandwidth; observed only with sampled control (the
