@@ -38,3 +38,23 @@ def test_a_delay_is_in_the_period_map_and_refused_in_continuous_time():
 def test_the_delay_margin_is_scanned_at_whole_numbers():
     boundaries = sm.stability_margin(MULTI_RATE, "sensing.delay_inner_periods", 7, 10, grid_points=4)
     assert boundaries == [8.5]
+
+
+def test_the_summary_reports_the_joint_loops_stiffness_estimates():
+    """Multi-rate: the stiffness the joint loops ended with, by elastic joint, in the summary
+    (identified from x2 on the stance leg's loaded joints); other samplings have none."""
+    overrides = {
+        "simulation.duration_s": 3.0,
+        "controller.stiffness_identification": True,
+        "controller.stiffness_estimate_scale": 2.0,
+    }
+    result = sm.run_scenario(MULTI_RATE, overrides)
+    estimates = result.summary.stiffness_estimates_nm_per_rad
+    scenario = sm.Scenario.load(MULTI_RATE)
+    assert set(estimates) == set(scenario.model.joint_names)
+    assert abs(estimates["l_knee"] / 350.0 - 1.0) < 0.01, estimates
+    assert all(value > 0.0 for value in estimates.values())
+    held = sm.run_scenario(MULTI_RATE, {"simulation.duration_s": 0.1, "controller.stiffness_estimate_scale": 2.0})
+    assert set(held.summary.stiffness_estimates_nm_per_rad.values()) == {700.0}
+    zoh = sm.run_scenario(MULTI_RATE, {"simulation.duration_s": 0.1, "controller.sampling": "zero_order_hold", "controller.rate_hz": 1000.0})
+    assert zoh.summary.stiffness_estimates_nm_per_rad == {}

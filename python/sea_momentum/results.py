@@ -167,3 +167,7 @@ class RunSummary(Result):
     """Wall-clock time of the run [s]."""
     realtime_factor: float
     """Simulated time / wall-clock time."""
+    stiffness_estimates_nm_per_rad: dict[str, float]
+    """``controller.sampling = "multi_rate"``: the joint loops' stiffness estimates at the run's
+    end [Nm/rad] by elastic joint name (identified with ``controller.stiffness_identification``,
+    else the controller's); empty otherwise. Not a sweep column."""

@@ -212,5 +212,10 @@ fn summary_fields<'py>(
     fields.set_item("qp_clarabel_solves", summary.qp_clarabel_solves)?;
     fields.set_item("wall_time_s", summary.wall_time_s)?;
     fields.set_item("realtime_factor", summary.realtime_factor)?;
+    let estimates = PyDict::new(py);
+    for (name, value) in &summary.stiffness_estimates {
+        estimates.set_item(name, value)?;
+    }
+    fields.set_item("stiffness_estimates_nm_per_rad", estimates)?;
     Ok(fields)
 }

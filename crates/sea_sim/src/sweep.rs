@@ -14,7 +14,9 @@
 //! - [`write_csv`]: one line per row, the grid values in columns named by their keys, then
 //!   the status, the message and every other summary field.
 
-use crate::closed_loop::{run_with_sinks, RunEnd, RunTotals, RunningStatistics, Summary};
+use crate::closed_loop::{
+    run_with_sinks, RunEnd, RunTotals, RunningStatistics, Summary, NON_SCALAR_FIELDS,
+};
 use crate::error::{Error, Result};
 use crate::scenario::Scenario;
 use std::io::Write;
@@ -409,6 +411,7 @@ pub fn summary_columns() -> Vec<String> {
         serde_json::Value::Object(map) => map
             .keys()
             .filter(|name| !matches!(name.as_str(), "status" | "reason" | "reason_kind"))
+            .filter(|name| !NON_SCALAR_FIELDS.contains(&name.as_str()))
             .cloned()
             .collect(),
         _ => Vec::new(),

@@ -37,7 +37,9 @@ pub use crate::scenario::{build, Setup};
 pub use contact_check::{ContactConstraint, Fall};
 pub use record::{OwnedSample, RecordSink, RunInfo, RunRecord, Sample};
 pub use sampling::{equal_steps, inner_ticks, Sampling, Schedule};
-pub use statistics::{Divergence, FallSummary, RunEnd, RunTotals, RunningStatistics, Summary};
+pub use statistics::{
+    Divergence, FallSummary, RunEnd, RunTotals, RunningStatistics, Summary, NON_SCALAR_FIELDS,
+};
 
 use crate::error::Result;
 use crate::scenario::Scenario;
@@ -117,7 +119,9 @@ pub fn run_setup_with_sinks(
         wall_time_s: start.elapsed().as_secs_f64(),
     };
     let sampling = engine.schedule.sampling.name();
-    Ok(Summary::new(&end, sampling, &statistics, totals))
+    let mut summary = Summary::new(&end, sampling, &statistics, totals);
+    summary.stiffness_estimates = engine.stiffness_estimates();
+    Ok(summary)
 }
 
 /// The loop over samples: each period's observation goes to the statistics and, every

@@ -241,7 +241,15 @@ pub struct Summary {
     pub wall_time_s: f64,
     /// Simulated time / wall time.
     pub realtime_factor: f64,
+    /// Multi-rate sampling: the joint loops' stiffness estimates at the run's end [Nm/rad] by
+    /// elastic joint name (identified with `controller.stiffness_identification`, else the
+    /// controller's); empty otherwise. Not a sweep column ([`NON_SCALAR_FIELDS`]).
+    pub stiffness_estimates: Vec<(String, f64)>,
 }
+
+/// The summary's JSON keys that are not one number or text each, left out of the sweep
+/// tables' columns.
+pub const NON_SCALAR_FIELDS: [&str; 1] = ["stiffness_estimates_nm_per_rad"];
 
 /// A fall in the summary: when, which foot, which constraint with its value and bound.
 #[derive(Clone, Debug, PartialEq)]
@@ -322,6 +330,7 @@ impl Summary {
             } else {
                 0.0
             },
+            stiffness_estimates: Vec::new(),
         }
     }
 
@@ -351,6 +360,11 @@ impl Summary {
             "qp_clarabel_solves": self.qp_clarabel_solves,
             "wall_time_s": self.wall_time_s,
             "realtime_factor": self.realtime_factor,
+            "stiffness_estimates_nm_per_rad": self
+                .stiffness_estimates
+                .iter()
+                .map(|(name, value)| (name.clone(), serde_json::Value::from(*value)))
+                .collect::<serde_json::Map<_, _>>(),
         })
     }
 }

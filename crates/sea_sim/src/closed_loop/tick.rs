@@ -569,6 +569,17 @@ impl<'a> Engine<'a> {
         observer.observe(controller, measured, estimates, &side.outputs, period_end);
     }
 
+    /// Multi-rate sampling: the joint loops' stiffness estimates [Nm/rad] by elastic joint
+    /// name (identified or not); empty otherwise.
+    pub fn stiffness_estimates(&self) -> Vec<(String, f64)> {
+        let Some(joint_loop) = &self.joint_loop else {
+            return Vec::new();
+        };
+        let estimates = joint_loop.estimates().iter();
+        let names = self.elastic_names.iter().cloned();
+        names.zip(estimates.map(|e| e.stiffness)).collect()
+    }
+
     /// Without a sensor, when the controller's model is not the plant's: puts the plant's CoM
     /// (the true one; the controller's is its model's) into the law's observation of the
     /// current sample, which is recorded and checked.
