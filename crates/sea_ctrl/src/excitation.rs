@@ -6,18 +6,19 @@
 //! from the torque the model says it carries against the deflection the encoders measure, and
 //! a joint that carries less than `K_S^0 delta_0` keeps its prior. Standing on two feet the
 //! iCub's ankle rolls carry almost no torque (0.35 Nm), so an estimate off by x2 stays off
-//! (x1.2 and x1.9 after 3 s) and a sideways push, the first thing that loads them, meets a torque loop
-//! whose gain `K_S / K_S^` is 1/2. Robots are identified with excitation for this reason
-//! (a signal that is persistently exciting); here the joint loop adds
+//! (x1.2 and x1.9 after 3 s), and a sideways push, the first thing that loads them, meets a
+//! torque loop whose gain `K_S / K_S^` is 1/2. Robots are identified with excitation for this
+//! reason (a signal that is persistently exciting); here the joint loop adds
 //!
 //! `tau_d,e += a_e sin(2 pi f t)` for `0 <= t < t_end`
 //!
 //! with one amplitude `a_e` [Nm] per excited joint, `t_end` the first whole cycle at or after
 //! the duration asked for (so the torque ends at zero, without a step). With the same sign on
 //! the two legs' mirrored joints the torques are internal: the feet take them as moments and
-//! the CoM hardly moves (measured on the iCub: 0.8 mm with 2 Nm on the ankle rolls; 2 cm with
-//! opposite signs, which sway the robot). The excitation is an input, not a state: it does not
-//! change the period map's eigenvalues.
+//! the CoM hardly moves (measured on the iCub: less than a micrometre with 1 Nm on the legs'
+//! roll and yaw joints; with 2 Nm of opposite signs on the ankle rolls the robot sways by
+//! 2 cm). The excitation is an input, not a state: it does not change the period map's
+//! eigenvalues.
 
 /// The sinusoid added to the joint loops' desired torques (module doc).
 #[derive(Clone, Debug, PartialEq)]
