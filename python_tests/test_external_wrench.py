@@ -96,3 +96,30 @@ def test_the_linearisation_refuses_the_generalized_observer_naming_its_key() -> 
         sm.linearize(MULTI_RATE, overrides={"controller.external_wrench": "generalized"})
     assert info.value.key == "controller.external_wrench", str(info.value)
     assert "generalized" in str(info.value)
+
+
+def test_a_com_offset_moves_the_momentum_task_by_its_integral_gain() -> None:
+    """The robot's CoM taken 1 mm ahead of the model's: the CoM position error grows by it, so
+    the momentum task (the integral term) asks the foot for a force back, opposite for -1 mm;
+    zeros restore the tick."""
+    scenario = sm.Scenario.load(MULTI_RATE)
+    controller, x = scenario.controller, scenario.initial_state
+    free = controller.tick(0.0, x)
+    changes = []
+    for sign in (1.0, -1.0):
+        controller.set_com_offset(np.array([sign * 1e-3, 0.0, 0.0]))
+        changes.append(controller.tick(0.0, x).wrenches[0, :3] - free.wrenches[0, :3])
+    ahead, behind = changes
+    assert ahead[0] < -0.1, ahead
+    np.testing.assert_allclose(ahead, -behind, rtol=1e-6, atol=1e-9)
+    assert abs(ahead[1]) < 1e-3 * abs(ahead[0]) and abs(ahead[2]) < 1e-3 * abs(ahead[0]), ahead
+    controller.set_com_offset(np.zeros(3))
+    again = controller.tick(0.0, x)
+    np.testing.assert_allclose(again.wrenches, free.wrenches, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("offset", [[1.0, 2.0], [0.0, float("nan"), 0.0]])
+def test_a_bad_com_offset_is_refused_naming_the_argument(offset) -> None:
+    controller = sm.Scenario.load(MULTI_RATE).controller
+    with pytest.raises(ValueError, match="offset"):
+        controller.set_com_offset(offset)

@@ -437,6 +437,12 @@ class Controller:
         an observer's estimate of what the model misses; zeros: none. ``ValueError`` for
         another shape or a non-finite value. The scenario's observer
         (``controller.external_wrench = "generalized"``) runs in the native run only."""
+    def set_com_offset(self, offset: ArrayLike) -> None:
+        """The robot's CoM less the model's (3,: world) [m] that the CoM position error of the
+        next ``tick``s takes (the momentum and its map stay the model's), e.g. an observer's
+        estimate of where the robot's CoM is when the model's masses are off; zeros: none.
+        ``ValueError`` for another shape or a non-finite value. The scenario's observer
+        (``controller.external_wrench = "generalized"``) runs in the native run only."""
     def com_reference(self, t: float) -> FloatArray:
         """The CoM reference at ``t``, (3,) world [m]."""
     @property

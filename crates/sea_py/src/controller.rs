@@ -326,6 +326,23 @@ impl PyController {
             .map_err(to_py)
     }
 
+    /// The robot's CoM less the model's, `offset` (3,: world) [m], that the CoM position
+    /// error of the next `tick`s takes (the momentum task's integral term brings the robot's
+    /// CoM to the reference; the momentum and its map stay the model's), e.g. a caller's
+    /// observer's estimate of where the robot's CoM is when the model's masses are off
+    /// (`sea_ctrl::generalized_disturbance::GeneralizedDisturbanceObserver::com_offset`);
+    /// zeros: none. The scenario's observer runs in the native run only.
+    fn set_com_offset(&mut self, offset: &Bound<'_, PyAny>) -> PyResult<()> {
+        let mut values = Vec::with_capacity(3);
+        vector_arg(offset, "offset", 3, &mut values)?;
+        if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
+            return Err(argument_error("offset", "finite values", bad));
+        }
+        let offset = nalgebra::Vector3::from_column_slice(&values);
+        self.law.controller_mut().set_com_offset(&offset);
+        Ok(())
+    }
+
     /// The CoM reference at `t` [s]: position (3,) in world [m].
     fn com_reference<'py>(&self, py: Python<'py>, t: f64) -> Bound<'py, numpy::PyArray1<f64>> {
         vector_out(py, self.law.com_reference().sample(t).position.as_slice())
