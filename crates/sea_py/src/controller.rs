@@ -298,9 +298,6 @@ impl PyController {
     fn set_external_wrench(&mut self, wrench: &Bound<'_, PyAny>) -> PyResult<()> {
         let mut values = Vec::with_capacity(6);
         vector_arg(wrench, "wrench", 6, &mut values)?;
-        if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
-            return Err(argument_error("wrench", "finite values", bad));
-        }
         let wrench = nalgebra::Vector6::from_column_slice(&values);
         self.law.controller_mut().set_external_wrench(&wrench);
         Ok(())
@@ -316,9 +313,6 @@ impl PyController {
         let nv = self.law.controller().model().nv();
         let mut values = Vec::with_capacity(nv);
         vector_arg(disturbance, "disturbance", nv, &mut values)?;
-        if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
-            return Err(argument_error("disturbance", "finite values", bad));
-        }
         let disturbance = nalgebra::DVector::from_vec(values);
         let controller = self.law.controller_mut();
         controller
@@ -335,9 +329,6 @@ impl PyController {
     fn set_com_offset(&mut self, offset: &Bound<'_, PyAny>) -> PyResult<()> {
         let mut values = Vec::with_capacity(3);
         vector_arg(offset, "offset", 3, &mut values)?;
-        if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
-            return Err(argument_error("offset", "finite values", bad));
-        }
         let offset = nalgebra::Vector3::from_column_slice(&values);
         self.law.controller_mut().set_com_offset(&offset);
         Ok(())
