@@ -54,7 +54,8 @@ def test_the_summary_reports_the_joint_loops_stiffness_estimates():
     assert set(estimates) == set(scenario.model.joint_names)
     assert abs(estimates["l_knee"] / 350.0 - 1.0) < 0.01, estimates
     assert all(value > 0.0 for value in estimates.values())
-    held = sm.run_scenario(MULTI_RATE, {"simulation.duration_s": 0.1, "controller.stiffness_estimate_scale": 2.0})
+    short = {"simulation.duration_s": 0.1}
+    held = sm.run_scenario(MULTI_RATE, {**short, "controller.stiffness_estimate_scale": 2.0})
     assert set(held.summary.stiffness_estimates_nm_per_rad.values()) == {700.0}
-    zoh = sm.run_scenario(MULTI_RATE, {"simulation.duration_s": 0.1, "controller.sampling": "zero_order_hold", "controller.rate_hz": 1000.0})
-    assert zoh.summary.stiffness_estimates_nm_per_rad == {}
+    zoh = {**short, "controller.sampling": "zero_order_hold", "controller.rate_hz": 1000.0}
+    assert sm.run_scenario(MULTI_RATE, zoh).summary.stiffness_estimates_nm_per_rad == {}
