@@ -474,13 +474,10 @@ fn an_excitation_makes_the_unloaded_joints_identifiable() {
         "[{ link = \"root_link\", force = [0.0, 85.0, 0.0], start_s = 4.0, duration_s = 0.1 }]";
     let key = "controller.stiffness_estimate_scale";
     let excitation = "controller.identification_excitation_nm";
-    let run_for = |overrides: &[(&str, &str)]| {
+    // 4 s at rest (three excitation cycles and one more second), 5 s with the push at 4 s.
+    let run_for = |overrides: &[(&str, &str)], duration_s: f64| {
         let mut scenario = two_feet(overrides);
-        scenario.simulation.duration_s = if overrides.contains(&("disturbances", push)) {
-            5.0
-        } else {
-            4.0
-        };
+        scenario.simulation.duration_s = duration_s;
         run(&scenario, |_, _| {}).unwrap().1
     };
     let ratio = |summary: &sea_sim::closed_loop::Summary, joint: &str| {
@@ -499,31 +496,36 @@ fn an_excitation_makes_the_unloaded_joints_identifiable() {
         "l_hip_yaw",
         "r_hip_yaw",
     ];
-    let unexcited = run_for(&[(key, "2.0"), ("disturbances", "[]")]);
+    let unexcited = run_for(&[(key, "2.0"), ("disturbances", "[]")], 4.0);
     assert!(
         excited.iter().any(|joint| ratio(&unexcited, joint) > 1.3),
         "{unexcited:?}"
     );
-    let identified = run_for(&[
+    let at_rest_excited = [
         (key, "2.0"),
         ("disturbances", "[]"),
         (excitation, LEGS_EXCITATION),
-    ]);
+    ];
+    let identified = run_for(&at_rest_excited, 4.0);
     for joint in excited {
         assert!(
             (ratio(&identified, joint) - 1.0).abs() < 0.01,
             "{joint}: {identified:?}"
         );
     }
-    let without = run_for(&[(key, "2.0"), ("disturbances", push)]);
+    let without = run_for(&[(key, "2.0"), ("disturbances", push)], 5.0);
     assert_eq!(without.status, "fell", "{without:?}");
-    let with = run_for(&[
+    let pushed_excited = [
         (key, "2.0"),
         ("disturbances", push),
         (excitation, LEGS_EXCITATION),
-    ]);
+    ];
+    let with = run_for(&pushed_excited, 5.0);
     assert_eq!(with.status, "completed", "{with:?}");
-    let at_rest = run_for(&[("disturbances", "[]"), (excitation, LEGS_EXCITATION)]);
+    let at_rest = run_for(
+        &[("disturbances", "[]"), (excitation, LEGS_EXCITATION)],
+        4.0,
+    );
     assert_eq!(at_rest.status, "completed", "{at_rest:?}");
     assert!(at_rest.com_error_max_m < 1e-6, "{at_rest:?}");
     assert!(
