@@ -289,8 +289,7 @@ fn controller(scenario: &Scenario) -> Result<()> {
 }
 
 /// `controller.identification_excitation_*`: finite amplitudes, a positive frequency, a
-/// non-negative duration, and multi-rate sampling when any joint is excited (it is added in
-/// the joint loops).
+/// non-negative duration (its sampling: [`joint_loop_rates`]).
 fn identification_excitation(c: &ControllerConfig) -> Result<()> {
     positive(
         "controller.identification_excitation_hz",
@@ -303,20 +302,6 @@ fn identification_excitation(c: &ControllerConfig) -> Result<()> {
     for (joint, &amplitude) in &c.identification_excitation_nm {
         let key = format!("controller.identification_excitation_nm.{joint}");
         finite(&key, amplitude)?;
-    }
-    if !c.identification_excitation_nm.is_empty() && c.sampling != Sampling::MultiRate {
-        return Err(Error::invalid(
-            "controller.identification_excitation_nm",
-            "needs controller.sampling = \"multi_rate\" (it is added in the joint loops)",
-            format!(
-                "{{ {} }}",
-                c.identification_excitation_nm
-                    .keys()
-                    .cloned()
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        ));
     }
     Ok(())
 }
@@ -479,8 +464,9 @@ pub fn sensing(scenario: &Scenario) -> Result<()> {
     Ok(())
 }
 
-/// The joint loops of `multi_rate`: a positive bandwidth, and an inner rate that is a whole
-/// multiple (at least 1) of `controller.rate_hz`.
+/// The joint loops of `multi_rate`: a positive bandwidth, an inner rate that is a whole
+/// multiple (at least 1) of `controller.rate_hz`, and what only the joint loops run (the
+/// stiffness identification, its excitation) refused under another sampling.
 fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
     positive("controller.torque_bandwidth_hz", c.torque_bandwidth_hz)?;
     positive("controller.inner_rate_hz", c.inner_rate_hz)?;
@@ -492,6 +478,14 @@ fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
                 "controller.stiffness_identification",
                 "needs controller.sampling = \"multi_rate\" (it feeds the joint loops)",
                 true,
+            ));
+        }
+        if !c.identification_excitation_nm.is_empty() {
+            let joints: Vec<_> = c.identification_excitation_nm.keys().cloned().collect();
+            return Err(Error::invalid(
+                "controller.identification_excitation_nm",
+                "needs controller.sampling = \"multi_rate\" (it is added in the joint loops)",
+                format!("{{ {} }}", joints.join(", ")),
             ));
         }
         return Ok(());
