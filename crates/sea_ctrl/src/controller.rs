@@ -490,6 +490,14 @@ impl MomentumController {
         &self.settings
     }
 
+    /// What the controller adds to the diagonal of its `M` (nv) [kg m^2]: zero on the base,
+    /// `joint_inertia_regularization` on the joints plus, for the rigid controller with
+    /// `reflected_inertia`, each elastic joint's motor reflected inertia. Its dynamics are
+    /// `(M + diag) nudot + h`; an observer of what they miss uses the same.
+    pub fn inertia_diagonal(&self) -> &[f64] {
+        &self.torque_map.diagonal
+    }
+
     /// The external wrench (about the CoM, world axes) [N, Nm] that the dynamics of the next
     /// ticks take as acting on the floating base, e.g. an observer's estimate
     /// ([`crate::external_wrench`]); zero: none (the paper's controller).

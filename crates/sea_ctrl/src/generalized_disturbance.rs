@@ -11,17 +11,19 @@
 //!
 //! Estimate. With the controller's model (`M^`, `h^`) the robot's motion obeys
 //!
-//! `M^(q) nudot + h^(q, nu) = S^T tau + sum_c J_c(q)^T f_c + d`
+//! `(M^(q) + D) nudot + h^(q, nu) = S^T tau + sum_c J_c(q)^T f_c + d`
 //!
-//! (paper eq:system with `d`, nv = 6 + n: base rows in the coordinates of `nu`), where `d`
+//! (paper eq:system with `d`, nv = 6 + n: base rows in the coordinates of `nu`; `D` the
+//! diagonal the controller adds to its `M`, [`MomentumController::inertia_diagonal`], so that
+//! `d` is what the controller's own dynamics miss), where `d`
 //! gathers what the model misses: mass and inertia errors, an external wrench on any link,
 //! friction. Between the whole-body samples `k - 1` and `k` (period `T`), with the period's
 //! mean acceleration `a_k = (nu_k - nu_{k-1}) / T`, the residual
 //!
 //! `r_k = (ID(q_{k-1}, nu_{k-1}, a_k) + ID(q_k, nu_k, a_k)) / 2 - (g_{k-1}^+ + g_k^-) / 2`
 //!
-//! (`ID(q, nu, a) = M^(q) a + h^(q, nu)`, RNEA) is the period's mean `d` up to the trapezoid
-//! rule, with the applied generalized force `g = S^T tau + sum_c J_c(q)^T f_c` from the
+//! (`ID(q, nu, a) = (M^(q) + D) a + h^(q, nu)`: RNEA plus `D a`) is the period's mean `d` up
+//! to the trapezoid rule, with the applied generalized force `g = S^T tau + sum_c J_c(q)^T f_c` from the
 //! measured joint torques `tau` and contact wrenches `f` (world axes at the contact frames'
 //! origins) at the period's start, after the command of tick `k - 1` took effect (`g^+`), and
 //! at its end, that command still held (`g^-`), as in [`crate::external_wrench`]. The loop
@@ -46,6 +48,7 @@
 //! `2 K_S` the correction, a fixed-point iteration through the low pass, is too slow and the
 //! identification is needed (README, "At the robot's rate").
 
+use crate::controller::MomentumController;
 use crate::external_wrench::low_pass_blend;
 use nalgebra::{DVector, Vector3, Vector6};
 use sea_dyn::spatial::Force;
@@ -63,6 +66,8 @@ pub struct GeneralizedDisturbanceObserver {
     estimate: DVector<f64>,
     /// The controller model's kinematics and dynamics buffers.
     data: Data,
+    /// `D` (nv) [kg m^2] (module doc).
+    inertia_diagonal: Vec<f64>,
     /// Whether a sample came before (the `previous` buffers hold it).
     has_previous: bool,
     /// `q_{k-1}` (nq) of the previous sample.
@@ -98,15 +103,18 @@ pub struct AppliedForces<'a> {
 }
 
 impl GeneralizedDisturbanceObserver {
-    /// An observer for the controller's `model`, sampled every `period` [s] with bandwidth
+    /// An observer of what `controller`'s dynamics miss (its model and its
+    /// [`MomentumController::inertia_diagonal`]), sampled every `period` [s] with bandwidth
     /// `bandwidth_hz` (`f_c`), both positive.
-    pub fn new(model: &Model, period: f64, bandwidth_hz: f64) -> Self {
+    pub fn new(controller: &MomentumController, period: f64, bandwidth_hz: f64) -> Self {
+        let model = controller.model();
         let nv = model.nv();
         Self {
             blend: low_pass_blend(bandwidth_hz, period),
             period,
             estimate: DVector::zeros(nv),
             data: Data::new(model),
+            inertia_diagonal: controller.inertia_diagonal().to_vec(),
             has_previous: false,
             q_previous: vec![0.0; model.nq()],
             nu_previous: vec![0.0; nv],
@@ -190,6 +198,11 @@ impl GeneralizedDisturbanceObserver {
         let start = sea_dyn::rnea(model, data, previous.0, previous.1, &self.acceleration);
         self.residual.copy_from(start);
         self.residual += sea_dyn::rnea(model, data, q, nu, &self.acceleration);
+        // `D a` of both ends.
+        let diagonal = self.inertia_diagonal.iter().zip(&self.acceleration);
+        for (r, (d, a)) in self.residual.iter_mut().zip(diagonal) {
+            *r += 2.0 * d * a;
+        }
         self.residual -= &self.applied_after_previous;
         applied_generalized_force(model, data, contacts, before, &mut self.applied_before);
         self.residual -= &self.applied_before;

@@ -346,7 +346,7 @@ impl<'a> Engine<'a> {
         let disturbance_observer = DisturbanceObserverLoop::new(
             scenario
                 .controller
-                .generalized_disturbance_observer(controller.model(), schedule.period),
+                .generalized_disturbance_observer(controller, schedule.period),
             controller,
         );
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);

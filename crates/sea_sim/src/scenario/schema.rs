@@ -461,16 +461,16 @@ impl ControllerConfig {
         })
     }
 
-    /// `external_wrench = "generalized"`: the observer for the controller's `model` and the
-    /// whole-body period `period` [s]; `None` when it is off.
+    /// `external_wrench = "generalized"`: the observer of what `controller`'s dynamics miss,
+    /// at the whole-body period `period` [s]; `None` when it is off.
     pub fn generalized_disturbance_observer(
         &self,
-        model: &sea_dyn::Model,
+        controller: &sea_ctrl::MomentumController,
         period: f64,
     ) -> Option<sea_ctrl::generalized_disturbance::GeneralizedDisturbanceObserver> {
         (self.external_wrench == ExternalWrench::Generalized).then(|| {
             sea_ctrl::generalized_disturbance::GeneralizedDisturbanceObserver::new(
-                model,
+                controller,
                 period,
                 self.external_wrench_bandwidth_hz,
             )
