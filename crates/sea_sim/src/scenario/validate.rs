@@ -472,6 +472,10 @@ fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
     positive("controller.inner_rate_hz", c.inner_rate_hz)?;
     non_negative("controller.joint_stiffness", c.joint_stiffness)?;
     positive("controller.identification_time_s", c.identification_time_s)?;
+    positive(
+        "controller.identification_bandwidth_hz",
+        c.identification_bandwidth_hz,
+    )?;
     if c.sampling != Sampling::MultiRate {
         if c.stiffness_identification {
             return Err(Error::invalid(
