@@ -102,7 +102,8 @@
 //! x0.23 after 0.44 s from x0.5, and the sole tipped). Each joint's spring torque and
 //! deflection are therefore low-passed alike before the sums,
 //! `y_f <- y_f + a (y - y_f)`, `a = 1 - exp(-2 pi f_r T)` (`f_r`:
-//! `IdentificationSettings::regression_bandwidth`, 5 Hz), started at the first sample. The
+//! `IdentificationSettings::regression_bandwidth`, 5 Hz), started at the first sample and
+//! fed only the updates that are made (not those the external force check skips). The
 //! relation `spring = K_S delta` is linear and static, so it holds between the filtered
 //! signals as between the raw ones (the same filter on both sides), while the noise above
 //! `f_r` is removed; white deflection noise keeps the variance `sigma^2 a / (2 - a)`, which is
