@@ -10,11 +10,12 @@
 //! Equations (paper eq:elasticSystem, eq:constraints_acc):
 //! - elastic joint torque `tau = K_S (Gamma theta - s) + K_D (Gamma thetadot - sdot)`,
 //!   motor `I_m thetaddot = tau_m - Gamma tau`;
-//! - `M nudot + h = B tau + J^T f`, `J nudot + Jdot nu = -(K_d J nu + K_p e)` (Baumgarte), where
+//! - `(M + D) nudot + h = B tau + J^T f` (`D`: `joint_inertia_regularization` on the joint
+//!   rows), `J nudot + Jdot nu = -(K_d J nu + K_p e)` (Baumgarte), where
 //!   `J` stacks the contact frame Jacobians (6 rows each, `[v; omega]` of the frame origin,
 //!   world axes), `e` stacks the pose errors `[p - p_ref; rotation error]` and `f` the contact
 //!   wrenches `[force; moment about the frame origin]`, world axes, the Lagrange multipliers.
-//!   Solved with `M = L L^T` and the Schur complement `J M^-1 J^T` (k x k).
+//!   Solved with `M + D = L^T L` and the Schur complement `J (M + D)^-1 J^T` (k x k).
 
 use crate::contact::{sole_margins, Contact, ContactLimits, WrenchMargins};
 use crate::error::{Error, Result};
