@@ -273,7 +273,7 @@ NUMBER_KEYS = [
     "controller.identification_range_factor",
     "controller.identification_excitation_nm.l_knee",
     "controller.identification_excitation_hz",
-    "controller.identification_bandwidth_hz",
+    "controller.identification_filter_hz",
     "controller.identification_excitation_s",
     "controller.joint_inertia_regularization",
     "controller.contact.friction",

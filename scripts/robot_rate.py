@@ -93,7 +93,7 @@ LEGS = "l_ankle_roll=1.0, r_ankle_roll=1.0, l_hip_roll=1.0, r_hip_roll=1.0, l_hi
 TORSO = "torso_roll=0.1, torso_yaw=0.1"
 
 
-def excited(joints: str) -> list[str]:
+def excitation(joints: str) -> list[str]:
     """The ``--set`` values of an excitation of ``joints`` (``name=amplitude, ...``), 1 Hz, 0-3 s."""
     return [
         f"controller.identification_excitation_nm={{{joints}}}",
@@ -102,8 +102,8 @@ def excited(joints: str) -> list[str]:
     ]
 
 
-LEGS_EXCITED = excited(LEGS)
-LEGS_AND_TORSO_EXCITED = excited(f"{LEGS}, {TORSO}")
+LEGS_EXCITED = excitation(LEGS)
+LEGS_AND_TORSO_EXCITED = excitation(f"{LEGS}, {TORSO}")
 _FROM_HALF = PUSH_SETUPS["SEA, multi-rate, identification from x0.5"]
 _FROM_TWICE = PUSH_SETUPS["SEA, multi-rate, identification from x2"]
 #: Pushed at 4 s (6 s runs), 1 s after the excitation: the identification from a wrong

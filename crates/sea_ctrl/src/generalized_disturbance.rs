@@ -15,7 +15,10 @@
 //!
 //! (paper eq:system with `d`, nv = 6 + n: base rows in the coordinates of `nu`; `D` the
 //! diagonal the controller adds to its `M`, [`MomentumController::inertia_diagonal`], so that
-//! `d` is what the controller's own dynamics miss), where `d`
+//! `d` is what the controller's own dynamics miss; for the rigid controller with
+//! `reflected_inertia` it holds the motors' reflected inertia, a model error of a loop whose
+//! commands are the springs' torques (the multi-rate joint loops) but not of one whose commands
+//! are motor torques, which the sensed spring torques do not show), where `d`
 //! gathers what the model misses: mass and inertia errors, an external wrench on any link,
 //! friction. Between the whole-body samples `k - 1` and `k` (period `T`), with the period's
 //! mean acceleration `a_k = (nu_k - nu_{k-1}) / T`, the residual

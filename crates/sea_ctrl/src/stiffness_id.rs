@@ -26,8 +26,11 @@
 //! force between the feet is `f_0`'s, so the commanded `f*` biases the legs' estimates where
 //! sensors do not.
 //!
-//! `D` is what the link side of each joint carries beyond `M` (the plant's
-//! `joint_inertia_regularization`, 0.1 kg m^2 per joint on the iCub); the motor's reflected
+//! `D` is what the link side of each joint carries beyond `M`: the plant's
+//! `joint_inertia_regularization` (0.1 kg m^2 per joint on the iCub), of which the identifier
+//! knows the controller's setting (a scenario's `plant.` and `controller.` keys of that name are
+//! separate and equal by default; with different values the identified stiffness absorbs the
+//! difference as it does a mass error). The motor's reflected
 //! inertia that the rigid controller may add to its own diagonal is on the motor side of the
 //! spring and is not in it. Without `D` the model's torques miss `D nudot` wherever a joint
 //! accelerates, and a joint whose torque is mostly inertial is identified soft: from the true
@@ -51,10 +54,11 @@
 //! are also held for
 //! `IdentificationSettings::hold_after_external_force` after the last skipped update: the
 //! recovery from a push moves the robot fast, where the finite-difference `nudot` makes the
-//! model's torques poorer. (Measured before `D` was in the model's torques: a 5.9 N s push on
+//! model's torques poorer. (Measured before `D` was in the model's torques: a 5.5 N s push on
 //! the converged iCub was recovered with the hold, not without, the recovery's `D nudot` going
-//! into the estimates; with `D` both recover it, and the hold stays as a guard.) Before that the estimates are still far from the robot's and learning
-//! through the recovery is worth more than holding a wrong value.
+//! into the estimates; with `D` both recover it, and the hold stays as a guard.) Before that
+//! the estimates are still far from the robot's and learning through the recovery is worth
+//! more than holding a wrong value.
 //!
 //! Per joint, recursive least squares with exponential forgetting on
 //! `tau_model - K_D^ deltadot = K_S delta` (the spring's damping term removed with the damping
@@ -69,7 +73,8 @@
 //! model's own error, or noise through the finite-difference `nudot`: velocity noise of 1e-2
 //! rad/s puts several Nm into the legs' model torques), and one such update took the stance
 //! ankle roll to the old bound `K_S^0 / 10`, whose tenfold torque gain tipped the sole (one
-//! noisy run in twelve; with 3, twelve of twelve complete).
+//! noisy run in twelve, seed 0; with 3 it completes; the samples' filter, below, now also keeps
+//! such updates out).
 //!
 //! Encoder noise: a deflection measured with noise of variance `sigma^2` makes `S_dd` larger
 //! by `sigma^2 W` on average (`W <- lambda W + 1`, the samples' forgetting weight) while
@@ -79,7 +84,8 @@
 //! `IdentificationSettings::deflection_noise` the bias is removed (bias-compensated least
 //! squares, errors-in-variables with a known noise variance): `K_S^ = S_td / (S_dd - sigma^2
 //! W)`, updated only while the compensated `S_dd` is at least `sigma^2 W` (a signal at least
-//! as strong as the noise; otherwise the estimate is held). The noise reaches the external
+//! as strong as the noise; otherwise the estimate is held), with `sigma^2` the variance that
+//! the samples' filter leaves (`sigma^2 a / (2 - a)`, "Filtering" below). The noise reaches the external
 //! force check too: with velocity noise of 1e-2 rad/s the finite-difference `nudot` puts
 //! departures of several N and Nm into the base rows' residual, past the bounds at nearly every
 //! update, and the identification then stops learning (measured: 0 of 12 noisy tracking runs
@@ -102,7 +108,7 @@
 //! x0.23 after 0.44 s from x0.5, and the sole tipped). Each joint's spring torque and
 //! deflection are therefore low-passed alike before the sums,
 //! `y_f <- y_f + a (y - y_f)`, `a = 1 - exp(-2 pi f_r T)` (`f_r`:
-//! `IdentificationSettings::regression_bandwidth`, 5 Hz), started at the first sample and
+//! `IdentificationSettings::filter_bandwidth`, 5 Hz), started at the first sample and
 //! fed only the updates that are made (not those the external force check skips). The
 //! relation `spring = K_S delta` is linear and static, so it holds between the filtered
 //! signals as between the raw ones (the same filter on both sides), while the noise above
@@ -153,7 +159,7 @@ pub struct IdentificationSettings {
     /// Bandwidth `f_r` [Hz] of the first-order low pass applied alike to each joint's spring
     /// torque and deflection before the least squares (module doc, "Filtering"); positive. A
     /// bandwidth far above the update rate leaves the samples as they are.
-    pub regression_bandwidth: f64,
+    pub filter_bandwidth: f64,
 }
 
 impl Default for IdentificationSettings {
@@ -170,7 +176,7 @@ impl Default for IdentificationSettings {
             hold_after_external_force: 1.0,
             external_moment_arm: 0.1,
             range_factor: 3.0,
-            regression_bandwidth: 5.0,
+            filter_bandwidth: 5.0,
         }
     }
 }
@@ -188,10 +194,11 @@ pub struct StiffnessIdentifier {
     /// The prior `K_S^0` of each elastic joint (n_e) [Nm/rad].
     prior: Vec<f64>,
     /// `D` of each joint (module doc) [kg m^2].
-    joint_inertia: f64,
-    /// The low-passed spring torque `tau_model - K_D^ deltadot` (n_e) [Nm] and deflection
-    /// (n_e) [rad] (module doc, "Filtering"), valid when `has_filtered`.
+    joint_inertia_regularization: f64,
+    /// The low-passed spring torque `tau_model - K_D^ deltadot` (n_e) [Nm] (module doc,
+    /// "Filtering"), valid when `has_filtered`.
     filtered_spring: Vec<f64>,
+    /// The low-passed deflection `delta` (n_e) [rad], valid when `has_filtered`.
     filtered_deflection: Vec<f64>,
     /// Whether an update has set the filters.
     has_filtered: bool,
@@ -262,7 +269,7 @@ impl StiffnessIdentifier {
             elapsed: 0.0,
             hold_left: 0.0,
             prior,
-            joint_inertia: controller.settings().joint_inertia_regularization,
+            joint_inertia_regularization: controller.settings().joint_inertia_regularization,
             filtered_spring: vec![0.0; n_e],
             filtered_deflection: vec![0.0; n_e],
             has_filtered: false,
@@ -352,14 +359,14 @@ impl StiffnessIdentifier {
         if first {
             1.0
         } else {
-            low_pass_blend(self.settings.regression_bandwidth, period)
+            low_pass_blend(self.settings.filter_bandwidth, period)
         }
     }
 
     /// The variance [rad^2] of the filtered deflection's noise at updates `period` [s] apart:
     /// `sigma^2 a / (2 - a)` (module doc, "Filtering").
     fn noise_variance(&self, period: f64) -> f64 {
-        let blend = low_pass_blend(self.settings.regression_bandwidth, period);
+        let blend = low_pass_blend(self.settings.filter_bandwidth, period);
         self.settings.deflection_noise.powi(2) * blend / (2.0 - blend)
     }
 
@@ -457,7 +464,7 @@ impl StiffnessIdentifier {
         self.generalized_force.copy_from(inverse_dynamics);
         let joint_rows = self.generalized_force.iter_mut().zip(&self.nudot).skip(6);
         for (force, acceleration) in joint_rows {
-            *force += self.joint_inertia * acceleration;
+            *force += self.joint_inertia_regularization * acceleration;
         }
         for (c, &frame) in self.contact_frames.iter().enumerate() {
             frame_jacobian_from_kinematics(&self.model, &mut self.data, frame);

@@ -192,7 +192,7 @@ fn the_recorded_com_is_the_true_one_when_the_model_is_wrong() {
 /// velocity, seed 0, the deflection noise declared): the tracking completes with the final
 /// joint error within the goal of twice the nominal (0.24 rad), also with the identification's
 /// estimates allowed to x0.1 of the prior (range factor 10). Two safeguards keep a noisy update
-/// out of the estimates: with the samples unfiltered (`identification_bandwidth_hz` 1e9) the
+/// out of the estimates: with the samples unfiltered (`identification_filter_hz` 1e9) the
 /// default range still completes, but with range factor 10 too one noisy update takes the
 /// stance ankle roll towards x0.1 and the sole tips.
 #[test]
@@ -213,7 +213,7 @@ fn the_robust_design_holds_encoder_noise_within_the_joint_error_goal() {
     assert!(summary.joint_error_norm_final_rad < 0.24, "{summary:?}");
     assert!(summary.com_error_rms_m <= 3.48e-3, "{summary:?}");
     let wide = ("controller.identification_range_factor", "10.0");
-    let unfiltered = ("controller.identification_bandwidth_hz", "1e9");
+    let unfiltered = ("controller.identification_filter_hz", "1e9");
     for (extra, status) in [
         (vec![wide], "completed"),
         (vec![unfiltered], "completed"),

@@ -263,7 +263,7 @@ pub struct ControllerConfig {
     /// filters each joint's spring torque and deflection alike before the least squares
     /// (`sea_ctrl::stiffness_id`, "Filtering"; default 5 Hz); positive, and a bandwidth far
     /// above `rate_hz` (e.g. 1e9) leaves the samples unfiltered.
-    pub identification_bandwidth_hz: f64,
+    pub identification_filter_hz: f64,
     /// `multi_rate` with `stiffness_identification`: the estimates stay within this factor
     /// of the prior, `[K_S^0 / c, c K_S^0]` (`sea_ctrl::stiffness_id`; default 3, more than
     /// 1).
@@ -371,8 +371,8 @@ impl Default for ControllerConfig {
                 sea_ctrl::stiffness_id::IdentificationSettings::default().prior_deflection,
             identification_range_factor: sea_ctrl::stiffness_id::IdentificationSettings::default()
                 .range_factor,
-            identification_bandwidth_hz: sea_ctrl::stiffness_id::IdentificationSettings::default()
-                .regression_bandwidth,
+            identification_filter_hz: sea_ctrl::stiffness_id::IdentificationSettings::default()
+                .filter_bandwidth,
             identification_excitation_nm: BTreeMap::new(),
             identification_excitation_hz: 1.0,
             identification_excitation_s: 3.0,
@@ -501,7 +501,7 @@ impl ControllerConfig {
             hold_after_external_force: self.identification_hold_s,
             prior_deflection: self.identification_prior_deflection_rad,
             range_factor: self.identification_range_factor,
-            regression_bandwidth: self.identification_bandwidth_hz,
+            filter_bandwidth: self.identification_filter_hz,
             ..defaults
         };
         self.stiffness_identification

@@ -473,8 +473,8 @@ fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
     non_negative("controller.joint_stiffness", c.joint_stiffness)?;
     positive("controller.identification_time_s", c.identification_time_s)?;
     positive(
-        "controller.identification_bandwidth_hz",
-        c.identification_bandwidth_hz,
+        "controller.identification_filter_hz",
+        c.identification_filter_hz,
     )?;
     if c.sampling != Sampling::MultiRate {
         if c.stiffness_identification {
