@@ -79,18 +79,8 @@ fn at_rest_the_estimate_is_the_model_s_gravity_error() {
 fn in_motion_an_exact_model_shows_no_disturbance() {
     let scenario = load(&[]);
     let setup = sea_sim::scenario::build(&scenario).unwrap();
-    let plant = &setup.plant;
-    let layout = plant.layout();
-    let mut x = setup.x0.clone();
-    let theta = layout.theta_offset();
-    for (e, parameters) in plant.actuation.elastic.iter().enumerate() {
-        x[theta + e] += 0.02 / parameters.ratio;
-    }
-    let mut pd = scenario.plant.plant_data(plant);
-    let mut outputs = sea_plant::PlantOutputs::new(plant);
-    let u = vec![0.0; plant.model.n_joints()];
-    sea_plant::evaluate(plant, &mut pd.workspace, &x, &u, &mut outputs).unwrap();
-    let nudot = layout.tangent().split(outputs.xdot.as_slice()).dnu.to_vec();
+    let layout = setup.plant.layout();
+    let (x, outputs, nudot) = support::accelerating_state(&scenario, &setup, 0.02);
     let largest_inertial = nudot[6..].iter().map(|a| 0.1 * a.abs()).fold(0.0, f64::max);
     assert!(
         largest_inertial > 1.0,

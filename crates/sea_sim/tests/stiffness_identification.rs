@@ -74,18 +74,8 @@ fn at_rest_the_model_torques_are_the_spring_torques_and_the_stiffness_is_found()
 fn in_motion_the_model_torques_are_the_spring_torques() {
     let scenario = load(&[]);
     let setup = sea_sim::scenario::build(&scenario).unwrap();
-    let plant = &setup.plant;
-    let layout = plant.layout();
-    let mut x = setup.x0.clone();
-    let theta = layout.theta_offset();
-    for (e, parameters) in plant.actuation.elastic.iter().enumerate() {
-        x[theta + e] += 0.02 / parameters.ratio;
-    }
-    let mut pd = scenario.plant.plant_data(plant);
-    let mut outputs = sea_plant::PlantOutputs::new(plant);
-    let u = vec![0.0; plant.model.n_joints()];
-    sea_plant::evaluate(plant, &mut pd.workspace, &x, &u, &mut outputs).unwrap();
-    let nudot = layout.tangent().split(outputs.xdot.as_slice()).dnu.to_vec();
+    let layout = setup.plant.layout();
+    let (x, outputs, nudot) = support::accelerating_state(&scenario, &setup, 0.02);
     let period = 1e-6;
     let mut previous = x.clone();
     let nu = layout.nu_offset();
@@ -553,6 +543,17 @@ fn identification_absorbs_a_uniform_mass_error_of_the_model() {
     }
 }
 
+/// An 8.5 N s push sideways on the pelvis at 4 s (85 N for 0.1 s).
+const SIDEWAYS_AT_4_S: &str =
+    "[{ link = \"root_link\", force = [0.0, 85.0, 0.0], start_s = 4.0, duration_s = 0.1 }]";
+
+/// The summary of the two-feet scenario with `overrides`, run for `duration_s` [s].
+fn two_feet_for(overrides: &[(&str, &str)], duration_s: f64) -> sea_sim::closed_loop::Summary {
+    let mut scenario = two_feet(overrides);
+    scenario.simulation.duration_s = duration_s;
+    run(&scenario, |_, _| {}).unwrap().1
+}
+
 /// The joints of [`LEGS_EXCITATION`].
 const EXCITED_LEGS: [&str; 6] = [
     "l_ankle_roll",
@@ -585,16 +586,11 @@ const LEGS_EXCITATION: &str = "{ l_ankle_roll = 1.0, r_ankle_roll = 1.0, l_hip_r
 /// Without a push the excitation's torques are internal: the CoM stays within a micrometre.
 #[test]
 fn an_excitation_makes_the_unloaded_joints_identifiable() {
-    let push =
-        "[{ link = \"root_link\", force = [0.0, 85.0, 0.0], start_s = 4.0, duration_s = 0.1 }]";
+    let push = SIDEWAYS_AT_4_S;
     let key = "controller.stiffness_estimate_scale";
     let excitation = "controller.identification_excitation_nm";
     // 4 s at rest (three excitation cycles and one more second), 5 s with the push at 4 s.
-    let run_for = |overrides: &[(&str, &str)], duration_s: f64| {
-        let mut scenario = two_feet(overrides);
-        scenario.simulation.duration_s = duration_s;
-        run(&scenario, |_, _| {}).unwrap().1
-    };
+    let run_for = two_feet_for;
     let (ratio, excited) = (stiffness_ratio, EXCITED_LEGS);
     let unexcited = run_for(&[(key, "2.0"), ("disturbances", "[]")], 4.0);
     assert!(
@@ -643,15 +639,10 @@ fn an_excitation_makes_the_unloaded_joints_identifiable() {
 /// and the yaw at x0.56 to x0.67.
 #[test]
 fn an_excited_torso_is_identified_from_either_prior() {
-    let push =
-        "[{ link = \"root_link\", force = [0.0, 85.0, 0.0], start_s = 4.0, duration_s = 0.1 }]";
+    let push = SIDEWAYS_AT_4_S;
     let key = "controller.stiffness_estimate_scale";
     let excitation = "controller.identification_excitation_nm";
-    let run_for = |overrides: &[(&str, &str)], duration_s: f64| {
-        let mut scenario = two_feet(overrides);
-        scenario.simulation.duration_s = duration_s;
-        run(&scenario, |_, _| {}).unwrap().1
-    };
+    let run_for = two_feet_for;
     let legs_and_torso = LEGS_EXCITATION.replace(" }", ", torso_roll = 0.1, torso_yaw = 0.1 }");
     for prior in ["0.5", "2.0"] {
         let at_rest = [(key, prior), ("disturbances", "[]")];

@@ -21,6 +21,32 @@ pub fn tracking(overrides: &[(&str, &str)]) -> Scenario {
     Scenario::from_file(&path, &pairs).unwrap()
 }
 
+/// A state of `setup` (built from `scenario`) where the robot accelerates: the initial state
+/// with every spring deflected `extra` [rad] more, the plant's outputs there and its
+/// accelerations `nudot` (nv).
+///
+/// # Panics
+/// When the plant's evaluation fails.
+pub fn accelerating_state(
+    scenario: &Scenario,
+    setup: &sea_sim::scenario::Setup,
+    extra: f64,
+) -> (Vec<f64>, sea_plant::PlantOutputs, Vec<f64>) {
+    let plant = &setup.plant;
+    let layout = plant.layout();
+    let mut x = setup.x0.clone();
+    let theta = layout.theta_offset();
+    for (e, parameters) in plant.actuation.elastic.iter().enumerate() {
+        x[theta + e] += extra / parameters.ratio;
+    }
+    let mut pd = scenario.plant.plant_data(plant);
+    let mut outputs = sea_plant::PlantOutputs::new(plant);
+    let u = vec![0.0; plant.model.n_joints()];
+    sea_plant::evaluate(plant, &mut pd.workspace, &x, &u, &mut outputs).unwrap();
+    let nudot = layout.tangent().split(outputs.xdot.as_slice()).dnu.to_vec();
+    (x, outputs, nudot)
+}
+
 /// Overrides that put the tracking scenario's iCub on both feet (the original study's two-feet
 /// posture) with a 2 cm, 0.5 Hz CoM sinusoid about the initial CoM.
 pub const TWO_FEET: [(&str, &str); 5] = [
