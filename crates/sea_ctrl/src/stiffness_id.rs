@@ -328,8 +328,9 @@ impl StiffnessIdentifier {
         let mean = self.residual_mean.get_or_insert(self.residual);
         *mean = lambda * *mean + (1.0 - lambda) * self.residual;
         self.sample_weight = lambda * self.sample_weight + 1.0;
-        let noise_weight = self.noise_variance(period) * self.sample_weight;
-        let blend = self.next_filter_blend(period);
+        let filter_blend = low_pass_blend(self.settings.filter_bandwidth, period);
+        let noise_weight = self.noise_variance(filter_blend) * self.sample_weight;
+        let blend = self.next_filter_blend(filter_blend);
         let (theta, s) = (layout.theta(x), layout.s(x));
         let (thetadot, sdot) = (layout.thetadot(x), layout.sdot(x));
         let joints = self.elastic_joints.iter().zip(estimates.iter_mut());
@@ -352,22 +353,21 @@ impl StiffnessIdentifier {
         true
     }
 
-    /// The blend `a = 1 - exp(-2 pi f_r T)` of the samples' low pass for an update `period`
-    /// [s] after the previous one; 1 at the first update, which sets the filters.
-    fn next_filter_blend(&mut self, period: f64) -> f64 {
+    /// The blend of the samples' low pass for this update: `filter_blend` (`a = 1 - exp(-2 pi
+    /// f_r T)` of the update's period), or 1 at the first update, which sets the filters.
+    fn next_filter_blend(&mut self, filter_blend: f64) -> f64 {
         let first = !std::mem::replace(&mut self.has_filtered, true);
         if first {
             1.0
         } else {
-            low_pass_blend(self.settings.filter_bandwidth, period)
+            filter_blend
         }
     }
 
-    /// The variance [rad^2] of the filtered deflection's noise at updates `period` [s] apart:
+    /// The variance [rad^2] of the filtered deflection's noise for the filter's blend `a`:
     /// `sigma^2 a / (2 - a)` (module doc, "Filtering").
-    fn noise_variance(&self, period: f64) -> f64 {
-        let blend = low_pass_blend(self.settings.filter_bandwidth, period);
-        self.settings.deflection_noise.powi(2) * blend / (2.0 - blend)
+    fn noise_variance(&self, filter_blend: f64) -> f64 {
+        self.settings.deflection_noise.powi(2) * filter_blend / (2.0 - filter_blend)
     }
 
     /// Whether this update is skipped by the external force check or the hold after it (module

@@ -590,8 +590,7 @@ fn an_excitation_makes_the_unloaded_joints_identifiable() {
     let key = "controller.stiffness_estimate_scale";
     let excitation = "controller.identification_excitation_nm";
     // 4 s at rest (three excitation cycles and one more second), 5 s with the push at 4 s.
-    let run_for = two_feet_for;
-    let (ratio, excited) = (stiffness_ratio, EXCITED_LEGS);
+    let (run_for, ratio, excited) = (two_feet_for, stiffness_ratio, EXCITED_LEGS);
     let unexcited = run_for(&[(key, "2.0"), ("disturbances", "[]")], 4.0);
     assert!(
         excited.iter().any(|joint| ratio(&unexcited, joint) > 1.3),
