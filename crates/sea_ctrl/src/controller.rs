@@ -38,7 +38,7 @@ use crate::sea::{
 };
 use crate::torque_map::{PosturalTask, TorqueMap};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
-use sea_dyn::dense::{copy_contiguous, copy_into_rows};
+use sea_dyn::dense::copy_contiguous;
 use sea_dyn::spatial::{Force, Pose};
 use sea_dyn::{Actuation, Data, ElasticParameters, FrameId, Model, StateLayout};
 
@@ -796,8 +796,13 @@ impl MomentumController {
         let (model, data) = (&self.model, &mut self.data);
         let map = &mut self.torque_map;
         for (c, &frame) in self.contact_frames.iter().enumerate() {
-            sea_dyn::jacobian::frame_jacobian_from_kinematics(model, data, frame);
-            copy_into_rows(&mut map.jacobian, 6 * c, &data.frame_jacobian);
+            sea_dyn::jacobian::frame_jacobian_into_rows(
+                model,
+                data,
+                frame,
+                &mut map.jacobian,
+                6 * c,
+            );
             // `bias_forces` ran at this state earlier in the tick.
             let bias =
                 sea_dyn::jacobian::frame_bias_acceleration_after_bias_forces(model, data, frame);

@@ -15,7 +15,40 @@
 //! - inertia times motion `I v = [m v_lin + w x h; h x v_lin + I_O w]`, with `h = m c` the first
 //!   moment of mass about `O` and `I_O` the rotational inertia about `O`.
 
+use crate::linalg::mul_add;
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
+
+/// `a x b + c` with fused multiply-adds (`linalg::mul_add`): the spatial algebra's inner
+/// operations, written out so that each entry is two fused operations instead of two products
+/// and two sums.
+#[inline(always)]
+fn cross_add(a: &Vector3<f64>, b: &Vector3<f64>, c: Vector3<f64>) -> Vector3<f64> {
+    Vector3::new(
+        mul_add(a.y, b.z, mul_add(-a.z, b.y, c.x)),
+        mul_add(a.z, b.x, mul_add(-a.x, b.z, c.y)),
+        mul_add(a.x, b.y, mul_add(-a.y, b.x, c.z)),
+    )
+}
+
+/// `m v + c` with fused multiply-adds.
+#[inline(always)]
+pub(crate) fn mat_vec_add(m: &Matrix3<f64>, v: &Vector3<f64>, c: Vector3<f64>) -> Vector3<f64> {
+    Vector3::from_fn(|r, _| {
+        mul_add(
+            m[(r, 2)],
+            v.z,
+            mul_add(m[(r, 1)], v.y, mul_add(m[(r, 0)], v.x, c[r])),
+        )
+    })
+}
+
+/// `a b` (3 x 3) with fused multiply-adds, column by column.
+#[inline(always)]
+pub(crate) fn mat_mul(a: &Matrix3<f64>, b: &Matrix3<f64>) -> Matrix3<f64> {
+    let column = |j: usize| mat_vec_add(a, &b.column(j).into_owned(), Vector3::zeros());
+    let (c0, c1, c2) = (column(0), column(1), column(2));
+    Matrix3::from_columns(&[c0, c1, c2])
+}
 
 /// Skew-symmetric matrix `[v]x` such that `[v]x u = v x u`.
 #[inline]
@@ -45,8 +78,22 @@ pub fn rotation_from_rpy(roll: f64, pitch: f64, yaw: f64) -> Matrix3<f64> {
 #[inline]
 pub fn rotation_about_axis(axis: &Vector3<f64>, angle: f64) -> Matrix3<f64> {
     let (s, c) = angle.sin_cos();
-    let k = skew(axis);
-    Matrix3::identity() * c + k * s + axis * axis.transpose() * (1.0 - c)
+    let versine = 1.0 - c;
+    let sine_axis = axis * s;
+    // c I + s [a]x + (1 - c) a a^T, entry by entry with fused multiply-adds.
+    let outer = |i: usize, j: usize| versine * axis[i] * axis[j];
+    let (xy, xz, yz) = (outer(0, 1), outer(0, 2), outer(1, 2));
+    Matrix3::new(
+        mul_add(versine * axis.x, axis.x, c),
+        xy - sine_axis.z,
+        xz + sine_axis.y,
+        xy + sine_axis.z,
+        mul_add(versine * axis.y, axis.y, c),
+        yz - sine_axis.x,
+        xz - sine_axis.y,
+        yz + sine_axis.x,
+        mul_add(versine * axis.z, axis.z, c),
+    )
 }
 
 /// Rotation matrix of a quaternion given as (w, x, y, z); the quaternion is normalised first.
@@ -214,8 +261,12 @@ impl Motion {
     #[inline]
     pub fn cross_motion(&self, m: &Motion) -> Motion {
         Motion {
-            lin: self.ang.cross(&m.lin) + self.lin.cross(&m.ang),
-            ang: self.ang.cross(&m.ang),
+            lin: cross_add(
+                &self.ang,
+                &m.lin,
+                cross_add(&self.lin, &m.ang, Vector3::zeros()),
+            ),
+            ang: cross_add(&self.ang, &m.ang, Vector3::zeros()),
         }
     }
 
@@ -223,15 +274,22 @@ impl Motion {
     #[inline]
     pub fn cross_force(&self, f: &Force) -> Force {
         Force {
-            lin: self.ang.cross(&f.lin),
-            ang: self.ang.cross(&f.ang) + self.lin.cross(&f.lin),
+            lin: cross_add(&self.ang, &f.lin, Vector3::zeros()),
+            ang: cross_add(
+                &self.ang,
+                &f.ang,
+                cross_add(&self.lin, &f.lin, Vector3::zeros()),
+            ),
         }
     }
 
     /// Power pairing `m . f`.
     #[inline]
     pub fn dot(&self, f: &Force) -> f64 {
-        self.lin.dot(&f.lin) + self.ang.dot(&f.ang)
+        let (l, a) = (&self.lin, &self.ang);
+        let lin = mul_add(l.z, f.lin.z, mul_add(l.y, f.lin.y, l.x * f.lin.x));
+        let ang = mul_add(a.z, f.ang.z, mul_add(a.y, f.ang.y, a.x * f.ang.x));
+        lin + ang
     }
 
     /// Scales by a scalar.
@@ -246,7 +304,7 @@ impl Motion {
     /// Linear velocity of the body point at `r` (relative to the reference point).
     #[inline]
     pub fn point_velocity(&self, r: &Vector3<f64>) -> Vector3<f64> {
-        self.lin + self.ang.cross(r)
+        cross_add(&self.ang, r, self.lin)
     }
 
     /// As a 6-vector `[lin; ang]`.
@@ -375,9 +433,14 @@ impl BodyInertia {
 /// transposed copy. Runs once per body and evaluation (RNEA's inertias at `O`).
 #[inline]
 pub fn rotate_symmetric(r: &Matrix3<f64>, s: &Matrix3<f64>) -> Matrix3<f64> {
-    let a = r * s;
-    let entry =
-        |i: usize, j: usize| a[(i, 0)] * r[(j, 0)] + a[(i, 1)] * r[(j, 1)] + a[(i, 2)] * r[(j, 2)];
+    let a = mat_mul(r, s);
+    let entry = |i: usize, j: usize| {
+        mul_add(
+            a[(i, 2)],
+            r[(j, 2)],
+            mul_add(a[(i, 1)], r[(j, 1)], a[(i, 0)] * r[(j, 0)]),
+        )
+    };
     let (xx, yy, zz) = (entry(0, 0), entry(1, 1), entry(2, 2));
     let (xy, xz, yz) = (entry(0, 1), entry(0, 2), entry(1, 2));
     Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
@@ -386,12 +449,21 @@ pub fn rotate_symmetric(r: &Matrix3<f64>, s: &Matrix3<f64>) -> Matrix3<f64> {
 /// Parallel axis term `m (|d|^2 I - d d^T)` of a point mass at offset `d`.
 #[inline]
 pub fn parallel_axis(mass: f64, d: &Vector3<f64>) -> Matrix3<f64> {
-    let mut out = d * d.transpose() * (-mass);
-    let d2 = mass * d.norm_squared();
-    out[(0, 0)] += d2;
-    out[(1, 1)] += d2;
-    out[(2, 2)] += d2;
-    out
+    let md = d * mass;
+    let d2 = mul_add(md.z, d.z, mul_add(md.y, d.y, md.x * d.x));
+    // d2 I - m d d^T, the diagonal fused.
+    let (xy, xz, yz) = (-md.x * d.y, -md.x * d.z, -md.y * d.z);
+    Matrix3::new(
+        mul_add(-md.x, d.x, d2),
+        xy,
+        xz,
+        xy,
+        mul_add(-md.y, d.y, d2),
+        yz,
+        xz,
+        yz,
+        mul_add(-md.z, d.z, d2),
+    )
 }
 
 /// Spatial inertia about the common reference point `O`: mass `m`, first moment `h = m c`
@@ -420,7 +492,7 @@ impl SpatialInertia {
     /// Spatial inertia about `O` of a body whose frame is at `r` with rotation `o_R_body`.
     #[inline]
     pub fn from_body(body: &BodyInertia, o_r_body: &Matrix3<f64>, r: &Vector3<f64>) -> Self {
-        let c = r + o_r_body * body.com;
+        let c = mat_vec_add(o_r_body, &body.com, *r);
         let rotational =
             rotate_symmetric(o_r_body, &body.inertia_com) + parallel_axis(body.mass, &c);
         Self {
@@ -434,8 +506,12 @@ impl SpatialInertia {
     #[inline]
     pub fn mul_motion(&self, v: &Motion) -> Force {
         Force {
-            lin: v.lin * self.mass + v.ang.cross(&self.first_moment),
-            ang: self.first_moment.cross(&v.lin) + self.rotational * v.ang,
+            lin: cross_add(&v.ang, &self.first_moment, v.lin * self.mass),
+            ang: cross_add(
+                &self.first_moment,
+                &v.lin,
+                mat_vec_add(&self.rotational, &v.ang, Vector3::zeros()),
+            ),
         }
     }
 

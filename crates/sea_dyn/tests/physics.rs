@@ -578,6 +578,50 @@ fn jdot_nu_after_bias_forces_matches_the_support_pass() {
     }
 }
 
+/// The frame velocity read off the body velocities equals `J nu`, and a Jacobian written into
+/// rows of a stacked matrix equals the frame Jacobian there and leaves the other rows alone,
+/// for every frame of the random trees.
+#[test]
+fn frame_velocity_and_stacked_rows_match_the_frame_jacobian() {
+    for seed in seeds() {
+        let model = load(&random_robot(seed));
+        let mut data = Data::new(&model);
+        let mut rng = Lcg::new(8200 + seed);
+        let q = random_q(&mut rng, model.nq());
+        let nu = random_v(&mut rng, model.nv(), 1.0);
+        sea_dyn::bias_forces(&model, &mut data, &q, &nu);
+        for id in 0..model.frames.len() {
+            let name = &model.frames[id].name;
+            let velocity = v6(&sea_dyn::jacobian::frame_velocity_from_kinematics(
+                &model, &data, id,
+            ));
+            sea_dyn::jacobian::frame_jacobian_from_kinematics(&model, &mut data, id);
+            let jacobian = data.frame_jacobian.clone();
+            let j_nu = &jacobian * DVector::from_column_slice(&nu);
+            assert_close_vec(
+                &format!("seed {seed}: J nu of frame {name}"),
+                &velocity,
+                &j_nu,
+                1e-12,
+                j_nu.amax() + 1.0,
+            );
+            let mut stacked = DMatrix::from_element(13, model.nv(), 7.0);
+            sea_dyn::jacobian::frame_jacobian_into_rows(&model, &data, id, &mut stacked, 6);
+            assert_eq!(
+                stacked.rows(6, 6),
+                jacobian,
+                "seed {seed}: rows of frame {name}"
+            );
+            for r in (0..6).chain(12..13) {
+                assert!(
+                    stacked.row(r).iter().all(|&v| v == 7.0),
+                    "seed {seed}: row {r} changed by frame {name}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn jdot_nu_matches_the_derivative_of_j_nu_at_constant_nu() {
     for seed in seeds() {

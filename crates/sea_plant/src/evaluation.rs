@@ -8,15 +8,14 @@ use crate::contact::constraint_acceleration;
 use crate::error::{Error, Result};
 use crate::plant::{MotorInput, Plant};
 use crate::workspace::{PlantOutputs, Workspace};
-use nalgebra::Vector6;
 use sea_dyn::crba::crba_after_rnea;
 use sea_dyn::data::Data;
 use sea_dyn::dense::{
-    cholesky_in_place, cholesky_solve_in_place, copy_contiguous, copy_into_rows, gemv_few_rows,
-    gemv_tr_few_rows,
+    cholesky_in_place, cholesky_solve_in_place, copy_contiguous, gemv_few_rows, gemv_tr_few_rows,
 };
 use sea_dyn::jacobian::{
-    frame_bias_acceleration_after_bias_forces, frame_jacobian_from_kinematics,
+    frame_bias_acceleration_after_bias_forces, frame_jacobian_into_rows,
+    frame_velocity_from_kinematics,
 };
 use sea_dyn::kinematics::frame_placement;
 use sea_dyn::rnea::bias_forces;
@@ -127,7 +126,7 @@ pub fn evaluate(
     crate::external::add_generalized_force(model, &mut ws.data, &ws.external, acceleration);
     ws.mass_factor.solve_lt(acceleration);
     if !plant.contacts.is_empty() {
-        contact_terms(plant, ws, nu, adopted_contacts, out);
+        contact_terms(plant, ws, adopted_contacts, out);
         contact_wrenches(ws, out)?;
     }
     ws.mass_factor.solve_l(ws.acceleration.as_mut_slice());
@@ -177,13 +176,7 @@ fn joint_and_motor_torques(
 /// contact target), plus the drift (into `out`). With `adopted`, `J`, `L^-T J^T`, the Schur
 /// complement and `Jdot nu` are already in `ws` ([`Workspace::adopt_contact_terms`]); only
 /// the pose errors and the target are computed.
-fn contact_terms(
-    plant: &Plant,
-    ws: &mut Workspace,
-    nu: &[f64],
-    adopted: bool,
-    out: &mut PlantOutputs,
-) {
+fn contact_terms(plant: &Plant, ws: &mut Workspace, adopted: bool, out: &mut PlantOutputs) {
     let model = &plant.model;
     out.drift_position = 0.0;
     out.drift_rotation = 0.0;
@@ -192,8 +185,7 @@ fn contact_terms(
         let bias = if adopted {
             ws.adopted.jdot_nu.fixed_rows::<6>(6 * c).into_owned()
         } else {
-            frame_jacobian_from_kinematics(model, &mut ws.data, contact.frame);
-            copy_into_rows(&mut terms.jacobian, 6 * c, &ws.data.frame_jacobian);
+            frame_jacobian_into_rows(model, &ws.data, contact.frame, &mut terms.jacobian, 6 * c);
             // `evaluate` ran `bias_forces` at this state just before.
             frame_bias_acceleration_after_bias_forces(model, &ws.data, contact.frame)
         };
@@ -201,11 +193,9 @@ fn contact_terms(
         let (position_error, rotation_err) = contact.pose_error(&pose);
         out.drift_position = out.drift_position.max(position_error.norm());
         out.drift_rotation = out.drift_rotation.max(rotation_err.norm());
-        // J nu column by column (contiguous 6-vectors of the column-major Jacobian's rows).
-        let mut frame_velocity = Vector6::zeros();
-        for (i, &nu_i) in nu.iter().enumerate() {
-            frame_velocity += terms.jacobian.fixed_view::<6, 1>(6 * c, i) * nu_i;
-        }
+        // J nu from the body velocities that RNEA's forward pass left (or that were adopted
+        // with the model terms) at this state.
+        let frame_velocity = frame_velocity_from_kinematics(model, &ws.data, contact.frame);
         for r in 0..6 {
             let error = if r < 3 {
                 position_error[r]

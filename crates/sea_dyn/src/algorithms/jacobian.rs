@@ -12,7 +12,7 @@ use crate::data::Data;
 use crate::kinematics::{forward_kinematics_path, forward_velocities_path, frame_position_rel};
 use crate::model::{FrameId, Model};
 use crate::spatial::{skew, Motion};
-use nalgebra::{DMatrix, Matrix3, Vector6};
+use nalgebra::{DMatrix, Vector6};
 
 /// Frame Jacobian into `data.frame_jacobian` (6 x nv); q has size nq.
 pub fn frame_jacobian<'a>(
@@ -29,20 +29,60 @@ pub fn frame_jacobian<'a>(
 /// Frame Jacobian from the placements already in `data` (after forward kinematics, at least
 /// along the frame's support).
 pub fn frame_jacobian_from_kinematics(model: &Model, data: &mut Data, frame: FrameId) {
+    let mut jacobian = std::mem::replace(&mut data.frame_jacobian, DMatrix::zeros(0, 0));
+    frame_jacobian_into_rows(model, data, frame, &mut jacobian, 0);
+    data.frame_jacobian = jacobian;
+}
+
+/// The frame Jacobian (as [`frame_jacobian_from_kinematics`]) written straight into rows
+/// `first_row..first_row + 6` of `stacked` (k x nv, e.g. the stacked Jacobian of several
+/// contacts); its other rows are left as they are. Panics if the rows do not fit or `stacked`
+/// does not have nv columns.
+pub fn frame_jacobian_into_rows(
+    model: &Model,
+    data: &Data,
+    frame: FrameId,
+    stacked: &mut DMatrix<f64>,
+    first_row: usize,
+) {
+    let k = stacked.nrows();
+    assert!(
+        first_row + 6 <= k && stacked.ncols() == model.nv(),
+        "frame_jacobian_into_rows: sizes"
+    );
     let x = frame_position_rel(model, data, frame);
-    let jac = &mut data.frame_jacobian;
-    jac.as_mut_slice().fill(0.0);
-    jac.fixed_view_mut::<3, 3>(0, 0)
-        .copy_from(&Matrix3::identity());
-    jac.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-skew(&x)));
-    jac.fixed_view_mut::<3, 3>(3, 3)
-        .copy_from(&Matrix3::identity());
+    let columns = stacked.as_mut_slice();
+    let mut set_column = |index: usize, column: &Vector6<f64>| {
+        let start = index * k + first_row;
+        columns[start..start + 6].copy_from_slice(column.as_slice());
+    };
+    // Base columns [[I, -[x]x], [0, I]]; joint columns off the support are zero.
+    let minus_x_cross = -skew(&x);
+    for c in 0..3 {
+        set_column(c, &Vector6::ith(c, 1.0));
+        let mut angular = Vector6::ith(3 + c, 1.0);
+        angular
+            .fixed_rows_mut::<3>(0)
+            .copy_from(&minus_x_cross.column(c));
+        set_column(3 + c, &angular);
+    }
+    for j in 6..model.nv() {
+        set_column(j, &Vector6::zeros());
+    }
     for j in model.support(model.frames[frame].body) {
         let s = &data.motion_subspace[j];
         let column = Motion::new(s.point_velocity(&x), s.ang).to_vector();
-        jac.fixed_view_mut::<6, 1>(0, model.velocity_index(j))
-            .copy_from(&column);
+        set_column(model.velocity_index(j), &column);
     }
+}
+
+/// `J_F nu` for `frame` (6): the frame's velocity `[velocity of its origin; angular velocity]`
+/// from the body velocities already in `data` (after forward velocities, at least along the
+/// frame's support), without forming `J_F`.
+pub fn frame_velocity_from_kinematics(model: &Model, data: &Data, frame: FrameId) -> Vector6<f64> {
+    let v = data.body_velocity[model.frames[frame].body];
+    let x = frame_position_rel(model, data, frame);
+    Motion::new(v.point_velocity(&x), v.ang).to_vector()
 }
 
 /// `Jdot_F(q, nu) nu` for `frame` (6): classical acceleration of the frame at `nudot = 0`.

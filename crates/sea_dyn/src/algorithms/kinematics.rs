@@ -11,7 +11,9 @@
 
 use crate::data::Data;
 use crate::model::{FrameId, JointKind, Model};
-use crate::spatial::{rotation_about_axis, rotation_from_quaternion, Motion, Pose};
+use crate::spatial::{
+    mat_mul, mat_vec_add, rotation_about_axis, rotation_from_quaternion, Motion, Pose,
+};
 use nalgebra::Vector3;
 
 /// Placements `world_R_body`, `p_body_rel` and motion subspaces `S_i` from `q` (size nq).
@@ -45,13 +47,18 @@ fn body_placement(model: &Model, data: &mut Data, q: &[f64], i: usize) {
         let joint = &model.joints[i - 1];
         let p = joint.parent;
         let world_r_parent = data.world_r_body[p];
-        let world_r_joint = world_r_parent * joint.parent_h_joint.rotation;
-        let r_joint = data.p_body_rel[p] + world_r_parent * joint.parent_h_joint.translation;
-        let axis_world = world_r_joint * joint.axis;
+        let world_r_joint = mat_mul(&world_r_parent, &joint.parent_h_joint.rotation);
+        let r_joint = mat_vec_add(
+            &world_r_parent,
+            &joint.parent_h_joint.translation,
+            data.p_body_rel[p],
+        );
+        let axis_world = mat_vec_add(&world_r_joint, &joint.axis, Vector3::zeros());
         let s = q[7 + joint.coordinate];
         match joint.kind {
             JointKind::Revolute => {
-                data.world_r_body[i] = world_r_joint * rotation_about_axis(&joint.axis, s);
+                data.world_r_body[i] =
+                    mat_mul(&world_r_joint, &rotation_about_axis(&joint.axis, s));
                 data.p_body_rel[i] = r_joint;
                 data.motion_subspace[i] = Motion::new(r_joint.cross(&axis_world), axis_world);
             }

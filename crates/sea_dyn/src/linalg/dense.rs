@@ -7,6 +7,7 @@
 //! bounds checks. Only the lower triangle of the input is read; the factor overwrites it, and
 //! the solves read only the lower triangle of a factor.
 
+use super::mul_add;
 use nalgebra::storage::{IsContiguous, RawStorage, RawStorageMut};
 use nalgebra::{DMatrix, DMatrixView, Dim, Matrix};
 
@@ -39,7 +40,7 @@ fn cholesky_kernel(s: &mut [f64], n: usize) -> Result<(), usize> {
             // upper triangle, which the factor leaves unspecified.
             let target = &mut trailing[(c - j - 1) * n..(c - j) * n];
             for (t, v) in target.iter_mut().zip(column) {
-                *t -= v * factor;
+                *t = mul_add(-v, factor, *t);
             }
         }
         let pivot = diagonal.sqrt();
@@ -84,7 +85,7 @@ fn forward_kernel(s: &[f64], b: &mut [f64], n: usize) {
         b[j] = yj;
         if yj != 0.0 {
             for (bi, lij) in b[j + 1..].iter_mut().zip(&column[j + 1..]) {
-                *bi -= lij * yj;
+                *bi = mul_add(-lij, yj, *bi);
             }
         }
     }
@@ -110,7 +111,7 @@ fn backward_kernel(s: &[f64], b: &mut [f64], n: usize) {
         b[j] = xj;
         if xj != 0.0 {
             for (i, bi) in b[..j].iter_mut().enumerate() {
-                *bi -= s[i * n + j] * xj;
+                *bi = mul_add(-s[i * n + j], xj, *bi);
             }
         }
     }
@@ -137,7 +138,7 @@ pub fn cholesky_solve_right_in_place(l: &DMatrix<f64>, b: &mut DMatrix<f64>) {
         for i in 0..j {
             let lji = l[i * k + j];
             for (t, z) in target.iter_mut().zip(&done[i * r..i * r + r]) {
-                *t -= lji * z;
+                *t = mul_add(-lji, *z, *t);
             }
         }
         let inverse = 1.0 / l[j * k + j];
@@ -151,7 +152,7 @@ pub fn cholesky_solve_right_in_place(l: &DMatrix<f64>, b: &mut DMatrix<f64>) {
             let lij = l[j * k + i];
             let source = &done[(i - j - 1) * r..(i - j) * r];
             for (t, v) in target.iter_mut().zip(source) {
-                *t -= lij * v;
+                *t = mul_add(-lij, *v, *t);
             }
         }
         let inverse = 1.0 / l[j * k + j];
@@ -178,32 +179,6 @@ pub fn copy_contiguous<R1, C1, S1, R2, C2, S2>(
     dst.as_mut_slice().copy_from_slice(src.as_slice());
 }
 
-/// `dst[first_row..first_row + r, ..] <- src` for `src` r x n and `dst` k x n (e.g. one
-/// contact's 6 Jacobian rows into the stacked contact Jacobian): one slice copy per column,
-/// where nalgebra's `copy_from` into a row view goes entry by entry. Panics if the sizes do
-/// not fit.
-pub fn copy_into_rows(dst: &mut DMatrix<f64>, first_row: usize, src: &DMatrix<f64>) {
-    let (k, r) = (dst.nrows(), src.nrows());
-    assert!(
-        first_row + r <= k && dst.ncols() == src.ncols(),
-        "copy_into_rows: sizes"
-    );
-    if r == 0 {
-        return;
-    }
-    // A constant r (one contact's 6 rows) makes each column's copy a few moves instead of a
-    // call to `memcpy`.
-    with_fixed_width!(r, |rows| {
-        for (target, source) in dst
-            .as_mut_slice()
-            .chunks_exact_mut(k)
-            .zip(src.as_slice().chunks_exact(rows))
-        {
-            target[first_row..first_row + rows].copy_from_slice(source);
-        }
-    });
-}
-
 /// `sum_i a_i b_i` with four independent partial sums, so that the compiler can vectorise it
 /// (a single running sum is a dependency chain it must keep in order).
 #[inline]
@@ -219,7 +194,7 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
         .sum();
     for (x, y) in a_chunks.zip(b_chunks) {
         for lane in 0..4 {
-            lanes[lane] += x[lane] * y[lane];
+            lanes[lane] = mul_add(x[lane], y[lane], lanes[lane]);
         }
     }
     (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
@@ -237,7 +212,7 @@ fn dot4(a: &[f64], b: [&[f64]; 4]) -> [f64; 4] {
         for (column, sums) in b.iter().zip(lanes.iter_mut()) {
             let y = &column[start..start + 4];
             for lane in 0..4 {
-                sums[lane] += x[lane] * y[lane];
+                sums[lane] = mul_add(x[lane], y[lane], sums[lane]);
             }
         }
     }
@@ -335,7 +310,7 @@ fn gemv_few_rows_kernel(y: &mut [f64], alpha: f64, a: &[f64], x: &[f64], beta: f
     let sum = &mut sum[..k];
     for (column, &xi) in a.chunks_exact(k).zip(x) {
         for (s, v) in sum.iter_mut().zip(column) {
-            *s += v * xi;
+            *s = mul_add(*v, xi, *s);
         }
     }
     for (yi, s) in y.iter_mut().zip(sum.iter()) {
@@ -354,7 +329,10 @@ pub fn gemv_tr_few_rows(y: &mut [f64], alpha: f64, a: &DMatrix<f64>, x: &[f64], 
     assert!(y.len() == n && x.len() == k, "gemv_tr_few_rows: sizes");
     with_fixed_width!(k, |rows| {
         for (yi, column) in y.iter_mut().zip(a.as_slice().chunks_exact(rows)) {
-            let product: f64 = column.iter().zip(x).map(|(v, xr)| v * xr).sum();
+            let product = column
+                .iter()
+                .zip(x)
+                .fold(0.0, |sum, (v, xr)| mul_add(*v, *xr, sum));
             *yi = if beta == 0.0 {
                 alpha * product
             } else {

@@ -9,6 +9,7 @@
 //! non-zeros, which keeps `L^-T J^T` of a foot Jacobian on the leg and the base.
 //! Vectors are in velocity-index order (the user's joint order); the map is internal.
 
+use super::mul_add;
 use crate::error::{Error, Result};
 use crate::model::Model;
 use nalgebra::{DMatrix, Vector6};
@@ -178,7 +179,7 @@ impl TreeFactor {
             let lki = row_k[p];
             let row_i = &mut head[self.row_start[i]..self.row_start[i + 1]];
             for (target, source) in row_i.iter_mut().zip(&row_k[p..]) {
-                *target -= lki * source;
+                *target = mul_add(-lki, *source, *target);
             }
         }
         Ok(if skip_last == BASE_DOFS {
@@ -195,7 +196,7 @@ impl TreeFactor {
     /// read-modify-writes of memory in one dependency chain.
     pub fn solve_lt(&self, b: &mut [f64]) {
         let n = self.velocity_index.len();
-        let mut base_update = Vector6::zeros();
+        let mut base_update = [0.0; BASE_DOFS];
         for i in (BASE_DOFS..n).rev() {
             let (start, end) = (self.row_start[i], self.row_start[i + 1]);
             let yi = b[self.velocity_index[i]] * self.inverse_pivot[i];
@@ -208,13 +209,11 @@ impl TreeFactor {
                 .iter()
                 .zip(&self.column_velocity[start + 1..base_start])
             {
-                b[column] -= value * yi;
+                b[column] = mul_add(-value, yi, b[column]);
             }
-            base_update.axpy(
-                yi,
-                &Vector6::from_column_slice(&self.values[base_start..end]),
-                1.0,
-            );
+            for (update, value) in base_update.iter_mut().zip(&self.values[base_start..end]) {
+                *update = mul_add(*value, yi, *update);
+            }
         }
         // Entry t of a joint row's base part is base DOF 5 - t.
         for (t, update) in base_update.iter().enumerate() {
@@ -228,7 +227,7 @@ impl TreeFactor {
                 .iter()
                 .zip(&self.column_velocity[start + 1..end])
             {
-                b[column] -= value * yi;
+                b[column] = mul_add(-value, yi, b[column]);
             }
         }
     }
@@ -244,22 +243,27 @@ impl TreeFactor {
             let dot: f64 = self.values[start + 1..end]
                 .iter()
                 .zip(&self.column_velocity[start + 1..end])
-                .map(|(value, &column)| value * b[column])
-                .sum();
+                .fold(0.0, |sum, (value, &column)| mul_add(*value, b[column], sum));
             let vi = self.velocity_index[i];
             b[vi] = (b[vi] - dot) * self.inverse_pivot[i];
         }
         // The base part of `b` in a joint row's storage order (base DOFs 5..0).
-        let base = Vector6::from_fn(|t, _| b[self.velocity_index[BASE_DOFS - 1 - t]]);
+        let base: [f64; BASE_DOFS] =
+            std::array::from_fn(|t| b[self.velocity_index[BASE_DOFS - 1 - t]]);
         for i in BASE_DOFS..n {
             let (start, end) = (self.row_start[i], self.row_start[i + 1]);
             let base_start = end - BASE_DOFS;
-            let chain: f64 = self.values[start + 1..base_start]
+            let chain = self.values[start + 1..base_start]
                 .iter()
                 .zip(&self.column_velocity[start + 1..base_start])
-                .map(|(value, &column)| value * b[column])
-                .sum();
-            let dot = chain + Vector6::from_column_slice(&self.values[base_start..end]).dot(&base);
+                .fold(0.0, |sum, (value, &column)| mul_add(*value, b[column], sum));
+            // The base part apart (its inputs are known since the base rows), so that only the
+            // chain's own sum waits for the rows solved just before.
+            let base_dot = self.values[base_start..end]
+                .iter()
+                .zip(&base)
+                .fold(0.0, |sum, (value, b)| mul_add(*value, *b, sum));
+            let dot = chain + base_dot;
             let vi = self.velocity_index[i];
             b[vi] = (b[vi] - dot) * self.inverse_pivot[i];
         }
@@ -304,7 +308,7 @@ impl TreeFactor {
                 {
                     let target = &mut b[column * k..column * k + k];
                     for (t, s) in target.iter_mut().zip(source) {
-                        *t -= value * s;
+                        *t = mul_add(-value, *s, *t);
                     }
                 }
                 continue;
@@ -315,7 +319,7 @@ impl TreeFactor {
             {
                 let (source, target) = column_pair(b, k, vi, column);
                 for (t, s) in target.iter_mut().zip(source) {
-                    *t -= value * s;
+                    *t = mul_add(-value, *s, *t);
                 }
             }
         }
@@ -346,7 +350,7 @@ impl TreeFactor {
                 {
                     let source = &b[column * k..column * k + k];
                     for (t, s) in target.iter_mut().zip(source) {
-                        *t -= value * s;
+                        *t = mul_add(-value, *s, *t);
                     }
                 }
                 for (out, t) in b[vi * k..vi * k + k].iter_mut().zip(target.iter()) {
@@ -360,7 +364,7 @@ impl TreeFactor {
             {
                 let (source, target) = column_pair(b, k, column, vi);
                 for (t, s) in target.iter_mut().zip(source) {
-                    *t -= value * s;
+                    *t = mul_add(-value, *s, *t);
                 }
             }
             b[vi * k..vi * k + k].iter_mut().for_each(|v| *v *= inverse);
@@ -409,7 +413,7 @@ fn sum_outer_products(y: &[f64], s: &mut [f64], k: usize) {
             let yc = column[c];
             let target = &mut s[c * k + c..c * k + last + 1];
             for (t, y) in target.iter_mut().zip(&column[c..=last]) {
-                *t += y * yc;
+                *t = mul_add(*y, yc, *t);
             }
         }
     }
@@ -438,7 +442,7 @@ fn sum_outer_products_one_contact(y: &[f64], s: &mut [f64]) {
 fn add_outer_product(sum: &mut [f64; 36], rows: &[f64], columns: &[f64]) {
     for (target, &c) in sum.chunks_exact_mut(6).zip(columns) {
         for (t, &r) in target.iter_mut().zip(rows) {
-            *t += r * c;
+            *t = mul_add(r, c, *t);
         }
     }
 }

@@ -44,6 +44,7 @@ use crate::plant::Plant;
 use crate::workspace::{PlantOutputs, Workspace};
 use nalgebra::DVector;
 use sea_dyn::dense::copy_contiguous;
+use sea_dyn::linalg::mul_add;
 use sea_dyn::TangentLayout;
 use w_matrix::WMatrix;
 
@@ -285,7 +286,7 @@ fn linear_combination(out: &mut DVector<f64>, [(a, x), (b, y)]: [(f64, &DVector<
         .zip(x.as_slice())
         .zip(y.as_slice())
     {
-        *o = a * xi + b * yi;
+        *o = mul_add(a, *xi, b * yi);
     }
 }
 

@@ -8,6 +8,7 @@ use nalgebra::{DMatrix, DVector};
 use sea_dyn::dense::{
     cholesky_in_place, cholesky_solve_in_place, copy_contiguous, gemv_few_rows, gemv_tr_few_rows,
 };
+use sea_dyn::linalg::mul_add;
 use sea_dyn::tree_factor::TreeFactor;
 
 /// One elastic joint's motor unknowns eliminated from `W k = r`, for the step scale `g`: with
@@ -171,15 +172,15 @@ impl WMatrix {
         let z = self.z.as_mut_slice();
         self.factor.solve_l(z);
         for (i, &z_i) in z.iter().enumerate() {
-            let k_nu = r.dnu[i] + g * z_i;
+            let k_nu = mul_add(g, z_i, r.dnu[i]);
             k.dnu[i] = k_nu;
-            k.dq[i] = r.dq[i] + g * k_nu;
+            k.dq[i] = mul_add(g, k_nu, r.dq[i]);
         }
         for (e, m) in self.motor.iter().enumerate() {
             let vj = 6 + actuation.elastic_joints[e];
-            let k_thetadot = k.dthetadot[e] + m.a1 * k.dnu[vj];
+            let k_thetadot = mul_add(m.a1, k.dnu[vj], k.dthetadot[e]);
             k.dthetadot[e] = k_thetadot;
-            k.dtheta[e] = r.dtheta[e] + g * k_thetadot;
+            k.dtheta[e] = mul_add(g, k_thetadot, r.dtheta[e]);
         }
     }
 
@@ -193,7 +194,7 @@ impl WMatrix {
         let scale = 1.0 / (1.0 + g * kd + g * g * kp);
         let combination = self.combination.as_mut_slice();
         for ((c, &q_i), &nu_i) in combination.iter_mut().zip(r_q).zip(r_nu) {
-            *c = kd * nu_i + kp * (q_i + g * nu_i);
+            *c = mul_add(kd, nu_i, kp * mul_add(g, nu_i, q_i));
         }
         let rhs = self.constraint.as_mut_slice();
         let z = self.z.as_mut_slice();
