@@ -19,6 +19,9 @@
 //!   wrench on any link) estimated by inverse dynamics, taken into every row of the dynamics;
 //! - [`stiffness_id`]: online identification of the spring stiffness from the encoders and the
 //!   model;
+//! - [`robot`]: the robot's controller as one stack ([`robot::RobotController`]): the
+//!   whole-body law, the joint loops, the identification and the observers, with one per-tick
+//!   contract (measured state in, motor commands out);
 //! - [`excitation`]: a sinusoidal torque on chosen joints for a while, so that the
 //!   identification sees joints the task leaves unloaded.
 //!
@@ -36,6 +39,7 @@ pub mod joint_loop;
 pub mod momentum;
 pub mod qp;
 pub mod references;
+pub mod robot;
 pub mod sea;
 pub mod stiffness_id;
 pub mod torque_map;
@@ -45,3 +49,4 @@ pub use qp::active_set;
 
 pub use controller::{ControlOutput, ControllerKind, ControllerSettings, MomentumController};
 pub use error::{Error, Result};
+pub use robot::RobotController;

@@ -181,6 +181,24 @@ impl Default for IdentificationSettings {
     }
 }
 
+/// The contact wrenches the identification takes; with the `serde` feature, named
+/// "measured" or "commanded" (`controller.identification_wrenches` in scenario files).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
+pub enum IdentificationWrenches {
+    /// Measured by force/torque sensors at the feet, as on the iCub (docs/references.md; in
+    /// simulation: the plant's contact wrenches at the sample; the default).
+    #[default]
+    Measured,
+    /// The whole-body controller's commanded `f*` (no sensors): on two feet the internal
+    /// force between the feet is then the commanded one, which biases the legs' estimates.
+    Commanded,
+}
+
 /// The identifier of the stiffness of every elastic joint (module doc). Allocation-free after
 /// [`StiffnessIdentifier::new`].
 #[derive(Clone, Debug)]

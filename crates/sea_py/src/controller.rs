@@ -3,9 +3,11 @@
 //! built into its model, plant, controller and initial state.
 //!
 //! Both are built by `sea_sim::scenario` (the scenario's `build`, or the same functions on a
-//! model given from Python), so a Python loop of `Controller.tick` and `Plant.step` is the run
-//! of `run_scenario`; with `controller.sampling = "multi_rate"`, `Controller.inner_tick` runs
-//! the joint torque loops between two ticks, as the native loop does.
+//! model given from Python), and `Controller` is the robot's controller stack
+//! ([`RobotController`]: the whole-body law, the joint torque loops, the stiffness
+//! identification and its excitation, the observers) that the native loop runs: a Python
+//! loop of `Controller.tick`, `Controller.inner_tick` (`controller.sampling = "multi_rate"`),
+//! `Plant.step` and `Controller.end_period` is the run of `run_scenario`.
 
 use crate::arrays::{matrix_rows_out, vector_arg, vector_out};
 use crate::errors::{argument_error, to_py};
@@ -16,9 +18,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sea_ctrl::controller::MomentumController;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
-use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::qp::QpStatus;
 use sea_ctrl::references::{ComTrajectory, PostureReference};
+use sea_ctrl::robot::{ForceReadings, PeriodSensors, RobotController};
 use sea_dyn::{Model, StateLayout};
 use sea_sim::closed_loop::Schedule;
 use sea_sim::scenario::{build, Sampling, Scenario};
@@ -35,35 +37,47 @@ use std::path::PathBuf;
 /// `Controller.from_table`), or take a scenario's (`Scenario.load(path).controller`).
 #[pyclass(name = "Controller", module = "sea_momentum._native", unsendable)]
 pub struct PyController {
-    /// The feedback law: the controller, its references and the last tick's outputs.
-    law: FeedbackLaw,
+    /// The controller stack: the whole-body law (the controller, its references and the last
+    /// tick's outputs), the joint loops, the identification and the observers.
+    robot: RobotController,
     contacts: Vec<String>,
     joint_names: Vec<String>,
     /// The state of the last tick, copied from Python (nx).
     x: Vec<f64>,
-    /// `multi_rate`: the joint torque loops (`None` otherwise).
-    joint_loop: Option<JointTorqueLoop>,
+    /// The force readings of `end_period`, copied from Python: contact wrenches (6 per
+    /// contact) and joint torques (n) at the period's start and end.
+    readings: [nalgebra::DVector<f64>; 4],
 }
 
 impl PyController {
     /// The object of a built controller and its references, reading states of `layout`, with
-    /// the joint torque loops of `scenario`'s `[controller]` when it is `multi_rate`.
+    /// the stack of `scenario`'s `[controller]` ticking on `schedule` (the joint torque loops
+    /// when it is `multi_rate`, the identification, the observers).
     fn new_built(
         controller: MomentumController,
         (com_reference, posture): (ComTrajectory, PostureReference),
         layout: StateLayout,
         joint_names: Vec<String>,
-        scenario: &Scenario,
-    ) -> Self {
+        (scenario, schedule): (&Scenario, &Schedule),
+    ) -> PyResult<Self> {
         let settings = &scenario.controller;
         let multi_rate = settings.sampling == Sampling::MultiRate;
-        Self {
-            contacts: controller.settings().contacts.clone(),
+        let parts = settings
+            .stack_parts(&controller, schedule.period, multi_rate)
+            .map_err(to_py)?;
+        let (n, k) = (
+            controller.model().n_joints(),
+            6 * controller.contact_frames().len(),
+        );
+        let readings = [k, n, k, n].map(nalgebra::DVector::zeros);
+        let law = FeedbackLaw::new(controller, com_reference, posture, layout);
+        Ok(Self {
+            contacts: law.controller().settings().contacts.clone(),
             x: Vec::with_capacity(layout.nx()),
-            joint_loop: multi_rate.then(|| settings.joint_loop(&controller)),
-            law: FeedbackLaw::new(controller, com_reference, posture, layout),
+            robot: RobotController::new(law, parts, schedule.period),
             joint_names,
-        }
+            readings,
+        })
     }
 
     /// A controller for `model` from scenario tables given as Python dicts: `settings` is the
@@ -95,13 +109,14 @@ impl PyController {
         let com_reference = build::com_reference(&scenario, model, &q, frames[0]).map_err(to_py)?;
         let posture = build::posture_reference(&scenario, model, q[7..].to_vec()).map_err(to_py)?;
         let layout = StateLayout::new(model, &actuation);
-        Ok(Self::new_built(
+        let schedule = Schedule::of(&scenario).map_err(to_py)?;
+        Self::new_built(
             controller,
             (com_reference, posture),
             layout,
             model.joint_names.clone(),
-            &scenario,
-        ))
+            (&scenario, &schedule),
+        )
     }
 }
 
@@ -240,10 +255,12 @@ impl PyController {
         )
     }
 
-    /// One controller tick at time `t` [s] and plant state `x` (nx): a
+    /// The whole-body tick at time `t` [s] and measured plant state `x` (nx): a
     /// `sea_momentum.ControlOutput` (plant input, joint command, desired motor velocities,
     /// QP wrenches, QP status, CoM, momentum, CoM reference). With `multi_rate` the tick's
-    /// joint torques are held by the joint loops and `input` is their first inner tick's.
+    /// joint torques (and the identification's excitation) are held by the joint loops and
+    /// `input` is their first inner tick's. A tick that fails raises `SolverError`; the last
+    /// command stays `command`.
     fn tick<'py>(
         &mut self,
         py: Python<'py>,
@@ -253,53 +270,113 @@ impl PyController {
         if !t.is_finite() {
             return Err(argument_error("t", "a finite time [s]", t));
         }
-        let layout = self.law.layout();
+        let layout = self.robot.layout();
         vector_arg(x, "x", layout.nx(), &mut self.x)?;
-        self.law.tick(t, &self.x).map_err(to_py)?;
-        let observation = self.law.last();
-        let input = match &mut self.joint_loop {
-            Some(joint_loop) => {
-                joint_loop.hold(&observation.output, &layout, &self.x, self.law.s_desired());
-                joint_loop.tick(&layout, &self.x)
-            }
-            None => &observation.output.input,
-        };
-        output_object(py, observation, input)
+        self.robot.tick(t, &self.x).map_err(to_py)?;
+        output_object(py, self.robot.last(), self.robot.command())
     }
 
     /// `controller.sampling = "multi_rate"`: one tick of the joint torque loops at the
     /// measured state `x` (nx) between two `tick`s (every `Scenario.steps_per_inner_tick`
     /// plant steps after the first): the plant input (n), each elastic joint's desired motor
-    /// velocity from the held joint torque and the measured deflection. The stiffness
-    /// identification and its excitation (`controller.identification_excitation_nm`) run in
-    /// the native loop only.
+    /// velocity from the held joint torque and the measured deflection.
     fn inner_tick<'py>(
         &mut self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
-        let layout = self.law.layout();
-        let Some(joint_loop) = &mut self.joint_loop else {
+        let layout = self.robot.layout();
+        if self.robot.joint_loop().is_none() {
             return Err(argument_error(
                 "Controller.inner_tick",
                 "a controller with controller.sampling = \"multi_rate\"",
                 "another sampling",
             ));
-        };
+        }
         vector_arg(x, "x", layout.nx(), &mut self.x)?;
-        Ok(vector_out(py, joint_loop.tick(&layout, &self.x)))
+        Ok(vector_out(py, self.robot.joint_tick(&self.x)))
+    }
+
+    /// After the period that began at the last `tick` (its plant steps done), before the next
+    /// `tick`: the force readings of the period, each a float array: the feet's wrenches
+    /// (n_contacts, 6) or (6 n_contacts,) and the joint torques (n,) at the period's start
+    /// (`Plant.outputs` at the tick's state and command) and at its end (at the start of the
+    /// period's last plant step). The stiffness identification
+    /// (`controller.stiffness_identification`) and the observers (`controller.external_wrench`)
+    /// update from them; their estimates act from the next `tick` on. Without them it does
+    /// nothing.
+    fn end_period(
+        &mut self,
+        start_wrenches: &Bound<'_, PyAny>,
+        start_joint_torques: &Bound<'_, PyAny>,
+        end_wrenches: &Bound<'_, PyAny>,
+        end_joint_torques: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let arguments = [
+            ("start_wrenches", start_wrenches),
+            ("start_joint_torques", start_joint_torques),
+            ("end_wrenches", end_wrenches),
+            ("end_joint_torques", end_joint_torques),
+        ];
+        let mut values = Vec::new();
+        for ((name, value), reading) in arguments.into_iter().zip(&mut self.readings) {
+            // The wrenches as `Plant.outputs` gives them, (n_contacts, 6), or flat.
+            let numpy = value.py().import("numpy")?;
+            let flat = numpy
+                .call_method1("ravel", (value,))
+                .map_err(|_| argument_error(name, "an array of numbers", value))?;
+            vector_arg(&flat, name, reading.len(), &mut values)?;
+            reading.copy_from_slice(&values);
+        }
+        let [start_wrench, start_torque, end_wrench, end_torque] = &self.readings;
+        self.robot.end_period(PeriodSensors {
+            start: ForceReadings {
+                contact_wrench: start_wrench,
+                joint_torque: start_torque,
+            },
+            end: ForceReadings {
+                contact_wrench: end_wrench,
+                joint_torque: end_torque,
+            },
+        });
+        Ok(())
+    }
+
+    /// The motor command (n) of the last `tick` or `inner_tick` (the plant input).
+    #[getter]
+    fn command<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        vector_out(py, self.robot.command())
+    }
+
+    /// The stiffness estimates [Nm/rad] the stack works with, by elastic joint name: the
+    /// joint loops' (identified with `controller.stiffness_identification`), or the
+    /// controller's without joint loops.
+    #[getter]
+    fn stiffness_estimates(&self) -> HashMap<String, f64> {
+        let controller = self.robot.controller();
+        let names = &controller.model().joint_names;
+        let elastic = &controller.actuation().elastic_joints;
+        let estimates = self.robot.estimates().iter();
+        elastic
+            .iter()
+            .zip(estimates)
+            .map(|(&j, estimate)| (names[j].clone(), estimate.stiffness))
+            .collect()
     }
 
     /// The external wrench `wrench` (6: force, moment about the CoM; world axes) [N, Nm] that
     /// the controller's dynamics take as acting on the base from the next `tick` on
-    /// (`sea_ctrl::external_wrench`), e.g. a caller's estimate of a push; zeros: none. The
-    /// scenario's observer (`controller.external_wrench = "observed"`) runs in the native run
-    /// only.
+    /// (`sea_ctrl::external_wrench`), e.g. a caller's estimate of a push; zeros: none. With
+    /// the scenario's observer (`controller.external_wrench = "observed"`), `end_period`
+    /// replaces it.
     fn set_external_wrench(&mut self, wrench: &Bound<'_, PyAny>) -> PyResult<()> {
         let mut values = Vec::with_capacity(6);
         vector_arg(wrench, "wrench", 6, &mut values)?;
         let wrench = nalgebra::Vector6::from_column_slice(&values);
-        self.law.controller_mut().set_external_wrench(&wrench);
+        self.robot
+            .law_mut()
+            .controller_mut()
+            .set_external_wrench(&wrench);
         Ok(())
     }
 
@@ -307,14 +384,14 @@ impl PyController {
     /// in world axes, then one per joint) [N, Nm] that the controller's dynamics take from
     /// the next `tick` on (bias forces `h - d`, its wrench carried by the contacts;
     /// `sea_ctrl::generalized_disturbance`), e.g. a caller's observer's estimate of what its
-    /// model misses; zeros: none. The scenario's observer (`controller.external_wrench =
-    /// "generalized"`) runs in the native run only.
+    /// model misses; zeros: none. With the scenario's observer
+    /// (`controller.external_wrench = "generalized"`), `end_period` replaces it.
     fn set_generalized_disturbance(&mut self, disturbance: &Bound<'_, PyAny>) -> PyResult<()> {
-        let nv = self.law.controller().model().nv();
+        let nv = self.robot.controller().model().nv();
         let mut values = Vec::with_capacity(nv);
         vector_arg(disturbance, "disturbance", nv, &mut values)?;
         let disturbance = nalgebra::DVector::from_vec(values);
-        let controller = self.law.controller_mut();
+        let controller = self.robot.law_mut().controller_mut();
         controller
             .set_generalized_disturbance(&disturbance)
             .map_err(to_py)
@@ -325,24 +402,35 @@ impl PyController {
     /// CoM to the reference; the momentum and its map stay the model's), e.g. a caller's
     /// observer's estimate of where the robot's CoM is when the model's masses are off
     /// (`sea_ctrl::generalized_disturbance::GeneralizedDisturbanceObserver::com_offset`);
-    /// zeros: none. The scenario's observer runs in the native run only.
+    /// zeros: none. With the scenario's generalized observer, `end_period` replaces it.
     fn set_com_offset(&mut self, offset: &Bound<'_, PyAny>) -> PyResult<()> {
         let mut values = Vec::with_capacity(3);
         vector_arg(offset, "offset", 3, &mut values)?;
         let offset = nalgebra::Vector3::from_column_slice(&values);
-        self.law.controller_mut().set_com_offset(&offset);
+        self.robot
+            .law_mut()
+            .controller_mut()
+            .set_com_offset(&offset);
         Ok(())
     }
 
     /// The CoM reference at `t` [s]: position (3,) in world [m].
     fn com_reference<'py>(&self, py: Python<'py>, t: f64) -> Bound<'py, numpy::PyArray1<f64>> {
-        vector_out(py, self.law.com_reference().sample(t).position.as_slice())
+        vector_out(
+            py,
+            self.robot
+                .law()
+                .com_reference()
+                .sample(t)
+                .position
+                .as_slice(),
+        )
     }
 
     /// "sea" or "rigid".
     #[getter]
     fn kind(&self) -> &'static str {
-        sea_sim::scenario::Setting::name(self.law.controller().settings().kind)
+        sea_sim::scenario::Setting::name(self.robot.controller().settings().kind)
     }
 
     /// Contact frame names, the rows of `ControlOutput.wrenches`.
@@ -360,13 +448,13 @@ impl PyController {
     /// Size of the state `tick` reads, nq + nv + 2 n_e.
     #[getter]
     fn nx(&self) -> usize {
-        self.law.layout().nx()
+        self.robot.layout().nx()
     }
 
     /// QP solves so far that fell back to the unconstrained solution.
     #[getter]
     fn qp_failures(&self) -> usize {
-        self.law.controller().qp_failures()
+        self.robot.controller().qp_failures()
     }
 }
 
@@ -405,8 +493,8 @@ impl PyScenario {
             (setup.com_reference, setup.posture),
             layout,
             setup.model.joint_names.clone(),
-            &scenario,
-        );
+            (&scenario, &schedule),
+        )?;
         Ok(Self {
             name: scenario.name.clone(),
             model: Py::new(py, PyModel::from_model(setup.model))?,

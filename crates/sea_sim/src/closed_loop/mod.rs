@@ -26,7 +26,6 @@
 //! (checked at every sample whose plant evaluation succeeded; [`contact_check`]). Either way the sinks are finished (the MCAP log gets its summary section).
 
 pub mod contact_check;
-mod disturbance;
 mod record;
 mod sampling;
 mod sensing;
@@ -108,7 +107,7 @@ pub fn run_setup_with_sinks(
         .fold(Ok(()), Result::and);
     let (end, duration_s) = outcome?;
     finished?;
-    let controller = engine.law.controller();
+    let controller = engine.robot.controller();
     let solves = controller.qp_solves();
     let totals = RunTotals {
         duration_s,

@@ -4,19 +4,15 @@
 //! (zero-order hold) or the law at every integrator stage (continuous).
 
 use super::contact_check::ContactCheck;
-use super::disturbance::{DisturbanceObserverLoop, PeriodEnd};
 use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
 use super::sensing::Sensor;
 use super::statistics::{Divergence, RunEnd};
 use crate::error::Result;
-use crate::scenario::{DisturbanceSchedule, IdentificationWrenches, Scenario, Setup};
+use crate::scenario::{DisturbanceSchedule, Scenario, Setup};
 use nalgebra::DVector;
-use sea_ctrl::excitation::IdentificationExcitation;
-use sea_ctrl::external_wrench::ExternalWrenchObserver;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
-use sea_ctrl::joint_loop::JointTorqueLoop;
-use sea_ctrl::stiffness_id::StiffnessIdentifier;
+use sea_ctrl::robot::{ForceReadings, PeriodSensors, RobotController};
 use sea_ctrl::MomentumController;
 use sea_dyn::{Data, Model};
 use sea_plant::integrator::step_with_feedback;
@@ -25,6 +21,9 @@ use sea_plant::{Method, Plant, PlantData, PlantOutputs, StateLayout, Workspace};
 /// The loop's feedback law: the setup's controller, borrowed (its counters are read after the
 /// run), with clones of its references.
 pub(super) type Law<'a> = FeedbackLaw<&'a mut MomentumController>;
+
+/// The robot's controller stack of the loop, around the borrowed controller.
+pub(super) type Robot<'a> = RobotController<&'a mut MomentumController>;
 
 /// The bound the sample crosses, as the reason of a divergence: the law's `observation`'s
 /// errors (the quantity, its value and the bound; a NaN error counts as crossing), then, with
@@ -137,6 +136,21 @@ struct PlantSide<'a> {
 }
 
 impl PlantSide<'_> {
+    /// What the robot's force sensors read over the period that just ran: the plant's contact
+    /// wrenches and joint torques at its start (the sample) and at the start of its last step.
+    fn period_sensors(&self) -> PeriodSensors<'_> {
+        PeriodSensors {
+            start: ForceReadings {
+                contact_wrench: &self.outputs.contact_wrench,
+                joint_torque: &self.outputs.joint_torque,
+            },
+            end: ForceReadings {
+                contact_wrench: &self.period_end_wrench,
+                joint_torque: &self.period_end_joint_torque,
+            },
+        }
+    }
+
     /// Evaluates the plant at `x` (time `time`) with the law's last input, for the record.
     fn evaluate_at(
         &mut self,
@@ -153,17 +167,17 @@ impl PlantSide<'_> {
         result.map_err(|e| Divergence::PlantFailed(e.to_string()))
     }
 
-    /// Evaluates the plant at `x` with input `u` (n), for the record (the multi-rate loop's
-    /// input at the sample).
+    /// Evaluates the plant at `x` with `robot`'s command (n), for the record (the multi-rate
+    /// loop's input at the sample).
     fn evaluate_input(
         &mut self,
-        law: &Law<'_>,
+        robot: &Robot<'_>,
         hand_over: HandOver,
         (x, time): (&[f64], f64),
-        u: &[f64],
     ) -> std::result::Result<(), Divergence> {
         self.disturbances.apply(&mut self.pd.workspace, time);
-        hand_over.give(law, self.plant, &mut self.pd.workspace, x);
+        hand_over.give(robot.law(), self.plant, &mut self.pd.workspace, x);
+        let u = robot.command();
         let result =
             sea_plant::evaluate(self.plant, &mut self.pd.workspace, x, u, &mut self.outputs);
         result.map_err(|e| Divergence::PlantFailed(e.to_string()))
@@ -207,21 +221,24 @@ impl PlantSide<'_> {
     }
 
     /// Multi-rate: the plant over one whole-body period from `x` into `x_next`, the law's
-    /// desired joint torques held in `joint_loop` (already held and ticked at `x`); every
-    /// `schedule.steps_per_inner_tick()` steps the joint loop ticks again at the measured
-    /// state (`sensor`'s measurement, the true state without one). The first step's start
-    /// evaluation gives the outputs at `x`.
+    /// desired joint torques held in `robot`'s joint loops (already held and ticked at `x`);
+    /// every `schedule.steps_per_inner_tick()` steps the joint loops tick again at the
+    /// measured state (`sensor`'s measurement, the true state without one). The first step's
+    /// start evaluation gives the outputs at `x`.
     fn advance_multi_rate(
         &mut self,
-        law: &Law<'_>,
-        hand_over: HandOver,
+        (robot, hand_over): (&mut Robot<'_>, HandOver),
         x: &[f64],
         (time, schedule): (f64, &Schedule),
-        (joint_loop, mut sensor): (&mut JointTorqueLoop, Option<&mut Sensor>),
+        mut sensor: Option<&mut Sensor>,
     ) -> std::result::Result<(), Divergence> {
-        let layout = law.layout();
         self.x_step.copy_from_slice(x);
-        hand_over.give(law, self.plant, &mut self.pd.workspace, &self.x_step);
+        hand_over.give(
+            robot.law(),
+            self.plant,
+            &mut self.pd.workspace,
+            &self.x_step,
+        );
         let steps_per_inner = schedule.steps_per_inner_tick();
         for k in 0..schedule.steps_per_period {
             if k > 0 && k % steps_per_inner == 0 {
@@ -229,9 +246,9 @@ impl PlantSide<'_> {
                     Some(sensor) => sensor.measure(&self.x_step),
                     None => &self.x_step,
                 };
-                joint_loop.tick(&layout, measured);
+                robot.joint_tick(measured);
             }
-            self.step(k, (time, schedule), joint_loop.input())?;
+            self.step(k, (time, schedule), robot.command())?;
         }
         self.x_next.copy_from_slice(&self.x_step);
         Ok(())
@@ -265,8 +282,9 @@ pub(super) struct Engine<'a> {
     scenario: &'a Scenario,
     model: &'a Model,
     elastic_names: &'a [String],
-    /// The feedback law; its last observation is the evaluation at the current sample.
-    pub law: Law<'a>,
+    /// The robot's controller stack; its law's last observation is the evaluation at the
+    /// current sample.
+    pub robot: Robot<'a>,
     hand_over: HandOver,
     /// The time grid.
     pub schedule: Schedule,
@@ -276,23 +294,6 @@ pub(super) struct Engine<'a> {
     x: Vec<f64>,
     /// The evaluations at the later integrator stages (continuous sampling), not recorded.
     stage: Observation,
-    /// The joint torque loops (multi-rate sampling).
-    joint_loop: Option<JointTorqueLoop>,
-    /// The online stiffness identification feeding the joint loops
-    /// (`controller.stiffness_identification`).
-    identifier: Option<StiffnessIdentifier>,
-    /// `controller.identification_excitation_nm`: the sinusoid added to the joint loops'
-    /// held torques.
-    excitation: Option<IdentificationExcitation>,
-    /// The measured state at the current sample, which the identification and the
-    /// generalized disturbance observer read after the period.
-    measured_at_sample: Vec<f64>,
-    /// `controller.external_wrench = "observed"`: the observer whose estimate the controller's
-    /// dynamics take.
-    external_wrench_observer: Option<ExternalWrenchObserver>,
-    /// `controller.external_wrench = "generalized"`: the observer whose estimate the
-    /// controller's dynamics take in every row.
-    disturbance_observer: Option<DisturbanceObserverLoop>,
     /// Fall detection on the plant's outputs at each sample.
     contact_check: ContactCheck,
     /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
@@ -325,17 +326,10 @@ impl<'a> Engine<'a> {
             share_model_terms: same_model && sensor.is_none(),
         };
         let truth = (!same_model && sensor.is_none()).then(|| Data::new(&plant.model));
-        let joint_loop = (schedule.sampling == Sampling::MultiRate)
-            .then(|| scenario.controller.joint_loop(controller));
-        let identifier = joint_loop.as_ref().and_then(|joints| {
-            scenario
-                .controller
-                .stiffness_identifier(controller, joints.estimates())
-        });
-        let excitation = match &joint_loop {
-            Some(_) => scenario.controller.identification_excitation(controller)?,
-            None => None,
-        };
+        let multi_rate = schedule.sampling == Sampling::MultiRate;
+        let parts = scenario
+            .controller
+            .stack_parts(controller, schedule.period, multi_rate)?;
         let mut pd = scenario.plant.plant_data(plant);
         let disturbances = DisturbanceSchedule::new(
             &scenario.disturbances,
@@ -343,28 +337,14 @@ impl<'a> Engine<'a> {
             schedule.step,
             &mut pd.workspace,
         )?;
-        let disturbance_observer = DisturbanceObserverLoop::new(
-            scenario
-                .controller
-                .generalized_disturbance_observer(controller, schedule.period),
-            controller,
-        );
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
-        let external_wrench_observer = scenario
-            .controller
-            .external_wrench_observer(schedule.period);
+        let robot = RobotController::new(law, parts, schedule.period);
         Ok(Engine {
-            disturbance_observer,
-            joint_loop,
-            identifier,
-            excitation,
-            external_wrench_observer,
-            measured_at_sample: x0.clone(),
             scenario,
             model,
             elastic_names,
-            stage: law.new_observation(),
-            law,
+            stage: robot.law().new_observation(),
+            robot,
             hand_over,
             schedule,
             layout,
@@ -453,39 +433,29 @@ impl<'a> Engine<'a> {
         }
         self.tick_law(time)?;
         let state = (self.model, self.layout.s(&self.x));
-        let stop = match bound_crossed(self.law.last(), state, self.scenario) {
+        let stop = match bound_crossed(self.robot.last(), state, self.scenario) {
             Some(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
             None if interrupted => Some(RunEnd::Interrupted),
             None if last => Some(RunEnd::Completed),
             None => None,
         };
-        let (law, hand_over, x) = (&self.law, self.hand_over, &self.x);
+        let (hand_over, x) = (self.hand_over, &self.x);
         let measured = self.sensor.as_ref().map_or(x.as_slice(), Sensor::last);
-        if let Some(joint_loop) = &mut self.joint_loop {
-            let output = &law.last().output;
-            joint_loop.hold(output, &self.layout, measured, law.s_desired());
-            if let Some(excitation) = &self.excitation {
-                joint_loop.excite(excitation, time);
-            }
-            joint_loop.tick(&self.layout, measured);
-        }
-        // The identification and the observer (after the period's advance) read the encoders.
-        if self.identifier.is_some() || self.disturbance_observer.is_some() {
-            self.measured_at_sample.copy_from_slice(measured);
-        }
-        let failure = match (&stop, &mut self.joint_loop) {
-            (Some(_), None) => self.side.evaluate_at(law, hand_over, x, time),
-            (Some(_), Some(joints)) => {
+        self.robot.hold(time, measured);
+        let robot = &mut self.robot;
+        let joint_loops = robot.joint_loop().is_some();
+        let failure = match (&stop, joint_loops) {
+            (Some(_), false) => self.side.evaluate_at(robot.law(), hand_over, x, time),
+            (Some(_), true) => self.side.evaluate_input(robot, hand_over, (x, time)),
+            (None, false) => {
+                let schedule = &self.schedule;
                 self.side
-                    .evaluate_input(law, hand_over, (x, time), joints.input())
+                    .advance_held(robot.law(), hand_over, x, (time, schedule))
             }
-            (None, None) => self
-                .side
-                .advance_held(law, hand_over, x, (time, &self.schedule)),
-            (None, Some(joints)) => {
+            (None, true) => {
                 let (schedule, sensor) = (&self.schedule, self.sensor.as_mut());
                 self.side
-                    .advance_multi_rate(law, hand_over, x, (time, schedule), (joints, sensor))
+                    .advance_multi_rate((robot, hand_over), x, (time, schedule), sensor)
             }
         };
         let end = match failure {
@@ -493,86 +463,15 @@ impl<'a> Engine<'a> {
             Ok(()) => stop,
         };
         if end.is_none() {
-            self.identify();
-            self.observe_external_wrench();
-            self.observe_generalized_disturbance();
+            self.robot.end_period(self.side.period_sensors());
         }
         Ok(Period { end })
-    }
-
-    /// Multi-rate with `controller.stiffness_identification`: one update of the identification
-    /// at the sample's measured state with the contact wrenches of `controller.identification_wrenches`
-    /// there (measured: the plant's at the sample, from the period's first step); the joint
-    /// loops take the estimates from the next period on.
-    fn identify(&mut self) {
-        let (Some(identifier), Some(joint_loop)) = (&mut self.identifier, &mut self.joint_loop)
-        else {
-            return;
-        };
-        let wrenches = match self.scenario.controller.identification_wrenches {
-            IdentificationWrenches::Measured => &self.side.outputs.contact_wrench,
-            IdentificationWrenches::Commanded => &self.law.last().output.wrenches,
-        };
-        let estimates = joint_loop.estimates_mut();
-        identifier.update(
-            &self.layout,
-            &self.measured_at_sample,
-            self.schedule.period,
-            wrenches,
-            estimates,
-        );
-    }
-
-    /// With `controller.external_wrench = "observed"`, after the period: one update of the
-    /// observer with the sample's momentum and momentum map (the law's tick) and the plant's
-    /// contact wrenches at the period's start and end (the feet's force/torque sensors); the
-    /// controller's dynamics take the estimate from the next tick on.
-    fn observe_external_wrench(&mut self) {
-        let Some(observer) = &mut self.external_wrench_observer else {
-            return;
-        };
-        let controller = self.law.controller();
-        let tick = (&self.law.last().output.momentum, controller.momentum_map());
-        let model = (controller.mass(), &controller.model().gravity);
-        let (at_sample, at_end) = (
-            &self.side.outputs.contact_wrench,
-            &self.side.period_end_wrench,
-        );
-        let estimate = *observer.update(tick, at_sample, at_end, model);
-        self.law.controller_mut().set_external_wrench(&estimate);
-    }
-
-    /// With `controller.external_wrench = "generalized"`, after the period: one update of the
-    /// observer with the sample's measured state and the joint torques and contact wrenches at
-    /// the period's start and end (the joint torque and the feet's force/torque sensors); the
-    /// controller's dynamics take the estimate from the next tick on.
-    fn observe_generalized_disturbance(&mut self) {
-        let Some(observer) = &mut self.disturbance_observer else {
-            return;
-        };
-        let controller = self.law.controller_mut();
-        let side = &self.side;
-        let period_end = PeriodEnd {
-            joint_torque: &side.period_end_joint_torque,
-            contact_wrench: &side.period_end_wrench,
-        };
-        let measured = (&self.layout, self.measured_at_sample.as_slice());
-        // The joint loop's estimates (identified or not); without one, the controller's.
-        let owned;
-        let estimates = match &self.joint_loop {
-            Some(joint_loop) => joint_loop.estimates(),
-            None => {
-                owned = controller.estimates().to_vec();
-                &owned
-            }
-        };
-        observer.observe(controller, measured, estimates, &side.outputs, period_end);
     }
 
     /// Multi-rate sampling: the joint loops' stiffness estimates [Nm/rad] by elastic joint
     /// name (identified or not); empty otherwise.
     pub fn stiffness_estimates(&self) -> Vec<(String, f64)> {
-        let Some(joint_loop) = &self.joint_loop else {
+        let Some(joint_loop) = self.robot.joint_loop() else {
             return Vec::new();
         };
         let estimates = joint_loop.estimates().iter();
@@ -587,7 +486,8 @@ impl<'a> Engine<'a> {
         if let Some(data) = &mut self.truth {
             let (model, q) = (&self.side.plant.model, self.layout.q(&self.x));
             let com = sea_dyn::centroidal::com(model, data, q);
-            self.law.observe_truth(com, self.layout.s(&self.x));
+            let law = self.robot.law_mut();
+            law.observe_truth(com, self.layout.s(&self.x));
         }
     }
 
@@ -596,14 +496,13 @@ impl<'a> Engine<'a> {
     fn tick_law(&mut self, time: f64) -> std::result::Result<(), Divergence> {
         let failed = |e: sea_ctrl::Error| Divergence::ControllerFailed(e.to_string());
         let Some(sensor) = &mut self.sensor else {
-            self.law.tick(time, &self.x).map_err(failed)?;
+            self.robot.law_mut().tick(time, &self.x).map_err(failed)?;
             self.observe_true_com();
             return Ok(());
         };
-        self.law
-            .tick(time, sensor.measure(&self.x))
-            .map_err(failed)?;
-        sensor.observe_truth(&mut self.law, &self.side.plant.model, &self.x);
+        let law = self.robot.law_mut();
+        law.tick(time, sensor.measure(&self.x)).map_err(failed)?;
+        sensor.observe_truth(law, &self.side.plant.model, &self.x);
         Ok(())
     }
 
@@ -613,7 +512,7 @@ impl<'a> Engine<'a> {
     /// the step's result is dropped and the run ends at `time`.
     fn continuous_period(&mut self, time: f64) -> std::result::Result<Period, Divergence> {
         let mut observed = false;
-        let (law, stage, hand_over) = (&mut self.law, &mut self.stage, self.hand_over);
+        let (law, stage, hand_over) = (self.robot.law_mut(), &mut self.stage, self.hand_over);
         let side = &mut self.side;
         side.disturbances.apply(&mut side.pd.workspace, time);
         let plant = side.plant;
@@ -650,7 +549,10 @@ impl<'a> Engine<'a> {
         }
         self.observe_true_com();
         let state = (self.model, self.layout.s(&self.x));
-        let failure = match (bound_crossed(self.law.last(), state, self.scenario), result) {
+        let failure = match (
+            bound_crossed(self.robot.last(), state, self.scenario),
+            result,
+        ) {
             (Some(reason), _) => Some(reason),
             (None, Err(e)) => Some(Divergence::StepFailed(e.to_string())),
             (None, Ok(())) if self.side.x_next.iter().any(|v| !v.is_finite()) => {
@@ -674,12 +576,12 @@ impl<'a> Engine<'a> {
 
     /// The law's evaluation at the current sample (after [`Engine::period`]).
     pub fn observation(&self) -> &Observation {
-        self.law.last()
+        self.robot.last()
     }
 
     /// The record of [`Engine::observation`], taken at the current state.
     pub fn sample(&self) -> Sample<'_> {
-        let observation = self.law.last();
+        let observation = self.robot.last();
         let output = &observation.output;
         let m = &output.momentum;
         let outputs = &self.side.outputs;
@@ -699,7 +601,7 @@ impl<'a> Engine<'a> {
             com_error_norm: observation.com_error,
             joint_error_norm: observation.joint_error,
             qp_status: &output.qp_status,
-            qp_failures: self.law.controller().qp_failures(),
+            qp_failures: self.robot.controller().qp_failures(),
         }
     }
 }

@@ -484,6 +484,38 @@ impl ControllerConfig {
         })
     }
 
+    /// The parts of the robot's controller stack around `controller`'s whole-body law
+    /// (`sea_ctrl::robot`) ticking every `period` [s]: the joint loops with `multi_rate`
+    /// (`joint_loops`), and with them the identification and its excitation; the observer of
+    /// `external_wrench`. An excitation joint that is not an elastic joint of the model is an
+    /// error naming its key.
+    pub fn stack_parts(
+        &self,
+        controller: &sea_ctrl::MomentumController,
+        period: f64,
+        joint_loops: bool,
+    ) -> crate::Result<sea_ctrl::robot::StackParts> {
+        let joint_loop = joint_loops.then(|| self.joint_loop(controller));
+        let identifier = joint_loop.as_ref().and_then(|joints| {
+            self.stiffness_identifier(controller, joints.estimates())
+                .map(|identifier| (identifier, self.identification_wrenches))
+        });
+        let excitation = match &joint_loop {
+            Some(_) => self.identification_excitation(controller)?,
+            None => None,
+        };
+        let disturbance_observer = self
+            .generalized_disturbance_observer(controller, period)
+            .map(|observer| sea_ctrl::robot::DisturbanceObserverLoop::new(observer, controller));
+        Ok(sea_ctrl::robot::StackParts {
+            joint_loop,
+            identifier,
+            excitation,
+            external_wrench_observer: self.external_wrench_observer(period),
+            disturbance_observer,
+        })
+    }
+
     /// `multi_rate` with `stiffness_identification`: the identifier of `controller`'s elastic
     /// stiffnesses from the joint loop's estimates `prior`; `None` when it is off.
     pub fn stiffness_identifier(

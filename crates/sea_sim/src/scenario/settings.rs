@@ -19,6 +19,9 @@
 use crate::error::{Error, Result};
 pub use sea_ctrl::controller::{ControllerKind, MomentumRelaxation};
 pub use sea_ctrl::qp::QpSolver;
+/// `controller.identification_wrenches`: the contact wrenches the stiffness identification
+/// takes.
+pub use sea_ctrl::stiffness_id::IdentificationWrenches;
 pub use sea_plant::Method;
 use serde::{Deserialize, Serialize};
 
@@ -134,20 +137,6 @@ impl Sampling {
             Sampling::MultiRate => 100.0,
         }
     }
-}
-
-/// `controller.identification_wrenches`: the contact wrenches the stiffness identification
-/// takes (`sea_ctrl::stiffness_id`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum IdentificationWrenches {
-    /// Measured by force/torque sensors at the feet, as on the iCub (docs/references.md; in
-    /// simulation: the plant's contact wrenches at the sample; the default).
-    #[default]
-    Measured,
-    /// The whole-body controller's commanded `f*` (no sensors): on two feet the internal
-    /// force between the feet is then the commanded one, which biases the legs' estimates.
-    Commanded,
 }
 
 impl Setting for IdentificationWrenches {
