@@ -388,9 +388,13 @@ def sweep_batch(
 
 @final
 class Controller:
-    """The momentum controller with its CoM and postural references: ``tick(t, x)`` is the
-    closed loop's feedback law at time ``t`` and plant state ``x = [q, theta, nu, thetadot]``
-    (``theta``, ``thetadot``: elastic joints only; a rigid robot has ``x = [q, nu]``).
+    """The robot's controller stack: the momentum controller with its CoM and postural
+    references, and with the scenario's ``[controller]`` keys the joint torque loops
+    (``multi_rate``), the stiffness identification and its excitation, and the observers.
+    Per period: ``tick(t, x)`` at the measured state ``x = [q, theta, nu, thetadot]``
+    (``theta``, ``thetadot``: elastic joints only; a rigid robot has ``x = [q, nu]``), then
+    ``inner_tick(x)`` at each joint-loop tick of the period (``multi_rate``), then
+    ``end_period(...)`` with the period's force readings. The native loop runs the same stack.
     Not thread-safe."""
 
     def __new__(
@@ -419,30 +423,52 @@ class Controller:
     ) -> Controller:
         """``Controller(model, contacts, q0, actuators=..., reference=..., **table)``."""
     def tick(self, t: float, x: ArrayLike) -> ControlOutput:
-        """One tick at time ``t`` [s] and state ``x`` (nx). With ``multi_rate`` sampling the
-        joint loops hold the tick's torques and ``input`` is their first inner tick's."""
+        """One whole-body tick at time ``t`` [s] and measured state ``x`` (nx). With
+        ``multi_rate`` sampling the joint loops hold the tick's torques (and the
+        identification's excitation) and ``input`` is their first inner tick's. A failed tick
+        raises ``SolverError``; ``command`` keeps the last command."""
     def inner_tick(self, x: ArrayLike) -> FloatArray:
         """``multi_rate`` only: one joint torque loop tick at state ``x`` (nx) between two
         ticks, the plant input (n); ``ValueError`` for another sampling."""
+    def end_period(
+        self,
+        start_wrenches: ArrayLike,
+        start_joint_torques: ArrayLike,
+        end_wrenches: ArrayLike,
+        end_joint_torques: ArrayLike,
+    ) -> None:
+        """After the period that began at the last ``tick``, before the next: the feet's
+        wrenches ((n_contacts, 6) or flat) and the joint torques (n,) at the period's start
+        (``Plant.outputs`` at the tick's state and input) and at its end (at the start of the
+        period's last plant step). The stiffness identification and the observers update
+        from them, acting from the next ``tick``; without them it does nothing.
+        ``ValueError`` names a reading of another shape or with a non-finite value."""
+    @property
+    def command(self) -> FloatArray:
+        """The plant input (n) of the last ``tick`` or ``inner_tick``."""
+    @property
+    def stiffness_estimates(self) -> dict[str, float]:
+        """Stiffness estimates [Nm/rad] by elastic joint: the joint loops' (identified with
+        ``controller.stiffness_identification``), or the controller's without joint loops."""
     def set_external_wrench(self, wrench: ArrayLike) -> None:
         """The external wrench (6,: force, moment about the CoM; world axes) [N, Nm] the
         controller's dynamics take as acting on the base from the next ``tick`` on, e.g. an
         estimate of a push; zeros: none. ``ValueError`` for another shape or a non-finite
-        value. The scenario's observer (``controller.external_wrench = "observed"``) runs in
-        the native run only."""
+        value. With the scenario's observer (``controller.external_wrench = "observed"``),
+        ``end_period`` replaces it."""
     def set_generalized_disturbance(self, disturbance: ArrayLike) -> None:
         """The generalized disturbance (nv,: base rows force and moment about the base origin
         in world axes, then one per joint) [N, Nm] that the controller's dynamics take from
         the next ``tick`` on (bias forces ``h - d``, its wrench carried by the contacts), e.g.
         an observer's estimate of what the model misses; zeros: none. ``ValueError`` for
-        another shape or a non-finite value. The scenario's observer
-        (``controller.external_wrench = "generalized"``) runs in the native run only."""
+        another shape or a non-finite value. With the scenario's observer
+        (``controller.external_wrench = "generalized"``), ``end_period`` replaces it."""
     def set_com_offset(self, offset: ArrayLike) -> None:
         """The robot's CoM less the model's (3,: world) [m] that the CoM position error of the
         next ``tick``s takes (the momentum and its map stay the model's), e.g. an observer's
         estimate of where the robot's CoM is when the model's masses are off; zeros: none.
-        ``ValueError`` for another shape or a non-finite value. The scenario's observer
-        (``controller.external_wrench = "generalized"``) runs in the native run only."""
+        ``ValueError`` for another shape or a non-finite value. With the scenario's observer
+        (``controller.external_wrench = "generalized"``), ``end_period`` replaces it."""
     def com_reference(self, t: float) -> FloatArray:
         """The CoM reference at ``t``, (3,) world [m]."""
     @property
@@ -467,7 +493,9 @@ class Scenario:
     run is ``out = controller.tick(k * control_period, x)`` then ``steps_per_tick`` times
     ``x = plant.step(x, out.input, plant_dt, method)``, from ``initial_state``; with
     ``multi_rate`` the input is renewed by ``controller.inner_tick(x)`` before every step ``j > 0``
-    of the period with ``j % steps_per_inner_tick == 0``."""
+    of the period with ``j % steps_per_inner_tick == 0``; after the period,
+    ``controller.end_period`` with ``plant.outputs`` at the first and the last step's start
+    runs the identification and the observers."""
 
     @staticmethod
     def load(path: str | PathLike[str], overrides: Mapping[str, object] | None = None) -> Scenario:

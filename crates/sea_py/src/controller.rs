@@ -109,7 +109,7 @@ impl PyController {
         let com_reference = build::com_reference(&scenario, model, &q, frames[0]).map_err(to_py)?;
         let posture = build::posture_reference(&scenario, model, q[7..].to_vec()).map_err(to_py)?;
         let layout = StateLayout::new(model, &actuation);
-        let schedule = Schedule::of(&scenario).map_err(to_py)?;
+        let schedule = scenario.schedule();
         Self::new_built(
             controller,
             (com_reference, posture),
@@ -485,7 +485,7 @@ impl PyScenario {
     ) -> PyResult<Self> {
         let pairs = crate::analysis::override_pairs(overrides)?;
         let scenario = Scenario::from_file(&path, &pairs).map_err(to_py)?;
-        let schedule = Schedule::of(&scenario).map_err(to_py)?;
+        let schedule = scenario.schedule();
         let setup = build(&scenario).map_err(to_py)?;
         let layout = setup.plant.layout();
         let controller = PyController::new_built(

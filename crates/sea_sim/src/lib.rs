@@ -7,7 +7,8 @@
 pub mod analysis;
 pub mod bench;
 pub mod closed_loop;
-pub mod error;
+/// The one error type, at its former path.
+pub use sea_loop::error;
 pub mod foxglove;
 pub mod init;
 pub mod mcap_log;

@@ -563,8 +563,8 @@ impl RecordSink for McapSink {
     fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
         let mut logger =
             McapLogger::create(&self.path, run.model, run.elastic_joints, run.contacts)?;
-        logger.set_disturbance_links(&run.scenario.disturbance_links());
-        let source = SceneSource::of_scenario(run.scenario).with_package_dirs(&self.package_dirs);
+        logger.set_disturbance_links(run.disturbance_links);
+        let source = SceneSource::of_run(run.scene).with_package_dirs(&self.package_dirs);
         for warning in logger.set_scene(&source)? {
             eprintln!("warning: {}: {warning}", self.path.display());
         }

@@ -170,13 +170,13 @@ impl RecordSink for LiveSink {
     fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
         let mut encoder = SampleEncoder::new(run.model, run.elastic_joints, run.contacts);
         let mut scene = StaticScene::build(
-            &SceneSource::of_scenario(run.scenario).with_package_dirs(&self.package_dirs),
+            &SceneSource::of_run(run.scene).with_package_dirs(&self.package_dirs),
             &encoder.link_frames(),
             run.contacts,
         )?;
         self.robot = Some((std::mem::take(&mut scene.robot), None));
         encoder.set_scene(scene);
-        encoder.set_disturbance_links(&run.scenario.disturbance_links());
+        encoder.set_disturbance_links(run.disturbance_links);
         self.encoder = Some(encoder);
         Ok(())
     }

@@ -74,17 +74,13 @@ impl SceneSource {
         }
     }
 
-    /// The scene of `scenario`: its resolved URDF, the package directories of the environment
-    /// and the contact surface its controller and plant share (`[controller.contact]` foot_x,
-    /// foot_y).
-    pub fn of_scenario(scenario: &crate::scenario::Scenario) -> Self {
-        let contact = &scenario.controller.contact.surface;
+    /// The scene of a run: its resolved URDF, the package directories of the environment and
+    /// the contact surface its controller and plant share (a scenario's `[controller.contact]`
+    /// foot_x, foot_y).
+    pub fn of_run(scene: &sea_loop::RunScene) -> Self {
         Self {
-            foot: Some(FootRectangle {
-                x: contact.foot_x,
-                y: contact.foot_y,
-            }),
-            ..Self::new(scenario.resolve(&scenario.robot.urdf))
+            foot: scene.foot.map(|(x, y)| FootRectangle { x, y }),
+            ..Self::new(scene.urdf.clone())
         }
     }
 

@@ -14,23 +14,8 @@ use sea_dyn::{Actuation, Data, FrameId, LoadOptions, Model};
 use sea_plant::{MotorInput, Plant};
 use std::collections::HashMap;
 
-/// A built scenario: model, plant, controller and initial state.
-pub struct Setup {
-    /// Robot model.
-    pub model: Model,
-    /// Plant.
-    pub plant: Plant,
-    /// Controller.
-    pub controller: MomentumController,
-    /// Initial plant state.
-    pub x0: Vec<f64>,
-    /// CoM reference.
-    pub com_reference: ComTrajectory,
-    /// Postural reference.
-    pub posture: PostureReference,
-    /// Elastic joint names (order of theta).
-    pub elastic_names: Vec<String>,
-}
+/// A built scenario (typed by the loop, its input).
+pub use sea_loop::Setup;
 
 /// The robot model: the URDF reduced to `robot.joints` (default: the robot description's),
 /// with a frame for each `LINK:x,y,z` contact.

@@ -14,9 +14,11 @@
 //! (`robot.description`, [`robots`]; the paper's iCub, `robots/icub_paper.toml`, by default).
 
 pub mod build;
-pub mod disturbances;
+/// `[[disturbances]]` (typed by the loop), at its former path.
+pub use sea_loop::disturbance_schedule as disturbances;
 pub mod parse;
 pub mod robots;
+pub mod run;
 pub mod schema;
 pub mod settings;
 pub mod validate;
@@ -27,8 +29,10 @@ pub use parse::{apply_override, TableError};
 pub use robots::{icub, RobotDescription};
 pub use schema::{
     ActuatorConfig, ActuatorsConfig, ControllerConfig, InitialSprings, PlantConfig,
-    ReferenceConfig, RobotConfig, SensingConfig, SimulationConfig,
+    ReferenceConfig, RobotConfig, SimulationConfig,
 };
+/// `[sensing]` (typed by the loop).
+pub use sea_loop::SensingConfig;
 pub use settings::{
     ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationWrenches, Method,
     QpSolver, Sampling, Setting,

@@ -22,6 +22,8 @@ pub use sea_ctrl::qp::QpSolver;
 /// `controller.identification_wrenches`: the contact wrenches the stiffness identification
 /// takes.
 pub use sea_ctrl::stiffness_id::IdentificationWrenches;
+/// `controller.sampling`: how the controller is sampled (typed by the loop).
+pub use sea_loop::Sampling;
 pub use sea_plant::Method;
 use serde::{Deserialize, Serialize};
 
@@ -89,23 +91,6 @@ impl Setting for ActuatorKind {
     }
 }
 
-/// `controller.sampling`: how the controller is sampled.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Sampling {
-    /// At every integrator stage, as in the paper (its controller runs inside ode15s's
-    /// right-hand side).
-    Continuous,
-    /// At `controller.rate_hz`, the input held between ticks (the default).
-    #[default]
-    ZeroOrderHold,
-    /// The robot's architecture: the whole-body controller at `controller.rate_hz` (default
-    /// 100 Hz), its desired joint torques held, and per elastic joint a torque loop
-    /// (`sea_ctrl::joint_loop`) at `controller.inner_rate_hz` that sets the desired motor
-    /// velocity from the measured deflection and joint velocity.
-    MultiRate,
-}
-
 impl Setting for Sampling {
     const ALL: &'static [Self] = &[
         Sampling::Continuous,
@@ -114,28 +99,7 @@ impl Setting for Sampling {
     ];
 
     fn name(self) -> &'static str {
-        match self {
-            Sampling::ZeroOrderHold => "zero_order_hold",
-            Sampling::Continuous => "continuous",
-            Sampling::MultiRate => "multi_rate",
-        }
-    }
-}
-
-impl Sampling {
-    /// The scenario name of the setting ([`Setting::name`], callable without the trait).
-    pub fn name(self) -> &'static str {
-        Setting::name(self)
-    }
-
-    /// The default of `controller.rate_hz` [Hz] under this sampling: 1 kHz (the paper's
-    /// sampled-data study), 100 Hz for the whole-body loop of `multi_rate` (the iCub's
-    /// whole-body controllers' rate, docs/references.md "Control rates of real robots").
-    pub fn default_rate_hz(self) -> f64 {
-        match self {
-            Sampling::Continuous | Sampling::ZeroOrderHold => 1000.0,
-            Sampling::MultiRate => 100.0,
-        }
+        Sampling::name(self)
     }
 }
 

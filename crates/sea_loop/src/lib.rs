@@ -1,93 +1,79 @@
-//! The closed loop: the controller sampled with zero-order hold at its rate or continuously
-//! (at every integrator stage), the plant with its motor velocity loop, divergence detection,
-//! recording into sinks, online summary statistics, and cancellation.
+//! `sea_loop`: the closed loop of a plant and the robot's controller stack, knowing no file
+//! format. Built objects ([`Setup`], the stack's parts) and plain settings
+//! ([`LoopSettings`]) in; samples to [`RecordSink`]s and a [`Summary`] out.
 //!
-//! - [`tick`]: one sample period (the feedback law's evaluation, [`sea_ctrl::feedback`], the
-//!   bounds, the plant's advance);
-//! - [`sampling`]: `controller.sampling` and the run's time grid;
-//! - `sensing`: `[sensing]`'s measurement model (noise and delay of the controller's state);
+//! The controller sampled with zero-order hold at its rate, continuously (at every integrator
+//! stage) or multi-rate (the whole-body law over joint loops, `sea_ctrl::robot`); the plant
+//! with its motor velocity loop; divergence detection; recording into sinks; online summary
+//! statistics; cancellation.
+//!
+//! - [`tick`]: one sample period (the stack's tick, the bounds, the plant's advance);
+//! - [`sampling`]: the sampling and the run's time grid ([`Schedule`]);
+//! - [`sensing`]: the measurement model (noise and delay of the controller's state);
+//! - [`disturbance_schedule`]: external wrenches on links over time windows;
 //! - [`record`]: [`Sample`], the [`RecordSink`] trait and the in-memory [`RunRecord`];
 //! - [`contact_check`]: fall detection, each foot's wrench against a unilateral contact with
 //!   friction;
 //! - [`statistics`]: running statistics, how a run ended ([`RunEnd`], [`Divergence`]) and the
-//!   [`Summary`].
+//!   [`Summary`];
+//! - [`settings`]: [`Setup`] and [`LoopSettings`];
+//! - [`error`]: the one error type of the application crates.
 //!
-//! The loop knows its outputs only as [`RecordSink`]s: the MCAP log
-//! ([`crate::mcap_log::McapSink`]) and the live view ([`crate::foxglove::live::LiveSink`]) are
-//! sinks above it.
+//! The loop knows its outputs only as [`RecordSink`]s: the MCAP log and the live view are
+//! sinks above it (`sea_viz`).
 //!
 //! A run stops as "diverged" when the controller or a plant step fails, the state is not
-//! finite, the CoM error exceeds `simulation.divergence_com_error_m` or the joint error norm
-//! exceeds `simulation.divergence_joint_error_rad`; the sample that crossed a bound is the
-//! last one recorded, and the reason ([`Divergence`]) names the quantity, its value and the
-//! bound. A raised cancellation flag stops the run at the next sample with status
-//! "interrupted". A foot whose simulated contact wrench has a non-positive normal force, leaves
-//! the friction cone or puts its centre of pressure outside the sole ends the run as "fell"
-//! (checked at every sample whose plant evaluation succeeded; [`contact_check`]). Either way the sinks are finished (the MCAP log gets its summary section).
+//! finite, the CoM error or the joint error norm exceeds its bound ([`DivergenceBounds`]); the
+//! sample that crossed a bound is the last one recorded, and the reason ([`Divergence`])
+//! names the quantity, its value and the bound. A raised cancellation flag stops the run at
+//! the next sample with status "interrupted". A foot whose simulated contact wrench has a
+//! non-positive normal force, leaves the friction cone or puts its centre of pressure outside
+//! the sole ends the run as "fell" (checked at every sample whose plant evaluation succeeded;
+//! [`contact_check`]). Either way the sinks are finished.
+
+#![forbid(unsafe_code)]
 
 pub mod contact_check;
-mod record;
-mod sampling;
-mod sensing;
-mod statistics;
+pub mod disturbance_schedule;
+pub mod error;
+pub mod record;
+pub mod sampling;
+pub mod sensing;
+pub mod settings;
+pub mod statistics;
 mod tick;
 
-pub use crate::scenario::{build, Setup};
 pub use contact_check::{ContactConstraint, Fall};
+pub use disturbance_schedule::{DisturbanceConfig, DisturbanceSchedule};
+pub use error::{Error, Result};
 pub use record::{OwnedSample, RecordSink, RunInfo, RunRecord, Sample};
 pub use sampling::{equal_steps, inner_ticks, Sampling, Schedule};
+pub use sensing::SensingConfig;
+pub use settings::{DivergenceBounds, LoopSettings, RunScene, Setup};
 pub use statistics::{
     Divergence, FallSummary, RunEnd, RunTotals, RunningStatistics, Summary, NON_SCALAR_FIELDS,
 };
 
-use crate::error::Result;
-use crate::scenario::Scenario;
+use sea_ctrl::robot::StackParts;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use tick::Engine;
 
-/// Runs a scenario into an in-memory record; `progress(t, duration)` is called about once per
-/// simulated second. Not cancellable, no other sink (an MCAP log, the live view): see
-/// [`run_with_sinks`].
-pub fn run(scenario: &Scenario, progress: impl FnMut(f64, f64)) -> Result<(RunRecord, Summary)> {
-    let mut record = RunRecord::default();
-    let summary = run_with_sinks(
-        scenario,
-        &mut [&mut record],
-        &AtomicBool::new(false),
-        progress,
-    )?;
-    Ok((record, summary))
-}
-
-/// Runs a scenario, handing every recorded sample to each of `sinks` (none: only the
-/// summary, in constant memory). `cancel` is read at every sample: once it is `true` the run
-/// records the current sample and ends with status "interrupted" at the time reached.
-/// `progress(t, duration)` is called about once per simulated second. The sinks are finished
-/// however the run ends; a sink error ends the run and is returned (after finishing the
-/// others).
-pub fn run_with_sinks(
-    scenario: &Scenario,
-    sinks: &mut [&mut dyn RecordSink],
-    cancel: &AtomicBool,
-    progress: impl FnMut(f64, f64),
-) -> Result<Summary> {
-    let mut setup = build(scenario)?;
-    run_setup_with_sinks(scenario, &mut setup, sinks, cancel, progress)
-}
-
-/// [`run_with_sinks`] on `setup`, already built from `scenario` (and possibly adjusted, e.g.
-/// a controller with its QP cross-check on); the setup is left as the run ends (its
-/// controller's counters readable).
+/// Runs `setup` with the controller stack's `parts` under `settings`, handing every recorded
+/// sample to each of `sinks` (none: only the summary, in constant memory); the setup is left
+/// as the run ends (its controller's counters readable). `cancel` is read at every sample:
+/// once it is `true` the run records the current sample and ends with status "interrupted"
+/// at the time reached. `progress(t, duration)` is called about once per simulated second.
+/// The sinks are finished however the run ends; a sink error ends the run and is returned
+/// (after finishing the others).
 pub fn run_setup_with_sinks(
-    scenario: &Scenario,
-    setup: &mut Setup,
+    (settings, setup, parts): (&LoopSettings, &mut Setup, StackParts),
     sinks: &mut [&mut dyn RecordSink],
     cancel: &AtomicBool,
     mut progress: impl FnMut(f64, f64),
 ) -> Result<Summary> {
     let start = Instant::now();
-    let mut engine = Engine::new(scenario, setup)?;
+    let mut engine = Engine::new(settings, setup, parts)?;
     let mut statistics = RunningStatistics::default();
     let info = engine.info();
     let outcome = sinks

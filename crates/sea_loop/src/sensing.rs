@@ -10,12 +10,60 @@
 //! records the true ones ([`Sensor::observe_truth`]).
 
 use super::tick::Law;
-use crate::scenario::SensingConfig;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use sea_dyn::{Data, Model, StateLayout};
 use std::ops::Range;
+
+/// `[sensing]`: what the controller measures (default: perfect sensing, the true state at the
+/// tick). The whole-body controller and every joint loop tick read the state measured at their
+/// inner tick: the true state `delay_inner_periods` inner periods earlier (the initial state
+/// before), with independent zero-mean Gaussian noise on each joint and motor coordinate (the
+/// floating base's pose and velocity are exact). The plant integrates, and the records keep,
+/// the true state. Needs `controller.sampling` "multi_rate" (inner period
+/// `1 / controller.inner_rate_hz`) or "zero_order_hold" (inner period: the control period)
+/// unless perfect.
+#[derive(Clone, Debug, Default, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SensingConfig {
+    /// Standard deviation of the joint encoders' noise on `s` [rad].
+    pub joint_position_noise_rad: f64,
+    /// Standard deviation of the noise on the joint velocities `sdot` [rad/s].
+    pub joint_velocity_noise_rad_s: f64,
+    /// Standard deviation of the motor encoders' noise on `theta` [rad, motor side].
+    pub motor_position_noise_rad: f64,
+    /// Standard deviation of the noise on the motor velocities `thetadot` [rad/s, motor side].
+    pub motor_velocity_noise_rad_s: f64,
+    /// Measurement delay in whole inner periods, at most one whole-body period.
+    pub delay_inner_periods: usize,
+    /// Seed of the noise (a ChaCha stream: the same noise on every platform).
+    pub seed: u64,
+}
+
+impl SensingConfig {
+    /// The noise standard deviations with their keys: joint position, joint velocity, motor
+    /// position, motor velocity.
+    pub fn noise(&self) -> [(&'static str, f64); 4] {
+        [
+            ("joint_position_noise_rad", self.joint_position_noise_rad),
+            (
+                "joint_velocity_noise_rad_s",
+                self.joint_velocity_noise_rad_s,
+            ),
+            ("motor_position_noise_rad", self.motor_position_noise_rad),
+            (
+                "motor_velocity_noise_rad_s",
+                self.motor_velocity_noise_rad_s,
+            ),
+        ]
+    }
+
+    /// Whether the controller reads the true state (no noise, no delay; the seed is unused).
+    pub fn is_perfect(&self) -> bool {
+        self.delay_inner_periods == 0 && self.noise().iter().all(|&(_, std)| std == 0.0)
+    }
+}
 
 /// The controller's measurements of the plant's state (one per inner tick).
 pub(super) struct Sensor {

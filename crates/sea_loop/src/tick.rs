@@ -8,11 +8,12 @@ use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
 use super::sensing::Sensor;
 use super::statistics::{Divergence, RunEnd};
+use crate::disturbance_schedule::DisturbanceSchedule;
 use crate::error::Result;
-use crate::scenario::{DisturbanceSchedule, Scenario, Setup};
+use crate::settings::{DivergenceBounds, LoopSettings, Setup};
 use nalgebra::DVector;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
-use sea_ctrl::robot::{ForceReadings, PeriodSensors, RobotController};
+use sea_ctrl::robot::{ForceReadings, PeriodSensors, RobotController, StackParts};
 use sea_ctrl::MomentumController;
 use sea_dyn::{Data, Model};
 use sea_plant::integrator::step_with_feedback;
@@ -27,18 +28,14 @@ pub(super) type Robot<'a> = RobotController<&'a mut MomentumController>;
 
 /// The bound the sample crosses, as the reason of a divergence: the law's `observation`'s
 /// errors (the quantity, its value and the bound; a NaN error counts as crossing), then, with
-/// `simulation.stop_at_joint_limits`, the true joint positions `s` (n) against `model`'s
+/// `bounds.stop_at_joint_limits`, the true joint positions `s` (n) against `model`'s
 /// limits.
 fn bound_crossed(
     observation: &Observation,
     (model, s): (&Model, &[f64]),
-    scenario: &Scenario,
+    bounds: &DivergenceBounds,
 ) -> Option<Divergence> {
-    let simulation = &scenario.simulation;
-    let (com_bound, joint_bound) = (
-        simulation.divergence_com_error_m,
-        simulation.divergence_joint_error_rad,
-    );
+    let (com_bound, joint_bound) = (bounds.com_error_m, bounds.joint_error_rad);
     if exceeds(observation.com_error, com_bound) {
         Some(Divergence::ComErrorOverBound {
             value: observation.com_error,
@@ -49,7 +46,7 @@ fn bound_crossed(
             value: observation.joint_error,
             bound: joint_bound,
         })
-    } else if simulation.stop_at_joint_limits {
+    } else if bounds.stop_at_joint_limits {
         joint_limit_crossed(model, s)
     } else {
         None
@@ -279,7 +276,9 @@ impl PlantSide<'_> {
 /// The loop's state between samples: the law, the plant side, the schedule and the buffers,
 /// all allocated once.
 pub(super) struct Engine<'a> {
-    scenario: &'a Scenario,
+    settings: &'a LoopSettings,
+    /// The link of each disturbance (what the sinks name).
+    disturbance_links: Vec<String>,
     model: &'a Model,
     elastic_names: &'a [String],
     /// The robot's controller stack; its law's last observation is the evaluation at the
@@ -304,11 +303,15 @@ pub(super) struct Engine<'a> {
 }
 
 impl<'a> Engine<'a> {
-    /// The loop of `setup` on the grid of `scenario`, at the initial state.
-    pub fn new(scenario: &'a Scenario, setup: &'a mut Setup) -> Result<Engine<'a>> {
-        crate::scenario::validate::sensing(scenario)?;
-        let schedule = Schedule::of(scenario)?;
-        let method = scenario.plant.method;
+    /// The loop of `setup` and the controller stack's `parts` with `settings`, at the
+    /// initial state.
+    pub fn new(
+        settings: &'a LoopSettings,
+        setup: &'a mut Setup,
+        parts: StackParts,
+    ) -> Result<Engine<'a>> {
+        let schedule = settings.schedule;
+        let method = settings.method;
         let Setup {
             model,
             plant,
@@ -319,20 +322,16 @@ impl<'a> Engine<'a> {
             elastic_names,
         } = setup;
         let layout = plant.layout();
-        let sensor = Sensor::new(&scenario.sensing, &plant.model, layout, x0);
+        let sensor = Sensor::new(&settings.sensing, &plant.model, layout, x0);
         // The law's model terms are a measured state's when there is a sensor.
         let same_model = controller.model() == &plant.model;
         let hand_over = HandOver {
             share_model_terms: same_model && sensor.is_none(),
         };
         let truth = (!same_model && sensor.is_none()).then(|| Data::new(&plant.model));
-        let multi_rate = schedule.sampling == Sampling::MultiRate;
-        let parts = scenario
-            .controller
-            .stack_parts(controller, schedule.period, multi_rate)?;
-        let mut pd = scenario.plant.plant_data(plant);
+        let mut pd = settings.plant_data(plant);
         let disturbances = DisturbanceSchedule::new(
-            &scenario.disturbances,
+            &settings.disturbances,
             &plant.model,
             schedule.step,
             &mut pd.workspace,
@@ -340,7 +339,8 @@ impl<'a> Engine<'a> {
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         let robot = RobotController::new(law, parts, schedule.period);
         Ok(Engine {
-            scenario,
+            disturbance_links: settings.disturbance_links(),
+            settings,
             model,
             elastic_names,
             stage: robot.law().new_observation(),
@@ -374,19 +374,20 @@ impl<'a> Engine<'a> {
             model: self.model,
             layout: self.layout,
             elastic_joints: self.elastic_names,
-            contacts: &self.scenario.robot.contacts,
-            scenario: self.scenario,
+            contacts: &self.settings.scene.contacts,
+            scene: &self.settings.scene,
+            disturbance_links: &self.disturbance_links,
         }
     }
 
     /// Record every this many samples (`simulation.record_every`, at least 1).
     pub fn record_every(&self) -> usize {
-        self.scenario.simulation.record_every.max(1)
+        self.settings.record_every.max(1)
     }
 
     /// The simulated duration asked for (`simulation.duration_s`) [s].
     pub fn duration(&self) -> f64 {
-        self.scenario.simulation.duration_s
+        self.settings.duration_s
     }
 
     /// The state layout.
@@ -406,7 +407,7 @@ impl<'a> Engine<'a> {
         interrupted: bool,
     ) -> std::result::Result<Period, Divergence> {
         let mut period = self.period_unchecked(index, interrupted)?;
-        let check = self.scenario.simulation.stop_on_fall;
+        let check = self.settings.stop_on_fall;
         if check && !matches!(period.end, Some(RunEnd::Diverged { .. })) {
             let (plant, outputs) = (self.side.plant, &self.side.outputs);
             if let Some(fall) = self.contact_check.fall(plant, &self.x, outputs) {
@@ -433,7 +434,7 @@ impl<'a> Engine<'a> {
         }
         self.tick_law(time)?;
         let state = (self.model, self.layout.s(&self.x));
-        let stop = match bound_crossed(self.robot.last(), state, self.scenario) {
+        let stop = match bound_crossed(self.robot.last(), state, &self.settings.bounds) {
             Some(reason) => Some(RunEnd::Diverged { at_s: time, reason }),
             None if interrupted => Some(RunEnd::Interrupted),
             None if last => Some(RunEnd::Completed),
@@ -550,7 +551,7 @@ impl<'a> Engine<'a> {
         self.observe_true_com();
         let state = (self.model, self.layout.s(&self.x));
         let failure = match (
-            bound_crossed(self.robot.last(), state, self.scenario),
+            bound_crossed(self.robot.last(), state, &self.settings.bounds),
             result,
         ) {
             (Some(reason), _) => Some(reason),

@@ -1,11 +1,11 @@
 //! What a run records: one [`Sample`] per recorded tick, handed to [`RecordSink`]s as it is
 //! taken, so a run keeps only what its sinks keep. The loop knows sinks only through the
-//! trait: the in-memory [`RunRecord`] (what Python gets) is here; the MCAP log
-//! ([`crate::mcap_log::McapSink`]) and the live view ([`crate::foxglove::live::LiveSink`]) sit
-//! above the loop. With no sink, only the summary statistics are computed (online).
+//! trait: the in-memory [`RunRecord`] (what Python gets) is here; the MCAP log and the live
+//! view (`sea_viz`) sit above the loop. With no sink, only the summary statistics are computed (online).
 
 use super::statistics::RunEnd;
 use crate::error::Result;
+use crate::settings::RunScene;
 use sea_ctrl::qp::QpStatus;
 use sea_dyn::{Model, StateLayout};
 
@@ -20,8 +20,10 @@ pub struct RunInfo<'a> {
     pub elastic_joints: &'a [String],
     /// Contact frame names (order of the contact wrenches).
     pub contacts: &'a [String],
-    /// The scenario being run (e.g. its URDF and contact surface, drawn by the logs).
-    pub scenario: &'a crate::scenario::Scenario,
+    /// What the logs draw: the URDF, the contact surfaces.
+    pub scene: &'a RunScene,
+    /// The link of each disturbance, in order (the logs name and draw pushes by it).
+    pub disturbance_links: &'a [String],
 }
 
 /// One recorded sample of a run: the plant state at `time_s`, the controller's evaluation

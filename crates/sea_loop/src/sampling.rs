@@ -11,10 +11,43 @@
 //!   torque loops (`controller.inner_rate_hz`), each split into the smallest whole number of
 //!   equal plant steps not longer than `plant.dt`.
 
-use crate::error::Result;
-/// The setting, typed in the scenario schema.
-pub use crate::scenario::Sampling;
-use crate::scenario::Scenario;
+/// `controller.sampling`: how the controller is sampled.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Sampling {
+    /// At every integrator stage, as in the paper (its controller runs inside ode15s's
+    /// right-hand side).
+    Continuous,
+    /// At `controller.rate_hz`, the input held between ticks (the default).
+    #[default]
+    ZeroOrderHold,
+    /// The robot's architecture: the whole-body controller at `controller.rate_hz` (default
+    /// 100 Hz), its desired joint torques held, and per elastic joint a torque loop
+    /// (`sea_ctrl::joint_loop`) at `controller.inner_rate_hz` that sets the desired motor
+    /// velocity from the measured deflection and joint velocity.
+    MultiRate,
+}
+
+impl Sampling {
+    /// The value's name in scenario files (its serde name).
+    pub fn name(self) -> &'static str {
+        match self {
+            Sampling::ZeroOrderHold => "zero_order_hold",
+            Sampling::Continuous => "continuous",
+            Sampling::MultiRate => "multi_rate",
+        }
+    }
+
+    /// The default of `controller.rate_hz` [Hz] under this sampling: 1 kHz (the paper's
+    /// sampled-data study), 100 Hz for the whole-body loop of `multi_rate` (the iCub's
+    /// whole-body controllers' rate, docs/references.md "Control rates of real robots").
+    pub fn default_rate_hz(self) -> f64 {
+        match self {
+            Sampling::Continuous | Sampling::ZeroOrderHold => 1000.0,
+            Sampling::MultiRate => 100.0,
+        }
+    }
+}
 
 /// The time grid of a run: samples `0..=last_sample` at `index * period` (control ticks with
 /// zero-order hold, plant steps in continuous mode); between two samples, `steps_per_period`
@@ -37,14 +70,19 @@ pub struct Schedule {
 }
 
 impl Schedule {
-    /// The grid of `scenario` (`controller.sampling`, `controller.rate_hz`, `plant.dt`,
-    /// `simulation.duration_s`).
-    pub fn of(scenario: &Scenario) -> Result<Schedule> {
-        let sampling = scenario.controller.sampling;
-        let (duration, max_step) = (scenario.simulation.duration_s, scenario.plant.dt);
-        Ok(match sampling {
+    /// The grid of a run under `sampling` with the whole-body rate `rate_hz` and the joint
+    /// loops' `inner_rate_hz` [Hz] (multi-rate), plant steps of at most `max_step` [s], over
+    /// `duration` [s]. (`controller.sampling`, `controller.rate_hz`,
+    /// `controller.inner_rate_hz`, `plant.dt`, `simulation.duration_s` in scenario files.)
+    pub fn new(
+        sampling: Sampling,
+        (rate_hz, inner_rate_hz): (f64, f64),
+        max_step: f64,
+        duration: f64,
+    ) -> Schedule {
+        match sampling {
             Sampling::ZeroOrderHold => {
-                let period = 1.0 / scenario.controller.rate_hz();
+                let period = 1.0 / rate_hz;
                 let steps_per_period = equal_steps(period, max_step);
                 Schedule {
                     sampling,
@@ -68,9 +106,8 @@ impl Schedule {
                 }
             }
             Sampling::MultiRate => {
-                let controller = &scenario.controller;
-                let period = 1.0 / controller.rate_hz();
-                let inner_ticks = inner_ticks(controller.rate_hz(), controller.inner_rate_hz);
+                let period = 1.0 / rate_hz;
+                let inner_ticks = inner_ticks(rate_hz, inner_rate_hz);
                 let steps_per_inner = equal_steps(period / inner_ticks as f64, max_step);
                 let steps_per_period = inner_ticks * steps_per_inner;
                 Schedule {
@@ -82,7 +119,7 @@ impl Schedule {
                     last_sample: (duration / period).round() as usize,
                 }
             }
-        })
+        }
     }
 
     /// Plant steps per joint loop tick.
@@ -115,20 +152,13 @@ mod tests {
 
     #[test]
     fn multi_rate_splits_the_period_into_inner_ticks_of_whole_steps() {
-        let mut scenario: Scenario = toml::from_str(
-            "[robot]\nurdf = \"x.urdf\"\n[controller]\nsampling = \"multi_rate\"\n\
-             [plant]\ndt = 0.0004",
-        )
-        .unwrap();
-        let schedule = Schedule::of(&scenario).unwrap();
+        let schedule = Schedule::new(Sampling::MultiRate, (100.0, 1000.0), 0.0004, 10.0);
         assert_eq!(schedule.period, 0.01);
         assert_eq!(schedule.inner_ticks, 10);
         assert_eq!(schedule.steps_per_inner_tick(), 3);
         assert_eq!(schedule.steps_per_period, 30);
         assert_eq!(schedule.last_sample, 1000);
-        scenario.controller.rate_hz = Some(250.0);
-        scenario.controller.inner_rate_hz = 2000.0;
-        let schedule = Schedule::of(&scenario).unwrap();
+        let schedule = Schedule::new(Sampling::MultiRate, (250.0, 2000.0), 0.0004, 10.0);
         assert_eq!(
             (schedule.inner_ticks, schedule.steps_per_inner_tick()),
             (8, 2)
