@@ -131,6 +131,17 @@ fn bad_joint_loop_settings_name_their_key() {
         ),
         ("controller.torque_bandwidth_hz", "0", "positive"),
         ("controller.torque_bandwidth_hz", "-3", "positive"),
+        // Above the sampled loop's stability limit (329.3 Hz at 1 kHz, K_m = 200 1/s).
+        (
+            "controller.torque_bandwidth_hz",
+            "1e9",
+            "must be in (0, 329.3) Hz",
+        ),
+        (
+            "controller.torque_bandwidth_hz",
+            "330",
+            "unstable from 329.3 Hz",
+        ),
     ] {
         let pairs = vec![(key.to_string(), value.to_string())];
         let message = Scenario::from_file(&scenario_path(), &pairs)
@@ -141,6 +152,9 @@ fn bad_joint_loop_settings_name_their_key() {
             "{key}={value}: {message}"
         );
     }
+    // Just below the limit the scenario is accepted.
+    let pairs = vec![("controller.torque_bandwidth_hz".into(), "329".into())];
+    Scenario::from_file(&scenario_path(), &pairs).unwrap();
 }
 
 /// The tracking scenario with its references held (the deviation from the equilibrium is the
