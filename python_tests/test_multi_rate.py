@@ -21,7 +21,12 @@ def test_period_map_of_the_robot_rate_scenario_is_stable_and_names_its_sampling(
 
 
 def test_the_paper_law_with_500_hz_joint_loops_is_unstable():
-    overrides = {**FIXED, "controller.kind": "sea", "controller.torque_loop_paper_law": True, "controller.inner_rate_hz": 500.0}
+    overrides = {
+        **FIXED,
+        "controller.kind": "sea",
+        "controller.torque_loop_paper_law": True,
+        "controller.inner_rate_hz": 500.0,
+    }
     lin = sm.linearize(MULTI_RATE, overrides=overrides, sampling="multi_rate")
     assert not lin.stable and lin.growth_rate > 10.0
 
