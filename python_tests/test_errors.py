@@ -187,6 +187,25 @@ def test_init_refuses_bad_input_naming_the_element(tmp_path, urdf, contacts, foo
     assert list(out.parent.iterdir()) == []
 
 
+@pytest.mark.parametrize(
+    "contacts, foot, argument",
+    [
+        (("l_sole", "r_sole", "root_link"), None, "contacts"),
+        (("l_sole",), None, "contacts"),
+        ("l_sole", None, "contacts"),
+        (("l_sole", 3), None, "contacts"),
+        (ICUB_SOLES, (0.1, 0.2, 0.3), "foot"),
+    ],
+)
+def test_init_names_a_contacts_or_foot_argument_of_the_wrong_length(tmp_path, contacts, foot, argument):
+    out = tmp_path / "scenario.toml"
+    with pytest.raises(ValueError, match=f"^{argument}: expected ") as info:
+        sm.init_scenario(str(ROOT / "urdf" / "icub25.urdf"), contacts, out, foot=foot)
+    assert info.value.argument == argument, str(info.value)
+    assert "got " in str(info.value)
+    assert not out.exists()
+
+
 PUSH = ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml"
 
 

@@ -42,6 +42,43 @@ use sea_dyn::{ElasticParameters, StateLayout};
 /// Default bandwidth `omega_t` of the joint torque loop [rad/s]: 2 pi 20 Hz (module doc).
 pub const DEFAULT_TORQUE_BANDWIDTH: f64 = 2.0 * std::f64::consts::PI * 20.0;
 
+/// The largest bandwidth `omega_t` [rad/s] at which the joint torque loop, run every
+/// `period` [s] (`1 / controller.inner_rate_hz`) on a motor velocity loop of gain
+/// `motor_velocity_gain` `K_m` [1/s], is stable; every smaller positive `omega_t` is.
+///
+/// Derivation. Per joint with `sdot` fed forward, the deflection `delta` and its rate
+/// `v = deltadot` obey `vdot = -K_m (v - u)`: the motor velocity loop tracking the commanded
+/// deflection rate `u = Gamma thetadot_d - sdot = omega_t (tau_d / K_S^ - delta)`, which the
+/// loop computes from `delta_k` and holds over the period `T` (zero-order hold). The hold
+/// of `K_m / (s (s + K_m))` is, with `a = K_m T` and `p = exp(-a)`,
+///
+/// `G(z) = ((a - 1 + p) z + (1 - p - a p)) / (K_m (z - 1) (z - p))`,
+///
+/// and with `g = omega_t / K_m` the closed loop's poles are the roots of
+/// `z^2 + b1 z + b0` with `b1 = g (a - 1 + p) - (1 + p)` and `b0 = p + g (1 - p - a p)`.
+/// Jury's conditions for both inside the unit circle: `1 + b1 + b0 = g a (1 - p) > 0` always;
+/// `b0 > -1` always (`1 - p - a p > 0` for `a > 0`); `b0 < 1`, the complex pair leaving the
+/// circle, gives `g < (1 - p) / (1 - p - a p)`; `1 - b1 + b0 > 0`, a real pole leaving at -1,
+/// gives `g < 2 (1 + p) / (a (1 + p) - 2 (1 - p))` when that denominator is positive. The
+/// bound is `K_m` times the smaller. For `K_m T -> 0` it tends to `2 / T` (the forward-Euler
+/// pole `1 - omega_t T` at -1), for `K_m T -> inf` too; with the iCub's `K_m = 200 1/s` at
+/// 1 kHz it is 2069 rad/s (329 Hz). The estimates do not enter (module doc), nor does the
+/// joint's own motion (the loop on a held link); a bandwidth near the bound rings, so useful
+/// ones are far below it (the default: spectral radius 0.91).
+pub fn max_stable_bandwidth(motor_velocity_gain: f64, period: f64) -> f64 {
+    let k_m = motor_velocity_gain;
+    let a = k_m * period;
+    let p = (-a).exp();
+    let complex_pair = (1.0 - p) / (1.0 - p - a * p);
+    let real_pole = a * (1.0 + p) - 2.0 * (1.0 - p);
+    let real_pole = if real_pole > 0.0 {
+        2.0 * (1.0 + p) / real_pole
+    } else {
+        f64::INFINITY
+    };
+    k_m * complex_pair.min(real_pole)
+}
+
 /// Desired motor velocity `thetadot_d` [rad/s, motor side] of one elastic joint from the held
 /// desired joint torque `torque_desired` [Nm], the measured motor angle `theta` [rad, motor
 /// side], joint angle `s` [rad] and joint velocity `sdot` [rad/s], with the controller's
@@ -271,5 +308,22 @@ mod tests {
             assert!(rho < 0.95, "x{factor}: {rho}");
         }
         assert!(sampled_spectral_radius(DEFAULT_TORQUE_BANDWIDTH, k_m, 1e-2) < 0.75);
+    }
+
+    /// The bound is where the sampled loop's spectral radius crosses 1, for motor loops slow
+    /// and fast against the period (either of Jury's conditions binding).
+    #[test]
+    fn the_stability_bound_is_where_the_sampled_loop_leaves_the_unit_circle() {
+        for (k_m, period) in [(200.0, 1e-3), (200.0, 1e-2), (50.0, 1e-3), (5000.0, 1e-3)] {
+            let bound = max_stable_bandwidth(k_m, period);
+            let below = sampled_spectral_radius(0.999 * bound, k_m, period);
+            let above = sampled_spectral_radius(1.001 * bound, k_m, period);
+            assert!(
+                below < 1.0 && above > 1.0,
+                "{k_m} {period}: {below} {above}"
+            );
+        }
+        let icub = max_stable_bandwidth(200.0, 1e-3);
+        assert!((icub - 2068.9).abs() < 0.1, "{icub}");
     }
 }

@@ -709,3 +709,44 @@ fn reordering_the_joint_list_permutes_the_dynamics() {
         check_reduced_against_full(seed, &desc, &full, &permuted, &HashMap::new());
     }
 }
+
+/// A link with `<visual>` elements before and after its `<inertial>` (valid URDF, which urdfdom
+/// reads and `urdf-rs` 0.10 refuses with "duplicate field `visual`") loads, as the same model
+/// as the file with the inertial first, and keeps both visuals in order.
+#[test]
+fn visuals_around_the_inertial_load_as_the_sorted_file() {
+    let visual =
+        |size: &str| format!(r#"<visual><geometry><box size="{size}"/></geometry></visual>"#);
+    let collision = r#"<collision><geometry><sphere radius="0.1"/></geometry></collision>"#;
+    let (a, b) = (visual("0.1 0.1 0.1"), visual("0.2 0.2 0.2"));
+    let torso = link("torso");
+    let (start, rest) = torso.split_at(torso.find("<inertial>").unwrap());
+    let (inertial, end) = rest.split_at(rest.find("</link>").unwrap());
+    let mixed = format!("{start}{a}\n{collision}{inertial}{b}{collision}{end}");
+    let sorted = format!("{start}{inertial}{a}\n{collision}{b}{collision}{end}");
+    let text_of = |torso_link: &str| {
+        let mut parts = valid_parts();
+        parts[0] = torso_link.to_string();
+        robot(&parts)
+    };
+    let options = LoadOptions::default();
+    let error = urdf_rs::read_from_string(&text_of(&mixed)).unwrap_err();
+    assert!(error.to_string().contains("duplicate field"), "{error}");
+    let model = Model::from_urdf_str(&text_of(&mixed), &options).unwrap();
+    assert_eq!(
+        model,
+        Model::from_urdf_str(&text_of(&sorted), &options).unwrap()
+    );
+    let robot = sea_dyn::urdf::parse_urdf(&text_of(&mixed)).unwrap();
+    let boxes: Vec<_> = robot.links[0]
+        .visual
+        .iter()
+        .map(|v| format!("{:?}", v.geometry))
+        .collect();
+    assert_eq!(boxes.len(), 2);
+    assert!(
+        boxes[0].contains("0.1") && boxes[1].contains("0.2"),
+        "{boxes:?}"
+    );
+    assert_eq!(robot.links[0].collision.len(), 2);
+}

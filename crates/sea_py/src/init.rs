@@ -1,7 +1,7 @@
 //! `sea_momentum.init_scenario`: `sea-sim init` from Python (a two-feet balancing scenario for
 //! a new robot, written to a file).
 
-use crate::errors::to_py;
+use crate::errors::{argument_error, to_py};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sea_sim::init::{check_foot, init, InitOptions};
@@ -15,13 +15,15 @@ use std::path::PathBuf;
 pub fn init_scenario<'py>(
     py: Python<'py>,
     urdf: String,
-    contacts: (String, String),
+    contacts: &Bound<'py, PyAny>,
     out: PathBuf,
-    foot: Option<(f64, f64, f64, f64)>,
+    foot: Option<&Bound<'py, PyAny>>,
     package_dirs: Option<Vec<PathBuf>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let contacts: [String; 2] = items(contacts, "contacts", CONTACTS_EXPECTED)?;
+    let foot: Option<[f64; 4]> = foot.map(|f| items(f, "foot", FOOT_EXPECTED)).transpose()?;
     let foot = foot
-        .map(|(x0, x1, y0, y1)| {
+        .map(|[x0, x1, y0, y1]| {
             check_foot(&FootRectangle {
                 x: [x0, x1],
                 y: [y0, y1],
@@ -31,7 +33,7 @@ pub fn init_scenario<'py>(
         .map_err(to_py)?;
     let options = InitOptions {
         urdf,
-        contacts: [contacts.0, contacts.1],
+        contacts,
         foot,
         package_dirs: package_dirs.unwrap_or_default(),
         out,
@@ -50,4 +52,52 @@ pub fn init_scenario<'py>(
     dict.set_item("residual", report.residual)?;
     dict.set_item("warnings", report.warnings)?;
     Ok(dict)
+}
+
+/// What `contacts` must be, in its error message.
+const CONTACTS_EXPECTED: &str =
+    "2 contacts (left, right) as a tuple or list of 2 str, e.g. ('l_sole', 'r_sole')";
+/// What `foot` must be, in its error message.
+const FOOT_EXPECTED: &str = "the sole rectangle (x0, x1, y0, y1) as a tuple or list of 4 float";
+
+/// `value` as exactly `N` items of `T` from a tuple or list, else a `ValueError` naming
+/// `argument`, what is `expected` and what was given (PyO3's own message for a tuple of the
+/// wrong length names no argument).
+fn items<'py, T, const N: usize>(
+    value: &Bound<'py, PyAny>,
+    argument: &str,
+    expected: &str,
+) -> PyResult<[T; N]>
+where
+    T: pyo3::conversion::FromPyObjectOwned<'py>,
+{
+    let given = || describe(value);
+    let list: Vec<Bound<'py, PyAny>> = match value.extract() {
+        Ok(list) if !value.is_instance_of::<pyo3::types::PyString>() => list,
+        _ => return Err(argument_error(argument, expected, given())),
+    };
+    let extracted = list
+        .iter()
+        .map(|item| item.extract::<T>().ok())
+        .collect::<Option<Vec<T>>>();
+    extracted
+        .and_then(|v| <[T; N]>::try_from(v).ok())
+        .ok_or_else(|| argument_error(argument, expected, given()))
+}
+
+/// `value` for an error message: its `repr` (shortened) and, for a sequence, its length.
+fn describe(value: &Bound<'_, PyAny>) -> String {
+    let mut repr = value
+        .repr()
+        .map(|r| r.to_string())
+        .unwrap_or_else(|_| "an object without repr".into());
+    if repr.chars().count() > 80 {
+        repr = repr.chars().take(77).collect::<String>() + "...";
+    }
+    match value.len() {
+        Ok(n) if !value.is_instance_of::<pyo3::types::PyString>() => {
+            format!("{repr} (length {n})")
+        }
+        _ => repr,
+    }
 }

@@ -743,3 +743,22 @@ fn package_dir_finds_the_meshes_a_run_warns_about_without_it() {
     let found = run(&["--package-dir", packages.to_str().unwrap()]);
     assert!(found.is_empty(), "{found}");
 }
+
+#[test]
+fn push_refuses_a_zero_tolerance_or_duration_naming_the_flag() {
+    let scenario = format!("{REPO}/scenarios/robot_rate/push_two_feet.toml");
+    for (flag, value) in [
+        ("--tolerance", "0"),
+        ("--duration", "0"),
+        ("--duration", "inf"),
+    ] {
+        let output = sea_sim(&["push", &scenario, flag, value]);
+        assert!(!output.status.success(), "{flag} {value} accepted");
+        let stderr = text(&output.stderr);
+        assert!(stderr.contains(flag), "{flag} {value}: {stderr}");
+        assert!(
+            stderr.contains("finite, positive"),
+            "{flag} {value}: {stderr}"
+        );
+    }
+}

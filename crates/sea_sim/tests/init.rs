@@ -143,6 +143,31 @@ fn a_robot_that_cannot_stand_is_refused() {
     std::fs::remove_dir_all(urdf_dir).unwrap();
 }
 
+/// The mini biped's legs have 5 joints (no hip yaw): its two feet cannot both be rigid
+/// contacts (their relative yaw is free), so the scenario would stop at t = 0; `init` refuses
+/// it naming the contacts and the joints of each leg, and writes nothing.
+#[test]
+fn two_feet_on_legs_of_five_joints_are_refused_naming_the_contacts() {
+    let dir = folder("mini_biped");
+    let mut options = icub_options(&dir);
+    options.urdf = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../urdf/mini_biped.urdf")
+        .display()
+        .to_string();
+    options.foot = Some(FootRectangle {
+        x: [-0.05, 0.08],
+        y: [-0.03, 0.03],
+    });
+    let message = refused(&options);
+    assert!(
+        message.contains("robot.contacts")
+            && message.contains("'l_sole' hangs from the base by 5 joints and 'r_sole' by 5")
+            && message.contains("rank 11"),
+        "{message}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 #[test]
 fn an_unresolvable_package_uri_is_named() {
     let dir = folder("package");

@@ -14,8 +14,10 @@ fn scenario_path() -> PathBuf {
 }
 
 fn load(overrides: &[(&str, &str)]) -> Scenario {
-    let pairs: Vec<(String, String)> = overrides
+    // Written for the fixed estimates: the file's stiffness identification off.
+    let pairs: Vec<(String, String)> = [("controller.stiffness_identification", "false")]
         .iter()
+        .chain(overrides)
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
     Scenario::from_file(&scenario_path(), &pairs).unwrap()
@@ -131,6 +133,17 @@ fn bad_joint_loop_settings_name_their_key() {
         ),
         ("controller.torque_bandwidth_hz", "0", "positive"),
         ("controller.torque_bandwidth_hz", "-3", "positive"),
+        // Above the sampled loop's stability limit (329.3 Hz at 1 kHz, K_m = 200 1/s).
+        (
+            "controller.torque_bandwidth_hz",
+            "1e9",
+            "must be in (0, 329.3) Hz",
+        ),
+        (
+            "controller.torque_bandwidth_hz",
+            "330",
+            "unstable from 329.3 Hz",
+        ),
     ] {
         let pairs = vec![(key.to_string(), value.to_string())];
         let message = Scenario::from_file(&scenario_path(), &pairs)
@@ -141,6 +154,9 @@ fn bad_joint_loop_settings_name_their_key() {
             "{key}={value}: {message}"
         );
     }
+    // Just below the limit the scenario is accepted.
+    let pairs = vec![("controller.torque_bandwidth_hz".into(), "329".into())];
+    Scenario::from_file(&scenario_path(), &pairs).unwrap();
 }
 
 /// The tracking scenario with its references held (the deviation from the equilibrium is the

@@ -25,6 +25,8 @@ fn load(overrides: &[(&str, &str)]) -> Result<Scenario, Error> {
     let base = [
         ("simulation.duration_s", "1.0"),
         ("simulation.record_every", "1"),
+        // Written for the fixed estimates: the file's stiffness identification off.
+        ("controller.stiffness_identification", "false"),
     ];
     let pairs: Vec<(String, String)> = base
         .iter()

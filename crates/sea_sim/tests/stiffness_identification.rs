@@ -710,8 +710,9 @@ fn excitation_settings_name_their_key() {
             key.to_string(),
         ),
     ] {
-        let pairs: Vec<(String, String)> = pairs
-            .iter()
+        // The file's identification off, so that each error is the excitation's own.
+        let pairs: Vec<(String, String)> = std::iter::once(&support::FIXED_ESTIMATES)
+            .chain(&pairs)
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect();
         let error = Scenario::from_file(&path, &pairs).unwrap_err().to_string();

@@ -51,8 +51,73 @@ impl Model {
 ///
 /// Errors: [`Error::Parse`] when the text is not a URDF.
 pub fn parse_urdf(text: &str) -> Result<urdf_rs::Robot> {
-    urdf_rs::read_from_string(&without_empty_textures(text))
+    let text = without_empty_textures(text);
+    urdf_rs::read_from_string(&inertial_before_visuals(&text))
         .map_err(|e| Error::parse(format!("cannot parse URDF: {e}")))
+}
+
+/// The text with, in every `<link>` where an `<inertial>` follows a `<visual>`, that
+/// `<inertial>` moved to just before the link's first `<visual>`.
+///
+/// Why: a workaround for `urdf-rs` 0.10, which refuses a valid link such as
+/// `<visual/><inertial/><visual/>` with "duplicate field `visual`" (serde-xml-rs reads the
+/// elements of one name only when they are contiguous; urdf-rs groups the `<collision>`
+/// elements after the others but keeps `<inertial>` among the `<visual>` ones). urdfdom
+/// (Pinocchio) reads children in any order. The order of the visuals, of the collisions and of
+/// everything else is kept, so the model is the one of the reordered file. Text without such a
+/// link (or that is not well-formed XML, left to urdf-rs to report) is returned unchanged; the
+/// work is one parse and one copy, linear in the text.
+fn inertial_before_visuals(text: &str) -> Cow<'_, str> {
+    if !text.contains("<inertial") || !text.contains("<visual") {
+        return Cow::Borrowed(text);
+    }
+    let options = roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..Default::default()
+    };
+    let Ok(document) = roxmltree::Document::parse_with_options(text, options) else {
+        return Cow::Borrowed(text);
+    };
+    let mut edits = Vec::new();
+    for link in document.root_element().children() {
+        if link.has_tag_name("link") {
+            inertial_moves(link, text, &mut edits);
+        }
+    }
+    if edits.is_empty() {
+        return Cow::Borrowed(text);
+    }
+    edits.sort_by_key(|edit| edit.0.start);
+    let mut out = String::with_capacity(text.len());
+    let mut copied = 0;
+    for (range, replacement) in edits {
+        out.push_str(&text[copied..range.start]);
+        out.push_str(&replacement);
+        copied = range.end;
+    }
+    out.push_str(&text[copied..]);
+    Cow::Owned(out)
+}
+
+/// Edits (byte range of `text`, its replacement) moving each `<inertial>` child of `link` that
+/// follows a `<visual>` child to just before the first `<visual>`; the removed element leaves
+/// its newlines, so that the lines after it keep their numbers.
+fn inertial_moves(
+    link: roxmltree::Node<'_, '_>,
+    text: &str,
+    edits: &mut Vec<(std::ops::Range<usize>, String)>,
+) {
+    let mut first_visual = None;
+    for child in link.children().filter(|c| c.is_element()) {
+        let range = child.range();
+        if child.has_tag_name("visual") && first_visual.is_none() {
+            first_visual = Some(range.start);
+        }
+        if let (true, Some(at)) = (child.has_tag_name("inertial"), first_visual) {
+            edits.push((at..at, text[range.clone()].to_string()));
+            edits.push((range.clone(), text[range].matches('\n').collect()));
+        }
+    }
 }
 
 /// The text without `<texture>` elements that have no `filename` attribute.

@@ -210,6 +210,33 @@ impl Default for PushOptions {
     }
 }
 
+impl PushOptions {
+    /// Checks the options before any run: `duration_s` and `tolerance_n_s` finite and positive
+    /// (a zero duration is an infinite force; a zero tolerance a bisection that never ends),
+    /// `start_s` finite and non-negative.
+    ///
+    /// Errors: [`sea_dyn::Error::InvalidArgument`] naming the field and the value.
+    pub fn check(&self) -> Result<()> {
+        positive("PushOptions.duration_s", self.duration_s)?;
+        positive("PushOptions.tolerance_n_s", self.tolerance_n_s)?;
+        if !(self.start_s.is_finite() && self.start_s >= 0.0) {
+            let expected = "a finite, non-negative time [s]";
+            return Err(
+                sea_dyn::Error::invalid("PushOptions.start_s", expected, self.start_s).into(),
+            );
+        }
+        Ok(())
+    }
+}
+
+/// `Ok` when `value` is finite and positive, else an invalid-argument error naming `argument`.
+fn positive(argument: &str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        return Ok(());
+    }
+    Err(sea_dyn::Error::invalid(argument, "a finite, positive number", value).into())
+}
+
 /// One direction's result.
 #[derive(Clone, Debug)]
 pub struct PushResult {
@@ -253,12 +280,15 @@ pub fn push_run(
 
 /// Largest recovered impulse along `direction` by bisection between 0 (must be recovered) and
 /// twice the capture-point bound (doubled while still recovered, up to 8 times the bound).
+///
+/// Errors: the options' ([`PushOptions::check`]), the scenario's and the runs'.
 pub fn recoverable_impulse(
     path: &Path,
     overrides: &[(String, String)],
     options: &PushOptions,
     direction: PushDirection,
 ) -> Result<PushResult> {
+    options.check()?;
     let stance = Stance::of(&Scenario::from_file(path, overrides)?)?;
     let bound = stance.capture_point_impulse(direction);
     let d = stance.direction(direction);
@@ -303,12 +333,15 @@ pub fn recoverable_impulse(
 }
 
 /// [`recoverable_impulse`] for each of `directions`, in parallel (rayon's pool).
+///
+/// Errors: as [`recoverable_impulse`]; the options are checked before any run.
 pub fn push_table(
     path: &Path,
     overrides: &[(String, String)],
     options: &PushOptions,
     directions: &[PushDirection],
 ) -> Result<Vec<PushResult>> {
+    options.check()?;
     directions
         .par_iter()
         .map(|&direction| recoverable_impulse(path, overrides, options, direction))
@@ -345,5 +378,54 @@ mod tests {
             assert!((got - want).abs() < 1e-12, "{distances:?}");
         }
         assert!((stance.capture_point_impulse(PushDirection::Forward) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_zero_tolerance_or_duration_is_refused_naming_the_field() {
+        assert!(PushOptions::default().check().is_ok());
+        let cases = [
+            (
+                "tolerance_n_s",
+                PushOptions {
+                    tolerance_n_s: 0.0,
+                    ..Default::default()
+                },
+            ),
+            (
+                "duration_s",
+                PushOptions {
+                    duration_s: 0.0,
+                    ..Default::default()
+                },
+            ),
+            (
+                "duration_s",
+                PushOptions {
+                    duration_s: f64::NAN,
+                    ..Default::default()
+                },
+            ),
+            (
+                "tolerance_n_s",
+                PushOptions {
+                    tolerance_n_s: -1.0,
+                    ..Default::default()
+                },
+            ),
+            (
+                "start_s",
+                PushOptions {
+                    start_s: f64::INFINITY,
+                    ..Default::default()
+                },
+            ),
+        ];
+        for (field, options) in cases {
+            let message = options.check().unwrap_err().to_string();
+            assert!(
+                message.contains(&format!("PushOptions.{field}")),
+                "{message}"
+            );
+        }
     }
 }

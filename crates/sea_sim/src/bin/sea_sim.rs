@@ -226,11 +226,11 @@ struct PushArgs {
     /// Start of the push [s].
     #[arg(long, default_value_t = PushOptions::default().start_s)]
     start: f64,
-    /// Length of the push [s].
-    #[arg(long, default_value_t = PushOptions::default().duration_s)]
+    /// Length of the push [s] (finite, positive).
+    #[arg(long, default_value_t = PushOptions::default().duration_s, value_parser = parse_positive)]
     duration: f64,
-    /// Bisection resolution [N s].
-    #[arg(long, default_value_t = PushOptions::default().tolerance_n_s)]
+    /// Bisection resolution [N s] (finite, positive).
+    #[arg(long, default_value_t = PushOptions::default().tolerance_n_s, value_parser = parse_positive)]
     tolerance: f64,
     /// Override a scenario value, e.g. `--set controller.kind=rigid` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
@@ -248,6 +248,15 @@ fn parse_range(text: &str) -> Result<(f64, f64), String> {
             .map_err(|e| format!("'{s}' in '{text}': {e}"))
     };
     Ok((number(lower)?, number(upper)?))
+}
+
+/// A finite, positive number (clap names the flag in its error).
+fn parse_positive(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(value) if value.is_finite() && value > 0.0 => Ok(value),
+        Ok(value) => Err(format!("must be a finite, positive number, got {value}")),
+        Err(e) => Err(format!("expected a finite, positive number: {e}")),
+    }
 }
 
 /// `KEY=VALUE` of `--set`.

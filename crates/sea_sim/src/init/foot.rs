@@ -26,7 +26,7 @@ pub fn foot_rectangle(
     dirs: &PackageDirs,
     contact: &str,
 ) -> Result<(FootRectangle, f64)> {
-    let robot = urdf_rs::read_from_string(urdf_text).map_err(|e| {
+    let robot = sea_dyn::urdf::parse_urdf(urdf_text).map_err(|e| {
         no_geometry(
             contact,
             &format!("the URDF's collision geometry cannot be read ({e})"),

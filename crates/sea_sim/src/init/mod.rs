@@ -6,6 +6,13 @@
 //! unless given, gains scaled to the robot ([`gains`]); the run is the paper's CoM sinusoid
 //! (1 cm, 0.2 Hz, lateral) for 5 s. The file is written beside its target and renamed over it only when
 //! complete ([`crate::output::OutputFile`]).
+//!
+//! A robot whose two feet cannot both be held flat (the two rigid contacts' 12 constraints
+//! dependent at the standing posture, e.g. legs of 5 joints without a hip yaw, as
+//! `urdf/mini_biped.urdf`) is refused before anything is written, naming the contacts and the
+//! joints of each leg ([`two_feet_can_be_held`]): its run would stop at t = 0 on degenerate
+//! contact constraints, and on one foot the posture of two feet (the CoM between them) falls,
+//! so no scenario `init` can write balances it.
 
 pub mod actuators;
 pub mod foot;
@@ -16,7 +23,8 @@ pub mod write;
 
 use crate::error::{Error, Result};
 use crate::scenario::robots::{add_contact_frames, ContactSpec, FootRectangle};
-use sea_dyn::{FrameId, LoadOptions, Model, PackageDirs};
+use nalgebra::DMatrix;
+use sea_dyn::{Data, FrameId, LoadOptions, Model, PackageDirs};
 use std::path::{Path, PathBuf};
 
 /// What `sea-sim init` is given.
@@ -124,6 +132,7 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
         }
     };
     let standing = posture::standing_posture(&model, feet, rectangles)?;
+    two_feet_can_be_held(&model, feet, &options.contacts, &standing)?;
     let written = write::write_scenario(options, &model, feet, rectangles, &standing)?;
     Ok(InitReport {
         out: written,
@@ -134,6 +143,56 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
         residual: standing.residual,
         warnings: model.warnings.iter().map(|w| w.to_string()).collect(),
     })
+}
+
+/// Singular values below this fraction of the largest count as zero in the rank of the two
+/// feet's contact Jacobian.
+const RANK_TOLERANCE: f64 = 1e-8;
+
+/// Both feet can be held flat at once: the stacked 12 x nv Jacobian of the two contacts has
+/// full rank at the standing posture, as the plant's rigid contacts need (else its contact
+/// solve fails at t = 0: "contact constraints are degenerate"). A leg of 6 joints (hip yaw,
+/// roll, pitch, knee, ankle pitch, roll) moves its foot in all 6 directions, which suffices;
+/// two legs of 5 joints lacking the same motion (a hip yaw) leave a relative motion of the feet
+/// (their relative yaw) that nothing produces, so the 12 constraints are dependent. The error
+/// names the contacts and the joints from the base to each.
+pub fn two_feet_can_be_held(
+    model: &Model,
+    feet: [FrameId; 2],
+    names: &[String; 2],
+    standing: &posture::Standing,
+) -> Result<()> {
+    let mut q = model.neutral();
+    q[7..].copy_from_slice(&standing.joints);
+    let mut data = Data::new(model);
+    let mut stacked = DMatrix::zeros(12, model.nv());
+    for (k, &foot) in feet.iter().enumerate() {
+        let jacobian = sea_dyn::frame_jacobian(model, &mut data, &q, foot);
+        stacked.rows_mut(6 * k, 6).copy_from(jacobian);
+    }
+    let singular = stacked.singular_values();
+    let largest = singular.max();
+    let rank = singular
+        .iter()
+        .filter(|&&s| s > RANK_TOLERANCE * largest)
+        .count();
+    if rank == 12 {
+        return Ok(());
+    }
+    let joints = feet.map(|f| model.support_path(model.frames[f].body).len());
+    Err(Error::invalid(
+        "robot.contacts",
+        format!(
+            "the two feet cannot both be held flat: '{}' hangs from the base by {} joints and \
+             '{}' by {}, and the 12 constraints of two rigid feet have rank {rank} at the \
+             standing posture (the run would stop at t = 0 on degenerate contact constraints); \
+             `init` writes two-feet scenarios, which need a leg of 6 joints (hip yaw, roll, \
+             pitch, knee, ankle pitch, roll); for this robot write a one-foot scenario \
+             (one contact, the CoM over that foot) by hand",
+            names[0], joints[0], names[1], joints[1]
+        ),
+        format!("'{}', '{}'", names[0], names[1]),
+    ))
 }
 
 /// The URDF file of `urdf` (a path or a URI); an error names the argument.

@@ -8,9 +8,15 @@
 //! `<origin>` as RViz shows them (e.g. icub-models' `Y_UP` meshes have a rotated origin).
 //! Materials are not read: the URDF's colour is drawn. Lines, tristrips and trifans are
 //! skipped.
+//!
+//! The instanced geometry is bounded: nodes that instance each other repeatedly (each the next
+//! twice, 40 levels deep, is 2^40 instances) would otherwise read without end. A file is
+//! refused when its scene visits more than [`MAX_NODE_VISITS`] nodes or places more than
+//! [`MAX_TRIANGLES`] triangles or [`MAX_POSITIONS`] vertices.
 
 use super::TriangleMesh;
 use roxmltree::Node;
+use std::cell::Cell;
 use std::collections::HashMap;
 
 /// A 4x4 homogeneous transform, rows first.
@@ -27,10 +33,21 @@ const IDENTITY: Matrix = [
 /// Instances deeper than this are a cycle of `<instance_node>`s.
 const MAX_NODE_DEPTH: usize = 64;
 
+/// Most nodes the visual scene may visit, instances counted each time (a robot part's file has
+/// tens to thousands).
+pub const MAX_NODE_VISITS: usize = 100_000;
+
+/// Most triangles a file may place, instances counted each time (a detailed robot part has
+/// about 10^5; the visuals are decimated after reading anyway).
+pub const MAX_TRIANGLES: usize = 5_000_000;
+
+/// Most vertices a file may place, instances counted each time.
+pub const MAX_POSITIONS: usize = 5_000_000;
+
 /// The mesh of the COLLADA file `bytes`, in metres.
 ///
-/// Errors: a message when the bytes are not XML, when an index points past its source, or when
-/// the file has no triangles.
+/// Errors: a message when the bytes are not XML, when an index points past its source, when
+/// the file has no triangles, or when its instanced geometry is over the bounds of the module.
 pub fn read(bytes: &[u8]) -> Result<TriangleMesh, String> {
     let text = std::str::from_utf8(bytes).map_err(|e| format!("not UTF-8 text: {e}"))?;
     let options = roxmltree::ParsingOptions {
@@ -69,6 +86,8 @@ pub fn read(bytes: &[u8]) -> Result<TriangleMesh, String> {
 struct Reader<'a, 'input> {
     document: &'a roxmltree::Document<'input>,
     by_id: HashMap<&'a str, Node<'a, 'input>>,
+    /// Nodes visited so far, instances counted each time.
+    visits: Cell<usize>,
 }
 
 /// The child elements of `node` named `tag` (any namespace).
@@ -103,7 +122,11 @@ impl<'a, 'input> Reader<'a, 'input> {
             .descendants()
             .filter_map(|n| n.attribute("id").map(|id| (id, n)))
             .collect();
-        Self { document, by_id }
+        Self {
+            document,
+            by_id,
+            visits: Cell::new(0),
+        }
     }
 
     /// The element a URL `#id` names.
@@ -145,6 +168,13 @@ impl<'a, 'input> Reader<'a, 'input> {
     ) -> Result<(), String> {
         if depth > MAX_NODE_DEPTH {
             return Err("the nodes instance each other in a cycle".into());
+        }
+        self.visits.set(self.visits.get() + 1);
+        if self.visits.get() > MAX_NODE_VISITS {
+            return Err(format!(
+                "the visual scene instances more than {MAX_NODE_VISITS} nodes (nodes that \
+                 instance each other repeatedly); the file is not read"
+            ));
         }
         let placement = multiply(parent, &node_transform(node)?);
         for child in node.children().filter(|c| c.is_element()) {
@@ -216,6 +246,7 @@ impl<'a, 'input> Reader<'a, 'input> {
                     ]);
                 }
             }
+            check_size(mesh)?;
         }
         Ok(())
     }
@@ -357,6 +388,19 @@ fn node_transform(node: Node<'_, '_>) -> Result<Matrix, String> {
     Ok(transform)
 }
 
+/// An error when `mesh` holds more than [`MAX_TRIANGLES`] triangles or [`MAX_POSITIONS`]
+/// vertices.
+fn check_size(mesh: &TriangleMesh) -> Result<(), String> {
+    let (triangles, positions) = (mesh.triangles.len(), mesh.positions.len());
+    if triangles > MAX_TRIANGLES || positions > MAX_POSITIONS {
+        return Err(format!(
+            "the instanced geometry is over {MAX_TRIANGLES} triangles or {MAX_POSITIONS} \
+             vertices ({triangles} triangles, {positions} vertices so far); the file is not read"
+        ));
+    }
+    Ok(())
+}
+
 /// A scale along the axes.
 fn scale_matrix([x, y, z]: [f64; 3]) -> Matrix {
     let mut m = IDENTITY;
@@ -465,6 +509,57 @@ mod tests {
             (p[0] - 0.0).abs() < 1e-7 && (p[1] - 1.0).abs() < 1e-7,
             "{p:?}"
         );
+    }
+
+    /// `levels` nodes each instancing the next twice, the last instancing the geometry of
+    /// [`DAE`]: 2^levels instances.
+    fn doubling_instances(levels: usize) -> String {
+        let nodes: String = (0..levels)
+            .map(|k| {
+                let next = format!(r##"<instance_node url="#n{}"/>"##, k + 1);
+                format!(r#"<node id="n{k}">{next}{next}</node>"#)
+            })
+            .collect();
+        let last = format!(r##"<node id="n{levels}"><instance_geometry url="#g"/></node>"##);
+        let library = format!("<library_nodes>{nodes}{last}</library_nodes>");
+        DAE.replace(
+            r#"<node id="inner">"#,
+            r##"<instance_node url="#n0"/><node id="inner">"##,
+        )
+        .replace(
+            "<library_visual_scenes>",
+            &format!("{library}<library_visual_scenes>"),
+        )
+    }
+
+    #[test]
+    fn doubling_instances_are_read_up_to_a_bound() {
+        let few = read(doubling_instances(3).as_bytes()).unwrap();
+        assert_eq!(few.triangles.len(), 3 * (1 + 8));
+        let start = std::time::Instant::now();
+        let message = read(doubling_instances(40).as_bytes()).unwrap_err();
+        assert!(message.contains("more than 100000 nodes"), "{message}");
+        assert!(start.elapsed().as_secs_f64() < 5.0, "{:?}", start.elapsed());
+        // A big geometry instanced over and over: the triangle bound.
+        let big: String = (0..30_000).map(|_| " 0 0 1 0 2 0").collect();
+        let many = doubling_instances(15)
+            .replace("<p>0 0 1 0 4 0</p>", &format!("<p>0 0 1 0 4 0{big}</p>"));
+        let message = read(many.as_bytes()).unwrap_err();
+        assert!(message.contains("over 5000000 triangles"), "{message}");
+    }
+
+    #[test]
+    fn a_file_of_doubling_instances_is_refused_promptly_naming_the_file() {
+        let dir = std::env::temp_dir().join(format!("sea_sim_dae_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("nested_40.dae");
+        std::fs::write(&path, doubling_instances(40)).unwrap();
+        let start = std::time::Instant::now();
+        let message = crate::meshes::read_mesh(&path).unwrap_err().to_string();
+        assert!(start.elapsed().as_secs_f64() < 5.0, "{:?}", start.elapsed());
+        assert!(message.contains("nested_40.dae"), "{message}");
+        assert!(message.contains("instances more than"), "{message}");
+        std::fs::remove_dir_all(dir).unwrap();
     }
 
     #[test]

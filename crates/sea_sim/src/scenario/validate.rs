@@ -226,6 +226,7 @@ fn controller(scenario: &Scenario) -> Result<()> {
     let c = &scenario.controller;
     positive("controller.rate_hz", c.rate_hz())?;
     joint_loop_rates(c)?;
+    torque_bandwidth_limit(c, scenario.plant.motor_velocity_gain)?;
     positive(
         "controller.damping_estimate_scale",
         c.damping_estimate_scale,
@@ -513,6 +514,33 @@ fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// `multi_rate` with `torque_bandwidth_hz` (not the paper's law): a bandwidth the joint loops
+/// can hold at `inner_rate_hz` on the motor velocity loop of gain `motor_velocity_gain`, below
+/// [`sea_ctrl::joint_loop::max_stable_bandwidth`] (where the sampled loop's poles leave the
+/// unit circle; beyond it the run diverges).
+fn torque_bandwidth_limit(c: &ControllerConfig, motor_velocity_gain: f64) -> Result<()> {
+    if c.sampling != Sampling::MultiRate || c.torque_loop_paper_law {
+        return Ok(());
+    }
+    let period = 1.0 / c.inner_rate_hz;
+    let bound = sea_ctrl::joint_loop::max_stable_bandwidth(motor_velocity_gain, period);
+    let bound_hz = bound / (2.0 * std::f64::consts::PI);
+    if !bound_hz.is_finite() || c.torque_bandwidth_hz < bound_hz {
+        return Ok(()); // a bad gain or rate is reported by its own check
+    }
+    Err(Error::invalid(
+        "controller.torque_bandwidth_hz",
+        format!(
+            "must be in (0, {bound_hz:.1}) Hz: the joint torque loops at controller.inner_rate_hz \
+             = {} Hz on plant.motor_velocity_gain = {motor_velocity_gain} 1/s are unstable from \
+             {bound_hz:.1} Hz on (their sampled poles leave the unit circle); useful bandwidths \
+             are well below it (default 20 Hz)",
+            c.inner_rate_hz
+        ),
+        c.torque_bandwidth_hz,
+    ))
 }
 
 /// The run's plant steps (or controller samples, whichever are more) must not exceed

@@ -6,16 +6,20 @@
 use sea_sim::scenario::Scenario;
 use std::path::PathBuf;
 
+/// The shipped robot-rate scenarios run the stiffness identification; the tests written for
+/// the fixed estimates (the identification as the override of a test) start with it off.
+pub const FIXED_ESTIMATES: (&str, &str) = ("controller.stiffness_identification", "false");
+
 /// The multi-rate tracking scenario (`scenarios/robot_rate/tracking_multi_rate.toml`) with
-/// `overrides` (dotted key, TOML value).
+/// its fixed estimates ([`FIXED_ESTIMATES`]) and `overrides` (dotted key, TOML value).
 ///
 /// # Panics
 /// When the scenario does not load with them.
 pub fn tracking(overrides: &[(&str, &str)]) -> Scenario {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenarios/robot_rate/tracking_multi_rate.toml");
-    let pairs: Vec<(String, String)> = overrides
-        .iter()
+    let pairs: Vec<(String, String)> = std::iter::once(&FIXED_ESTIMATES)
+        .chain(overrides)
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
     Scenario::from_file(&path, &pairs).unwrap()
