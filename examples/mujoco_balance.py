@@ -8,7 +8,7 @@ joint torques drive the actuators.
 
 Conventions converted (MuJoCo docs, "Floating objects" / mjData.qvel):
 - free joint ``qpos = [x y z qw qx qy qz]`` (base position, world; quaternion w first) equals our
-  ``q[:7]`` (docs/architecture.md: ``[p_B, quaternion (w, x, y, z)]``);
+  ``q[:7]`` (docs/reference/conventions.md: ``[p_B, quaternion (w, x, y, z)]``);
 - free joint ``qvel = [v (world), omega (base frame)]``; ours is ``[pdot_B (world), omega_B
   (world)]``, so ``omega_world = R_B omega_body``;
 - joints by name (``model.joint(name).qposadr / dofadr``), in our joint order.
@@ -44,7 +44,7 @@ FOOT_Y = (-0.025, 0.025)
 FOOT_HALF_THICKNESS = 0.005
 #: MuJoCo step = control period [s] (the controller runs at every step).
 TIMESTEP = 1e-3
-#: Gravity [m/s^2], MuJoCo's default and ours (docs/architecture.md).
+#: Gravity [m/s^2], MuJoCo's default and ours (docs/reference/conventions.md).
 GRAVITY = (0.0, 0.0, -9.81)
 
 

@@ -4,7 +4,7 @@ This module is test infrastructure: it builds a Pinocchio model from a URDF (a f
 reduced to a joint list if one is given) and evaluates the dynamics quantities of the Python API
 of the package from *our* state (q, nu, nudot), converting to and from Pinocchio's conventions.
 
-Our conventions (docs/architecture.md, "State and conventions"):
+Our conventions (docs/reference/conventions.md):
     q  = [p_B (3, world), quaternion (w, x, y, z), s (n)]
     nu = [pdot_B (3, world), omega_B (3, world axes), sdot (n)]
     spatial vectors linear first; frame Jacobians map nu to [origin velocity; angular velocity]
@@ -173,7 +173,7 @@ HAND_JOINTS_FILE_ORDER = ["zeta_rev", "beta_cont", "alpha_pris", "gamma_rev"]
 
 def urdf_depth_first_joints(urdf_text: str) -> list[str]:
     """Movable joints of a URDF in depth-first tree order, children in file order (our default
-    joint order, docs/architecture.md), computed from the XML alone."""
+    joint order, docs/reference/conventions.md), computed from the XML alone."""
     import xml.etree.ElementTree as ET
 
     root = ET.fromstring(urdf_text)

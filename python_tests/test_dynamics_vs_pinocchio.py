@@ -172,7 +172,7 @@ def test_structure(case):
         assert list(ours.joint_names) == list(case.joints)
     else:
         assert sorted(ours.joint_names) == sorted(list(ref.full_model.names)[2:])
-        # docs/architecture.md: URDF tree order, depth first, children in file order
+        # docs/reference/conventions.md: URDF tree order, depth first, children in file order
         assert list(ours.joint_names) == urdf_depth_first_joints(case.path.read_text())
     assert set(ours.frame_names) == set(ref.frame_names)
     assert ours.total_mass == pytest.approx(ref.total_mass, rel=1e-12)

@@ -1,4 +1,4 @@
-"""The robot-rate study (issue 19, README "At the robot's rate"): the multi-rate loop (100 Hz
+"""The robot-rate study (issue 19, docs/findings/robot_rate.md): the multi-rate loop (100 Hz
 whole body over 1 kHz joint torque loops) on the paper's tracking, with and without the online
 stiffness identification.
 
@@ -54,7 +54,7 @@ IDENTIFICATION = "controller.stiffness_identification"
 #: The shipped robot-rate scenarios run the identification; every table here starts from the
 #: fixed estimates (the rows that identify set it on), so that each row changes one part.
 FIXED: dict[str, Any] = {IDENTIFICATION: False}
-#: The design that holds model errors (README, "At the robot's rate", model errors).
+#: The design that holds model errors (docs/findings/model_errors.md).
 ROBUST: dict[str, Any] = {
     IDENTIFICATION: True,
     "controller.external_wrench": "generalized",
@@ -92,7 +92,7 @@ PUSHED_AT_3_S = ["--start", "3", "--set", "simulation.duration_s=5"]
 #: sign on both legs (internal torques: the feet take them, the CoM does not move).
 LEGS = "l_ankle_roll=1.0, r_ankle_roll=1.0, l_hip_roll=1.0, r_hip_roll=1.0, l_hip_yaw=1.0, r_hip_yaw=1.0"
 #: The torso's roll and yaw carry no torque upright either: 0.1 Nm each, at the same rate (the
-#: CoM moves 0.07 mm; 0.25 Nm, 0.18 mm, identifies as well but lowers the sideways push, README).
+#: CoM moves 0.07 mm; 0.25 Nm, 0.18 mm, identifies as well but lowers the sideways push, docs/findings/pushes.md).
 TORSO = "torso_roll=0.1, torso_yaw=0.1"
 
 
@@ -498,7 +498,7 @@ def outcomes_section(report: dict[str, Any]) -> list[str]:
     lines += model_error_markdown(report["model_errors"])
     lines += ["", "Noisy encoders (1e-4 rad, 1e-2 rad/s), 10 s tracking at 100 Hz / 1 kHz:", ""]
     lines += noise_markdown(report["noise"])
-    lines += ["", "Figure: robot_rate/robustness_map.png. Mechanism and design: README, \"At the robot's rate\".", ""]
+    lines += ["", "Figure: robot_rate/robustness_map.png. Mechanism and design: docs/findings/robot_rate.md.", ""]
     return lines
 
 

@@ -2,7 +2,7 @@
 //! of chosen elastic joints in the joint loops, so that joints the balancing task leaves
 //! unloaded carry torques the stiffness identification ([`crate::stiffness_id`]) can see.
 //!
-//! Why (README, "At the robot's rate", pushes): the identification learns a joint's stiffness
+//! Why (docs/findings/pushes.md): the identification learns a joint's stiffness
 //! from the torque the model says it carries against the deflection the encoders measure, and
 //! a joint that carries less than `K_S^0 delta_0` keeps its prior. Standing on two feet the
 //! iCub's ankle rolls carry almost no torque (0.35 Nm), so an estimate off by x2 stays off

@@ -2,7 +2,7 @@
 //! centroidal momentum and the feet's measured contact wrenches, and how the controller's
 //! dynamics take it.
 //!
-//! Why (README, "At the robot's rate", pushes): the controller's joint torques produce its
+//! Why (docs/findings/pushes.md): the controller's joint torques produce its
 //! planned contact wrenches only if its dynamics hold. A push it does not know is carried by
 //! the feet (the joint torques are fixed over the period, so the contact constraints take the
 //! push): on the iCub standing on two feet (the push scenario, SEA at 100 Hz / 1 kHz) a 0.1 s
@@ -32,7 +32,7 @@
 //! the controller two ticks later, before the low pass's own lag (`1 / (2 pi f_c)`, 32 ms at
 //! the push scenario's 5 Hz). A model error shows as a steady estimate (a link mass error
 //! `dm`: a vertical force `dm g` with the moment of where it sits), taken at the base where it
-//! is not (README: per-link mass errors fare worse with the observer).
+//! is not (docs/findings/model_errors.md: per-link mass errors fare worse with the observer).
 //!
 //! Use ([`base_generalized_force`]): the controller's dynamics take the estimate as a wrench on
 //! the floating base, the generalized force `[F; M_com + (p_com - p_O) x F]` in the base rows

@@ -2,7 +2,7 @@
 //! from the encoders, the sensed joint torques and the feet's force/torque sensors, taken
 //! into every row of the controller's dynamics.
 //!
-//! Why (README, "At the robot's rate", model errors): the centroidal observer
+//! Why (docs/findings/model_errors.md): the centroidal observer
 //! ([`crate::external_wrench`]) sees a link mass error as a wrench and takes it at the base,
 //! where it is not; the joints between keep the error of their gravity torques, which only the
 //! weak postural task resists. With every link's mass off by up to 10 % (iCub, one foot, SEA at
@@ -41,7 +41,7 @@
 //! robot showed over the last periods, and the contacts carry the base rows' wrench (the
 //! momentum task's equality less it: a model's weight error is the feet's to carry). A push is
 //! then resisted by the feet too, which loses pushes that the centroidal observer's "go with
-//! it" recovers (README, model errors).
+//! it" recovers (docs/findings/model_errors.md).
 //!
 //! The joint torques `tau` are what the robot senses: an SEA's deflection through the
 //! stiffness estimate `K_S^` (the loop computes them, `sea_sim`'s `sense_joint_torques`). A
@@ -49,7 +49,7 @@
 //! taking it asks the torque loop for the difference: with `K_S^ = K_S / 2` (no
 //! identification) the tracking completes where it falls without the observer; from
 //! `2 K_S` the correction, a fixed-point iteration through the low pass, is too slow and the
-//! identification is needed (README, "At the robot's rate").
+//! identification is needed (docs/findings/robot_rate.md).
 
 use crate::controller::MomentumController;
 use crate::external_wrench::low_pass_blend;

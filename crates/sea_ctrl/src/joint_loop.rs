@@ -160,7 +160,7 @@ impl JointTorqueLoop {
     /// inner tick adds `K_j (s_d - s)` (the measured `s`, the held postural reference) to
     /// `tau_d`. It stiffens the stance knee's slow mode, which the momentum task hardly sees
     /// near a straight knee, against the torque gain error `K_S / K_S^` of a stiffness
-    /// estimate (README, "At the robot's rate").
+    /// estimate (docs/findings/robot_rate.md).
     pub fn with_joint_stiffness(mut self, stiffness: f64) -> Self {
         self.joint_stiffness = stiffness;
         self

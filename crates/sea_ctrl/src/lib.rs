@@ -25,7 +25,7 @@
 //! - [`excitation`]: a sinusoidal torque on chosen joints for a while, so that the
 //!   identification sees joints the task leaves unloaded.
 //!
-//! docs/architecture.md maps every paper equation to its function.
+//! docs/explanation/architecture.md maps every paper equation to its function.
 
 #![forbid(unsafe_code)]
 

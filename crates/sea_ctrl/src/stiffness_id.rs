@@ -2,7 +2,7 @@
 //! the rigid-body model: the joint torque the model says the joint carries, against the
 //! spring deflection the encoders measure.
 //!
-//! Why (README, "At the robot's rate"): the joint torque loop ([`crate::joint_loop`]) measures
+//! Why (docs/findings/robot_rate.md): the joint torque loop ([`crate::joint_loop`]) measures
 //! the torque as `K_S^ delta`, so it delivers `g tau_d` with the gain `g = K_S / K_S^`. With
 //! `g != 1` the whole-body controller's cancellation of the gravity torques' change with
 //! posture (a negative stiffness of the loaded stance leg) misses a fraction `1 - g`, and the
@@ -114,7 +114,7 @@
 //! signals as between the raw ones (the same filter on both sides), while the noise above
 //! `f_r` is removed; white deflection noise keeps the variance `sigma^2 a / (2 - a)`, which is
 //! what the bias compensation removes. Measured on the tracking with noisy encoders (1e-4 rad,
-//! 1e-2 rad/s), seeds 0-15 from x0.5 / x1 / x2 (the robust design, README "model errors"):
+//! 1e-2 rad/s), seeds 0-15 from x0.5 / x1 / x2 (the robust design, docs/findings/model_errors.md):
 //! 48 of 48 complete with the final joint error at most 0.17 rad (unfiltered: 45 of 48, three
 //! falls at 0.43-0.45 s from x0.5, at most 0.23 rad); the identification alone, seeds 0-7:
 //! 23 of 24, at most 0.18 rad, CoM rms at most 2.9 mm (unfiltered: 20 of 24, and up to

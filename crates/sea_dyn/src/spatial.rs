@@ -1,6 +1,6 @@
 //! Spatial algebra: rigid transforms, spatial motion and force vectors, spatial inertias.
 //!
-//! Conventions (docs/architecture.md#state-and-conventions): spatial vectors store the linear
+//! Conventions (docs/reference/conventions.md): spatial vectors store the linear
 //! part first and the angular part second. The algorithms of this crate express every spatial
 //! quantity in world-aligned axes at one fixed reference point `O` (the base origin at the
 //! current instant), so a motion vector

@@ -1,6 +1,6 @@
-//! The algorithms write into `Data` and allocate nothing (docs/architecture.md#rules): a counting
-//! global allocator (per thread, so the test harness's other threads do not interfere) checks
-//! the hot paths after a warm-up call.
+//! The algorithms write into `Data` and allocate nothing
+//! (docs/explanation/architecture.md#rules): a counting global allocator (per thread, so the
+//! test harness's other threads do not interfere) checks the hot paths after a warm-up call.
 
 mod common;
 mod counting;

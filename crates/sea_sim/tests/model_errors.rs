@@ -1,6 +1,6 @@
 //! `controller.external_wrench = "generalized"`: the generalized disturbance observer
 //! (sea_ctrl::generalized_disturbance) against errors of the controller's model on the
-//! multi-rate tracking (README "At the robot's rate", model errors): its estimate at rest is
+//! multi-rate tracking (docs/findings/model_errors.md): its estimate at rest is
 //! the model's gravity error exactly, it holds per-link mass errors where the paper's dynamics
 //! diverge, and (its joint torques sensed through the stiffness estimate) a stiffness estimate
 //! off by x0.5 without identification.

@@ -80,7 +80,7 @@ fn slope(points: &[(f64, f64)]) -> f64 {
 
 /// The goals of the robot-rate architecture on the paper's tracking (one foot, 10 s): CoM
 /// error rms within 1.5 x the rigid robot's under the rigid controller at 100 Hz (2.32 mm,
-/// README "At the robot's rate"), lateral CoM error below 2 mm.
+/// docs/findings/robot_rate.md), lateral CoM error below 2 mm.
 #[test]
 fn tracking_at_100_hz_with_1_khz_joint_loops_meets_the_goals() {
     let (_, summary) = sea_sim::closed_loop::run(&load(&[]), |_, _| {}).unwrap();

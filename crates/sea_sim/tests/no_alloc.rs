@@ -1,5 +1,5 @@
 //! The hot paths of one closed-loop tick allocate nothing after a warm-up call
-//! (docs/architecture.md#rules: no allocation on per-tick or per-step paths): the plant's
+//! (docs/explanation/architecture.md#rules: no allocation on per-tick or per-step paths): the plant's
 //! right-hand side (`sea_plant::evaluate`), one step of each integrator, the torque map and the
 //! controller tick, on the SEA iCub of `scenarios/paper/tracking.toml`. The counting global
 //! allocator shared with sea_dyn's test (`crates/sea_dyn/tests/counting/mod.rs`, per thread,

@@ -13,8 +13,8 @@ use sea_sim::scenario::Scenario;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
-/// A 20 N s forward push (200 N over 0.1 s at 1 s) on the two-feet iCub: it falls (README,
-/// "Pushes, falls and sensing": 11.19 N s is recovered).
+/// A 20 N s forward push (200 N over 0.1 s at 1 s) on the two-feet iCub: it falls
+/// (docs/findings/pushes.md: 11.19 N s is recovered).
 fn pushed() -> Scenario {
     let path =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/robot_rate/push_two_feet.toml");

@@ -1,7 +1,7 @@
 //! `controller.stiffness_identification`: the stiffness of every elastic joint identified
 //! online from the encoders and the model (sea_ctrl::stiffness_id) holds the multi-rate
 //! tracking against stiffness estimates off by x0.5 to x2, where the loop without it falls or
-//! diverges (README "At the robot's rate").
+//! diverges (docs/findings/robot_rate.md).
 
 mod support;
 

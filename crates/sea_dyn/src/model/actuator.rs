@@ -4,7 +4,7 @@
 //! side) drives the joint through a transmission of ratio `Gamma` and a spring-damper,
 //! `tau = K_S (Gamma theta - s) + K_D (Gamma thetadot - sdot)` and
 //! `I_m thetaddot = tau_m - Gamma tau` (the paper's notation, one joint's diagonal entry of each
-//! matrix; docs/architecture.md#state-and-conventions). `theta` is the motor angle (motor side),
+//! matrix; docs/reference/conventions.md#sea-parameters). `theta` is the motor angle (motor side),
 //! so `Gamma theta` is on the joint side; the reflected motor inertia is `I_m / Gamma^2`. Motor
 //! torques may be limited to `|tau_m| <= torque_limit`.
 

@@ -177,7 +177,7 @@ fn header(options: &InitOptions) -> String {
         "# Written by `sea-sim init {} --contacts {} {}{foot}`: a two-feet balancing scenario\n\
          # with its robot description inline ([robot.description]): SEA on every joint scaled\n\
          # to the robot, the standing posture found by inverse kinematics, the foot rectangle\n\
-         # {}, gains scaled to the robot (README, \"Your robot\").\n\
+         # {}, gains scaled to the robot (docs/guide/your_robot.md).\n\
          # The run: the CoM follows a lateral sinusoid (1 cm, 0.2 Hz) for 5 s.\n\n",
         options.urdf,
         options.contacts[0],

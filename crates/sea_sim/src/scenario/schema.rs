@@ -257,7 +257,7 @@ pub struct ControllerConfig {
     /// 1e-3 rad, 0.35 Nm on the iCub). A joint carrying less torque than `K_S^0 delta_0`
     /// keeps its prior: with `external_wrench = "generalized"`, 5e-3 keeps the model's own
     /// torque errors on lightly loaded joints (the stance ankle roll) out of the estimates
-    /// (README, "At the robot's rate", model errors). At most 0.1 rad.
+    /// (docs/findings/model_errors.md). At most 0.1 rad.
     pub identification_prior_deflection_rad: f64,
     /// `multi_rate` with `stiffness_identification`: the bandwidth [Hz] of the low pass that
     /// filters each joint's spring torque and deflection alike before the least squares

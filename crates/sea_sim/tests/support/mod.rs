@@ -63,7 +63,7 @@ pub const TWO_FEET: [(&str, &str); 5] = [
 
 /// The robot description's momentum gains and postural scale for two feet, which the push
 /// scenario replaces with compliant horizontal CoM gains and a stiffer posture: they hold the
-/// CoM stiffly (README "At the robot's rate", pushes).
+/// CoM stiffly (docs/findings/pushes.md).
 pub const STIFF_COM_GAINS: [(&str, &str); 2] = [
     (
         "controller.momentum_integral",
