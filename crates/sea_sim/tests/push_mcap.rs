@@ -21,7 +21,7 @@ fn pushed() -> Scenario {
     let push =
         "[{link = \"root_link\", force = [200.0, 0.0, 0.0], start_s = 1.0, duration_s = 0.1}]";
     let pairs = [
-        // The README's figures are with the fixed estimates.
+        // The figures of docs/findings/pushes.md are with the fixed estimates.
         ("controller.stiffness_identification", "false"),
         ("disturbances", push),
         ("simulation.record_every", "1"),

@@ -11,7 +11,7 @@ use std::sync::LazyLock;
 pub const ICUB_PAPER: &str = "icub_paper";
 
 /// The text of `robots/icub_paper.toml`.
-pub const ICUB_PAPER_TOML: &str = include_str!("../../../../../robots/icub_paper.toml");
+pub const ICUB_PAPER_TOML: &str = include_str!("../../../../robots/icub_paper.toml");
 
 /// The iCub, read once.
 static ICUB: LazyLock<RobotDescription> = LazyLock::new(|| {

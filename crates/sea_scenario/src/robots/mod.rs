@@ -215,7 +215,7 @@ impl RobotDescription {
     /// built-in name).
     pub fn from_toml(text: &str, origin: &str) -> Result<Self> {
         let description: Self = toml::from_str(text).map_err(|e| {
-            let error = crate::scenario::TableError::of(&e);
+            let error = crate::TableError::of(&e);
             Error::config(
                 format!("robot description {origin}: {}", error.key),
                 error.rule,

@@ -1,4 +1,4 @@
-//! Scenario files (TOML): robot, actuators, plant, controller, references, simulation,
+//! `sea_scenario`: scenario files (TOML): robot, actuators, plant, controller, references, simulation,
 //! disturbances, sensing.
 //!
 //! Reading one is three steps: the TOML text is parsed into a tree and the `--set key=value`
@@ -12,6 +12,8 @@
 //! [`ContactConstraints::default`], [`sea_plant::Plant::DEFAULT_BAUMGARTE_KP`],
 //! [`sea_dyn::critical_damping`]) and in the robot description the scenario names
 //! (`robot.description`, [`robots`]; the paper's iCub, `robots/icub_paper.toml`, by default).
+
+#![forbid(unsafe_code)]
 
 pub mod build;
 /// `[[disturbances]]` (typed by the loop), at its former path.
@@ -39,13 +41,15 @@ pub use settings::{
 };
 pub use std::sync::Arc;
 
-use crate::error::{Error, Result};
 use parse::{schema_error, syntax_error};
 use sea_ctrl::controller::ControllerSettings;
 use sea_ctrl::qp::ContactConstraints;
 #[cfg(doc)]
 use sea_dyn::ElasticParameters;
 use sea_dyn::{critical_damping, Model};
+/// The one error type (`sea_loop`'s).
+pub use sea_loop::error;
+pub use sea_loop::{Error, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 

@@ -14,11 +14,10 @@
 //! - [`write_csv`]: one line per row, the grid values in columns named by their keys, then
 //!   the status, the message and every other summary field.
 
-use crate::closed_loop::{
-    run_with_sinks, RunEnd, RunTotals, RunningStatistics, Summary, NON_SCALAR_FIELDS,
-};
 use crate::error::{Error, Result};
-use crate::scenario::Scenario;
+use sea_loop::{RunEnd, RunTotals, RunningStatistics, Summary, NON_SCALAR_FIELDS};
+use sea_scenario::run::run_with_sinks;
+use sea_scenario::Scenario;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};

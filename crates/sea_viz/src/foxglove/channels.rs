@@ -3,7 +3,6 @@
 
 use super::scene::{ForceArrows, Markers, StaticScene};
 use super::WORLD_FRAME;
-use crate::closed_loop::Sample;
 use crate::error::Error;
 use crate::Result;
 use ::foxglove::messages::{
@@ -13,6 +12,7 @@ use ::foxglove::{Encode, Schema};
 use sea_ctrl::qp::QpStatus;
 use sea_dyn::spatial::quaternion_from_rotation;
 use sea_dyn::{Data, Model};
+use sea_loop::Sample;
 use serde::Serialize;
 
 /// A channel of the log (see the module documentation of [`crate::foxglove`]).

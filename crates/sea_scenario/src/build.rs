@@ -2,7 +2,7 @@
 //! and references of one run.
 
 use crate::error::{Error, Result};
-use crate::scenario::{
+use crate::{
     expand_joint_groups, ComOrigin, ControllerKind, InitialSprings, RobotDescription, Sampling,
     Scenario,
 };
@@ -33,7 +33,7 @@ fn load_model(scenario: &Scenario) -> Result<Model> {
             ..Default::default()
         },
     )?;
-    crate::scenario::robots::add_contact_frames(&mut model, &scenario.robot.contacts)?;
+    crate::robots::add_contact_frames(&mut model, &scenario.robot.contacts)?;
     Ok(model)
 }
 

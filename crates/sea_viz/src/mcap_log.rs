@@ -17,7 +17,6 @@
 //! [`ThreadedMcapLogger`] does so every second of wall time. [`McapSink`] is the log as a
 //! [`RecordSink`] of the closed loop.
 
-use crate::closed_loop::{OwnedSample, RecordSink, RunEnd, RunInfo, Sample};
 use crate::error::Error;
 use crate::foxglove::{nanoseconds, SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC};
 use crate::meshes::visuals::MeshWarning;
@@ -28,6 +27,7 @@ use mcap::records::MessageHeader;
 use mcap::records::Metadata;
 use mcap::{Attachment, Compression, WriteOptions, Writer};
 use sea_dyn::Model;
+use sea_loop::{OwnedSample, RecordSink, RunEnd, RunInfo, Sample};
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fs::File;

@@ -9,13 +9,14 @@
 //! along the push (the polygon: the convex hull of the sole rectangles
 //! `controller.contact.foot_x` x `foot_y` at the contacts' poses).
 
-use crate::closed_loop::{run_with_sinks, Summary};
 use crate::error::{Error, Result};
-use crate::scenario::{build, Scenario};
 use nalgebra::{Vector2, Vector3};
 use rayon::prelude::*;
 use sea_dyn::centroidal::com;
 use sea_dyn::Data;
+use sea_loop::Summary;
+use sea_scenario::run::run_with_sinks;
+use sea_scenario::{build, Scenario};
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 

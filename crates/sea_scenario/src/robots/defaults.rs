@@ -122,7 +122,7 @@ fn insert_absent(root: &mut toml::Table, path: &[&str], value: toml::Value) {
 mod tests {
     use super::super::icub;
     use super::*;
-    use crate::scenario::robots::FootRectangle;
+    use crate::robots::FootRectangle;
     use sea_dyn::ElasticParameters;
 
     fn source(description: RobotDescription) -> DescriptionSource {

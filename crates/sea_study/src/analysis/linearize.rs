@@ -29,8 +29,8 @@
 use super::eigen::{eigenvalues, eigenvector, spectrum_distance};
 use super::system::{difference_slots, ClosedLoopSystem, ControlTiming};
 use crate::error::{Error, Result};
-use crate::scenario::{ExternalWrench, Scenario, Setting};
 use nalgebra::{Complex, DMatrix, DVector};
+use sea_scenario::{ExternalWrench, Scenario, Setting};
 
 /// Options of [`linearize_with`].
 #[derive(Clone, Debug)]
@@ -440,7 +440,7 @@ pub fn closed_loop_system(
             scenario.controller.external_wrench.name(),
         ));
     }
-    let setup = crate::scenario::build(scenario)?;
+    let setup = sea_scenario::build(scenario)?;
     let sampling = match options.sampling {
         Some(sampling) => sampling,
         None => ControlTiming::of_scenario(scenario),
@@ -448,7 +448,7 @@ pub fn closed_loop_system(
     let method = scenario.plant.method;
     let mut system =
         ClosedLoopSystem::new(setup, options.time, sampling, scenario.plant.dt, method)?;
-    if scenario.controller.sampling == crate::scenario::Sampling::MultiRate {
+    if scenario.controller.sampling == sea_scenario::Sampling::MultiRate {
         let joint_loop = scenario.controller.joint_loop(system.controller());
         let identifier = scenario
             .controller

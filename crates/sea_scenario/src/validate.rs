@@ -12,8 +12,8 @@ use super::{
     ActuatorConfig, ActuatorKind, ControllerConfig, ControllerKind, ExternalWrench, PlantConfig,
     Sampling, Scenario, Setting, SimulationConfig,
 };
-use crate::closed_loop::inner_ticks;
 use crate::error::{Error, Result};
+use sea_loop::inner_ticks;
 
 /// Largest number of friction cone facets: the QP grows by one row per facet and contact, and
 /// beyond a few dozen the linearised cone is already within 0.2 % of the true one (1e8 facets

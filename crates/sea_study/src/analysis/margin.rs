@@ -18,7 +18,7 @@
 
 use super::linearize::{linearize_with, LinearizeOptions};
 use crate::error::{Error, Result};
-use crate::scenario::Scenario;
+use sea_scenario::Scenario;
 use std::path::Path;
 
 /// How stability is judged.
@@ -207,11 +207,11 @@ impl MarginReport {
 /// (defaults filled in).
 #[derive(serde::Serialize)]
 struct ParsedSections<'a> {
-    sensing: &'a crate::scenario::SensingConfig,
-    plant: &'a crate::scenario::PlantConfig,
-    controller: &'a crate::scenario::ControllerConfig,
-    reference: &'a crate::scenario::ReferenceConfig,
-    simulation: &'a crate::scenario::SimulationConfig,
+    sensing: &'a sea_scenario::SensingConfig,
+    plant: &'a sea_scenario::PlantConfig,
+    controller: &'a sea_scenario::ControllerConfig,
+    reference: &'a sea_scenario::ReferenceConfig,
+    simulation: &'a sea_scenario::SimulationConfig,
 }
 
 /// The value of the numeric key `parameter` (dotted, e.g. `controller.stiffness_estimate_scale`)
@@ -338,7 +338,7 @@ impl Judge<'_> {
                 (lin.stable, Some(lin.growth_rate))
             }
             MarginMethod::Simulate => {
-                let (_, summary) = crate::closed_loop::run(&scenario, |_, _| {})?;
+                let (_, summary) = sea_scenario::run::run(&scenario, |_, _| {})?;
                 (summary.status == "completed", None)
             }
         };

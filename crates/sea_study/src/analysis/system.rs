@@ -18,14 +18,14 @@
 //! slots is a state (`nx`) and its tangent (`nd`); `d = 0` is the map above.
 
 use crate::error::{Error, Result};
-use crate::scenario::IdentificationWrenches;
-use crate::scenario::{ControllerConfig, Sampling, Scenario, Setup};
 use nalgebra::DVector;
 use sea_ctrl::controller::{ControlOutput, MomentumController};
 use sea_ctrl::joint_loop::JointTorqueLoop;
 use sea_ctrl::references::ComSample;
 use sea_ctrl::stiffness_id::StiffnessIdentifier;
 use sea_plant::{Method, Plant, PlantData, StateLayout};
+use sea_scenario::IdentificationWrenches;
+use sea_scenario::{ControllerConfig, Sampling, Scenario, Setup};
 
 /// When the controller is evaluated: the sampling setting ([`Sampling`]) with, in zero-order
 /// hold, its period.
@@ -60,10 +60,7 @@ impl ControlTiming {
             Sampling::ZeroOrderHold => ControlTiming::ZeroOrderHold { period },
             Sampling::MultiRate => ControlTiming::MultiRate {
                 period,
-                inner_ticks: crate::closed_loop::inner_ticks(
-                    controller.rate_hz(),
-                    controller.inner_rate_hz,
-                ),
+                inner_ticks: sea_loop::inner_ticks(controller.rate_hz(), controller.inner_rate_hz),
                 bandwidth: controller.torque_bandwidth(),
             },
         }
@@ -205,7 +202,7 @@ impl ClosedLoopSystem {
                     ));
                 }
                 let inner = sampling.inner_ticks();
-                inner * crate::closed_loop::equal_steps(period / inner as f64, plant_dt)
+                inner * sea_loop::equal_steps(period / inner as f64, plant_dt)
             }
         };
         let joint_loop = match sampling {

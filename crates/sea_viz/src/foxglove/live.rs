@@ -13,12 +13,12 @@
 //! of a tick).
 
 use super::{SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC};
-use crate::closed_loop::{RecordSink, RunEnd, RunInfo, Sample};
 use crate::error::Error;
 use crate::mcap_log::{fall_event, EVENTS_TOPIC};
 use crate::Result;
 use ::foxglove::messages::Log;
 use ::foxglove::{ChannelBuilder, Context, Encode, PartialMetadata, RawChannel, WebSocketServer};
+use sea_loop::{RecordSink, RunEnd, RunInfo, Sample};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
