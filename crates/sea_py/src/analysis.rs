@@ -3,7 +3,7 @@
 
 use crate::arrays::{matrix_out, vector_out};
 use crate::errors::{argument_error, to_py};
-use crate::scenario::toml_literal;
+use crate::overrides::override_pairs;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_sim::analysis::{
@@ -13,19 +13,6 @@ use sea_sim::analysis::{
 use sea_sim::scenario::{Sampling, Setting};
 use std::collections::HashMap;
 use std::path::PathBuf;
-
-/// `overrides` ({key: value}) as `key=value` pairs of TOML literals.
-pub(crate) fn override_pairs(
-    overrides: Option<HashMap<String, Bound<'_, PyAny>>>,
-) -> PyResult<Vec<(String, String)>> {
-    let mut pairs = Vec::new();
-    for (key, value) in overrides.unwrap_or_default() {
-        let text = toml_literal(&value, &key)?;
-        pairs.push((key, text));
-    }
-    pairs.sort();
-    Ok(pairs)
-}
 
 /// `sampling` (None: the scenario's; "continuous"; "zero_order_hold" at `controller.rate_hz`).
 fn sampling_arg(

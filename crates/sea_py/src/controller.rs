@@ -12,8 +12,8 @@
 use crate::arrays::{matrix_rows_out, vector_arg, vector_out};
 use crate::errors::{argument_error, to_py};
 use crate::model::PyModel;
+use crate::overrides::toml_literal;
 use crate::plant::PyPlant;
-use crate::scenario::toml_literal;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sea_ctrl::controller::MomentumController;
@@ -483,7 +483,7 @@ impl PyScenario {
         path: PathBuf,
         overrides: Option<HashMap<String, Bound<'_, PyAny>>>,
     ) -> PyResult<Self> {
-        let pairs = crate::analysis::override_pairs(overrides)?;
+        let pairs = crate::overrides::override_pairs(overrides)?;
         let scenario = Scenario::from_file(&path, &pairs).map_err(to_py)?;
         let schedule = scenario.schedule();
         let setup = build(&scenario).map_err(to_py)?;

@@ -15,6 +15,7 @@ mod errors;
 mod init;
 mod interrupt;
 mod model;
+mod overrides;
 mod plant;
 mod scenario;
 mod sweep;

@@ -1,7 +1,7 @@
 //! `run_scenario`: a closed-loop scenario run natively (GIL released), results as numpy arrays.
 
 use crate::arrays::{matrix_rows_out, table_out, vector_out};
-use crate::errors::{argument_error, to_py};
+use crate::errors::to_py;
 use crate::interrupt::run_interruptible;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -9,59 +9,6 @@ use sea_sim::closed_loop::{run_with_sinks, RecordSink, RunRecord};
 use sea_sim::mcap_log::McapSink;
 use std::collections::HashMap;
 use std::path::PathBuf;
-
-/// A Python value as a TOML literal: str, bool, int, float (numpy scalars too: `numpy.bool_`
-/// is a bool, numpy integers are integers), lists of those; `key` names the override in
-/// errors, including an integer outside the 64-bit range.
-pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<String> {
-    if let Ok(text) = value.extract::<String>() {
-        return Ok(toml::Value::String(text).to_string());
-    }
-    // Python bools and numpy.bool_ (before the integers: bool is an int subclass).
-    if let Ok(flag) = value.extract::<bool>() {
-        return Ok(flag.to_string());
-    }
-    // Python ints and anything with __index__ (numpy integers), before the floats.
-    if value.is_instance_of::<pyo3::types::PyInt>() || value.hasattr("__index__")? {
-        let index = value
-            .py()
-            .import("operator")?
-            .call_method1("index", (value,));
-        return match index.and_then(|i| i.extract::<i64>()) {
-            Ok(integer) => Ok(integer.to_string()),
-            Err(_) => Err(argument_error(
-                &format!("overrides['{key}']"),
-                "an integer within the 64-bit range",
-                value.repr()?,
-            )),
-        };
-    }
-    if let Ok(number) = value.extract::<f64>() {
-        return Ok(toml::Value::Float(number).to_string());
-    }
-    // A dict is an inline table (e.g. one `[[disturbances]]` entry).
-    if let Ok(table) = value.cast::<PyDict>() {
-        let parts = table
-            .iter()
-            .map(|(name, item)| {
-                let name = toml::Value::String(name.str()?.to_string()).to_string();
-                Ok(format!("{name} = {}", toml_literal(&item, key)?))
-            })
-            .collect::<PyResult<Vec<_>>>()?;
-        return Ok(format!("{{{}}}", parts.join(", ")));
-    }
-    if let Ok(items) = value.try_iter() {
-        let parts = items
-            .map(|item| toml_literal(&item?, key))
-            .collect::<PyResult<Vec<_>>>()?;
-        return Ok(format!("[{}]", parts.join(", ")));
-    }
-    Err(argument_error(
-        &format!("overrides['{key}']"),
-        "str, bool, int, float or a list of those",
-        value.repr()?,
-    ))
-}
 
 /// Runs the scenario file `path` with `overrides` ({"controller.kind": "rigid", ...}; values
 /// are TOML literals or bare strings), optionally writing an MCAP log. Returns a dict of arrays
@@ -86,11 +33,7 @@ pub fn run_scenario_native<'py>(
     package_dirs: Option<Vec<PathBuf>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let package_dirs = package_dirs.unwrap_or_default();
-    let mut pairs = Vec::new();
-    for (key, value) in overrides.unwrap_or_default() {
-        let text = toml_literal(&value, &key)?;
-        pairs.push((key, text));
-    }
+    let pairs = crate::overrides::override_pairs(overrides)?;
     let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
     let (outcome, interrupt) = run_interruptible(py, |cancel| {
         let mut record = RunRecord::default();
@@ -172,7 +115,7 @@ pub fn scenario_urdf(
     path: PathBuf,
     overrides: Option<HashMap<String, Bound<'_, PyAny>>>,
 ) -> PyResult<PathBuf> {
-    let pairs = crate::analysis::override_pairs(overrides)?;
+    let pairs = crate::overrides::override_pairs(overrides)?;
     let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
     Ok(scenario.urdf_path())
 }

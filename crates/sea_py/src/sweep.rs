@@ -6,9 +6,9 @@
 //! A row is a dict: `index` (the point in the grid), the grid values by key, `status`,
 //! `message` and every other summary field (None for a failed run).
 
-use crate::analysis::override_pairs;
 use crate::errors::to_py;
 use crate::interrupt::run_interruptible;
+use crate::overrides::override_pairs;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_sim::sweep::{

@@ -1,0 +1,67 @@
+//! `sea-sim init`: a scenario for a new humanoid from its URDF.
+
+use crate::common::say;
+use clap::Args;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Options of `sea-sim init`.
+#[derive(Args, Debug)]
+pub(crate) struct InitArgs {
+    /// The URDF: a path or a package://NAME/PATH or file:// URI.
+    urdf: String,
+    /// The two contacts, left then right: frame names, or LINK:x,y,z (a point of a link, its
+    /// frame, metres) for robots without sole frames.
+    #[arg(long, num_args = 2, value_names = ["LEFT", "RIGHT"], required = true)]
+    contacts: Vec<String>,
+    /// The foot rectangle in the contact frame [m]; measured on the feet's collision geometry
+    /// (boxes, spheres, STL and OBJ meshes) when absent.
+    #[arg(long, value_name = "X0,X1,Y0,Y1", allow_hyphen_values = true)]
+    foot: Option<String>,
+    /// The scenario file to write [default: ROBOT_two_feet.toml].
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    /// A folder searched first for package:// URIs (repeatable).
+    #[arg(long = "package-dir", value_name = "DIR")]
+    package_dirs: Vec<PathBuf>,
+}
+
+/// `sea-sim bench`.
+/// `sea-sim init`: writes the scenario, says what it found on stderr.
+pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
+    use sea_sim::init::{init, parse_foot, InitOptions};
+    let started = Instant::now();
+    let foot = args.foot.as_deref().map(parse_foot).transpose()?;
+    let stem = Path::new(&args.urdf)
+        .file_stem()
+        .map_or("robot".into(), |s| s.to_string_lossy().to_string());
+    let options = InitOptions {
+        urdf: args.urdf.clone(),
+        contacts: [args.contacts[0].clone(), args.contacts[1].clone()],
+        foot,
+        package_dirs: args.package_dirs.clone(),
+        out: args
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(format!("{stem}_two_feet.toml"))),
+        name: None,
+    };
+    let report = init(&options)?;
+    let (name, mass, joints) = &report.robot;
+    for warning in &report.warnings {
+        say(format_args!("sea-sim: warning: {warning}"));
+    }
+    let [left, _] = report.feet;
+    say(format_args!(
+        "sea-sim: {} written for '{name}' ({mass:.1} kg, {joints} joints): foot x {:?} y {:?} m \
+         ({}), base lowered {:.3} m, posture error {:.1e}, {:.2} s",
+        report.out.display(),
+        left.x,
+        left.y,
+        if report.measured { "measured" } else { "given" },
+        report.lowering_m,
+        report.residual,
+        started.elapsed().as_secs_f64()
+    ));
+    Ok(())
+}

@@ -1,0 +1,108 @@
+//! `sea-sim`: runs scenarios and benchmarks of sea-momentum from the command line.
+//!
+//! `sea-sim --help` lists the subcommands, `sea-sim SUBCOMMAND --help` their options and
+//! defaults.
+//!
+//! Exit status: 0 completed, 3 diverged, 1 error (including a bad command line), and after
+//! SIGINT, SIGTERM or SIGHUP 128 + the signal (130, 143, 129): the run stopped at the next
+//! tick, its MCAP log was finished and its summary written with status "interrupted". A second
+//! signal exits at once, leaving any earlier output file untouched. A signal ignored when
+//! `sea-sim` starts (`nohup sea-sim ...`) stays ignored.
+//!
+//! Outputs (`--mcap`, `--summary`) are checked before the run (their folder exists, none is an
+//! input or another output, no other process writes them) and written beside their target as
+//! `.NAME.partial`, renamed over the target when the run ends (completed, diverged or
+//! interrupted: all three leave a finished, readable log). A run killed outright or stopped by
+//! an error never replaces the target. Nothing written to stdout or stderr can abort a run: a
+//! closed pipe only loses the text.
+
+mod bench;
+mod common;
+mod init;
+mod margin;
+mod progress;
+mod push;
+mod run;
+mod signals;
+mod sweep;
+
+use clap::{Parser, Subcommand};
+use common::{say, Outcome, EXIT_DIVERGED, EXIT_ERROR};
+use signals::{signal_name, Interrupts};
+use std::process::ExitCode;
+
+/// Simulations and benchmarks of momentum control of humanoid robots with series elastic
+/// actuators.
+#[derive(Parser, Debug)]
+#[command(name = "sea-sim", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a scenario: the closed loop of controller and plant, with an MCAP log and a summary.
+    ///
+    /// Exit status: 0 completed, 3 diverged, 1 error, 130/143/129 stopped by
+    /// SIGINT/SIGTERM/SIGHUP (log finished, summary status "interrupted").
+    Run(run::RunArgs),
+    /// Benchmark the dynamics algorithms and the controller tick on a URDF.
+    Bench(bench::BenchArgs),
+    /// Sweep a scenario over a grid of values of numeric keys, runs in parallel; writes a CSV.
+    ///
+    /// Exit status: 0 done (whatever the runs' outcomes), 1 error, 130/143/129 stopped by a
+    /// signal (the rows done are written).
+    Sweep(sweep::SweepArgs),
+    /// Find the values of one numeric scenario key where the closed loop's stability changes
+    /// (grid scan, then bisection); prints a JSON report.
+    Margin(margin::MarginArgs),
+    /// Write a two-feet balancing scenario for a new robot from its URDF and two contacts
+    /// (SEA on every joint, a standing posture, the foot rectangle and gains, all scaled to
+    /// the robot); `sea-sim run` balances it with no edit.
+    Init(init::InitArgs),
+    /// Find, per direction, the largest impulse of a short push on a link that the closed loop
+    /// recovers from (bisection on full runs, directions in parallel), with the stance's
+    /// capture-point bound; prints a JSON report.
+    Push(push::PushArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // --help and --version are not errors; everything else is (exit 1).
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { EXIT_ERROR } else { 0 });
+        }
+    };
+    let outcome = match &cli.command {
+        Command::Bench(args) => bench::run_bench(args).map(|()| Outcome::Completed),
+        Command::Margin(args) => margin::run_margin(args).map(|()| Outcome::Completed),
+        Command::Init(args) => init::run_init(args).map(|()| Outcome::Completed),
+        Command::Push(args) => push::run_push(args).map(|()| Outcome::Completed),
+        Command::Sweep(args) => match Interrupts::install() {
+            Ok(interrupts) => sweep::run_sweep_command(args, &interrupts),
+            Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),
+        },
+        Command::Run(args) => match Interrupts::install() {
+            Ok(interrupts) => run::run_scenario(args, &interrupts),
+            Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),
+        },
+    };
+    match outcome {
+        Ok(Outcome::Completed) => ExitCode::SUCCESS,
+        Ok(Outcome::Diverged) => ExitCode::from(EXIT_DIVERGED),
+        Ok(Outcome::Interrupted(sig)) => {
+            say(format_args!(
+                "sea-sim: stopped by {}; log and summary finished",
+                signal_name(sig)
+            ));
+            ExitCode::from(128 + sig as u8)
+        }
+        Err(e) => {
+            say(format_args!("sea-sim: {e}"));
+            ExitCode::from(EXIT_ERROR)
+        }
+    }
+}

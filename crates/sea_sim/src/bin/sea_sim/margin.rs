@@ -1,0 +1,169 @@
+//! `sea-sim margin`: where the closed loop's stability changes along one key.
+
+use crate::common::{parse_key_value, parse_range, print_out};
+use clap::Args;
+use sea_sim::analysis::margin::MarginOptions;
+use sea_sim::output::{check_distinct, OutputFile};
+use std::path::PathBuf;
+
+/// Options of `sea-sim margin`.
+#[derive(Args, Debug)]
+pub(crate) struct MarginArgs {
+    /// Scenario file (TOML).
+    scenario: PathBuf,
+    /// The numeric scenario key to vary, e.g. `actuators.damping`.
+    #[arg(long, value_name = "KEY")]
+    param: String,
+    /// The range searched, `LOWER:UPPER`.
+    #[arg(long, value_name = "LOWER:UPPER", value_parser = parse_range)]
+    range: (f64, f64),
+    /// How stability is judged: `eigen` (growth rate of the linearisation) or `simulate`
+    /// (the run completes).
+    #[arg(long, value_name = "METHOD", default_value = "eigen",
+          value_parser = ["eigen", "simulate"])]
+    method: String,
+    /// Points of the initial scan, ends included.
+    #[arg(long, value_name = "N", default_value_t = MarginOptions::default().grid_points as u32,
+          value_parser = clap::value_parser!(u32).range(2..))]
+    points: u32,
+    /// Space the scan logarithmically (both ends positive).
+    #[arg(long)]
+    log: bool,
+    /// Bisection stops below this fraction of `UPPER - LOWER`.
+    #[arg(long, value_name = "F", default_value_t = MarginOptions::default().relative_tolerance)]
+    tolerance: f64,
+    /// Override a scenario value, e.g. `--set simulation.duration_s=2` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
+    overrides: Vec<(String, String)>,
+    /// Also write the JSON report to FILE.
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    /// Print the JSON report on stdout instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `sea-sim margin`: the report as a table or (`--json`) JSON on stdout; JSON in `--out`.
+pub(crate) fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
+    use sea_sim::analysis::margin::{stability_margin_report, MarginMethod};
+    let out = match &args.out {
+        Some(path) => {
+            check_distinct(
+                &[("the scenario file", args.scenario.as_path())],
+                &[("--out", path)],
+            )?;
+            Some(OutputFile::create(path)?)
+        }
+        None => None,
+    };
+    let options = MarginOptions {
+        method: MarginMethod::parse(&args.method)?,
+        grid_points: args.points as usize,
+        log_grid: args.log,
+        relative_tolerance: args.tolerance,
+        ..Default::default()
+    };
+    let (lower, upper) = args.range;
+    let report = stability_margin_report(
+        &args.scenario,
+        &args.overrides,
+        &args.param,
+        lower,
+        upper,
+        &options,
+    )?;
+    let samples: Vec<serde_json::Value> = report
+        .samples
+        .iter()
+        .map(|s| serde_json::json!({"value": s.value, "stable": s.stable, "growth_rate": s.growth_rate}))
+        .collect();
+    let json = serde_json::json!({
+        "parameter": report.parameter,
+        "method": report.method.name(),
+        "range": [lower, upper],
+        "boundaries": report.boundaries,
+        "integer": report.integer,
+        "conclusion": report.conclusion().name(),
+        "own_value": report.own_value,
+        "own_value_stable": report.own_value_stable(),
+        "stable_island": report.island().map(|ends| ends.map(|end| end.value())),
+        "evaluations": report.evaluations(),
+        "samples": samples,
+    });
+    let text = serde_json::to_string_pretty(&json)
+        .map_err(|e| sea_sim::Error::Log(format!("margin JSON: {e}")))?;
+    if let Some(mut out) = out {
+        out.write_all(text.as_bytes())?;
+        out.write_all(b"\n")?;
+        out.commit()?;
+    }
+    print_out(if args.json {
+        text
+    } else {
+        margin_table(&report)
+    });
+    Ok(())
+}
+
+/// What the margin scan found, in words: the boundaries or the range's one verdict, then the
+/// scenario's own value and its stable island.
+pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -> String {
+    use sea_sim::analysis::margin::{IslandEnd, MarginConclusion};
+    let [lower, upper] = report.range;
+    let mut text = match report.conclusion() {
+        MarginConclusion::Boundaries if report.integer => {
+            let between: Vec<String> = report
+                .boundaries
+                .iter()
+                .map(|b| format!("between {} and {}", b - 0.5, b + 0.5))
+                .collect();
+            format!("stability changes {}", between.join(", "))
+        }
+        MarginConclusion::Boundaries => {
+            let boundaries: Vec<String> =
+                report.boundaries.iter().map(|b| format!("{b}")).collect();
+            format!("stability changes at [{}]", boundaries.join(", "))
+        }
+        MarginConclusion::StableOverRange => format!("stable over [{lower}, {upper}]"),
+        MarginConclusion::UnstableOverRange => {
+            format!("unstable over the whole scanned range [{lower}, {upper}]")
+        }
+    };
+    let end = |end: IslandEnd| match end {
+        IslandEnd::Boundary(value) => format!("{value}"),
+        IslandEnd::RangeEnd(value) => format!("{value} (range end)"),
+    };
+    text += &match (report.own_value, report.own_value_stable(), report.island()) {
+        (_, _, Some([low, high])) => format!(
+            "; the scenario's own value {} lies in the stable island [{}, {}]",
+            report.own_value.unwrap_or(f64::NAN),
+            end(low),
+            end(high)
+        ),
+        (Some(own), Some(false), _) => format!("; the scenario's own value {own} is unstable"),
+        (Some(own), _, _) => format!("; the scenario's own value {own} is outside the range"),
+        (None, _, _) => "; the scenario's own value is not a readable number".to_string(),
+    };
+    text
+}
+
+/// The margin report for a reader: the verdict, then every evaluation in value order.
+pub(crate) fn margin_table(report: &sea_sim::analysis::margin::MarginReport) -> String {
+    let mut table = format!(
+        "{} ({} method, {} evaluations): {}",
+        report.parameter,
+        report.method.name(),
+        report.evaluations(),
+        margin_verdict(report)
+    );
+    let mut samples: Vec<_> = report.samples.iter().collect();
+    samples.sort_by(|a, b| a.value.total_cmp(&b.value));
+    for sample in samples {
+        let growth = sample
+            .growth_rate
+            .map_or(String::new(), |g| format!("  growth {g:10.4} 1/s"));
+        let verdict = if sample.stable { "stable" } else { "unstable" };
+        table += &format!("\n  {:14.6}  {verdict:<8}{growth}", sample.value);
+    }
+    table
+}
