@@ -1,0 +1,86 @@
+//! The contact-wrench QP of a tick (inputTorquesSOT / inputTorquesSOTu, subject to
+//! frictionCones): one foot `min |A f - b|^2`, two feet `min |tau(f)|^2` s.t. `A f = b` (the
+//! objective and the minimiser without inequalities built here, solved by [`crate::qp`]); two
+//! feet, when `A f = b` is infeasible and [`MomentumRelaxation::WhenInfeasible`] is set, the
+//! relaxed momentum task (the closest momentum rate the contacts can produce).
+
+use super::settings::MomentumRelaxation;
+use super::MomentumController;
+use crate::qp::{
+    add_moment_regularization, momentum_tracking_objective, relaxed_momentum_objective,
+    torque_norm_objective, QpStatus, RelaxedMomentumWeights,
+};
+use nalgebra::DVector;
+
+impl MomentumController {
+    /// The QP of this tick (inputTorquesSOT / inputTorquesSOTu): builds the objective, the
+    /// minimiser without inequalities, and solves into `wrenches` (k).
+    pub(super) fn solve_qp(&mut self, wrenches: &mut DVector<f64>) -> QpStatus {
+        let terms = &self.terms;
+        let reg = self.settings.qp_regularization;
+        let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
+        let two_feet = self.contact_frames.len() > 1;
+        let found = if two_feet {
+            torque_norm_objective(&terms.sigma, &terms.tau_bias, reg, hessian, gradient);
+            add_moment_regularization(hessian, self.settings.qp_moment_regularization);
+            self.minimizer.equality_constrained(
+                hessian,
+                gradient,
+                &terms.momentum_map,
+                &terms.momentum_target,
+                &mut self.unconstrained,
+            )
+        } else {
+            let (a, b) = (&terms.momentum_map, &terms.momentum_target);
+            momentum_tracking_objective(a, b, reg, hessian, gradient);
+            self.minimizer
+                .unconstrained(hessian, gradient, &mut self.unconstrained)
+        };
+        let equality = two_feet.then_some((&terms.momentum_map, &terms.momentum_target));
+        let status = self.qp.solve(
+            hessian,
+            gradient,
+            equality,
+            &terms.contact_rotations,
+            found.then_some(&self.unconstrained),
+            wrenches,
+        );
+        let relax = self.settings.momentum_relaxation == MomentumRelaxation::WhenInfeasible;
+        match status {
+            QpStatus::Fallback(_) if two_feet && relax => {
+                self.solve_relaxed(wrenches).unwrap_or(status)
+            }
+            _ => status,
+        }
+    }
+
+    /// The relaxed momentum task of an infeasible two-feet tick into `wrenches` (k):
+    /// `MomentumRelaxed`, or `None` (wrenches untouched) when it fails too.
+    fn solve_relaxed(&mut self, wrenches: &mut DVector<f64>) -> Option<QpStatus> {
+        let terms = &self.terms;
+        let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
+        relaxed_momentum_objective(
+            (&terms.momentum_map, &terms.momentum_target),
+            (&terms.sigma, &terms.tau_bias),
+            RelaxedMomentumWeights::default(),
+            self.settings.qp_regularization,
+            hessian,
+            gradient,
+        );
+        let relaxed = &mut self.relaxed_wrenches;
+        let status = self.relaxed_qp.solve(
+            hessian,
+            gradient,
+            None,
+            &terms.contact_rotations,
+            None,
+            relaxed,
+        );
+        let solved = status == QpStatus::Solved;
+        if solved {
+            wrenches.copy_from(relaxed);
+            self.relaxations += 1;
+        }
+        solved.then_some(QpStatus::MomentumRelaxed)
+    }
+}
