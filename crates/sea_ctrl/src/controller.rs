@@ -46,7 +46,7 @@ use sea_dyn::{Actuation, Data, ElasticParameters, FrameId, Model, StateLayout};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(
     feature = "serde",
-    derive(serde::Deserialize, serde::Serialize),
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
     serde(rename_all = "snake_case")
 )]
 pub enum ControllerKind {
@@ -61,7 +61,7 @@ pub enum ControllerKind {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(
     feature = "serde",
-    derive(serde::Deserialize, serde::Serialize),
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
     serde(rename_all = "snake_case")
 )]
 pub enum MomentumRelaxation {

@@ -67,7 +67,14 @@ enum Command {
     /// recovers from (bisection on full runs, directions in parallel), with the stance's
     /// capture-point bound; prints a JSON report.
     Push(PushArgs),
+    /// Print the JSON Schema of scenario files (derived from the types that read them; the
+    /// shipped copy is schemas/scenario.schema.json).
+    Schema(SchemaArgs),
 }
+
+/// Options of `sea-sim schema`.
+#[derive(Args, Debug)]
+struct SchemaArgs {}
 
 /// Options of `sea-sim init`.
 #[derive(Args, Debug)]
@@ -835,6 +842,11 @@ fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
     Ok(())
 }
 
+/// `sea-sim schema`: the scenario file's JSON Schema on stdout.
+fn print_schema(_args: &SchemaArgs) {
+    print!("{}", sea_sim::scenario::schema::json_schema_text());
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -849,6 +861,10 @@ fn main() -> ExitCode {
         Command::Margin(args) => run_margin(args).map(|()| Outcome::Completed),
         Command::Init(args) => run_init(args).map(|()| Outcome::Completed),
         Command::Push(args) => run_push(args).map(|()| Outcome::Completed),
+        Command::Schema(args) => {
+            print_schema(args);
+            Ok(Outcome::Completed)
+        }
         Command::Sweep(args) => match Interrupts::install() {
             Ok(interrupts) => run_sweep_command(args, &interrupts),
             Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),

@@ -46,8 +46,9 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// A whole scenario.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(title = "sea-momentum scenario", transform = schema::optional_keys)]
 pub struct Scenario {
     /// Free text.
     #[serde(default)]

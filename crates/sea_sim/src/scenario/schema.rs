@@ -10,6 +10,7 @@ use super::settings::{
     ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationWrenches, Method,
     MomentumRelaxation, QpSolver, Sampling,
 };
+use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use sea_ctrl::qp::ContactConstraints;
 use sea_dyn::{critical_damping, Actuator, ElasticParameters};
 use sea_plant::Plant;
@@ -20,8 +21,9 @@ use std::collections::BTreeMap;
 /// `[robot]`. Its key `description` names the robot description the scenario's defaults come
 /// from (a built-in name, "icub_paper" by default, a file or an inline table:
 /// [`super::robots::source`]); it is read before this table ([`super::robots::defaults`]).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(transform = robot_table_schema)]
 pub struct RobotConfig {
     /// URDF: a path (relative to the scenario's folder, else the working directory) or a
     /// `package://NAME/PATH` or `file://` URI (required unless the description names one).
@@ -40,6 +42,7 @@ pub struct RobotConfig {
     /// A posture of the robot description ("left_stance", "two_feet": the original study's),
     /// "zero" or explicit radians.
     #[serde(default = "left_stance")]
+    #[schemars(schema_with = "posture_schema")]
     pub initial_posture: toml::Value,
     /// The springs at the start: "preloaded" (default) or "at_rest" ([`InitialSprings`]).
     #[serde(default)]
@@ -48,7 +51,7 @@ pub struct RobotConfig {
 
 /// `robot.initial_springs`: the spring deflections of the initial state (the robot is at rest
 /// in `robot.initial_posture` either way).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum InitialSprings {
     /// Deflected by the static joint torques, so the run starts in equilibrium.
@@ -151,8 +154,143 @@ impl<'de> Deserialize<'de> for ActuatorsConfig {
     }
 }
 
+impl JsonSchema for ActuatorConfig {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "ActuatorConfig".into()
+    }
+
+    /// The keys of [`ElasticParameters`] with `kind`, as [`ActuatorConfig::from_table`] reads
+    /// them.
+    fn json_schema(generator: &mut SchemaGenerator) -> Schema {
+        let mut schema = ElasticParameters::json_schema(generator);
+        let kind = generator.subschema_for::<ActuatorKind>();
+        insert_property(&mut schema, "kind", kind);
+        schema.insert(
+            "description".into(),
+            "One actuator: `kind` and the parameters of an elastic actuator (defaults: the \
+             robot description's, the paper's iCub SEA)."
+                .into(),
+        );
+        schema
+    }
+}
+
+impl JsonSchema for ActuatorsConfig {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "ActuatorsConfig".into()
+    }
+
+    /// [`ActuatorConfig`]'s keys with `overrides`, a table of them per joint name.
+    fn json_schema(generator: &mut SchemaGenerator) -> Schema {
+        let mut schema = ActuatorConfig::json_schema(generator);
+        let one = generator.subschema_for::<ActuatorConfig>();
+        let overrides = json_schema!({
+            "type": "object",
+            "description": "Per joint name, the keys of `[actuators]` that differ for that \
+                joint (`[actuators.overrides.NAME]`).",
+            "additionalProperties": one,
+        });
+        insert_property(&mut schema, "overrides", overrides);
+        schema.insert(
+            "description".into(),
+            "The actuator of every joint, with per-joint overrides.".into(),
+        );
+        schema
+    }
+}
+
+/// Adds the property `name` with `value`'s schema to the object schema `schema`.
+fn insert_property(schema: &mut Schema, name: &str, value: Schema) {
+    let properties = schema
+        .ensure_object()
+        .entry("properties")
+        .or_insert_with(|| serde_json::Value::Object(Default::default()));
+    if let Some(properties) = properties.as_object_mut() {
+        properties.insert(name.into(), value.into());
+    }
+}
+
+/// Schema transform of a table whose keys may all be left out (their defaults come from the
+/// robot description, written into the tree before serde reads it:
+/// [`super::robots::defaults`]).
+pub(crate) fn optional_keys(schema: &mut Schema) {
+    schema.remove("required");
+}
+
+/// Schema of `[robot]`: every key optional ([`optional_keys`]) and `description`, read before
+/// the table ([`super::robots::source`]).
+fn robot_table_schema(schema: &mut Schema) {
+    optional_keys(schema);
+    let description = json_schema!({
+        "description": "The robot description the scenario's defaults come from: \
+            \"icub_paper\" (the default), the path of a robot description file (TOML, relative \
+            to the scenario's folder) or an inline table of one.",
+        "default": super::robots::icub::ICUB_PAPER,
+        "type": ["string", "object"],
+    });
+    insert_property(schema, "description", description);
+}
+
+/// Schema of `robot.initial_posture`: a posture's name or the joint angles [rad].
+fn posture_schema(_: &mut SchemaGenerator) -> Schema {
+    json_schema!({
+        "description": "A posture of the robot description (\"left_stance\", \"two_feet\": the \
+            original study's), \"zero\", or explicit joint angles [rad], one per moving joint.",
+        "default": "left_stance",
+        "anyOf": [
+            { "type": "string" },
+            { "type": "array", "items": { "type": "number" } },
+        ],
+    })
+}
+
+/// The JSON Schema of a scenario file (draft 7, as editors read it: Taplo / Even Better TOML
+/// through the `#:schema` header of the shipped scenarios), derived from [`super::Scenario`]
+/// and the types it reads; the doc comments are the descriptions.
+pub fn json_schema() -> serde_json::Value {
+    let generator = schemars::generate::SchemaSettings::draft07().into_generator();
+    let mut schema = generator.into_root_schema_for::<super::Scenario>().into();
+    tidy(&mut schema);
+    schema
+}
+
+/// Readies derived schema for editors and the reference page: descriptions on one line,
+/// without rustdoc's link brackets; no default of a whole table (its keys have theirs) and no
+/// `null` default (TOML has no null: the key is left out).
+fn tidy(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Object(object) => {
+            if let Some(serde_json::Value::String(text)) = object.get_mut("description") {
+                *text = one_line(text);
+            }
+            let table_default = object
+                .get("default")
+                .is_some_and(|d| d.is_object() || d.is_null());
+            if table_default {
+                object.remove("default");
+            }
+            object.values_mut().for_each(tidy);
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(tidy),
+        _ => {}
+    }
+}
+
+/// A doc comment as one line of text: lines joined, "[`x`]" written "`x`".
+fn one_line(text: &str) -> String {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    words.join(" ").replace("[`", "`").replace("`]", "`")
+}
+
+/// [`json_schema`] as the text of `schemas/scenario.schema.json` (pretty, one final newline).
+pub fn json_schema_text() -> String {
+    let mut text = serde_json::to_string_pretty(&json_schema()).expect("a JSON value");
+    text.push('\n');
+    text
+}
+
 /// `[plant]`.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct PlantConfig {
     /// Baumgarte position gain [1/s^2] (default [`Plant::DEFAULT_BAUMGARTE_KP`]).
@@ -205,7 +343,7 @@ impl PlantConfig {
 }
 
 /// `[controller]`.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct ControllerConfig {
     /// "sea" (default) or "rigid".
@@ -345,6 +483,7 @@ pub struct ControllerConfig {
         deserialize_with = "contact_constraints",
         serialize_with = "contact_constraints_table"
     )]
+    #[schemars(with = "ContactConstraints")]
     pub contact: ContactConstraints,
 }
 
@@ -553,7 +692,7 @@ fn contact_table(mut table: toml::Table) -> TableResult<ContactConstraints> {
 /// `[reference]`: the CoM sinusoid `origin + (1 - exp(-t / smooth_start)) A sin(2 pi f t)
 /// direction` and the postural step (defaults: no motion; the direction and the 1 s smooth
 /// start are the original study's).
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct ReferenceConfig {
     /// CoM sinusoid amplitude [m].
@@ -592,7 +731,7 @@ impl Default for ReferenceConfig {
 }
 
 /// `[simulation]`.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimulationConfig {
     /// Simulated time [s].
@@ -637,7 +776,7 @@ impl Default for SimulationConfig {
 /// the true state. Needs `controller.sampling` "multi_rate" (inner period
 /// `1 / controller.inner_rate_hz`) or "zero_order_hold" (inner period: the control period)
 /// unless perfect.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct SensingConfig {
     /// Standard deviation of the joint encoders' noise on `s` [rad].

@@ -17,6 +17,7 @@
 //! | `reference.com_origin` | [`ComOrigin`]    | here       |
 
 use crate::error::{Error, Result};
+use schemars::JsonSchema;
 pub use sea_ctrl::controller::{ControllerKind, MomentumRelaxation};
 pub use sea_ctrl::qp::QpSolver;
 pub use sea_plant::Method;
@@ -65,7 +66,7 @@ pub(crate) fn not_one_of(key: &str, value: &str, allowed: &str) -> Error {
 }
 
 /// `actuators.kind`: the actuator of a joint.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ActuatorKind {
     /// A series elastic actuator with the table's parameters (the default).
@@ -87,7 +88,7 @@ impl Setting for ActuatorKind {
 }
 
 /// `controller.sampling`: how the controller is sampled.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Sampling {
     /// At every integrator stage, as in the paper (its controller runs inside ode15s's
@@ -138,7 +139,7 @@ impl Sampling {
 
 /// `controller.identification_wrenches`: the contact wrenches the stiffness identification
 /// takes (`sea_ctrl::stiffness_id`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum IdentificationWrenches {
     /// Measured by force/torque sensors at the feet, as on the iCub (docs/references.md; in
@@ -166,7 +167,7 @@ impl Setting for IdentificationWrenches {
 
 /// `controller.external_wrench`: what the controller knows of an unmodelled external wrench
 /// (`sea_ctrl::external_wrench`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ExternalWrench {
     /// Nothing: its dynamics have no external wrench (the paper's controller; the default).
@@ -199,7 +200,7 @@ impl Setting for ExternalWrench {
 }
 
 /// `reference.com_origin`: the origin of the CoM sinusoid.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ComOrigin {
     /// CoM x, y above the stance sole origin, z the initial CoM's (the default).
