@@ -1,7 +1,8 @@
 //! The JSON Schema of scenario files: the committed `schemas/scenario.schema.json` is the one
 //! the types derive, and every shipped scenario names it in its `#:schema` header.
 
-use sea_sim::scenario::schema::json_schema_text;
+use sea_sim::scenario::reference::markdown;
+use sea_sim::scenario::schema::{json_schema, json_schema_text};
 use sea_sim::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
@@ -27,6 +28,16 @@ fn the_committed_schema_is_current() {
         "schemas/scenario.schema.json",
         &json_schema_text(),
         "cargo run --release -p sea_sim --bin sea-sim -- schema > schemas/scenario.schema.json",
+    );
+}
+
+#[test]
+fn the_committed_reference_page_is_current() {
+    assert_current(
+        "docs/reference/scenario_keys.md",
+        &markdown(&json_schema()),
+        "cargo run --release -p sea_sim --bin sea-sim -- schema --markdown \
+         > docs/reference/scenario_keys.md",
     );
 }
 
@@ -78,5 +89,8 @@ fn sea_sim_schema_prints_it() {
         .output()
         .unwrap();
     assert!(output.status.success());
-    assert_eq!(String::from_utf8(output.stdout).unwrap(), json_schema_text());
+    assert_eq!(
+        String::from_utf8(output.stdout).unwrap(),
+        json_schema_text()
+    );
 }

@@ -74,7 +74,12 @@ enum Command {
 
 /// Options of `sea-sim schema`.
 #[derive(Args, Debug)]
-struct SchemaArgs {}
+struct SchemaArgs {
+    /// Print the reference page of every key (Markdown; the shipped copy is
+    /// docs/reference/scenario_keys.md) instead of the schema.
+    #[arg(long)]
+    markdown: bool,
+}
 
 /// Options of `sea-sim init`.
 #[derive(Args, Debug)]
@@ -842,9 +847,14 @@ fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
     Ok(())
 }
 
-/// `sea-sim schema`: the scenario file's JSON Schema on stdout.
-fn print_schema(_args: &SchemaArgs) {
-    print!("{}", sea_sim::scenario::schema::json_schema_text());
+/// `sea-sim schema`: the scenario file's JSON Schema, or its reference page, on stdout.
+fn print_schema(args: &SchemaArgs) {
+    if args.markdown {
+        let schema = sea_sim::scenario::schema::json_schema();
+        print!("{}", sea_sim::scenario::reference::markdown(&schema));
+    } else {
+        print!("{}", sea_sim::scenario::schema::json_schema_text());
+    }
 }
 
 fn main() -> ExitCode {

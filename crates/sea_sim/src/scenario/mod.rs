@@ -16,6 +16,7 @@
 pub mod build;
 pub mod disturbances;
 pub mod parse;
+pub mod reference;
 pub mod robots;
 pub mod schema;
 pub mod settings;

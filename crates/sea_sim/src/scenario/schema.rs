@@ -8,7 +8,7 @@ use super::parse::{table_as, take, TableResult};
 use super::robots::icub;
 use super::settings::{
     ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationWrenches, Method,
-    MomentumRelaxation, QpSolver, Sampling,
+    MomentumRelaxation, QpSolver, Sampling, Setting,
 };
 use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use sea_ctrl::qp::ContactConstraints;
@@ -51,7 +51,7 @@ pub struct RobotConfig {
 
 /// `robot.initial_springs`: the spring deflections of the initial state (the robot is at rest
 /// in `robot.initial_posture` either way).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, JsonSchema)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum InitialSprings {
     /// Deflected by the static joint torques, so the run starts in equilibrium.
@@ -163,7 +163,10 @@ impl JsonSchema for ActuatorConfig {
     /// them.
     fn json_schema(generator: &mut SchemaGenerator) -> Schema {
         let mut schema = ElasticParameters::json_schema(generator);
-        let kind = generator.subschema_for::<ActuatorKind>();
+        let kind = json_schema!({
+            "allOf": [generator.subschema_for::<ActuatorKind>()],
+            "default": ActuatorKind::default().name(),
+        });
         insert_property(&mut schema, "kind", kind);
         schema.insert(
             "description".into(),
