@@ -13,6 +13,7 @@
 //! [`sea_dyn::critical_damping`]) and in the robot description the scenario names
 //! (`robot.description`, [`robots`]; the paper's iCub, `robots/icub_paper.toml`, by default).
 
+pub mod bounded;
 pub mod build;
 pub mod disturbances;
 pub mod parse;

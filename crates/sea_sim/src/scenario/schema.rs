@@ -4,6 +4,7 @@
 //! unknown keys and is `#[serde(default)]`: a missing key takes the table's default, built
 //! from the domain types' defaults and the robot description ([`super::robots::icub`]).
 
+use super::bounded::{AtLeastOne, NonNegative, Positive};
 use super::parse::{table_as, take, TableResult};
 use super::robots::icub;
 use super::settings::{
@@ -297,15 +298,25 @@ pub fn json_schema_text() -> String {
 #[serde(default, deny_unknown_fields)]
 pub struct PlantConfig {
     /// Baumgarte position gain [1/s^2] (default [`Plant::DEFAULT_BAUMGARTE_KP`]).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub baumgarte_kp: f64,
     /// Baumgarte velocity gain [1/s] (default: [`sea_dyn::critical_damping`] of the kp).
+    #[serde(deserialize_with = "NonNegative::read_option")]
+    #[schemars(with = "Option<NonNegative>")]
     pub baumgarte_kd: Option<f64>,
     /// Motor velocity loop gain K_m [1/s] (default: the robot description's).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub motor_velocity_gain: f64,
     /// Added to the plant's joint inertia diagonal [kg m^2] (default: the robot
     /// description's).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub joint_inertia_regularization: f64,
     /// Integration step [s].
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub dt: f64,
     /// The integrator: "ros2" (default), "implicit_euler" or "rk4".
     pub method: Method,
@@ -738,13 +749,21 @@ impl Default for ReferenceConfig {
 #[serde(default, deny_unknown_fields)]
 pub struct SimulationConfig {
     /// Simulated time [s].
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub duration_s: f64,
     /// Record (and log) every this many samples: control ticks with zero-order hold, plant
     /// steps in continuous sampling (the last sample and a diverging one are always recorded).
+    #[serde(deserialize_with = "AtLeastOne::read")]
+    #[schemars(with = "AtLeastOne")]
     pub record_every: usize,
     /// The run is diverged when the CoM error exceeds this [m].
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub divergence_com_error_m: f64,
     /// The run is diverged when the joint error norm exceeds this [rad].
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub divergence_joint_error_rad: f64,
     /// A foot's wrench that a unilateral contact with friction cannot transmit ends the run
     /// as "fell" (default `true`). `false` keeps the plant's bilateral contacts as the whole

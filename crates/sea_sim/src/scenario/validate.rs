@@ -35,7 +35,6 @@ pub fn scenario(scenario: &Scenario) -> Result<()> {
     controller(scenario)?;
     contact(scenario)?;
     reference(scenario)?;
-    simulation(scenario)?;
     super::disturbances::validate(&scenario.disturbances)?;
     sensing(scenario)?;
     run_length(scenario)
@@ -63,7 +62,7 @@ pub fn against_model(scenario: &Scenario, mass_kg: f64, gravity_m_s2: f64) -> Re
 
 /// `value` as written in a message: plain for ordinary magnitudes, in exponent notation for
 /// tiny or huge ones (Rust's plain format prints 1e-300 with 300 digits).
-fn shown(value: f64) -> String {
+pub(crate) fn shown(value: f64) -> String {
     let magnitude = value.abs();
     if value == 0.0 || !value.is_finite() || (1e-4..1e15).contains(&magnitude) {
         value.to_string()
@@ -155,10 +154,10 @@ fn robot(scenario: &Scenario) -> Result<()> {
     Ok(())
 }
 
-/// `[plant]`: a positive step and non-negative gains.
+/// `[plant]`: at least one step per step matrix `W` (the step and the gains are bounded
+/// where they are read: [`super::bounded`]).
 fn plant(scenario: &Scenario) -> Result<()> {
     let p = &scenario.plant;
-    positive("plant.dt", p.dt)?;
     if p.w_refresh_steps == 0 {
         return Err(Error::invalid(
             "plant.w_refresh_steps",
@@ -166,15 +165,7 @@ fn plant(scenario: &Scenario) -> Result<()> {
             p.w_refresh_steps,
         ));
     }
-    positive("plant.motor_velocity_gain", p.motor_velocity_gain)?;
-    non_negative("plant.baumgarte_kp", p.baumgarte_kp)?;
-    if let Some(kd) = p.baumgarte_kd {
-        non_negative("plant.baumgarte_kd", kd)?;
-    }
-    non_negative(
-        "plant.joint_inertia_regularization",
-        p.joint_inertia_regularization,
-    )
+    Ok(())
 }
 
 /// `[actuators]` and every `[actuators.overrides.NAME]`.
@@ -383,28 +374,6 @@ fn reference(scenario: &Scenario) -> Result<()> {
     non_negative("reference.com_smooth_start", r.com_smooth_start)?;
     finite("reference.posture_step_deg", r.posture_step_deg)?;
     non_negative("reference.posture_step_time", r.posture_step_time)
-}
-
-/// `[simulation]`: a positive duration, positive divergence bounds, `record_every >= 1`.
-fn simulation(scenario: &Scenario) -> Result<()> {
-    let s = &scenario.simulation;
-    positive("simulation.duration_s", s.duration_s)?;
-    positive(
-        "simulation.divergence_com_error_m",
-        s.divergence_com_error_m,
-    )?;
-    positive(
-        "simulation.divergence_joint_error_rad",
-        s.divergence_joint_error_rad,
-    )?;
-    if s.record_every == 0 {
-        return Err(Error::invalid(
-            "simulation.record_every",
-            "must be at least 1",
-            0,
-        ));
-    }
-    Ok(())
 }
 
 /// `[sensing]`: finite non-negative noise, and unless sensing is perfect a sampled controller
