@@ -4,7 +4,7 @@
 //! unknown keys and is `#[serde(default)]`: a missing key takes the table's default, built
 //! from the domain types' defaults and the robot description ([`super::robots::icub`]).
 
-use super::bounded::{AtLeastOne, NonNegative, Positive};
+use super::bounded::{AtLeastOne, Finite, NonNegative, Positive};
 use super::parse::{table_as, take, TableResult};
 use super::robots::icub;
 use super::settings::{
@@ -365,6 +365,8 @@ pub struct ControllerConfig {
     /// Control rate [Hz] with zero-order hold, the whole-body rate in `multi_rate` (unused in
     /// continuous sampling); default [`Sampling::default_rate_hz`], read through
     /// [`ControllerConfig::rate_hz`].
+    #[serde(deserialize_with = "Positive::read_option")]
+    #[schemars(with = "Option<Positive>")]
     pub rate_hz: Option<f64>,
     /// "zero_order_hold" (the controller at `rate_hz`, its input held; the default),
     /// "continuous" (the controller at every integrator stage, as in the paper) or
@@ -373,9 +375,13 @@ pub struct ControllerConfig {
     pub sampling: Sampling,
     /// `multi_rate`: rate of the joint torque loops [Hz], a whole multiple of `rate_hz`
     /// (default 1 kHz, the iCub's motor boards).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub inner_rate_hz: f64,
     /// `multi_rate`: bandwidth `omega_t / 2 pi` of the joint torque loops [Hz] (default 20 Hz,
     /// [`sea_ctrl::joint_loop::DEFAULT_TORQUE_BANDWIDTH`]).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub torque_bandwidth_hz: f64,
     /// `multi_rate`: run each joint loop at the paper's bandwidth `K_S^ / K_D^` instead of
     /// `torque_bandwidth_hz` (with the SEA controller: the paper's law, inputDesMotVel, with
@@ -384,6 +390,8 @@ pub struct ControllerConfig {
     /// `multi_rate`: stiffness [Nm/rad] of a joint impedance `K_j (s_d - s)` added to the
     /// held torque at every joint loop tick (default 0: none;
     /// [`sea_ctrl::joint_loop::JointTorqueLoop::with_joint_stiffness`]).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub joint_stiffness: f64,
     /// `multi_rate`: identify each elastic joint's spring stiffness online from the encoders
     /// and the model ([`sea_ctrl::stiffness_id`]) and give it to the joint loops, starting
@@ -391,6 +399,8 @@ pub struct ControllerConfig {
     pub stiffness_identification: bool,
     /// `multi_rate` with `stiffness_identification`: forgetting time constant of the
     /// identification [s] (default 1 s).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub identification_time_s: f64,
     /// `multi_rate` with `stiffness_identification`: the contact wrenches it takes,
     /// "measured" (foot force/torque sensors; the default) or "commanded" (the QP's `f*`).
@@ -399,10 +409,14 @@ pub struct ControllerConfig {
     /// measured spring deflection [rad] that the identification removes from its sums
     /// (bias-compensated least squares; `sea_ctrl::stiffness_id`, "Encoder noise"); the
     /// encoders' specification, e.g. `sqrt(sigma_s^2 + (ratio sigma_theta)^2)`. Default 0.
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub identification_deflection_noise_rad: f64,
     /// `multi_rate` with `stiffness_identification` and measured wrenches: how long the
     /// converged estimates stay held after a push was detected [s] (`sea_ctrl::stiffness_id`;
     /// default 1 s).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub identification_hold_s: f64,
     /// `multi_rate` with `stiffness_identification`: the weight of the prior estimate, as
     /// the spring deflection `delta_0` [rad] of one sample (`sea_ctrl::stiffness_id`; default
@@ -415,6 +429,8 @@ pub struct ControllerConfig {
     /// filters each joint's spring torque and deflection alike before the least squares
     /// (`sea_ctrl::stiffness_id`, "Filtering"; default 5 Hz); positive, and a bandwidth far
     /// above `rate_hz` (e.g. 1e9) leaves the samples unfiltered.
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub identification_filter_hz: f64,
     /// `multi_rate` with `stiffness_identification`: the estimates stay within this factor
     /// of the prior, `[K_S^0 / c, c K_S^0]` (`sea_ctrl::stiffness_id`; default 3, more than
@@ -426,9 +442,13 @@ pub struct ControllerConfig {
     /// yaw joints on two feet, the same sign on both legs; default none).
     pub identification_excitation_nm: BTreeMap<String, f64>,
     /// `identification_excitation_nm`: the sinusoid's frequency [Hz] (default 1 Hz).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub identification_excitation_hz: f64,
     /// `identification_excitation_nm`: how long it lasts [s], rounded up to whole cycles
     /// (default 3 s).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub identification_excitation_s: f64,
     /// The unmodelled external wrench (a push): "none" (the paper's controller; the default)
     /// or "observed" (estimated each whole-body period from the centroidal momentum and the
@@ -441,16 +461,24 @@ pub struct ControllerConfig {
     /// `external_wrench` "observed" or "generalized": bandwidth of the estimate's low pass
     /// [Hz] (default
     /// [`sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ`], 5 Hz).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub external_wrench_bandwidth_hz: f64,
     /// Controller damping estimate = true damping x scale.
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub stiffness_estimate_scale: f64,
     /// Per joint name, a further factor on that joint's stiffness estimate (e.g.
     /// `{ l_knee = 1.3 }`; default none).
     pub stiffness_estimate_joint_scales: BTreeMap<String, f64>,
     /// The controller's model: every link's mass and rotational inertia times this scale
     /// (centres of mass unchanged; default 1: the plant's model).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub mass_estimate_scale: f64,
     /// Per link name, a further factor on that link's mass and rotational inertia in the
     /// controller's model (a massless link fused into its parent scales that body; default
@@ -465,14 +493,22 @@ pub struct ControllerConfig {
     /// description's by joint group).
     pub postural_stiffness: Option<Vec<f64>>,
     /// Scale of the postural stiffness (default: the robot description's).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub postural_scale: f64,
     /// Pseudo-inverse damping (default: the robot description's).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub pinv_damping: f64,
     /// QP Hessian regulariser (default: the robot description's).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub qp_regularization: f64,
     /// Two feet: weight of the contact moments `|n|^2` in the QP's objective (0, the original
     /// study's objective; the push scenarios' 30 moves normal force between the feet before
     /// they move a sole's centre of pressure).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub qp_moment_regularization: f64,
     /// Two feet, when the momentum equality is infeasible under the contact constraints:
     /// "none" (the paper's QP; the minimiser without the contact constraints is used) or
@@ -488,6 +524,8 @@ pub struct ControllerConfig {
     pub reflected_inertia: bool,
     /// Added to the controller model's joint inertia diagonal [kg m^2] (default: the robot
     /// description's).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub joint_inertia_regularization: f64,
     /// `[controller.contact]`: the QP's contact constraints, whose contact surface the plant
     /// also uses for its wrench margins (one flat table: `facets`, `min_normal_force`,
@@ -710,22 +748,32 @@ fn contact_table(mut table: toml::Table) -> TableResult<ContactConstraints> {
 #[serde(default, deny_unknown_fields)]
 pub struct ReferenceConfig {
     /// CoM sinusoid amplitude [m].
+    #[serde(deserialize_with = "Finite::read")]
+    #[schemars(with = "Finite")]
     pub com_amplitude: f64,
     /// CoM sinusoid frequency [Hz].
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub com_frequency: f64,
     /// CoM sinusoid direction (world).
     pub com_direction: [f64; 3],
     /// Smooth-start time constant [s].
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub com_smooth_start: f64,
     /// "stance_sole" (default): CoM x, y above the stance sole origin (z initial); "initial":
     /// the initial CoM.
     pub com_origin: ComOrigin,
     /// Postural step [deg].
+    #[serde(deserialize_with = "Finite::read")]
+    #[schemars(with = "Finite")]
     pub posture_step_deg: f64,
     /// Joints (or groups of the robot description: "torso", "arms", "left_arm", "right_arm",
     /// "upper_body") that get the step.
     pub posture_step_joints: Vec<String>,
     /// Time of the step [s].
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub posture_step_time: f64,
 }
 
