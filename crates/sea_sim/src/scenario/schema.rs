@@ -324,6 +324,8 @@ pub struct PlantConfig {
     /// and its factors, prepared at the first one's start (default 10; 1: every step its own;
     /// at least 1). Any `W` keeps the method's order; it is prepared afresh when a motor's
     /// saturation changes (`sea_plant::IntegratorCache::set_w_refresh_steps`).
+    #[serde(deserialize_with = "AtLeastOne::read")]
+    #[schemars(with = "AtLeastOne")]
     pub w_refresh_steps: usize,
 }
 

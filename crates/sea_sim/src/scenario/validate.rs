@@ -1,6 +1,7 @@
-//! Every scenario value checked against its meaning before anything is built: finite, sign,
-//! range, ordering, and feasibility where it is cheap (names and types are the schema's,
-//! checked by serde when the file is read). Each failure is an
+//! Every scenario value checked against its meaning before anything is built. Names, types
+//! and the bounds of single numbers are the schema's, checked by serde when the file is read
+//! ([`super::bounded`]); here: the rules between keys, ordering, the entries of arrays and
+//! tables, and feasibility where it is cheap. Each failure is an
 //! [`Error::Scenario`] naming the dotted key, the rule and the value, so a typo or a value
 //! outside the physics is reported before a run instead of surfacing as failing QPs, a
 //! divergence at t = 0 or a feature silently switched off.
@@ -30,7 +31,6 @@ pub const MAX_RUN_STEPS: f64 = 1e10;
 /// Checks every value of `scenario` that does not need the robot model.
 pub fn scenario(scenario: &Scenario) -> Result<()> {
     robot(scenario)?;
-    plant(scenario)?;
     actuators(scenario)?;
     controller(scenario)?;
     contact(scenario)?;
@@ -149,20 +149,6 @@ fn robot(scenario: &Scenario) -> Result<()> {
             "robot.contacts",
             "the contact frames must be distinct",
             format!("{contacts:?}"),
-        ));
-    }
-    Ok(())
-}
-
-/// `[plant]`: at least one step per step matrix `W` (the step and the gains are bounded
-/// where they are read: [`super::bounded`]).
-fn plant(scenario: &Scenario) -> Result<()> {
-    let p = &scenario.plant;
-    if p.w_refresh_steps == 0 {
-        return Err(Error::invalid(
-            "plant.w_refresh_steps",
-            "must be at least 1 (1: every step prepares its own W)",
-            p.w_refresh_steps,
         ));
     }
     Ok(())
