@@ -118,7 +118,12 @@ class PlantOutputs(Result):
 
 @dataclasses.dataclass(frozen=True)
 class RunSummary(Result):
-    """Summary statistics of a closed-loop scenario run (the ``--summary`` JSON of ``sea-sim``)."""
+    """Summary statistics of a closed-loop scenario run (the ``--summary`` JSON of ``sea-sim``).
+
+    Its fields are the keys of the Rust summary's one serialisation (``Summary`` in
+    ``sea_sim::closed_loop``), built with :meth:`Result.from_native` from those keys: a key on
+    one side only fails here, and ``crates/sea_sim/tests/summary_keys.rs`` checks the key sets
+    of the Rust JSON, this class and ``sea-sim run`` agree."""
 
     status: RunStatus
     """"completed", "diverged", "interrupted" or "fell"."""
@@ -138,6 +143,10 @@ class RunSummary(Result):
     reason: str
     """Why it diverged (the quantity and its value), fell (the foot and constraint) or
     "interrupted"; "" when completed."""
+    reason_kind: Optional[str]
+    """The reason's stable machine-readable kind: "interrupted", the divergence's (e.g.
+    "com_error_over_bound", "joint_error_over_bound", "joint_outside_limits") or the fall's
+    constraint ("normal_force", "friction", "center_of_pressure"); None when completed."""
     sampling: str
     """Control sampling: "zero_order_hold" or "continuous"."""
     duration_s: float

@@ -7,6 +7,7 @@
 //! `force * duration_s`.
 
 use crate::error::{Error, Result};
+use schemars::JsonSchema;
 use sea_dyn::model::Model;
 use sea_plant::{ExternalWrench, Workspace};
 use serde::Deserialize;
@@ -15,7 +16,7 @@ use serde::Deserialize;
 const STEP_ALIGNMENT_TOLERANCE: f64 = 1e-9;
 
 /// One `[[disturbances]]` table.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DisturbanceConfig {
     /// The link it acts on (its origin).

@@ -12,7 +12,17 @@
 //!   equal plant steps not longer than `plant.dt`.
 
 /// `controller.sampling`: how the controller is sampled.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Deserialize,
+    serde::Serialize,
+    schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Sampling {
     /// At every integrator stage, as in the paper (its controller runs inside ode15s's

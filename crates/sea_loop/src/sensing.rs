@@ -24,7 +24,9 @@ use std::ops::Range;
 /// the true state. Needs `controller.sampling` "multi_rate" (inner period
 /// `1 / controller.inner_rate_hz`) or "zero_order_hold" (inner period: the control period)
 /// unless perfect.
-#[derive(Clone, Debug, Default, PartialEq, serde::Deserialize, serde::Serialize)]
+#[derive(
+    Clone, Debug, Default, PartialEq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 pub struct SensingConfig {
     /// Standard deviation of the joint encoders' noise on `s` [rad].

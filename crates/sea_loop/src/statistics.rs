@@ -2,6 +2,8 @@
 //! and the run's [`Summary`].
 
 use super::contact_check::Fall;
+use serde::ser::{SerializeMap, Serializer};
+use serde::Serialize;
 
 /// Time after which the lateral CoM error counts (the reference's smooth start is over) [s].
 const LATERAL_ERROR_FROM_S: f64 = 1.0;
@@ -199,14 +201,17 @@ impl std::fmt::Display for RunEnd {
     }
 }
 
-/// The summary of a run (also written as JSON by `sea-sim`).
-#[derive(Clone, Debug)]
+/// The summary of a run: serialised once, by serde, to the summary JSON of `sea-sim` (its keys
+/// are the field names, `fall` spread into `fell_at_s`, `fall_foot`, ... and `null` unless the
+/// run fell), the Python `RunSummary` (built from the same keys) and the sweep's columns.
+#[derive(Clone, Debug, Serialize)]
 pub struct Summary {
     /// "completed", "diverged", "interrupted" or "fell".
     pub status: String,
     /// Time of divergence [s].
     pub diverged_at_s: Option<f64>,
     /// The fall, when the run fell ([`RunEnd::Fell`]).
+    #[serde(flatten, serialize_with = "fall_keys")]
     pub fall: Option<FallSummary>,
     /// Why it diverged (the quantity and its value) or "interrupted"; empty when completed
     /// (the text of [`RunEnd`]).
@@ -244,25 +249,55 @@ pub struct Summary {
     /// Multi-rate sampling: the joint loops' stiffness estimates at the run's end [Nm/rad] by
     /// elastic joint name (identified with `controller.stiffness_identification`, else the
     /// controller's); empty otherwise. Not a sweep column ([`NON_SCALAR_FIELDS`]).
+    #[serde(rename = "stiffness_estimates_nm_per_rad", serialize_with = "by_name")]
     pub stiffness_estimates: Vec<(String, f64)>,
+}
+
+/// Writes `fall`'s keys, each `null` when the run did not fall (the JSON has the same keys
+/// whatever the outcome).
+fn fall_keys<S: Serializer>(fall: &Option<FallSummary>, serializer: S) -> Result<S::Ok, S::Error> {
+    if let Some(fall) = fall {
+        return fall.serialize(serializer);
+    }
+    let keys = match serde_json::to_value(FallSummary::default()) {
+        Ok(serde_json::Value::Object(keys)) => keys,
+        _ => serde_json::Map::new(),
+    };
+    let mut map = serializer.serialize_map(Some(keys.len()))?;
+    for key in keys.keys() {
+        map.serialize_entry(key, &())?;
+    }
+    map.end()
+}
+
+/// Writes `(name, value)` pairs as a map by name.
+fn by_name<S: Serializer>(pairs: &[(String, f64)], serializer: S) -> Result<S::Ok, S::Error> {
+    serializer.collect_map(pairs.iter().map(|(name, value)| (name, value)))
 }
 
 /// The summary's JSON keys that are not one number or text each, left out of the sweep
 /// tables' columns.
 pub const NON_SCALAR_FIELDS: [&str; 1] = ["stiffness_estimates_nm_per_rad"];
 
-/// A fall in the summary: when, which foot, which constraint with its value and bound.
-#[derive(Clone, Debug, PartialEq)]
+/// A fall in the summary: when, which foot, which constraint with its value and bound (the
+/// summary JSON's keys `fell_at_s`, `fall_foot`, `fall_constraint`, `fall_value`,
+/// `fall_bound`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct FallSummary {
     /// Time of the sample [s].
+    #[serde(rename = "fell_at_s")]
     pub at_s: f64,
     /// The contact frame's name.
+    #[serde(rename = "fall_foot")]
     pub foot: String,
     /// `"normal_force"`, `"friction"` or `"center_of_pressure"`.
+    #[serde(rename = "fall_constraint")]
     pub constraint: &'static str,
     /// The violating value (N, friction ratio or CoP coordinate [m]).
+    #[serde(rename = "fall_value")]
     pub value: f64,
     /// The bound it crossed.
+    #[serde(rename = "fall_bound")]
     pub bound: f64,
 }
 
@@ -334,38 +369,9 @@ impl Summary {
         }
     }
 
-    /// As JSON.
+    /// As JSON (serde: the keys are the fields' serde names).
     pub fn to_json(&self) -> serde_json::Value {
-        let fall = self.fall.as_ref();
-        serde_json::json!({
-            "status": self.status,
-            "diverged_at_s": self.diverged_at_s,
-            "fell_at_s": fall.map(|f| f.at_s),
-            "fall_foot": fall.map(|f| f.foot.as_str()),
-            "fall_constraint": fall.map(|f| f.constraint),
-            "fall_value": fall.map(|f| f.value),
-            "fall_bound": fall.map(|f| f.bound),
-            "reason": self.reason,
-            "reason_kind": self.reason_kind,
-            "sampling": self.sampling,
-            "duration_s": self.duration_s,
-            "com_error_rms_m": self.com_error_rms_m,
-            "com_error_max_m": self.com_error_max_m,
-            "com_error_lateral_max_m": self.com_error_lateral_max_m,
-            "joint_error_norm_final_rad": self.joint_error_norm_final_rad,
-            "motor_velocity_peak_rad_s": self.motor_velocity_peak_rad_s,
-            "qp_failures": self.qp_failures,
-            "qp_relaxed_solves": self.qp_relaxed_solves,
-            "qp_active_set_solves": self.qp_active_set_solves,
-            "qp_clarabel_solves": self.qp_clarabel_solves,
-            "wall_time_s": self.wall_time_s,
-            "realtime_factor": self.realtime_factor,
-            "stiffness_estimates_nm_per_rad": self
-                .stiffness_estimates
-                .iter()
-                .map(|(name, value)| (name.clone(), serde_json::Value::from(*value)))
-                .collect::<serde_json::Map<_, _>>(),
-        })
+        serde_json::to_value(self).expect("a summary is plain numbers and text")
     }
 }
 

@@ -120,45 +120,13 @@ pub fn scenario_urdf(
     Ok(scenario.urdf_path())
 }
 
-/// The run summary as the keyword arguments of `sea_momentum.results.RunSummary` (numbers
-/// and strings, no JSON text).
+/// The run summary as the keyword arguments of `sea_momentum.results.RunSummary`: the keys and
+/// values of its one serialisation ([`sea_sim::closed_loop::Summary`]'s serde, also the
+/// summary JSON's), as Python numbers, strings, `None` and dicts (no JSON text; a non-finite
+/// number stays a float).
 fn summary_fields<'py>(
     py: Python<'py>,
     summary: &sea_sim::closed_loop::Summary,
-) -> PyResult<Bound<'py, PyDict>> {
-    let fields = PyDict::new(py);
-    fields.set_item("status", &summary.status)?;
-    fields.set_item("diverged_at_s", summary.diverged_at_s)?;
-    let fall = summary.fall.as_ref();
-    fields.set_item("fell_at_s", fall.map(|f| f.at_s))?;
-    fields.set_item("fall_foot", fall.map(|f| f.foot.as_str()))?;
-    fields.set_item("fall_constraint", fall.map(|f| f.constraint))?;
-    fields.set_item("fall_value", fall.map(|f| f.value))?;
-    fields.set_item("fall_bound", fall.map(|f| f.bound))?;
-    fields.set_item("reason", &summary.reason)?;
-    fields.set_item("sampling", &summary.sampling)?;
-    fields.set_item("duration_s", summary.duration_s)?;
-    fields.set_item("com_error_rms_m", summary.com_error_rms_m)?;
-    fields.set_item("com_error_max_m", summary.com_error_max_m)?;
-    fields.set_item("com_error_lateral_max_m", summary.com_error_lateral_max_m)?;
-    fields.set_item(
-        "joint_error_norm_final_rad",
-        summary.joint_error_norm_final_rad,
-    )?;
-    fields.set_item(
-        "motor_velocity_peak_rad_s",
-        summary.motor_velocity_peak_rad_s,
-    )?;
-    fields.set_item("qp_failures", summary.qp_failures)?;
-    fields.set_item("qp_relaxed_solves", summary.qp_relaxed_solves)?;
-    fields.set_item("qp_active_set_solves", summary.qp_active_set_solves)?;
-    fields.set_item("qp_clarabel_solves", summary.qp_clarabel_solves)?;
-    fields.set_item("wall_time_s", summary.wall_time_s)?;
-    fields.set_item("realtime_factor", summary.realtime_factor)?;
-    let estimates = PyDict::new(py);
-    for (name, value) in &summary.stiffness_estimates {
-        estimates.set_item(name, value)?;
-    }
-    fields.set_item("stiffness_estimates_nm_per_rad", estimates)?;
-    Ok(fields)
+) -> PyResult<Bound<'py, PyAny>> {
+    pythonize::pythonize(py, summary).map_err(PyErr::from)
 }

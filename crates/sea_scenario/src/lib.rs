@@ -15,10 +15,12 @@
 
 #![forbid(unsafe_code)]
 
+pub mod bounded;
 pub mod build;
 /// `[[disturbances]]` (typed by the loop), at its former path.
 pub use sea_loop::disturbance_schedule as disturbances;
 pub mod parse;
+pub mod reference;
 pub mod robots;
 pub mod run;
 pub mod schema;
@@ -54,8 +56,9 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// A whole scenario.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(title = "sea-momentum scenario", transform = schema::optional_keys)]
 pub struct Scenario {
     /// Free text.
     #[serde(default)]

@@ -168,15 +168,20 @@ impl TableError {
         }
     }
 
-    /// The scenario error: serde's unknown variant becomes "must be one of 'a', 'b', got 'x'".
+    /// The scenario error: serde's unknown variant becomes "must be one of 'a', 'b', got 'x'";
+    /// a rule ending in ", got VALUE" keeps the value apart.
     pub fn into_error(self) -> Error {
         let key = if self.key.is_empty() {
             "scenario".to_string()
         } else {
             self.key
         };
-        match unknown_variant(&self.rule) {
-            Some((value, allowed)) => not_one_of(&key, value, &allowed),
+        if let Some((value, allowed)) = unknown_variant(&self.rule) {
+            return not_one_of(&key, value, &allowed);
+        }
+        match self.rule.rsplit_once(", got ") {
+            // A bounded value's "RULE, got VALUE" (super::bounded): the value as its own field.
+            Some((rule, value)) => Error::invalid(key, rule, value),
             None => Error::config(key, self.rule),
         }
     }

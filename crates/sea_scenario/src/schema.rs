@@ -4,12 +4,14 @@
 //! unknown keys and is `#[serde(default)]`: a missing key takes the table's default, built
 //! from the domain types' defaults and the robot description ([`super::robots::icub`]).
 
+use super::bounded::{AtLeastOne, Finite, NonNegative, Positive};
 use super::parse::{table_as, take, TableResult};
 use super::robots::icub;
 use super::settings::{
     ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationWrenches, Method,
-    MomentumRelaxation, QpSolver, Sampling,
+    MomentumRelaxation, QpSolver, Sampling, Setting,
 };
+use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use sea_ctrl::qp::ContactConstraints;
 use sea_dyn::{critical_damping, Actuator, ElasticParameters};
 use sea_plant::Plant;
@@ -20,8 +22,9 @@ use std::collections::BTreeMap;
 /// `[robot]`. Its key `description` names the robot description the scenario's defaults come
 /// from (a built-in name, "icub_paper" by default, a file or an inline table:
 /// [`super::robots::source`]); it is read before this table ([`super::robots::defaults`]).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(transform = robot_table_schema)]
 pub struct RobotConfig {
     /// URDF: a path (relative to the scenario's folder, else the working directory) or a
     /// `package://NAME/PATH` or `file://` URI (required unless the description names one).
@@ -40,6 +43,7 @@ pub struct RobotConfig {
     /// A posture of the robot description ("left_stance", "two_feet": the original study's),
     /// "zero" or explicit radians.
     #[serde(default = "left_stance")]
+    #[schemars(schema_with = "posture_schema")]
     pub initial_posture: toml::Value,
     /// The springs at the start: "preloaded" (default) or "at_rest" ([`InitialSprings`]).
     #[serde(default)]
@@ -48,7 +52,7 @@ pub struct RobotConfig {
 
 /// `robot.initial_springs`: the spring deflections of the initial state (the robot is at rest
 /// in `robot.initial_posture` either way).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum InitialSprings {
     /// Deflected by the static joint torques, so the run starts in equilibrium.
@@ -151,20 +155,168 @@ impl<'de> Deserialize<'de> for ActuatorsConfig {
     }
 }
 
+impl JsonSchema for ActuatorConfig {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "ActuatorConfig".into()
+    }
+
+    /// The keys of [`ElasticParameters`] with `kind`, as [`ActuatorConfig::from_table`] reads
+    /// them.
+    fn json_schema(generator: &mut SchemaGenerator) -> Schema {
+        let mut schema = ElasticParameters::json_schema(generator);
+        let kind = json_schema!({
+            "allOf": [generator.subschema_for::<ActuatorKind>()],
+            "default": ActuatorKind::default().name(),
+        });
+        insert_property(&mut schema, "kind", kind);
+        schema.insert(
+            "description".into(),
+            "One actuator: `kind` and the parameters of an elastic actuator (defaults: the \
+             robot description's, the paper's iCub SEA)."
+                .into(),
+        );
+        schema
+    }
+}
+
+impl JsonSchema for ActuatorsConfig {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "ActuatorsConfig".into()
+    }
+
+    /// [`ActuatorConfig`]'s keys with `overrides`, a table of them per joint name.
+    fn json_schema(generator: &mut SchemaGenerator) -> Schema {
+        let mut schema = ActuatorConfig::json_schema(generator);
+        let one = generator.subschema_for::<ActuatorConfig>();
+        let overrides = json_schema!({
+            "type": "object",
+            "description": "Per joint name, the keys of `[actuators]` that differ for that \
+                joint (`[actuators.overrides.NAME]`).",
+            "additionalProperties": one,
+        });
+        insert_property(&mut schema, "overrides", overrides);
+        schema.insert(
+            "description".into(),
+            "The actuator of every joint, with per-joint overrides.".into(),
+        );
+        schema
+    }
+}
+
+/// Adds the property `name` with `value`'s schema to the object schema `schema`.
+fn insert_property(schema: &mut Schema, name: &str, value: Schema) {
+    let properties = schema
+        .ensure_object()
+        .entry("properties")
+        .or_insert_with(|| serde_json::Value::Object(Default::default()));
+    if let Some(properties) = properties.as_object_mut() {
+        properties.insert(name.into(), value.into());
+    }
+}
+
+/// Schema transform of a table whose keys may all be left out (their defaults come from the
+/// robot description, written into the tree before serde reads it:
+/// [`super::robots::defaults`]).
+pub(crate) fn optional_keys(schema: &mut Schema) {
+    schema.remove("required");
+}
+
+/// Schema of `[robot]`: every key optional ([`optional_keys`]) and `description`, read before
+/// the table ([`super::robots::source`]).
+fn robot_table_schema(schema: &mut Schema) {
+    optional_keys(schema);
+    let description = json_schema!({
+        "description": "The robot description the scenario's defaults come from: \
+            \"icub_paper\" (the default), the path of a robot description file (TOML, relative \
+            to the scenario's folder) or an inline table of one.",
+        "default": super::robots::icub::ICUB_PAPER,
+        "type": ["string", "object"],
+    });
+    insert_property(schema, "description", description);
+}
+
+/// Schema of `robot.initial_posture`: a posture's name or the joint angles [rad].
+fn posture_schema(_: &mut SchemaGenerator) -> Schema {
+    json_schema!({
+        "description": "A posture of the robot description (\"left_stance\", \"two_feet\": the \
+            original study's), \"zero\", or explicit joint angles [rad], one per moving joint.",
+        "default": "left_stance",
+        "anyOf": [
+            { "type": "string" },
+            { "type": "array", "items": { "type": "number" } },
+        ],
+    })
+}
+
+/// The JSON Schema of a scenario file (draft 7, as editors read it: Taplo / Even Better TOML
+/// through the `#:schema` header of the shipped scenarios), derived from [`super::Scenario`]
+/// and the types it reads; the doc comments are the descriptions.
+pub fn json_schema() -> serde_json::Value {
+    let generator = schemars::generate::SchemaSettings::draft07().into_generator();
+    let mut schema = generator.into_root_schema_for::<super::Scenario>().into();
+    tidy(&mut schema);
+    schema
+}
+
+/// Readies derived schema for editors and the reference page: descriptions on one line,
+/// without rustdoc's link brackets; no default of a whole table (its keys have theirs) and no
+/// `null` default (TOML has no null: the key is left out).
+fn tidy(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Object(object) => {
+            if let Some(serde_json::Value::String(text)) = object.get_mut("description") {
+                *text = one_line(text);
+            }
+            let table_default = object
+                .get("default")
+                .is_some_and(|d| d.is_object() || d.is_null());
+            if table_default {
+                object.remove("default");
+            }
+            object.values_mut().for_each(tidy);
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(tidy),
+        _ => {}
+    }
+}
+
+/// A doc comment as one line of text: lines joined, "[`x`]" written "`x`".
+fn one_line(text: &str) -> String {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    words.join(" ").replace("[`", "`").replace("`]", "`")
+}
+
+/// [`json_schema`] as the text of `schemas/scenario.schema.json` (pretty, one final newline).
+pub fn json_schema_text() -> String {
+    let mut text = serde_json::to_string_pretty(&json_schema()).expect("a JSON value");
+    text.push('\n');
+    text
+}
+
 /// `[plant]`.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct PlantConfig {
     /// Baumgarte position gain [1/s^2] (default [`Plant::DEFAULT_BAUMGARTE_KP`]).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub baumgarte_kp: f64,
     /// Baumgarte velocity gain [1/s] (default: [`sea_dyn::critical_damping`] of the kp).
+    #[serde(deserialize_with = "NonNegative::read_option")]
+    #[schemars(with = "Option<NonNegative>")]
     pub baumgarte_kd: Option<f64>,
     /// Motor velocity loop gain K_m [1/s] (default: the robot description's).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub motor_velocity_gain: f64,
     /// Added to the plant's joint inertia diagonal [kg m^2] (default: the robot
     /// description's).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub joint_inertia_regularization: f64,
     /// Integration step [s].
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub dt: f64,
     /// The integrator: "ros2" (default), "implicit_euler" or "rk4".
     pub method: Method,
@@ -172,6 +324,8 @@ pub struct PlantConfig {
     /// and its factors, prepared at the first one's start (default 10; 1: every step its own;
     /// at least 1). Any `W` keeps the method's order; it is prepared afresh when a motor's
     /// saturation changes (`sea_plant::IntegratorCache::set_w_refresh_steps`).
+    #[serde(deserialize_with = "AtLeastOne::read")]
+    #[schemars(with = "AtLeastOne")]
     pub w_refresh_steps: usize,
 }
 
@@ -205,7 +359,7 @@ impl PlantConfig {
 }
 
 /// `[controller]`.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct ControllerConfig {
     /// "sea" (default) or "rigid".
@@ -213,6 +367,8 @@ pub struct ControllerConfig {
     /// Control rate [Hz] with zero-order hold, the whole-body rate in `multi_rate` (unused in
     /// continuous sampling); default [`Sampling::default_rate_hz`], read through
     /// [`ControllerConfig::rate_hz`].
+    #[serde(deserialize_with = "Positive::read_option")]
+    #[schemars(with = "Option<Positive>")]
     pub rate_hz: Option<f64>,
     /// "zero_order_hold" (the controller at `rate_hz`, its input held; the default),
     /// "continuous" (the controller at every integrator stage, as in the paper) or
@@ -221,9 +377,13 @@ pub struct ControllerConfig {
     pub sampling: Sampling,
     /// `multi_rate`: rate of the joint torque loops [Hz], a whole multiple of `rate_hz`
     /// (default 1 kHz, the iCub's motor boards).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub inner_rate_hz: f64,
     /// `multi_rate`: bandwidth `omega_t / 2 pi` of the joint torque loops [Hz] (default 20 Hz,
     /// [`sea_ctrl::joint_loop::DEFAULT_TORQUE_BANDWIDTH`]).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub torque_bandwidth_hz: f64,
     /// `multi_rate`: run each joint loop at the paper's bandwidth `K_S^ / K_D^` instead of
     /// `torque_bandwidth_hz` (with the SEA controller: the paper's law, inputDesMotVel, with
@@ -232,6 +392,8 @@ pub struct ControllerConfig {
     /// `multi_rate`: stiffness [Nm/rad] of a joint impedance `K_j (s_d - s)` added to the
     /// held torque at every joint loop tick (default 0: none;
     /// [`sea_ctrl::joint_loop::JointTorqueLoop::with_joint_stiffness`]).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub joint_stiffness: f64,
     /// `multi_rate`: identify each elastic joint's spring stiffness online from the encoders
     /// and the model ([`sea_ctrl::stiffness_id`]) and give it to the joint loops, starting
@@ -239,6 +401,8 @@ pub struct ControllerConfig {
     pub stiffness_identification: bool,
     /// `multi_rate` with `stiffness_identification`: forgetting time constant of the
     /// identification [s] (default 1 s).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub identification_time_s: f64,
     /// `multi_rate` with `stiffness_identification`: the contact wrenches it takes,
     /// "measured" (foot force/torque sensors; the default) or "commanded" (the QP's `f*`).
@@ -247,10 +411,14 @@ pub struct ControllerConfig {
     /// measured spring deflection [rad] that the identification removes from its sums
     /// (bias-compensated least squares; `sea_ctrl::stiffness_id`, "Encoder noise"); the
     /// encoders' specification, e.g. `sqrt(sigma_s^2 + (ratio sigma_theta)^2)`. Default 0.
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub identification_deflection_noise_rad: f64,
     /// `multi_rate` with `stiffness_identification` and measured wrenches: how long the
     /// converged estimates stay held after a push was detected [s] (`sea_ctrl::stiffness_id`;
     /// default 1 s).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub identification_hold_s: f64,
     /// `multi_rate` with `stiffness_identification`: the weight of the prior estimate, as
     /// the spring deflection `delta_0` [rad] of one sample (`sea_ctrl::stiffness_id`; default
@@ -263,6 +431,8 @@ pub struct ControllerConfig {
     /// filters each joint's spring torque and deflection alike before the least squares
     /// (`sea_ctrl::stiffness_id`, "Filtering"; default 5 Hz); positive, and a bandwidth far
     /// above `rate_hz` (e.g. 1e9) leaves the samples unfiltered.
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub identification_filter_hz: f64,
     /// `multi_rate` with `stiffness_identification`: the estimates stay within this factor
     /// of the prior, `[K_S^0 / c, c K_S^0]` (`sea_ctrl::stiffness_id`; default 3, more than
@@ -274,9 +444,13 @@ pub struct ControllerConfig {
     /// yaw joints on two feet, the same sign on both legs; default none).
     pub identification_excitation_nm: BTreeMap<String, f64>,
     /// `identification_excitation_nm`: the sinusoid's frequency [Hz] (default 1 Hz).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub identification_excitation_hz: f64,
     /// `identification_excitation_nm`: how long it lasts [s], rounded up to whole cycles
     /// (default 3 s).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub identification_excitation_s: f64,
     /// The unmodelled external wrench (a push): "none" (the paper's controller; the default)
     /// or "observed" (estimated each whole-body period from the centroidal momentum and the
@@ -289,16 +463,24 @@ pub struct ControllerConfig {
     /// `external_wrench` "observed" or "generalized": bandwidth of the estimate's low pass
     /// [Hz] (default
     /// [`sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ`], 5 Hz).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub external_wrench_bandwidth_hz: f64,
     /// Controller damping estimate = true damping x scale.
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub damping_estimate_scale: f64,
     /// Controller stiffness estimate = true stiffness x scale.
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub stiffness_estimate_scale: f64,
     /// Per joint name, a further factor on that joint's stiffness estimate (e.g.
     /// `{ l_knee = 1.3 }`; default none).
     pub stiffness_estimate_joint_scales: BTreeMap<String, f64>,
     /// The controller's model: every link's mass and rotational inertia times this scale
     /// (centres of mass unchanged; default 1: the plant's model).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub mass_estimate_scale: f64,
     /// Per link name, a further factor on that link's mass and rotational inertia in the
     /// controller's model (a massless link fused into its parent scales that body; default
@@ -313,14 +495,22 @@ pub struct ControllerConfig {
     /// description's by joint group).
     pub postural_stiffness: Option<Vec<f64>>,
     /// Scale of the postural stiffness (default: the robot description's).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub postural_scale: f64,
     /// Pseudo-inverse damping (default: the robot description's).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub pinv_damping: f64,
     /// QP Hessian regulariser (default: the robot description's).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub qp_regularization: f64,
     /// Two feet: weight of the contact moments `|n|^2` in the QP's objective (0, the original
     /// study's objective; the push scenarios' 30 moves normal force between the feet before
     /// they move a sole's centre of pressure).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub qp_moment_regularization: f64,
     /// Two feet, when the momentum equality is infeasible under the contact constraints:
     /// "none" (the paper's QP; the minimiser without the contact constraints is used) or
@@ -336,6 +526,8 @@ pub struct ControllerConfig {
     pub reflected_inertia: bool,
     /// Added to the controller model's joint inertia diagonal [kg m^2] (default: the robot
     /// description's).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub joint_inertia_regularization: f64,
     /// `[controller.contact]`: the QP's contact constraints, whose contact surface the plant
     /// also uses for its wrench margins (one flat table: `facets`, `min_normal_force`,
@@ -345,6 +537,7 @@ pub struct ControllerConfig {
         deserialize_with = "contact_constraints",
         serialize_with = "contact_constraints_table"
     )]
+    #[schemars(with = "ContactConstraints")]
     pub contact: ContactConstraints,
 }
 
@@ -585,26 +778,36 @@ fn contact_table(mut table: toml::Table) -> TableResult<ContactConstraints> {
 /// `[reference]`: the CoM sinusoid `origin + (1 - exp(-t / smooth_start)) A sin(2 pi f t)
 /// direction` and the postural step (defaults: no motion; the direction and the 1 s smooth
 /// start are the original study's).
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct ReferenceConfig {
     /// CoM sinusoid amplitude [m].
+    #[serde(deserialize_with = "Finite::read")]
+    #[schemars(with = "Finite")]
     pub com_amplitude: f64,
     /// CoM sinusoid frequency [Hz].
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub com_frequency: f64,
     /// CoM sinusoid direction (world).
     pub com_direction: [f64; 3],
     /// Smooth-start time constant [s].
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub com_smooth_start: f64,
     /// "stance_sole" (default): CoM x, y above the stance sole origin (z initial); "initial":
     /// the initial CoM.
     pub com_origin: ComOrigin,
     /// Postural step [deg].
+    #[serde(deserialize_with = "Finite::read")]
+    #[schemars(with = "Finite")]
     pub posture_step_deg: f64,
     /// Joints (or groups of the robot description: "torso", "arms", "left_arm", "right_arm",
     /// "upper_body") that get the step.
     pub posture_step_joints: Vec<String>,
     /// Time of the step [s].
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
     pub posture_step_time: f64,
 }
 
@@ -624,17 +827,25 @@ impl Default for ReferenceConfig {
 }
 
 /// `[simulation]`.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimulationConfig {
     /// Simulated time [s].
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub duration_s: f64,
     /// Record (and log) every this many samples: control ticks with zero-order hold, plant
     /// steps in continuous sampling (the last sample and a diverging one are always recorded).
+    #[serde(deserialize_with = "AtLeastOne::read")]
+    #[schemars(with = "AtLeastOne")]
     pub record_every: usize,
     /// The run is diverged when the CoM error exceeds this [m].
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub divergence_com_error_m: f64,
     /// The run is diverged when the joint error norm exceeds this [rad].
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
     pub divergence_joint_error_rad: f64,
     /// A foot's wrench that a unilateral contact with friction cannot transmit ends the run
     /// as "fell" (default `true`). `false` keeps the plant's bilateral contacts as the whole

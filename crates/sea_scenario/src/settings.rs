@@ -17,6 +17,7 @@
 //! | `reference.com_origin` | [`ComOrigin`]    | here       |
 
 use crate::error::{Error, Result};
+use schemars::JsonSchema;
 pub use sea_ctrl::controller::{ControllerKind, MomentumRelaxation};
 pub use sea_ctrl::qp::QpSolver;
 /// `controller.identification_wrenches`: the contact wrenches the stiffness identification
@@ -70,7 +71,7 @@ pub(crate) fn not_one_of(key: &str, value: &str, allowed: &str) -> Error {
 }
 
 /// `actuators.kind`: the actuator of a joint.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ActuatorKind {
     /// A series elastic actuator with the table's parameters (the default).
@@ -119,7 +120,7 @@ impl Setting for IdentificationWrenches {
 
 /// `controller.external_wrench`: what the controller knows of an unmodelled external wrench
 /// (`sea_ctrl::external_wrench`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ExternalWrench {
     /// Nothing: its dynamics have no external wrench (the paper's controller; the default).
@@ -152,7 +153,7 @@ impl Setting for ExternalWrench {
 }
 
 /// `reference.com_origin`: the origin of the CoM sinusoid.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ComOrigin {
     /// CoM x, y above the stance sole origin, z the initial CoM's (the default).

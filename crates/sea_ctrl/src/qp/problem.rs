@@ -8,9 +8,17 @@ use sea_dyn::ContactSurface;
 
 /// Contact constraint parameters: the contact surface (friction, torsional friction, foot
 /// rectangle; shared with the plant's wrench margins) and the QP's own choices.
+// With the `serde` feature, its JSON Schema is the one flat table of scenario files
+// (`[controller.contact]`): the surface's keys with the QP's own.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(schemars::JsonSchema),
+    schemars(default, deny_unknown_fields)
+)]
 pub struct ContactConstraints {
     /// Friction coefficients and foot rectangle of each sole.
+    #[cfg_attr(feature = "serde", schemars(flatten))]
     pub surface: ContactSurface,
     /// Number of friction cone facets.
     pub facets: usize,

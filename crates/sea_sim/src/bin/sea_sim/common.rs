@@ -48,6 +48,13 @@ pub(crate) fn say(message: impl Display) {
     let _ = writeln!(std::io::stderr().lock(), "{message}");
 }
 
+/// Writes `text` as it is on stdout (no newline added); a closed stdout loses the text, never
+/// the run.
+pub(crate) fn print_text(text: impl Display) {
+    let mut out = std::io::stdout().lock();
+    let _ = write!(out, "{text}").and_then(|()| out.flush());
+}
+
 /// Writes text on stdout; a closed stdout (`| head -c1`) loses the text, never the run.
 pub(crate) fn print_out(text: impl Display) {
     let mut out = std::io::stdout().lock();

@@ -23,6 +23,7 @@ mod margin;
 mod progress;
 mod push;
 mod run;
+mod schema;
 mod signals;
 mod sweep;
 
@@ -65,6 +66,9 @@ enum Command {
     /// recovers from (bisection on full runs, directions in parallel), with the stance's
     /// capture-point bound; prints a JSON report.
     Push(push::PushArgs),
+    /// Print the JSON Schema of scenario files (derived from the types that read them; the
+    /// shipped copy is schemas/scenario.schema.json).
+    Schema(schema::SchemaArgs),
 }
 
 fn main() -> ExitCode {
@@ -81,6 +85,10 @@ fn main() -> ExitCode {
         Command::Margin(args) => margin::run_margin(args).map(|()| Outcome::Completed),
         Command::Init(args) => init::run_init(args).map(|()| Outcome::Completed),
         Command::Push(args) => push::run_push(args).map(|()| Outcome::Completed),
+        Command::Schema(args) => {
+            schema::print_schema(args);
+            Ok(Outcome::Completed)
+        }
         Command::Sweep(args) => match Interrupts::install() {
             Ok(interrupts) => sweep::run_sweep_command(args, &interrupts),
             Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),
