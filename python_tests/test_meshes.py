@@ -167,7 +167,8 @@ def test_missing_and_unresolvable_meshes_are_warnings_naming_link_uri_and_dirs(t
         link_meshes(urdf, strict=True)
     # The run and its log are kept: the warnings go to the metadata, the boxes are drawn.
     log = tmp_path / "run.mcap"
-    sm.run_scenario(TRACKING, {"simulation.duration_s": 0.02, "robot.urdf": str(urdf)}, mcap=log)
+    with pytest.warns(UserWarning, match="package://my_pkg/meshes/part.stl"):
+        sm.run_scenario(TRACKING, {"simulation.duration_s": 0.02, "robot.urdf": str(urdf)}, mcap=log)
     messages, metadata = read_log(log)
     assert metadata["scene"]["mesh_warnings"] == "2"
     assert "package://my_pkg/meshes/part.stl" in metadata["scene"]["warning_1"]

@@ -99,7 +99,8 @@ def run_scenario(
     ``ValueError`` naming the key. ``mcap`` writes a Foxglove-ready log (finished even when the
     run diverges). A diverged run is not an error: see ``result.status`` and ``result.summary``
     (a :class:`~sea_momentum.results.RunSummary`). ``package_dirs`` are searched first for the
-    URDF's ``package://`` meshes drawn in the log (as ``sea-sim run --package-dir``).
+    URDF's ``package://`` meshes drawn in the log (as ``sea-sim run --package-dir``); a mesh
+    the log cannot draw is a ``UserWarning`` naming the link and the URI (the log draws a box).
 
     Ctrl-C stops the run within a fraction of a second (the MCAP log is finished) and raises
     ``KeyboardInterrupt``; what was computed is its ``partial`` attribute, a

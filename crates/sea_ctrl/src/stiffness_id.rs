@@ -181,8 +181,8 @@ impl Default for IdentificationSettings {
     }
 }
 
-/// The contact wrenches the identification takes; with the `serde` feature, named
-/// "measured" or "commanded" (`controller.identification_wrenches` in scenario files).
+/// `controller.identification_wrenches`: the contact wrenches the stiffness identification
+/// takes (with the `serde` feature, named "measured" or "commanded").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(
     feature = "serde",

@@ -49,9 +49,18 @@ pub fn run_scenario_native<'py>(
                 eprintln!("  {}: t = {t:5.2} / {total:.2} s", scenario.name);
             }
         });
-        summary.map(|summary| (record, summary))
+        drop(sinks);
+        let warnings = log.map(|log| log.warnings().to_vec()).unwrap_or_default();
+        summary.map(|summary| (record, summary, warnings))
     })?;
-    let (record, summary) = outcome.map_err(to_py)?;
+    let (record, summary, warnings) = outcome.map_err(to_py)?;
+    // The meshes the log could not draw, as Python warnings (the run and its log are kept).
+    for warning in warnings {
+        let message = std::ffi::CString::new(format!("MCAP log: {warning}"))
+            .unwrap_or_else(|_| c"MCAP log: a mesh could not be drawn".to_owned());
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+        PyErr::warn(py, &category, &message, 1)?;
+    }
     let (nq, nv, ne) = record.layout;
     let nx = nq + nv + 2 * ne;
     let dict = PyDict::new(py);

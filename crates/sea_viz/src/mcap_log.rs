@@ -539,6 +539,8 @@ pub struct McapSink {
     /// Searched first for the URDF's `package://` meshes.
     package_dirs: Vec<PathBuf>,
     logger: Option<ThreadedMcapLogger>,
+    /// The meshes that could not be drawn (kept in the log's metadata too).
+    warnings: Vec<MeshWarning>,
 }
 
 impl McapSink {
@@ -547,8 +549,16 @@ impl McapSink {
         Self {
             path: path.into(),
             package_dirs: Vec::new(),
+            warnings: Vec::new(),
             logger: None,
         }
+    }
+
+    /// The meshes of the robot's scene that could not be drawn (a missing file, an unresolved
+    /// `package://` URI, a mesh over its budget), known once the run has begun; the caller
+    /// reports them (the library prints nothing). Each is also in the log's metadata.
+    pub fn warnings(&self) -> &[MeshWarning] {
+        &self.warnings
     }
 
     /// The same sink looking for `package://` meshes in `dirs` first (then the environment's
@@ -565,9 +575,7 @@ impl RecordSink for McapSink {
             McapLogger::create(&self.path, run.model, run.elastic_joints, run.contacts)?;
         logger.set_disturbance_links(run.disturbance_links);
         let source = SceneSource::of_run(run.scene).with_package_dirs(&self.package_dirs);
-        for warning in logger.set_scene(&source)? {
-            eprintln!("warning: {}: {warning}", self.path.display());
-        }
+        self.warnings = logger.set_scene(&source)?;
         self.logger = Some(ThreadedMcapLogger::spawn(logger));
         Ok(())
     }

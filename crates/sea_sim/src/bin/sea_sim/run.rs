@@ -127,6 +127,15 @@ pub(crate) fn run_scenario(args: &RunArgs, interrupts: &Interrupts) -> sea_sim::
         progress.update(t, total);
     });
     progress.finish();
+    drop(sinks);
+    if let (Some(log), Some(mcap)) = (&log, &outputs.mcap) {
+        for warning in log.warnings() {
+            say(format_args!(
+                "warning: {}: {warning}",
+                mcap.target().display()
+            ));
+        }
+    }
     let summary = match (result, &outputs.mcap) {
         (Err(e), Some(mcap)) => return Err(mcap.explain(e)),
         (result, _) => result?,
