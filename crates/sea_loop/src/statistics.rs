@@ -301,8 +301,8 @@ pub struct FallSummary {
     pub bound: f64,
 }
 
-/// Counters and timing of a run that the statistics do not hold.
-#[derive(Clone, Copy, Debug)]
+/// Counters and timing of a run that the statistics do not hold (zero by default).
+#[derive(Clone, Copy, Debug, Default)]
 pub struct RunTotals {
     /// Simulated time reached [s].
     pub duration_s: f64,

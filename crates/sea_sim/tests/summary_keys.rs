@@ -23,14 +23,7 @@ fn keys(json: &serde_json::Value) -> BTreeSet<String> {
 
 /// The summary of a run that ended with `end`, no sample taken.
 fn summary(end: &RunEnd) -> Summary {
-    let totals = RunTotals {
-        duration_s: 0.0,
-        qp_failures: 0,
-        qp_relaxed_solves: 0,
-        qp_active_set_solves: 0,
-        qp_clarabel_solves: 0,
-        wall_time_s: 0.0,
-    };
+    let totals = RunTotals::default();
     Summary::new(
         end,
         "zero_order_hold",

@@ -392,14 +392,7 @@ impl SweepRow {
 /// The summary fields of a row after its status and message, in the order of
 /// [`Summary::to_json`] (the summary's one list of fields).
 pub fn summary_columns() -> Vec<String> {
-    let totals = RunTotals {
-        duration_s: 0.0,
-        qp_failures: 0,
-        qp_relaxed_solves: 0,
-        qp_active_set_solves: 0,
-        qp_clarabel_solves: 0,
-        wall_time_s: 0.0,
-    };
+    let totals = RunTotals::default();
     let blank = Summary::new(
         &RunEnd::Completed,
         "",
