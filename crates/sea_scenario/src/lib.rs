@@ -25,6 +25,7 @@ pub mod robots;
 pub mod run;
 pub mod schema;
 pub mod settings;
+mod stack;
 pub mod validate;
 
 pub use build::{build, Setup};
