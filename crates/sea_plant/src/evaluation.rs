@@ -4,6 +4,7 @@
 //! into the [`PlantOutputs`] its caller gives.
 
 use crate::actuation::{elastic_joint_torque, motor_acceleration, motor_velocity_loop, saturate};
+use crate::compliant_forces::{add_contact_forces, add_stop_torques};
 use crate::contact::constraint_acceleration;
 use crate::error::{Error, Result};
 use crate::plant::{MotorInput, Plant};
@@ -45,6 +46,10 @@ impl Workspace {
     /// Taken only if the contact frames and the diagonal are the plant's own (bitwise); returns
     /// whether they were. Allocates nothing.
     pub fn adopt_contact_terms(&mut self, plant: &Plant, contacts: &FactoredContacts) -> bool {
+        if plant.unilateral().is_some() {
+            self.adopted.contacts = false;
+            return false;
+        }
         plant.joint_diagonal(&mut self.diagonal);
         let frames_match = contacts.frames.len() == plant.contacts.len()
             && contacts
@@ -124,8 +129,13 @@ pub fn evaluate(
         acceleration[6 + j] += out.joint_torque[j];
     }
     crate::external::add_generalized_force(model, &mut ws.data, &ws.external, acceleration);
-    ws.mass_factor.solve_lt(acceleration);
-    if !plant.contacts.is_empty() {
+    add_stop_torques(plant, ws, q, nu, out);
+    let unilateral = plant.unilateral();
+    if let Some(unilateral) = unilateral {
+        add_contact_forces(plant, unilateral, ws, out);
+    }
+    ws.mass_factor.solve_lt(ws.acceleration.as_mut_slice());
+    if !plant.contacts.is_empty() && unilateral.is_none() {
         contact_terms(plant, ws, adopted_contacts, out);
         contact_wrenches(ws, out)?;
     }

@@ -19,6 +19,9 @@
 
 use crate::contact::{sole_margins, Contact, ContactLimits, WrenchMargins};
 use crate::error::{Error, Result};
+use crate::ground::Ground;
+use crate::joint_stops::JointStops;
+use crate::unilateral::{CompliantContact, UnilateralContacts};
 use nalgebra::Vector3;
 use sea_dyn::actuator::Actuation;
 use sea_dyn::data::Data;
@@ -38,6 +41,18 @@ pub enum MotorInput {
         /// Motor velocity gain `K_m` [1/s].
         gain: f64,
     },
+}
+
+/// How the contacts of [`Plant::contacts`] touch the world.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum ContactModel {
+    /// Rigid bilateral contacts (the paper's setting): each frame is held at its reference pose
+    /// by the Baumgarte-stabilised constraint (paper eq:constraints_acc).
+    #[default]
+    Bilateral,
+    /// Each sole touches the ground at points through the compliant unilateral law of
+    /// [`crate::unilateral`]: lift-off, tipping, slip and impacts are physics.
+    Unilateral(UnilateralContacts),
 }
 
 /// The plant: model, actuation, contacts and constraint stabilisation.
@@ -60,6 +75,10 @@ pub struct Plant {
     pub joint_inertia_regularization: f64,
     /// Limits for the reported wrench margins.
     pub contact_limits: ContactLimits,
+    /// How the contacts touch the world (default: bilateral).
+    pub contact_model: ContactModel,
+    /// The URDF's position limits as stops ([`crate::joint_stops`]); `None`: no stops.
+    pub joint_stops: Option<JointStops>,
 }
 
 impl Plant {
@@ -79,7 +98,55 @@ impl Plant {
             motor_input: MotorInput::Torque,
             joint_inertia_regularization: 0.0,
             contact_limits: ContactLimits::default(),
+            contact_model: ContactModel::Bilateral,
+            joint_stops: None,
         }
+    }
+
+    /// The unilateral contacts, if that is the contact model.
+    pub fn unilateral(&self) -> Option<&UnilateralContacts> {
+        match &self.contact_model {
+            ContactModel::Unilateral(unilateral) => Some(unilateral),
+            ContactModel::Bilateral => None,
+        }
+    }
+
+    /// Contact points over all contacts (0 under bilateral contacts).
+    pub fn n_contact_points(&self) -> usize {
+        self.unilateral().map_or(0, UnilateralContacts::n_points)
+    }
+
+    /// Makes the contacts unilateral: `points` per contact of [`Plant::contacts`] (contact
+    /// frame). Errors name the bad part.
+    pub fn set_unilateral_contacts(
+        &mut self,
+        ground: Ground,
+        law: CompliantContact,
+        points: Vec<Vec<nalgebra::Vector3<f64>>>,
+    ) -> Result<()> {
+        law.validate()?;
+        if points.len() != self.contacts.len() {
+            return Err(Error::invalid(
+                "contact points",
+                format!("one list per contact ({})", self.contacts.len()),
+                points.len(),
+            ));
+        }
+        for (contact, list) in self.contacts.iter().zip(&points) {
+            if list.is_empty() || list.iter().any(|p| !p.iter().all(|v| v.is_finite())) {
+                return Err(Error::invalid(
+                    format!("contact points of '{}'", contact.name),
+                    "at least one point, finite coordinates",
+                    format!("{list:?}"),
+                ));
+            }
+        }
+        self.contact_model = ContactModel::Unilateral(UnilateralContacts {
+            ground,
+            law,
+            points,
+        });
+        Ok(())
     }
 
     /// State layout.
@@ -162,6 +229,12 @@ impl Plant {
                     gain,
                 ));
             }
+        }
+        if let Some(stops) = &self.joint_stops {
+            stops.validate()?;
+        }
+        if let Some(unilateral) = self.unilateral() {
+            unilateral.law.validate()?;
         }
         Ok(())
     }

@@ -5,7 +5,7 @@
 //! own buffers in `integrator/`).
 
 use crate::plant::Plant;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix6};
 use sea_dyn::data::Data;
 use sea_dyn::tree_factor::TreeFactor;
 
@@ -19,8 +19,12 @@ pub struct Workspace {
     pub(crate) diagonal: Vec<f64>,
     /// Stage 2, mass factor: `M + diag = L^T L` with the tree's sparsity.
     pub(crate) mass_factor: TreeFactor,
-    /// Stage 3, contact terms (empty without contacts).
+    /// Stage 3, contact terms (empty without contacts; under unilateral contacts only the
+    /// Jacobian is used).
     pub(crate) contact: ContactTerms,
+    /// Stage 3, unilateral contacts and joint stops: their linearisation, which the implicit
+    /// step's `W` takes.
+    pub(crate) compliance: ComplianceTerms,
     /// Stage 4, accelerations (nv): `B tau - h`, then `L^-T (B tau - h)`, then `nudot`.
     pub(crate) acceleration: DVector<f64>,
     /// Terms handed over by another user of the same model (`adopt_model_terms`).
@@ -41,6 +45,21 @@ pub(crate) struct ContactTerms {
     pub(crate) schur: DMatrix<f64>,
     /// Constraint acceleration target, then the multipliers (k).
     pub(crate) target: DVector<f64>,
+}
+
+/// Stage 3 under unilateral contacts and joint stops: `-d (force) / d (pose, velocity)` at the
+/// evaluated state.
+#[derive(Clone, Debug)]
+pub(crate) struct ComplianceTerms {
+    /// Per contact, the stiffness of its wrench at the sole origin (6 x 6, `[v; omega]`,
+    /// world axes; [`crate::unilateral::foot_stiffness`]).
+    pub(crate) foot_stiffness: Vec<Matrix6<f64>>,
+    /// Per contact, the damping of its wrench (6 x 6).
+    pub(crate) foot_damping: Vec<Matrix6<f64>>,
+    /// Per joint, the stop's stiffness (n; 0 off its stop).
+    pub(crate) stop_stiffness: Vec<f64>,
+    /// Per joint, the stop's damping (n).
+    pub(crate) stop_damping: Vec<f64>,
 }
 
 /// Model (and contact) terms adopted from another user of the model, waiting for the next
@@ -73,6 +92,12 @@ impl Workspace {
                 schur: DMatrix::zeros(k, k),
                 target: DVector::zeros(k),
             },
+            compliance: ComplianceTerms {
+                foot_stiffness: vec![Matrix6::zeros(); plant.contacts.len()],
+                foot_damping: vec![Matrix6::zeros(); plant.contacts.len()],
+                stop_stiffness: vec![0.0; plant.model.n_joints()],
+                stop_damping: vec![0.0; plant.model.n_joints()],
+            },
             acceleration: DVector::zeros(nv),
             adopted: Adopted {
                 state: vec![0.0; layout.nq + nv],
@@ -101,9 +126,20 @@ pub struct PlantOutputs {
     pub motor_torque: DVector<f64>,
     /// Whether each motor torque hit its limit (n_e).
     pub saturated: Vec<bool>,
-    /// Largest contact position error [m].
+    /// Unilateral contacts: each point's force on its foot, world axes (3 per point, contacts
+    /// in order, points in the order given; empty under bilateral contacts).
+    pub contact_point_force: DVector<f64>,
+    /// Unilateral contacts: each point's position, world (3 per point).
+    pub contact_point_position: DVector<f64>,
+    /// Unilateral contacts: whether each point carries a force (one per point).
+    pub contact_point_active: Vec<bool>,
+    /// Joint stops: the torque each joint's stop applies (n; zeros without stops).
+    pub joint_stop_torque: DVector<f64>,
+    /// Joint stops: whether each joint rests on a stop (n).
+    pub joint_stop_active: Vec<bool>,
+    /// Largest contact position error [m] (bilateral contacts).
     pub drift_position: f64,
-    /// Largest contact rotation error [rad].
+    /// Largest contact rotation error [rad] (bilateral contacts).
     pub drift_rotation: f64,
 }
 
@@ -118,6 +154,11 @@ impl PlantOutputs {
             joint_torque: DVector::zeros(plant.model.n_joints()),
             motor_torque: DVector::zeros(ne),
             saturated: vec![false; ne],
+            contact_point_force: DVector::zeros(3 * plant.n_contact_points()),
+            contact_point_position: DVector::zeros(3 * plant.n_contact_points()),
+            contact_point_active: vec![false; plant.n_contact_points()],
+            joint_stop_torque: DVector::zeros(plant.model.n_joints()),
+            joint_stop_active: vec![false; plant.model.n_joints()],
             drift_position: 0.0,
             drift_rotation: 0.0,
         }
@@ -130,11 +171,21 @@ impl PlantOutputs {
             (&mut self.contact_wrench, &other.contact_wrench),
             (&mut self.joint_torque, &other.joint_torque),
             (&mut self.motor_torque, &other.motor_torque),
+            (&mut self.contact_point_force, &other.contact_point_force),
+            (
+                &mut self.contact_point_position,
+                &other.contact_point_position,
+            ),
+            (&mut self.joint_stop_torque, &other.joint_stop_torque),
         ];
         for (target, source) in vectors {
             target.as_mut_slice().copy_from_slice(source.as_slice());
         }
         self.saturated.copy_from_slice(&other.saturated);
+        self.contact_point_active
+            .copy_from_slice(&other.contact_point_active);
+        self.joint_stop_active
+            .copy_from_slice(&other.joint_stop_active);
         self.drift_position = other.drift_position;
         self.drift_rotation = other.drift_rotation;
     }

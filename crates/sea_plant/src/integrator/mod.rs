@@ -85,6 +85,9 @@ pub struct IntegratorCache {
     w_age: Option<usize>,
     /// The motors' saturation when `W` was prepared (n_e).
     w_saturated: Vec<bool>,
+    /// Which contact points and joint stops carried a force when `W` was prepared
+    /// (points, then joints).
+    w_active: Vec<bool>,
 }
 
 impl IntegratorCache {
@@ -99,6 +102,7 @@ impl IntegratorCache {
             w_refresh_steps: 1,
             w_age: None,
             w_saturated: vec![false; layout.ne],
+            w_active: vec![false; plant.n_contact_points() + plant.model.n_joints()],
         }
     }
 
@@ -114,30 +118,39 @@ impl IntegratorCache {
         self.w_age = None;
     }
 
-    /// Whether a step of scale `g` whose start saturates the motors as `saturated` must
-    /// prepare `W`: none yet, `N` steps on it already, or another scale or saturation.
-    fn w_is_stale(&self, g: f64, saturated: &[bool]) -> bool {
+    /// Whether a step of scale `g` whose start evaluated to `outputs` must prepare `W`: none
+    /// yet, `N` steps on it already, another scale, saturation, or set of contact points and
+    /// joint stops carrying a force.
+    fn w_is_stale(&self, g: f64, outputs: &PlantOutputs) -> bool {
         match self.w_age {
             None => true,
             Some(age) => {
-                age >= self.w_refresh_steps || self.w.g() != g || self.w_saturated != saturated
+                let points = outputs.contact_point_active.len();
+                age >= self.w_refresh_steps
+                    || self.w.g() != g
+                    || self.w_saturated != outputs.saturated
+                    || self.w_active[..points] != outputs.contact_point_active[..]
+                    || self.w_active[points..] != outputs.joint_stop_active[..]
             }
         }
     }
 
-    /// `W` for a step of scale `g` from the evaluation in `ws`: prepared unless the current one
-    /// may serve ([`IntegratorCache::w_is_stale`]).
+    /// `W` for a step of scale `g` from the evaluation in `ws` (with outputs `outputs`):
+    /// prepared unless the current one may serve ([`IntegratorCache::w_is_stale`]).
     fn update_w(
         &mut self,
         plant: &Plant,
         ws: &Workspace,
-        saturated: &[bool],
+        outputs: &PlantOutputs,
         g: f64,
     ) -> Result<()> {
-        if self.w_is_stale(g, saturated) {
+        if self.w_is_stale(g, outputs) {
             self.w_age = None;
-            self.w.prepare(plant, ws, saturated, g)?;
-            self.w_saturated.copy_from_slice(saturated);
+            self.w.prepare(plant, ws, &outputs.saturated, g)?;
+            self.w_saturated.copy_from_slice(&outputs.saturated);
+            let points = outputs.contact_point_active.len();
+            self.w_active[..points].copy_from_slice(&outputs.contact_point_active);
+            self.w_active[points..].copy_from_slice(&outputs.joint_stop_active);
             self.w_age = Some(0);
         }
         if let Some(age) = &mut self.w_age {
@@ -319,7 +332,7 @@ fn implicit_first_stage<E: From<Error>>(
         integrator: cache,
     } = pd;
     eval(ws, outputs, 0.0, x)?;
-    cache.update_w(plant, ws, &outputs.saturated, g)?;
+    cache.update_w(plant, ws, outputs, g)?;
     let [k1, _, rhs, _] = &mut cache.stages;
     copy_contiguous(rhs, &outputs.xdot);
     cache.w.solve(plant, rhs, k1);

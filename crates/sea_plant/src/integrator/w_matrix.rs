@@ -1,10 +1,11 @@
 //! The implicit step's matrix `W = I - g Jf`, its factor and its solve, with the buffers they
 //! own.
 
+use crate::compliant_forces::add_foot_to_matrix;
 use crate::error::{Error, Result};
 use crate::plant::{MotorInput, Plant};
 use crate::workspace::Workspace;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 use sea_dyn::dense::{
     cholesky_in_place, cholesky_solve_in_place, copy_contiguous, gemv_few_rows, gemv_tr_few_rows,
 };
@@ -51,6 +52,19 @@ pub(crate) struct WMatrix {
     combination: DVector<f64>,
     /// The constraint target, then the multipliers' perturbation, of a solve (k).
     constraint: DVector<f64>,
+    /// Unilateral contacts: `M + sum g J_c^T (g K_c + D_c) J_c` (nv x nv), factored with the
+    /// diagonal.
+    augmented: DMatrix<f64>,
+    /// Unilateral contacts: `(g K_c + D_c) J_c` of one foot (6 x nv).
+    scratch: DMatrix<f64>,
+    /// Unilateral contacts: each foot's stiffness and damping at the step start (6 x 6 each).
+    foot_stiffness: Vec<Matrix6<f64>>,
+    /// See `foot_stiffness`.
+    foot_damping: Vec<Matrix6<f64>>,
+    /// Joint stops: stiffness and damping per joint at the step start (n each).
+    stop_stiffness: Vec<f64>,
+    /// See `stop_stiffness`.
+    stop_damping: Vec<f64>,
 }
 
 impl WMatrix {
@@ -70,6 +84,12 @@ impl WMatrix {
             z: DVector::zeros(nv),
             combination: DVector::zeros(nv),
             constraint: DVector::zeros(k),
+            augmented: DMatrix::zeros(nv, nv),
+            scratch: DMatrix::zeros(6, nv),
+            foot_stiffness: vec![Matrix6::zeros(); plant.contacts.len()],
+            foot_damping: vec![Matrix6::zeros(); plant.contacts.len()],
+            stop_stiffness: vec![0.0; plant.model.n_joints()],
+            stop_damping: vec![0.0; plant.model.n_joints()],
         }
     }
 
@@ -118,10 +138,15 @@ impl WMatrix {
             let vj = 6 + actuation.elastic_joints[e];
             self.diagonal[vj] -= g * t1;
         }
-        self.factor
-            .factor(&ws.data.mass_matrix, &self.diagonal)
-            .map_err(|e| e.during("factorising the implicit step matrix"))?;
-        if plant.contacts.is_empty() {
+        self.add_stops(ws);
+        let factored = if plant.unilateral().is_some() {
+            self.augment_with_contacts(plant, ws);
+            self.factor.factor(&self.augmented, &self.diagonal)
+        } else {
+            self.factor.factor(&ws.data.mass_matrix, &self.diagonal)
+        };
+        factored.map_err(|e| e.during("factorising the implicit step matrix"))?;
+        if plant.contacts.is_empty() || plant.unilateral().is_some() {
             return Ok(());
         }
         // J at the step start: the later stages' evaluations overwrite the workspace's.
@@ -134,6 +159,45 @@ impl WMatrix {
                 format!("contact constraints are degenerate (pivot {i})"),
             )
         })
+    }
+
+    /// The joint stops' stiffness and damping at the step start, on the diagonal:
+    /// `g (g k + d)` per joint on its stop.
+    fn add_stops(&mut self, ws: &Workspace) {
+        let g = self.g;
+        let terms = &ws.compliance;
+        self.stop_stiffness.copy_from_slice(&terms.stop_stiffness);
+        self.stop_damping.copy_from_slice(&terms.stop_damping);
+        for (j, (k, d)) in self
+            .stop_stiffness
+            .iter()
+            .zip(&self.stop_damping)
+            .enumerate()
+        {
+            self.diagonal[6 + j] += g * mul_add(g, *k, *d);
+        }
+    }
+
+    /// `M + sum_c g J_c^T (g K_c + D_c) J_c` into `augmented`, with the feet's Jacobians,
+    /// stiffness and damping at the step start kept for the solves. The sum keeps the tree's
+    /// sparsity: a foot's Jacobian has non-zeros only on the foot's ancestors.
+    fn augment_with_contacts(&mut self, plant: &Plant, ws: &Workspace) {
+        let g = self.g;
+        copy_contiguous(&mut self.jacobian, &ws.contact.jacobian);
+        copy_contiguous(&mut self.augmented, &ws.data.mass_matrix);
+        for c in 0..plant.contacts.len() {
+            self.foot_stiffness[c] = ws.compliance.foot_stiffness[c];
+            self.foot_damping[c] = ws.compliance.foot_damping[c];
+            let combined = self.foot_stiffness[c] * g + self.foot_damping[c];
+            add_foot_to_matrix(
+                &self.jacobian,
+                6 * c,
+                &combined,
+                g,
+                &mut self.scratch,
+                &mut self.augmented,
+            );
+        }
     }
 
     /// The step scale `g` it was prepared for (0 before the first).
@@ -165,8 +229,10 @@ impl WMatrix {
             z[vj] = t0 + m.t1 * r.dnu[vj];
             k.dthetadot[e] = a0;
         }
+        self.compliance_rhs(plant, r.dq, r.dnu);
+        let z = self.z.as_mut_slice();
         self.factor.solve_lt(z);
-        if !plant.contacts.is_empty() {
+        if !plant.contacts.is_empty() && plant.unilateral().is_none() {
             self.solve_constraint(plant, r.dq, r.dnu);
         }
         let z = self.z.as_mut_slice();
@@ -181,6 +247,39 @@ impl WMatrix {
             let k_thetadot = mul_add(m.a1, k.dnu[vj], k.dthetadot[e]);
             k.dthetadot[e] = k_thetadot;
             k.dtheta[e] = mul_add(g, k_thetadot, r.dtheta[e]);
+        }
+    }
+
+    /// The compliant part of [`WMatrix::solve`]'s right-hand side: the joint stops
+    /// `z_j -= k_j (r_q + g r_nu)_j + d_j r_nu_j` and, under unilateral contacts, per foot
+    /// `z -= J_c^T (K_c J_c (r_q + g r_nu) + D_c J_c r_nu)` (the forces' change over the stage
+    /// that `W`'s augmented matrix does not carry).
+    fn compliance_rhs(&mut self, plant: &Plant, r_q: &[f64], r_nu: &[f64]) {
+        let g = self.g;
+        let z = self.z.as_mut_slice();
+        for (j, (k, d)) in self
+            .stop_stiffness
+            .iter()
+            .zip(&self.stop_damping)
+            .enumerate()
+        {
+            let v = 6 + j;
+            z[v] -= k * mul_add(g, r_nu[v], r_q[v]) + d * r_nu[v];
+        }
+        if plant.unilateral().is_none() {
+            return;
+        }
+        for c in 0..plant.contacts.len() {
+            let foot = self.jacobian.rows(6 * c, 6);
+            let (mut displacement, mut velocity) = (Vector6::zeros(), Vector6::zeros());
+            for (v, column) in foot.column_iter().enumerate() {
+                displacement += column * mul_add(g, r_nu[v], r_q[v]);
+                velocity += column * r_nu[v];
+            }
+            let force = self.foot_stiffness[c] * displacement + self.foot_damping[c] * velocity;
+            for (v, column) in foot.column_iter().enumerate() {
+                z[v] -= column.dot(&force);
+            }
         }
     }
 
