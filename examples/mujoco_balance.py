@@ -128,6 +128,7 @@ def report(series: dict[str, np.ndarray], weight: float) -> str:
 
 
 def main() -> None:
+    """Runs the balance from the command line and prints the report."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=10.0, help="simulated time [s]")
     parser.add_argument("--amplitude", type=float, default=0.02, help="lateral CoM sinusoid [m]")
