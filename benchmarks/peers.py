@@ -1,11 +1,17 @@
 """sea-momentum beside MuJoCo, measured in one run on the same robot.
 
 MuJoCo compiles ``urdf/icub25.urdf`` with a free base, a floor plane and massless foot boxes of
-the controller's foot rectangle (the model of ``examples/mujoco_balance.py``), standing on both
-feet (4 contacts per box, 8 in all), held by the rigid momentum controller (as in the example). Its ``mj_step``
-(Euler and implicitfast, 1 ms) is timed beside ``target/release/sea-sim bench --json``, which
-runs as a subprocess in the same run; the two alternate ``--runs`` times and each figure is the
-median of the runs (each run's figure is itself a median of batch means).
+the controller's foot rectangle, standing on both feet (4 contacts per box, 8 in all), held by
+the rigid momentum controller (as in ``examples/mujoco_balance.py``), in two forms
+(``examples/mujoco_icub.py``):
+- "example": the model of ``examples/mujoco_balance.py`` (``fusestatic`` false: the static
+  bodies kept, 42 bodies, the foot boxes on the sole frames);
+- "users": as its users would compile it: ``fusestatic`` true (MuJoCo's default for a URDF: the
+  static sole frames, neck and wrist links fused into their parents, 27 bodies), the foot boxes
+  on the foot links at the sole's pose, contacts active.
+Their ``mj_step`` (Euler and implicitfast, 1 ms) is timed beside ``target/release/sea-sim bench
+--json``, which runs as a subprocess in the same run; they alternate ``--runs`` times and each
+figure is the median of the runs (each run's figure is itself a median of batch means).
 
 Ratios printed (below 1: ours is faster):
 - one implicit SEA step (ROS2, 25 motor states, two rigid feet) / ``mj_step``;
@@ -16,8 +22,12 @@ Ratios printed (below 1: ours is faster):
 - one simulated second of the multi-rate loop (QP at 100 Hz, joint loops at 1 kHz) / 1000 ``mj_step``;
 - the continuous-time closed loop (controller at every integrator stage) / the 1 kHz one.
 
+Our own plant step with unilateral contacts will be timed beside them by
+``time_our_unilateral_step`` (the hook; ``our_unilateral_step`` returns None until
+``sea_momentum.Plant`` has a unilateral contact model).
+
 Run: ``python benchmarks/peers.py [--runs 3] [--batches 31] [--steps 500] [--json FILE]
-[--sea-sim PATH ...]`` (needs ``pip install mujoco`` and ``cargo build --release -p sea_sim --bin
+[--sea-sim PATH ...] [--mujoco-only]`` (needs ``pip install mujoco`` and ``cargo build --release -p sea_sim --bin
 sea-sim``). ``--sea-sim`` given several times times each binary in turn within every run (e.g. a
 build of the commit before a change beside the one after it), so the before/after ratios come
 from one run on one machine. The CPU model is printed with the figures: ratios to MuJoCo differ
@@ -34,13 +44,14 @@ import statistics
 import subprocess
 import sys
 import time
+from typing import Callable
 
 import mujoco
 import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "examples"))
-import mujoco_balance  # noqa: E402  (the MuJoCo model of the iCub, one source of truth)
+import mujoco_icub  # noqa: E402  (the MuJoCo model of the iCub, one source of truth)
 
 import sea_momentum as sm  # noqa: E402
 
@@ -50,6 +61,11 @@ SEA_SIM = ROOT / "target" / "release" / "sea-sim"
 EXPECTED_CONTACTS = 8
 #: Steps of settling before timing, so the soft contacts have built up [steps of 1 ms].
 SETTLING_STEPS = 300
+#: The MuJoCo models timed side by side: the example's, and the one its users would compile.
+MODELS = {
+    "example": mujoco_icub.ModelOptions(),
+    "users": mujoco_icub.ModelOptions(fusestatic=True),
+}
 INTEGRATORS = {
     "euler": mujoco.mjtIntegrator.mjINT_EULER,
     "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
@@ -60,28 +76,28 @@ class StandingMujoco:
     """The iCub in MuJoCo standing on both feet, gravity compensated, and a snapshot of that
     state to restart every timed batch from."""
 
-    def __init__(self) -> None:
+    def __init__(self, options: mujoco_icub.ModelOptions) -> None:
         scenario = sm.Scenario.load(
-            mujoco_balance.SCENARIO,
-            {"robot.contacts": mujoco_balance.FEET, "robot.initial_posture": "two_feet"},
+            mujoco_icub.SCENARIO,
+            {"robot.contacts": mujoco_icub.FEET, "robot.initial_posture": "two_feet"},
         )
         joints = scenario.model.joint_names
-        self.model = mujoco_balance.mujoco_model(URDF, joints)
+        self.model = mujoco_icub.mujoco_model(URDF, joints, options)
         self.data = mujoco.MjData(self.model)
         q0 = np.array(scenario.initial_state[: scenario.model.nq])
-        self.states = mujoco_balance.StateMap.of(self.model, joints)
+        self.states = mujoco_icub.StateMap.of(self.model, joints)
         self.states.set_from_ours(self.data, q0)
         self.actuators = np.array([self.model.actuator(name).id for name in joints])
         # The example's rigid momentum controller holds the robot standing (a joint PD alone
         # does not: the feet carry the weight through the floating base).
         self.controller = sm.Controller(
             scenario.model,
-            mujoco_balance.FEET,
+            mujoco_icub.FEET,
             q0,
             actuators={"kind": "rigid"},
             reference={"com_origin": "initial", "com_amplitude": 0.0},
             kind="rigid",
-            contact={"foot_x": list(mujoco_balance.FOOT_X), "foot_y": list(mujoco_balance.FOOT_Y)},
+            contact={"foot_x": list(mujoco_icub.FOOT_X), "foot_y": list(mujoco_icub.FOOT_Y)},
         )
         for _ in range(SETTLING_STEPS):
             self.hold_posture()
@@ -91,6 +107,10 @@ class StandingMujoco:
         spec = mujoco.mjtState.mjSTATE_INTEGRATION
         self.snapshot = np.empty(mujoco.mj_stateSize(self.model, spec))
         mujoco.mj_getState(self.model, self.data, self.snapshot, spec)
+
+    def describe(self) -> str:
+        """The model's size: bodies and geoms."""
+        return f"{self.model.nbody} bodies, {self.model.ngeom} geoms"
 
     def hold_posture(self) -> None:
         """One controller tick at the current state; its joint torques go to the actuators."""
@@ -123,7 +143,15 @@ class StandingMujoco:
 
 
 def cpu_model() -> str:
-    """The CPU's model name as ``lscpu`` gives it (``/proc/cpuinfo``), else the platform's."""
+    """The CPU's model name: ``lscpu``'s "Model name", else ``/proc/cpuinfo``'s, else the
+    platform's."""
+    try:
+        listing = subprocess.run(["lscpu"], check=True, capture_output=True, text=True).stdout
+        for line in listing.splitlines():
+            if line.strip().startswith("Model name:"):
+                return line.split(":", 1)[1].strip()
+    except (OSError, subprocess.CalledProcessError):
+        pass
     try:
         for line in pathlib.Path("/proc/cpuinfo").read_text().splitlines():
             if line.startswith("model name"):
@@ -161,46 +189,100 @@ def medians(runs: list[dict]) -> dict:
     }
 
 
-def measure(runs: int, batches: int, steps: int, binaries: list[pathlib.Path]) -> dict:
-    """Alternating runs of MuJoCo and of each binary; the median of each figure over the runs.
-    ``ours`` holds the first binary's medians, ``binaries`` every binary's."""
-    standing = StandingMujoco()
-    mujoco_runs: dict[str, list[float]] = {name: [] for name in INTEGRATORS}
+def our_unilateral_step() -> Callable[[], object] | None:
+    """Our plant's step with unilateral contacts on the standing iCub, as a callable doing one
+    1 ms step from a standing state, for ``time_our_unilateral_step``. None until
+    ``sea_momentum.Plant`` has a unilateral contact model (its steps are then timed beside
+    MuJoCo's in the same run)."""
+    return None
+
+
+def time_our_unilateral_step(step: Callable[[], object], batches: int, steps: int) -> float:
+    """The hook where our unilateral-contact plant step is timed: median over ``batches`` of
+    the mean microseconds of ``step()`` over ``steps`` calls (the first batch warms up), as
+    ``StandingMujoco.step_us`` times ``mj_step``. ``step`` restores its own start state if it
+    needs one; only its calls are timed."""
+    means = []
+    for _ in range(batches + 1):
+        start = time.perf_counter()
+        for _ in range(steps):
+            step()
+        means.append((time.perf_counter() - start) * 1e6 / steps)
+    return statistics.median(means[1:])
+
+
+def measure(
+    runs: int,
+    batches: int,
+    steps: int,
+    binaries: list[pathlib.Path],
+    unilateral_step: Callable[[], object] | None = None,
+) -> dict:
+    """Alternating runs of each MuJoCo model, of each binary and of ``unilateral_step`` (if
+    given); the median of each figure over the runs. ``mujoco_step_us`` is the example model's
+    (``mujoco_step_us_by_model`` every model's), ``ours`` the first binary's medians,
+    ``binaries`` every binary's, ``unilateral_step_us`` our unilateral step's (or None)."""
+    standing = {name: StandingMujoco(options) for name, options in MODELS.items()}
+    mujoco_runs = {model: {name: [] for name in INTEGRATORS} for model in MODELS}
     ours_runs: dict[str, list[dict]] = {str(binary): [] for binary in binaries}
+    unilateral_runs: list[float] = []
     for _ in range(runs):
-        for name in INTEGRATORS:
-            mujoco_runs[name].append(standing.step_us(name, batches, steps))
+        for model, held in standing.items():
+            for name in INTEGRATORS:
+                mujoco_runs[model][name].append(held.step_us(name, batches, steps))
         for binary in binaries:
             ours_runs[str(binary)].append(sea_sim_figures(binary, batches))
+        if unilateral_step is not None:
+            unilateral_runs.append(time_our_unilateral_step(unilateral_step, batches, steps))
     per_binary = {binary: medians(figures) for binary, figures in ours_runs.items()}
-    mj = {name: statistics.median(values) for name, values in mujoco_runs.items()}
+    by_model = {
+        model: {name: statistics.median(values) for name, values in figures.items()}
+        for model, figures in mujoco_runs.items()
+    }
     return {
-        "mujoco_step_us": mj,
-        "ours": per_binary[str(binaries[0])],
+        "mujoco_step_us": by_model["example"],
+        "mujoco_step_us_by_model": by_model,
+        "mujoco_models": {model: held.describe() for model, held in standing.items()},
+        "ours": per_binary[str(binaries[0])] if binaries else {},
         "binaries": per_binary,
-        "runs": {"mujoco": mujoco_runs, "ours": ours_runs},
+        "unilateral_step_us": statistics.median(unilateral_runs) if unilateral_runs else None,
+        "runs": {"mujoco": mujoco_runs, "ours": ours_runs, "unilateral_step": unilateral_runs},
     }
 
 
+def mujoco_table(result: dict) -> str:
+    """The MuJoCo models side by side: bodies, contacts, ``mj_step`` Euler and implicitfast
+    (medians), and our unilateral-contact plant step beside them once it exists."""
+    lines = [
+        f"MuJoCo {mujoco.__version__} mj_step on the standing iCub, {EXPECTED_CONTACTS} contacts, "
+        f"on {result['machine']['cpu']} (medians of {len(result['runs']['mujoco']['example']['euler'])} runs)",
+        f"{'model':<44}{'Euler [us]':>12}{'implicitfast [us]':>19}",
+    ]
+    for model, figures in result["mujoco_step_us_by_model"].items():
+        label = f"{model}: {result['mujoco_models'][model]}"
+        lines.append(f"{label:<44}{figures['euler']:12.1f}{figures['implicitfast']:19.1f}")
+    unilateral = result["unilateral_step_us"]
+    ours = "not yet (our_unilateral_step returns None)" if unilateral is None else f"{unilateral:.1f} us"
+    lines.append(f"our plant step with unilateral contacts: {ours}")
+    return "\n".join(lines)
+
+
 def table(result: dict, ours: dict, title: str) -> str:
-    """The side-by-side table of one binary (``ours``, its medians): our figure, MuJoCo's
-    (Euler, implicitfast) and the ratios, under a header naming the CPU."""
-    mj = result["mujoco_step_us"]
+    """The side-by-side table of one binary (``ours``, its medians): our figure and the ratios
+    to each MuJoCo model's ``mj_step`` (Euler, implicitfast), under a header naming the CPU."""
+    models = result["mujoco_step_us_by_model"]
+    columns = [(model, integrator) for model in models for integrator in INTEGRATORS]
     lines = [
         f"{title} on {result['machine']['cpu']}",
-        f"MuJoCo {mujoco.__version__} mj_step on the standing iCub, {EXPECTED_CONTACTS} contacts: "
-        f"Euler {mj['euler']:.1f} us, implicitfast {mj['implicitfast']:.1f} us",
-        f"{'figure':<54}{'ours [us]':>12}{'/ Euler':>10}{'/ implicitfast':>16}",
+        f"{'figure':<54}{'ours [us]':>12}" + "".join(f"{'/ ' + m + ' ' + i:>24}" for m, i in columns),
     ]
     for label, key, scale, steps in RATIOS:
         if key not in ours:
             lines.append(f"{label:<54}{'missing':>12}")
             continue
         value = ours[key] * scale
-        lines.append(
-            f"{label:<54}{value:12.1f}{value / (steps * mj['euler']):10.2f}"
-            f"{value / (steps * mj['implicitfast']):16.2f}"
-        )
+        ratios = "".join(f"{value / (steps * models[m][i]):24.2f}" for m, i in columns)
+        lines.append(f"{label:<54}{value:12.1f}{ratios}")
     if "closed_loop_second_continuous_ms" in ours and "closed_loop_second_ms" in ours:
         ratio = ours["closed_loop_second_continuous_ms"] / ours["closed_loop_second_ms"]
         lines.append(f"continuous-time closed loop / 1 kHz zero-order hold: {ratio:.2f}")
@@ -208,6 +290,7 @@ def table(result: dict, ours: dict, title: str) -> str:
 
 
 def main() -> None:
+    """Times both sides, prints the tables and writes the JSON."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=3, help="alternating runs of both sides")
     parser.add_argument("--batches", type=int, default=31, help="timed batches per figure")
@@ -220,15 +303,18 @@ def main() -> None:
         help="a sea-sim binary to time (repeat to compare builds in one run; "
         "default target/release/sea-sim)",
     )
+    parser.add_argument("--mujoco-only", action="store_true", help="time MuJoCo only (no sea-sim)")
     args = parser.parse_args()
-    binaries = args.sea_sim or [SEA_SIM]
-    result = measure(args.runs, args.batches, args.steps, binaries)
+    binaries = [] if args.mujoco_only else (args.sea_sim or [SEA_SIM])
+    result = measure(args.runs, args.batches, args.steps, binaries, our_unilateral_step())
     result["machine"] = {
         "platform": platform.platform(),
         "processor": platform.processor(),
         "cpu": cpu_model(),
     }
-    print("\n\n".join(table(result, result["binaries"][str(b)], str(b)) for b in binaries))
+    print(mujoco_table(result))
+    for binary in binaries:
+        print("\n" + table(result, result["binaries"][str(binary)], str(binary)))
     if args.json:
         args.json.write_text(json.dumps(result, indent=2))
 

@@ -6,12 +6,9 @@ torque actuators on the 25 joints; every millisecond the MuJoCo state is convert
 conventions and handed to ``sea_momentum.Controller.tick`` (rigid controller, two feet), whose
 joint torques drive the actuators.
 
-Conventions converted (MuJoCo docs, "Floating objects" / mjData.qvel):
-- free joint ``qpos = [x y z qw qx qy qz]`` (base position, world; quaternion w first) equals our
-  ``q[:7]`` (docs/reference/conventions.md: ``[p_B, quaternion (w, x, y, z)]``);
-- free joint ``qvel = [v (world), omega (base frame)]``; ours is ``[pdot_B (world), omega_B
-  (world)]``, so ``omega_world = R_B omega_body``;
-- joints by name (``model.joint(name).qposadr / dofadr``), in our joint order.
+The model, the conversion of MuJoCo's state to our conventions and the feet's measured wrenches
+are in ``examples/mujoco_icub.py`` (shared with ``benchmarks/mujoco_push.py`` and
+``benchmarks/peers.py``).
 
 Run: ``python examples/mujoco_balance.py [--duration 10] [--amplitude 0.02]`` (needs
 ``pip install mujoco``, the ``examples`` extra). Prints the CoM error and the contact forces
@@ -21,126 +18,27 @@ measured by MuJoCo (``mj_contactForce``) against the QP's.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import pathlib
-import xml.etree.ElementTree as ET
+import sys
 
 import mujoco
 import numpy as np
 
 import sea_momentum as sm
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-URDF = ROOT / "urdf" / "icub25.urdf"
-#: Any iCub scenario: its build gives the model and the initial configuration (overridden below
-#: to two feet, the "two_feet" posture of the original study, rigid joints).
-SCENARIO = ROOT / "scenarios" / "paper" / "tracking.toml"
-FEET = ["l_sole", "r_sole"]
-#: The foot rectangle in the sole frame [m]: the MuJoCo foot box and the controller's CoP
-#: constraint (controller.contact.foot_x / foot_y) are the same rectangle.
-FOOT_X = (-0.05, 0.10)
-FOOT_Y = (-0.025, 0.025)
-#: Half thickness of the foot box [m]; its bottom face is the sole plane.
-FOOT_HALF_THICKNESS = 0.005
-#: MuJoCo step = control period [s] (the controller runs at every step).
-TIMESTEP = 1e-3
-#: Gravity [m/s^2], MuJoCo's default and ours (docs/reference/conventions.md).
-GRAVITY = (0.0, 0.0, -9.81)
-
-
-def mujoco_model(urdf: pathlib.Path, joints: list[str]) -> mujoco.MjModel:
-    """The URDF in MuJoCo: static bodies kept (the sole frames), visuals discarded, joint
-    damping dropped (our rigid model has none), a free base, foot boxes, a floor plane and one
-    torque actuator per joint of ``joints``."""
-    robot = ET.parse(urdf).getroot()
-    for dynamics in robot.iter("dynamics"):
-        dynamics.attrib.pop("damping", None)
-        dynamics.attrib.pop("friction", None)
-    for joint in robot.findall("joint"):
-        if joint.get("type") != "fixed" and joint.get("name") not in joints:
-            joint.set("type", "fixed")  # locked, as in our reduced model
-    compiler = ET.SubElement(ET.SubElement(robot, "mujoco"), "compiler")
-    compiler.attrib.update({"fusestatic": "false", "discardvisual": "true", "balanceinertia": "false"})
-    spec = mujoco.MjSpec.from_string(ET.tostring(robot, encoding="unicode"))
-    spec.option.timestep = TIMESTEP
-    spec.option.gravity = GRAVITY
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    base = spec.worldbody.first_body()
-    base.add_freejoint()
-    spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[2.0, 2.0, 0.1], name="floor")
-    half = [(FOOT_X[1] - FOOT_X[0]) / 2, (FOOT_Y[1] - FOOT_Y[0]) / 2, FOOT_HALF_THICKNESS]
-    centre = [(FOOT_X[1] + FOOT_X[0]) / 2, (FOOT_Y[1] + FOOT_Y[0]) / 2, FOOT_HALF_THICKNESS]
-    # Box centre h above the sole: its bottom face is the sole plane, so it touches the floor.
-    for foot in FEET:
-        # Massless: a contact surface, not a body (the URDF's masses stay the only ones).
-        spec.body(foot).add_geom(
-            type=mujoco.mjtGeom.mjGEOM_BOX, size=half, pos=centre, name=f"{foot}_box", density=0.0
-        )
-    for name in joints:
-        actuator = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
-        actuator.gainprm[0] = 1.0  # a motor: force = ctrl [N m]
-    return spec.compile()
-
-
-@dataclasses.dataclass
-class StateMap:
-    """Where our state's entries are in MuJoCo's qpos/qvel."""
-
-    base_qpos: int  #: free joint's qpos address
-    base_dof: int  #: free joint's dof address
-    joint_qpos: np.ndarray  #: qpos address of each of our joints, in our order
-    joint_dof: np.ndarray  #: dof address of each of our joints
-
-    @classmethod
-    def of(cls, mj: mujoco.MjModel, joints: list[str]) -> StateMap:
-        free = next(j for j in range(mj.njnt) if mj.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE)
-        return cls(
-            int(mj.jnt_qposadr[free]),
-            int(mj.jnt_dofadr[free]),
-            np.array([mj.joint(name).qposadr[0] for name in joints]),
-            np.array([mj.joint(name).dofadr[0] for name in joints]),
-        )
-
-    def to_ours(self, data: mujoco.MjData) -> np.ndarray:
-        """Our rigid state ``x = [q, nu]`` from MuJoCo's ``qpos``, ``qvel``."""
-        pose = data.qpos[self.base_qpos : self.base_qpos + 7]
-        velocity = data.qvel[self.base_dof : self.base_dof + 6]
-        rotation = np.empty(9)
-        mujoco.mju_quat2Mat(rotation, pose[3:7])
-        omega_world = rotation.reshape(3, 3) @ velocity[3:6]
-        q = np.concatenate([pose, data.qpos[self.joint_qpos]])
-        nu = np.concatenate([velocity[:3], omega_world, data.qvel[self.joint_dof]])
-        return np.concatenate([q, nu])
-
-    def set_from_ours(self, data: mujoco.MjData, q: np.ndarray) -> None:
-        """MuJoCo's ``qpos`` at our configuration ``q`` (velocities zero)."""
-        data.qpos[self.base_qpos : self.base_qpos + 7] = q[:7]
-        data.qpos[self.joint_qpos] = q[7:]
-        data.qvel[:] = 0.0
-
-
-def foot_wrenches(mj: mujoco.MjModel, data: mujoco.MjData, feet: list[str]) -> np.ndarray:
-    """MuJoCo's contact wrenches on each foot, ``[force; torque about the sole origin]`` in world
-    axes (n_feet, 6), from ``mj_contactForce`` (a contact's frame: normal then tangents, as
-    rows; the force acts on geom2 along +normal, on geom1 opposite)."""
-    wrenches = np.zeros((len(feet), 6))
-    bodies = [mj.body(foot).id for foot in feet]
-    local = np.zeros(6)
-    for i in range(data.ncon):
-        contact = data.contact[i]
-        mujoco.mj_contactForce(mj, data, i, local)
-        force = contact.frame.reshape(3, 3).T @ local[:3]
-        for k, body in enumerate(bodies):
-            if mj.geom_bodyid[contact.geom2] == body:
-                on_foot = force
-            elif mj.geom_bodyid[contact.geom1] == body:
-                on_foot = -force
-            else:
-                continue
-            sole = data.xpos[body]
-            wrenches[k, :3] += on_foot
-            wrenches[k, 3:] += np.cross(contact.pos - sole, on_foot)
-    return wrenches
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from mujoco_icub import (  # noqa: E402,F401  (the model, shared with benchmarks/)
+    FEET,
+    FOOT_X,
+    FOOT_Y,
+    GRAVITY,
+    SCENARIO,
+    TIMESTEP,
+    URDF,
+    StateMap,
+    foot_wrenches,
+    mujoco_model,
+)
 
 
 def run(duration: float, amplitude: float, frequency: float = 0.2) -> dict[str, np.ndarray]:
@@ -230,6 +128,7 @@ def report(series: dict[str, np.ndarray], weight: float) -> str:
 
 
 def main() -> None:
+    """Runs the balance from the command line and prints the report."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=10.0, help="simulated time [s]")
     parser.add_argument("--amplitude", type=float, default=0.02, help="lateral CoM sinusoid [m]")
