@@ -132,14 +132,24 @@ class RunSummary(Result):
     fell_at_s: Optional[float]
     """Time of the fall [s] (status "fell"), None otherwise."""
     fall_foot: Optional[str]
-    """The contact frame whose wrench violated a constraint (status "fell")."""
-    fall_constraint: Optional[Literal["normal_force", "friction", "center_of_pressure"]]
-    """Which constraint: normal force > 0, friction cone, CoP inside the sole (status "fell")."""
+    """The contact frame whose wrench violated a constraint (status "fell" under bilateral
+    contacts), "" under unilateral contacts."""
+    fall_link: Optional[str]
+    """The link that reached the ground (``fall_constraint`` "link_on_ground"), else ""."""
+    fall_constraint: Optional[
+        Literal[
+            "normal_force", "friction", "center_of_pressure", "base_height", "tilt", "link_on_ground"
+        ]
+    ]
+    """Bilateral contacts: which constraint of the foot's wrench (normal force > 0, friction
+    cone, CoP inside the sole). Unilateral contacts: how the robot reached the ground (the base
+    below a fraction of its initial height, tilted past a bound, a link on the ground)."""
     fall_value: Optional[float]
-    """The violating value: normal force [N], friction ratio ``|f_t| / f_z`` or CoP coordinate
-    in the sole frame [m] (status "fell")."""
+    """The crossing value: normal force [N], friction ratio ``|f_t| / f_z``, CoP coordinate in
+    the sole frame [m], base height [m], tilt [rad] or the link's height [m] (status "fell")."""
     fall_bound: Optional[float]
-    """The bound crossed: 0 N, ``mu`` or the sole edge [m] (status "fell")."""
+    """The bound crossed: 0 N, ``mu``, the sole edge [m], the height bound [m], the tilt bound
+    [rad] or 0 m (status "fell")."""
     reason: str
     """Why it diverged (the quantity and its value), fell (the foot and constraint) or
     "interrupted"; "" when completed."""

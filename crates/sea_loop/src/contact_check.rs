@@ -97,16 +97,17 @@ impl std::fmt::Display for ContactConstraint {
     }
 }
 
-/// A fall: which foot (its contact frame) and which constraint.
+/// A fall under bilateral contacts: which foot (its contact frame) and which constraint its
+/// simulated wrench violated.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Fall {
+pub struct WrenchFall {
     /// The contact frame's name (`robot.contacts`).
     pub foot: String,
     /// The violated constraint.
     pub constraint: ContactConstraint,
 }
 
-impl std::fmt::Display for Fall {
+impl std::fmt::Display for WrenchFall {
     /// `foot l_sole: centre of pressure x = ...`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "foot {}: {}", self.foot, self.constraint)
@@ -168,7 +169,7 @@ impl ContactCheck {
     /// The first foot of `plant` whose wrench in `outputs` (the evaluation at state `x`)
     /// violates a contact constraint, in the order of `plant.contacts`; allocation-free
     /// unless a foot falls.
-    pub fn fall(&mut self, plant: &Plant, x: &[f64], outputs: &PlantOutputs) -> Option<Fall> {
+    pub fn fall(&mut self, plant: &Plant, x: &[f64], outputs: &PlantOutputs) -> Option<WrenchFall> {
         if plant.contacts.is_empty() {
             return None;
         }
@@ -180,9 +181,11 @@ impl ContactCheck {
                 world_r_sole.transpose() * Vector3::new(w[6 * c], w[6 * c + 1], w[6 * c + 2]);
             let moment =
                 world_r_sole.transpose() * Vector3::new(w[6 * c + 3], w[6 * c + 4], w[6 * c + 5]);
-            violated_constraint(&force, &moment, &plant.contact_limits).map(|constraint| Fall {
-                foot: contact.name.clone(),
-                constraint,
+            violated_constraint(&force, &moment, &plant.contact_limits).map(|constraint| {
+                WrenchFall {
+                    foot: contact.name.clone(),
+                    constraint,
+                }
             })
         })
     }

@@ -12,8 +12,10 @@
 //! - [`sensing`]: the measurement model (noise and delay of the controller's state);
 //! - [`disturbance_schedule`]: external wrenches on links over time windows;
 //! - [`record`]: [`Sample`], the [`RecordSink`] trait and the in-memory [`RunRecord`];
-//! - [`contact_check`]: fall detection, each foot's wrench against a unilateral contact with
-//!   friction;
+//! - [`contact_check`]: fall detection under bilateral contacts, each foot's wrench against
+//!   a unilateral contact with friction;
+//! - [`fall_check`]: falls as physics under unilateral contacts (base height, tilt, a link on
+//!   the ground), and [`Fall`], either kind;
 //! - [`statistics`]: running statistics, how a run ended ([`RunEnd`], [`Divergence`]) and the
 //!   [`Summary`];
 //! - [`settings`]: [`Setup`] and [`LoopSettings`];
@@ -28,14 +30,17 @@
 //! names the quantity, its value and the bound. A raised cancellation flag stops the run at
 //! the next sample with status "interrupted". A foot whose simulated contact wrench has a
 //! non-positive normal force, leaves the friction cone or puts its centre of pressure outside
-//! the sole ends the run as "fell" (checked at every sample whose plant evaluation succeeded;
-//! [`contact_check`]). Either way the sinks are finished.
+//! the sole ends the run as "fell" under bilateral contacts (checked at every sample whose
+//! plant evaluation succeeded; [`contact_check`]); under unilateral contacts the feet may
+//! lift, tip and slip, and the run falls when the robot reaches the ground ([`fall_check`]).
+//! Either way the sinks are finished.
 
 #![forbid(unsafe_code)]
 
 pub mod contact_check;
 pub mod disturbance_schedule;
 pub mod error;
+pub mod fall_check;
 pub mod record;
 pub mod sampling;
 pub mod sensing;
@@ -43,9 +48,10 @@ pub mod settings;
 pub mod statistics;
 mod tick;
 
-pub use contact_check::{ContactConstraint, Fall};
+pub use contact_check::{ContactConstraint, WrenchFall};
 pub use disturbance_schedule::{DisturbanceConfig, DisturbanceSchedule};
 pub use error::{Error, Result};
+pub use fall_check::{Fall, FallBounds, PhysicalFall};
 pub use record::{OwnedSample, RecordSink, RunInfo, RunRecord, Sample};
 pub use sampling::{equal_steps, inner_ticks, Sampling, Schedule};
 pub use sensing::SensingConfig;

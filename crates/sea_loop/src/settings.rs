@@ -72,6 +72,8 @@ pub struct LoopSettings {
     /// A foot's wrench that a unilateral contact with friction cannot transmit ends the run
     /// as "fell".
     pub stop_on_fall: bool,
+    /// When a run under unilateral contacts has fallen ([`crate::fall_check`]).
+    pub fall_bounds: crate::fall_check::FallBounds,
     /// What the controller measures.
     pub sensing: SensingConfig,
     /// External wrenches on links over time windows.

@@ -1,7 +1,7 @@
 //! Summary statistics of a run, computed online (constant memory whatever the run length),
 //! and the run's [`Summary`].
 
-use super::contact_check::Fall;
+use super::fall_check::Fall;
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 
@@ -155,8 +155,9 @@ pub enum RunEnd {
     },
     /// The cancellation flag was raised; the run stopped at the next sample.
     Interrupted,
-    /// A foot's simulated contact wrench left what a unilateral contact with friction can
-    /// transmit at `at_s` (see [`super::contact_check`]).
+    /// The robot fell at `at_s`: under bilateral contacts a foot's simulated wrench left what
+    /// a unilateral contact with friction can transmit ([`super::contact_check`]), under
+    /// unilateral ones the robot reached the ground ([`super::fall_check`]).
     Fell {
         /// Time of the sample [s].
         at_s: f64,
@@ -183,7 +184,7 @@ impl RunEnd {
             RunEnd::Completed => None,
             RunEnd::Diverged { reason, .. } => Some(reason.kind()),
             RunEnd::Interrupted => Some("interrupted"),
-            RunEnd::Fell { fall, .. } => Some(fall.constraint.kind()),
+            RunEnd::Fell { fall, .. } => Some(fall.kind()),
         }
     }
 }
@@ -287,10 +288,14 @@ pub struct FallSummary {
     /// Time of the sample [s].
     #[serde(rename = "fell_at_s")]
     pub at_s: f64,
-    /// The contact frame's name.
+    /// The contact frame's name (a foot's wrench fell, bilateral contacts), else empty.
     #[serde(rename = "fall_foot")]
     pub foot: String,
-    /// `"normal_force"`, `"friction"` or `"center_of_pressure"`.
+    /// The link that reached the ground (`"link_on_ground"`), else empty.
+    #[serde(rename = "fall_link")]
+    pub link: String,
+    /// `"normal_force"`, `"friction"` or `"center_of_pressure"` (a foot's wrench, bilateral
+    /// contacts); `"base_height"`, `"tilt"` or `"link_on_ground"` (unilateral contacts).
     #[serde(rename = "fall_constraint")]
     pub constraint: &'static str,
     /// The violating value (N, friction ratio or CoP coordinate [m]).
@@ -334,10 +339,11 @@ impl Summary {
         let fall = match end {
             RunEnd::Fell { at_s, fall } => Some(FallSummary {
                 at_s: *at_s,
-                foot: fall.foot.clone(),
-                constraint: fall.constraint.kind(),
-                value: fall.constraint.value(),
-                bound: fall.constraint.bound(),
+                foot: fall.foot().to_string(),
+                link: fall.link().to_string(),
+                constraint: fall.kind(),
+                value: fall.value(),
+                bound: fall.bound(),
             }),
             _ => None,
         };

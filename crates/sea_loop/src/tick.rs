@@ -4,6 +4,7 @@
 //! (zero-order hold) or the law at every integrator stage (continuous).
 
 use super::contact_check::ContactCheck;
+use super::fall_check::{Fall, FallCheck};
 use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
 use super::sensing::Sensor;
@@ -120,8 +121,19 @@ struct PlantSide<'a> {
     u: Vec<f64>,
     /// The plant's outputs at the state of the current sample.
     outputs: PlantOutputs,
+    /// The contact wrenches (6 per contact) and joint torques (n) the sensors read at the
+    /// period's start, after its command took effect. Under unilateral contacts the wrenches
+    /// delivered over the period's first plant step ([`PlantOutputs::step_contact_wrench`]): a
+    /// stiff contact's force follows a new command within a step, so the wrench evaluated at
+    /// the command's instant still holds the old one's. Under bilateral contacts the
+    /// multipliers at the first step's start already follow it, and these are unused (the
+    /// sample's outputs are read).
+    period_start_wrench: DVector<f64>,
+    /// See `period_start_wrench`.
+    period_start_joint_torque: DVector<f64>,
     /// The contact wrenches at the start of the period's last plant step, the period's input
-    /// still held (6 per contact): what the feet's sensors read at the period's end.
+    /// still held (6 per contact; under unilateral contacts those delivered over that step):
+    /// what the feet's sensors read at the period's end.
     period_end_wrench: DVector<f64>,
     /// The joint torques (n) at the start of the period's last plant step: what the joint
     /// torque sensors read at the period's end.
@@ -136,11 +148,19 @@ impl PlantSide<'_> {
     /// What the robot's force sensors read over the period that just ran: the plant's contact
     /// wrenches and joint torques at its start (the sample) and at the start of its last step.
     fn period_sensors(&self) -> PeriodSensors<'_> {
-        PeriodSensors {
-            start: ForceReadings {
+        let start = if self.plant.unilateral().is_some() {
+            ForceReadings {
+                contact_wrench: &self.period_start_wrench,
+                joint_torque: &self.period_start_joint_torque,
+            }
+        } else {
+            ForceReadings {
                 contact_wrench: &self.outputs.contact_wrench,
                 joint_torque: &self.outputs.joint_torque,
-            },
+            }
+        };
+        PeriodSensors {
+            start,
             end: ForceReadings {
                 contact_wrench: &self.period_end_wrench,
                 joint_torque: &self.period_end_joint_torque,
@@ -203,8 +223,18 @@ impl PlantSide<'_> {
         if k == 0 {
             self.outputs.copy_from(&self.pd.outputs);
         }
+        if k == 0 {
+            let outputs = &self.pd.outputs;
+            self.period_start_wrench
+                .copy_from(&outputs.step_contact_wrench);
+            self.period_start_joint_torque
+                .copy_from(&outputs.joint_torque);
+        }
         if k + 1 == schedule.steps_per_period {
-            let wrenches = &self.pd.outputs.contact_wrench;
+            let wrenches = match self.plant.unilateral() {
+                Some(_) => &self.pd.outputs.step_contact_wrench,
+                None => &self.pd.outputs.contact_wrench,
+            };
             self.period_end_wrench.copy_from(wrenches);
             let torques = &self.pd.outputs.joint_torque;
             self.period_end_joint_torque.copy_from(torques);
@@ -293,8 +323,10 @@ pub(super) struct Engine<'a> {
     x: Vec<f64>,
     /// The evaluations at the later integrator stages (continuous sampling), not recorded.
     stage: Observation,
-    /// Fall detection on the plant's outputs at each sample.
+    /// Fall detection on the plant's outputs at each sample (bilateral contacts).
     contact_check: ContactCheck,
+    /// Falls as physics (unilateral contacts; `None` under bilateral ones).
+    fall_check: Option<FallCheck>,
     /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
     sensor: Option<Sensor>,
     /// Without a sensor, when the controller's model is not the plant's (mass estimates): the
@@ -356,6 +388,8 @@ impl<'a> Engine<'a> {
                 x_step: x0.clone(),
                 u: vec![0.0; model.n_joints()],
                 outputs: PlantOutputs::new(plant),
+                period_start_wrench: PlantOutputs::new(plant).contact_wrench,
+                period_start_joint_torque: PlantOutputs::new(plant).joint_torque,
                 period_end_wrench: PlantOutputs::new(plant).contact_wrench,
                 period_end_joint_torque: PlantOutputs::new(plant).joint_torque,
                 disturbance_wrenches: vec![0.0; 6 * disturbances.len()],
@@ -363,6 +397,7 @@ impl<'a> Engine<'a> {
             },
             x: x0.clone(),
             contact_check: ContactCheck::new(plant),
+            fall_check: FallCheck::new(plant, &x0, settings.fall_bounds),
             sensor,
             truth,
         })
@@ -409,13 +444,22 @@ impl<'a> Engine<'a> {
         let mut period = self.period_unchecked(index, interrupted)?;
         let check = self.settings.stop_on_fall;
         if check && !matches!(period.end, Some(RunEnd::Diverged { .. })) {
-            let (plant, outputs) = (self.side.plant, &self.side.outputs);
-            if let Some(fall) = self.contact_check.fall(plant, &self.x, outputs) {
+            if let Some(fall) = self.fall(&self.x.clone()) {
                 let at_s = self.schedule.time(index);
                 period.end = Some(RunEnd::Fell { at_s, fall });
             }
         }
         Ok(period)
+    }
+
+    /// The fall at state `x`: the robot on the ground under unilateral contacts, a foot's
+    /// wrench outside a unilateral contact under bilateral ones.
+    fn fall(&mut self, x: &[f64]) -> Option<Fall> {
+        let (plant, outputs) = (self.side.plant, &self.side.outputs);
+        match &mut self.fall_check {
+            Some(check) => check.fall(plant, x).map(Fall::Physical),
+            None => self.contact_check.fall(plant, x, outputs).map(Fall::Wrench),
+        }
     }
 
     /// [`Engine::period`] without the fall check.

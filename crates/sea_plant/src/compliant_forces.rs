@@ -100,7 +100,7 @@ fn add_transposed_rows(
 }
 
 /// Adds each joint's stop torque to `ws.acceleration` (nv, the generalised forces at this
-/// stage; joint rows) at `q`, `nu`, writing the torques and activity into `out` and the
+/// stage; joint rows) at `q`, `nu` (outputs and terms indexed by coordinate), writing the torques and activity into `out` and the
 /// linearisation into the workspace. Without stops the outputs stay zero.
 pub(crate) fn add_stop_torques(
     plant: &Plant,
@@ -114,7 +114,8 @@ pub(crate) fn add_stop_torques(
     let Some(stops) = &plant.joint_stops else {
         return;
     };
-    for (j, joint) in plant.model.joints.iter().enumerate() {
+    for joint in &plant.model.joints {
+        let j = joint.coordinate;
         let stop = stops.torque(q[7 + j], nu[6 + j], joint.position_limits);
         out.joint_stop_torque[j] = stop.torque;
         out.joint_stop_active[j] = stop.stiffness > 0.0;

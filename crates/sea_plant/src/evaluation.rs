@@ -141,6 +141,7 @@ pub fn evaluate(
     }
     ws.mass_factor.solve_l(ws.acceleration.as_mut_slice());
     tangent_derivative(plant, &layout, x, ws, out);
+    copy_contiguous(&mut out.step_contact_wrench, &out.contact_wrench);
     Ok(())
 }
 

@@ -126,6 +126,13 @@ pub struct PlantOutputs {
     pub motor_torque: DVector<f64>,
     /// Whether each motor torque hit its limit (n_e).
     pub saturated: Vec<bool>,
+    /// After a step under unilateral contacts: the contact wrenches the step delivered (6 per
+    /// contact, as `contact_wrench`), its effective average over the step: each stage's
+    /// wrench with the implicit step's response of the stiff contact terms, weighted as the
+    /// method combines its stages. A stiff contact's force follows a new input within a step,
+    /// so the wrench at the step's start alone does not say what the step delivered. After a
+    /// plain evaluation (and under bilateral contacts), `contact_wrench`.
+    pub step_contact_wrench: DVector<f64>,
     /// Unilateral contacts: each point's force on its foot, world axes (3 per point, contacts
     /// in order, points in the order given; empty under bilateral contacts).
     pub contact_point_force: DVector<f64>,
@@ -154,6 +161,7 @@ impl PlantOutputs {
             joint_torque: DVector::zeros(plant.model.n_joints()),
             motor_torque: DVector::zeros(ne),
             saturated: vec![false; ne],
+            step_contact_wrench: DVector::zeros(6 * plant.contacts.len()),
             contact_point_force: DVector::zeros(3 * plant.n_contact_points()),
             contact_point_position: DVector::zeros(3 * plant.n_contact_points()),
             contact_point_active: vec![false; plant.n_contact_points()],
@@ -169,6 +177,7 @@ impl PlantOutputs {
         let vectors = [
             (&mut self.xdot, &other.xdot),
             (&mut self.contact_wrench, &other.contact_wrench),
+            (&mut self.step_contact_wrench, &other.step_contact_wrench),
             (&mut self.joint_torque, &other.joint_torque),
             (&mut self.motor_torque, &other.motor_torque),
             (&mut self.contact_point_force, &other.contact_point_force),

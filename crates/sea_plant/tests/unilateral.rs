@@ -318,3 +318,69 @@ fn runs_are_bitwise_deterministic() {
     let b = simulate(&plant, &x0, 1e-3, 0.5, Method::Ros2);
     assert_eq!(a.state, b.state);
 }
+
+#[test]
+fn a_joint_past_its_stop_is_pushed_back_in_its_own_coordinate() {
+    // The iCub: body order and coordinate order differ, so a stop must act on the joint's own
+    // coordinate.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../urdf/icub25.urdf");
+    let model = Model::from_urdf_file(&path, &LoadOptions::default()).unwrap();
+    let mut plant = Plant::new(model.clone(), Actuation::rigid(&model));
+    plant.joint_stops = Some(sea_plant::JointStops::default());
+    let mut q = model.neutral();
+    let knee = model.joints.iter().find(|j| j.name == "l_knee").unwrap();
+    let past = 0.01;
+    for joint in &model.joints {
+        let [low, high] = joint.position_limits;
+        q[7 + joint.coordinate] = if joint.name == "l_knee" {
+            high + past
+        } else {
+            0.5 * (low.max(-1.0) + high.min(1.0))
+        };
+    }
+    let x = plant
+        .make_state(&q, &vec![0.0; model.nv()], None, None)
+        .unwrap();
+    let mut ws = sea_plant::Workspace::new(&plant);
+    let mut out = sea_plant::PlantOutputs::new(&plant);
+    let u = vec![0.0; model.n_joints()];
+    sea_plant::evaluate(&plant, &mut ws, &x, &u, &mut out).unwrap();
+    for joint in &model.joints {
+        let torque = out.joint_stop_torque[joint.coordinate];
+        if joint.coordinate == knee.coordinate {
+            let expected = -sea_plant::JointStops::default().stiffness * past;
+            assert!((torque - expected).abs() < 1e-9, "{torque}");
+        } else {
+            assert_eq!(torque, 0.0, "{}", joint.name);
+        }
+    }
+}
+
+#[test]
+fn the_delivered_wrench_of_a_step_is_the_momentum_it_gave() {
+    // A box landing and sliding: over each step, m (v+ - v) / dt = f_delivered + m g (the box's
+    // base is its centre of mass, so its linear momentum rows are m I).
+    let q = pose(0.0, HALF[2] + 0.002, 0.05);
+    let plant = box_plant(Ground::flat(0.0, 0.5).unwrap(), &q);
+    let x0 = plant
+        .make_state(&q, &[0.4, 0.1, -0.3, 0.0, 0.5, 0.0], None, None)
+        .unwrap();
+    for method in [Method::Ros2, Method::LinearlyImplicitEuler, Method::Rk4] {
+        let dt = if method == Method::Rk4 { 1e-5 } else { 1e-3 };
+        let mut pd = PlantData::new(&plant);
+        let (mut x, mut next) = (x0.clone(), x0.clone());
+        let mut worst: f64 = 0.0;
+        for _ in 0..(0.1 / dt) as usize {
+            step(&plant, &mut pd, &x, &[], dt, method, &mut next).unwrap();
+            let delivered = &pd.outputs.step_contact_wrench;
+            for axis in 0..3 {
+                let momentum_rate = MASS * (next[7 + axis] - x[7 + axis]) / dt;
+                let force = delivered[axis] + MASS * plant.model.gravity[axis];
+                worst = worst.max((momentum_rate - force).abs());
+            }
+            std::mem::swap(&mut x, &mut next);
+        }
+        println!("{method:?}: largest momentum-rate mismatch {worst:e} N");
+        assert!(worst < 1e-9 * MASS * GRAVITY, "{method:?}: {worst}");
+    }
+}

@@ -173,6 +173,10 @@ fn plant(scenario: &Scenario, model: &Model, actuation: &Actuation, q: &[f64]) -
         .validate()
         .map_err(|e| Error::config("plant", e.to_string()))?;
     plant.set_contacts(&scenario.robot.contacts, q)?;
+    if config.contact_model == crate::ground::ContactModelKind::Unilateral {
+        crate::ground::make_unilateral(&mut plant, scenario, q)?;
+    }
+    plant.joint_stops = crate::ground::joint_stops(scenario);
     Ok(plant)
 }
 

@@ -17,6 +17,7 @@
 
 pub mod bounded;
 pub mod build;
+pub mod ground;
 /// `[[disturbances]]` (typed by the loop), at its former path.
 pub use sea_loop::disturbance_schedule as disturbances;
 pub mod parse;
@@ -30,6 +31,7 @@ pub mod validate;
 
 pub use build::{build, Setup};
 pub use disturbances::{DisturbanceConfig, DisturbanceSchedule};
+pub use ground::{ContactModelKind, GroundConfig};
 pub use parse::{apply_override, TableError};
 pub use robots::{icub, RobotDescription};
 pub use schema::{
@@ -72,6 +74,9 @@ pub struct Scenario {
     /// `[plant]`.
     #[serde(default)]
     pub plant: PlantConfig,
+    /// `[ground]`: the plane the soles touch under `plant.contact_model = "unilateral"`.
+    #[serde(default)]
+    pub ground: GroundConfig,
     /// `[controller]`.
     #[serde(default)]
     pub controller: ControllerConfig,

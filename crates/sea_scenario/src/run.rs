@@ -43,6 +43,10 @@ impl Scenario {
                 stop_at_joint_limits: simulation.stop_at_joint_limits,
             },
             stop_on_fall: simulation.stop_on_fall,
+            fall_bounds: sea_loop::FallBounds {
+                base_height_fraction: simulation.fall_base_height_fraction,
+                tilt_rad: simulation.fall_tilt_rad,
+            },
             sensing: self.sensing.clone(),
             disturbances: self.disturbances.clone(),
             scene: RunScene {

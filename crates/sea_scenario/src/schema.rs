@@ -327,6 +327,21 @@ pub struct PlantConfig {
     #[serde(deserialize_with = "AtLeastOne::read")]
     #[schemars(with = "AtLeastOne")]
     pub w_refresh_steps: usize,
+    /// How the feet touch the world: "bilateral" (default; the paper's rigid contacts) or
+    /// "unilateral" (points of the soles on the `[ground]`, with friction and impacts).
+    pub contact_model: crate::ground::ContactModelKind,
+    /// The URDF's position limits as stops in the plant (default: on under unilateral
+    /// contacts, off under bilateral ones).
+    pub joint_stops: Option<bool>,
+    /// Stiffness of the joint stops [N m/rad] (default 2000).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
+    pub joint_stop_stiffness: f64,
+    /// Hunt-Crossley dissipation of the joint stops [s/rad] (default 10: a joint leaves its
+    /// stop only faster than 0.1 rad/s).
+    #[serde(deserialize_with = "NonNegative::read")]
+    #[schemars(with = "NonNegative")]
+    pub joint_stop_dissipation: f64,
 }
 
 impl Default for PlantConfig {
@@ -339,6 +354,10 @@ impl Default for PlantConfig {
             dt: 1e-3,
             method: Method::Ros2,
             w_refresh_steps: 10,
+            contact_model: crate::ground::ContactModelKind::Bilateral,
+            joint_stops: None,
+            joint_stop_stiffness: sea_plant::JointStops::default().stiffness,
+            joint_stop_dissipation: sea_plant::JointStops::default().dissipation,
         }
     }
 }
@@ -722,11 +741,23 @@ pub struct SimulationConfig {
     #[serde(deserialize_with = "Positive::read")]
     #[schemars(with = "Positive")]
     pub divergence_joint_error_rad: f64,
-    /// A foot's wrench that a unilateral contact with friction cannot transmit ends the run
-    /// as "fell" (default `true`). `false` keeps the plant's bilateral contacts as the whole
-    /// truth, as in the paper's setting: used to measure the growth of an unstable mode past
-    /// the moment the real robot would have fallen.
+    /// A fall ends the run as "fell" (default `true`): under bilateral contacts a foot's
+    /// wrench that a unilateral contact with friction cannot transmit, under unilateral ones
+    /// the robot reaching the ground (`fall_base_height_fraction`, `fall_tilt_rad`, a link
+    /// other than the feet on the ground). `false` keeps the plant's bilateral contacts as the
+    /// whole truth, as in the paper's setting: used to measure the growth of an unstable mode
+    /// past the moment the real robot would have fallen.
     pub stop_on_fall: bool,
+    /// Unilateral contacts: the run has fallen when the base is below this fraction of its
+    /// initial height above the ground (default 0.6).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
+    pub fall_base_height_fraction: f64,
+    /// Unilateral contacts: the run has fallen when the base tilts more than this from its
+    /// initial orientation [rad] (default pi/3).
+    #[serde(deserialize_with = "Positive::read")]
+    #[schemars(with = "Positive")]
+    pub fall_tilt_rad: f64,
     /// A joint of the true state outside its URDF position limits ends the run as diverged
     /// (`joint_outside_limits`; default `false`: the paper's plant has no joint limits, and
     /// the tracking scenarios are bounded by the joint error norm). The push scenarios set it:
@@ -742,6 +773,8 @@ impl Default for SimulationConfig {
             divergence_com_error_m: 0.1,
             divergence_joint_error_rad: 1.0,
             stop_on_fall: true,
+            fall_base_height_fraction: sea_loop::FallBounds::default().base_height_fraction,
+            fall_tilt_rad: sea_loop::FallBounds::default().tilt_rad,
             stop_at_joint_limits: false,
         }
     }

@@ -346,13 +346,13 @@ fn run_metadata(end: &RunEnd, end_s: f64) -> Metadata {
         ("end_s".to_string(), end_s.to_string()),
     ]);
     if let RunEnd::Fell { at_s, fall } = end {
-        let constraint = &fall.constraint;
         metadata.extend([
             ("fell_at_s".to_string(), at_s.to_string()),
-            ("fall_foot".to_string(), fall.foot.clone()),
-            ("fall_constraint".to_string(), constraint.kind().to_string()),
-            ("fall_value".to_string(), constraint.value().to_string()),
-            ("fall_bound".to_string(), constraint.bound().to_string()),
+            ("fall_foot".to_string(), fall.foot().to_string()),
+            ("fall_link".to_string(), fall.link().to_string()),
+            ("fall_constraint".to_string(), fall.kind().to_string()),
+            ("fall_value".to_string(), fall.value().to_string()),
+            ("fall_bound".to_string(), fall.bound().to_string()),
         ]);
     }
     Metadata {
@@ -374,11 +374,7 @@ pub(crate) fn fall_event(end: &RunEnd) -> Result<Option<(u64, Vec<u8>)>> {
         return Ok(None);
     };
     let time = nanoseconds(*at_s);
-    let (constraint, value, bound) = (
-        fall.constraint.kind(),
-        fall.constraint.value(),
-        fall.constraint.bound(),
-    );
+    let (constraint, value, bound) = (fall.kind(), fall.value(), fall.bound());
     let message = Log {
         timestamp: Some(Timestamp::new(
             u32::try_from(time / 1_000_000_000).unwrap_or(u32::MAX),

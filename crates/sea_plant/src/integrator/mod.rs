@@ -287,6 +287,14 @@ fn ros2<E: From<Error>>(
     cache.w.solve(plant, rhs, k2);
     linear_combination(rhs, [(1.5, k1), (0.5, k2)]);
     retract(plant, x, rhs, dt, x_out);
+    if plant.unilateral().is_some() {
+        // 1.5 k1 + 0.5 k2 = (f(x) + g Jf k1) / 2 + (f(x2) + g Jf k2) / 2.
+        let delivered = &mut pd.outputs.step_contact_wrench;
+        let g = GAMMA * dt;
+        cache.w.add_contact_response(plant, k1, g, delivered);
+        delivered.axpy(0.5, &cache.stage_outputs.contact_wrench, 0.5);
+        cache.w.add_contact_response(plant, k2, 0.5 * g, delivered);
+    }
     Ok(())
 }
 
@@ -313,6 +321,12 @@ fn implicit_euler<E: From<Error>>(
 ) -> std::result::Result<(), E> {
     implicit_first_stage(plant, pd, x, dt, eval)?;
     retract(plant, x, &pd.integrator.stages[0], dt, x_out);
+    // The step integrates f(x) + dt Jf k1.
+    let k1 = &pd.integrator.stages[0];
+    let delivered = &mut pd.outputs.step_contact_wrench;
+    pd.integrator
+        .w
+        .add_contact_response(plant, k1, dt, delivered);
     Ok(())
 }
 
@@ -361,6 +375,16 @@ fn dexp_inv_correction(
     stage[5] = corrected.z;
 }
 
+/// Under unilateral contacts, adds `weight` times a later stage's contact wrenches to the
+/// step's delivered ones (RK4's weights 1, 2, 2, 1, divided by 6 at the end).
+fn add_stage_wrench(plant: &Plant, outputs: &mut PlantOutputs, stage: &PlantOutputs, weight: f64) {
+    if plant.unilateral().is_some() {
+        outputs
+            .step_contact_wrench
+            .axpy(weight, &stage.contact_wrench, 1.0);
+    }
+}
+
 /// Classical RK4 as a Runge-Kutta-Munthe-Kaas method on the base rotation.
 fn rk4<E: From<Error>>(
     plant: &Plant,
@@ -382,14 +406,20 @@ fn rk4<E: From<Error>>(
     copy_contiguous(k1, &outputs.xdot);
     retract(plant, x, k1, 0.5 * dt, x_stage);
     eval(ws, stage, 0.5 * dt, x_stage)?;
+    add_stage_wrench(plant, outputs, stage, 2.0);
     copy_contiguous(k2, &stage.xdot);
     dexp_inv_correction(tangent, k2, k1, 0.5 * dt);
     retract(plant, x, k2, 0.5 * dt, x_stage);
     eval(ws, stage, 0.5 * dt, x_stage)?;
+    add_stage_wrench(plant, outputs, stage, 2.0);
     copy_contiguous(k3, &stage.xdot);
     dexp_inv_correction(tangent, k3, k2, 0.5 * dt);
     retract(plant, x, k3, dt, x_stage);
     eval(ws, stage, dt, x_stage)?;
+    add_stage_wrench(plant, outputs, stage, 1.0);
+    if plant.unilateral().is_some() {
+        outputs.step_contact_wrench.scale_mut(1.0 / 6.0);
+    }
     // sum = (k1 + 2 k2 + 2 k3 + k4) / 6
     copy_contiguous(sum, &stage.xdot);
     dexp_inv_correction(tangent, sum, k3, dt);

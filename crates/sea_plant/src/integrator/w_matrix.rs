@@ -283,6 +283,35 @@ impl WMatrix {
         }
     }
 
+    /// Under unilateral contacts, adds `scale` times the contact wrenches' response to a stage
+    /// vector `k` (nd) to `wrenches` (6 per contact): `-(K_c J_c k_q + D_c J_c k_nu)` per foot,
+    /// with the step start's `J`, stiffness and damping. `f(x) + g Jf k` is what a W-method's
+    /// stage integrates, so a stage's effective wrench is its evaluated one plus `g` times
+    /// this. Nothing under bilateral contacts.
+    pub(crate) fn add_contact_response(
+        &self,
+        plant: &Plant,
+        k: &DVector<f64>,
+        scale: f64,
+        wrenches: &mut DVector<f64>,
+    ) {
+        if plant.unilateral().is_none() {
+            return;
+        }
+        let k = plant.layout().tangent().split(k.as_slice());
+        for c in 0..plant.contacts.len() {
+            let foot = self.jacobian.rows(6 * c, 6);
+            let (mut displacement, mut velocity) = (Vector6::zeros(), Vector6::zeros());
+            for (v, column) in foot.column_iter().enumerate() {
+                displacement += column * k.dq[v];
+                velocity += column * k.dnu[v];
+            }
+            let response = self.foot_stiffness[c] * displacement + self.foot_damping[c] * velocity;
+            let mut rows = wrenches.fixed_rows_mut::<6>(6 * c);
+            rows -= response * scale;
+        }
+    }
+
     /// The contact part of [`WMatrix::solve`]: `z += Y~ S~^-1 (c - Y~^T z)` with
     /// `c = -J (K_d r_nu + K_p (r_q + g r_nu)) / (1 + g K_d + g^2 K_p)`, the velocity
     /// combination formed first so that `J` is applied once (gemv over its columns).
