@@ -208,8 +208,9 @@ ROBUST = {
 
 def robot_loop(scenario: sm.Scenario, *, end_periods: bool) -> np.ndarray:
     """The robot's loop in Python: per period a whole-body ``tick``, ``inner_tick`` at 1 kHz,
-    the plant's steps, and ``end_period`` with the plant's force readings at the period's start
-    and at its last step's start (what the feet's and joints' sensors read)."""
+    the plant's steps, and ``end_period`` with the plant's force readings over the period's
+    first and last steps (what the feet's and joints' sensors read: the wrenches each step
+    delivered, ``Plant.step_outputs``; under bilateral contacts those at the steps' starts)."""
     plant, controller = scenario.plant, scenario.controller
     inner, steps = scenario.steps_per_inner_tick, scenario.steps_per_tick
     x, states = scenario.initial_state, []
@@ -221,14 +222,17 @@ def robot_loop(scenario: sm.Scenario, *, end_periods: bool) -> np.ndarray:
         for j in range(steps):
             if j > 0 and j % inner == 0:
                 u = controller.inner_tick(x)
-            if j == 0:
-                start = plant.outputs(x, u)
-            if j == steps - 1:
-                end = plant.outputs(x, u)
             x = plant.step(x, u, scenario.plant_dt, scenario.method)
+            if j == 0:
+                start = plant.step_outputs()
+            if j == steps - 1:
+                end = plant.step_outputs()
         if end_periods:
             controller.end_period(
-                start.contact_wrenches, start.joint_torques, end.contact_wrenches, end.joint_torques
+                start.step_contact_wrenches,
+                start.joint_torques,
+                end.step_contact_wrenches,
+                end.joint_torques,
             )
     return np.array(states)
 

@@ -61,7 +61,7 @@ ROBUST: dict[str, Any] = {
     "controller.identification_prior_deflection_rad": 5e-3,
 }
 #: The push scenario is the robot-rate design (multi-rate, the push observed, compliant CoM
-#: gains, joint limits checked); the rows override it. The rigid robot under the rigid
+#: gains, the feet on the ground with joint stops); the rows override it. The rigid robot under the rigid
 #: controller at 100 Hz (zero-order hold), the same controller settings, is each table's
 #: reference ("% of rigid").
 RIGID_100_HZ = [
@@ -139,9 +139,17 @@ PUSH_PARTS = {
         "controller.contact.cop_margin=0",
     ],
     "SEA, multi-rate, 40 Hz torque loop": ["controller.torque_bandwidth_hz=40"],
-    "rigid robot, rigid controller, 100 Hz, joint limits not checked": RIGID_100_HZ
-    + ["simulation.stop_at_joint_limits=false"],
+    "rigid robot, rigid controller, 100 Hz, a joint at its limit ending the run": RIGID_100_HZ
+    + ["simulation.stop_at_joint_limits=true"],
 }
+
+
+#: The proxy the push tables were measured with before the feet could leave the ground: the
+#: feet welded (bilateral contacts), a fall when a foot's wrench leaves what a unilateral
+#: contact with friction could carry, a joint past its URDF limit ending the run.
+PROXY = ["plant.contact_model=bilateral", "simulation.stop_at_joint_limits=true"]
+PROXY_ROWS = ["rigid robot, rigid controller, 100 Hz", "SEA, multi-rate", "SEA, multi-rate, identification from x0.5"]
+PUSH_PROXY = {label: PUSH_SETUPS[label] + PROXY for label in PROXY_ROWS}
 
 
 def log(message: str) -> None:
@@ -417,6 +425,27 @@ def push_markdown(table: dict[str, Any]) -> list[str]:
     return lines
 
 
+def proxy_markdown(physics: dict[str, Any], proxy: dict[str, Any]) -> list[str]:
+    """Per setup of ``PROXY_ROWS`` and direction: the recovered impulse on the ground (unilateral
+    contacts, joint stops) beside the proxy's (welded feet, wrench check, joint limits ending
+    the run) and the capture-point bound [N s]."""
+    directions = list(physics[PROXY_ROWS[0]])
+    lines = ["| setup | " + " | ".join(directions) + " |", "| --- |" + " --- |" * len(directions)]
+    bound = [f"{physics[PROXY_ROWS[0]][d]['capture_point_n_s']:.2f}" for d in directions]
+    lines.append("| capture-point bound | " + " | ".join(bound) + " |")
+    for label in PROXY_ROWS:
+        cells = []
+        for d in directions:
+            ground, welded = physics[label][d], proxy[label][d]
+            change = 100 * (ground["recovered_n_s"] / welded["recovered_n_s"] - 1)
+            cells.append(
+                f"{ground['recovered_n_s']:.2f} on the ground ({ground['failed_status']}), "
+                f"{welded['recovered_n_s']:.2f} proxy ({welded['failed_status']}); {change:+.0f} %"
+            )
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def figure(maps: dict[str, Any], rates: dict[str, Any], path: pathlib.Path) -> None:
     """One panel per map of ``MAPS``: outcome colours, CoM rms in mm, the eigenvalue boundary
     along the stiffness axis where the period map is linearised."""
@@ -533,12 +562,21 @@ def main() -> int:
     converged = push_table(sea_sim, PUSH_CONVERGED, PUSHED_AT_3_S)
     excited = push_table(sea_sim, PUSH_EXCITED, PUSHED_AT_4_S)
     parts = push_table(sea_sim, PUSH_PARTS, [])
-    tables = {"pushed_at_1_s": pushes, "pushed_at_3_s": converged, "pushed_at_4_s_excited": excited, "parts": parts}
+    proxy = push_table(sea_sim, PUSH_PROXY, [])
+    tables = {
+        "pushed_at_1_s": pushes,
+        "pushed_at_3_s": converged,
+        "pushed_at_4_s_excited": excited,
+        "parts": parts,
+        "proxy": proxy,
+    }
     (out / "push_table.json").write_text(json.dumps(tables, indent=2))
     markdown = push_markdown(pushes) + ["", "Pushed at 3 s:", ""] + push_markdown(converged)
     markdown += ["", "Pushed at 4 s, without and with the legs (and the torso) excited for the identification:", ""]
     markdown += push_markdown(excited)
     markdown += ["", "One part of the design changed per row:", ""] + push_markdown(parts)
+    markdown += ["", "On the ground against the proxy (welded feet, the wrench check, joint limits ending the run):", ""]
+    markdown += proxy_markdown(pushes, proxy)
     (out / "push_table.md").write_text("\n".join(markdown) + "\n")
     model_errors = model_error_table()
     (out / "model_errors.md").write_text("\n".join(model_error_markdown(model_errors)) + "\n")
@@ -556,6 +594,7 @@ def main() -> int:
         "pushes_converged": converged,
         "pushes_excited": excited,
         "pushes_parts": parts,
+        "pushes_proxy": proxy,
     }
     (out / "robot_rate.json").write_text(json.dumps(report, indent=2, allow_nan=True))
     if args.outcomes is not None:

@@ -232,7 +232,15 @@ class Plant:
         """The outputs at (x, u), float64: ``contact_wrenches`` (n_contacts, 6), ``joint_torques``
         (n,), ``motor_torques`` (n_e,), ``drift_position`` [m] and ``drift_rotation`` [rad]
         (floats), ``normal_force``, ``friction_margin``, ``cop_margin`` (n_contacts,) each (sole
-        frame, negative when violated)."""
+        frame, negative when violated); under unilateral contacts also each contact point's
+        ``contact_point_positions``, ``contact_point_forces`` (n_points, 3) and
+        ``contact_point_active`` (n_points,) bool; ``joint_stop_torques`` (n,)."""
+    def step_outputs(self) -> PlantOutputs:
+        """The outputs of the last :meth:`step`: those at its start, with
+        ``step_contact_wrenches`` the wrenches the step delivered (under unilateral contacts a
+        stiff contact's force follows a new input within the step, so this, not the start's
+        ``contact_wrenches``, is what the feet's force/torque sensors read over the step).
+        Raises ``RuntimeError`` before any step."""
     def step(self, x: ArrayLike, u: ArrayLike, dt: float, method: str = "ros2") -> FloatArray:
         """One step: "ros2" (Rosenbrock-W, order 2, L-stable), "implicit_euler" or "rk4".
         A scenario's plant (``Scenario.plant``) lets ``plant.w_refresh_steps`` consecutive

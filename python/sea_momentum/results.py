@@ -24,7 +24,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, Literal, Mapping, Optional, TypeVar
 
-from .arrays import FloatArray
+from .arrays import BoolArray, FloatArray
 
 #: How a plant simulation ended: every step done, or stopped at the first non-finite or
 #: unsolvable step.
@@ -114,6 +114,20 @@ class PlantOutputs(Result):
     cop_margin: FloatArray
     """(n_contacts,) float64, distance of the centre of pressure inside the foot rectangle [m];
     negative outside."""
+    step_contact_wrenches: FloatArray
+    """(n_contacts, 6) float64, after :meth:`Plant.step_outputs`: the wrenches the step
+    delivered (its effective average; under unilateral contacts what the feet's sensors read
+    over the step); otherwise equal to ``contact_wrenches``."""
+    contact_point_positions: FloatArray
+    """(n_points, 3) float64, unilateral contacts: each contact point, world [m] (contacts in
+    order; empty under bilateral contacts)."""
+    contact_point_forces: FloatArray
+    """(n_points, 3) float64, unilateral contacts: each point's force on its foot, world axes
+    [N]."""
+    contact_point_active: BoolArray
+    """(n_points,) bool, unilateral contacts: whether each point carries a force."""
+    joint_stop_torques: FloatArray
+    """(n,) float64, the torque of each joint's stop [N m] (zeros without stops or off them)."""
 
 
 @dataclasses.dataclass(frozen=True)

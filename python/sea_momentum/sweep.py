@@ -27,7 +27,7 @@ from .results import Result
 GridValues = Union[Sequence[float], FloatArray, IntArray, str]
 
 #: Columns that hold text; every other column is numeric.
-_TEXT_COLUMNS = ("status", "message", "sampling", "fall_foot", "fall_constraint")
+_TEXT_COLUMNS = ("status", "message", "sampling", "fall_foot", "fall_link", "fall_constraint")
 
 
 def grid_specs(grid: Mapping[str, GridValues]) -> list[str]:

@@ -28,7 +28,7 @@ impl Ground {
     pub fn inclined(height: f64, incline: f64, heading: f64, friction: f64) -> Result<Self> {
         if !height.is_finite() {
             return Err(Error::invalid(
-                "ground.height",
+                "ground.height_m",
                 "a finite number [m]",
                 height,
             ));

@@ -59,9 +59,9 @@ impl CompliantContact {
     /// Checks the parameters; errors name the key.
     pub fn validate(&self) -> crate::Result<()> {
         let keys = [
-            ("ground.stiffness", self.stiffness, true),
-            ("ground.dissipation", self.dissipation, false),
-            ("ground.stiction_velocity", self.stiction_velocity, true),
+            ("ground.stiffness_n_per_m", self.stiffness, true),
+            ("ground.dissipation_s_per_m", self.dissipation, false),
+            ("ground.stiction_velocity_m_s", self.stiction_velocity, true),
         ];
         for (key, value, positive) in keys {
             let ok = value.is_finite() && if positive { value > 0.0 } else { value >= 0.0 };

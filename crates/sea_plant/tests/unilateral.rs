@@ -80,6 +80,7 @@ fn simulate_with(
 ) -> Record {
     let mut pd = PlantData::new(plant);
     let (mut x, mut next) = (x0.to_vec(), x0.to_vec());
+    let u = vec![0.0; plant.model.n_joints()];
     let steps = (duration / dt).round() as usize;
     let mut record = Record {
         time: Vec::new(),
@@ -91,7 +92,7 @@ fn simulate_with(
     for k in 0..steps {
         let t = k as f64 * dt;
         before_step(t, &mut pd.workspace.external);
-        step(plant, &mut pd, &x, &[], dt, method, &mut next).unwrap();
+        step(plant, &mut pd, &x, &u, dt, method, &mut next).unwrap();
         record.time.push(t);
         record.state.push(x.clone());
         record.normal_force.push(pd.outputs.contact_wrench[2]);
@@ -383,4 +384,48 @@ fn the_delivered_wrench_of_a_step_is_the_momentum_it_gave() {
         println!("{method:?}: largest momentum-rate mismatch {worst:e} N");
         assert!(worst < 1e-9 * MASS * GRAVITY, "{method:?}: {worst}");
     }
+}
+
+#[test]
+fn redundant_legs_stand_on_unilateral_contacts_where_bilateral_ones_are_degenerate() {
+    // The mini biped's legs have 5 joints (no hip yaw): two flat feet are 12 constraints of
+    // rank 11. Rigid bilateral contacts cannot be solved; unilateral ones are no constraint.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../urdf/mini_biped.urdf");
+    let model = Model::from_urdf_file(&path, &LoadOptions::default()).unwrap();
+    let mut q = model.neutral();
+    for joint in &model.joints {
+        q[7 + joint.coordinate] = match joint.name.as_str() {
+            "l_hip_pitch" | "r_hip_pitch" | "l_ankle_pitch" | "r_ankle_pitch" => -0.3,
+            "l_knee" | "r_knee" => 0.6,
+            _ => 0.0,
+        };
+    }
+    let mut data = sea_dyn::Data::new(&model);
+    sea_dyn::forward_kinematics(&model, &mut data, &q);
+    let left = model.frame_id("l_sole").unwrap();
+    q[2] -= sea_dyn::frame_placement(&model, &data, left).translation.z;
+    let feet = ["l_sole".to_string(), "r_sole".to_string()];
+    let mut bilateral = Plant::new(model.clone(), Actuation::rigid(&model));
+    bilateral.set_contacts(&feet, &q).unwrap();
+    let x = bilateral
+        .make_state(&q, &vec![0.0; model.nv()], None, None)
+        .unwrap();
+    let u = vec![0.0; model.n_joints()];
+    let mut pd = PlantData::new(&bilateral);
+    let mut next = x.clone();
+    let error = step(&bilateral, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut next).unwrap_err();
+    assert!(error.to_string().contains("degenerate"), "{error}");
+    let mut unilateral = bilateral.clone();
+    let gravity = model.gravity.norm();
+    let law = CompliantContact::for_weight(model.total_mass() * gravity, 8, 5e-4, gravity);
+    let corners = UnilateralContacts::rectangle_corners([-0.05, 0.08], [-0.03, 0.03]);
+    let ground = Ground::flat(5e-4, 0.8).unwrap();
+    unilateral
+        .set_unilateral_contacts(ground, law, vec![corners.clone(), corners])
+        .unwrap();
+    unilateral.joint_stops = Some(sea_plant::JointStops::default());
+    let record = simulate(&unilateral, &x, 1e-3, 0.2, Method::Ros2);
+    // Unpowered, it sinks and folds, and every step solves.
+    assert_eq!(record.state.len(), 200);
+    assert!(record.state.iter().flatten().all(|v| v.is_finite()));
 }

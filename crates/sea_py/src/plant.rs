@@ -153,9 +153,69 @@ pub struct PyPlant {
     data: PlantData,
     x: Vec<f64>,
     u: Vec<f64>,
+    /// The start state and outputs of the last step (`Plant.step_outputs`), once one was
+    /// taken.
+    last_step: Option<(Vec<f64>, sea_plant::PlantOutputs)>,
 }
 
 impl PyPlant {
+    /// `outputs` as a `PlantOutputs` object, with the wrench margins at `x` (the state they
+    /// were evaluated at).
+    fn outputs_object<'py>(
+        &self,
+        py: Python<'py>,
+        x: &[f64],
+        outputs: &sea_plant::PlantOutputs,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let fields = PyDict::new(py);
+        fields.set_item(
+            "contact_wrenches",
+            matrix_rows_out(py, outputs.contact_wrench.as_slice(), 6),
+        )?;
+        fields.set_item(
+            "joint_torques",
+            vector_out(py, outputs.joint_torque.as_slice()),
+        )?;
+        fields.set_item(
+            "motor_torques",
+            vector_out(py, outputs.motor_torque.as_slice()),
+        )?;
+        fields.set_item("drift_position", outputs.drift_position)?;
+        fields.set_item("drift_rotation", outputs.drift_rotation)?;
+        fields.set_item(
+            "step_contact_wrenches",
+            matrix_rows_out(py, outputs.step_contact_wrench.as_slice(), 6),
+        )?;
+        fields.set_item(
+            "contact_point_positions",
+            matrix_rows_out(py, outputs.contact_point_position.as_slice(), 3),
+        )?;
+        fields.set_item(
+            "contact_point_forces",
+            matrix_rows_out(py, outputs.contact_point_force.as_slice(), 3),
+        )?;
+        fields.set_item(
+            "contact_point_active",
+            PyArray1::from_vec(py, outputs.contact_point_active.clone()),
+        )?;
+        fields.set_item(
+            "joint_stop_torques",
+            vector_out(py, outputs.joint_stop_torque.as_slice()),
+        )?;
+        let margins = self
+            .plant
+            .wrench_margins(x, outputs.contact_wrench.as_slice());
+        let column =
+            |f: fn(&sea_plant::WrenchMargins) -> f64| margins.iter().map(f).collect::<Vec<f64>>();
+        fields.set_item("normal_force", vector_out(py, &column(|m| m.normal_force)))?;
+        fields.set_item("friction_margin", vector_out(py, &column(|m| m.friction)))?;
+        fields.set_item(
+            "cop_margin",
+            vector_out(py, &column(|m| m.center_of_pressure)),
+        )?;
+        result_object(py, "PlantOutputs", &fields)
+    }
+
     /// The Python object of a built plant (e.g. a scenario's), with a fresh workspace whose
     /// steps share `W` over `w_refresh_steps` steps (`plant.w_refresh_steps`).
     pub(crate) fn from_plant(plant: Plant, w_refresh_steps: usize) -> Self {
@@ -166,6 +226,7 @@ impl PyPlant {
             data,
             x: Vec::new(),
             u: Vec::new(),
+            last_step: None,
         }
     }
 
@@ -278,6 +339,7 @@ impl PyPlant {
             data,
             x: Vec::new(),
             u: Vec::new(),
+            last_step: None,
         })
     }
 
@@ -408,34 +470,21 @@ impl PyPlant {
         u: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         self.evaluate_at(x, u)?;
-        let d = &self.data;
-        let fields = PyDict::new(py);
-        fields.set_item(
-            "contact_wrenches",
-            matrix_rows_out(py, d.outputs.contact_wrench.as_slice(), 6),
-        )?;
-        fields.set_item(
-            "joint_torques",
-            vector_out(py, d.outputs.joint_torque.as_slice()),
-        )?;
-        fields.set_item(
-            "motor_torques",
-            vector_out(py, d.outputs.motor_torque.as_slice()),
-        )?;
-        fields.set_item("drift_position", d.outputs.drift_position)?;
-        fields.set_item("drift_rotation", d.outputs.drift_rotation)?;
-        let margins = self
-            .plant
-            .wrench_margins(&self.x, d.outputs.contact_wrench.as_slice());
-        let column =
-            |f: fn(&sea_plant::WrenchMargins) -> f64| margins.iter().map(f).collect::<Vec<f64>>();
-        fields.set_item("normal_force", vector_out(py, &column(|m| m.normal_force)))?;
-        fields.set_item("friction_margin", vector_out(py, &column(|m| m.friction)))?;
-        fields.set_item(
-            "cop_margin",
-            vector_out(py, &column(|m| m.center_of_pressure)),
-        )?;
-        result_object(py, "PlantOutputs", &fields)
+        self.outputs_object(py, &self.x, &self.data.outputs)
+    }
+
+    /// The outputs of the last `step` as a `sea_momentum.results.PlantOutputs`: those at the
+    /// step's start state and input, with `step_contact_wrenches` the wrenches the step
+    /// delivered (under unilateral contacts a stiff contact's force follows a new input within
+    /// the step: this is what the feet's force/torque sensors read over it). Raises
+    /// `RuntimeError` before any step.
+    fn step_outputs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let Some((x, last)) = &self.last_step else {
+            return Err(pyo3::exceptions::PyRuntimeError::new_err(
+                "step_outputs: no step taken yet (call Plant.step first)",
+            ));
+        };
+        self.outputs_object(py, x, last)
     }
 
     /// One step of size dt with u held: method "ros2" (default), "implicit_euler" or "rk4".
@@ -464,6 +513,13 @@ impl PyPlant {
             &mut out,
         )
         .map_err(to_py)?;
+        match &mut self.last_step {
+            Some((x, last)) => {
+                x.copy_from_slice(&self.x);
+                last.copy_from(&self.data.outputs);
+            }
+            None => self.last_step = Some((self.x.clone(), self.data.outputs.clone())),
+        }
         Ok(PyArray1::from_vec(py, out))
     }
 

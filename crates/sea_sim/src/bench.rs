@@ -119,10 +119,20 @@ fn two_feet_scenario(
     controller: &str,
     simulation: &str,
 ) -> Option<crate::scenario::Scenario> {
+    two_feet_scenario_on(urdf, "", controller, simulation)
+}
+
+/// [`two_feet_scenario`] with `plant`, the TOML lines of its `[plant]` table.
+fn two_feet_scenario_on(
+    urdf: &str,
+    plant: &str,
+    controller: &str,
+    simulation: &str,
+) -> Option<crate::scenario::Scenario> {
     let text = format!(
         "[robot]\nurdf = {urdf:?}\ncontacts = [\"l_sole\", \"r_sole\"]\ninitial_posture = \"two_feet\"\n\
          [reference]\ncom_origin = \"initial\"\ncom_amplitude = 0.01\ncom_frequency = 0.25\n\
-         [controller]\n{controller}\n[simulation]\n{simulation}\n"
+         [plant]\n{plant}\n[controller]\n{controller}\n[simulation]\n{simulation}\n"
     );
     crate::scenario::Scenario::from_toml(&text, &[], std::path::Path::new(".")).ok()
 }
@@ -163,26 +173,33 @@ pub fn bench_controller(
 /// zero-order hold, no recording); `closed_loop_second_continuous_ms`: the same with the
 /// controller evaluated at every integrator stage (the paper's continuous-time setting);
 /// `closed_loop_second_multi_rate_ms`: the robot's rates (`multi_rate`: the rigid model's QP
-/// at 100 Hz, the joint torque loops at 1 kHz).
+/// at 100 Hz, the joint torque loops at 1 kHz); `closed_loop_second_multi_rate_unilateral_ms`,
+/// the same with the feet on the ground (unilateral contacts, joint stops).
 /// Median over `runs` runs; `None` when `urdf` is not the paper's iCub or a run diverges.
 pub fn bench_closed_loop(urdf: &str, runs: usize) -> Option<Vec<(&'static str, f64)>> {
     let mut figures = Vec::new();
-    for (key, controller) in [
+    let multi_rate = "rate_hz = 100.0\nsampling = \"multi_rate\"\ninner_rate_hz = 1000.0\n\
+                      kind = \"rigid\"\nreflected_inertia = false";
+    let unilateral = "contact_model = \"unilateral\"";
+    for (key, plant, controller) in [
         (
             "closed_loop_second_ms",
+            "",
             "rate_hz = 1000.0\nsampling = \"zero_order_hold\"",
         ),
         (
             "closed_loop_second_continuous_ms",
+            "",
             "rate_hz = 1000.0\nsampling = \"continuous\"",
         ),
+        ("closed_loop_second_multi_rate_ms", "", multi_rate),
         (
-            "closed_loop_second_multi_rate_ms",
-            "rate_hz = 100.0\nsampling = \"multi_rate\"\ninner_rate_hz = 1000.0\n\
-             kind = \"rigid\"\nreflected_inertia = false",
+            "closed_loop_second_multi_rate_unilateral_ms",
+            unilateral,
+            multi_rate,
         ),
     ] {
-        let scenario = two_feet_scenario(urdf, controller, "duration_s = 1.0")?;
+        let scenario = two_feet_scenario_on(urdf, plant, controller, "duration_s = 1.0")?;
         let mut wall_ms = Vec::with_capacity(runs);
         for _ in 0..runs.max(1) {
             let cancel = std::sync::atomic::AtomicBool::new(false);
@@ -318,8 +335,28 @@ pub fn standing_motor_input(model: &Model, x: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// The plant of [`standing_sea_plant`] with its feet on the ground: unilateral contacts at the
+/// soles' corners (the paper's iCub sole) sized to sink 0.5 mm, joint stops, the ground at the
+/// soles.
+pub fn standing_sea_plant_on_ground(model: &Model) -> Option<(Plant, Vec<f64>)> {
+    let (mut plant, x) = standing_sea_plant(model)?;
+    let surface = sea_dyn::ContactSurface::default();
+    let corners = sea_plant::UnilateralContacts::rectangle_corners(surface.foot_x, surface.foot_y);
+    let gravity = model.gravity.norm();
+    let law =
+        sea_plant::CompliantContact::for_weight(model.total_mass() * gravity, 8, 5e-4, gravity);
+    let ground = sea_plant::Ground::flat(5e-4, surface.friction).ok()?;
+    plant
+        .set_unilateral_contacts(ground, law, vec![corners.clone(), corners])
+        .ok()?;
+    plant.joint_stops = Some(sea_plant::JointStops::default());
+    Some((plant, x))
+}
+
 /// `plant_dynamics_us` (one evaluation of the SEA plant on two feet) and `sim_step_us` (one
-/// ROS2 step, dt = 1 ms), on the standing iCub with motor torques balancing gravity.
+/// ROS2 step, dt = 1 ms), on the standing iCub with motor torques balancing gravity;
+/// `sim_step_unilateral_us`, the step with the feet on the ground
+/// ([`standing_sea_plant_on_ground`]).
 fn bench_plant(
     model: &Model,
     batches: usize,
@@ -337,5 +374,17 @@ fn bench_plant(
             sea_plant::step(&plant, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut x_next).is_ok(),
         );
     });
-    Some(vec![("plant_dynamics_us", dynamics), ("sim_step_us", step)])
+    let (ground_plant, x) = standing_sea_plant_on_ground(model)?;
+    let mut pd = PlantData::new(&ground_plant);
+    let on_ground = median_us(batches, calls_per_batch, |_| {
+        black_box(
+            sea_plant::step(&ground_plant, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut x_next)
+                .is_ok(),
+        );
+    });
+    Some(vec![
+        ("plant_dynamics_us", dynamics),
+        ("sim_step_us", step),
+        ("sim_step_unilateral_us", on_ground),
+    ])
 }

@@ -196,7 +196,12 @@ fn a_fall_reaches_the_live_view_on_events() {
                 duration_s = 0.1}]";
     // As measured, with the fixed estimates (the file's stiffness identification off).
     let fixed = "controller.stiffness_identification=false";
-    let (_running, port) = start_scenario(PUSH, 3.0, &[fixed, push]);
+    // The feet welded, the fall the wrench check's (as tests/support's `WELDED_FEET`).
+    let welded = [
+        "plant.contact_model=\"bilateral\"",
+        "simulation.stop_at_joint_limits=true",
+    ];
+    let (_running, port) = start_scenario(PUSH, 3.0, &[welded[0], welded[1], fixed, push]);
     let (mut socket, _) = connect(port);
     let events = loop {
         let json = next_json(&mut socket, started, "advertise");

@@ -1,6 +1,8 @@
 //! The margin scan around the scenario's own value: a stable island narrower than the grid's
 //! spacing is found, and a scan that saw one side only says so (issue 19).
 
+mod support;
+
 use sea_sim::analysis::{
     scenario_value, stability_margin_report, IslandEnd, MarginConclusion, MarginMethod,
     MarginOptions,
@@ -100,7 +102,9 @@ fn a_whole_number_key_is_scanned_at_whole_numbers() {
         "controller.stiffness_identification".to_string(),
         "false".to_string(),
     )];
-    let report = stability_margin_report(&path, &fixed, DELAY, 0.0, 10.0, &options).unwrap();
+    let report =
+        stability_margin_report(&path, &support::welded(&fixed), DELAY, 0.0, 10.0, &options)
+            .unwrap();
     assert!(report.integer);
     assert!(report.samples.iter().all(|s| s.value.fract() == 0.0));
     assert_eq!(report.boundaries, vec![8.5]);

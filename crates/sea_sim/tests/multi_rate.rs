@@ -2,6 +2,8 @@
 //! torque loops at 1 kHz on the paper's tracking scenario, its period map's growth rate
 //! against simulation, and the scenario errors of its keys.
 
+mod support;
+
 use sea_sim::analysis::linearize::{closed_loop_system, LinearizeOptions};
 use sea_sim::analysis::system::{difference, difference_slots};
 use sea_sim::analysis::{linearize, Linearization};
@@ -20,7 +22,7 @@ fn load(overrides: &[(&str, &str)]) -> Scenario {
         .chain(overrides)
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
-    Scenario::from_file(&scenario_path(), &pairs).unwrap()
+    Scenario::from_file(&scenario_path(), &support::welded(&pairs)).unwrap()
 }
 
 /// Growth rate [1/s] of the largest tangent-space deviation from the linearisation's
@@ -146,7 +148,7 @@ fn bad_joint_loop_settings_name_their_key() {
         ),
     ] {
         let pairs = vec![(key.to_string(), value.to_string())];
-        let message = Scenario::from_file(&scenario_path(), &pairs)
+        let message = Scenario::from_file(&scenario_path(), &support::welded(&pairs))
             .unwrap_err()
             .to_string();
         assert!(
@@ -156,7 +158,7 @@ fn bad_joint_loop_settings_name_their_key() {
     }
     // Just below the limit the scenario is accepted.
     let pairs = vec![("controller.torque_bandwidth_hz".into(), "329".into())];
-    Scenario::from_file(&scenario_path(), &pairs).unwrap();
+    Scenario::from_file(&scenario_path(), &support::welded(&pairs)).unwrap();
 }
 
 /// The tracking scenario with its references held (the deviation from the equilibrium is the

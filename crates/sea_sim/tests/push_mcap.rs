@@ -4,6 +4,8 @@
 //! (zero outside it), and the fall is a `foxglove.Log` warning on `/events` at its time plus the
 //! metadata record `run`.
 
+mod support;
+
 use foxglove::messages::SceneUpdate;
 use foxglove::Decode;
 use sea_sim::closed_loop::{run_with_sinks, RecordSink, RunRecord};
@@ -28,7 +30,7 @@ fn pushed() -> Scenario {
         ("simulation.duration_s", "2.0"),
     ]
     .map(|(k, v)| (k.to_string(), v.to_string()));
-    Scenario::from_file(&path, &pairs).unwrap()
+    Scenario::from_file(&path, &support::welded(&pairs)).unwrap()
 }
 
 /// A file in the temporary folder, removed when dropped.

@@ -7,12 +7,13 @@
 //! (1 cm, 0.2 Hz, lateral) for 5 s. The file is written beside its target and renamed over it only when
 //! complete ([`crate::output::OutputFile`]).
 //!
-//! A robot whose two feet cannot both be held flat (the two rigid contacts' 12 constraints
-//! dependent at the standing posture, e.g. legs of 5 joints without a hip yaw, as
-//! `urdf/mini_biped.urdf`) is refused before anything is written, naming the contacts and the
-//! joints of each leg ([`two_feet_can_be_held`]): its run would stop at t = 0 on degenerate
-//! contact constraints, and on one foot the posture of two feet (the CoM between them) falls,
-//! so no scenario `init` can write balances it.
+//! A robot whose two feet cannot both be held flat (the two feet's 12 constraints dependent
+//! at the standing posture, e.g. legs of 5 joints without a hip yaw, as `urdf/mini_biped.urdf`)
+//! is refused before anything is written, naming the contacts and the joints of each leg
+//! ([`two_feet_can_be_held`]). The plant stands it (unilateral contacts solve redundant legs),
+//! but the whole-body controller's two-feet contact set is then redundant and its run diverges
+//! within 0.2 s (docs/findings/contacts.md), and on one foot the posture of two feet (the CoM
+//! between them) falls, so no scenario `init` can write balances it.
 
 pub mod actuators;
 pub mod foot;
@@ -150,8 +151,9 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
 const RANK_TOLERANCE: f64 = 1e-8;
 
 /// Both feet can be held flat at once: the stacked 12 x nv Jacobian of the two contacts has
-/// full rank at the standing posture, as the plant's rigid contacts need (else its contact
-/// solve fails at t = 0: "contact constraints are degenerate"). A leg of 6 joints (hip yaw,
+/// full rank at the standing posture, as the controller's two-feet contact set needs (and the
+/// plant's rigid bilateral contacts: else their solve fails at t = 0, "contact constraints are
+/// degenerate"). A leg of 6 joints (hip yaw,
 /// roll, pitch, knee, ankle pitch, roll) moves its foot in all 6 directions, which suffices;
 /// two legs of 5 joints lacking the same motion (a hip yaw) leave a relative motion of the feet
 /// (their relative yaw) that nothing produces, so the 12 constraints are dependent. The error
@@ -184,8 +186,9 @@ pub fn two_feet_can_be_held(
         "robot.contacts",
         format!(
             "the two feet cannot both be held flat: '{}' hangs from the base by {} joints and \
-             '{}' by {}, and the 12 constraints of two rigid feet have rank {rank} at the \
-             standing posture (the run would stop at t = 0 on degenerate contact constraints); \
+             '{}' by {}, and the 12 constraints of two flat feet have rank {rank} at the \
+             standing posture (the controller's contact set is redundant: its run diverges, \
+             docs/findings/contacts.md); \
              `init` writes two-feet scenarios, which need a leg of 6 joints (hip yaw, roll, \
              pitch, knee, ankle pitch, roll); for this robot write a one-foot scenario \
              (one contact, the CoM over that foot) by hand",

@@ -160,6 +160,10 @@ fn scenario_text(options: &InitOptions, name: &str, robot: &RobotDescription) ->
     ))
     .map_err(|e| Error::config("reference", e.to_string()))?;
     root.insert("reference".into(), reference.into());
+    // The feet stand on the ground: unilateral contacts, joint stops at the URDF's limits.
+    let mut plant = toml::Table::new();
+    plant.insert("contact_model".into(), "unilateral".into());
+    root.insert("plant".into(), plant.into());
     let mut simulation = toml::Table::new();
     simulation.insert("duration_s".into(), duration.into());
     root.insert("simulation".into(), simulation.into());
@@ -178,7 +182,8 @@ fn header(options: &InitOptions) -> String {
          # with its robot description inline ([robot.description]): SEA on every joint scaled\n\
          # to the robot, the standing posture found by inverse kinematics, the foot rectangle\n\
          # {}, gains scaled to the robot (docs/guide/your_robot.md).\n\
-         # The run: the CoM follows a lateral sinusoid (1 cm, 0.2 Hz) for 5 s.\n\n",
+         # The run: the CoM follows a lateral sinusoid (1 cm, 0.2 Hz) for 5 s, the feet on the\n\
+         # ground (unilateral contacts with friction, joint stops at the URDF's limits).\n\n",
         options.urdf,
         options.contacts[0],
         options.contacts[1],

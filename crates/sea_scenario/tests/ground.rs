@@ -1,0 +1,63 @@
+//! `plant.contact_model = "unilateral"` and `[ground]`: the plant built from them, and bad
+//! grounds refused naming the key.
+
+use sea_scenario::{build, Scenario};
+use std::path::Path;
+
+const PUSH: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/robot_rate/push_two_feet.toml"
+);
+
+fn scenario(overrides: &[(&str, &str)]) -> sea_scenario::Result<Scenario> {
+    let pairs: Vec<(String, String)> = overrides
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    Scenario::from_file(Path::new(PUSH), &pairs)
+}
+
+/// The error message of building the push scenario with `overrides` (read or build).
+fn refused(overrides: &[(&str, &str)]) -> String {
+    match scenario(overrides).and_then(|s| build(&s).map(|_| ())) {
+        Ok(()) => panic!("{overrides:?} accepted"),
+        Err(error) => error.to_string(),
+    }
+}
+
+#[test]
+fn the_push_scenario_stands_on_eight_points_of_a_ground_at_rest_penetration() {
+    let setup = build(&scenario(&[]).unwrap()).unwrap();
+    let plant = &setup.plant;
+    let unilateral = plant.unilateral().expect("unilateral contacts");
+    assert_eq!(plant.n_contact_points(), 8);
+    assert!(plant.joint_stops.is_some(), "joint stops on by default");
+    // The soles' points sit at the static penetration below the plane.
+    let weight = plant.model.total_mass() * plant.model.gravity.norm();
+    let penetration = weight / (8.0 * unilateral.law.stiffness);
+    assert!((penetration - 5e-4).abs() < 1e-12, "{penetration}");
+    let bilateral = build(&scenario(&[("plant.contact_model", "\"bilateral\"")]).unwrap()).unwrap();
+    assert!(bilateral.plant.unilateral().is_none());
+    assert!(bilateral.plant.joint_stops.is_none(), "no stops under bilateral by default");
+}
+
+#[test]
+fn bad_grounds_are_refused_naming_the_key() {
+    let cases: &[(&[(&str, &str)], &str)] = &[
+        (&[("ground.friction", "-0.5")], "ground.friction"),
+        (&[("ground.friction", "nan")], "ground.friction"),
+        (&[("ground.incline_rad", "1.5707963267948966")], "ground.incline_rad"),
+        (&[("ground.incline_rad", "2.0")], "ground.incline_rad"),
+        (&[("ground.points", "[[0.5, 0.0]]")], "ground.points[0]"),
+        (&[("ground.points", "[]")], "ground.points"),
+        (&[("ground.height_m", "2.0")], "ground.height_m"),
+        (&[("ground.height_m", "0.05")], "ground.height_m"),
+        (&[("ground.stiffness_n_per_m", "0")], "ground.stiffness_n_per_m"),
+        (&[("ground.stiction_velocity_m_s", "-1")], "ground.stiction_velocity_m_s"),
+        (&[("plant.joint_stop_stiffness", "0")], "plant.joint_stop_stiffness"),
+    ];
+    for (overrides, key) in cases {
+        let message = refused(overrides);
+        assert!(message.contains(key), "{overrides:?}: {message}");
+    }
+}
