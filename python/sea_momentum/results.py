@@ -195,8 +195,9 @@ class RunSummary(Result):
     points carried no force at a plant step and carry force at the next; 0 otherwise."""
     touchdown_velocity_jump_m_s: Optional[float]
     """Largest velocity jump of a touchdown [m/s]: the foot's normal speed towards the ground
-    (of its points' centroid) over the millisecond before it, minus that over the millisecond
-    ending 5 ms after it; None without a touchdown."""
+    at its touching points (those carrying force at the touchdown) over the millisecond
+    before it, minus that over the millisecond ending 5 ms after it; None without a
+    touchdown."""
     touchdown_peak_spring_torque_nm: Optional[float]
     """Largest spring torque ``|K_S (Gamma theta - s)|`` of an elastic joint over the 50 ms
     after a touchdown, at plant-step resolution [N m]; None without a touchdown."""

@@ -5,11 +5,15 @@
 //! Per impact at time `t` (the start of the first plant step whose evaluation has the force):
 //! - the approach speed before and after: the rate of the approach coordinate averaged over
 //!   [`SPEED_SPAN_S`] (1 ms), ending at `t` (before) and at `t +` [`SPEED_AFTER_S`] (5 ms,
-//!   after). A foot's approach coordinate is the depth of its points' centroid below the
-//!   ground's plane (`-n . c`, positive sinking), so its speeds are the foot's normal speed
-//!   towards the ground [m/s]; a joint's is its position towards the stop it reached (`s` at
-//!   its upper limit, `-s` at its lower) [rad/s or m/s]. The velocity jump is `before -
-//!   after` (positive when the impact stopped the approach);
+//!   after). A foot's approach coordinate is the mean depth below the ground's plane
+//!   (`-n . p`, positive sinking) of its touching points, those that carry force at `t` (a flat
+//!   landing: all of them; an edge landing: that edge's, not the foot's centre, which may
+//!   still rise as the foot rolls), so its speeds are the foot's normal speed towards the
+//!   ground where it lands [m/s]; a joint's is its position towards the stop it reached (`s`
+//!   at its upper limit, `-s` at its lower) [rad/s or m/s]. The velocity jump is `before -
+//!   after` (positive when the impact stopped the approach). With the default compliant
+//!   ground the foot is stopped over some 10 ms, so the jump at 5 ms is part of the approach
+//!   speed;
 //! - over the [`PEAK_WINDOW_S`] (50 ms) from `t` on, the peak spring torque `max |K_S (Gamma
 //!   theta - s)|` over the elastic joints [Nm] and the peak motor velocity `max |thetadot|`
 //!   [rad/s], taken at the plant steps' starts; and the same peaks over the window before `t`
@@ -127,9 +131,10 @@ impl std::fmt::Display for Impact {
 struct Source {
     kind: ImpactKind,
     name: Arc<str>,
-    /// A foot: its points `points.0..points.1` (over all contacts); a joint: its coordinate
-    /// in `points.0`.
-    points: (usize, usize),
+    /// Its columns `first..end` of the coordinate history: a foot's points, a joint's one.
+    columns: (usize, usize),
+    /// A joint: its coordinate (index of `s`); a foot: unused.
+    coordinate: usize,
     /// Whether it carried force at the last step.
     active: bool,
 }
@@ -139,6 +144,9 @@ struct Source {
 struct Open {
     /// Steps observed since the impact (the impact's step is 0).
     steps: usize,
+    /// The columns of the approach coordinate: bit `b` for column `first + b` (a foot's
+    /// touching points, its first 64; a joint's column).
+    mask: u64,
     /// Sign turning the raw coordinate into the approach coordinate.
     sign: f64,
     time_s: f64,
@@ -187,9 +195,11 @@ pub(crate) struct ImpactDetector {
     after_steps: usize,
     window_steps: usize,
     sources: Vec<Source>,
+    /// Contact points over all contacts (the first columns of `coordinates`).
+    points: usize,
     /// The ground's normal (world) under unilateral contacts.
     normal: [f64; 3],
-    /// Per step: each source's raw coordinate (`n . c` of a foot, `s` of a joint).
+    /// Per step: each contact point's height `n . p`, then each joint's `s`.
     coordinates: Ring,
     /// Per step: the peak spring torque and `|thetadot|` over the joints.
     peaks: Ring,
@@ -205,33 +215,33 @@ impl ImpactDetector {
     /// A detector for `plant` stepped every `step_s` seconds, with `contact_names` naming
     /// its contacts; `None` when nothing can strike (bilateral contacts and no joint stops).
     pub fn new(plant: &Plant, contact_names: &[String], step_s: f64) -> Option<Self> {
-        let mut sources = Vec::new();
-        let mut normal = [0.0, 0.0, 1.0];
+        let (mut sources, mut normal, mut points) = (Vec::new(), [0.0, 0.0, 1.0], 0);
         if let Some(unilateral) = plant.unilateral() {
             normal = unilateral.ground.normal.into();
-            let mut first = 0;
-            for (c, points) in unilateral.points.iter().enumerate() {
-                let name = contact_names
-                    .get(c)
-                    .map_or_else(|| format!("contact_{c}"), Clone::clone);
+            for (c, foot) in unilateral.points.iter().enumerate() {
+                let name = contact_names.get(c).cloned();
                 sources.push(Source {
                     kind: ImpactKind::Touchdown,
-                    name: name.into(),
-                    points: (first, first + points.len()),
+                    name: name.unwrap_or_else(|| format!("contact_{c}")).into(),
+                    columns: (points, points + foot.len()),
+                    coordinate: 0,
                     active: false,
                 });
-                first += points.len();
+                points += foot.len();
             }
         }
-        if plant.joint_stops.is_some() {
-            for joint in &plant.model.joints {
-                sources.push(Source {
-                    kind: ImpactKind::JointStop,
-                    name: joint.name.as_str().into(),
-                    points: (joint.coordinate, joint.coordinate),
-                    active: false,
-                });
-            }
+        let joints = plant
+            .joint_stops
+            .as_ref()
+            .map_or(&[][..], |_| &plant.model.joints);
+        for (k, joint) in joints.iter().enumerate() {
+            sources.push(Source {
+                kind: ImpactKind::JointStop,
+                name: joint.name.as_str().into(),
+                columns: (points + k, points + k + 1),
+                coordinate: joint.coordinate,
+                active: false,
+            });
         }
         if sources.is_empty() {
             return None;
@@ -243,9 +253,10 @@ impl ImpactDetector {
             span_steps,
             after_steps: steps(SPEED_AFTER_S),
             window_steps,
+            points,
             normal,
             // One slot more than read back: the current step's is written first.
-            coordinates: Ring::new(sources.len(), span_steps + 2),
+            coordinates: Ring::new(points + joints.len(), span_steps + 2),
             peaks: Ring::new(2, window_steps + 1),
             steps: 0,
             open: vec![None; sources.len()],
@@ -313,16 +324,20 @@ impl ImpactDetector {
         outputs: &PlantOutputs,
     ) {
         let step = self.steps;
-        let positions = outputs.contact_point_position.as_slice();
+        let n = self.normal;
+        let positions = outputs.contact_point_position.as_slice().chunks_exact(3);
         let slot = self.coordinates.slot_mut(step);
-        for (value, source) in slot.iter_mut().zip(&self.sources) {
-            let (first, end) = source.points;
-            *value = match source.kind {
-                ImpactKind::Touchdown => {
-                    centroid_height(&positions[3 * first..3 * end], self.normal)
-                }
-                ImpactKind::JointStop => layout.q(x)[7 + first],
-            };
+        let (heights, joints) = slot.split_at_mut(self.points);
+        for (height, p) in heights.iter_mut().zip(positions) {
+            *height = n[0] * p[0] + n[1] * p[1] + n[2] * p[2];
+        }
+        let s = &layout.q(x)[7..];
+        let stops = self
+            .sources
+            .iter()
+            .filter(|s| s.kind == ImpactKind::JointStop);
+        for (value, source) in joints.iter_mut().zip(stops) {
+            *value = s[source.coordinate];
         }
         let peaks = [
             spring_torque_peak(plant, layout, x),
@@ -334,21 +349,26 @@ impl ImpactDetector {
     /// Whether source `index` carries force in `outputs`.
     fn is_active(&self, index: usize, outputs: &PlantOutputs) -> bool {
         let source = &self.sources[index];
-        let (first, end) = source.points;
+        let (first, end) = source.columns;
         match source.kind {
             ImpactKind::Touchdown => outputs.contact_point_active[first..end].iter().any(|&a| a),
-            ImpactKind::JointStop => outputs.joint_stop_active[first],
+            ImpactKind::JointStop => outputs.joint_stop_active[source.coordinate],
         }
     }
 
     /// Opens the window of an impact of source `index` at this step.
     fn open_window(&mut self, index: usize, time_s: f64, outputs: &PlantOutputs) {
         let source = &self.sources[index];
-        let sign = match source.kind {
-            ImpactKind::Touchdown => -1.0,
+        let (first, end) = source.columns;
+        let (sign, mask) = match source.kind {
+            ImpactKind::Touchdown => {
+                let active = &outputs.contact_point_active[first..end];
+                let touching = active.iter().take(64).enumerate().filter(|(_, &a)| a);
+                (-1.0, touching.fold(0, |mask, (b, _)| mask | 1 << b))
+            }
             // The stop pushes away from its limit: negative at the upper one.
-            ImpactKind::JointStop if outputs.joint_stop_torque[source.points.0] < 0.0 => 1.0,
-            ImpactKind::JointStop => -1.0,
+            ImpactKind::JointStop if outputs.joint_stop_torque[source.coordinate] < 0.0 => (1.0, 1),
+            ImpactKind::JointStop => (-1.0, 1),
         };
         let mut peaks_before = [0.0_f64; 2];
         for back in 1..=self.steps.min(self.window_steps) {
@@ -356,11 +376,13 @@ impl ImpactDetector {
                 *peak = peak.max(self.peaks.get(self.steps - back, i));
             }
         }
+        let speed_before = sign * self.rate((first, mask), self.steps, self.span_steps);
         self.open[index] = Some(Open {
             steps: 0,
+            mask,
             sign,
             time_s,
-            speed_before: sign * self.speed(index, self.span_steps),
+            speed_before,
             speed_after: f64::NAN,
             peaks_after: [0.0; 2],
             peaks_before,
@@ -379,22 +401,28 @@ impl ImpactDetector {
                 *after = after.max(now);
             }
             if open.steps == self.after_steps {
-                open.speed_after = open.sign * self.speed(index, self.span_steps);
+                let columns = (self.sources[index].columns.0, open.mask);
+                open.speed_after = open.sign * self.rate(columns, step, self.span_steps);
             }
             self.open[index] = Some(open);
         }
     }
 
-    /// Rate of source `index`'s raw coordinate over the last `span` steps (fewer when fewer
-    /// were observed) ending at the current step; NaN with none.
-    fn speed(&self, index: usize, span: usize) -> f64 {
-        let span = span.min(self.steps);
-        if span == 0 {
+    /// Mean rate of the raw coordinates of `columns` (`first` and a mask of the columns
+    /// after it) over the `span` steps (fewer when fewer were observed) ending at step `now`;
+    /// NaN with no step or no column.
+    fn rate(&self, (first, mask): (usize, u64), now: usize, span: usize) -> f64 {
+        let span = span.min(now);
+        let (mut sum, mut count) = (0.0, 0);
+        for b in (0..64).filter(|b| mask & (1 << b) != 0) {
+            let column = first + b;
+            sum += self.coordinates.get(now, column) - self.coordinates.get(now - span, column);
+            count += 1;
+        }
+        if span == 0 || count == 0 {
             return f64::NAN;
         }
-        let now = self.coordinates.get(self.steps, index);
-        let then = self.coordinates.get(self.steps - span, index);
-        (now - then) / (span as f64 * self.step_s)
+        sum / (count as f64 * span as f64 * self.step_s)
     }
 
     /// Closes source `index`'s window: its impact joins the list.
@@ -402,17 +430,15 @@ impl ImpactDetector {
         let Some(open) = self.open[index].take() else {
             return;
         };
-        let mut speed_after = open.speed_after;
-        // Closed before the speed after was due: over what the window had (its steps
-        // `steps - open.steps..steps`, the current step not included).
-        let span = self.span_steps.min(open.steps.saturating_sub(1));
-        if speed_after.is_nan() && span > 0 {
-            let last = self.steps - 1;
-            let now = self.coordinates.get(last, index);
-            let then = self.coordinates.get(last - span, index);
-            speed_after = open.sign * (now - then) / (span as f64 * self.step_s);
-        }
         let source = &self.sources[index];
+        let mut speed_after = open.speed_after;
+        if speed_after.is_nan() && open.steps > 1 {
+            // Closed before the speed after was due: over what the window had (its steps
+            // `steps - open.steps..steps`, the current step not included).
+            let span = self.span_steps.min(open.steps - 1);
+            let columns = (source.columns.0, open.mask);
+            speed_after = open.sign * self.rate(columns, self.steps - 1, span);
+        }
         self.impacts.push(Impact {
             kind: source.kind,
             name: Arc::clone(&source.name),
@@ -426,16 +452,6 @@ impl ImpactDetector {
             window_after_s: open.steps as f64 * self.step_s,
         });
     }
-}
-
-/// `n . c` of the centroid `c` of the points `positions` (3 per point).
-fn centroid_height(positions: &[f64], normal: [f64; 3]) -> f64 {
-    let points = (positions.len() / 3).max(1) as f64;
-    let sum: f64 = positions
-        .chunks_exact(3)
-        .map(|p| p[0] * normal[0] + p[1] * normal[1] + p[2] * normal[2])
-        .sum();
-    sum / points
 }
 
 /// `max |K_S (Gamma theta - s)|` over the elastic joints of `plant` at `x` (0 without any).

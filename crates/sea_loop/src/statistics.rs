@@ -252,8 +252,8 @@ pub struct Summary {
     /// carried no force at a plant step and carry force at the next.
     pub touchdowns: usize,
     /// Largest velocity jump of a touchdown [m/s]: the foot's normal speed towards the ground
-    /// over the millisecond before it minus that over the millisecond ending 5 ms after it;
-    /// `None` without a touchdown.
+    /// at its touching points over the millisecond before it minus that over the millisecond
+    /// ending 5 ms after it ([`crate::impacts`]); `None` without a touchdown.
     pub touchdown_velocity_jump_m_s: Option<f64>,
     /// Largest spring torque `|K_S (Gamma theta - s)|` of an elastic joint over the 50 ms
     /// after a touchdown [Nm]; `None` without a touchdown.

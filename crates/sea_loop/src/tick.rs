@@ -435,7 +435,7 @@ impl<'a> Engine<'a> {
             },
             x: x0.clone(),
             contact_check: ContactCheck::new(plant),
-            fall_check: FallCheck::new(plant, &x0, settings.fall_bounds),
+            fall_check: FallCheck::new(plant, x0, settings.fall_bounds),
             sensor,
             truth,
         })

@@ -50,9 +50,6 @@ fn at_rest_the_estimate_is_the_model_s_gravity_error() {
     let forces = AppliedForces {
         joint_torques: &outputs.joint_torque,
         contact_wrenches: &outputs.contact_wrench,
-        contact_point_positions: &[],
-        contact_point_forces: &[],
-        contact_point_active: &[],
     };
     let robot = (controller_model, setup.controller.contact_frames());
     let state = (layout.q(x0), layout.nu(x0));
@@ -96,9 +93,6 @@ fn in_motion_an_exact_model_shows_no_disturbance() {
     let forces = AppliedForces {
         joint_torques: &outputs.joint_torque,
         contact_wrenches: &outputs.contact_wrench,
-        contact_point_positions: &[],
-        contact_point_forces: &[],
-        contact_point_active: &[],
     };
     let robot = (setup.controller.model(), setup.controller.contact_frames());
     observer.update(robot, (layout.q(&x), &previous_nu), forces, forces);

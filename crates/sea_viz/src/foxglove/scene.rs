@@ -429,7 +429,7 @@ impl Markers {
             return;
         }
         let mut entity = world_entity("contact_points".to_string());
-        let arrow = arrow_entity(String::new(), [1.0, 0.7, 0.0, 1.0]).arrows[0].clone();
+        let arrow = arrow_entity(String::new(), [1.0, 0.7, 0.0, 1.0]).arrows[0];
         entity.arrows = vec![
             ArrowPrimitive {
                 shaft_diameter: 0.006,
