@@ -204,3 +204,18 @@ class RunSummary(Result):
     """``controller.sampling = "multi_rate"``: the joint loops' stiffness estimates at the run's
     end [Nm/rad] by elastic joint name (identified with ``controller.stiffness_identification``,
     else the controller's); empty otherwise. Not a sweep column."""
+    touchdowns: int
+    """Touchdowns of the feet (``plant.contact_model = "unilateral"``): a foot whose contact
+    points carried no force at a plant step and carry force at the next; 0 otherwise."""
+    touchdown_velocity_jump_m_s: Optional[float]
+    """Largest velocity jump of a touchdown [m/s]: the foot's normal speed towards the ground
+    at its touching points (those carrying force at the touchdown) over the millisecond
+    before it, minus that over the millisecond ending 5 ms after it; None without a
+    touchdown."""
+    touchdown_peak_spring_torque_nm: Optional[float]
+    """Largest spring torque ``|K_S (Gamma theta - s)|`` of an elastic joint over the 50 ms
+    after a touchdown, at plant-step resolution [N m]; None without a touchdown."""
+    touchdown_peak_motor_velocity_rad_s: Optional[float]
+    """Largest ``|thetadot|`` over the 50 ms after a touchdown, at plant-step resolution
+    [rad/s] (``motor_velocity_peak_rad_s`` is over the control samples only); None without a
+    touchdown."""

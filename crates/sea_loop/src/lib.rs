@@ -16,6 +16,8 @@
 //!   a unilateral contact with friction;
 //! - [`fall_check`]: falls as physics under unilateral contacts (base height, tilt, a link on
 //!   the ground), and [`Fall`], either kind;
+//! - [`impacts`]: touchdowns of the feet and joints reaching their stops at plant-step
+//!   resolution, with the velocity jump and the actuators' peaks around each ([`Impact`]);
 //! - [`statistics`]: running statistics, how a run ended ([`RunEnd`], [`Divergence`]) and the
 //!   [`Summary`];
 //! - [`settings`]: [`Setup`] and [`LoopSettings`];
@@ -41,6 +43,7 @@ pub mod contact_check;
 pub mod disturbance_schedule;
 pub mod error;
 pub mod fall_check;
+pub mod impacts;
 pub mod record;
 pub mod sampling;
 pub mod sensing;
@@ -52,6 +55,7 @@ pub use contact_check::{ContactConstraint, WrenchFall};
 pub use disturbance_schedule::{DisturbanceConfig, DisturbanceSchedule};
 pub use error::{Error, Result};
 pub use fall_check::{Fall, FallBounds, PhysicalFall};
+pub use impacts::{Impact, ImpactKind};
 pub use record::{OwnedSample, RecordSink, RunInfo, RunRecord, Sample};
 pub use sampling::{equal_steps, inner_ticks, Sampling, Schedule};
 pub use sensing::SensingConfig;
@@ -86,6 +90,9 @@ pub fn run_setup_with_sinks(
         .iter_mut()
         .try_for_each(|sink| sink.begin(&info))
         .and_then(|()| drive(&mut engine, sinks, &mut statistics, cancel, &mut progress));
+    // The impacts still open end with the run: the sinks get them before the end.
+    engine.close_impacts();
+    let outcome = outcome.and_then(|ended| deliver_impacts(&mut engine, sinks).map(|()| ended));
     // Each sink learns how the run ended (when it did not fail), then every sink finishes.
     let outcome = outcome.and_then(|(end, duration_s)| {
         sinks
@@ -112,7 +119,18 @@ pub fn run_setup_with_sinks(
     let sampling = engine.schedule.sampling.name();
     let mut summary = Summary::new(&end, sampling, &statistics, totals);
     summary.stiffness_estimates = engine.stiffness_estimates();
+    summary.add_impacts(engine.impacts());
     Ok(summary)
+}
+
+/// Hands the impacts complete since the last call to every sink.
+fn deliver_impacts(engine: &mut Engine<'_>, sinks: &mut [&mut dyn RecordSink]) -> Result<()> {
+    for impact in engine.new_impacts() {
+        for sink in sinks.iter_mut() {
+            sink.impact(impact)?;
+        }
+    }
+    Ok(())
 }
 
 /// The loop over samples: each period's observation goes to the statistics and, every
@@ -150,6 +168,7 @@ fn drive(
                 sink.record(&sample)?;
             }
         }
+        deliver_impacts(engine, sinks)?;
         if let Some(end) = period.end {
             return Ok((end, time));
         }

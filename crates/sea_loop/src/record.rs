@@ -3,6 +3,7 @@
 //! trait: the in-memory [`RunRecord`] (what Python gets) is here; the MCAP log and the live
 //! view (`sea_viz`) sit above the loop. With no sink, only the summary statistics are computed (online).
 
+use super::impacts::Impact;
 use super::statistics::RunEnd;
 use crate::error::Result;
 use crate::settings::RunScene;
@@ -24,6 +25,9 @@ pub struct RunInfo<'a> {
     pub scene: &'a RunScene,
     /// The link of each disturbance, in order (the logs name and draw pushes by it).
     pub disturbance_links: &'a [String],
+    /// Unilateral contacts: the number of points of each contact (the order of the samples'
+    /// contact points); empty under bilateral contacts.
+    pub contact_points: &'a [usize],
 }
 
 /// One recorded sample of a run: the plant state at `time_s`, the controller's evaluation
@@ -51,6 +55,13 @@ pub struct Sample<'a> {
     pub external_wrench: [f64; 6],
     /// Simulated contact wrenches, 6 per contact `[force; moment]` at the frame origins.
     pub contact_wrenches: &'a [f64],
+    /// Unilateral contacts: each contact point's position [m], 3 per point (contacts in
+    /// order, [`RunInfo::contact_points`] each); empty under bilateral contacts.
+    pub contact_point_positions: &'a [f64],
+    /// Unilateral contacts: each contact point's force on its foot [N], 3 per point.
+    pub contact_point_forces: &'a [f64],
+    /// Unilateral contacts: whether each contact point carries a force.
+    pub contact_point_active: &'a [bool],
     /// Motor torques applied by the plant [Nm] (n_e).
     pub motor_torques: &'a [f64],
     /// Joint torques applied to the links [Nm] (n).
@@ -78,6 +89,13 @@ pub trait RecordSink {
 
     /// Takes one sample (in time order).
     fn record(&mut self, sample: &Sample<'_>) -> Result<()>;
+
+    /// Takes one impact (a touchdown or a joint reaching its stop) once its window after is
+    /// complete, i.e. up to [`crate::impacts::PEAK_WINDOW_S`] after its time (after the
+    /// samples up to then; impacts in the order their windows closed).
+    fn impact(&mut self, _impact: &Impact) -> Result<()> {
+        Ok(())
+    }
 
     /// Called once after the last sample with how the run ended (not when it failed with an
     /// error: a sink's or the model's), before [`RecordSink::finish`].
@@ -127,6 +145,9 @@ pub struct RunRecord {
     pub joint_names: Vec<String>,
     /// Elastic joint names (order of theta).
     pub elastic_joints: Vec<String>,
+    /// The run's impacts (touchdowns, joints reaching their stops), in the order their
+    /// windows closed.
+    pub impacts: Vec<Impact>,
 }
 
 impl RecordSink for RunRecord {
@@ -165,6 +186,11 @@ impl RecordSink for RunRecord {
         self.disturbance_wrench.extend_from_slice(&total);
         Ok(())
     }
+
+    fn impact(&mut self, impact: &Impact) -> Result<()> {
+        self.impacts.push(impact.clone());
+        Ok(())
+    }
 }
 
 impl<'a> Sample<'a> {
@@ -197,9 +223,11 @@ impl<'a> Sample<'a> {
             self.motor_torques,
             self.joint_torques,
             self.disturbance_wrenches,
+            self.contact_point_positions,
+            self.contact_point_forces,
         ];
         let mut values = Vec::with_capacity(parts.iter().map(|p| p.len()).sum());
-        let mut ends = [0; 6];
+        let mut ends = [0; 8];
         for (end, part) in ends.iter_mut().zip(parts) {
             values.extend_from_slice(part);
             *end = values.len();
@@ -207,6 +235,7 @@ impl<'a> Sample<'a> {
         OwnedSample {
             values,
             ends,
+            active: self.contact_point_active.to_vec(),
             qp_status: self.qp_status.clone(),
             scalars: Sample {
                 state: &[],
@@ -215,6 +244,9 @@ impl<'a> Sample<'a> {
                 motor_torques: &[],
                 joint_torques: &[],
                 disturbance_wrenches: &[],
+                contact_point_positions: &[],
+                contact_point_forces: &[],
+                contact_point_active: &[],
                 qp_status: &NO_STATUS,
                 ..*self
             },
@@ -230,9 +262,12 @@ static NO_STATUS: QpStatus = QpStatus::Solved;
 #[derive(Clone, Debug)]
 pub struct OwnedSample {
     /// `state`, `thetadot_desired`, `contact_wrenches`, `motor_torques`, `joint_torques`,
-    /// `disturbance_wrenches`, concatenated; `ends` marks where each stops.
+    /// `disturbance_wrenches`, `contact_point_positions`, `contact_point_forces`,
+    /// concatenated; `ends` marks where each stops.
     values: Vec<f64>,
-    ends: [usize; 6],
+    ends: [usize; 8],
+    /// `contact_point_active`.
+    active: Vec<bool>,
     qp_status: QpStatus,
     /// The sample's other fields (its slices empty).
     scalars: Sample<'static>,
@@ -252,6 +287,9 @@ impl OwnedSample {
             motor_torques: part(3),
             joint_torques: part(4),
             disturbance_wrenches: part(5),
+            contact_point_positions: part(6),
+            contact_point_forces: part(7),
+            contact_point_active: &self.active,
             qp_status: &self.qp_status,
             ..self.scalars
         }

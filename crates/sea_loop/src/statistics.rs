@@ -2,6 +2,7 @@
 //! and the run's [`Summary`].
 
 use super::fall_check::Fall;
+use super::impacts::{Impact, ImpactKind};
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 
@@ -247,6 +248,19 @@ pub struct Summary {
     pub wall_time_s: f64,
     /// Simulated time / wall time.
     pub realtime_factor: f64,
+    /// Touchdowns of the feet (unilateral contacts; [`crate::impacts`]): a foot whose points
+    /// carried no force at a plant step and carry force at the next.
+    pub touchdowns: usize,
+    /// Largest velocity jump of a touchdown [m/s]: the foot's normal speed towards the ground
+    /// at its touching points over the millisecond before it minus that over the millisecond
+    /// ending 5 ms after it ([`crate::impacts`]); `None` without a touchdown.
+    pub touchdown_velocity_jump_m_s: Option<f64>,
+    /// Largest spring torque `|K_S (Gamma theta - s)|` of an elastic joint over the 50 ms
+    /// after a touchdown [Nm]; `None` without a touchdown.
+    pub touchdown_peak_spring_torque_nm: Option<f64>,
+    /// Largest `|thetadot|` over the 50 ms after a touchdown [rad/s]; `None` without a
+    /// touchdown.
+    pub touchdown_peak_motor_velocity_rad_s: Option<f64>,
     /// Multi-rate sampling: the joint loops' stiffness estimates at the run's end [Nm/rad] by
     /// elastic joint name (identified with `controller.stiffness_identification`, else the
     /// controller's); empty otherwise. Not a sweep column ([`NON_SCALAR_FIELDS`]).
@@ -372,6 +386,34 @@ impl Summary {
                 0.0
             },
             stiffness_estimates: Vec::new(),
+            touchdowns: 0,
+            touchdown_velocity_jump_m_s: None,
+            touchdown_peak_spring_torque_nm: None,
+            touchdown_peak_motor_velocity_rad_s: None,
+        }
+    }
+
+    /// Counts the touchdowns among `impacts` and keeps their largest figures (a NaN figure,
+    /// from a window closed at once, is skipped).
+    pub fn add_impacts(&mut self, impacts: &[Impact]) {
+        let larger = |kept: Option<f64>, value: f64| match kept {
+            _ if value.is_nan() => kept,
+            Some(kept) => Some(kept.max(value)),
+            None => Some(value),
+        };
+        let touchdowns = impacts.iter().filter(|i| i.kind == ImpactKind::Touchdown);
+        for impact in touchdowns {
+            self.touchdowns += 1;
+            self.touchdown_velocity_jump_m_s =
+                larger(self.touchdown_velocity_jump_m_s, impact.velocity_jump());
+            self.touchdown_peak_spring_torque_nm = larger(
+                self.touchdown_peak_spring_torque_nm,
+                impact.peak_spring_torque_after_nm,
+            );
+            self.touchdown_peak_motor_velocity_rad_s = larger(
+                self.touchdown_peak_motor_velocity_rad_s,
+                impact.peak_motor_velocity_after_rad_s,
+            );
         }
     }
 

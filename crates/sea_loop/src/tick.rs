@@ -5,6 +5,7 @@
 
 use super::contact_check::ContactCheck;
 use super::fall_check::{Fall, FallCheck};
+use super::impacts::{Impact, ImpactDetector};
 use super::record::{RunInfo, Sample};
 use super::sampling::{Sampling, Schedule};
 use super::sensing::Sensor;
@@ -109,6 +110,15 @@ pub(super) struct Period {
     pub end: Option<RunEnd>,
 }
 
+/// Which state and outputs start a plant step ([`PlantSide::observe_impacts`]).
+#[derive(Clone, Copy)]
+enum Step<'x> {
+    /// A step with the input held: `x_step` and `pd.outputs`.
+    Held,
+    /// A continuous step from this state, with the sample's outputs.
+    Continuous(&'x [f64]),
+}
+
 /// The plant side of the loop: the plant, its workspace and the state buffers, apart from the
 /// law so that the plant can advance with the law's output borrowed.
 struct PlantSide<'a> {
@@ -142,6 +152,10 @@ struct PlantSide<'a> {
     disturbances: DisturbanceSchedule,
     /// The disturbances' wrenches at the current sample (6 per disturbance), for the record.
     disturbance_wrenches: Vec<f64>,
+    /// Touchdowns and joint stops at every plant step (`None`: nothing can strike).
+    impacts: Option<ImpactDetector>,
+    /// Impacts already handed to the sinks.
+    impacts_emitted: usize,
 }
 
 impl PlantSide<'_> {
@@ -243,8 +257,23 @@ impl PlantSide<'_> {
         if self.x_next.iter().any(|v| !v.is_finite()) {
             return Err(Divergence::NonFiniteState);
         }
+        self.observe_impacts(step_start, Step::Held);
         std::mem::swap(&mut self.x_step, &mut self.x_next);
         Ok(())
+    }
+
+    /// Hands the start of the plant step at `time` to the impact detector: the state
+    /// `x_step` with the step's outputs (`pd.outputs`) when held, the sample's state `x` with
+    /// the sample's outputs (`outputs`) in continuous mode.
+    fn observe_impacts(&mut self, time: f64, step: Step<'_>) {
+        let Some(detector) = &mut self.impacts else {
+            return;
+        };
+        let plant = (self.plant, self.plant.layout());
+        match step {
+            Step::Held => detector.observe(plant, time, &self.x_step, &self.pd.outputs),
+            Step::Continuous(x) => detector.observe(plant, time, x, &self.outputs),
+        }
     }
 
     /// Multi-rate: the plant over one whole-body period from `x` into `x_next`, the law's
@@ -309,6 +338,8 @@ pub(super) struct Engine<'a> {
     settings: &'a LoopSettings,
     /// The link of each disturbance (what the sinks name).
     disturbance_links: Vec<String>,
+    /// Points per contact under unilateral contacts (what the sinks draw); empty otherwise.
+    contact_points: Vec<usize>,
     model: &'a Model,
     elastic_names: &'a [String],
     /// The robot's controller stack; its law's last observation is the evaluation at the
@@ -370,7 +401,12 @@ impl<'a> Engine<'a> {
         )?;
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         let robot = RobotController::new(law, parts, schedule.period);
+        let impacts = ImpactDetector::new(plant, &settings.scene.contacts, schedule.step);
+        let contact_points = plant.unilateral().map_or_else(Vec::new, |unilateral| {
+            unilateral.points.iter().map(Vec::len).collect()
+        });
         Ok(Engine {
+            contact_points,
             disturbance_links: settings.disturbance_links(),
             settings,
             model,
@@ -394,10 +430,12 @@ impl<'a> Engine<'a> {
                 period_end_joint_torque: PlantOutputs::new(plant).joint_torque,
                 disturbance_wrenches: vec![0.0; 6 * disturbances.len()],
                 disturbances,
+                impacts,
+                impacts_emitted: 0,
             },
             x: x0.clone(),
             contact_check: ContactCheck::new(plant),
-            fall_check: FallCheck::new(plant, &x0, settings.fall_bounds),
+            fall_check: FallCheck::new(plant, x0, settings.fall_bounds),
             sensor,
             truth,
         })
@@ -412,7 +450,34 @@ impl<'a> Engine<'a> {
             contacts: &self.settings.scene.contacts,
             scene: &self.settings.scene,
             disturbance_links: &self.disturbance_links,
+            contact_points: &self.contact_points,
         }
+    }
+
+    /// The impacts complete since the last call (each handed out once).
+    pub fn new_impacts(&mut self) -> &[Impact] {
+        let side = &mut self.side;
+        let Some(detector) = &side.impacts else {
+            return &[];
+        };
+        let start = side.impacts_emitted;
+        side.impacts_emitted = detector.impacts().len();
+        &detector.impacts()[start..]
+    }
+
+    /// Closes the windows of the impacts still open (the run ended); they are new impacts.
+    pub fn close_impacts(&mut self) {
+        if let Some(detector) = &mut self.side.impacts {
+            detector.close_all();
+        }
+    }
+
+    /// Every complete impact of the run, in the order they closed.
+    pub fn impacts(&self) -> &[Impact] {
+        self.side
+            .impacts
+            .as_ref()
+            .map_or(&[], ImpactDetector::impacts)
     }
 
     /// Record every this many samples (`simulation.record_every`, at least 1).
@@ -585,6 +650,9 @@ impl<'a> Engine<'a> {
             &mut side.x_next,
         );
         side.outputs.copy_from(&side.pd.outputs);
+        if result.is_ok() {
+            side.observe_impacts(time, Step::Continuous(&self.x));
+        }
         if !observed {
             // Only the law fails before the first stage's observation exists.
             return Err(Divergence::ControllerFailed(match result {
@@ -640,6 +708,9 @@ impl<'a> Engine<'a> {
             momentum: [m[0], m[1], m[2], m[3], m[4], m[5]],
             external_wrench: output.external_wrench.into(),
             contact_wrenches: outputs.contact_wrench.as_slice(),
+            contact_point_positions: outputs.contact_point_position.as_slice(),
+            contact_point_forces: outputs.contact_point_force.as_slice(),
+            contact_point_active: &outputs.contact_point_active,
             motor_torques: outputs.motor_torque.as_slice(),
             joint_torques: outputs.joint_torque.as_slice(),
             disturbance_wrenches: &self.side.disturbance_wrenches,

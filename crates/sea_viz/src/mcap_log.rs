@@ -8,7 +8,13 @@
 //! ([`McapLogger::end`]) is the metadata record `run` (`status`, `reason`, `reason_kind`,
 //! `end_s`; for a fall `fell_at_s`, `fall_foot`, `fall_constraint`, `fall_value`,
 //! `fall_bound`), and a fall is also a `foxglove.Log` message (level WARNING) on `/events` at
-//! its time, so Foxglove's Log panel and timeline show it.
+//! its time, so Foxglove's Log panel and timeline show it. Each impact (a touchdown, a joint
+//! reaching its stop; [`sea_loop::impacts`]) is a `foxglove.Log` message (level INFO) on
+//! `/events` at its time, written when its window after closes (so up to 50 ms of samples
+//! later in the file; readers that index by log time, as Foxglove, place it at its time).
+//! Under unilateral contacts ([`McapLogger::set_contact_points`]) the contact points are on
+//! `/contact_points` and in `/scene`; `/events` and `/contact_points` are registered only
+//! when first needed, so a bilateral run without a fall has neither.
 //!
 //! Chunks are LZ4-compressed. The file is finished (summary and index written) by
 //! [`McapLogger::finish`] or, silently, when the logger is dropped, so an interrupted or
@@ -27,7 +33,7 @@ use mcap::records::MessageHeader;
 use mcap::records::Metadata;
 use mcap::{Attachment, Compression, WriteOptions, Writer};
 use sea_dyn::Model;
-use sea_loop::{OwnedSample, RecordSink, RunEnd, RunInfo, Sample};
+use sea_loop::{Impact, ImpactKind, OwnedSample, RecordSink, RunEnd, RunInfo, Sample};
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -43,6 +49,10 @@ pub struct McapLogger {
     channels: [u16; Topic::ALL.len()],
     /// The `/robot` channel and its message, until written (with the first sample).
     robot: Option<(u16, Vec<u8>)>,
+    /// The `/contact_points` channel, once set ([`McapLogger::set_contact_points`]).
+    contact_points: Option<u16>,
+    /// The `/events` channel, once an event is written.
+    events: Option<u16>,
 }
 
 /// The MCAP writer with its sequence counter and serialisation buffer.
@@ -193,6 +203,8 @@ impl McapLogger {
             encoder: SampleEncoder::new(model, elastic_joint_names, contact_names),
             channels,
             robot: None,
+            contact_points: None,
+            events: None,
         })
     }
 
@@ -254,10 +266,69 @@ impl McapLogger {
             self.out
                 .write(channel, crate::foxglove::nanoseconds(sample.time_s), &robot)?;
         }
-        let (out, channels) = (&mut self.out, &self.channels);
+        let (out, channels, points) = (&mut self.out, &self.channels, self.contact_points);
         self.encoder.encode(sample, |topic, time, message| {
-            out.write(channels[topic.index()], time, message)
+            let channel = match (topic, points) {
+                (Topic::ContactPoints, Some(channel)) => channel,
+                (Topic::ContactPoints, None) => return Ok(()),
+                _ => channels[topic.index()],
+            };
+            out.write(channel, time, message)
         })
+    }
+
+    /// Unilateral contacts: `counts[c]` points on contact `c` (the samples' contact points):
+    /// registers `/contact_points` and draws the points in `/scene` from the next sample on.
+    /// Empty counts (bilateral contacts) change nothing.
+    ///
+    /// Errors: [`Error::Log`] when the log is finished or MCAP writing fails.
+    pub fn set_contact_points(&mut self, counts: &[usize]) -> Result<()> {
+        if counts.iter().sum::<usize>() == 0 {
+            return Ok(());
+        }
+        if self.contact_points.is_none() {
+            let schema = Topic::ContactPoints.schema();
+            let schema = (
+                schema.name.as_str(),
+                schema.encoding.as_str(),
+                &schema.data[..],
+            );
+            let topic = Topic::ContactPoints;
+            let channel = self
+                .out
+                .add_channel(schema, topic.name(), &topic.message_encoding())?;
+            self.contact_points = Some(channel);
+        }
+        self.encoder.set_contact_points(counts);
+        Ok(())
+    }
+
+    /// Writes `message` (an encoded `foxglove.Log`) on `/events` at `time` (ns), registering
+    /// the channel first when needed.
+    fn write_event(&mut self, time: u64, message: &[u8]) -> Result<()> {
+        let channel = match self.events {
+            Some(channel) => channel,
+            None => {
+                let schema = Log::get_schema().expect("the SDK gives its schemas");
+                let channel = self.out.add_channel(
+                    (&schema.name, &schema.encoding, &schema.data),
+                    EVENTS_TOPIC,
+                    &Log::get_message_encoding(),
+                )?;
+                *self.events.insert(channel)
+            }
+        };
+        self.out.write(channel, time, message)
+    }
+
+    /// Records `impact` on `/events`: a `foxglove.Log` (level INFO, name `sea_sim.touchdown`
+    /// or `sea_sim.joint_stop`) at its time, its figures in the text ([`impact_event`]).
+    ///
+    /// Errors: [`Error::Log`] when the logger is finished or MCAP writing fails,
+    /// [`Error::Io`] naming the file when the OS refuses a write.
+    pub fn impact(&mut self, impact: &Impact) -> Result<()> {
+        let (time, buffer) = impact_event(impact)?;
+        self.write_event(time, &buffer)
     }
 
     /// Names the disturbances of `/disturbances` by their links (`[[disturbances]]` order).
@@ -279,13 +350,7 @@ impl McapLogger {
         let Some((time, buffer)) = fall_event(end)? else {
             return Ok(());
         };
-        let schema = Log::get_schema().expect("the SDK gives its schemas");
-        let channel = self.out.add_channel(
-            (&schema.name, &schema.encoding, &schema.data),
-            EVENTS_TOPIC,
-            &Log::get_message_encoding(),
-        )?;
-        self.out.write(channel, time, &buffer)
+        self.write_event(time, &buffer)
     }
 
     /// Closes the current chunk and flushes everything written so far to the file (the file
@@ -373,25 +438,45 @@ pub(crate) fn fall_event(end: &RunEnd) -> Result<Option<(u64, Vec<u8>)>> {
     let RunEnd::Fell { at_s, fall } = end else {
         return Ok(None);
     };
-    let time = nanoseconds(*at_s);
     let (constraint, value, bound) = (fall.kind(), fall.value(), fall.bound());
+    let text = format!(
+        "fell at t = {at_s} s: {fall} (constraint {constraint}, value {value}, bound {bound})"
+    );
+    log_event(*at_s, Level::Warning, text, "sea_sim.fall").map(Some)
+}
+
+/// An impact's `/events` message: its time [ns] and the encoded `foxglove.Log` (level INFO,
+/// name `sea_sim.touchdown` or `sea_sim.joint_stop`, the text of [`Impact`]'s `Display`: the
+/// foot or joint, the speeds before and after and their jump, the peaks after and before).
+/// Shared by the MCAP log and the live view.
+///
+/// Errors: [`Error::Log`] when the message does not encode.
+pub(crate) fn impact_event(impact: &Impact) -> Result<(u64, Vec<u8>)> {
+    let name = match impact.kind {
+        ImpactKind::Touchdown => "sea_sim.touchdown",
+        ImpactKind::JointStop => "sea_sim.joint_stop",
+    };
+    log_event(impact.time_s, Level::Info, impact.to_string(), name)
+}
+
+/// A `foxglove.Log` at `time_s` with `level`, `text` and `name`, encoded, with its time [ns].
+fn log_event(time_s: f64, level: Level, text: String, name: &str) -> Result<(u64, Vec<u8>)> {
+    let time = nanoseconds(time_s);
     let message = Log {
         timestamp: Some(Timestamp::new(
             u32::try_from(time / 1_000_000_000).unwrap_or(u32::MAX),
             (time % 1_000_000_000) as u32,
         )),
-        level: Level::Warning as i32,
-        message: format!(
-            "fell at t = {at_s} s: {fall} (constraint {constraint}, value {value}, bound {bound})"
-        ),
-        name: "sea_sim.fall".to_string(),
+        level: level as i32,
+        message: text,
+        name: name.to_string(),
         ..Default::default()
     };
     let mut buffer = Vec::new();
     message
         .encode(&mut buffer)
         .map_err(|e| Error::Log(format!("{EVENTS_TOPIC}: {e}")))?;
-    Ok(Some((time, buffer)))
+    Ok((time, buffer))
 }
 
 /// Media type of the URDF attachment.
@@ -421,6 +506,8 @@ pub struct ThreadedMcapLogger {
 enum Queued {
     /// A sample to log.
     Sample(OwnedSample),
+    /// An impact.
+    Impact(Impact),
     /// How the run ended.
     End(RunEnd),
 }
@@ -441,6 +528,7 @@ impl ThreadedMcapLogger {
                         last_time = sample.time_s;
                         logger.log(&sample)?;
                     }
+                    Queued::Impact(impact) => logger.impact(&impact)?,
                     Queued::End(end) => logger.end(&end, last_time)?,
                 }
                 if last_flush.elapsed() >= FLUSH_INTERVAL {
@@ -465,6 +553,11 @@ impl ThreadedMcapLogger {
     /// Queues a sample (waits only when the writer is [`QUEUE_SAMPLES`] behind).
     pub fn log(&mut self, sample: &Sample<'_>) -> Result<()> {
         self.send(Queued::Sample(sample.to_owned()))
+    }
+
+    /// Queues an impact ([`McapLogger::impact`]).
+    pub fn impact(&mut self, impact: &Impact) -> Result<()> {
+        self.send(Queued::Impact(impact.clone()))
     }
 
     /// Queues how the run ended ([`McapLogger::end`], at the last sample's time).
@@ -570,6 +663,7 @@ impl RecordSink for McapSink {
         let mut logger =
             McapLogger::create(&self.path, run.model, run.elastic_joints, run.contacts)?;
         logger.set_disturbance_links(run.disturbance_links);
+        logger.set_contact_points(run.contact_points)?;
         let source = SceneSource::of_run(run.scene).with_package_dirs(&self.package_dirs);
         self.warnings = logger.set_scene(&source)?;
         self.logger = Some(ThreadedMcapLogger::spawn(logger));
@@ -579,6 +673,13 @@ impl RecordSink for McapSink {
     fn record(&mut self, sample: &Sample<'_>) -> Result<()> {
         match self.logger.as_mut() {
             Some(logger) => logger.log(sample),
+            None => Ok(()),
+        }
+    }
+
+    fn impact(&mut self, impact: &Impact) -> Result<()> {
+        match self.logger.as_mut() {
+            Some(logger) => logger.impact(impact),
             None => Ok(()),
         }
     }

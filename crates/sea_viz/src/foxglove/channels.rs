@@ -1,7 +1,7 @@
 //! The channels of a run and the encoding of one [`Sample`] into their messages, shared by
 //! the MCAP log and the live server.
 
-use super::scene::{ForceArrows, Markers, StaticScene};
+use super::scene::{ContactPoints, ForceArrows, Markers, StaticScene};
 use super::WORLD_FRAME;
 use crate::error::Error;
 use crate::Result;
@@ -38,13 +38,16 @@ pub enum Topic {
     Base,
     /// `/disturbances`: `sea_momentum.Disturbances`.
     Disturbances,
+    /// `/contact_points`: `sea_momentum.ContactPoints`, only under unilateral contacts (not
+    /// in [`Topic::ALL`]; see [`SampleEncoder::set_contact_points`]).
+    ContactPoints,
 }
 
 /// Encoding of our own channels' messages and of their schemas.
 const JSON: (&str, &str) = ("json", "jsonschema");
 
 impl Topic {
-    /// Every channel, in the order they are registered.
+    /// Every channel of every run, in the order they are registered.
     pub const ALL: [Topic; 10] = [
         Topic::Tf,
         Topic::Scene,
@@ -76,6 +79,7 @@ impl Topic {
             Topic::Qp => "/qp",
             Topic::Base => "/base",
             Topic::Disturbances => "/disturbances",
+            Topic::ContactPoints => "/contact_points",
         }
     }
 
@@ -102,6 +106,7 @@ impl Topic {
             Topic::Qp => json("sea_momentum.QpStatus", QP_STATUS_SCHEMA),
             Topic::Base => json("sea_momentum.BasePose", BASE_POSE_SCHEMA),
             Topic::Disturbances => json("sea_momentum.Disturbances", DISTURBANCES_SCHEMA),
+            Topic::ContactPoints => json("sea_momentum.ContactPoints", CONTACT_POINTS_SCHEMA),
         }
     }
 }
@@ -224,6 +229,29 @@ const DISTURBANCES_SCHEMA: &str = r#"{
   "required": ["disturbances"]
 }"#;
 
+const CONTACT_POINTS_SCHEMA: &str = r#"{
+  "title": "sea_momentum.ContactPoints",
+  "description": "Unilateral contacts: each contact point's position (m) and force on its foot (N), world axes, and whether it carries a force",
+  "type": "object",
+  "properties": {
+    "points": {
+      "type": "array",
+      "items": {
+        "type": "object",
+        "properties": {
+          "contact": { "type": "string", "description": "Contact frame (URDF link) of the point's foot" },
+          "index": { "type": "integer", "minimum": 0, "description": "The point's index in its foot" },
+          "active": { "type": "boolean", "description": "Whether it carries a force (touches the ground)" },
+          "position": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 },
+          "force": { "type": "array", "items": { "type": ["number", "null"] }, "minItems": 3, "maxItems": 3 }
+        },
+        "required": ["contact", "index", "active", "position", "force"]
+      }
+    }
+  },
+  "required": ["points"]
+}"#;
+
 // ---- Bodies of our JSON messages (borrowing, so a sample allocates little). ----
 
 #[derive(Serialize)]
@@ -283,6 +311,20 @@ struct DisturbancesMsg<'a> {
 }
 
 #[derive(Serialize)]
+struct ContactPointMsg<'a> {
+    contact: &'a str,
+    index: usize,
+    active: bool,
+    position: &'a [f64],
+    force: &'a [f64],
+}
+
+#[derive(Serialize)]
+struct ContactPointsMsg<'a> {
+    points: Vec<ContactPointMsg<'a>>,
+}
+
+#[derive(Serialize)]
 struct QpStatusMsg<'a> {
     status: &'a str,
     failures: usize,
@@ -315,6 +357,9 @@ pub struct SampleEncoder {
     disturbance_frames: Vec<Option<usize>>,
     /// Origins of the disturbance links in the current sample (world) [m].
     disturbance_origins: Vec<[f64; 3]>,
+    /// Unilateral contacts: each contact point's contact label index and index in its foot
+    /// (empty: no `/contact_points`).
+    contact_points: Vec<(usize, usize)>,
     /// `/tf`, child frame names filled once.
     tf: FrameTransforms,
     /// The static part of `/scene`, once set.
@@ -353,6 +398,7 @@ impl SampleEncoder {
             disturbance_links: Vec::new(),
             disturbance_frames: Vec::new(),
             disturbance_origins: Vec::new(),
+            contact_points: Vec::new(),
             tf,
             scene: None,
             markers: Markers::new(contact_names),
@@ -374,6 +420,26 @@ impl SampleEncoder {
         self.disturbance_frames = links.iter().map(|l| self.model.frame_id(l).ok()).collect();
         self.disturbance_origins = vec![[0.0; 3]; links.len()];
         self.markers.set_pushes(links);
+    }
+
+    /// Unilateral contacts: `counts[c]` points on contact `c`, drawn in `/scene` and sent on
+    /// `/contact_points` (the samples' contact points, in order). Empty (bilateral contacts,
+    /// the default): neither.
+    pub fn set_contact_points(&mut self, counts: &[usize]) {
+        self.contact_points.clear();
+        for (c, &count) in counts.iter().enumerate() {
+            while self.contact_labels.len() <= c {
+                let k = self.contact_labels.len();
+                self.contact_labels.push(format!("contact_{k}"));
+            }
+            self.contact_points.extend((0..count).map(|i| (c, i)));
+        }
+        self.markers.set_contact_points(self.contact_points.len());
+    }
+
+    /// Whether the samples' contact points are encoded (`/contact_points` is sent).
+    pub fn has_contact_points(&self) -> bool {
+        !self.contact_points.is_empty()
     }
 
     /// The link frames (the child frames of `/tf`).
@@ -420,7 +486,9 @@ impl SampleEncoder {
     }
 
     /// Encodes `sample` and hands each message to `emit(topic, time_ns, bytes)`, in the order
-    /// of [`Topic::ALL`]. `/tf` and `/scene` are skipped when a pose is not finite.
+    /// of [`Topic::ALL`], then `/contact_points` when set
+    /// ([`SampleEncoder::set_contact_points`]). `/tf` and `/scene` are skipped when a pose is
+    /// not finite.
     ///
     /// Errors: those of [`Self::check`] and of `emit`.
     pub fn encode(
@@ -440,6 +508,11 @@ impl SampleEncoder {
             self.buffer.clear();
             self.encode_json(*topic, sample)?;
             emit(*topic, time, &self.buffer)?;
+        }
+        if self.has_contact_points() {
+            self.buffer.clear();
+            self.encode_json(Topic::ContactPoints, sample)?;
+            emit(Topic::ContactPoints, time, &self.buffer)?;
         }
         Ok(())
     }
@@ -499,10 +572,15 @@ impl SampleEncoder {
             wrenches: sample.disturbance_wrenches,
             points: &self.disturbance_origins,
         };
+        let points = ContactPoints {
+            positions: sample.contact_point_positions,
+            forces: sample.contact_point_forces,
+            active: sample.contact_point_active,
+        };
         self.markers.encode(
             time_stamp(time),
             [sample.com, sample.com_reference],
-            (contacts, pushes),
+            (contacts, pushes, points),
             &mut self.buffer,
         )
     }
@@ -599,6 +677,25 @@ impl SampleEncoder {
                     })
                     .collect();
                 serde_json::to_writer(buffer, &DisturbancesMsg { disturbances })
+            }
+            Topic::ContactPoints => {
+                let labels = &self.contact_labels;
+                let values = sample.contact_point_positions.chunks_exact(3);
+                let values = values.zip(sample.contact_point_forces.chunks_exact(3));
+                let points = self
+                    .contact_points
+                    .iter()
+                    .zip(values)
+                    .enumerate()
+                    .map(|(k, (&(c, index), (position, force)))| ContactPointMsg {
+                        contact: &labels[c],
+                        index,
+                        active: sample.contact_point_active.get(k).copied().unwrap_or(false),
+                        position,
+                        force,
+                    })
+                    .collect();
+                serde_json::to_writer(buffer, &ContactPointsMsg { points })
             }
             Topic::Tf | Topic::Scene => unreachable!("protobuf channels"),
         };

@@ -5,7 +5,8 @@
 //! WebSocket, `ws://127.0.0.1:PORT`) as fast as it would move in reality.
 //!
 //! A fall is published on `/events` (`foxglove.Log`, the MCAP log's message) when the run
-//! ends, so the app's Log panel shows it live.
+//! ends, and each impact (touchdown, joint stop) when its window closes, so the app's Log
+//! panel shows them live. Under unilateral contacts `/contact_points` is advertised too.
 //!
 //! Pacing sleeps in [`RecordSink::record`], i.e. on the loop's thread: the loop is held back to
 //! real time by design. Encoding runs there too, in the time the loop would otherwise sleep;
@@ -14,11 +15,11 @@
 
 use super::{SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC};
 use crate::error::Error;
-use crate::mcap_log::{fall_event, EVENTS_TOPIC};
+use crate::mcap_log::{fall_event, impact_event, EVENTS_TOPIC};
 use crate::Result;
 use ::foxglove::messages::Log;
 use ::foxglove::{ChannelBuilder, Context, Encode, PartialMetadata, RawChannel, WebSocketServer};
-use sea_loop::{RecordSink, RunEnd, RunInfo, Sample};
+use sea_loop::{Impact, RecordSink, RunEnd, RunInfo, Sample};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -31,13 +32,15 @@ pub const DEFAULT_LIVE_PORT: u16 = 8765;
 /// A running live server with one SDK channel per [`Topic`].
 pub struct LiveServer {
     /// The SDK context the channels and the server share (kept for their lifetime).
-    _context: Arc<Context>,
+    context: Arc<Context>,
     server: Option<::foxglove::WebSocketServerHandle>,
     channels: Vec<Arc<RawChannel>>,
     /// `/robot`, republished every [`ROBOT_REPUBLISH_INTERVAL`].
     robot: Arc<RawChannel>,
-    /// `/events`: a fall, when the run ends.
+    /// `/events`: a fall, when the run ends, and the impacts.
     events: Arc<RawChannel>,
+    /// `/contact_points` under unilateral contacts ([`LiveServer::add_contact_points`]).
+    contact_points: Option<Arc<RawChannel>>,
 }
 
 /// Wall time between two `/robot` messages of the live view: a client that connects late
@@ -55,14 +58,7 @@ impl LiveServer {
     /// Errors: [`Error::Log`] when the server cannot start (e.g. the port is taken).
     pub fn start(port: u16) -> Result<Self> {
         let context = Context::new();
-        let channel = |name: &str, topic: Topic| {
-            ChannelBuilder::new(name)
-                .context(&context)
-                .message_encoding(topic.message_encoding())
-                .schema(topic.schema())
-                .build_raw()
-                .map_err(|e| Error::Log(format!("live channel {name}: {e}")))
-        };
+        let channel = |name: &str, topic: Topic| topic_channel(&context, name, topic);
         let channels = Topic::ALL
             .iter()
             .map(|topic| channel(topic.name(), *topic))
@@ -81,12 +77,24 @@ impl LiveServer {
             .start_blocking()
             .map_err(|e| Error::Log(format!("live server on {LIVE_HOST}:{port}: {e}")))?;
         Ok(Self {
-            _context: context,
+            context,
             server: Some(server),
             channels,
             robot,
             events,
+            contact_points: None,
         })
+    }
+
+    /// Advertises `/contact_points` (unilateral contacts), once.
+    ///
+    /// Errors: [`Error::Log`] when the channel cannot be built.
+    fn add_contact_points(&mut self) -> Result<()> {
+        if self.contact_points.is_none() {
+            let topic = Topic::ContactPoints;
+            self.contact_points = Some(topic_channel(&self.context, topic.name(), topic)?);
+        }
+        Ok(())
     }
 
     /// The port the server listens on.
@@ -96,18 +104,43 @@ impl LiveServer {
 
     /// Publishes `message` on `topic` at `time` (ns).
     fn publish(&self, topic: Topic, time: u64, message: &[u8]) {
-        self.channels[topic.index()].log_with_meta(message, PartialMetadata::with_log_time(time));
+        let channel = match topic {
+            Topic::ContactPoints => match &self.contact_points {
+                Some(channel) => channel,
+                None => return,
+            },
+            _ => &self.channels[topic.index()],
+        };
+        channel.log_with_meta(message, PartialMetadata::with_log_time(time));
     }
 
     /// Closes the channels and stops the server.
     fn stop(&mut self) {
-        for channel in self.channels.iter().chain([&self.robot, &self.events]) {
+        let others = [&self.robot, &self.events].into_iter();
+        for channel in self
+            .channels
+            .iter()
+            .chain(others)
+            .chain(&self.contact_points)
+        {
             channel.close();
         }
         if let Some(server) = self.server.take() {
             drop(server.stop());
         }
     }
+}
+
+/// The SDK channel `name` of `topic` in `context`.
+///
+/// Errors: [`Error::Log`] when the channel cannot be built.
+fn topic_channel(context: &Arc<Context>, name: &str, topic: Topic) -> Result<Arc<RawChannel>> {
+    ChannelBuilder::new(name)
+        .context(context)
+        .message_encoding(topic.message_encoding())
+        .schema(topic.schema())
+        .build_raw()
+        .map_err(|e| Error::Log(format!("live channel {name}: {e}")))
 }
 
 impl Drop for LiveServer {
@@ -177,7 +210,18 @@ impl RecordSink for LiveSink {
         self.robot = Some((std::mem::take(&mut scene.robot), None));
         encoder.set_scene(scene);
         encoder.set_disturbance_links(run.disturbance_links);
+        encoder.set_contact_points(run.contact_points);
+        if encoder.has_contact_points() {
+            self.server.add_contact_points()?;
+        }
         self.encoder = Some(encoder);
+        Ok(())
+    }
+
+    fn impact(&mut self, impact: &Impact) -> Result<()> {
+        let (time, message) = impact_event(impact)?;
+        let meta = PartialMetadata::with_log_time(time);
+        self.server.events.log_with_meta(&message, meta);
         Ok(())
     }
 

@@ -14,7 +14,8 @@
 //! | `/qp`               | json     | `sea_momentum.QpStatus`         | QP status and failure count                     |
 //! | `/base`             | json     | `sea_momentum.BasePose`         | base position, quaternion, velocities           |
 //! | `/disturbances`     | json     | `sea_momentum.Disturbances`     | each `[[disturbances]]` push: link, force, torque |
-//! | `/events` (a fall)  | protobuf | `foxglove.Log`                  | the fall (MCAP only): time, foot, constraint, value, bound |
+//! | `/contact_points`   | json     | `sea_momentum.ContactPoints`    | unilateral contacts only: each point's contact, position, force, activity |
+//! | `/events`           | protobuf | `foxglove.Log`                  | a fall (time, foot, constraint, value, bound); each impact ([`sea_loop::impacts`]) |
 //!
 //! Why two encodings: the SDK's typed messages (`foxglove::messages`) are protobuf messages
 //! with their descriptors as schemas, so `/tf` and `/scene` use them as they are, no copied
@@ -30,7 +31,8 @@
 //! has the foot rectangle of each contact as a closed line in the sole frame (the support
 //! polygon), the CoM and its reference as spheres, the contact forces as arrows at the soles,
 //! and each `[[disturbances]]` push as a blue arrow ending at its link (zero length while it
-//! is off), in the `world` frame.
+//! is off), in the `world` frame; under unilateral contacts also the entity `contact_points`
+//! (a sphere per point, green while it carries force, and an arrow along its force).
 //! Units are SI, axes are world axes, `log_time = publish_time = time_s` in nanoseconds.
 //! Non-finite numbers (a diverged run) are JSON `null`; a `/tf` or `/scene` message is skipped
 //! when a pose in it is not finite, since Foxglove needs numbers there.

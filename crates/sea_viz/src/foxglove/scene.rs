@@ -315,7 +315,9 @@ fn placement_pose(placement: &Placement) -> Pose {
 
 /// The moving markers of `/scene` in the world frame: CoM, its reference, one arrow per
 /// contact (from the sole along its force), one per `[[disturbances]]` push (pointing at its
-/// link's origin, zero length while the push is off). Kept between samples and updated in
+/// link's origin, zero length while the push is off), and under unilateral contacts the
+/// entity `contact_points`: a sphere at each contact point (green while it carries force,
+/// grey while not) and an arrow from it along its force. Kept between samples and updated in
 /// place (no allocation per sample).
 pub(crate) struct Markers {
     update: SceneUpdate,
@@ -323,7 +325,29 @@ pub(crate) struct Markers {
     arrows: usize,
     /// Number of push arrows (entities after the contact arrows).
     pushes: usize,
+    /// Number of contact points (0: no `contact_points` entity; else it is the last entity).
+    points: usize,
 }
+
+/// The contact points to draw: 3 values per point of positions and forces (world axes), and
+/// whether each carries a force.
+pub(crate) struct ContactPoints<'a> {
+    /// Positions [m].
+    pub positions: &'a [f64],
+    /// Forces on the feet [N].
+    pub forces: &'a [f64],
+    /// Whether each point carries a force.
+    pub active: &'a [bool],
+}
+
+/// Colour of a contact point carrying a force.
+const POINT_ACTIVE_COLOR: [f64; 4] = [0.1, 0.8, 0.2, 1.0];
+
+/// Colour of a contact point off the ground (or carrying no force).
+const POINT_IDLE_COLOR: [f64; 4] = [0.6, 0.6, 0.6, 0.8];
+
+/// Diameter of a contact point's sphere [m].
+const POINT_DIAMETER_M: f64 = 0.012;
 
 /// Forces to draw: 6 entries per force (the first 3 the force [N], world axes) and the
 /// world point each applies at [m].
@@ -390,12 +414,44 @@ impl Markers {
             },
             arrows: contacts.len(),
             pushes: 0,
+            points: 0,
         }
+    }
+
+    /// Draws `points` contact points (the entity `contact_points`; none when 0), replacing
+    /// earlier ones.
+    pub fn set_contact_points(&mut self, points: usize) {
+        if self.points > 0 {
+            self.update.entities.pop();
+        }
+        self.points = points;
+        if points == 0 {
+            return;
+        }
+        let mut entity = world_entity("contact_points".to_string());
+        let arrow = arrow_entity(String::new(), [1.0, 0.7, 0.0, 1.0]).arrows[0];
+        entity.arrows = vec![
+            ArrowPrimitive {
+                shaft_diameter: 0.006,
+                head_length: 0.02,
+                head_diameter: 0.015,
+                ..arrow
+            };
+            points
+        ];
+        let sphere = SpherePrimitive {
+            pose: Some(identity_pose()),
+            size: Some(vector([POINT_DIAMETER_M; 3])),
+            color: Some(color(POINT_IDLE_COLOR)),
+        };
+        entity.spheres = vec![sphere; points];
+        self.update.entities.push(entity);
     }
 
     /// Adds one push arrow per link of `links` (ids `push/<k>/<link>`, `[[disturbances]]`
     /// order), replacing earlier ones.
     pub fn set_pushes(&mut self, links: &[String]) {
+        let points = (self.points > 0).then(|| self.update.entities.pop());
         let kept = COM_ENTITIES.len() + self.arrows;
         self.update.entities.truncate(kept);
         for (k, link) in links.iter().enumerate() {
@@ -404,24 +460,36 @@ impl Markers {
             self.update.entities.push(entity);
         }
         self.pushes = links.len();
+        self.update.entities.extend(points.flatten());
     }
 
     /// Sets the markers of one sample and appends their encoding to `buffer`: `com`,
     /// `com_reference`, for contact `k` the force of `contacts` applied at its point, for push
-    /// `k` the force of `pushes` ending at its point (world axes). Returns `false`, appending
-    /// nothing, when a value is not finite (Foxglove needs numbers).
+    /// `k` the force of `pushes` ending at its point, the contact points of `points` (world
+    /// axes). Returns `false`, appending nothing, when a value is not finite (Foxglove needs
+    /// numbers).
     pub fn encode(
         &mut self,
         stamp: Timestamp,
         [com, com_reference]: [[f64; 3]; 2],
-        (contacts, pushes): (ForceArrows<'_>, ForceArrows<'_>),
+        (contacts, pushes, points): (ForceArrows<'_>, ForceArrows<'_>, ContactPoints<'_>),
         buffer: &mut Vec<u8>,
     ) -> bool {
         let finite = com.iter().chain(&com_reference).all(|v| v.is_finite())
             && contacts.finite(self.arrows)
-            && pushes.finite(self.pushes);
+            && pushes.finite(self.pushes)
+            && points
+                .positions
+                .iter()
+                .chain(points.forces)
+                .all(|v| v.is_finite());
         if !finite {
             return false;
+        }
+        if self.points > 0 {
+            if let Some(entity) = self.update.entities.last_mut() {
+                set_points(entity, stamp, &points);
+            }
         }
         let (spheres, arrows) = self.update.entities.split_at_mut(COM_ENTITIES.len());
         for (entity, position) in spheres.iter_mut().zip([com, com_reference]) {
@@ -442,6 +510,29 @@ impl Markers {
             set_arrow(&mut entity.arrows[0], tail, force);
         }
         Encode::encode(&self.update, buffer).is_ok()
+    }
+}
+
+/// The spheres and arrows of the `contact_points` entity at `points` (points beyond the
+/// given ones keep their last markers).
+fn set_points(entity: &mut SceneEntity, stamp: Timestamp, points: &ContactPoints<'_>) {
+    entity.timestamp = Some(stamp);
+    let markers = entity.spheres.iter_mut().zip(entity.arrows.iter_mut());
+    let values = points
+        .positions
+        .chunks_exact(3)
+        .zip(points.forces.chunks_exact(3));
+    for (k, ((sphere, arrow), (position, force))) in markers.zip(values).enumerate() {
+        let position = [position[0], position[1], position[2]];
+        let active = points.active.get(k).copied().unwrap_or(false);
+        sphere.pose = Some(pose_at(position, [1.0, 0.0, 0.0, 0.0]));
+        let rgba = if active {
+            POINT_ACTIVE_COLOR
+        } else {
+            POINT_IDLE_COLOR
+        };
+        sphere.color = Some(color(rgba));
+        set_arrow(arrow, position, [force[0], force[1], force[2]]);
     }
 }
 
