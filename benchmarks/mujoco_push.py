@@ -121,7 +121,9 @@ class RunRecord:
 def plant_regularization(scenario: sm.Scenario, path: pathlib.Path) -> float:
     """Our plant's ``joint_inertia_regularization``: the scenario file's ``[plant]`` value, else
     its robot description's (``robots/<description>.toml``), checked by comparing the scenario
-    plant's dynamics with a plant built with that value."""
+    plant's dynamics with a plant built with that value (the feet held as rigid contacts in
+    both: the regularisation is compared, not the contact model)."""
+    scenario = sm.Scenario.load(path, {**RIGID_100_HZ, "plant.contact_model": "bilateral"})
     table = tomllib.loads(path.read_text())
     value = table.get("plant", {}).get("joint_inertia_regularization")
     if value is None:

@@ -172,11 +172,13 @@ def sea_sim_figures(binary: pathlib.Path, batches: int) -> dict:
 #: (label, our key, scale to microseconds, MuJoCo steps it is compared with).
 RATIOS = [
     ("one implicit SEA step (ROS2, 1 ms) / mj_step", "sim_step_us", 1.0, 1),
+    ("the same step, feet on the ground (8 points) / mj_step", "sim_step_unilateral_us", 1.0, 1),
     ("controller tick, two feet / mj_step", "controller_tick_us", 1.0, 1),
     ("tick with Clarabel every tick / mj_step", "controller_tick_clarabel_us", 1.0, 1),
     ("tick with the active set every tick / mj_step", "controller_tick_active_set_us", 1.0, 1),
     ("closed loop, 1 simulated s at 1 kHz / 1000 mj_step", "closed_loop_second_ms", 1e3, 1000),
     ("closed loop, 1 simulated s multi-rate 100 Hz / 1 kHz / 1000 mj_step", "closed_loop_second_multi_rate_ms", 1e3, 1000),
+    ("the same, feet on the ground / 1000 mj_step", "closed_loop_second_multi_rate_unilateral_ms", 1e3, 1000),
 ]
 
 
@@ -190,11 +192,15 @@ def medians(runs: list[dict]) -> dict:
 
 
 def our_unilateral_step() -> Callable[[], object] | None:
-    """Our plant's step with unilateral contacts on the standing iCub, as a callable doing one
-    1 ms step from a standing state, for ``time_our_unilateral_step``. None until
-    ``sea_momentum.Plant`` has a unilateral contact model (its steps are then timed beside
-    MuJoCo's in the same run)."""
-    return None
+    """Our plant's step with unilateral contacts on the standing iCub driven from Python, as a
+    callable doing one 1 ms step from a standing state, for ``time_our_unilateral_step``: the
+    push scenario's plant (8 points, joint stops), its step timed with the binding's overhead.
+    The native figure without it is ``sea-sim bench``'s ``sim_step_unilateral_us``
+    (``RATIOS``)."""
+    scenario = sm.Scenario.load(ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml")
+    plant, x = scenario.plant, scenario.initial_state
+    u = np.zeros(plant.nu_input)
+    return lambda: plant.step(x, u, 1e-3, "ros2")
 
 
 def time_our_unilateral_step(step: Callable[[], object], batches: int, steps: int) -> float:

@@ -10,7 +10,10 @@ import sea_momentum as sm
 MULTI_RATE = Path(__file__).resolve().parents[1] / "scenarios" / "robot_rate" / "tracking_multi_rate.toml"
 #: The shipped robot-rate scenarios run the stiffness identification; these tests were written
 #: for the fixed estimates (a test that wants the identification sets it after these).
-FIXED = {"controller.stiffness_identification": False}
+#: The proxy these tests were written for (as ``WELDED_FEET`` of the Rust tests): the feet
+#: welded (bilateral contacts, a fall the wrench check's).
+WELDED_FEET = {"plant.contact_model": "bilateral"}
+FIXED = {**WELDED_FEET, "controller.stiffness_identification": False}
 
 
 def test_period_map_of_the_robot_rate_scenario_is_stable_and_names_its_sampling():

@@ -8,7 +8,15 @@ import sea_momentum as sm
 PUSH = Path(__file__).resolve().parents[1] / "scenarios" / "robot_rate" / "push_two_feet.toml"
 #: The shipped robot-rate scenarios run the stiffness identification; these tests were written
 #: for the fixed estimates (a test that wants the identification sets it after these).
-FIXED = {"controller.stiffness_identification": False}
+#: The proxy these tests were written for (as ``WELDED_FEET`` of the Rust tests): the feet
+#: welded (bilateral contacts, a fall the wrench check's), a joint at its limit ending the run.
+WELDED_FEET = {
+    "plant.contact_model": "bilateral",
+    "simulation.stop_at_joint_limits": True,
+    "simulation.divergence_joint_error_rad": 1.0,
+    "simulation.divergence_com_error_m": 0.1,
+}
+FIXED = {**WELDED_FEET, "controller.stiffness_identification": False}
 
 
 def push(impulse_n_s: float) -> dict[str, object]:

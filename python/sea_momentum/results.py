@@ -204,6 +204,11 @@ class RunSummary(Result):
     """``controller.sampling = "multi_rate"``: the joint loops' stiffness estimates at the run's
     end [Nm/rad] by elastic joint name (identified with ``controller.stiffness_identification``,
     else the controller's); empty otherwise. Not a sweep column."""
+    contact_check_violations: int
+    """Unilateral contacts: samples whose delivered wrenches the bilateral contacts' wrench check
+    would have called a fall (a foot lifted, tipping or slipping); 0 under bilateral contacts."""
+    contact_check_first_s: Optional[float]
+    """Time of the first such sample [s], None without one."""
     touchdowns: int
     """Touchdowns of the feet (``plant.contact_model = "unilateral"``): a foot whose contact
     points carried no force at a plant step and carry force at the next; 0 otherwise."""

@@ -120,6 +120,9 @@ pub fn run_setup_with_sinks(
     let mut summary = Summary::new(&end, sampling, &statistics, totals);
     summary.stiffness_estimates = engine.stiffness_estimates();
     summary.add_impacts(engine.impacts());
+    let check = engine.contact_check_count();
+    summary.contact_check_violations = check.violations;
+    summary.contact_check_first_s = check.first_s;
     Ok(summary)
 }
 

@@ -248,6 +248,12 @@ pub struct Summary {
     pub wall_time_s: f64,
     /// Simulated time / wall time.
     pub realtime_factor: f64,
+    /// Unilateral contacts: samples whose delivered wrenches the bilateral contacts' wrench
+    /// check would have called a fall (a foot lifted, tipping or slipping: what the proxy
+    /// measured); 0 under bilateral contacts, where the check ends the run.
+    pub contact_check_violations: usize,
+    /// Time of the first such sample [s]; `None` without one.
+    pub contact_check_first_s: Option<f64>,
     /// Touchdowns of the feet (unilateral contacts; [`crate::impacts`]): a foot whose points
     /// carried no force at a plant step and carry force at the next.
     pub touchdowns: usize,
@@ -386,6 +392,8 @@ impl Summary {
                 0.0
             },
             stiffness_estimates: Vec::new(),
+            contact_check_violations: 0,
+            contact_check_first_s: None,
             touchdowns: 0,
             touchdown_velocity_jump_m_s: None,
             touchdown_peak_spring_torque_nm: None,

@@ -332,6 +332,17 @@ impl PlantSide<'_> {
     }
 }
 
+/// Under unilateral contacts: the samples whose delivered wrenches the bilateral contacts'
+/// wrench check ([`super::contact_check`]) would have called a fall (a foot lifted, tipping
+/// or slipping), and the first one's time.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactCheckCount {
+    /// Samples.
+    pub violations: usize,
+    /// Time of the first [s].
+    pub first_s: Option<f64>,
+}
+
 /// The loop's state between samples: the law, the plant side, the schedule and the buffers,
 /// all allocated once.
 pub(super) struct Engine<'a> {
@@ -358,6 +369,8 @@ pub(super) struct Engine<'a> {
     contact_check: ContactCheck,
     /// Falls as physics (unilateral contacts; `None` under bilateral ones).
     fall_check: Option<FallCheck>,
+    /// Under unilateral contacts, the wrench check as a diagnostic.
+    contact_check_count: ContactCheckCount,
     /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
     sensor: Option<Sensor>,
     /// Without a sensor, when the controller's model is not the plant's (mass estimates): the
@@ -435,6 +448,7 @@ impl<'a> Engine<'a> {
             },
             x: x0.clone(),
             contact_check: ContactCheck::new(plant),
+            contact_check_count: ContactCheckCount::default(),
             fall_check: FallCheck::new(plant, x0, settings.fall_bounds),
             sensor,
             truth,
@@ -509,8 +523,8 @@ impl<'a> Engine<'a> {
         let mut period = self.period_unchecked(index, interrupted)?;
         let check = self.settings.stop_on_fall;
         if check && !matches!(period.end, Some(RunEnd::Diverged { .. })) {
-            if let Some(fall) = self.fall(&self.x.clone()) {
-                let at_s = self.schedule.time(index);
+            let at_s = self.schedule.time(index);
+            if let Some(fall) = self.fall(&self.x.clone(), at_s) {
                 period.end = Some(RunEnd::Fell { at_s, fall });
             }
         }
@@ -519,12 +533,25 @@ impl<'a> Engine<'a> {
 
     /// The fall at state `x`: the robot on the ground under unilateral contacts, a foot's
     /// wrench outside a unilateral contact under bilateral ones.
-    fn fall(&mut self, x: &[f64]) -> Option<Fall> {
+    /// Under unilateral contacts the wrench check stays a diagnostic: the samples whose
+    /// delivered wrenches it would have called a fall are counted ([`ContactCheckCount`]).
+    fn fall(&mut self, x: &[f64], time: f64) -> Option<Fall> {
         let (plant, outputs) = (self.side.plant, &self.side.outputs);
         match &mut self.fall_check {
-            Some(check) => check.fall(plant, x).map(Fall::Physical),
+            Some(check) => {
+                if self.contact_check.fall(plant, x, outputs).is_some() {
+                    self.contact_check_count.violations += 1;
+                    self.contact_check_count.first_s.get_or_insert(time);
+                }
+                check.fall(plant, x).map(Fall::Physical)
+            }
             None => self.contact_check.fall(plant, x, outputs).map(Fall::Wrench),
         }
+    }
+
+    /// Under unilateral contacts, the samples the wrench check would have called a fall.
+    pub fn contact_check_count(&self) -> ContactCheckCount {
+        self.contact_check_count
     }
 
     /// [`Engine::period`] without the fall check.

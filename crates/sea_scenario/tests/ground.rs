@@ -38,7 +38,10 @@ fn the_push_scenario_stands_on_eight_points_of_a_ground_at_rest_penetration() {
     assert!((penetration - 5e-4).abs() < 1e-12, "{penetration}");
     let bilateral = build(&scenario(&[("plant.contact_model", "\"bilateral\"")]).unwrap()).unwrap();
     assert!(bilateral.plant.unilateral().is_none());
-    assert!(bilateral.plant.joint_stops.is_none(), "no stops under bilateral by default");
+    assert!(
+        bilateral.plant.joint_stops.is_none(),
+        "no stops under bilateral by default"
+    );
 }
 
 #[test]
@@ -46,15 +49,27 @@ fn bad_grounds_are_refused_naming_the_key() {
     let cases: &[(&[(&str, &str)], &str)] = &[
         (&[("ground.friction", "-0.5")], "ground.friction"),
         (&[("ground.friction", "nan")], "ground.friction"),
-        (&[("ground.incline_rad", "1.5707963267948966")], "ground.incline_rad"),
+        (
+            &[("ground.incline_rad", "1.5707963267948966")],
+            "ground.incline_rad",
+        ),
         (&[("ground.incline_rad", "2.0")], "ground.incline_rad"),
         (&[("ground.points", "[[0.5, 0.0]]")], "ground.points[0]"),
         (&[("ground.points", "[]")], "ground.points"),
         (&[("ground.height_m", "2.0")], "ground.height_m"),
         (&[("ground.height_m", "0.05")], "ground.height_m"),
-        (&[("ground.stiffness_n_per_m", "0")], "ground.stiffness_n_per_m"),
-        (&[("ground.stiction_velocity_m_s", "-1")], "ground.stiction_velocity_m_s"),
-        (&[("plant.joint_stop_stiffness", "0")], "plant.joint_stop_stiffness"),
+        (
+            &[("ground.stiffness_n_per_m", "0")],
+            "ground.stiffness_n_per_m",
+        ),
+        (
+            &[("ground.stiction_velocity_m_s", "-1")],
+            "ground.stiction_velocity_m_s",
+        ),
+        (
+            &[("plant.joint_stop_stiffness", "0")],
+            "plant.joint_stop_stiffness",
+        ),
     ];
     for (overrides, key) in cases {
         let message = refused(overrides);

@@ -378,8 +378,16 @@ fn bench_plant(
     let mut pd = PlantData::new(&ground_plant);
     let on_ground = median_us(batches, calls_per_batch, |_| {
         black_box(
-            sea_plant::step(&ground_plant, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut x_next)
-                .is_ok(),
+            sea_plant::step(
+                &ground_plant,
+                &mut pd,
+                &x,
+                &u,
+                1e-3,
+                Method::Ros2,
+                &mut x_next,
+            )
+            .is_ok(),
         );
     });
     Some(vec![

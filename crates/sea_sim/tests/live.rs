@@ -196,7 +196,7 @@ fn a_fall_reaches_the_live_view_on_events() {
                 duration_s = 0.1}]";
     // As measured, with the fixed estimates (the file's stiffness identification off).
     let fixed = "controller.stiffness_identification=false";
-    // The feet welded, the fall the wrench check's (as tests/support's `WELDED_FEET`).
+    // The feet welded, the fall the wrench check's (as tests/support's `WELDED_PUSH`).
     let welded = [
         "plant.contact_model=\"bilateral\"",
         "simulation.stop_at_joint_limits=true",

@@ -33,7 +33,7 @@ fn scenario(overrides: &[(&str, &str)]) -> sea_sim::Result<Scenario> {
         .chain(overrides)
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
-    Scenario::from_file(&push_two_feet(), &support::welded(&pairs))
+    Scenario::from_file(&push_two_feet(), &support::welded_push(&pairs))
 }
 
 /// The rigid robot under the rigid controller at 100 Hz (zero-order hold), with `extra`
@@ -201,7 +201,8 @@ fn the_observer_estimates_a_steady_push_on_the_pelvis() {
         ("simulation.duration_s", "3.0"),
         ("simulation.record_every", "1"),
     ]);
-    let scenario = Scenario::from_file(&push_two_feet(), &support::welded(&overrides)).unwrap();
+    let scenario =
+        Scenario::from_file(&push_two_feet(), &support::welded_push(&overrides)).unwrap();
     let mut record = RunRecord::default();
     let cancel = std::sync::atomic::AtomicBool::new(false);
     let summary =
@@ -248,7 +249,8 @@ fn told_the_push_the_feet_carry_the_planned_wrenches() {
     let push =
         "[{link = \"root_link\", force = [60.0, 40.0, 0.0], start_s = 0.0, duration_s = 0.1}]";
     let overrides = rigid_100_hz(&[("disturbances", push)]);
-    let scenario = Scenario::from_file(&push_two_feet(), &support::welded(&overrides)).unwrap();
+    let scenario =
+        Scenario::from_file(&push_two_feet(), &support::welded_push(&overrides)).unwrap();
     let setup = build(&scenario).unwrap();
     let (layout, x0) = (setup.plant.layout(), setup.x0.clone());
     let mut pd = PlantData::new(&setup.plant);

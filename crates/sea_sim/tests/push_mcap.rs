@@ -30,7 +30,7 @@ fn pushed() -> Scenario {
         ("simulation.duration_s", "2.0"),
     ]
     .map(|(k, v)| (k.to_string(), v.to_string()));
-    Scenario::from_file(&path, &support::welded(&pairs)).unwrap()
+    Scenario::from_file(&path, &support::welded_push(&pairs)).unwrap()
 }
 
 /// A file in the temporary folder, removed when dropped.

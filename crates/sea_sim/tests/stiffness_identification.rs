@@ -409,7 +409,9 @@ fn identification_settings_name_their_key() {
             ),
             (key.to_string(), value.to_string()),
         ];
-        let error = Scenario::from_file(&path, &support::welded(&pairs)).unwrap_err().to_string();
+        let error = Scenario::from_file(&path, &support::welded(&pairs))
+            .unwrap_err()
+            .to_string();
         assert!(error.contains(named), "{error}");
     }
 }
@@ -423,7 +425,7 @@ fn two_feet(overrides: &[(&str, &str)]) -> Scenario {
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
     pairs.push(("simulation.duration_s".into(), "10.0".into()));
-    Scenario::from_file(&path, &support::welded(&pairs)).unwrap()
+    Scenario::from_file(&path, &support::welded_push(&pairs)).unwrap()
 }
 
 /// On two feet the internal force between the feet is not in the model: with the feet's
@@ -715,7 +717,9 @@ fn excitation_settings_name_their_key() {
             .chain(&pairs)
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect();
-        let error = Scenario::from_file(&path, &support::welded(&pairs)).unwrap_err().to_string();
+        let error = Scenario::from_file(&path, &support::welded(&pairs))
+            .unwrap_err()
+            .to_string();
         assert!(error.contains(&named), "{error}");
     }
 }

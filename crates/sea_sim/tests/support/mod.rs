@@ -12,17 +12,33 @@ pub const FIXED_ESTIMATES: (&str, &str) = ("controller.stiffness_identification"
 
 /// The proxy the robot-rate tests were written for, before the feet could leave the ground:
 /// the feet welded (bilateral contacts: a fall is a foot's wrench that a unilateral contact
-/// could not carry) and a joint past its URDF limit ending the run. The tests of a setting of
-/// the controller keep it, so that their figures stay those of docs/findings; the feet on the
-/// ground are tested in `tests/ground.rs` and `sea_plant`'s `tests/unilateral.rs`.
-pub const WELDED_FEET: [(&str, &str); 2] = [
-    ("plant.contact_model", "\"bilateral\""),
+/// could not carry). The tests of a setting of the controller keep it, so that their figures
+/// stay those of docs/findings; the feet on the ground are tested in `tests/impacts.rs`,
+/// `sea_scenario`'s `tests/ground.rs` and `sea_plant`'s `tests/unilateral.rs`.
+pub const WELDED_FEET: (&str, &str) = ("plant.contact_model", "\"bilateral\"");
+
+/// The push scenario as the push tests were written for: the feet welded, a joint past its
+/// URDF limit ending the run (the plant had no joint stops), the default error bounds.
+pub const WELDED_PUSH: [(&str, &str); 4] = [
+    WELDED_FEET,
     ("simulation.stop_at_joint_limits", "true"),
+    ("simulation.divergence_joint_error_rad", "1.0"),
+    ("simulation.divergence_com_error_m", "0.1"),
 ];
 
 /// `pairs` after [`WELDED_FEET`] (a later pair overrides an earlier one).
 pub fn welded(pairs: &[(String, String)]) -> Vec<(String, String)> {
-    WELDED_FEET
+    prefixed(&[WELDED_FEET], pairs)
+}
+
+/// `pairs` after [`WELDED_PUSH`].
+pub fn welded_push(pairs: &[(String, String)]) -> Vec<(String, String)> {
+    prefixed(&WELDED_PUSH, pairs)
+}
+
+/// `first`, then `pairs`.
+fn prefixed(first: &[(&str, &str)], pairs: &[(String, String)]) -> Vec<(String, String)> {
+    first
         .iter()
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .chain(pairs.iter().cloned())
