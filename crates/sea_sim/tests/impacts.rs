@@ -144,7 +144,11 @@ fn a_dropped_robot_touches_down_on_both_feet_and_the_log_shows_it() {
 #[test]
 fn a_bilateral_run_has_no_contact_points_or_events() {
     let file = TempFile::new("bilateral");
-    let bilateral = scenario(&[("disturbances", "[]"), ("simulation.duration_s", "0.05")]);
+    let bilateral = scenario(&[
+        ("plant.contact_model", "\"bilateral\""),
+        ("disturbances", "[]"),
+        ("simulation.duration_s", "0.05"),
+    ]);
     let (summary, record) = run(&bilateral, &file.0);
     assert_eq!(summary.status, "completed");
     assert_eq!(summary.touchdowns, 0);

@@ -23,9 +23,10 @@ fn push_two_feet() -> PathBuf {
 /// estimates (the rigid robot at 100 Hz has no joint loops to identify with).
 const FIXED_ESTIMATES: (&str, &str) = ("controller.stiffness_identification", "false");
 
-/// [`FIXED_ESTIMATES`] as overrides.
+/// [`FIXED_ESTIMATES`] as overrides, the feet welded as these tests were measured
+/// (`support::WELDED_PUSH`).
 fn fixed() -> Vec<(String, String)> {
-    vec![(FIXED_ESTIMATES.0.into(), FIXED_ESTIMATES.1.into())]
+    support::welded_push(&[(FIXED_ESTIMATES.0.into(), FIXED_ESTIMATES.1.into())])
 }
 
 fn scenario(overrides: &[(&str, &str)]) -> sea_sim::Result<Scenario> {
@@ -39,7 +40,7 @@ fn scenario(overrides: &[(&str, &str)]) -> sea_sim::Result<Scenario> {
 /// The rigid robot under the rigid controller at 100 Hz (zero-order hold), with `extra`
 /// overrides after it.
 fn rigid_100_hz(extra: &[(&str, &str)]) -> Vec<(String, String)> {
-    [
+    let pairs: Vec<(String, String)> = [
         FIXED_ESTIMATES,
         ("actuators.kind", "\"rigid\""),
         ("controller.kind", "\"rigid\""),
@@ -49,7 +50,9 @@ fn rigid_100_hz(extra: &[(&str, &str)]) -> Vec<(String, String)> {
     .iter()
     .chain(extra)
     .map(|(k, v)| (k.to_string(), v.to_string()))
-    .collect()
+    .collect();
+    // The feet welded, as these tests were measured.
+    support::welded_push(&pairs)
 }
 
 /// `summary` ended on a joint outside its limits, its reason containing `text`.
