@@ -138,7 +138,9 @@ impl WMatrix {
             let vj = 6 + actuation.elastic_joints[e];
             self.diagonal[vj] -= g * t1;
         }
-        self.add_stops(ws);
+        if plant.joint_stops.is_some() {
+            self.add_stops(ws);
+        }
         let factored = if plant.unilateral().is_some() {
             self.augment_with_contacts(plant, ws);
             self.factor.factor(&self.augmented, &self.diagonal)
@@ -162,7 +164,8 @@ impl WMatrix {
     }
 
     /// The joint stops' stiffness and damping at the step start, on the diagonal:
-    /// `g (g k + d)` per joint on its stop.
+    /// `g (g k + d)` per joint on its stop (only a plant with stops: without, they stay zero and
+    /// unread).
     fn add_stops(&mut self, ws: &Workspace) {
         let g = self.g;
         let terms = &ws.compliance;
@@ -250,37 +253,48 @@ impl WMatrix {
         }
     }
 
-    /// The compliant part of [`WMatrix::solve`]'s right-hand side: the joint stops
+    /// The compliant part of [`WMatrix::solve`]'s right-hand side: with joint stops
     /// `z_j -= k_j (r_q + g r_nu)_j + d_j r_nu_j` and, under unilateral contacts, per foot
     /// `z -= J_c^T (K_c J_c (r_q + g r_nu) + D_c J_c r_nu)` (the forces' change over the stage
     /// that `W`'s augmented matrix does not carry).
     fn compliance_rhs(&mut self, plant: &Plant, r_q: &[f64], r_nu: &[f64]) {
         let g = self.g;
-        let z = self.z.as_mut_slice();
-        for (j, (k, d)) in self
-            .stop_stiffness
-            .iter()
-            .zip(&self.stop_damping)
-            .enumerate()
-        {
-            let v = 6 + j;
-            z[v] -= k * mul_add(g, r_nu[v], r_q[v]) + d * r_nu[v];
+        if plant.joint_stops.is_some() {
+            let z = self.z.as_mut_slice();
+            let stops = self.stop_stiffness.iter().zip(&self.stop_damping);
+            for (j, (k, d)) in stops.enumerate() {
+                let v = 6 + j;
+                z[v] -= k * mul_add(g, r_nu[v], r_q[v]) + d * r_nu[v];
+            }
         }
         if plant.unilateral().is_none() {
             return;
         }
         for c in 0..plant.contacts.len() {
+            let force = self.foot_force(c, |v| mul_add(g, r_nu[v], r_q[v]), |v| r_nu[v]);
             let foot = self.jacobian.rows(6 * c, 6);
-            let (mut displacement, mut velocity) = (Vector6::zeros(), Vector6::zeros());
-            for (v, column) in foot.column_iter().enumerate() {
-                displacement += column * mul_add(g, r_nu[v], r_q[v]);
-                velocity += column * r_nu[v];
-            }
-            let force = self.foot_stiffness[c] * displacement + self.foot_damping[c] * velocity;
-            for (v, column) in foot.column_iter().enumerate() {
-                z[v] -= column.dot(&force);
+            for (z_v, column) in self.z.as_mut_slice().iter_mut().zip(foot.column_iter()) {
+                *z_v -= column.dot(&force);
             }
         }
+    }
+
+    /// `K_c J_c dq + D_c J_c dnu` of foot `c` (its wrench's linear response, with the step
+    /// start's `J`, stiffness and damping) for the tangent displacement `dq(v)` and velocity
+    /// `dnu(v)` given per velocity index.
+    fn foot_force(
+        &self,
+        c: usize,
+        dq: impl Fn(usize) -> f64,
+        dnu: impl Fn(usize) -> f64,
+    ) -> Vector6<f64> {
+        let foot = self.jacobian.rows(6 * c, 6);
+        let (mut displacement, mut velocity) = (Vector6::zeros(), Vector6::zeros());
+        for (v, column) in foot.column_iter().enumerate() {
+            displacement += column * dq(v);
+            velocity += column * dnu(v);
+        }
+        self.foot_stiffness[c] * displacement + self.foot_damping[c] * velocity
     }
 
     /// Under unilateral contacts, adds `scale` times the contact wrenches' response to a stage
@@ -300,13 +314,7 @@ impl WMatrix {
         }
         let k = plant.layout().tangent().split(k.as_slice());
         for c in 0..plant.contacts.len() {
-            let foot = self.jacobian.rows(6 * c, 6);
-            let (mut displacement, mut velocity) = (Vector6::zeros(), Vector6::zeros());
-            for (v, column) in foot.column_iter().enumerate() {
-                displacement += column * k.dq[v];
-                velocity += column * k.dnu[v];
-            }
-            let response = self.foot_stiffness[c] * displacement + self.foot_damping[c] * velocity;
+            let response = self.foot_force(c, |v| k.dq[v], |v| k.dnu[v]);
             let mut rows = wrenches.fixed_rows_mut::<6>(6 * c);
             rows -= response * scale;
         }
