@@ -83,9 +83,12 @@ fn steps_and_duration_are_exclusive() {
     );
 }
 
+/// A change that makes one setting invalid.
+type Spoil = fn(&mut super::WalkingSettings);
+
 #[test]
 fn other_bad_values_name_their_keys() {
-    let cases: [(&str, fn(&mut super::WalkingSettings)); 5] = [
+    let cases: [(&str, Spoil); 5] = [
         ("walking.swing_height", |s| s.swing_height = -0.01),
         ("walking.max_step_turn", |s| s.max_step_turn = 2.0),
         ("walking.min_swing_duration", |s| s.min_swing_duration = 0.0),
