@@ -214,3 +214,34 @@ fn without_steps_the_com_moves_to_the_mid_feet_point() {
         "CoM converged",
     );
 }
+
+#[test]
+fn the_vrp_stays_in_the_support_polygon_of_every_phase() {
+    use super::super::phase::Support;
+    use super::super::polygon::SupportPolygon;
+    let surface = sea_dyn::ContactSurface::default();
+    for (forward, sideways, turning) in COMMANDS {
+        let (footsteps, plan, _) = planned(forward, sideways, turning);
+        // Starting from the mid-feet point (the planned start above is 2 cm off it).
+        let plan_from_mid = DcmPlan::new(&footsteps, plan.lip(), Vector2::zeros(), 0.1);
+        let n = 5000;
+        for k in 0..=n {
+            let t = (plan.end_time() + 0.5) * k as f64 / n as f64;
+            let phase = footsteps.phase_at(t);
+            let support = match (phase.support, phase.step) {
+                (Support::Single { stance }, Some(i)) => {
+                    SupportPolygon::of_sole(footsteps.stances[i].get(stance), &surface)
+                }
+                (_, step) => {
+                    let feet = step.map_or(footsteps.stances[0], |i| footsteps.stances[i + 1]);
+                    SupportPolygon::of_stance(&feet, &surface)
+                }
+            };
+            let vrp = xy(plan_from_mid.sample(t).world_p_vrp);
+            assert!(
+                support.signed_margin(vrp) >= -1e-12,
+                "VRP {vrp:?} outside at {t}"
+            );
+        }
+    }
+}

@@ -3,8 +3,11 @@
 
 mod capture;
 mod dcm;
+mod figures;
 mod footsteps;
 mod phase;
+#[cfg(feature = "serde")]
+mod serde;
 mod settings;
 mod swing;
 
