@@ -19,6 +19,19 @@ use super::settings::WalkingSettings;
 use nalgebra::Vector2;
 use sea_dyn::ContactSurface;
 
+/// What a push-recovery step starts from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepRequest {
+    /// The measured DCM `xi0` (world x, y) [m].
+    pub world_xi: Vector2<f64>,
+    /// The sole that stays on the ground.
+    pub stance: SolePose,
+    /// The foot that steps (the other one).
+    pub swing_foot: Foot,
+    /// The wished swing duration [s] (raised to `walking.min_swing_duration`).
+    pub swing_duration: f64,
+}
+
 /// A push-recovery step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RecoveryStep {
@@ -53,15 +66,20 @@ pub fn swing_foot_for(stance: &Stance, xi: Vector2<f64>) -> Foot {
     }
 }
 
-/// The step of `swing_foot` that recovers the DCM `xi0` while the other foot, at `stance`,
-/// holds; `swing_duration` [s] raised to `walking.min_swing_duration` (module doc).
+/// The step of `request.swing_foot` that recovers the DCM `request.world_xi` while the other
+/// foot, at `request.stance`, holds (module doc); `surface` gives the soles' rectangle.
 pub fn recovery_step(
     settings: &WalkingSettings,
     lip: &Lip,
     surface: &ContactSurface,
-    (xi0, stance, swing_foot): (Vector2<f64>, SolePose, Foot),
-    swing_duration: f64,
+    request: StepRequest,
 ) -> RecoveryStep {
+    let StepRequest {
+        world_xi: xi0,
+        stance,
+        swing_foot,
+        swing_duration,
+    } = request;
     let duration = swing_duration.max(settings.min_swing_duration);
     let stance_cop = SupportPolygon::of_sole(stance, surface).closest_point(xi0);
     let dcm_at_touchdown = lip.dcm_after(stance_cop, xi0, duration);

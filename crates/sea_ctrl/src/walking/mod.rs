@@ -33,7 +33,7 @@ pub mod swing;
 #[cfg(test)]
 mod tests;
 
-pub use capture::{needs_step, recovery_step, swing_foot_for, RecoveryStep};
+pub use capture::{needs_step, recovery_step, swing_foot_for, RecoveryStep, StepRequest};
 pub use command::{footsteps_from_command, footsteps_from_list, footsteps_from_settings};
 pub use dcm::{DcmPlan, DcmSample};
 pub use footstep::{check_step, Foot, Footstep, FootstepPlan, SolePose, Stance};

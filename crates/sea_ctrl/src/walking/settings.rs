@@ -6,6 +6,7 @@
 //! [`WalkingSettings::validate`] names the offending key (`walking.step_duration`, ...).
 
 use super::footstep::{Foot, SolePose};
+use super::lip::Lip;
 use crate::error::{Error, Result};
 use nalgebra::Vector2;
 
@@ -147,6 +148,12 @@ impl Default for WalkingSettings {
 }
 
 impl WalkingSettings {
+    /// The pendulum of `com_height` under gravity of magnitude `gravity` [m/s^2] (the
+    /// model's); an error names `walking.com_height` when it is not positive.
+    pub fn lip(&self, gravity: f64) -> Result<Lip> {
+        Lip::new(gravity, self.com_height)
+    }
+
     /// The swing of each step (single support) [s]: `step_duration - double_support_duration`.
     pub fn single_support_duration(&self) -> f64 {
         self.step_duration - self.double_support_duration

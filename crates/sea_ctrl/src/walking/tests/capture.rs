@@ -1,7 +1,7 @@
 //! Push-recovery steps from the capture point.
 
-use super::super::capture::{needs_step, recovery_step, swing_foot_for};
-use super::super::footstep::Foot;
+use super::super::capture::{needs_step, recovery_step, swing_foot_for, StepRequest};
+use super::super::footstep::{Foot, SolePose};
 use super::super::polygon::SupportPolygon;
 use super::{assert_close, lip, standing, walking};
 use nalgebra::Vector2;
@@ -29,6 +29,21 @@ fn integrated_dcm(
         v += (k1v + 2.0 * k2v + 2.0 * k3v + k4v) * (h / 6.0);
     }
     x + v / omega
+}
+
+/// The request of a step of `swing_foot` from `stance` for the DCM `world_xi`.
+fn request(
+    world_xi: Vector2<f64>,
+    stance: SolePose,
+    swing_foot: Foot,
+    swing_duration: f64,
+) -> StepRequest {
+    StepRequest {
+        world_xi,
+        stance,
+        swing_foot,
+        swing_duration,
+    }
 }
 
 #[test]
@@ -71,7 +86,12 @@ fn a_dcm_ahead_asks_for_the_step_the_dcm_evolution_predicts() {
     assert!(needs_step(&support, xi0, settings.capture_margin));
     let foot = swing_foot_for(&stance, xi0);
     assert_eq!(foot, Foot::Left, "on the line: the left foot");
-    let step = recovery_step(&settings, &lip, &surface, (xi0, stance.right, foot), 0.3);
+    let step = recovery_step(
+        &settings,
+        &lip,
+        &surface,
+        request(xi0, stance.right, foot, 0.3),
+    );
     assert_eq!(step.swing_duration, 0.3);
     // The right sole's front-left corner is its closest point to the DCM.
     assert_close(step.stance_cop, Vector2::new(0.10, -0.045), 1e-12, "CoP");
@@ -104,13 +124,8 @@ fn a_forward_push_beyond_the_reach_is_clipped_forward() {
     let lip = lip(&settings);
     let stance = standing(&settings);
     let xi0 = Vector2::new(0.13, 0.0);
-    let step = recovery_step(
-        &settings,
-        &lip,
-        &surface,
-        (xi0, stance.right, Foot::Left),
-        0.35,
-    );
+    let request = request(xi0, stance.right, Foot::Left, 0.35);
+    let step = recovery_step(&settings, &lip, &surface, request);
     assert!(step.dcm_at_touchdown.x > settings.max_step_length);
     let stance_p_step = stance.right.to_sole(step.pose.world_p_sole);
     assert!(
@@ -134,7 +149,12 @@ fn a_large_push_is_clipped_to_the_reach_and_reported_not_captured() {
     let xi0 = Vector2::new(0.25, -0.10);
     let foot = swing_foot_for(&stance, xi0);
     assert_eq!(foot, Foot::Right, "the DCM is on the right");
-    let step = recovery_step(&settings, &lip, &surface, (xi0, stance.left, foot), 0.1);
+    let step = recovery_step(
+        &settings,
+        &lip,
+        &surface,
+        request(xi0, stance.left, foot, 0.1),
+    );
     assert_eq!(
         step.swing_duration, settings.min_swing_duration,
         "raised to the minimum"
@@ -164,7 +184,12 @@ fn a_sideways_push_steps_sideways_within_the_width_limit() {
     ));
     let foot = swing_foot_for(&stance, xi0);
     assert_eq!(foot, Foot::Left);
-    let step = recovery_step(&settings, &lip, &surface, (xi0, stance.right, foot), 0.3);
+    let step = recovery_step(
+        &settings,
+        &lip,
+        &surface,
+        request(xi0, stance.right, foot, 0.3),
+    );
     let right_p_step = stance.right.to_sole(step.pose.world_p_sole);
     assert!(
         right_p_step.y > settings.nominal_width,

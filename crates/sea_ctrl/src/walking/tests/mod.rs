@@ -33,7 +33,7 @@ fn standing(settings: &WalkingSettings) -> Stance {
 
 /// The pendulum of the settings under 9.81 m/s^2.
 fn lip(settings: &WalkingSettings) -> Lip {
-    Lip::new(9.81, settings.com_height).expect("valid height")
+    settings.lip(9.81).expect("valid height")
 }
 
 /// A seeded uniform sampler in [0, 1) (xorshift), for reproducible loops.
