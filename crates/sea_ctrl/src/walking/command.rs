@@ -8,11 +8,14 @@
 //! `nominal_width +- dy` within [`min_step_width`, `max_step_width`]. The swing foot lands
 //! at its side of the moved frame, `nominal_width / 2` off its x axis, with the frame's yaw:
 //! the stance width is kept in the turned frame. After the command's steps one more step puts
-//! the other foot beside the last one (the stop: feet side by side, same yaw). A simpler
+//! the other foot beside the last one (the stop: feet side by side, same yaw). Each landing
+//! is then moved into the step limits in the frame of the sole it stands on (a turn of
+//! `dtheta` moves the landing about `nominal_width / 2 sin(dtheta)` forward or back there),
+//! and the walking frame follows the landing. A simpler
 //! per-step integration than the unicycle planner of bipedal-locomotion-framework
 //! (docs/references.md#walking), which optimises the path of the frame between steps.
 
-use super::footstep::{Foot, FootstepPlan, SolePose, Stance};
+use super::footstep::{wrap_angle, Foot, FootstepPlan, SolePose, Stance};
 use super::settings::WalkingSettings;
 use crate::error::{Error, Result};
 use nalgebra::Vector2;
@@ -29,15 +32,20 @@ pub fn footsteps_from_command(settings: &WalkingSettings, initial: Stance) -> Re
         )
     })?;
     let increment = frame_increment(settings);
-    let mut frame = initial.mid_frame();
+    let width = settings.nominal_width;
+    let (mut frame, mut feet) = (initial.mid_frame(), initial);
     let mut foot = settings.command.first_foot;
     let mut placements = Vec::with_capacity(steps + 1);
     for _ in 0..steps {
-        frame = advance(frame, increment);
-        placements.push((foot, beside_frame(frame, foot, settings.nominal_width)));
+        let wished = beside_frame(advance(frame, increment), foot, width);
+        let landing = within_limits(settings, feet.get(foot.other()), foot, wished);
+        // The walking frame: half the width inwards of the landing, with its yaw.
+        frame = beside_frame(landing, foot.other(), width);
+        feet.set(foot, landing);
+        placements.push((foot, landing));
         foot = foot.other();
     }
-    placements.push((foot, beside_frame(frame, foot, settings.nominal_width)));
+    placements.push((foot, beside_frame(frame, foot, width)));
     FootstepPlan::timed(settings, initial, &placements, "walking.command")
 }
 
@@ -91,6 +99,30 @@ fn advance(frame: SolePose, (dx, dy, dtheta): (f64, f64, f64)) -> SolePose {
     SolePose::new(
         frame.to_world(Vector2::new(dx, dy)),
         frame.world_yaw_sole + dtheta,
+    )
+}
+
+/// `wished` for `foot` moved into the step limits in the `stance` sole's frame: forward
+/// distance within the reach, lateral distance in [`min_step_width`, `max_step_width`] on
+/// the foot's own side, turn within `max_step_turn` (footstep::check_step's rule).
+fn within_limits(
+    settings: &WalkingSettings,
+    stance: SolePose,
+    foot: Foot,
+    wished: SolePose,
+) -> SolePose {
+    let stance_p = stance.to_sole(wished.world_p_sole);
+    let reach = settings.max_step_length;
+    let lateral =
+        (foot.side() * stance_p.y).clamp(settings.min_step_width, settings.max_step_width);
+    let turn = wrap_angle(wished.world_yaw_sole - stance.world_yaw_sole)
+        .clamp(-settings.max_step_turn, settings.max_step_turn);
+    SolePose::new(
+        stance.to_world(Vector2::new(
+            stance_p.x.clamp(-reach, reach),
+            foot.side() * lateral,
+        )),
+        stance.world_yaw_sole + turn,
     )
 }
 

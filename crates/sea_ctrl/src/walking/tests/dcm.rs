@@ -245,3 +245,45 @@ fn the_vrp_stays_in_the_support_polygon_of_every_phase() {
         }
     }
 }
+
+#[test]
+fn random_walks_are_continuous_and_end_at_rest() {
+    let mut uniform = Uniform(0xdcdc_0042);
+    for _ in 0..200 {
+        let mut spread = |scale: f64| scale * (2.0 * uniform.next() - 1.0);
+        let mut settings = walking(
+            3 + (spread(3.0).abs() as usize),
+            spread(0.5),
+            spread(0.1),
+            spread(0.8),
+        );
+        settings.double_support_duration = 0.05 + 0.1 * spread(1.0).abs();
+        settings.transfer_duration = 0.2 + 0.6 * spread(1.0).abs();
+        let com0 = Vector2::new(spread(0.03), spread(0.03));
+        let footsteps = footsteps_from_command(&settings, standing(&settings)).unwrap();
+        let plan = DcmPlan::new(&footsteps, lip(&settings), com0, 0.0);
+        let durations = plan.segment_durations();
+        for (k, duration) in durations.iter().enumerate().take(durations.len() - 1) {
+            let (end, next) = (
+                plan.sample_segment(k, *duration),
+                plan.sample_segment(k + 1, 0.0),
+            );
+            assert_close(xy(end.world_xi), xy(next.world_xi), 1e-9, "xi");
+            assert_close(xy(end.com.position), xy(next.com.position), 1e-9, "CoM");
+            assert_close(
+                xy(end.com.velocity),
+                xy(next.com.velocity),
+                1e-9,
+                "CoM velocity",
+            );
+        }
+        let mid = footsteps.final_stance().mid_frame().world_p_sole;
+        assert_close(
+            xy(plan.sample(plan.end_time()).world_xi),
+            mid,
+            1e-12,
+            "terminal DCM",
+        );
+        assert_close(xy(plan.sample(0.0).world_xi), com0, 1e-12, "initial DCM");
+    }
+}

@@ -171,3 +171,20 @@ fn an_explicit_list_is_timed_and_checked() {
         "{message}"
     );
 }
+
+#[test]
+fn random_commands_give_valid_steps_that_end_side_by_side() {
+    let mut uniform = super::Uniform(0xfeed_beef);
+    let mut spread = |scale: f64| scale * (2.0 * uniform.next() - 1.0);
+    for _ in 0..500 {
+        let mut settings = walking(7, spread(0.6), spread(0.15), spread(1.0));
+        settings.command.first_foot = if spread(1.0) > 0.0 {
+            Foot::Left
+        } else {
+            Foot::Right
+        };
+        let plan = footsteps_from_command(&settings, standing(&settings))
+            .unwrap_or_else(|e| panic!("{:?}: {e}", settings.command));
+        assert_valid_and_stopped(&plan, &settings);
+    }
+}
