@@ -78,6 +78,33 @@ pub fn footsteps_from_settings(
     }
 }
 
+/// Stop on command: `plan`'s steps up to `last` (inclusive; the step under way, or any later
+/// one), then one step of the other foot to the side of the sole landed last, the nominal
+/// width apart with its yaw (feet side by side), unless it is there already. The kept steps
+/// keep their timing.
+pub fn stop_after(
+    settings: &WalkingSettings,
+    plan: &FootstepPlan,
+    last: usize,
+) -> Result<FootstepPlan> {
+    let kept = plan.steps.len().min(last + 1);
+    let mut placements: Vec<_> = plan.steps[..kept]
+        .iter()
+        .map(|step| (step.foot, step.pose))
+        .collect();
+    if let Some(&(foot, landed)) = placements.last() {
+        let offset = Vector2::new(0.0, -foot.side() * settings.nominal_width);
+        let beside = SolePose::new(landed.to_world(offset), landed.world_yaw_sole);
+        let other = plan.stances[kept].get(foot.other());
+        let already = (other.world_p_sole - beside.world_p_sole).norm() < 1e-9
+            && wrap_angle(other.world_yaw_sole - beside.world_yaw_sole).abs() < 1e-9;
+        if !already {
+            placements.push((foot.other(), beside));
+        }
+    }
+    FootstepPlan::timed(settings, plan.stances[0], &placements, "walking.command")
+}
+
 /// The walking frame's motion per step in its own axes: (dx, dy, dtheta), clipped to the
 /// step limits (module doc).
 fn frame_increment(settings: &WalkingSettings) -> (f64, f64, f64) {

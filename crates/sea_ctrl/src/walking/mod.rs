@@ -7,7 +7,8 @@
 //! - [`settings`]: [`WalkingSettings`] (the future `[walking]` table), its check;
 //! - [`footstep`]: feet, sole poses (`world_p_sole`, `world_yaw_sole`), timed footsteps, the
 //!   reach / no-crossing / turn rule;
-//! - [`command`]: footsteps from a command (forward, sideways, turning velocity) or a list;
+//! - [`command`]: footsteps from a command (forward, sideways, turning velocity) or a list,
+//!   stopping on command;
 //! - [`lip`]: the linear inverted pendulum, `omega = sqrt(g / z0)`, the DCM;
 //! - [`dcm`]: the DCM trajectory (backward recursion, linear VRP in double support) and the
 //!   CoM position, velocity and acceleration in closed form ([`DcmPlan`]);
@@ -34,7 +35,9 @@ pub mod swing;
 mod tests;
 
 pub use capture::{needs_step, recovery_step, swing_foot_for, RecoveryStep, StepRequest};
-pub use command::{footsteps_from_command, footsteps_from_list, footsteps_from_settings};
+pub use command::{
+    footsteps_from_command, footsteps_from_list, footsteps_from_settings, stop_after,
+};
 pub use dcm::{DcmPlan, DcmSample};
 pub use footstep::{check_step, Foot, Footstep, FootstepPlan, SolePose, Stance};
 pub use lip::Lip;

@@ -1,6 +1,6 @@
 //! Footsteps from a command (straight, sideways, turning in place, stop) and from a list.
 
-use super::super::command::{footsteps_from_command, footsteps_from_list};
+use super::super::command::{footsteps_from_command, footsteps_from_list, stop_after};
 use super::super::footstep::{check_step, wrap_angle, Foot, FootstepPlan, SolePose};
 use super::{assert_close, standing, walking};
 use nalgebra::Vector2;
@@ -187,4 +187,26 @@ fn random_commands_give_valid_steps_that_end_side_by_side() {
             .unwrap_or_else(|e| panic!("{:?}: {e}", settings.command));
         assert_valid_and_stopped(&plan, &settings);
     }
+}
+
+#[test]
+fn stopping_on_command_keeps_the_steps_taken_and_closes_the_feet() {
+    let settings = walking(10, 0.25, 0.0, 0.3);
+    let plan = footsteps_from_command(&settings, standing(&settings)).unwrap();
+    let stopped = stop_after(&settings, &plan, 3).unwrap();
+    assert_eq!(stopped.steps.len(), 5, "steps 0..=3 and the stop");
+    assert_eq!(
+        &stopped.steps[..4],
+        &plan.steps[..4],
+        "the steps taken, same timing"
+    );
+    assert_eq!(stopped.steps[4].foot, plan.steps[3].foot.other());
+    assert_valid_and_stopped(&stopped, &settings);
+    assert!(stopped.end_time() < plan.end_time());
+    // Stopping at or after the plan's own stop step changes nothing.
+    assert_eq!(
+        stop_after(&settings, &plan, plan.steps.len() - 1).unwrap(),
+        plan
+    );
+    assert_eq!(stop_after(&settings, &plan, 99).unwrap(), plan);
 }
