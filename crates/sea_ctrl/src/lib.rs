@@ -23,7 +23,9 @@
 //!   whole-body law, the joint loops, the identification and the observers, with one per-tick
 //!   contract (measured state in, motor commands out);
 //! - [`excitation`]: a sinusoidal torque on chosen joints for a while, so that the
-//!   identification sees joints the task leaves unloaded.
+//!   identification sees joints the task leaves unloaded;
+//! - [`walking`]: the walking planner: footsteps, the DCM and CoM reference, swing soles,
+//!   contact phases, push-recovery steps (not yet used by the controller).
 //!
 //! docs/explanation/architecture.md maps every paper equation to its function.
 
@@ -43,6 +45,7 @@ pub mod robot;
 pub mod sea;
 pub mod stiffness_id;
 pub mod torque_map;
+pub mod walking;
 
 /// The active-set solver at its former path `sea_ctrl::active_set`.
 pub use qp::active_set;
@@ -50,3 +53,4 @@ pub use qp::active_set;
 pub use controller::{ControlOutput, ControllerKind, ControllerSettings, MomentumController};
 pub use error::{Error, Result};
 pub use robot::RobotController;
+pub use walking::WalkingSettings;

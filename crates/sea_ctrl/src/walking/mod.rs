@@ -1,0 +1,47 @@
+//! Walking, the planning part (docs/explanation/walking.md): footsteps from a walking command
+//! or a list, the divergent component of motion (DCM) over them with the CoM reference the
+//! momentum task tracks, the swing soles' trajectories, the contact schedule with the load
+//! hand-over between the feet, and the step that recovers a push from the capture point.
+//! Pure planning on flat ground: nothing here reads the robot or the controller.
+//!
+//! - [`settings`]: [`WalkingSettings`] (the future `[walking]` table), its check;
+//! - [`footstep`]: feet, sole poses (`world_p_sole`, `world_yaw_sole`), timed footsteps, the
+//!   reach / no-crossing / turn rule;
+//! - [`command`]: footsteps from a command (forward, sideways, turning velocity) or a list,
+//!   stopping on command;
+//! - [`lip`]: the linear inverted pendulum, `omega = sqrt(g / z0)`, the DCM;
+//! - [`dcm`]: the DCM trajectory (backward recursion, linear VRP in double support) and the
+//!   CoM position, velocity and acceleration in closed form ([`DcmPlan`]);
+//! - [`swing`]: the swing sole's pose, velocity, acceleration ([`SwingTrajectory`]);
+//! - [`phase`]: which feet are in contact at `t`, the phase's fraction, the next touchdown,
+//!   the left foot's load share;
+//! - [`polygon`]: the support polygon of one sole or both;
+//! - [`capture`]: whether a step is needed, and where and when ([`recovery_step`]).
+//!
+//! Sources: docs/references.md#walking.
+
+pub mod capture;
+pub mod command;
+pub mod dcm;
+pub mod footstep;
+pub mod lip;
+pub mod phase;
+pub mod polygon;
+mod segment;
+pub mod settings;
+pub mod swing;
+
+#[cfg(test)]
+mod tests;
+
+pub use capture::{needs_step, recovery_step, swing_foot_for, RecoveryStep, StepRequest};
+pub use command::{
+    footsteps_from_command, footsteps_from_list, footsteps_from_settings, stop_after,
+};
+pub use dcm::{DcmPlan, DcmSample};
+pub use footstep::{check_step, Foot, Footstep, FootstepPlan, SolePose, Stance};
+pub use lip::Lip;
+pub use phase::{GaitPhase, Support};
+pub use polygon::SupportPolygon;
+pub use settings::{FootstepSpec, WalkCommand, WalkingSettings};
+pub use swing::{SwingSample, SwingTrajectory};

@@ -1,0 +1,309 @@
+//! The walking settings ([`WalkingSettings`]): the gait's timing, the linear inverted
+//! pendulum's height, the step limits, the swing clearance, the push-recovery step's bounds,
+//! and the walking command ([`WalkCommand`]) or an explicit list of footsteps
+//! ([`FootstepSpec`]). With the `serde` feature each is a table whose missing keys take the
+//! defaults and whose unknown keys are errors, ready for a `[walking]` scenario table.
+//! [`WalkingSettings::validate`] names the offending key (`walking.step_duration`, ...).
+
+use super::footstep::{Foot, SolePose};
+use super::lip::Lip;
+use crate::error::{Error, Result};
+use nalgebra::Vector2;
+
+/// The walking command: velocities of the walking frame (the frame midway between the feet)
+/// and how long to walk. With the `serde` feature, the table `[walking.command]`.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
+    serde(default, deny_unknown_fields)
+)]
+pub struct WalkCommand {
+    /// Forward velocity along the walking frame's x axis [m/s]; the step's forward length
+    /// `forward_velocity * step_duration` is clipped to `max_step_length`.
+    pub forward_velocity: f64,
+    /// Sideways velocity along the walking frame's y axis (left positive) [m/s]; the step's
+    /// lateral shift is clipped so that the feet stay `min_step_width`..`max_step_width` apart.
+    pub sideways_velocity: f64,
+    /// Turning velocity about the vertical (counter-clockwise positive) [rad/s]; the turn per
+    /// step is clipped to `max_step_turn`.
+    pub turning_velocity: f64,
+    /// The foot that takes the first step ("left" or "right").
+    pub first_foot: Foot,
+    /// The number of steps of the command (>= 1), after which one more step brings the feet
+    /// side by side; set this or `duration`.
+    pub steps: Option<usize>,
+    /// How long to walk [s] (> 0): `floor(duration / step_duration)` steps (at least one),
+    /// then the stop step; set this or `steps`.
+    pub duration: Option<f64>,
+}
+
+impl Default for WalkCommand {
+    /// Standing still: zero velocities, the left foot first, no length set.
+    fn default() -> Self {
+        Self {
+            forward_velocity: 0.0,
+            sideways_velocity: 0.0,
+            turning_velocity: 0.0,
+            first_foot: Foot::Left,
+            steps: None,
+            duration: None,
+        }
+    }
+}
+
+/// One footstep of an explicit list: which foot lands where (world, on the ground). With the
+/// `serde` feature, an entry of `[[walking.footsteps]]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
+    serde(deny_unknown_fields)
+)]
+pub struct FootstepSpec {
+    /// The foot that steps ("left" or "right").
+    pub foot: Foot,
+    /// Sole origin x in world [m].
+    pub x: f64,
+    /// Sole origin y in world [m].
+    pub y: f64,
+    /// Sole yaw about world z [rad].
+    pub yaw: f64,
+}
+
+impl FootstepSpec {
+    /// The sole pose this entry names.
+    pub fn pose(&self) -> SolePose {
+        SolePose::new(Vector2::new(self.x, self.y), self.yaw)
+    }
+}
+
+/// Settings of the walking planner. Defaults: an iCub-sized robot (LIP height 0.53 m, so
+/// `omega` about 4.3 1/s, docs/references.md#walking), to be scaled to the robot by the caller.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
+    serde(default, deny_unknown_fields)
+)]
+pub struct WalkingSettings {
+    /// Height of the linear inverted pendulum's CoM above the soles `z0` [m], > 0;
+    /// `omega = sqrt(g / z0)`.
+    pub com_height: f64,
+    /// Duration of one step [s]: its single support (the swing) and the double support that
+    /// follows; at least one whole-body period.
+    pub step_duration: f64,
+    /// Double support within each step [s], in [one whole-body period, `step_duration` - one
+    /// whole-body period].
+    pub double_support_duration: f64,
+    /// The double support from standing into the first step and from the last step back to
+    /// standing over the mid-feet point [s], at least one whole-body period.
+    pub transfer_duration: f64,
+    /// Apex height of the swing sole above the ground [m], >= 0.
+    pub swing_height: f64,
+    /// Nominal lateral distance between the sole origins [m], in (`min_step_width`,
+    /// `max_step_width`).
+    pub nominal_width: f64,
+    /// Largest forward or backward distance of the landing sole from the stance sole, in the
+    /// stance sole's frame [m], > 0 (the reach).
+    pub max_step_length: f64,
+    /// Smallest lateral distance of the landing sole from the stance sole, on its own side, in
+    /// the stance sole's frame [m], > 0 (the feet do not collide or cross).
+    pub min_step_width: f64,
+    /// Largest lateral distance of the landing sole from the stance sole in the stance sole's
+    /// frame [m] (the lateral reach).
+    pub max_step_width: f64,
+    /// Largest yaw of the landing sole relative to the stance sole [rad], in (0, pi/2].
+    pub max_step_turn: f64,
+    /// Shortest swing of a push-recovery step [s], at least one whole-body period.
+    pub min_swing_duration: f64,
+    /// A step is needed when the measured capture point is closer than this to the support
+    /// polygon's edge, or outside it [m], >= 0.
+    pub capture_margin: f64,
+    /// The walking command, used when `footsteps` is empty.
+    pub command: WalkCommand,
+    /// Explicit footsteps, in order (empty: footsteps from `command`).
+    pub footsteps: Vec<FootstepSpec>,
+}
+
+impl Default for WalkingSettings {
+    fn default() -> Self {
+        Self {
+            com_height: 0.53,
+            step_duration: 0.6,
+            double_support_duration: 0.15,
+            transfer_duration: 0.6,
+            swing_height: 0.03,
+            nominal_width: 0.14,
+            max_step_length: 0.20,
+            min_step_width: 0.09,
+            max_step_width: 0.25,
+            max_step_turn: 0.35,
+            min_swing_duration: 0.3,
+            capture_margin: 0.01,
+            command: WalkCommand::default(),
+            footsteps: Vec::new(),
+        }
+    }
+}
+
+impl WalkingSettings {
+    /// The pendulum of `com_height` under gravity of magnitude `gravity` [m/s^2] (the
+    /// model's); an error names `walking.com_height` when it is not positive.
+    pub fn lip(&self, gravity: f64) -> Result<Lip> {
+        Lip::new(gravity, self.com_height)
+    }
+
+    /// The swing of each step (single support) [s]: `step_duration - double_support_duration`.
+    pub fn single_support_duration(&self) -> f64 {
+        self.step_duration - self.double_support_duration
+    }
+
+    /// Checks every setting for a controller whose whole-body period is `whole_body_period`
+    /// [s] (no phase may be shorter than one tick); the error names the key, the rule and
+    /// the value.
+    pub fn validate(&self, whole_body_period: f64) -> Result<()> {
+        if !(whole_body_period.is_finite() && whole_body_period > 0.0) {
+            return Err(Error::invalid(
+                "whole_body_period",
+                "must be positive and finite",
+                whole_body_period,
+            ));
+        }
+        self.validate_timing(whole_body_period)?;
+        self.validate_geometry()?;
+        self.validate_command()
+    }
+
+    /// The durations: steps, double and single support, transfers, recovery swings.
+    fn validate_timing(&self, period: f64) -> Result<()> {
+        let at_least_period =
+            format!("must be finite and at least one whole-body period ({period} s)");
+        for (key, value) in [
+            ("walking.step_duration", self.step_duration),
+            (
+                "walking.double_support_duration",
+                self.double_support_duration,
+            ),
+            ("walking.transfer_duration", self.transfer_duration),
+            ("walking.min_swing_duration", self.min_swing_duration),
+        ] {
+            if !(value.is_finite() && value >= period) {
+                return Err(Error::invalid(key, at_least_period.clone(), value));
+            }
+        }
+        if self.single_support_duration() < period {
+            return Err(Error::invalid(
+                "walking.double_support_duration",
+                format!(
+                    "must leave a single support of at least one whole-body period ({period} s) \
+                     within walking.step_duration = {} s",
+                    self.step_duration
+                ),
+                self.double_support_duration,
+            ));
+        }
+        Ok(())
+    }
+
+    /// Heights, widths, reach and turn.
+    fn validate_geometry(&self) -> Result<()> {
+        for (key, value) in [
+            ("walking.com_height", self.com_height),
+            ("walking.max_step_length", self.max_step_length),
+            ("walking.min_step_width", self.min_step_width),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(Error::invalid(key, "must be positive and finite", value));
+            }
+        }
+        for (key, value) in [
+            ("walking.swing_height", self.swing_height),
+            ("walking.capture_margin", self.capture_margin),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(Error::invalid(
+                    key,
+                    "must be non-negative and finite",
+                    value,
+                ));
+            }
+        }
+        let (min, max) = (self.min_step_width, self.max_step_width);
+        let width = self.nominal_width;
+        if !(width.is_finite() && min < width && width < max) {
+            return Err(Error::invalid(
+                "walking.nominal_width",
+                format!(
+                    "must lie between walking.min_step_width = {min} m and \
+                     walking.max_step_width = {max} m"
+                ),
+                width,
+            ));
+        }
+        let turn = self.max_step_turn;
+        if !(turn > 0.0 && turn <= std::f64::consts::FRAC_PI_2) {
+            return Err(Error::invalid(
+                "walking.max_step_turn",
+                "must be in (0, pi/2] rad",
+                turn,
+            ));
+        }
+        Ok(())
+    }
+
+    /// The command's velocities and length (only when it is used: `footsteps` empty).
+    fn validate_command(&self) -> Result<()> {
+        let command = &self.command;
+        for (key, value) in [
+            ("walking.command.forward_velocity", command.forward_velocity),
+            (
+                "walking.command.sideways_velocity",
+                command.sideways_velocity,
+            ),
+            ("walking.command.turning_velocity", command.turning_velocity),
+        ] {
+            if !value.is_finite() {
+                return Err(Error::invalid(key, "must be finite", value));
+            }
+        }
+        if let Some(steps) = command.steps {
+            if steps == 0 {
+                return Err(Error::invalid(
+                    "walking.command.steps",
+                    "must be at least 1",
+                    0,
+                ));
+            }
+        }
+        if let Some(duration) = command.duration {
+            if !(duration.is_finite() && duration > 0.0) {
+                return Err(Error::invalid(
+                    "walking.command.duration",
+                    "must be positive and finite",
+                    duration,
+                ));
+            }
+        }
+        if self.footsteps.is_empty() && command.steps.is_some() == command.duration.is_some() {
+            return Err(Error::config(
+                "walking.command.steps",
+                "set exactly one of walking.command.steps and walking.command.duration \
+                 (or give walking.footsteps)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The number of command steps (before the stop step): `steps`, or
+    /// `floor(duration / step_duration)` at least 1. `None` when neither is set.
+    pub fn command_steps(&self) -> Option<usize> {
+        match (self.command.steps, self.command.duration) {
+            (Some(steps), _) => Some(steps),
+            (None, Some(duration)) => {
+                Some(((duration / self.step_duration).floor() as usize).max(1))
+            }
+            (None, None) => None,
+        }
+    }
+}

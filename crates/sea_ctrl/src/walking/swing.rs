@@ -1,0 +1,108 @@
+//! The swing sole's trajectory from its lift-off pose to its touchdown pose over the single
+//! support ([`SwingTrajectory`]): x, y and yaw follow the quintic `s(u) = 10 u^3 - 15 u^4 +
+//! 6 u^5` of the normalised time `u` (zero velocity and acceleration at both ends), z the
+//! sextic `64 h u^3 (1 - u)^3` above the ground (zero height, velocity and acceleration at
+//! both ends, apex `h` at `u = 1/2`). The sole stays flat (roll and pitch zero), so its
+//! angular velocity and acceleration are along world z.
+
+use super::footstep::{wrap_angle, Footstep, FootstepPlan, SolePose};
+use nalgebra::{Rotation3, Vector3};
+
+/// The swing sole's pose, velocity and acceleration at one instant (world).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SwingSample {
+    /// Sole origin [m].
+    pub world_p_sole: Vector3<f64>,
+    /// Its velocity [m/s].
+    pub world_v_sole: Vector3<f64>,
+    /// Its acceleration [m/s^2].
+    pub world_a_sole: Vector3<f64>,
+    /// Sole yaw about world z [rad].
+    pub world_yaw_sole: f64,
+    /// Angular velocity of the sole [rad/s] (along z).
+    pub world_omega_sole: Vector3<f64>,
+    /// Angular acceleration of the sole [rad/s^2] (along z).
+    pub world_omegadot_sole: Vector3<f64>,
+}
+
+impl SwingSample {
+    /// The sole's orientation, world from sole.
+    pub fn world_r_sole(&self) -> Rotation3<f64> {
+        Rotation3::from_axis_angle(&Vector3::z_axis(), self.world_yaw_sole)
+    }
+}
+
+/// A swing (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SwingTrajectory {
+    /// Lift-off pose.
+    pub lift_off: SolePose,
+    /// Touchdown pose (its yaw reached the short way round).
+    pub touchdown: SolePose,
+    /// Lift-off time [s].
+    pub start: f64,
+    /// Swing duration [s], > 0.
+    pub duration: f64,
+    /// Apex height above the ground [m].
+    pub height: f64,
+    /// Ground height in world [m].
+    pub world_z_ground: f64,
+}
+
+impl SwingTrajectory {
+    /// The swing of `plan.steps[index]` with apex `height` over ground at `world_z_ground`.
+    pub fn of_step(plan: &FootstepPlan, index: usize, height: f64, world_z_ground: f64) -> Self {
+        let step: &Footstep = &plan.steps[index];
+        Self {
+            lift_off: plan.stances[index].get(step.foot),
+            touchdown: step.pose,
+            start: step.lift_off,
+            duration: step.touchdown - step.lift_off,
+            height,
+            world_z_ground,
+        }
+    }
+
+    /// The sole at time `t` [s] (held at the lift-off pose before, at the touchdown pose
+    /// after).
+    pub fn sample(&self, t: f64) -> SwingSample {
+        let u = ((t - self.start) / self.duration).clamp(0.0, 1.0);
+        let rate = 1.0 / self.duration;
+        let [s, ds, dds] = minimum_jerk(u);
+        let [z, dz, ddz] = apex_profile(u, self.height);
+        let delta_p = self.touchdown.world_p_sole - self.lift_off.world_p_sole;
+        let delta_yaw = wrap_angle(self.touchdown.world_yaw_sole - self.lift_off.world_yaw_sole);
+        let p = self.lift_off.world_p_sole + delta_p * s;
+        let v = delta_p * (ds * rate);
+        let a = delta_p * (dds * rate * rate);
+        SwingSample {
+            world_p_sole: Vector3::new(p.x, p.y, self.world_z_ground + z),
+            world_v_sole: Vector3::new(v.x, v.y, dz * rate),
+            world_a_sole: Vector3::new(a.x, a.y, ddz * rate * rate),
+            world_yaw_sole: self.lift_off.world_yaw_sole + delta_yaw * s,
+            world_omega_sole: Vector3::new(0.0, 0.0, delta_yaw * ds * rate),
+            world_omegadot_sole: Vector3::new(0.0, 0.0, delta_yaw * dds * rate * rate),
+        }
+    }
+}
+
+/// `s(u) = 10 u^3 - 15 u^4 + 6 u^5` and its first two derivatives in `u`.
+fn minimum_jerk(u: f64) -> [f64; 3] {
+    let (u2, u3) = (u * u, u * u * u);
+    [
+        u3 * (10.0 - 15.0 * u + 6.0 * u2),
+        30.0 * u2 * (1.0 - 2.0 * u + u2),
+        60.0 * u * (1.0 - 3.0 * u + 2.0 * u2),
+    ]
+}
+
+/// `z(u) = 64 h u^3 (1 - u)^3` and its first two derivatives in `u`.
+fn apex_profile(u: f64, height: f64) -> [f64; 3] {
+    let (a, b) = (u, 1.0 - u);
+    let k = 64.0 * height;
+    [
+        k * a.powi(3) * b.powi(3),
+        k * 3.0 * a * a * b * b * (b - a),
+        k * 6.0 * a * b * (b * b - 3.0 * a * b + a * a),
+    ]
+}

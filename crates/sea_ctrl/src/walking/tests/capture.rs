@@ -1,0 +1,203 @@
+//! Push-recovery steps from the capture point.
+
+use super::super::capture::{needs_step, recovery_step, swing_foot_for, StepRequest};
+use super::super::footstep::{Foot, SolePose};
+use super::super::polygon::SupportPolygon;
+use super::{assert_close, lip, standing, walking};
+use nalgebra::Vector2;
+use sea_dyn::ContactSurface;
+
+/// The DCM after `duration` of the LIP from its DCM `xi0` (CoM at `x0`) with the centre of
+/// pressure at `p`, by integrating `xddot = omega^2 (x - p)` (RK4).
+fn integrated_dcm(
+    omega: f64,
+    x0: Vector2<f64>,
+    xi0: Vector2<f64>,
+    p: Vector2<f64>,
+    duration: f64,
+) -> Vector2<f64> {
+    let (mut x, mut v) = (x0, omega * (xi0 - x0));
+    let n = 20_000;
+    let h = duration / n as f64;
+    let f = |x: Vector2<f64>, v: Vector2<f64>| (v, omega * omega * (x - p));
+    for _ in 0..n {
+        let (k1x, k1v) = f(x, v);
+        let (k2x, k2v) = f(x + k1x * (h / 2.0), v + k1v * (h / 2.0));
+        let (k3x, k3v) = f(x + k2x * (h / 2.0), v + k2v * (h / 2.0));
+        let (k4x, k4v) = f(x + k3x * h, v + k3v * h);
+        x += (k1x + 2.0 * k2x + 2.0 * k3x + k4x) * (h / 6.0);
+        v += (k1v + 2.0 * k2v + 2.0 * k3v + k4v) * (h / 6.0);
+    }
+    x + v / omega
+}
+
+/// The request of a step of `swing_foot` from `stance` for the DCM `world_xi`.
+fn request(
+    world_xi: Vector2<f64>,
+    stance: SolePose,
+    swing_foot: Foot,
+    swing_duration: f64,
+) -> StepRequest {
+    StepRequest {
+        world_xi,
+        stance,
+        swing_foot,
+        swing_duration,
+    }
+}
+
+#[test]
+fn a_dcm_inside_the_support_needs_no_step() {
+    let settings = walking(1, 0.0, 0.0, 0.0);
+    let surface = ContactSurface::default();
+    let stance = standing(&settings);
+    let two_feet = SupportPolygon::of_stance(&stance, &surface);
+    assert!(!needs_step(
+        &two_feet,
+        Vector2::new(0.02, 0.0),
+        settings.capture_margin
+    ));
+    assert!(
+        (two_feet.signed_margin(Vector2::new(0.02, 0.0)) - 0.07).abs() < 1e-12,
+        "the back edge 7 cm behind"
+    );
+    let one_foot = SupportPolygon::of_sole(stance.right, &surface);
+    assert!(!needs_step(
+        &one_foot,
+        Vector2::new(0.02, -0.07),
+        settings.capture_margin
+    ));
+    // Within the margin of the front edge (10 cm ahead of the sole origin).
+    assert!(needs_step(
+        &one_foot,
+        Vector2::new(0.095, -0.07),
+        settings.capture_margin
+    ));
+}
+
+#[test]
+fn a_dcm_ahead_asks_for_the_step_the_dcm_evolution_predicts() {
+    let settings = walking(1, 0.0, 0.0, 0.0);
+    let surface = ContactSurface::default();
+    let lip = lip(&settings);
+    let stance = standing(&settings);
+    let xi0 = Vector2::new(0.11, 0.0);
+    let support = SupportPolygon::of_stance(&stance, &surface);
+    assert!(needs_step(&support, xi0, settings.capture_margin));
+    let foot = swing_foot_for(&stance, xi0);
+    assert_eq!(foot, Foot::Left, "on the line: the left foot");
+    let step = recovery_step(
+        &settings,
+        &lip,
+        &surface,
+        request(xi0, stance.right, foot, 0.3),
+    );
+    assert_eq!(step.swing_duration, 0.3);
+    // The right sole's front-left corner is its closest point to the DCM.
+    assert_close(step.stance_cop, Vector2::new(0.10, -0.045), 1e-12, "CoP");
+    let simulated = integrated_dcm(lip.omega, Vector2::zeros(), xi0, step.stance_cop, 0.3);
+    assert_close(
+        step.dcm_at_touchdown,
+        simulated,
+        1e-9,
+        "xi(T) vs the LIP integrated",
+    );
+    // Within reach (forward 0.136 m, lateral 0.189 m from the right sole): the sole lands
+    // under the DCM, which it then holds.
+    assert_close(
+        step.pose.world_p_sole,
+        step.dcm_at_touchdown,
+        1e-12,
+        "aimed at xi(T)",
+    );
+    assert!(!step.clipped && step.captures);
+    assert!(
+        step.pose.world_p_sole.x > 0.1,
+        "forward, in the DCM's direction"
+    );
+}
+
+#[test]
+fn a_forward_push_beyond_the_reach_is_clipped_forward() {
+    let settings = walking(1, 0.0, 0.0, 0.0);
+    let surface = ContactSurface::default();
+    let lip = lip(&settings);
+    let stance = standing(&settings);
+    let xi0 = Vector2::new(0.13, 0.0);
+    let request = request(xi0, stance.right, Foot::Left, 0.35);
+    let step = recovery_step(&settings, &lip, &surface, request);
+    assert!(step.dcm_at_touchdown.x > settings.max_step_length);
+    let stance_p_step = stance.right.to_sole(step.pose.world_p_sole);
+    assert!(
+        (stance_p_step.x - settings.max_step_length).abs() < 1e-12,
+        "{stance_p_step:?}"
+    );
+    let lateral = step.dcm_at_touchdown.y - stance.right.world_p_sole.y;
+    assert!(
+        (stance_p_step.y - lateral).abs() < 1e-12,
+        "lateral within limits, kept"
+    );
+    assert!(step.clipped);
+}
+
+#[test]
+fn a_large_push_is_clipped_to_the_reach_and_reported_not_captured() {
+    let settings = walking(1, 0.0, 0.0, 0.0);
+    let surface = ContactSurface::default();
+    let lip = lip(&settings);
+    let stance = standing(&settings);
+    let xi0 = Vector2::new(0.25, -0.10);
+    let foot = swing_foot_for(&stance, xi0);
+    assert_eq!(foot, Foot::Right, "the DCM is on the right");
+    let step = recovery_step(
+        &settings,
+        &lip,
+        &surface,
+        request(xi0, stance.left, foot, 0.1),
+    );
+    assert_eq!(
+        step.swing_duration, settings.min_swing_duration,
+        "raised to the minimum"
+    );
+    let left_p_step = stance.left.to_sole(step.pose.world_p_sole);
+    assert!(
+        (left_p_step.x - settings.max_step_length).abs() < 1e-12,
+        "{left_p_step:?}"
+    );
+    let direction = (xi0 - stance.left.world_p_sole).normalize();
+    assert!((step.pose.world_p_sole - stance.left.world_p_sole).dot(&direction) > 0.0);
+    assert!(step.clipped && !step.captures);
+    assert!(left_p_step.y <= -settings.min_step_width);
+}
+
+#[test]
+fn a_sideways_push_steps_sideways_within_the_width_limit() {
+    let settings = walking(1, 0.0, 0.0, 0.0);
+    let surface = ContactSurface::default();
+    let lip = lip(&settings);
+    let stance = standing(&settings);
+    let xi0 = Vector2::new(0.02, 0.11);
+    assert!(needs_step(
+        &SupportPolygon::of_stance(&stance, &surface),
+        xi0,
+        settings.capture_margin
+    ));
+    let foot = swing_foot_for(&stance, xi0);
+    assert_eq!(foot, Foot::Left);
+    let step = recovery_step(
+        &settings,
+        &lip,
+        &surface,
+        request(xi0, stance.right, foot, 0.3),
+    );
+    let right_p_step = stance.right.to_sole(step.pose.world_p_sole);
+    assert!(
+        right_p_step.y > settings.nominal_width,
+        "steps outwards: {right_p_step:?}"
+    );
+    assert!(right_p_step.y <= settings.max_step_width + 1e-12);
+    assert_eq!(
+        step.captures,
+        !step.clipped || right_p_step.y < settings.max_step_width
+    );
+}

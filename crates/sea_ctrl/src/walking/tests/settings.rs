@@ -1,0 +1,107 @@
+//! The settings' check names the key, the rule and the value.
+
+use super::super::lip::Lip;
+use super::walking;
+use crate::error::Error;
+
+/// The key of a setting error.
+fn key_of(error: Error) -> String {
+    match error {
+        Error::Setting { key, .. } => key,
+        other => panic!("expected a setting error, got {other}"),
+    }
+}
+
+#[test]
+fn defaults_with_a_length_are_valid() {
+    walking(4, 0.2, 0.0, 0.0).validate(0.01).expect("valid");
+}
+
+#[test]
+fn a_step_shorter_than_one_whole_body_period_names_step_duration() {
+    let mut settings = walking(4, 0.2, 0.0, 0.0);
+    settings.step_duration = 0.008;
+    settings.double_support_duration = 0.004;
+    let error = settings.validate(0.01).unwrap_err();
+    let message = error.to_string();
+    assert!(message.contains("walking.step_duration"), "{message}");
+    assert!(
+        message.contains("0.01 s") && message.contains("got 0.008"),
+        "{message}"
+    );
+}
+
+#[test]
+fn a_double_support_leaving_no_swing_names_double_support_duration() {
+    let mut settings = walking(4, 0.2, 0.0, 0.0);
+    settings.double_support_duration = settings.step_duration - 0.005;
+    let key = key_of(settings.validate(0.01).unwrap_err());
+    assert_eq!(key, "walking.double_support_duration");
+}
+
+#[test]
+fn a_negative_height_names_com_height() {
+    let mut settings = walking(4, 0.2, 0.0, 0.0);
+    settings.com_height = -0.5;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.com_height"
+    );
+    let error = Lip::new(9.81, -0.5).unwrap_err().to_string();
+    assert!(
+        error.contains("walking.com_height") && error.contains("-0.5"),
+        "{error}"
+    );
+}
+
+#[test]
+fn widths_out_of_order_name_nominal_width() {
+    let mut settings = walking(4, 0.2, 0.0, 0.0);
+    settings.nominal_width = settings.max_step_width + 0.01;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.nominal_width"
+    );
+}
+
+#[test]
+fn steps_and_duration_are_exclusive() {
+    let mut settings = walking(4, 0.2, 0.0, 0.0);
+    settings.command.duration = Some(3.0);
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.command.steps"
+    );
+    settings.command.steps = None;
+    settings.validate(0.01).expect("duration alone");
+    assert_eq!(settings.command_steps(), Some(5));
+    settings.command.steps = Some(0);
+    settings.command.duration = None;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.command.steps"
+    );
+}
+
+/// A change that makes one setting invalid.
+type Spoil = fn(&mut super::WalkingSettings);
+
+#[test]
+fn other_bad_values_name_their_keys() {
+    let cases: [(&str, Spoil); 5] = [
+        ("walking.swing_height", |s| s.swing_height = -0.01),
+        ("walking.max_step_turn", |s| s.max_step_turn = 2.0),
+        ("walking.min_swing_duration", |s| s.min_swing_duration = 0.0),
+        ("walking.transfer_duration", |s| {
+            s.transfer_duration = f64::NAN
+        }),
+        ("walking.command.forward_velocity", |s| {
+            s.command.forward_velocity = f64::INFINITY
+        }),
+    ];
+    for (key, spoil) in cases {
+        let mut settings = walking(4, 0.2, 0.0, 0.0);
+        spoil(&mut settings);
+        assert_eq!(key_of(settings.validate(0.01).unwrap_err()), key);
+    }
+}
