@@ -450,6 +450,73 @@ mod tests {
     }
 
     #[test]
+    fn the_report_flags_each_constraint_and_names_the_first() {
+        let surface = sea_dyn::ContactSurface::default();
+        // Friction ratio 1.25 and CoP x = 0.12 m: both flagged, friction named first.
+        let report = WrenchCheck::of(
+            &Vector3::new(30.0, 40.0, 40.0),
+            &Vector3::new(0.0, -4.8, 0.0),
+            &surface,
+        );
+        assert!(!report.normal_force_violated() && report.friction_violated());
+        assert!((report.center_of_pressure[0] - 0.12).abs() < 1e-12);
+        assert_eq!(report.center_of_pressure_beyond(0), Some(0.1));
+        assert_eq!(report.center_of_pressure_beyond(1), None);
+        assert_eq!(report.violated.map(|c| c.kind()), Some("friction"));
+        // No load: only the normal force is checked, the rest is NaN.
+        let lifted = WrenchCheck::of(&Vector3::zeros(), &Vector3::zeros(), &surface);
+        assert!(lifted.normal_force_violated() && !lifted.friction_violated());
+        assert!(lifted.friction_ratio.is_nan() && lifted.center_of_pressure[1].is_nan());
+        assert_eq!(lifted.center_of_pressure_beyond(0), None);
+        assert_eq!(lifted.violated.map(|c| c.kind()), Some("normal_force"));
+    }
+
+    #[test]
+    fn episodes_give_one_event_when_a_foot_starts_and_one_when_it_stops_violating() {
+        let surface = sea_dyn::ContactSurface::default();
+        let fine = WrenchCheck::of(&Vector3::new(0.0, 0.0, 100.0), &Vector3::zeros(), &surface);
+        let lifted = WrenchCheck::of(&Vector3::zeros(), &Vector3::zeros(), &surface);
+        let names = |c: usize| ["left", "right"][c].to_string();
+        let (mut episodes, mut events) = (ViolationEpisodes::default(), Vec::new());
+        let samples = [
+            [fine, lifted],
+            [lifted, lifted],
+            [lifted, fine],
+            [fine, fine],
+        ];
+        for (k, checks) in samples.iter().enumerate() {
+            episodes.update(0.01 * k as f64, checks, names, &mut events);
+        }
+        let summary: Vec<(f64, &str, bool)> = events
+            .iter()
+            .map(|e| {
+                let started = matches!(e.change, VerdictChange::Violated(_));
+                (e.time_s, e.foot.as_str(), started)
+            })
+            .collect();
+        assert_eq!(
+            summary,
+            [
+                (0.0, "right", true),
+                (0.01, "left", true),
+                (0.02, "right", false),
+                (0.03, "left", false)
+            ]
+        );
+        assert_eq!(
+            events[2].change,
+            VerdictChange::Satisfied {
+                since_s: 0.0,
+                samples: 2
+            }
+        );
+        assert_eq!(
+            events[2].to_string(),
+            "contact check: foot right satisfies it again after 2 samples from t = 0 s"
+        );
+    }
+
+    #[test]
     fn the_tolerance_lets_rounding_on_an_edge_pass_and_no_more() {
         // CoP exactly on the front edge plus rounding, then 1e-5 m beyond it.
         assert_eq!(

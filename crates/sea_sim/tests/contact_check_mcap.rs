@@ -112,7 +112,13 @@ fn violated(foot: &Value) -> bool {
         .map(|c| c["violated"].as_bool().unwrap())
         .collect();
     let first = flags.iter().position(|&v| v).map(|k| {
-        ["normal_force", "friction", "center_of_pressure", "center_of_pressure"][k].to_string()
+        [
+            "normal_force",
+            "friction",
+            "center_of_pressure",
+            "center_of_pressure",
+        ][k]
+            .to_string()
     });
     let verdict = foot["violated"].as_str().map(str::to_string);
     assert_eq!(verdict, first, "{foot}");
@@ -143,7 +149,10 @@ fn feet_in_the_air_violate_the_normal_force_until_they_touch_down() {
         assert!((time - t).abs() < 1e-9);
         let feet = body["contacts"].as_array().unwrap();
         assert_eq!(feet.len(), 2);
-        assert_eq!((&feet[0]["contact"], &feet[1]["contact"]), (&"l_sole".into(), &"r_sole".into()));
+        assert_eq!(
+            (&feet[0]["contact"], &feet[1]["contact"]),
+            (&"l_sole".into(), &"r_sole".into())
+        );
         for foot in feet {
             assert_eq!(foot["checks"].as_array().unwrap().len(), 4);
             // The bounds: f_z > 0, the friction ratio up to mu, the CoP inside the sole.
@@ -207,18 +216,30 @@ fn feet_in_the_air_violate_the_normal_force_until_they_touch_down() {
         let (start, end) = (of_foot[0], of_foot[1]);
         assert_eq!(start.level, foxglove::messages::log::Level::Warning as i32);
         assert_eq!(log_time(start), 0.0);
-        assert!(start.message.contains("constraint normal_force"), "{}", start.message);
+        assert!(
+            start.message.contains("constraint normal_force"),
+            "{}",
+            start.message
+        );
         assert_eq!(end.level, foxglove::messages::log::Level::Info as i32);
-        assert!(end.message.contains("satisfies it again"), "{}", end.message);
+        assert!(
+            end.message.contains("satisfies it again"),
+            "{}",
+            end.message
+        );
         let end_s = log_time(end);
-        assert!(end_s >= first && end_s < last + 0.01, "{end_s} vs {touchdowns:?}");
+        assert!(
+            end_s >= first && end_s < last + 0.01,
+            "{end_s} vs {touchdowns:?}"
+        );
     }
 }
 
 #[test]
 fn a_push_that_lifts_the_feet_shows_in_the_check_channel_and_on_events() {
     // docs/findings: 20 N s forward is beyond the stance; the feet lift before the fall.
-    let push = "[{link = \"root_link\", force = [200.0, 0.0, 0.0], start_s = 0.3, duration_s = 0.1}]";
+    let push =
+        "[{link = \"root_link\", force = [200.0, 0.0, 0.0], start_s = 0.3, duration_s = 0.1}]";
     let pushed = scenario(&[
         ("disturbances", push),
         ("simulation.duration_s", "1.8"),
@@ -251,8 +272,12 @@ fn a_push_that_lifts_the_feet_shows_in_the_check_channel_and_on_events() {
     let name = foot["contact"].as_str().unwrap();
     let constraint = foot["violated"].as_str().unwrap();
     assert!(
-        warning.message.contains(&format!("foot {name} violates it"))
-            && warning.message.contains(&format!("constraint {constraint}")),
+        warning
+            .message
+            .contains(&format!("foot {name} violates it"))
+            && warning
+                .message
+                .contains(&format!("constraint {constraint}")),
         "{} vs {foot}",
         warning.message
     );
