@@ -141,3 +141,33 @@ def test_layout_plots_fields_the_log_has(log):
     three_d = next(c for key, c in layout["configById"].items() if key.startswith("3D!"))
     assert "/scene" in three_d["topics"]
     assert three_d["topics"]["/robot"]["visible"]
+
+
+def test_the_unilateral_channels_validate_against_their_schemas(tmp_path):
+    """Under unilateral contacts: `/contact_points` and `/contact_check` (the contact check of
+    the delivered wrenches) at every recorded sample, each message valid against its JSON
+    Schema; the feet start 2 mm in the air, so the check's `/events` warn of their normal force
+    and then report them satisfied."""
+    path = tmp_path / "dropped.mcap"
+    overrides = {
+        "plant.contact_model": "unilateral",
+        "ground.height_m": -0.002,
+        "disturbances": [],
+        "simulation.stop_at_joint_limits": False,
+        "simulation.duration_s": 0.1,
+    }
+    result = sm.run_scenario(ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml", overrides, mcap=path)
+    counts: Counter[str] = Counter()
+    events = []
+    protobuf = DecoderFactory()
+    with open(path, "rb") as stream:
+        for schema, channel, message in make_reader(stream).iter_messages():
+            counts[channel.topic] += 1
+            if channel.topic in ("/contact_points", "/contact_check"):
+                jsonschema.Draft202012Validator(json.loads(schema.data)).validate(json.loads(message.data))
+            elif channel.topic == "/events":
+                events.append(protobuf.decoder_for("protobuf", schema)(message.data))
+    assert counts["/contact_points"] == counts["/contact_check"] == len(result.time)
+    checks = [e for e in events if e.name == "sea_sim.contact_check"]
+    assert [e.level for e in checks] == [3, 3, 2, 2]  # WARNING, WARNING, INFO, INFO
+    assert all("normal_force" in e.message for e in checks[:2])

@@ -282,8 +282,12 @@ def run_scenario_native(
     ``[[disturbances]]`` acting from each sample on, summed, ``[force; torque]`` world axes,
     each torque about its link's origin), ``external_wrench`` (m, 6: the external wrench the
     controller took, ``[force; moment about the CoM]``); ints ``nq``, ``nv``, ``ne``; name lists
-    ``joint_names``, ``elastic_joints``, ``contacts``; ``summary``, the keyword arguments of
-    ``sea_momentum.results.RunSummary``. Ctrl-C stops
+    ``joint_names``, ``elastic_joints``, ``contacts``; under unilateral contacts the contact
+    points: ``contact_points`` (list of the number of points of each contact; empty under
+    bilateral contacts), ``contact_point_positions`` and ``contact_point_forces`` (m, n_points,
+    3: world, the force on the foot), ``contact_point_active`` (m, n_points) bool,
+    ``ground_normal`` (3,) the ground's unit normal or None under bilateral contacts;
+    ``summary``, the keyword arguments of ``sea_momentum.results.RunSummary``. Ctrl-C stops
     the run at its next tick (the MCAP log is finished) and raises ``KeyboardInterrupt`` whose
     ``partial`` attribute is this dict so far (summary status "interrupted")."""
 

@@ -7,8 +7,10 @@ import dataclasses
 import os
 from typing import Any, Mapping, Sequence
 
+import numpy as np
+
 from ._native import run_scenario_native
-from .arrays import FloatArray
+from .arrays import BoolArray, FloatArray
 from .results import Result, RunStatus, RunSummary
 
 
@@ -45,6 +47,19 @@ class ScenarioResult(Result):
     joint_names: list[str]  #: joint names in coordinate order
     elastic_joints: list[str]  #: elastic joint names, the columns of the motor arrays
     contacts: list[str]  #: contact frame names, the second axis of ``contact_wrenches``
+    #: Unilateral contacts (``plant.contact_model = "unilateral"``): the number of points of
+    #: each contact, in the order of ``contacts``; the ``n_points`` points are the contacts'
+    #: points in that order. Empty under bilateral contacts (``n_points = 0``).
+    contact_points: list[int]
+    #: (m, n_points, 3) float64, each contact point's position, world [m]
+    contact_point_positions: FloatArray
+    #: (m, n_points, 3) float64, each contact point's force on its foot, world axes [N]
+    contact_point_forces: FloatArray
+    #: (m, n_points) bool, whether each contact point carries a force (touches the ground)
+    contact_point_active: BoolArray
+    #: (3,) float64, the ground's unit normal (world axes, out of the ground); None under
+    #: bilateral contacts
+    ground_normal: FloatArray | None
     summary: RunSummary  #: summary statistics (also answers ``summary["field"]``)
 
     @property
@@ -55,6 +70,24 @@ class ScenarioResult(Result):
     def motor(self, joint: str) -> int:
         """Column of an elastic joint in the motor arrays."""
         return self.elastic_joints.index(joint)
+
+    def contact_point_slice(self, contact: str) -> slice:
+        """The columns of contact ``contact``'s points in the contact point arrays (an empty
+        slice under bilateral contacts); ``ValueError`` naming it when it is not a contact."""
+        if contact not in self.contacts:
+            raise ValueError(f"contact: expected one of {self.contacts}, got {contact!r}")
+        if not self.contact_points:
+            return slice(0, 0)
+        k = self.contacts.index(contact)
+        start = sum(self.contact_points[:k])
+        return slice(start, start + self.contact_points[k])
+
+    def contact_point_normal_forces(self) -> FloatArray:
+        """(m, n_points) float64, each contact point's force along the ground's normal [N]
+        (0 when it does not touch); (m, 0) under bilateral contacts."""
+        if self.ground_normal is None:
+            return np.zeros((len(self.time), 0))
+        return np.asarray(self.contact_point_forces @ self.ground_normal, dtype=np.float64)
 
     @classmethod
     def from_native(cls, fields: Mapping[str, Any]) -> ScenarioResult:
@@ -81,6 +114,11 @@ class ScenarioResult(Result):
             joint_names=list(fields["joint_names"]),
             elastic_joints=list(fields["elastic_joints"]),
             contacts=list(fields["contacts"]),
+            contact_points=list(fields["contact_points"]),
+            contact_point_positions=fields["contact_point_positions"],
+            contact_point_forces=fields["contact_point_forces"],
+            contact_point_active=fields["contact_point_active"],
+            ground_normal=fields["ground_normal"],
             summary=RunSummary.from_native(fields["summary"]),
         )
 

@@ -51,7 +51,9 @@ pub mod settings;
 pub mod statistics;
 mod tick;
 
-pub use contact_check::{ContactConstraint, WrenchFall};
+pub use contact_check::{
+    ContactCheckEvent, ContactConstraint, VerdictChange, WrenchCheck, WrenchFall,
+};
 pub use disturbance_schedule::{DisturbanceConfig, DisturbanceSchedule};
 pub use error::{Error, Result};
 pub use fall_check::{Fall, FallBounds, PhysicalFall};
@@ -136,6 +138,19 @@ fn deliver_impacts(engine: &mut Engine<'_>, sinks: &mut [&mut dyn RecordSink]) -
     Ok(())
 }
 
+/// Hands the contact check's verdict changes since the last call to every sink.
+fn deliver_contact_checks(
+    engine: &mut Engine<'_>,
+    sinks: &mut [&mut dyn RecordSink],
+) -> Result<()> {
+    for event in engine.new_contact_check_events() {
+        for sink in sinks.iter_mut() {
+            sink.contact_check(&event)?;
+        }
+    }
+    Ok(())
+}
+
 /// The loop over samples: each period's observation goes to the statistics and, every
 /// `simulation.record_every` samples and at the last one, to the sinks. Returns how the run
 /// ended and the time reached.
@@ -171,6 +186,7 @@ fn drive(
                 sink.record(&sample)?;
             }
         }
+        deliver_contact_checks(engine, sinks)?;
         deliver_impacts(engine, sinks)?;
         if let Some(end) = period.end {
             return Ok((end, time));

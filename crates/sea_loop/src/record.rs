@@ -3,6 +3,7 @@
 //! trait: the in-memory [`RunRecord`] (what Python gets) is here; the MCAP log and the live
 //! view (`sea_viz`) sit above the loop. With no sink, only the summary statistics are computed (online).
 
+use super::contact_check::{ContactCheckEvent, WrenchCheck};
 use super::impacts::Impact;
 use super::statistics::RunEnd;
 use crate::error::Result;
@@ -62,6 +63,11 @@ pub struct Sample<'a> {
     pub contact_point_forces: &'a [f64],
     /// Unilateral contacts: whether each contact point carries a force.
     pub contact_point_active: &'a [bool],
+    /// Unilateral contacts: each foot's delivered wrench checked against a unilateral
+    /// contact with friction (contacts in order), a diagnostic; empty when the check did not
+    /// run at this sample (bilateral contacts, where a violation ends the run as a fall;
+    /// `simulation.stop_on_fall` off; a diverged sample).
+    pub contact_checks: &'a [WrenchCheck],
     /// Motor torques applied by the plant [Nm] (n_e).
     pub motor_torques: &'a [f64],
     /// Joint torques applied to the links [Nm] (n).
@@ -94,6 +100,12 @@ pub trait RecordSink {
     /// complete, i.e. up to [`crate::impacts::PEAK_WINDOW_S`] after its time (after the
     /// samples up to then; impacts in the order their windows closed).
     fn impact(&mut self, _impact: &Impact) -> Result<()> {
+        Ok(())
+    }
+
+    /// Takes one change of a foot's contact check under unilateral contacts (it starts or
+    /// stops violating a constraint), after the sample it happened at.
+    fn contact_check(&mut self, _event: &ContactCheckEvent) -> Result<()> {
         Ok(())
     }
 
@@ -148,6 +160,16 @@ pub struct RunRecord {
     /// The run's impacts (touchdowns, joints reaching their stops), in the order their
     /// windows closed.
     pub impacts: Vec<Impact>,
+    /// Unilateral contacts: the number of points of each contact (the order of the contact
+    /// point columns); empty under bilateral contacts.
+    pub contact_points: Vec<usize>,
+    /// Unilateral contacts: each contact point's position (rows x 3 n_points) [m], world.
+    pub contact_point_positions: Vec<f64>,
+    /// Unilateral contacts: each contact point's force on its foot (rows x 3 n_points) [N],
+    /// world axes.
+    pub contact_point_forces: Vec<f64>,
+    /// Unilateral contacts: whether each contact point carries a force (rows x n_points).
+    pub contact_point_active: Vec<bool>,
 }
 
 impl RecordSink for RunRecord {
@@ -155,6 +177,7 @@ impl RecordSink for RunRecord {
         self.layout = (run.layout.nq, run.layout.nv, run.layout.ne);
         self.joint_names = run.model.joint_names.clone();
         self.elastic_joints = run.elastic_joints.to_vec();
+        self.contact_points = run.contact_points.to_vec();
         Ok(())
     }
 
@@ -175,6 +198,12 @@ impl RecordSink for RunRecord {
             .extend_from_slice(&sample.external_wrench);
         self.contact_wrenches
             .extend_from_slice(sample.contact_wrenches);
+        self.contact_point_positions
+            .extend_from_slice(sample.contact_point_positions);
+        self.contact_point_forces
+            .extend_from_slice(sample.contact_point_forces);
+        self.contact_point_active
+            .extend_from_slice(sample.contact_point_active);
         self.motor_torques.extend_from_slice(sample.motor_torques);
         self.joint_error_norm.push(sample.joint_error_norm);
         let solved = !matches!(sample.qp_status, QpStatus::Fallback(_));
@@ -236,6 +265,7 @@ impl<'a> Sample<'a> {
             values,
             ends,
             active: self.contact_point_active.to_vec(),
+            checks: self.contact_checks.to_vec(),
             qp_status: self.qp_status.clone(),
             scalars: Sample {
                 state: &[],
@@ -247,6 +277,7 @@ impl<'a> Sample<'a> {
                 contact_point_positions: &[],
                 contact_point_forces: &[],
                 contact_point_active: &[],
+                contact_checks: &[],
                 qp_status: &NO_STATUS,
                 ..*self
             },
@@ -268,6 +299,8 @@ pub struct OwnedSample {
     ends: [usize; 8],
     /// `contact_point_active`.
     active: Vec<bool>,
+    /// `contact_checks`.
+    checks: Vec<WrenchCheck>,
     qp_status: QpStatus,
     /// The sample's other fields (its slices empty).
     scalars: Sample<'static>,
@@ -290,6 +323,7 @@ impl OwnedSample {
             contact_point_positions: part(6),
             contact_point_forces: part(7),
             contact_point_active: &self.active,
+            contact_checks: &self.checks,
             qp_status: &self.qp_status,
             ..self.scalars
         }

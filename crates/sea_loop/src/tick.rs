@@ -3,7 +3,7 @@
 //! divergence bounds, and the plant's advance to the next sample with the input held
 //! (zero-order hold) or the law at every integrator stage (continuous).
 
-use super::contact_check::ContactCheck;
+use super::contact_check::{ContactCheck, ContactCheckEvent, ViolationEpisodes, WrenchCheck};
 use super::fall_check::{Fall, FallCheck};
 use super::impacts::{Impact, ImpactDetector};
 use super::record::{RunInfo, Sample};
@@ -394,6 +394,13 @@ pub(super) struct Engine<'a> {
     fall_check: Option<FallCheck>,
     /// Under unilateral contacts, the wrench check as a diagnostic.
     contact_check_count: ContactCheckCount,
+    /// Under unilateral contacts, each foot's check at the current sample (empty when the
+    /// check did not run there: bilateral contacts, `stop_on_fall` off, a diverged sample).
+    contact_checks: Vec<WrenchCheck>,
+    /// Under unilateral contacts, each foot's open violation.
+    violation_episodes: ViolationEpisodes,
+    /// The check's verdict changes not yet handed to the sinks.
+    contact_check_events: Vec<ContactCheckEvent>,
     /// `[sensing]`: the controller's measurements (`None`: it reads the true state).
     sensor: Option<Sensor>,
     /// Without a sensor, when the controller's model is not the plant's (mass estimates): the
@@ -473,6 +480,9 @@ impl<'a> Engine<'a> {
             x: x0.clone(),
             contact_check: ContactCheck::new(plant),
             contact_check_count: ContactCheckCount::default(),
+            contact_checks: Vec::with_capacity(plant.contacts.len()),
+            violation_episodes: ViolationEpisodes::default(),
+            contact_check_events: Vec::new(),
             fall_check: FallCheck::new(plant, x0, settings.fall_bounds),
             sensor,
             truth,
@@ -544,6 +554,7 @@ impl<'a> Engine<'a> {
         index: usize,
         interrupted: bool,
     ) -> std::result::Result<Period, Divergence> {
+        self.contact_checks.clear();
         let mut period = self.period_unchecked(index, interrupted)?;
         let check = self.settings.stop_on_fall;
         if check && !matches!(period.end, Some(RunEnd::Diverged { .. })) {
@@ -558,15 +569,22 @@ impl<'a> Engine<'a> {
     /// The fall at state `x`: the robot on the ground under unilateral contacts, a foot's
     /// wrench outside a unilateral contact under bilateral ones.
     /// Under unilateral contacts the wrench check stays a diagnostic: the samples whose
-    /// delivered wrenches it would have called a fall are counted ([`ContactCheckCount`]).
+    /// delivered wrenches it would have called a fall are counted ([`ContactCheckCount`]),
+    /// each foot's check is kept for the sample ([`Engine::sample`]) and a foot's verdict
+    /// changes are queued for the sinks ([`Engine::new_contact_check_events`]).
     fn fall(&mut self, x: &[f64], time: f64) -> Option<Fall> {
         let (plant, outputs) = (self.side.plant, &self.side.outputs);
         match &mut self.fall_check {
             Some(check) => {
-                if self.contact_check.fall(plant, x, outputs).is_some() {
+                let checks = &mut self.contact_checks;
+                self.contact_check.check_all(plant, x, outputs, checks);
+                if checks.iter().any(|check| check.violated.is_some()) {
                     self.contact_check_count.violations += 1;
                     self.contact_check_count.first_s.get_or_insert(time);
                 }
+                let names = |c: usize| plant.contacts[c].name.clone();
+                let events = &mut self.contact_check_events;
+                self.violation_episodes.update(time, checks, names, events);
                 check.fall(plant, x).map(Fall::Physical)
             }
             None => self.contact_check.fall(plant, x, outputs).map(Fall::Wrench),
@@ -576,6 +594,12 @@ impl<'a> Engine<'a> {
     /// Under unilateral contacts, the samples the wrench check would have called a fall.
     pub fn contact_check_count(&self) -> ContactCheckCount {
         self.contact_check_count
+    }
+
+    /// Under unilateral contacts, the feet's verdict changes since the last call (each
+    /// handed out once; the buffer is kept).
+    pub fn new_contact_check_events(&mut self) -> std::vec::Drain<'_, ContactCheckEvent> {
+        self.contact_check_events.drain(..)
     }
 
     /// [`Engine::period`] without the fall check.
@@ -762,6 +786,7 @@ impl<'a> Engine<'a> {
             contact_point_positions: outputs.contact_point_position.as_slice(),
             contact_point_forces: outputs.contact_point_force.as_slice(),
             contact_point_active: &outputs.contact_point_active,
+            contact_checks: &self.contact_checks,
             motor_torques: outputs.motor_torque.as_slice(),
             joint_torques: outputs.joint_torque.as_slice(),
             disturbance_wrenches: &self.side.disturbance_wrenches,

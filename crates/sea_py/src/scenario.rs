@@ -3,6 +3,7 @@
 use crate::arrays::{matrix_rows_out, table_out, vector_out};
 use crate::errors::to_py;
 use crate::interrupt::run_interruptible;
+use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sea_sim::closed_loop::{run_with_sinks, RecordSink, RunRecord};
@@ -16,7 +17,9 @@ use std::path::PathBuf;
 /// joint_error_norm, qp_solved, disturbance_wrench, external_wrench; float64, one row per
 /// recorded tick), the
 /// layout (nq, nv, ne),
-/// names, and the summary as a dict of the fields of `sea_momentum.results.RunSummary`.
+/// names, the contact points under unilateral contacts (their count per contact, positions,
+/// forces, activity per row, the ground's normal; [`contact_point_fields`]), and the summary
+/// as a dict of the fields of `sea_momentum.results.RunSummary`.
 /// `package_dirs` are searched first for the URDF's `package://` meshes drawn in the log.
 ///
 /// Ctrl-C stops the run at its next control tick (the MCAP log is finished) and raises
@@ -103,6 +106,7 @@ pub fn run_scenario_native<'py>(
     dict.set_item("joint_names", record.joint_names.clone())?;
     dict.set_item("elastic_joints", record.elastic_joints.clone())?;
     dict.set_item("contacts", scenario.robot.contacts.clone())?;
+    contact_point_fields(py, &record, &scenario, &dict)?;
     dict.set_item("summary", summary_fields(py, &summary)?)?;
     match interrupt {
         // Ctrl-C: what was computed (status "interrupted") rides on the exception.
@@ -112,6 +116,49 @@ pub fn run_scenario_native<'py>(
         }
         None => Ok(dict),
     }
+}
+
+/// The contact points of the run into `dict`: `contact_points` (the number of points of each
+/// contact; empty under bilateral contacts), `contact_point_positions` and
+/// `contact_point_forces` (rows, n_points, 3) float64 (world; the force on the foot),
+/// `contact_point_active` (rows, n_points) bool, and `ground_normal` (3,) float64, the
+/// ground's unit normal (world axes), or `None` under bilateral contacts.
+fn contact_point_fields<'py>(
+    py: Python<'py>,
+    record: &RunRecord,
+    scenario: &sea_sim::scenario::Scenario,
+    dict: &Bound<'py, PyDict>,
+) -> PyResult<()> {
+    let rows = record.time.len();
+    let n_points: usize = record.contact_points.iter().sum();
+    dict.set_item("contact_points", record.contact_points.clone())?;
+    for (key, values) in [
+        ("contact_point_positions", &record.contact_point_positions),
+        ("contact_point_forces", &record.contact_point_forces),
+    ] {
+        let table = table_out(py, values, rows, 3 * n_points);
+        dict.set_item(key, table.call_method1("reshape", ((rows, n_points, 3),))?)?;
+    }
+    let active = PyArray1::from_slice(py, &record.contact_point_active);
+    dict.set_item(
+        "contact_point_active",
+        active.call_method1("reshape", ((rows, n_points),))?,
+    )?;
+    let ground = &scenario.ground;
+    let normal = if record.contact_points.is_empty() {
+        None
+    } else {
+        let plane = sea_plant::Ground::inclined(
+            0.0,
+            ground.incline_rad,
+            ground.incline_heading_rad,
+            ground.friction,
+        )
+        .map_err(to_py)?;
+        Some(vector_out(py, plane.normal.as_slice()))
+    };
+    dict.set_item("ground_normal", normal)?;
+    Ok(())
 }
 
 /// The URDF file of the scenario file `path` with `overrides`, found as `run_scenario` finds

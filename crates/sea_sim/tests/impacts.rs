@@ -142,7 +142,7 @@ fn a_dropped_robot_touches_down_on_both_feet_and_the_log_shows_it() {
 }
 
 #[test]
-fn a_bilateral_run_has_no_contact_points_or_events() {
+fn a_bilateral_run_has_no_contact_points_contact_check_or_events() {
     let file = TempFile::new("bilateral");
     let bilateral = scenario(&[
         ("plant.contact_model", "\"bilateral\""),
@@ -162,5 +162,6 @@ fn a_bilateral_run_has_no_contact_points_or_events() {
         .map(|c| c.topic.as_str())
         .collect();
     assert!(!topics.contains(&"/contact_points"), "{topics:?}");
+    assert!(!topics.contains(&"/contact_check"), "{topics:?}");
     assert!(!topics.contains(&EVENTS_TOPIC), "{topics:?}");
 }

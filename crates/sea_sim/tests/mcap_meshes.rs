@@ -82,6 +82,7 @@ fn log_size(model: &Model, urdf: Option<&Path>, file: &Path) -> u64 {
             contact_point_positions: &[],
             contact_point_forces: &[],
             contact_point_active: &[],
+            contact_checks: &[],
             motor_torques: &zeros,
             joint_torques: &zeros,
             com_error_norm: 0.0,

@@ -13,8 +13,13 @@
 //! `/events` at its time, written when its window after closes (so up to 50 ms of samples
 //! later in the file; readers that index by log time, as Foxglove, place it at its time).
 //! Under unilateral contacts ([`McapLogger::set_contact_points`]) the contact points are on
-//! `/contact_points` and in `/scene`; `/events` and `/contact_points` are registered only
-//! when first needed, so a bilateral run without a fall has neither.
+//! `/contact_points` and in `/scene`; the contact check of the delivered wrenches, a
+//! diagnostic there, is on `/contact_check` at every recorded sample, and each change of a
+//! foot's verdict is a `foxglove.Log` on `/events` (WARNING when it starts violating a
+//! constraint, INFO when it satisfies them again; [`McapLogger::contact_check`]). `/events`,
+//! `/contact_points` and `/contact_check` are registered only when first needed, so a
+//! bilateral run without a fall has none of them (under bilateral contacts the first
+//! violation ends the run: it is the fall on `/events`).
 //!
 //! Chunks are LZ4-compressed. The file is finished (summary and index written) by
 //! [`McapLogger::finish`] or, silently, when the logger is dropped, so an interrupted or
@@ -33,7 +38,10 @@ use mcap::records::MessageHeader;
 use mcap::records::Metadata;
 use mcap::{Attachment, Compression, WriteOptions, Writer};
 use sea_dyn::Model;
-use sea_loop::{Impact, ImpactKind, OwnedSample, RecordSink, RunEnd, RunInfo, Sample};
+use sea_loop::{
+    ContactCheckEvent, Impact, ImpactKind, OwnedSample, RecordSink, RunEnd, RunInfo, Sample,
+    VerdictChange,
+};
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -51,6 +59,8 @@ pub struct McapLogger {
     robot: Option<(u16, Vec<u8>)>,
     /// The `/contact_points` channel, once set ([`McapLogger::set_contact_points`]).
     contact_points: Option<u16>,
+    /// The `/contact_check` channel, once a sample has the contact check.
+    contact_check: Option<u16>,
     /// The `/events` channel, once an event is written.
     events: Option<u16>,
 }
@@ -137,17 +147,24 @@ impl Output {
     }
 }
 
-/// Adds the schema and channel of every topic; returns the channel ids in [`Topic::ALL`] order.
-fn add_channels(out: &mut Output) -> Result<[u16; Topic::ALL.len()]> {
-    let mut channels = [0; Topic::ALL.len()];
-    for (id, topic) in channels.iter_mut().zip(Topic::ALL) {
+impl Output {
+    /// Registers `topic`'s schema and channel; returns the channel id.
+    fn add_topic_channel(&mut self, topic: Topic) -> Result<u16> {
         let schema = topic.schema();
         let schema = (
             schema.name.as_str(),
             schema.encoding.as_str(),
             &schema.data[..],
         );
-        *id = out.add_channel(schema, topic.name(), &topic.message_encoding())?;
+        self.add_channel(schema, topic.name(), &topic.message_encoding())
+    }
+}
+
+/// Adds the schema and channel of every topic; returns the channel ids in [`Topic::ALL`] order.
+fn add_channels(out: &mut Output) -> Result<[u16; Topic::ALL.len()]> {
+    let mut channels = [0; Topic::ALL.len()];
+    for (id, topic) in channels.iter_mut().zip(Topic::ALL) {
+        *id = out.add_topic_channel(topic)?;
     }
     Ok(channels)
 }
@@ -204,6 +221,7 @@ impl McapLogger {
             channels,
             robot: None,
             contact_points: None,
+            contact_check: None,
             events: None,
         })
     }
@@ -266,14 +284,21 @@ impl McapLogger {
             self.out
                 .write(channel, crate::foxglove::nanoseconds(sample.time_s), &robot)?;
         }
-        let (out, channels, points) = (&mut self.out, &self.channels, self.contact_points);
+        if !sample.contact_checks.is_empty() && self.contact_check.is_none() {
+            self.contact_check = Some(self.out.add_topic_channel(Topic::ContactCheck)?);
+        }
+        let (out, channels) = (&mut self.out, &self.channels);
+        let (points, check) = (self.contact_points, self.contact_check);
         self.encoder.encode(sample, |topic, time, message| {
-            let channel = match (topic, points) {
-                (Topic::ContactPoints, Some(channel)) => channel,
-                (Topic::ContactPoints, None) => return Ok(()),
-                _ => channels[topic.index()],
+            let channel = match topic {
+                Topic::ContactPoints => points,
+                Topic::ContactCheck => check,
+                _ => Some(channels[topic.index()]),
             };
-            out.write(channel, time, message)
+            match channel {
+                Some(channel) => out.write(channel, time, message),
+                None => Ok(()),
+            }
         })
     }
 
@@ -287,17 +312,7 @@ impl McapLogger {
             return Ok(());
         }
         if self.contact_points.is_none() {
-            let schema = Topic::ContactPoints.schema();
-            let schema = (
-                schema.name.as_str(),
-                schema.encoding.as_str(),
-                &schema.data[..],
-            );
-            let topic = Topic::ContactPoints;
-            let channel = self
-                .out
-                .add_channel(schema, topic.name(), &topic.message_encoding())?;
-            self.contact_points = Some(channel);
+            self.contact_points = Some(self.out.add_topic_channel(Topic::ContactPoints)?);
         }
         self.encoder.set_contact_points(counts);
         Ok(())
@@ -328,6 +343,18 @@ impl McapLogger {
     /// [`Error::Io`] naming the file when the OS refuses a write.
     pub fn impact(&mut self, impact: &Impact) -> Result<()> {
         let (time, buffer) = impact_event(impact)?;
+        self.write_event(time, &buffer)
+    }
+
+    /// Records a change of a foot's contact check (unilateral contacts) on `/events`: a
+    /// `foxglove.Log` named `sea_sim.contact_check` at its time, level WARNING when the foot
+    /// starts violating a constraint, INFO when it satisfies them again
+    /// ([`contact_check_event`]).
+    ///
+    /// Errors: [`Error::Log`] when the logger is finished or MCAP writing fails,
+    /// [`Error::Io`] naming the file when the OS refuses a write.
+    pub fn contact_check(&mut self, event: &ContactCheckEvent) -> Result<()> {
+        let (time, buffer) = contact_check_event(event)?;
         self.write_event(time, &buffer)
     }
 
@@ -459,6 +486,28 @@ pub(crate) fn impact_event(impact: &Impact) -> Result<(u64, Vec<u8>)> {
     log_event(impact.time_s, Level::Info, impact.to_string(), name)
 }
 
+/// A contact check's verdict change as an `/events` message: its time [ns] and the encoded
+/// `foxglove.Log` (name `sea_sim.contact_check`; level WARNING when the foot starts violating
+/// a constraint, the constraint, its value and bound in the text; INFO when it satisfies them
+/// again, with the number of violating samples). Shared by the MCAP log and the live view.
+///
+/// Errors: [`Error::Log`] when the message does not encode.
+pub(crate) fn contact_check_event(event: &ContactCheckEvent) -> Result<(u64, Vec<u8>)> {
+    let (level, text) = match &event.change {
+        VerdictChange::Violated(constraint) => (
+            Level::Warning,
+            format!(
+                "{event} (constraint {}, value {}, bound {})",
+                constraint.kind(),
+                constraint.value(),
+                constraint.bound()
+            ),
+        ),
+        VerdictChange::Satisfied { .. } => (Level::Info, event.to_string()),
+    };
+    log_event(event.time_s, level, text, "sea_sim.contact_check")
+}
+
 /// A `foxglove.Log` at `time_s` with `level`, `text` and `name`, encoded, with its time [ns].
 fn log_event(time_s: f64, level: Level, text: String, name: &str) -> Result<(u64, Vec<u8>)> {
     let time = nanoseconds(time_s);
@@ -508,6 +557,8 @@ enum Queued {
     Sample(OwnedSample),
     /// An impact.
     Impact(Impact),
+    /// A change of a foot's contact check.
+    ContactCheck(ContactCheckEvent),
     /// How the run ended.
     End(RunEnd),
 }
@@ -529,6 +580,7 @@ impl ThreadedMcapLogger {
                         logger.log(&sample)?;
                     }
                     Queued::Impact(impact) => logger.impact(&impact)?,
+                    Queued::ContactCheck(event) => logger.contact_check(&event)?,
                     Queued::End(end) => logger.end(&end, last_time)?,
                 }
                 if last_flush.elapsed() >= FLUSH_INTERVAL {
@@ -558,6 +610,11 @@ impl ThreadedMcapLogger {
     /// Queues an impact ([`McapLogger::impact`]).
     pub fn impact(&mut self, impact: &Impact) -> Result<()> {
         self.send(Queued::Impact(impact.clone()))
+    }
+
+    /// Queues a change of a foot's contact check ([`McapLogger::contact_check`]).
+    pub fn contact_check(&mut self, event: &ContactCheckEvent) -> Result<()> {
+        self.send(Queued::ContactCheck(event.clone()))
     }
 
     /// Queues how the run ended ([`McapLogger::end`], at the last sample's time).
@@ -680,6 +737,13 @@ impl RecordSink for McapSink {
     fn impact(&mut self, impact: &Impact) -> Result<()> {
         match self.logger.as_mut() {
             Some(logger) => logger.impact(impact),
+            None => Ok(()),
+        }
+    }
+
+    fn contact_check(&mut self, event: &ContactCheckEvent) -> Result<()> {
+        match self.logger.as_mut() {
+            Some(logger) => logger.contact_check(event),
             None => Ok(()),
         }
     }

@@ -12,7 +12,7 @@ use ::foxglove::{Encode, Schema};
 use sea_ctrl::qp::QpStatus;
 use sea_dyn::spatial::quaternion_from_rotation;
 use sea_dyn::{Data, Model};
-use sea_loop::Sample;
+use sea_loop::{ContactConstraint, Sample, WrenchCheck};
 use serde::Serialize;
 
 /// A channel of the log (see the module documentation of [`crate::foxglove`]).
@@ -41,6 +41,10 @@ pub enum Topic {
     /// `/contact_points`: `sea_momentum.ContactPoints`, only under unilateral contacts (not
     /// in [`Topic::ALL`]; see [`SampleEncoder::set_contact_points`]).
     ContactPoints,
+    /// `/contact_check`: `sea_momentum.ContactCheck`, only under unilateral contacts, at the
+    /// samples where the contact check ran (not in [`Topic::ALL`]; see
+    /// [`SampleEncoder::encode`]).
+    ContactCheck,
 }
 
 /// Encoding of our own channels' messages and of their schemas.
@@ -80,6 +84,7 @@ impl Topic {
             Topic::Base => "/base",
             Topic::Disturbances => "/disturbances",
             Topic::ContactPoints => "/contact_points",
+            Topic::ContactCheck => "/contact_check",
         }
     }
 
@@ -107,6 +112,7 @@ impl Topic {
             Topic::Base => json("sea_momentum.BasePose", BASE_POSE_SCHEMA),
             Topic::Disturbances => json("sea_momentum.Disturbances", DISTURBANCES_SCHEMA),
             Topic::ContactPoints => json("sea_momentum.ContactPoints", CONTACT_POINTS_SCHEMA),
+            Topic::ContactCheck => json("sea_momentum.ContactCheck", CONTACT_CHECK_SCHEMA),
         }
     }
 }
@@ -252,6 +258,40 @@ const CONTACT_POINTS_SCHEMA: &str = r#"{
   "required": ["points"]
 }"#;
 
+const CONTACT_CHECK_SCHEMA: &str = r#"{
+  "title": "sea_momentum.ContactCheck",
+  "description": "Unilateral contacts, a diagnostic: each foot's delivered wrench (sole frame) checked against a unilateral contact with friction on its sole rectangle; a check is violated beyond its bound by more than 1e-6 (N, friction ratio, m); the friction ratio and the centre of pressure are null (not checked) when the normal force is not positive",
+  "type": "object",
+  "properties": {
+    "contacts": {
+      "type": "array",
+      "items": {
+        "type": "object",
+        "properties": {
+          "contact": { "type": "string", "description": "Contact frame (URDF link) of the foot" },
+          "violated": { "type": ["string", "null"], "description": "The first constraint violated (normal_force, friction, center_of_pressure), null when none is" },
+          "checks": {
+            "type": "array",
+            "items": {
+              "type": "object",
+              "properties": {
+                "constraint": { "type": "string", "enum": ["normal_force", "friction", "center_of_pressure_x", "center_of_pressure_y"] },
+                "value": { "type": ["number", "null"], "description": "f_z (N), |f_t| / f_z, or the CoP coordinate (m), sole frame" },
+                "lower": { "type": ["number", "null"], "description": "The lower bound (null: none)" },
+                "upper": { "type": ["number", "null"], "description": "The upper bound (null: none)" },
+                "violated": { "type": "boolean" }
+              },
+              "required": ["constraint", "value", "lower", "upper", "violated"]
+            }
+          }
+        },
+        "required": ["contact", "violated", "checks"]
+      }
+    }
+  },
+  "required": ["contacts"]
+}"#;
+
 // ---- Bodies of our JSON messages (borrowing, so a sample allocates little). ----
 
 #[derive(Serialize)]
@@ -322,6 +362,60 @@ struct ContactPointMsg<'a> {
 #[derive(Serialize)]
 struct ContactPointsMsg<'a> {
     points: Vec<ContactPointMsg<'a>>,
+}
+
+#[derive(Serialize)]
+struct CheckMsg {
+    constraint: &'static str,
+    value: f64,
+    lower: Option<f64>,
+    upper: Option<f64>,
+    violated: bool,
+}
+
+#[derive(Serialize)]
+struct FootCheckMsg<'a> {
+    contact: &'a str,
+    violated: Option<&'static str>,
+    checks: [CheckMsg; 4],
+}
+
+#[derive(Serialize)]
+struct ContactCheckMsg<'a> {
+    contacts: Vec<FootCheckMsg<'a>>,
+}
+
+/// One foot's [`WrenchCheck`] as its `/contact_check` entry.
+fn foot_check_msg<'a>(contact: &'a str, check: &WrenchCheck) -> FootCheckMsg<'a> {
+    let center_of_pressure = |k: usize, constraint, [lower, upper]: [f64; 2]| CheckMsg {
+        constraint,
+        value: check.center_of_pressure[k],
+        lower: Some(lower),
+        upper: Some(upper),
+        violated: check.center_of_pressure_beyond(k).is_some(),
+    };
+    FootCheckMsg {
+        contact,
+        violated: check.violated.as_ref().map(ContactConstraint::kind),
+        checks: [
+            CheckMsg {
+                constraint: "normal_force",
+                value: check.normal_force,
+                lower: Some(0.0),
+                upper: None,
+                violated: check.normal_force_violated(),
+            },
+            CheckMsg {
+                constraint: "friction",
+                value: check.friction_ratio,
+                lower: None,
+                upper: Some(check.friction),
+                violated: check.friction_violated(),
+            },
+            center_of_pressure(0, "center_of_pressure_x", check.foot_x),
+            center_of_pressure(1, "center_of_pressure_y", check.foot_y),
+        ],
+    }
 }
 
 #[derive(Serialize)]
@@ -487,7 +581,8 @@ impl SampleEncoder {
 
     /// Encodes `sample` and hands each message to `emit(topic, time_ns, bytes)`, in the order
     /// of [`Topic::ALL`], then `/contact_points` when set
-    /// ([`SampleEncoder::set_contact_points`]). `/tf` and `/scene` are skipped when a pose is
+    /// ([`SampleEncoder::set_contact_points`]), then `/contact_check` when the sample has
+    /// the contact check (unilateral contacts). `/tf` and `/scene` are skipped when a pose is
     /// not finite.
     ///
     /// Errors: those of [`Self::check`] and of `emit`.
@@ -513,6 +608,11 @@ impl SampleEncoder {
             self.buffer.clear();
             self.encode_json(Topic::ContactPoints, sample)?;
             emit(Topic::ContactPoints, time, &self.buffer)?;
+        }
+        if !sample.contact_checks.is_empty() {
+            self.buffer.clear();
+            self.encode_json(Topic::ContactCheck, sample)?;
+            emit(Topic::ContactCheck, time, &self.buffer)?;
         }
         Ok(())
     }
@@ -696,6 +796,19 @@ impl SampleEncoder {
                     })
                     .collect();
                 serde_json::to_writer(buffer, &ContactPointsMsg { points })
+            }
+            Topic::ContactCheck => {
+                let checks = sample.contact_checks;
+                while self.contact_labels.len() < checks.len() {
+                    let k = self.contact_labels.len();
+                    self.contact_labels.push(format!("contact_{k}"));
+                }
+                let contacts = checks
+                    .iter()
+                    .zip(&self.contact_labels)
+                    .map(|(check, contact)| foot_check_msg(contact, check))
+                    .collect();
+                serde_json::to_writer(buffer, &ContactCheckMsg { contacts })
             }
             Topic::Tf | Topic::Scene => unreachable!("protobuf channels"),
         };

@@ -6,7 +6,9 @@
 //!
 //! A fall is published on `/events` (`foxglove.Log`, the MCAP log's message) when the run
 //! ends, and each impact (touchdown, joint stop) when its window closes, so the app's Log
-//! panel shows them live. Under unilateral contacts `/contact_points` is advertised too.
+//! panel shows them live. Under unilateral contacts `/contact_points` and `/contact_check`
+//! are advertised too, and each change of a foot's contact check is published on `/events`
+//! after its sample.
 //!
 //! Pacing sleeps in [`RecordSink::record`], i.e. on the loop's thread: the loop is held back to
 //! real time by design. Encoding runs there too, in the time the loop would otherwise sleep;
@@ -15,11 +17,11 @@
 
 use super::{SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC};
 use crate::error::Error;
-use crate::mcap_log::{fall_event, impact_event, EVENTS_TOPIC};
+use crate::mcap_log::{contact_check_event, fall_event, impact_event, EVENTS_TOPIC};
 use crate::Result;
 use ::foxglove::messages::Log;
 use ::foxglove::{ChannelBuilder, Context, Encode, PartialMetadata, RawChannel, WebSocketServer};
-use sea_loop::{Impact, RecordSink, RunEnd, RunInfo, Sample};
+use sea_loop::{ContactCheckEvent, Impact, RecordSink, RunEnd, RunInfo, Sample};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -41,6 +43,8 @@ pub struct LiveServer {
     events: Arc<RawChannel>,
     /// `/contact_points` under unilateral contacts ([`LiveServer::add_contact_points`]).
     contact_points: Option<Arc<RawChannel>>,
+    /// `/contact_check` under unilateral contacts ([`LiveServer::add_contact_points`]).
+    contact_check: Option<Arc<RawChannel>>,
 }
 
 /// Wall time between two `/robot` messages of the live view: a client that connects late
@@ -83,16 +87,22 @@ impl LiveServer {
             robot,
             events,
             contact_points: None,
+            contact_check: None,
         })
     }
 
-    /// Advertises `/contact_points` (unilateral contacts), once.
+    /// Advertises `/contact_points` and `/contact_check` (unilateral contacts), once.
     ///
-    /// Errors: [`Error::Log`] when the channel cannot be built.
+    /// Errors: [`Error::Log`] when a channel cannot be built.
     fn add_contact_points(&mut self) -> Result<()> {
-        if self.contact_points.is_none() {
-            let topic = Topic::ContactPoints;
-            self.contact_points = Some(topic_channel(&self.context, topic.name(), topic)?);
+        let context = &self.context;
+        for (slot, topic) in [
+            (&mut self.contact_points, Topic::ContactPoints),
+            (&mut self.contact_check, Topic::ContactCheck),
+        ] {
+            if slot.is_none() {
+                *slot = Some(topic_channel(context, topic.name(), topic)?);
+            }
         }
         Ok(())
     }
@@ -105,11 +115,12 @@ impl LiveServer {
     /// Publishes `message` on `topic` at `time` (ns).
     fn publish(&self, topic: Topic, time: u64, message: &[u8]) {
         let channel = match topic {
-            Topic::ContactPoints => match &self.contact_points {
-                Some(channel) => channel,
-                None => return,
-            },
-            _ => &self.channels[topic.index()],
+            Topic::ContactPoints => self.contact_points.as_ref(),
+            Topic::ContactCheck => self.contact_check.as_ref(),
+            _ => Some(&self.channels[topic.index()]),
+        };
+        let Some(channel) = channel else {
+            return;
         };
         channel.log_with_meta(message, PartialMetadata::with_log_time(time));
     }
@@ -122,6 +133,7 @@ impl LiveServer {
             .iter()
             .chain(others)
             .chain(&self.contact_points)
+            .chain(&self.contact_check)
         {
             channel.close();
         }
@@ -220,6 +232,13 @@ impl RecordSink for LiveSink {
 
     fn impact(&mut self, impact: &Impact) -> Result<()> {
         let (time, message) = impact_event(impact)?;
+        let meta = PartialMetadata::with_log_time(time);
+        self.server.events.log_with_meta(&message, meta);
+        Ok(())
+    }
+
+    fn contact_check(&mut self, event: &ContactCheckEvent) -> Result<()> {
+        let (time, message) = contact_check_event(event)?;
         let meta = PartialMetadata::with_log_time(time);
         self.server.events.log_with_meta(&message, meta);
         Ok(())

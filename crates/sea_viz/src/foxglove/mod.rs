@@ -15,7 +15,8 @@
 //! | `/base`             | json     | `sea_momentum.BasePose`         | base position, quaternion, velocities           |
 //! | `/disturbances`     | json     | `sea_momentum.Disturbances`     | each `[[disturbances]]` push: link, force, torque |
 //! | `/contact_points`   | json     | `sea_momentum.ContactPoints`    | unilateral contacts only: each point's contact, position, force, activity |
-//! | `/events`           | protobuf | `foxglove.Log`                  | a fall (time, foot, constraint, value, bound); each impact ([`sea_loop::impacts`]) |
+//! | `/contact_check`    | json     | `sea_momentum.ContactCheck`     | unilateral contacts only: each foot's contact check of its delivered wrench (constraint, value, bounds, verdict) |
+//! | `/events`           | protobuf | `foxglove.Log`                  | a fall (time, foot, constraint, value, bound); each impact ([`sea_loop::impacts`]); unilateral contacts: each change of a foot's contact check |
 //!
 //! Why two encodings: the SDK's typed messages (`foxglove::messages`) are protobuf messages
 //! with their descriptors as schemas, so `/tf` and `/scene` use them as they are, no copied
