@@ -20,14 +20,20 @@ impl MomentumController {
         let reg = self.settings.qp_regularization;
         let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
         let two_feet = self.contact_frames.len() > 1;
+        // The paper's `A f = b`, or with a redundant contact set the momentum task the
+        // contacts can follow and the wrenches the joints can produce.
+        let (equality_map, equality_target) = match &self.redundant {
+            Some(redundant) => (&redundant.equality, &redundant.target),
+            None => (&terms.momentum_map, &terms.momentum_target),
+        };
         let found = if two_feet {
             torque_norm_objective(&terms.sigma, &terms.tau_bias, reg, hessian, gradient);
             add_moment_regularization(hessian, self.settings.qp_moment_regularization);
             self.minimizer.equality_constrained(
                 hessian,
                 gradient,
-                &terms.momentum_map,
-                &terms.momentum_target,
+                equality_map,
+                equality_target,
                 &mut self.unconstrained,
             )
         } else {
@@ -36,7 +42,7 @@ impl MomentumController {
             self.minimizer
                 .unconstrained(hessian, gradient, &mut self.unconstrained)
         };
-        let equality = two_feet.then_some((&terms.momentum_map, &terms.momentum_target));
+        let equality = two_feet.then_some((equality_map, equality_target));
         let status = self.qp.solve(
             hessian,
             gradient,
