@@ -19,8 +19,9 @@
 //! Under that consistency row the momentum map `A` loses one direction: one component of the
 //! momentum rate (mostly the yaw moment about the CoM on the mini biped) is what the dynamics
 //! make it, whatever the torques, yet the paper's equality `A f = b` demands it. The QP's
-//! solution then breaks the consistency row every tick; the run diverges within 0.2 s
-//! (docs/findings/robots.md). [`RedundantContacts`] replaces `A f = b` by the equalities
+//! solution then breaks the consistency row every tick; the run diverged at 0.17 s
+//! (docs/findings/robots.md; with these equalities it completes, given a pseudo-inverse damping
+//! that holds the one zero-momentum mode, the null space of `Lambda`). [`RedundantContacts`] replaces `A f = b` by the equalities
 //!
 //! ```text
 //! U_c^T A f = U_c^T b     (the momentum task in the directions the contacts can move)

@@ -9,7 +9,9 @@
 //! 3. the torque map ([`crate::torque_map`], eq:torques with posturalNew): `tau(f) = tau_bias
 //!    + Sigma f` (`beta(f)` for the SEA controller, newJointDynamics);
 //! 4. the QP ([`crate::qp`], inputTorquesSOT / inputTorquesSOTu): one foot `min |A f - b|^2`,
-//!    two feet `min |tau(f)|^2` s.t. `A f = b`; both s.t. the contact constraints
+//!    two feet `min |tau(f)|^2` s.t. `A f = b` (a redundant contact set, `Lambda` of lower
+//!    rank than `J`: the equalities of [`crate::redundant_contacts`]); both s.t. the contact
+//!    constraints
 //!    (frictionCones); two feet, when `A f = b` is infeasible under them and
 //!    [`MomentumRelaxation::WhenInfeasible`] is set, the closest feasible momentum rate;
 //! 5. the plant input: rigid joints `tau*`; elastic joints the desired motor velocity

@@ -14,7 +14,13 @@ use nalgebra::DVector;
 
 impl MomentumController {
     /// The QP of this tick (inputTorquesSOT / inputTorquesSOTu): builds the objective, the
-    /// minimiser without inequalities, and solves into `wrenches` (k).
+    /// minimiser without inequalities, and solves into `wrenches` (k). Two feet whose `Lambda`
+    /// has a lower rank than `J` (legs of 5 joints) do not take the paper's `A f = b`: eq:torques
+    /// is then solvable only for wrenches on a hyperplane, on which `A f` cannot follow one
+    /// momentum-rate direction, and wrenches off it (what `A f = b` picks) are not what the
+    /// torques produce: the run diverged within 0.2 s. They take
+    /// [`crate::redundant_contacts`]'s equalities (the momentum task in the directions the
+    /// contacts can move, and the wrenches the joints can produce; docs/findings/robots.md).
     pub(super) fn solve_qp(&mut self, wrenches: &mut DVector<f64>) -> QpStatus {
         let terms = &self.terms;
         let reg = self.settings.qp_regularization;
