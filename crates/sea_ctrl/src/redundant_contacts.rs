@@ -38,8 +38,8 @@ use crate::momentum::{momentum_map_identity_blocks, set_momentum_map_contact};
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use sea_dyn::{Data, FrameId, Model};
 
-/// Relative singular value below which a direction counts as lost (the same tolerance as
-/// `sea-sim init`'s rank check).
+/// Relative singular value below which a direction counts as lost (also `sea-sim init`'s, for
+/// the rank of the two feet's constraints).
 pub const RANK_TOLERANCE: f64 = 1e-8;
 
 /// The equalities of a redundant two-feet contact set (see the module doc), rebuilt every tick

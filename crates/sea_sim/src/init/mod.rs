@@ -23,6 +23,7 @@ pub mod write;
 use crate::error::{Error, Result};
 use crate::scenario::robots::{add_contact_frames, ContactSpec, FootRectangle};
 use nalgebra::DMatrix;
+use sea_ctrl::redundant_contacts::RANK_TOLERANCE;
 use sea_dyn::{Data, FrameId, LoadOptions, Model, PackageDirs};
 use std::path::{Path, PathBuf};
 
@@ -147,10 +148,6 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
         warnings: model.warnings.iter().map(|w| w.to_string()).collect(),
     })
 }
-
-/// Singular values below this fraction of the largest count as zero in the rank of the two
-/// feet's contact Jacobian.
-const RANK_TOLERANCE: f64 = 1e-8;
 
 /// The rank of the two feet's stacked 12 x nv contact Jacobian at the standing posture. A leg
 /// of 6 joints (hip yaw, roll, pitch, knee, ankle pitch, roll) moves its foot in all 6
