@@ -40,6 +40,7 @@ pub mod generalized_disturbance;
 pub mod joint_loop;
 pub mod momentum;
 pub mod qp;
+pub mod redundant_contacts;
 pub mod references;
 pub mod robot;
 pub mod sea;

@@ -131,6 +131,22 @@ impl TorqueMap {
         }
     }
 
+    /// `Lambda^T = B^T M^-1 J^T` (n x k) of the last [`Self::compute`].
+    pub fn lambda_t(&self) -> &DMatrix<f64> {
+        &self.lambda_t
+    }
+
+    /// `J M^-1 J^T` (k x k) of the last [`Self::compute`].
+    pub fn contact_schur(&self) -> &DMatrix<f64> {
+        &self.contact_schur
+    }
+
+    /// `J M^-1 h - Jdot nu` (k) of the last [`Self::compute`]: eq:torques' right-hand side at
+    /// `f = 0`.
+    pub fn task_bias(&self) -> &DVector<f64> {
+        &self.task_bias
+    }
+
     /// Computes `tau_bias` and `Sigma` for the model inertia `mass_matrix` (nv x nv, without
     /// [`Self::diagonal`]), the inputs in `self`, the postural task and the pseudo-inverse
     /// damping `d`.

@@ -9,7 +9,9 @@
 //! 3. the torque map ([`crate::torque_map`], eq:torques with posturalNew): `tau(f) = tau_bias
 //!    + Sigma f` (`beta(f)` for the SEA controller, newJointDynamics);
 //! 4. the QP ([`crate::qp`], inputTorquesSOT / inputTorquesSOTu): one foot `min |A f - b|^2`,
-//!    two feet `min |tau(f)|^2` s.t. `A f = b`; both s.t. the contact constraints
+//!    two feet `min |tau(f)|^2` s.t. `A f = b` (a redundant contact set, `Lambda` of lower
+//!    rank than `J`: the equalities of [`crate::redundant_contacts`]); both s.t. the contact
+//!    constraints
 //!    (frictionCones); two feet, when `A f = b` is infeasible under them and
 //!    [`MomentumRelaxation::WhenInfeasible`] is set, the closest feasible momentum rate;
 //! 5. the plant input: rigid joints `tau*`; elastic joints the desired motor velocity
@@ -46,6 +48,7 @@ pub use settings::{ControllerKind, ControllerSettings, MomentumRelaxation};
 use crate::error::{Error, Result};
 use crate::momentum::MomentumJacobian;
 use crate::qp::{Minimizer, QpAgreement, QpCounters, WrenchQp};
+use crate::redundant_contacts::RedundantContacts;
 use crate::references::ComSample;
 use crate::sea::controller_estimates;
 use crate::torque_map::TorqueMap;
@@ -118,6 +121,10 @@ pub struct MomentumController {
     /// The external wrench, generalized disturbance and CoM offset that observers set, and
     /// the generalized disturbance's wrench of the last tick (`disturbances.rs`).
     disturbances: Disturbances,
+    /// Two feet whose `Lambda` has a lower rank than `J` (legs of 5 joints): the QP's
+    /// equalities restricted to the wrenches the joints can produce
+    /// ([`crate::redundant_contacts`]); `None` in the paper's case.
+    redundant: Option<RedundantContacts>,
 }
 
 impl MomentumController {
@@ -136,9 +143,24 @@ impl MomentumController {
             resolve_contacts(model, &mut data, &settings.contacts, q0)?;
         let n_contacts = contact_frames.len();
         let k = 6 * n_contacts;
-        let equalities = if n_contacts > 1 { 6 } else { 0 };
         let mut torque_map = TorqueMap::new(model, k);
         inertia_diagonal(&settings, actuation, &mut torque_map.diagonal);
+        let redundant = (n_contacts > 1)
+            .then(|| {
+                RedundantContacts::at_posture(
+                    model,
+                    &mut data,
+                    &contact_frames,
+                    q0,
+                    &torque_map.diagonal,
+                )
+            })
+            .flatten();
+        let equalities = match (&redundant, n_contacts > 1) {
+            (Some(redundant), _) => redundant.n_rows(),
+            (None, true) => 6,
+            (None, false) => 0,
+        };
         let mut qp = WrenchQp::new(n_contacts, equalities, &settings.constraints);
         qp.unconstrained_first = settings.qp_unconstrained_first;
         qp.solver = settings.qp_solver;
@@ -169,6 +191,7 @@ impl MomentumController {
             relaxed_wrenches: DVector::zeros(k),
             relaxations: 0,
             disturbances: Disturbances::new(),
+            redundant,
             settings,
             contact_frames,
             contact_references,
@@ -265,6 +288,12 @@ impl MomentumController {
     /// The momentum map `A` (6 x k, paper hDot) of the last tick.
     pub fn momentum_map(&self) -> &DMatrix<f64> {
         &self.terms.momentum_map
+    }
+
+    /// Whether the two-feet contact set is redundant (`Lambda` of lower rank than `J`, legs of
+    /// 5 joints): the QP then uses [`crate::redundant_contacts`]'s equalities.
+    pub fn redundant_contacts(&self) -> bool {
+        self.redundant.is_some()
     }
 
     /// The robot's mass in the controller's model [kg].

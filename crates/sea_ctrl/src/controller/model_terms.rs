@@ -78,6 +78,16 @@ impl MomentumController {
         copy_contiguous(&mut self.terms.tau_bias, &map.tau_bias);
         copy_contiguous(&mut self.terms.sigma, &map.sigma);
         self.momentum_target(reference, com, &momentum);
+        if let Some(redundant) = &mut self.redundant {
+            let map = &self.torque_map;
+            redundant.update(
+                map.lambda_t(),
+                map.contact_schur(),
+                map.task_bias(),
+                &self.terms.momentum_map,
+                &self.terms.momentum_target,
+            );
+        }
         Ok((com, momentum))
     }
 

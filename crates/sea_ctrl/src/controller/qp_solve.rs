@@ -14,20 +14,32 @@ use nalgebra::DVector;
 
 impl MomentumController {
     /// The QP of this tick (inputTorquesSOT / inputTorquesSOTu): builds the objective, the
-    /// minimiser without inequalities, and solves into `wrenches` (k).
+    /// minimiser without inequalities, and solves into `wrenches` (k). Two feet whose `Lambda`
+    /// has a lower rank than `J` (legs of 5 joints) do not take the paper's `A f = b`: eq:torques
+    /// is then solvable only for wrenches on a hyperplane, on which `A f` cannot follow one
+    /// momentum-rate direction, and wrenches off it (what `A f = b` picks) are not what the
+    /// torques produce: the run diverged within 0.2 s. They take
+    /// [`crate::redundant_contacts`]'s equalities (the momentum task in the directions the
+    /// contacts can move, and the wrenches the joints can produce; docs/findings/robots.md).
     pub(super) fn solve_qp(&mut self, wrenches: &mut DVector<f64>) -> QpStatus {
         let terms = &self.terms;
         let reg = self.settings.qp_regularization;
         let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
         let two_feet = self.contact_frames.len() > 1;
+        // The paper's `A f = b`, or with a redundant contact set the momentum task the
+        // contacts can follow and the wrenches the joints can produce.
+        let (equality_map, equality_target) = match &self.redundant {
+            Some(redundant) => (&redundant.equality, &redundant.target),
+            None => (&terms.momentum_map, &terms.momentum_target),
+        };
         let found = if two_feet {
             torque_norm_objective(&terms.sigma, &terms.tau_bias, reg, hessian, gradient);
             add_moment_regularization(hessian, self.settings.qp_moment_regularization);
             self.minimizer.equality_constrained(
                 hessian,
                 gradient,
-                &terms.momentum_map,
-                &terms.momentum_target,
+                equality_map,
+                equality_target,
                 &mut self.unconstrained,
             )
         } else {
@@ -36,7 +48,7 @@ impl MomentumController {
             self.minimizer
                 .unconstrained(hessian, gradient, &mut self.unconstrained)
         };
-        let equality = two_feet.then_some((&terms.momentum_map, &terms.momentum_target));
+        let equality = two_feet.then_some((equality_map, equality_target));
         let status = self.qp.solve(
             hessian,
             gradient,

@@ -7,13 +7,11 @@
 //! (1 cm, 0.2 Hz, lateral) for 5 s. The file is written beside its target and renamed over it only when
 //! complete ([`crate::output::OutputFile`]).
 //!
-//! A robot whose two feet cannot both be held flat (the two feet's 12 constraints dependent
-//! at the standing posture, e.g. legs of 5 joints without a hip yaw, as `urdf/mini_biped.urdf`)
-//! is refused before anything is written, naming the contacts and the joints of each leg
-//! ([`two_feet_can_be_held`]). The plant stands it (unilateral contacts solve redundant legs),
-//! but the whole-body controller's two-feet contact set is then redundant and its run diverges
-//! within 0.2 s (docs/findings/contacts.md), and on one foot the posture of two feet (the CoM
-//! between them) falls, so no scenario `init` can write balances it.
+//! A robot whose two feet's 12 constraints are dependent at the standing posture (legs of 5
+//! joints without a hip yaw, as `urdf/mini_biped.urdf`: rank 11, [`two_feet_rank`]) gets the
+//! same scenario: the plant's unilateral contacts stand it, the controller restricts its QP to
+//! the wrenches the joints can produce (`sea_ctrl::redundant_contacts`), and the scenario takes
+//! a larger pseudo-inverse damping ([`write::REDUNDANT_PINV_DAMPING`], docs/findings/robots.md).
 
 pub mod actuators;
 pub mod foot;
@@ -25,6 +23,7 @@ pub mod write;
 use crate::error::{Error, Result};
 use crate::scenario::robots::{add_contact_frames, ContactSpec, FootRectangle};
 use nalgebra::DMatrix;
+use sea_ctrl::redundant_contacts::RANK_TOLERANCE;
 use sea_dyn::{Data, FrameId, LoadOptions, Model, PackageDirs};
 use std::path::{Path, PathBuf};
 
@@ -61,6 +60,9 @@ pub struct InitReport {
     pub lowering_m: f64,
     /// The posture's largest task error [m or rad].
     pub residual: f64,
+    /// The rank of the two feet's 12 constraints at the standing posture (12 with legs of 6
+    /// joints; 11 with legs of 5, whose contact set is redundant: [`two_feet_rank`]).
+    pub feet_rank: usize,
     /// The model's warnings (doubtful inertias, fused massless links).
     pub warnings: Vec<String>,
 }
@@ -133,8 +135,8 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
         }
     };
     let standing = posture::standing_posture(&model, feet, rectangles)?;
-    two_feet_can_be_held(&model, feet, &options.contacts, &standing)?;
-    let written = write::write_scenario(options, &model, feet, rectangles, &standing)?;
+    let feet_rank = two_feet_rank(&model, feet, &standing);
+    let written = write::write_scenario(options, &model, feet, rectangles, &standing, feet_rank)?;
     Ok(InitReport {
         out: written,
         robot: (model.name.clone(), model.total_mass(), model.n_joints()),
@@ -142,28 +144,19 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
         measured,
         lowering_m: standing.lowering_m,
         residual: standing.residual,
+        feet_rank,
         warnings: model.warnings.iter().map(|w| w.to_string()).collect(),
     })
 }
 
-/// Singular values below this fraction of the largest count as zero in the rank of the two
-/// feet's contact Jacobian.
-const RANK_TOLERANCE: f64 = 1e-8;
-
-/// Both feet can be held flat at once: the stacked 12 x nv Jacobian of the two contacts has
-/// full rank at the standing posture, as the controller's two-feet contact set needs (and the
-/// plant's rigid bilateral contacts: else their solve fails at t = 0, "contact constraints are
-/// degenerate"). A leg of 6 joints (hip yaw,
-/// roll, pitch, knee, ankle pitch, roll) moves its foot in all 6 directions, which suffices;
-/// two legs of 5 joints lacking the same motion (a hip yaw) leave a relative motion of the feet
-/// (their relative yaw) that nothing produces, so the 12 constraints are dependent. The error
-/// names the contacts and the joints from the base to each.
-pub fn two_feet_can_be_held(
-    model: &Model,
-    feet: [FrameId; 2],
-    names: &[String; 2],
-    standing: &posture::Standing,
-) -> Result<()> {
+/// The rank of the two feet's stacked 12 x nv contact Jacobian at the standing posture. A leg
+/// of 6 joints (hip yaw, roll, pitch, knee, ankle pitch, roll) moves its foot in all 6
+/// directions: rank 12. Two legs of 5 joints lacking the same motion (a hip yaw) leave a
+/// relative motion of the feet (their relative yaw) that nothing produces: rank 11, the contact
+/// set is redundant. The plant's unilateral contacts stand it; the controller restricts its QP
+/// to the wrenches the joints can produce (`sea_ctrl::redundant_contacts`), and the scenario
+/// then takes [`write::REDUNDANT_PINV_DAMPING`] (docs/findings/robots.md).
+pub fn two_feet_rank(model: &Model, feet: [FrameId; 2], standing: &posture::Standing) -> usize {
     let mut q = model.neutral();
     q[7..].copy_from_slice(&standing.joints);
     let mut data = Data::new(model);
@@ -174,28 +167,10 @@ pub fn two_feet_can_be_held(
     }
     let singular = stacked.singular_values();
     let largest = singular.max();
-    let rank = singular
+    singular
         .iter()
         .filter(|&&s| s > RANK_TOLERANCE * largest)
-        .count();
-    if rank == 12 {
-        return Ok(());
-    }
-    let joints = feet.map(|f| model.support_path(model.frames[f].body).len());
-    Err(Error::invalid(
-        "robot.contacts",
-        format!(
-            "the two feet cannot both be held flat: '{}' hangs from the base by {} joints and \
-             '{}' by {}, and the 12 constraints of two flat feet have rank {rank} at the \
-             standing posture (the controller's contact set is redundant: its run diverges, \
-             docs/findings/contacts.md); \
-             `init` writes two-feet scenarios, which need a leg of 6 joints (hip yaw, roll, \
-             pitch, knee, ankle pitch, roll); for this robot write a one-foot scenario \
-             (one contact, the CoM over that foot) by hand",
-            names[0], joints[0], names[1], joints[1]
-        ),
-        format!("'{}', '{}'", names[0], names[1]),
-    ))
+        .count()
 }
 
 /// The URDF file of `urdf` (a path or a URI); an error names the argument.

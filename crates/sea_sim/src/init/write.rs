@@ -17,15 +17,27 @@ use std::path::{Path, PathBuf};
 /// The CoM sinusoid of the scenario: amplitude [m], frequency [Hz], duration [s].
 pub const COM_SINUSOID: (f64, f64, f64) = (0.01, 0.2, 5.0);
 
-/// Writes the scenario; returns the path written.
+/// The pseudo-inverse damping `controller.pinv_damping` written for a robot whose two feet's
+/// constraints are redundant (rank 11 of 12: legs of 5 joints). Under the paper's 5e-4 the
+/// mini biped's one zero-momentum mode (the pelvis pitching against the torso and hips, the
+/// null space of `Lambda`) drifts and the run ends at 2.45 s; from 1e-2 it stays bounded
+/// (60 s, docs/findings/robots.md).
+pub const REDUNDANT_PINV_DAMPING: f64 = 3e-2;
+
+/// Writes the scenario for feet whose constraints have rank `feet_rank` (12, or fewer when
+/// redundant: then [`REDUNDANT_PINV_DAMPING`]); returns the path written.
 pub fn write_scenario(
     options: &InitOptions,
     model: &Model,
     feet: [FrameId; 2],
     rectangles: [FootRectangle; 2],
     standing: &Standing,
+    feet_rank: usize,
 ) -> Result<PathBuf> {
-    let description = describe(options, model, feet, rectangles, standing)?;
+    let mut description = describe(options, model, feet, rectangles, standing)?;
+    if feet_rank < 12 {
+        description.pinv_damping = REDUNDANT_PINV_DAMPING;
+    }
     let name = options
         .name
         .clone()

@@ -51,6 +51,15 @@ pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
     for warning in &report.warnings {
         say(format_args!("sea-sim: warning: {warning}"));
     }
+    if report.feet_rank < 12 {
+        say(format_args!(
+            "sea-sim: note: the two feet's 12 constraints have rank {} (legs of fewer than 6 \
+             joints): the controller keeps to the wrenches the joints can produce, with \
+             controller.pinv_damping {}",
+            report.feet_rank,
+            sea_sim::init::write::REDUNDANT_PINV_DAMPING
+        ));
+    }
     let [left, _] = report.feet;
     say(format_args!(
         "sea-sim: {} written for '{name}' ({mass:.1} kg, {joints} joints): foot x {:?} y {:?} m \
