@@ -15,7 +15,9 @@
 
 #![forbid(unsafe_code)]
 
-pub mod bounded;
+/// Bounded values, read with the file (`sea_dyn::bounded`, where the domain types' fields
+/// declare theirs).
+pub use sea_dyn::bounded;
 pub mod build;
 pub mod ground;
 /// `[[disturbances]]` (typed by the loop), at its former path.

@@ -148,6 +148,16 @@ impl TableError {
         Self { rule, ..self }
     }
 
+    /// The error of the key `key` in a table whose keys are `expected` (serde's wording).
+    pub fn unknown_field(key: &str, expected: &[&str]) -> Self {
+        let listed: Vec<String> = expected.iter().map(|name| format!("`{name}`")).collect();
+        let rule = format!(
+            "unknown field `{key}`, expected one of {}",
+            listed.join(", ")
+        );
+        Self::new(key.to_string(), &rule)
+    }
+
     /// The same error with its key under `table`.
     pub fn under(self, table: &str) -> Self {
         Self {
@@ -204,6 +214,69 @@ fn unknown_variant(rule: &str) -> Option<(&str, String)> {
         .split_once("`, expected ")?;
     let names = expected.split('`').skip(1).step_by(2);
     Some((value, quoted_list(names)))
+}
+
+/// The keys of a struct `T` that serde reads (its fields' names, skipped fields left out), as
+/// its derived `Deserialize` declares them: asked of a deserializer that only records them.
+pub(crate) fn field_names<'de, T: serde::Deserialize<'de>>() -> &'static [&'static str] {
+    let mut names: &'static [&'static str] = &[];
+    let _ = T::deserialize(FieldNames(&mut names));
+    names
+}
+
+/// A deserializer that records the fields a struct asks for, and refuses everything.
+struct FieldNames<'a>(&'a mut &'static [&'static str]);
+
+/// [`FieldNames`]' refusal.
+#[derive(Debug)]
+struct NotAStruct;
+
+impl std::fmt::Display for NotAStruct {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("not a struct")
+    }
+}
+
+impl std::error::Error for NotAStruct {}
+
+impl serde::de::Error for NotAStruct {
+    fn custom<M: std::fmt::Display>(_: M) -> Self {
+        NotAStruct
+    }
+}
+
+impl<'de> serde::Deserializer<'de> for FieldNames<'_> {
+    type Error = NotAStruct;
+
+    fn deserialize_any<V: serde::de::Visitor<'de>>(
+        self,
+        _: V,
+    ) -> std::result::Result<V::Value, NotAStruct> {
+        Err(NotAStruct)
+    }
+
+    fn deserialize_struct<V: serde::de::Visitor<'de>>(
+        self,
+        _: &'static str,
+        fields: &'static [&'static str],
+        _: V,
+    ) -> std::result::Result<V::Value, NotAStruct> {
+        *self.0 = fields;
+        Err(NotAStruct)
+    }
+
+    serde::forward_to_deserialize_any! {
+        bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string bytes byte_buf
+        option unit unit_struct newtype_struct seq tuple tuple_struct map enum identifier
+        ignored_any
+    }
+}
+
+/// `table` split in two: the keys in `names`, and the others.
+pub(crate) fn split(table: toml::Table, names: &[&str]) -> (toml::Table, toml::Table) {
+    table
+        .into_iter()
+        .partition(|(key, _)| names.contains(&key.as_str()))
 }
 
 /// Reads `T` from a table on its own, whose keys `taken` were removed (and read) before.

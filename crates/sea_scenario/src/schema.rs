@@ -4,8 +4,8 @@
 //! unknown keys and is `#[serde(default)]`: a missing key takes the table's default, built
 //! from the domain types' defaults and the robot description ([`super::robots::icub`]).
 
-use super::bounded::{AtLeastOne, Finite, NonNegative, Positive};
-use super::parse::{table_as, take, TableResult};
+use super::bounded::{AtLeastOne, Finite, MoreThanOne, NonNegative, Positive};
+use super::parse::{field_names, split, table_as, take, TableError, TableResult};
 use super::robots::icub;
 use super::settings::{
     ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationWrenches, Method,
@@ -13,7 +13,7 @@ use super::settings::{
 };
 use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use sea_ctrl::qp::ContactConstraints;
-use sea_dyn::{critical_damping, Actuator, ElasticParameters};
+use sea_dyn::{critical_damping, Actuator, ContactSurface, ElasticParameters};
 use sea_plant::Plant;
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -445,6 +445,8 @@ pub struct ControllerConfig {
     /// keeps its prior: with `external_wrench = "generalized"`, 5e-3 keeps the model's own
     /// torque errors on lightly loaded joints (the stance ankle roll) out of the estimates
     /// (docs/findings/model_errors.md). At most 0.1 rad.
+    #[serde(deserialize_with = "PriorDeflection::read")]
+    #[schemars(with = "PriorDeflection")]
     pub identification_prior_deflection_rad: f64,
     /// `multi_rate` with `stiffness_identification`: the bandwidth [Hz] of the low pass that
     /// filters each joint's spring torque and deflection alike before the least squares
@@ -456,11 +458,15 @@ pub struct ControllerConfig {
     /// `multi_rate` with `stiffness_identification`: the estimates stay within this factor
     /// of the prior, `[K_S^0 / c, c K_S^0]` (`sea_ctrl::stiffness_id`; default 3, more than
     /// 1).
+    #[serde(deserialize_with = "MoreThanOne::read")]
+    #[schemars(with = "MoreThanOne")]
     pub identification_range_factor: f64,
     /// `multi_rate`: per elastic joint name, the amplitude [Nm] of a sinusoid added to its
     /// desired torque in the joint loop from the start of the run, so that the identification
     /// sees joints the task leaves unloaded (`sea_ctrl::excitation`; e.g. the legs' roll and
     /// yaw joints on two feet, the same sign on both legs; default none).
+    #[serde(deserialize_with = "Finite::read_map")]
+    #[schemars(with = "BTreeMap<String, Finite>")]
     pub identification_excitation_nm: BTreeMap<String, f64>,
     /// `identification_excitation_nm`: the sinusoid's frequency [Hz] (default 1 Hz).
     #[serde(deserialize_with = "Positive::read")]
@@ -495,6 +501,8 @@ pub struct ControllerConfig {
     pub stiffness_estimate_scale: f64,
     /// Per joint name, a further factor on that joint's stiffness estimate (e.g.
     /// `{ l_knee = 1.3 }`; default none).
+    #[serde(deserialize_with = "Positive::read_map")]
+    #[schemars(with = "BTreeMap<String, Positive>")]
     pub stiffness_estimate_joint_scales: BTreeMap<String, f64>,
     /// The controller's model: every link's mass and rotational inertia times this scale
     /// (centres of mass unchanged; default 1: the plant's model).
@@ -507,11 +515,17 @@ pub struct ControllerConfig {
     pub link_mass_estimate_scales: BTreeMap<String, f64>,
     /// Momentum integral gains (linear xyz, angular xyz; default: the robot description's
     /// for one or two feet).
+    #[serde(deserialize_with = "NonNegative::read_option_entries")]
+    #[schemars(with = "Option<[NonNegative; 6]>")]
     pub momentum_integral: Option<[f64; 6]>,
     /// Momentum proportional gains (default: the critical damping of the integral gains).
+    #[serde(deserialize_with = "NonNegative::read_option_entries")]
+    #[schemars(with = "Option<[NonNegative; 6]>")]
     pub momentum_proportional: Option<[f64; 6]>,
     /// Postural stiffness per joint before `postural_scale` (default: the robot
     /// description's by joint group).
+    #[serde(deserialize_with = "NonNegative::read_option_entries")]
+    #[schemars(with = "Option<Vec<NonNegative>>")]
     pub postural_stiffness: Option<Vec<f64>>,
     /// Scale of the postural stiffness (default: the robot description's).
     #[serde(deserialize_with = "NonNegative::read")]
@@ -654,19 +668,45 @@ fn contact_constraints_table<S: Serializer>(
     table.serialize(serializer)
 }
 
-/// [`ContactConstraints`] of a `[controller.contact]` table read on its own.
-fn contact_table(mut table: toml::Table) -> TableResult<ContactConstraints> {
-    let defaults = ContactConstraints::default();
-    let facets = take(&mut table, "facets")?.unwrap_or(defaults.facets);
-    let min_normal_force =
-        take(&mut table, "min_normal_force")?.unwrap_or(defaults.min_normal_force);
-    let cop_margin = take(&mut table, "cop_margin")?.unwrap_or(defaults.cop_margin);
-    Ok(ContactConstraints {
-        surface: table_as(table, &["facets", "min_normal_force", "cop_margin"])?,
-        facets,
-        min_normal_force,
-        cop_margin,
-    })
+/// [`ContactConstraints`] of a `[controller.contact]` table read on its own: the table split
+/// by the keys of [`ContactSurface`] and of the QP's own choices (`facets`, ...), each part
+/// read by its type; any other key is unknown, reported against both types' keys.
+fn contact_table(table: toml::Table) -> TableResult<ContactConstraints> {
+    let surface_keys = field_names::<ContactSurface>();
+    let own_keys = field_names::<ContactConstraints>()
+        .iter()
+        .filter(|&&key| key != "surface");
+    let union: Vec<&str> = own_keys.chain(surface_keys).copied().collect();
+    if let Some(unknown) = table.keys().find(|key| !union.contains(&key.as_str())) {
+        return Err(TableError::unknown_field(unknown, &union));
+    }
+    let (surface, own) = split(table, surface_keys);
+    let mut constraints: ContactConstraints = table_as(own, &[])?;
+    constraints.surface = table_as(surface, &[])?;
+    Ok(constraints)
+}
+
+sea_dyn::number_bound!(
+    /// `controller.identification_prior_deflection_rad`: a deflection in `(0, 0.1]` rad.
+    PriorDeflection,
+    "must be positive and at most 0.1 rad",
+    |v| v > 0.0 && v <= 0.1,
+    { "type": "number", "exclusiveMinimum": 0.0, "maximum": 0.1 }
+);
+
+/// Reads `reference.com_direction`: finite entries, not zero.
+fn direction<'de, D: Deserializer<'de>>(
+    deserializer: D,
+) -> std::result::Result<[f64; 3], D::Error> {
+    let direction: [f64; 3] = Finite::read_entries(deserializer)?;
+    let norm = direction.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if norm > 1e-12 && norm.is_finite() {
+        Ok(direction)
+    } else {
+        Err(D::Error::custom(format!(
+            "must be a non-zero finite vector, got {direction:?}"
+        )))
+    }
 }
 
 /// `[reference]`: the CoM sinusoid `origin + (1 - exp(-t / smooth_start)) A sin(2 pi f t)
@@ -683,7 +723,8 @@ pub struct ReferenceConfig {
     #[serde(deserialize_with = "NonNegative::read")]
     #[schemars(with = "NonNegative")]
     pub com_frequency: f64,
-    /// CoM sinusoid direction (world).
+    /// CoM sinusoid direction (world), a non-zero finite vector.
+    #[serde(deserialize_with = "direction")]
     pub com_direction: [f64; 3],
     /// Smooth-start time constant [s].
     #[serde(deserialize_with = "NonNegative::read")]
