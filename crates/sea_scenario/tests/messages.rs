@@ -102,6 +102,8 @@ const KEYS: &[&str] = &[
     "reference.posture_step_joints",
     "reference.posture_step_time",
     "robot.contacts",
+    "robot.description",
+    "robot.description.momentum_integral",
     "robot.initial_posture",
     "robot.initial_springs",
     "robot.joints",
