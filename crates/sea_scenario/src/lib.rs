@@ -120,9 +120,8 @@ impl Scenario {
             apply_override(&mut root, key, value)?;
         }
         let source = robots::defaults::take_and_apply(&mut root, base_dir)?;
-        let mut scenario: Scenario = toml::Value::Table(root.clone())
-            .try_into()
-            .map_err(|e: toml::de::Error| schema_error(&e, &root))?;
+        let mut scenario: Scenario = parse::read_value(toml::Value::Table(root.clone()))
+            .map_err(|e| schema_error(e, &root))?;
         scenario.base_dir = base_dir.to_path_buf();
         scenario.description = Arc::new(source.description);
         scenario.resolve_urdf_uri()?;
