@@ -80,7 +80,7 @@ pub struct Scenario {
     #[serde(default)]
     pub ground: GroundConfig,
     /// `[controller]`.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "schema::controller_table")]
     pub controller: ControllerConfig,
     /// `[reference]`.
     #[serde(default)]
@@ -507,6 +507,35 @@ mod tests {
         assert_eq!(s.controller.sampling, Sampling::Continuous);
         assert_eq!(s.controller.qp_solver, QpSolver::Clarabel);
         assert_eq!(s.reference.com_origin, ComOrigin::Initial);
+    }
+
+    #[test]
+    fn the_identification_settings_are_read_directly_from_the_flat_table() {
+        let text = "[robot]\nurdf = \"x.urdf\"\n[controller]\nidentification_time_s = 2.5\n\
+                    identification_range_factor = 4.0\nqp_solver = \"clarabel\"\n";
+        let s = Scenario::from_toml(text, &[], Path::new(".")).unwrap();
+        let identification = &s.controller.identification;
+        assert_eq!(identification.time_constant, 2.5);
+        assert_eq!(identification.range_factor, 4.0);
+        let defaults = sea_ctrl::stiffness_id::IdentificationSettings::default();
+        assert_eq!(identification.filter_bandwidth, defaults.filter_bandwidth);
+        assert_eq!(s.controller.qp_solver, QpSolver::Clarabel);
+        let table = s.controller.table().unwrap();
+        assert_eq!(table["identification_time_s"].as_float(), Some(2.5));
+        assert!(!table.contains_key("identification"));
+        // The field holding them is no key of the file.
+        let (named, message) = refusal("controller.identification.time_constant", "1");
+        assert_eq!(named, "controller.identification", "{message}");
+        assert!(
+            message.contains("unknown field `identification`"),
+            "{message}"
+        );
+        let (named, message) = refusal("controller.identification_time_s", "0");
+        assert_eq!(named, "controller.identification_time_s", "{message}");
+        assert!(
+            message.ends_with("must be positive and finite, got 0"),
+            "{message}"
+        );
     }
 
     #[test]

@@ -4,7 +4,7 @@
 //! unknown keys and is `#[serde(default)]`: a missing key takes the table's default, built
 //! from the domain types' defaults and the robot description ([`super::robots::icub`]).
 
-use super::bounded::{AtLeastOne, Finite, MoreThanOne, NonNegative, Positive};
+use super::bounded::{AtLeastOne, Finite, NonNegative, Positive};
 use super::parse::{field_names, split, table_as, take, TableError, TableResult};
 use super::robots::icub;
 use super::settings::{
@@ -13,6 +13,7 @@ use super::settings::{
 };
 use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use sea_ctrl::qp::ContactConstraints;
+use sea_ctrl::stiffness_id::IdentificationSettings;
 use sea_dyn::{critical_damping, Actuator, ContactSurface, ElasticParameters};
 use sea_plant::Plant;
 use serde::de::Error as _;
@@ -377,7 +378,8 @@ impl PlantConfig {
     }
 }
 
-/// `[controller]`.
+/// `[controller]`: one flat table, the scenario's own keys and those of the `sea_ctrl`
+/// settings it reads directly ([`IdentificationSettings`]).
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct ControllerConfig {
@@ -418,49 +420,17 @@ pub struct ControllerConfig {
     /// and the model ([`sea_ctrl::stiffness_id`]) and give it to the joint loops, starting
     /// from the estimate `stiffness_estimate_scale` x the true stiffness (default false).
     pub stiffness_identification: bool,
-    /// `multi_rate` with `stiffness_identification`: forgetting time constant of the
-    /// identification [s] (default 1 s).
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub identification_time_s: f64,
     /// `multi_rate` with `stiffness_identification`: the contact wrenches it takes,
     /// "measured" (foot force/torque sensors; the default) or "commanded" (the QP's `f*`).
     pub identification_wrenches: IdentificationWrenches,
-    /// `multi_rate` with `stiffness_identification`: the standard deviation of the noise on a
-    /// measured spring deflection [rad] that the identification removes from its sums
-    /// (bias-compensated least squares; `sea_ctrl::stiffness_id`, "Encoder noise"); the
-    /// encoders' specification, e.g. `sqrt(sigma_s^2 + (ratio sigma_theta)^2)`. Default 0.
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub identification_deflection_noise_rad: f64,
-    /// `multi_rate` with `stiffness_identification` and measured wrenches: how long the
-    /// converged estimates stay held after a push was detected [s] (`sea_ctrl::stiffness_id`;
-    /// default 1 s).
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub identification_hold_s: f64,
-    /// `multi_rate` with `stiffness_identification`: the weight of the prior estimate, as
-    /// the spring deflection `delta_0` [rad] of one sample (`sea_ctrl::stiffness_id`; default
-    /// 1e-3 rad, 0.35 Nm on the iCub). A joint carrying less torque than `K_S^0 delta_0`
-    /// keeps its prior: with `external_wrench = "generalized"`, 5e-3 keeps the model's own
-    /// torque errors on lightly loaded joints (the stance ankle roll) out of the estimates
-    /// (docs/findings/model_errors.md). At most 0.1 rad.
-    #[serde(deserialize_with = "PriorDeflection::read")]
-    #[schemars(with = "PriorDeflection")]
-    pub identification_prior_deflection_rad: f64,
-    /// `multi_rate` with `stiffness_identification`: the bandwidth [Hz] of the low pass that
-    /// filters each joint's spring torque and deflection alike before the least squares
-    /// (`sea_ctrl::stiffness_id`, "Filtering"; default 5 Hz); positive, and a bandwidth far
-    /// above `rate_hz` (e.g. 1e9) leaves the samples unfiltered.
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub identification_filter_hz: f64,
-    /// `multi_rate` with `stiffness_identification`: the estimates stay within this factor
-    /// of the prior, `[K_S^0 / c, c K_S^0]` (`sea_ctrl::stiffness_id`; default 3, more than
-    /// 1).
-    #[serde(deserialize_with = "MoreThanOne::read")]
-    #[schemars(with = "MoreThanOne")]
-    pub identification_range_factor: f64,
+    /// The identification's tuning, `sea_ctrl`'s settings read directly: the keys
+    /// `identification_time_s`, `identification_deflection_noise_rad`, `identification_hold_s`,
+    /// `identification_prior_deflection_rad`, `identification_filter_hz` and
+    /// `identification_range_factor` of this table ([`IdentificationSettings`]; the table is
+    /// split by its keys when read, [`controller_table`]).
+    #[serde(skip_serializing)]
+    #[schemars(flatten)]
+    pub identification: IdentificationSettings,
     /// `multi_rate`: per elastic joint name, the amplitude [Nm] of a sinusoid added to its
     /// desired torque in the joint loop from the start of the run, so that the identification
     /// sees joints the task leaves unloaded (`sea_ctrl::excitation`; e.g. the legs' roll and
@@ -587,18 +557,8 @@ impl Default for ControllerConfig {
             torque_loop_paper_law: false,
             joint_stiffness: 0.0,
             stiffness_identification: false,
-            identification_time_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
-                .time_constant,
             identification_wrenches: IdentificationWrenches::default(),
-            identification_deflection_noise_rad: 0.0,
-            identification_hold_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
-                .hold_after_external_force,
-            identification_prior_deflection_rad:
-                sea_ctrl::stiffness_id::IdentificationSettings::default().prior_deflection,
-            identification_range_factor: sea_ctrl::stiffness_id::IdentificationSettings::default()
-                .range_factor,
-            identification_filter_hz: sea_ctrl::stiffness_id::IdentificationSettings::default()
-                .filter_bandwidth,
+            identification: IdentificationSettings::default(),
             identification_excitation_nm: BTreeMap::new(),
             identification_excitation_hz: 1.0,
             identification_excitation_s: 3.0,
@@ -627,6 +587,14 @@ impl Default for ControllerConfig {
 }
 
 impl ControllerConfig {
+    /// `[controller]` as a scenario file writes it: one flat table, the keys of the settings
+    /// read directly ([`IdentificationSettings`]) among the table's own.
+    pub fn table(&self) -> std::result::Result<toml::Table, toml::ser::Error> {
+        let mut table = toml::Table::try_from(self)?;
+        table.extend(toml::Table::try_from(self.identification)?);
+        Ok(table)
+    }
+
     /// `controller.rate_hz`, or its default under `controller.sampling`
     /// ([`Sampling::default_rate_hz`]) [Hz].
     pub fn rate_hz(&self) -> f64 {
@@ -668,6 +636,41 @@ fn contact_constraints_table<S: Serializer>(
     table.serialize(serializer)
 }
 
+/// Reads `[controller]` (`#[serde(deserialize_with)]` of `Scenario::controller`): the table
+/// split by the keys of the `sea_ctrl` settings it reads directly ([`IdentificationSettings`])
+/// and its own, each part read by its type with unknown keys refused; any other key is
+/// unknown, reported against every key of the table (in [`ControllerConfig`]'s order, the
+/// settings' keys where their field is).
+pub(crate) fn controller_table<'de, D>(
+    deserializer: D,
+) -> std::result::Result<ControllerConfig, D::Error>
+where
+    D: Deserializer<'de>,
+{
+    let table = toml::Table::deserialize(deserializer)?;
+    read_controller(table).map_err(|e| D::Error::custom(e.within("")))
+}
+
+/// [`ControllerConfig`] of a `[controller]` table read on its own ([`controller_table`]).
+fn read_controller(table: toml::Table) -> TableResult<ControllerConfig> {
+    let identification_keys = field_names::<IdentificationSettings>();
+    let union: Vec<&str> = field_names::<ControllerConfig>()
+        .iter()
+        .flat_map(|key| match *key {
+            "identification" => identification_keys,
+            _ => std::slice::from_ref(key),
+        })
+        .copied()
+        .collect();
+    if let Some(unknown) = table.keys().find(|key| !union.contains(&key.as_str())) {
+        return Err(TableError::unknown_field(unknown, &union));
+    }
+    let (identification, own) = split(table, identification_keys);
+    let mut config: ControllerConfig = table_as(own, &[])?;
+    config.identification = table_as(identification, &[])?;
+    Ok(config)
+}
+
 /// [`ContactConstraints`] of a `[controller.contact]` table read on its own: the table split
 /// by the keys of [`ContactSurface`] and of the QP's own choices (`facets`, ...), each part
 /// read by its type; any other key is unknown, reported against both types' keys.
@@ -685,14 +688,6 @@ fn contact_table(table: toml::Table) -> TableResult<ContactConstraints> {
     constraints.surface = table_as(surface, &[])?;
     Ok(constraints)
 }
-
-sea_dyn::number_bound!(
-    /// `controller.identification_prior_deflection_rad`: a deflection in `(0, 0.1]` rad.
-    PriorDeflection,
-    "must be positive and at most 0.1 rad",
-    |v| v > 0.0 && v <= 0.1,
-    { "type": "number", "exclusiveMinimum": 0.0, "maximum": 0.1 }
-);
 
 /// Reads `reference.com_direction`: finite entries, not zero.
 fn direction<'de, D: Deserializer<'de>>(
