@@ -510,6 +510,27 @@ mod tests {
     }
 
     #[test]
+    fn the_joint_loop_settings_are_read_directly_from_the_flat_table() {
+        let text = "[robot]\nurdf = \"x.urdf\"\n[controller]\ntorque_loop_paper_law = true\n\
+                    joint_stiffness = 30.0\n";
+        let s = Scenario::from_toml(text, &[], Path::new(".")).unwrap();
+        let joint_loops = &s.controller.joint_loops;
+        assert!(joint_loops.paper_law);
+        assert_eq!(joint_loops.joint_stiffness, 30.0);
+        assert_eq!(s.controller.torque_bandwidth(), None);
+        let defaults = sea_ctrl::joint_loop::JointLoopSettings::default();
+        assert_eq!(
+            joint_loops.torque_bandwidth_hz,
+            defaults.torque_bandwidth_hz
+        );
+        let table = s.controller.table().unwrap();
+        assert_eq!(table["torque_loop_paper_law"].as_bool(), Some(true));
+        assert_eq!(table["joint_stiffness"].as_float(), Some(30.0));
+        let (named, message) = refusal("controller.joint_loops", "1");
+        assert_eq!(named, "controller.joint_loops", "{message}");
+    }
+
+    #[test]
     fn the_identification_settings_are_read_directly_from_the_flat_table() {
         let text = "[robot]\nurdf = \"x.urdf\"\n[controller]\nidentification_time_s = 2.5\n\
                     identification_range_factor = 4.0\nqp_solver = \"clarabel\"\n";

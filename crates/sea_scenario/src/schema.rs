@@ -12,6 +12,7 @@ use super::settings::{
     MomentumRelaxation, QpSolver, Sampling, Setting,
 };
 use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
+use sea_ctrl::joint_loop::JointLoopSettings;
 use sea_ctrl::qp::ContactConstraints;
 use sea_ctrl::stiffness_id::IdentificationSettings;
 use sea_dyn::{critical_damping, Actuator, ContactSurface, ElasticParameters};
@@ -379,7 +380,7 @@ impl PlantConfig {
 }
 
 /// `[controller]`: one flat table, the scenario's own keys and those of the `sea_ctrl`
-/// settings it reads directly ([`IdentificationSettings`]).
+/// settings it reads directly ([`JointLoopSettings`], [`IdentificationSettings`]).
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct ControllerConfig {
@@ -401,21 +402,12 @@ pub struct ControllerConfig {
     #[serde(deserialize_with = "Positive::read")]
     #[schemars(with = "Positive")]
     pub inner_rate_hz: f64,
-    /// `multi_rate`: bandwidth `omega_t / 2 pi` of the joint torque loops [Hz] (default 20 Hz,
-    /// [`sea_ctrl::joint_loop::DEFAULT_TORQUE_BANDWIDTH`]).
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub torque_bandwidth_hz: f64,
-    /// `multi_rate`: run each joint loop at the paper's bandwidth `K_S^ / K_D^` instead of
-    /// `torque_bandwidth_hz` (with the SEA controller: the paper's law, inputDesMotVel, with
-    /// its measurements refreshed at the inner rate).
-    pub torque_loop_paper_law: bool,
-    /// `multi_rate`: stiffness [Nm/rad] of a joint impedance `K_j (s_d - s)` added to the
-    /// held torque at every joint loop tick (default 0: none;
-    /// [`sea_ctrl::joint_loop::JointTorqueLoop::with_joint_stiffness`]).
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub joint_stiffness: f64,
+    /// The joint torque loops, `sea_ctrl`'s settings read directly: the keys
+    /// `torque_bandwidth_hz`, `torque_loop_paper_law` and `joint_stiffness` of this table
+    /// ([`JointLoopSettings`]).
+    #[serde(skip_serializing)]
+    #[schemars(flatten)]
+    pub joint_loops: JointLoopSettings,
     /// `multi_rate`: identify each elastic joint's spring stiffness online from the encoders
     /// and the model ([`sea_ctrl::stiffness_id`]) and give it to the joint loops, starting
     /// from the estimate `stiffness_estimate_scale` x the true stiffness (default false).
@@ -552,10 +544,7 @@ impl Default for ControllerConfig {
             rate_hz: None,
             sampling: Sampling::default(),
             inner_rate_hz: 1000.0,
-            torque_bandwidth_hz: sea_ctrl::joint_loop::DEFAULT_TORQUE_BANDWIDTH
-                / (2.0 * std::f64::consts::PI),
-            torque_loop_paper_law: false,
-            joint_stiffness: 0.0,
+            joint_loops: JointLoopSettings::default(),
             stiffness_identification: false,
             identification_wrenches: IdentificationWrenches::default(),
             identification: IdentificationSettings::default(),
@@ -591,6 +580,7 @@ impl ControllerConfig {
     /// read directly ([`IdentificationSettings`]) among the table's own.
     pub fn table(&self) -> std::result::Result<toml::Table, toml::ser::Error> {
         let mut table = toml::Table::try_from(self)?;
+        table.extend(toml::Table::try_from(self.joint_loops)?);
         table.extend(toml::Table::try_from(self.identification)?);
         Ok(table)
     }
@@ -603,10 +593,9 @@ impl ControllerConfig {
     }
 
     /// `multi_rate`: the joint loops' bandwidth [rad/s], `None` for the paper's `K_S^ / K_D^`
-    /// per joint.
+    /// per joint ([`JointLoopSettings::bandwidth`]).
     pub fn torque_bandwidth(&self) -> Option<f64> {
-        (!self.torque_loop_paper_law)
-            .then_some(2.0 * std::f64::consts::PI * self.torque_bandwidth_hz)
+        self.joint_loops.bandwidth()
     }
 }
 
@@ -637,10 +626,10 @@ fn contact_constraints_table<S: Serializer>(
 }
 
 /// Reads `[controller]` (`#[serde(deserialize_with)]` of `Scenario::controller`): the table
-/// split by the keys of the `sea_ctrl` settings it reads directly ([`IdentificationSettings`])
-/// and its own, each part read by its type with unknown keys refused; any other key is
-/// unknown, reported against every key of the table (in [`ControllerConfig`]'s order, the
-/// settings' keys where their field is).
+/// split by the keys of the `sea_ctrl` settings it reads directly ([`JointLoopSettings`],
+/// [`IdentificationSettings`]) and its own, each part read by its type with unknown keys
+/// refused; any other key is unknown, reported against every key of the table (in
+/// [`ControllerConfig`]'s order, the settings' keys where their field is).
 pub(crate) fn controller_table<'de, D>(
     deserializer: D,
 ) -> std::result::Result<ControllerConfig, D::Error>
@@ -653,10 +642,12 @@ where
 
 /// [`ControllerConfig`] of a `[controller]` table read on its own ([`controller_table`]).
 fn read_controller(table: toml::Table) -> TableResult<ControllerConfig> {
+    let joint_loop_keys = field_names::<JointLoopSettings>();
     let identification_keys = field_names::<IdentificationSettings>();
     let union: Vec<&str> = field_names::<ControllerConfig>()
         .iter()
         .flat_map(|key| match *key {
+            "joint_loops" => joint_loop_keys,
             "identification" => identification_keys,
             _ => std::slice::from_ref(key),
         })
@@ -665,8 +656,10 @@ fn read_controller(table: toml::Table) -> TableResult<ControllerConfig> {
     if let Some(unknown) = table.keys().find(|key| !union.contains(&key.as_str())) {
         return Err(TableError::unknown_field(unknown, &union));
     }
-    let (identification, own) = split(table, identification_keys);
+    let (joint_loops, rest) = split(table, joint_loop_keys);
+    let (identification, own) = split(rest, identification_keys);
     let mut config: ControllerConfig = table_as(own, &[])?;
+    config.joint_loops = table_as(joint_loops, &[])?;
     config.identification = table_as(identification, &[])?;
     Ok(config)
 }

@@ -12,8 +12,7 @@ impl ControllerConfig {
         &self,
         controller: &sea_ctrl::MomentumController,
     ) -> sea_ctrl::joint_loop::JointTorqueLoop {
-        sea_ctrl::joint_loop::JointTorqueLoop::new(controller, self.torque_bandwidth())
-            .with_joint_stiffness(self.joint_stiffness)
+        sea_ctrl::joint_loop::JointTorqueLoop::from_settings(controller, &self.joint_loops)
     }
 
     /// `identification_excitation_nm`: the excitation of `controller`'s elastic joints, `None`

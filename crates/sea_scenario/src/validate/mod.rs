@@ -225,13 +225,13 @@ fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
 /// [`sea_ctrl::joint_loop::max_stable_bandwidth`] (where the sampled loop's poles leave the
 /// unit circle; beyond it the run diverges).
 fn torque_bandwidth_limit(c: &ControllerConfig, motor_velocity_gain: f64) -> Result<()> {
-    if c.sampling != Sampling::MultiRate || c.torque_loop_paper_law {
+    if c.sampling != Sampling::MultiRate || c.joint_loops.paper_law {
         return Ok(());
     }
     let period = 1.0 / c.inner_rate_hz;
     let bound = sea_ctrl::joint_loop::max_stable_bandwidth(motor_velocity_gain, period);
     let bound_hz = bound / (2.0 * std::f64::consts::PI);
-    if !bound_hz.is_finite() || c.torque_bandwidth_hz < bound_hz {
+    if !bound_hz.is_finite() || c.joint_loops.torque_bandwidth_hz < bound_hz {
         return Ok(()); // a bad gain or rate is reported by its own check
     }
     Err(Error::invalid(
@@ -243,7 +243,7 @@ fn torque_bandwidth_limit(c: &ControllerConfig, motor_velocity_gain: f64) -> Res
              are well below it (default 20 Hz)",
             c.inner_rate_hz
         ),
-        c.torque_bandwidth_hz,
+        c.joint_loops.torque_bandwidth_hz,
     ))
 }
 
