@@ -42,6 +42,58 @@ use sea_dyn::{ElasticParameters, StateLayout};
 /// Default bandwidth `omega_t` of the joint torque loop [rad/s]: 2 pi 20 Hz (module doc).
 pub const DEFAULT_TORQUE_BANDWIDTH: f64 = 2.0 * std::f64::consts::PI * 20.0;
 
+/// Settings of the joint torque loops ([`JointTorqueLoop::from_settings`]). With the `serde`
+/// feature, the keys `torque_bandwidth_hz`, `torque_loop_paper_law` and `joint_stiffness` of a
+/// scenario's `[controller]`, each bounded as it is read (`sea_dyn::bounded`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
+    serde(default, deny_unknown_fields)
+)]
+pub struct JointLoopSettings {
+    /// `multi_rate`: bandwidth `omega_t / 2 pi` of the joint torque loops [Hz] (default 20 Hz,
+    /// `sea_ctrl::joint_loop::DEFAULT_TORQUE_BANDWIDTH`).
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "sea_dyn::bounded::Positive::read"),
+        schemars(with = "sea_dyn::bounded::Positive")
+    )]
+    pub torque_bandwidth_hz: f64,
+    /// `multi_rate`: run each joint loop at the paper's bandwidth `K_S^ / K_D^` instead of
+    /// `torque_bandwidth_hz` (with the SEA controller: the paper's law, inputDesMotVel, with
+    /// its measurements refreshed at the inner rate).
+    #[cfg_attr(feature = "serde", serde(rename = "torque_loop_paper_law"))]
+    pub paper_law: bool,
+    /// `multi_rate`: stiffness [Nm/rad] of a joint impedance `K_j (s_d - s)` added to the
+    /// held torque at every joint loop tick (default 0: none;
+    /// `sea_ctrl::joint_loop::JointTorqueLoop::with_joint_stiffness`).
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "sea_dyn::bounded::NonNegative::read"),
+        schemars(with = "sea_dyn::bounded::NonNegative")
+    )]
+    pub joint_stiffness: f64,
+}
+
+impl Default for JointLoopSettings {
+    /// 20 Hz ([`DEFAULT_TORQUE_BANDWIDTH`]), not the paper's law, no joint impedance.
+    fn default() -> Self {
+        Self {
+            torque_bandwidth_hz: DEFAULT_TORQUE_BANDWIDTH / (2.0 * std::f64::consts::PI),
+            paper_law: false,
+            joint_stiffness: 0.0,
+        }
+    }
+}
+
+impl JointLoopSettings {
+    /// The loops' bandwidth [rad/s], `None` for the paper's `K_S^ / K_D^` per joint.
+    pub fn bandwidth(&self) -> Option<f64> {
+        (!self.paper_law).then_some(2.0 * std::f64::consts::PI * self.torque_bandwidth_hz)
+    }
+}
+
 /// The largest bandwidth `omega_t` [rad/s] at which the joint torque loop, run every
 /// `period` [s] (`1 / controller.inner_rate_hz`) on a motor velocity loop of gain
 /// `motor_velocity_gain` `K_m` [1/s], is stable; every smaller positive `omega_t` is.
@@ -154,6 +206,12 @@ impl JointTorqueLoop {
             joint_stiffness: 0.0,
             s_desired: vec![0.0; actuation.n_elastic()],
         }
+    }
+
+    /// The joint loops of `controller`'s elastic joints with `settings` (bandwidth or the
+    /// paper's law, joint stiffness).
+    pub fn from_settings(controller: &MomentumController, settings: &JointLoopSettings) -> Self {
+        Self::new(controller, settings.bandwidth()).with_joint_stiffness(settings.joint_stiffness)
     }
 
     /// With a joint impedance of stiffness `stiffness` [Nm/rad] on every elastic joint: each

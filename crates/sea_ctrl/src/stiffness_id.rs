@@ -149,34 +149,111 @@ use sea_dyn::{Data, ElasticParameters, FrameId, Model, StateLayout};
 /// departures (module doc, "Encoder noise").
 pub const NOISE_BOUND_FACTOR: f64 = 3.0;
 
-/// Settings of [`StiffnessIdentifier`].
+#[cfg(feature = "serde")]
+sea_dyn::number_bound!(
+    /// [`IdentificationSettings::prior_deflection`]: a deflection in `(0, 0.1]` rad.
+    PriorDeflection,
+    "must be positive and at most 0.1 rad",
+    |v| v > 0.0 && v <= 0.1,
+    { "type": "number", "exclusiveMinimum": 0.0, "maximum": 0.1 }
+);
+
+/// Settings of [`StiffnessIdentifier`]. With the `serde` feature, the keys
+/// `identification_*` of a scenario's `[controller]` (the tuning fields; the external force
+/// check's bounds are the defaults'), each bounded as it is read (`sea_dyn::bounded`).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
+    serde(default, deny_unknown_fields)
+)]
 pub struct IdentificationSettings {
-    /// Forgetting time constant `T_id` [s]: older samples weigh `exp(-age / T_id)`.
+    /// `multi_rate` with `stiffness_identification`: forgetting time constant `T_id` of the
+    /// identification [s]: older samples weigh `exp(-age / T_id)` (default 1 s).
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "identification_time_s",
+            deserialize_with = "sea_dyn::bounded::Positive::read"
+        ),
+        schemars(with = "sea_dyn::bounded::Positive")
+    )]
     pub time_constant: f64,
-    /// Weight of the prior, as the deflection `delta_0` [rad] of one sample.
+    /// `multi_rate` with `stiffness_identification`: the standard deviation of the noise on a
+    /// measured spring deflection `delta` [rad] that the identification removes from its sums
+    /// `S_dd` (bias-compensated least squares; module doc, "Encoder noise"); the encoders'
+    /// specification, e.g. `sqrt(sigma_s^2 + (ratio sigma_theta)^2)`. Default 0 (noise-free
+    /// encoders).
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "identification_deflection_noise_rad",
+            deserialize_with = "sea_dyn::bounded::NonNegative::read"
+        ),
+        schemars(with = "sea_dyn::bounded::NonNegative")
+    )]
+    pub deflection_noise: f64,
+    /// `multi_rate` with `stiffness_identification` and measured wrenches: how long the
+    /// converged estimates stay held after a push was detected (the last update the external
+    /// force check skipped) [s] (`sea_ctrl::stiffness_id`; default 1 s).
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "identification_hold_s",
+            deserialize_with = "sea_dyn::bounded::NonNegative::read"
+        ),
+        schemars(with = "sea_dyn::bounded::NonNegative")
+    )]
+    pub hold_after_external_force: f64,
+    /// `multi_rate` with `stiffness_identification`: the weight of the prior estimate, as
+    /// the spring deflection `delta_0` [rad] of one sample (`sea_ctrl::stiffness_id`; default 1e-3 rad,
+    /// 0.35 Nm on the iCub). A joint carrying less torque than `K_S^0 delta_0` keeps its
+    /// prior: with `external_wrench = "generalized"`, 5e-3 keeps the model's own torque errors
+    /// on lightly loaded joints (the stance ankle roll) out of the estimates
+    /// (docs/findings/model_errors.md). At most 0.1 rad.
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "identification_prior_deflection_rad",
+            deserialize_with = "PriorDeflection::read"
+        ),
+        schemars(with = "PriorDeflection")
+    )]
     pub prior_deflection: f64,
+    /// `multi_rate` with `stiffness_identification`: the bandwidth `f_r` [Hz] of the
+    /// first-order low pass that filters each joint's spring torque and deflection alike
+    /// before the least squares (`sea_ctrl::stiffness_id`, "Filtering"; default 5 Hz); positive, and a
+    /// bandwidth far above the update rate (e.g. 1e9) leaves the samples unfiltered.
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "identification_filter_hz",
+            deserialize_with = "sea_dyn::bounded::Positive::read"
+        ),
+        schemars(with = "sea_dyn::bounded::Positive")
+    )]
+    pub filter_bandwidth: f64,
+    /// `multi_rate` with `stiffness_identification`: the estimates stay within this factor
+    /// `c` of the prior, `[K_S^0 / c, c K_S^0]` (`sea_ctrl::stiffness_id`; default 3, more than 1): how far
+    /// from the prior the robot's stiffness may be.
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "identification_range_factor",
+            deserialize_with = "sea_dyn::bounded::MoreThanOne::read"
+        ),
+        schemars(with = "sea_dyn::bounded::MoreThanOne")
+    )]
+    pub range_factor: f64,
     /// With measured wrenches: the largest force residual of the base rows, as a fraction of
     /// the robot's weight, at which an update is made (module doc); `None` (commanded
     /// wrenches, whose residual is the momentum error) for no check.
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub max_external_force: Option<f64>,
-    /// Standard deviation of the noise on each measured deflection `delta` [rad] (the encoders'
-    /// noise: `sqrt(sigma_s^2 + (ratio sigma_theta)^2)`), removed from `S_dd` (module doc,
-    /// "Encoder noise"); 0 for noise-free encoders.
-    pub deflection_noise: f64,
-    /// With the external force check: how long the converged estimates stay held after the
-    /// last update it skipped [s] (module doc).
-    pub hold_after_external_force: f64,
     /// With the external force check: the moment residual's bound is the force bound times
     /// this arm [m] (module doc).
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub external_moment_arm: f64,
-    /// The estimates are kept within `[K_S^0 / c, c K_S^0]` for this factor `c` > 1 (module
-    /// doc): how far from the prior the robot's stiffness may be.
-    pub range_factor: f64,
-    /// Bandwidth `f_r` [Hz] of the first-order low pass applied alike to each joint's spring
-    /// torque and deflection before the least squares (module doc, "Filtering"); positive. A
-    /// bandwidth far above the update rate leaves the samples as they are.
-    pub filter_bandwidth: f64,
 }
 
 impl Default for IdentificationSettings {

@@ -29,6 +29,8 @@
 #![forbid(unsafe_code)]
 
 pub mod algorithms;
+#[cfg(feature = "serde")]
+pub mod bounded;
 pub mod error;
 pub mod gains;
 pub mod linalg;

@@ -30,12 +30,20 @@ use std::ops::Range;
 #[serde(default, deny_unknown_fields)]
 pub struct SensingConfig {
     /// Standard deviation of the joint encoders' noise on `s` [rad].
+    #[serde(deserialize_with = "sea_dyn::bounded::NonNegative::read")]
+    #[schemars(with = "sea_dyn::bounded::NonNegative")]
     pub joint_position_noise_rad: f64,
     /// Standard deviation of the noise on the joint velocities `sdot` [rad/s].
+    #[serde(deserialize_with = "sea_dyn::bounded::NonNegative::read")]
+    #[schemars(with = "sea_dyn::bounded::NonNegative")]
     pub joint_velocity_noise_rad_s: f64,
     /// Standard deviation of the motor encoders' noise on `theta` [rad, motor side].
+    #[serde(deserialize_with = "sea_dyn::bounded::NonNegative::read")]
+    #[schemars(with = "sea_dyn::bounded::NonNegative")]
     pub motor_position_noise_rad: f64,
     /// Standard deviation of the noise on the motor velocities `thetadot` [rad/s, motor side].
+    #[serde(deserialize_with = "sea_dyn::bounded::NonNegative::read")]
+    #[schemars(with = "sea_dyn::bounded::NonNegative")]
     pub motor_velocity_noise_rad_s: f64,
     /// Measurement delay in whole inner periods, at most one whole-body period.
     pub delay_inner_periods: usize,

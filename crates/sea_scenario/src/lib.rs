@@ -15,7 +15,9 @@
 
 #![forbid(unsafe_code)]
 
-pub mod bounded;
+/// Bounded values, read with the file (`sea_dyn::bounded`, where the domain types' fields
+/// declare theirs).
+pub use sea_dyn::bounded;
 pub mod build;
 pub mod ground;
 /// `[[disturbances]]` (typed by the loop), at its former path.
@@ -78,7 +80,7 @@ pub struct Scenario {
     #[serde(default)]
     pub ground: GroundConfig,
     /// `[controller]`.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "schema::controller_table")]
     pub controller: ControllerConfig,
     /// `[reference]`.
     #[serde(default)]
@@ -118,9 +120,8 @@ impl Scenario {
             apply_override(&mut root, key, value)?;
         }
         let source = robots::defaults::take_and_apply(&mut root, base_dir)?;
-        let mut scenario: Scenario = toml::Value::Table(root.clone())
-            .try_into()
-            .map_err(|e: toml::de::Error| schema_error(&e, &root))?;
+        let mut scenario: Scenario = parse::read_value(toml::Value::Table(root.clone()))
+            .map_err(|e| schema_error(e, &root))?;
         scenario.base_dir = base_dir.to_path_buf();
         scenario.description = Arc::new(source.description);
         scenario.resolve_urdf_uri()?;
@@ -506,6 +507,56 @@ mod tests {
         assert_eq!(s.controller.sampling, Sampling::Continuous);
         assert_eq!(s.controller.qp_solver, QpSolver::Clarabel);
         assert_eq!(s.reference.com_origin, ComOrigin::Initial);
+    }
+
+    #[test]
+    fn the_joint_loop_settings_are_read_directly_from_the_flat_table() {
+        let text = "[robot]\nurdf = \"x.urdf\"\n[controller]\ntorque_loop_paper_law = true\n\
+                    joint_stiffness = 30.0\n";
+        let s = Scenario::from_toml(text, &[], Path::new(".")).unwrap();
+        let joint_loops = &s.controller.joint_loops;
+        assert!(joint_loops.paper_law);
+        assert_eq!(joint_loops.joint_stiffness, 30.0);
+        assert_eq!(s.controller.torque_bandwidth(), None);
+        let defaults = sea_ctrl::joint_loop::JointLoopSettings::default();
+        assert_eq!(
+            joint_loops.torque_bandwidth_hz,
+            defaults.torque_bandwidth_hz
+        );
+        let table = s.controller.table().unwrap();
+        assert_eq!(table["torque_loop_paper_law"].as_bool(), Some(true));
+        assert_eq!(table["joint_stiffness"].as_float(), Some(30.0));
+        let (named, message) = refusal("controller.joint_loops", "1");
+        assert_eq!(named, "controller.joint_loops", "{message}");
+    }
+
+    #[test]
+    fn the_identification_settings_are_read_directly_from_the_flat_table() {
+        let text = "[robot]\nurdf = \"x.urdf\"\n[controller]\nidentification_time_s = 2.5\n\
+                    identification_range_factor = 4.0\nqp_solver = \"clarabel\"\n";
+        let s = Scenario::from_toml(text, &[], Path::new(".")).unwrap();
+        let identification = &s.controller.identification;
+        assert_eq!(identification.time_constant, 2.5);
+        assert_eq!(identification.range_factor, 4.0);
+        let defaults = sea_ctrl::stiffness_id::IdentificationSettings::default();
+        assert_eq!(identification.filter_bandwidth, defaults.filter_bandwidth);
+        assert_eq!(s.controller.qp_solver, QpSolver::Clarabel);
+        let table = s.controller.table().unwrap();
+        assert_eq!(table["identification_time_s"].as_float(), Some(2.5));
+        assert!(!table.contains_key("identification"));
+        // The field holding them is no key of the file.
+        let (named, message) = refusal("controller.identification.time_constant", "1");
+        assert_eq!(named, "controller.identification", "{message}");
+        assert!(
+            message.contains("unknown field `identification`"),
+            "{message}"
+        );
+        let (named, message) = refusal("controller.identification_time_s", "0");
+        assert_eq!(named, "controller.identification_time_s", "{message}");
+        assert!(
+            message.ends_with("must be positive and finite, got 0"),
+            "{message}"
+        );
     }
 
     #[test]

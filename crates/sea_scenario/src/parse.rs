@@ -1,6 +1,9 @@
 //! From TOML text to the TOML tree the schema reads: `--set key=value` overrides, and the
 //! errors of both steps naming what is wrong (the line of malformed TOML; the dotted key,
-//! the rule and the value of a schema error).
+//! the rule and the value of a schema error). The key of a schema error is the path serde
+//! walked to the value (`serde_path_to_error`); a table read on its own by a deserializer of
+//! the schema (an actuator override, the contact table) gives the rest of the path in its
+//! message ("in `overrides.l_knee.stifness`: rule", [`TableError::within`]).
 
 use super::settings::{not_one_of, quoted_list};
 use crate::error::{Error, Result};
@@ -60,8 +63,7 @@ pub(crate) fn syntax_error(error: &toml::de::Error, text: &str) -> Error {
 /// A schema (serde) error of the whole scenario `root`, naming the dotted key it is about.
 /// serde says only "invalid type: unit variant" of a setting given a number or a list: the
 /// value is then looked up in `root` and shown.
-pub(crate) fn schema_error(error: &toml::de::Error, root: &toml::Table) -> Error {
-    let error = TableError::of(error);
+pub(crate) fn schema_error(error: TableError, root: &toml::Table) -> Error {
     if error.rule.starts_with("invalid type: unit variant") {
         if let Some(value) = lookup(root, &error.key) {
             let rule = format!(
@@ -72,6 +74,11 @@ pub(crate) fn schema_error(error: &toml::de::Error, root: &toml::Table) -> Error
         }
     }
     error.into_error()
+}
+
+/// Reads `T` from a TOML value; an error names the key path serde walked to the bad value.
+pub fn read_value<T: DeserializeOwned>(value: toml::Value) -> TableResult<T> {
+    serde_path_to_error::deserialize(value).map_err(|e| TableError::at(&e))
 }
 
 /// The value at the dotted `key` of `root`.
@@ -98,29 +105,24 @@ pub struct TableError {
 }
 
 impl TableError {
-    /// The key and rule of a serde error. `toml` appends the path of the value
-    /// ("in `controller.postural_scale`"); for an unknown or missing field the path is its
-    /// table and the field is named in the message, so the key is `table.field`; a sub-table
-    /// read on its own names its key in the message ("in `overrides.l_knee.stiffness`: rule",
-    /// [`Self::within`]).
-    pub fn of(error: &toml::de::Error) -> Self {
-        let text = error.to_string();
-        let text = text.trim();
-        let (rule, path) = match text.rsplit_once("\nin `") {
-            Some((rule, path)) => (rule.trim(), path.trim_end_matches('`')),
-            None => (text, ""),
-        };
+    /// The key and rule of a serde error at the path serde walked (`serde_path_to_error`;
+    /// entries of arrays name their array: the rule says which entry). For a missing field
+    /// the path is its table and the field is named in the message, so the key is
+    /// `table.field`; a table read on its own names the rest of its path in the message
+    /// ("in `overrides.l_knee.stiffness`: rule", [`Self::within`]).
+    pub fn at(error: &serde_path_to_error::Error<toml::de::Error>) -> Self {
+        let path = key_of(error.path());
+        let rule = error.inner().message().trim();
         let nested = rule
             .strip_prefix("in `")
             .and_then(|rest| rest.split_once("`: "));
         if let Some((inner, rule)) = nested {
-            return Self::new(dotted(path, inner), rule);
+            return Self::new(dotted(&path, inner), rule);
         }
-        let field = ["unknown field `", "missing field `"]
-            .iter()
-            .find_map(|prefix| rule.strip_prefix(prefix))
+        let missing = rule
+            .strip_prefix("missing field `")
             .and_then(|rest| rest.split('`').next());
-        Self::new(dotted(path, field.unwrap_or("")), rule)
+        Self::new(dotted(&path, missing.unwrap_or("")), rule)
     }
 
     fn new(key: String, rule: &str) -> Self {
@@ -146,6 +148,16 @@ impl TableError {
         let listed: Vec<String> = names.map(|name| format!("`{name}`")).collect();
         let rule = format!("{unknown}, expected one of {}", listed.join(", "));
         Self { rule, ..self }
+    }
+
+    /// The error of the key `key` in a table whose keys are `expected` (serde's wording).
+    pub fn unknown_field(key: &str, expected: &[&str]) -> Self {
+        let listed: Vec<String> = expected.iter().map(|name| format!("`{name}`")).collect();
+        let rule = format!(
+            "unknown field `{key}`, expected one of {}",
+            listed.join(", ")
+        );
+        Self::new(key.to_string(), &rule)
     }
 
     /// The same error with its key under `table`.
@@ -187,6 +199,21 @@ impl TableError {
     }
 }
 
+/// The dotted key of a path serde walked: its table keys and struct fields (array indices
+/// left out; "" for the root).
+fn key_of(path: &serde_path_to_error::Path) -> String {
+    use serde_path_to_error::Segment;
+    let names: Vec<String> = path
+        .iter()
+        .filter_map(|segment| match segment {
+            Segment::Map { key } => Some(key.clone()),
+            Segment::Enum { variant } => Some(variant.clone()),
+            Segment::Seq { .. } | Segment::Unknown => None,
+        })
+        .collect();
+    names.join(".")
+}
+
 /// `a.b` of `a` and `b`, either possibly empty.
 fn dotted(a: &str, b: &str) -> String {
     match (a.is_empty(), b.is_empty()) {
@@ -206,11 +233,72 @@ fn unknown_variant(rule: &str) -> Option<(&str, String)> {
     Some((value, quoted_list(names)))
 }
 
+/// The keys of a struct `T` that serde reads (its fields' names, skipped fields left out), as
+/// its derived `Deserialize` declares them: asked of a deserializer that only records them.
+pub(crate) fn field_names<'de, T: serde::Deserialize<'de>>() -> &'static [&'static str] {
+    let mut names: &'static [&'static str] = &[];
+    let _ = T::deserialize(FieldNames(&mut names));
+    names
+}
+
+/// A deserializer that records the fields a struct asks for, and refuses everything.
+struct FieldNames<'a>(&'a mut &'static [&'static str]);
+
+/// [`FieldNames`]' refusal.
+#[derive(Debug)]
+struct NotAStruct;
+
+impl std::fmt::Display for NotAStruct {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("not a struct")
+    }
+}
+
+impl std::error::Error for NotAStruct {}
+
+impl serde::de::Error for NotAStruct {
+    fn custom<M: std::fmt::Display>(_: M) -> Self {
+        NotAStruct
+    }
+}
+
+impl<'de> serde::Deserializer<'de> for FieldNames<'_> {
+    type Error = NotAStruct;
+
+    fn deserialize_any<V: serde::de::Visitor<'de>>(
+        self,
+        _: V,
+    ) -> std::result::Result<V::Value, NotAStruct> {
+        Err(NotAStruct)
+    }
+
+    fn deserialize_struct<V: serde::de::Visitor<'de>>(
+        self,
+        _: &'static str,
+        fields: &'static [&'static str],
+        _: V,
+    ) -> std::result::Result<V::Value, NotAStruct> {
+        *self.0 = fields;
+        Err(NotAStruct)
+    }
+
+    serde::forward_to_deserialize_any! {
+        bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string bytes byte_buf
+        option unit unit_struct newtype_struct seq tuple tuple_struct map enum identifier
+        ignored_any
+    }
+}
+
+/// `table` split in two: the keys in `names`, and the others.
+pub(crate) fn split(table: toml::Table, names: &[&str]) -> (toml::Table, toml::Table) {
+    table
+        .into_iter()
+        .partition(|(key, _)| names.contains(&key.as_str()))
+}
+
 /// Reads `T` from a table on its own, whose keys `taken` were removed (and read) before.
 pub(crate) fn table_as<T: DeserializeOwned>(table: toml::Table, taken: &[&str]) -> TableResult<T> {
-    toml::Value::Table(table)
-        .try_into()
-        .map_err(|e: toml::de::Error| TableError::of(&e).besides(taken))
+    read_value(toml::Value::Table(table)).map_err(|e| e.besides(taken))
 }
 
 /// Removes `key` from `table` and reads its value (`None` when absent).
@@ -220,11 +308,7 @@ pub(crate) fn take<T: DeserializeOwned>(
 ) -> TableResult<Option<T>> {
     table
         .remove(key)
-        .map(|value| {
-            value
-                .try_into()
-                .map_err(|e: toml::de::Error| TableError::of(&e).under(key))
-        })
+        .map(|value| read_value(value).map_err(|e| e.under(key)))
         .transpose()
 }
 

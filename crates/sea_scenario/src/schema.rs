@@ -5,15 +5,17 @@
 //! from the domain types' defaults and the robot description ([`super::robots::icub`]).
 
 use super::bounded::{AtLeastOne, Finite, NonNegative, Positive};
-use super::parse::{table_as, take, TableResult};
+use super::parse::{field_names, split, table_as, take, TableError, TableResult};
 use super::robots::icub;
 use super::settings::{
     ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationWrenches, Method,
     MomentumRelaxation, QpSolver, Sampling, Setting,
 };
 use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
+use sea_ctrl::joint_loop::JointLoopSettings;
 use sea_ctrl::qp::ContactConstraints;
-use sea_dyn::{critical_damping, Actuator, ElasticParameters};
+use sea_ctrl::stiffness_id::IdentificationSettings;
+use sea_dyn::{critical_damping, Actuator, ContactSurface, ElasticParameters};
 use sea_plant::Plant;
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -377,7 +379,8 @@ impl PlantConfig {
     }
 }
 
-/// `[controller]`.
+/// `[controller]`: one flat table, the scenario's own keys and those of the `sea_ctrl`
+/// settings it reads directly ([`JointLoopSettings`], [`IdentificationSettings`]).
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct ControllerConfig {
@@ -399,68 +402,33 @@ pub struct ControllerConfig {
     #[serde(deserialize_with = "Positive::read")]
     #[schemars(with = "Positive")]
     pub inner_rate_hz: f64,
-    /// `multi_rate`: bandwidth `omega_t / 2 pi` of the joint torque loops [Hz] (default 20 Hz,
-    /// [`sea_ctrl::joint_loop::DEFAULT_TORQUE_BANDWIDTH`]).
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub torque_bandwidth_hz: f64,
-    /// `multi_rate`: run each joint loop at the paper's bandwidth `K_S^ / K_D^` instead of
-    /// `torque_bandwidth_hz` (with the SEA controller: the paper's law, inputDesMotVel, with
-    /// its measurements refreshed at the inner rate).
-    pub torque_loop_paper_law: bool,
-    /// `multi_rate`: stiffness [Nm/rad] of a joint impedance `K_j (s_d - s)` added to the
-    /// held torque at every joint loop tick (default 0: none;
-    /// [`sea_ctrl::joint_loop::JointTorqueLoop::with_joint_stiffness`]).
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub joint_stiffness: f64,
+    /// The joint torque loops, `sea_ctrl`'s settings read directly: the keys
+    /// `torque_bandwidth_hz`, `torque_loop_paper_law` and `joint_stiffness` of this table
+    /// ([`JointLoopSettings`]).
+    #[serde(skip_serializing)]
+    #[schemars(flatten)]
+    pub joint_loops: JointLoopSettings,
     /// `multi_rate`: identify each elastic joint's spring stiffness online from the encoders
     /// and the model ([`sea_ctrl::stiffness_id`]) and give it to the joint loops, starting
     /// from the estimate `stiffness_estimate_scale` x the true stiffness (default false).
     pub stiffness_identification: bool,
-    /// `multi_rate` with `stiffness_identification`: forgetting time constant of the
-    /// identification [s] (default 1 s).
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub identification_time_s: f64,
     /// `multi_rate` with `stiffness_identification`: the contact wrenches it takes,
     /// "measured" (foot force/torque sensors; the default) or "commanded" (the QP's `f*`).
     pub identification_wrenches: IdentificationWrenches,
-    /// `multi_rate` with `stiffness_identification`: the standard deviation of the noise on a
-    /// measured spring deflection [rad] that the identification removes from its sums
-    /// (bias-compensated least squares; `sea_ctrl::stiffness_id`, "Encoder noise"); the
-    /// encoders' specification, e.g. `sqrt(sigma_s^2 + (ratio sigma_theta)^2)`. Default 0.
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub identification_deflection_noise_rad: f64,
-    /// `multi_rate` with `stiffness_identification` and measured wrenches: how long the
-    /// converged estimates stay held after a push was detected [s] (`sea_ctrl::stiffness_id`;
-    /// default 1 s).
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub identification_hold_s: f64,
-    /// `multi_rate` with `stiffness_identification`: the weight of the prior estimate, as
-    /// the spring deflection `delta_0` [rad] of one sample (`sea_ctrl::stiffness_id`; default
-    /// 1e-3 rad, 0.35 Nm on the iCub). A joint carrying less torque than `K_S^0 delta_0`
-    /// keeps its prior: with `external_wrench = "generalized"`, 5e-3 keeps the model's own
-    /// torque errors on lightly loaded joints (the stance ankle roll) out of the estimates
-    /// (docs/findings/model_errors.md). At most 0.1 rad.
-    pub identification_prior_deflection_rad: f64,
-    /// `multi_rate` with `stiffness_identification`: the bandwidth [Hz] of the low pass that
-    /// filters each joint's spring torque and deflection alike before the least squares
-    /// (`sea_ctrl::stiffness_id`, "Filtering"; default 5 Hz); positive, and a bandwidth far
-    /// above `rate_hz` (e.g. 1e9) leaves the samples unfiltered.
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub identification_filter_hz: f64,
-    /// `multi_rate` with `stiffness_identification`: the estimates stay within this factor
-    /// of the prior, `[K_S^0 / c, c K_S^0]` (`sea_ctrl::stiffness_id`; default 3, more than
-    /// 1).
-    pub identification_range_factor: f64,
+    /// The identification's tuning, `sea_ctrl`'s settings read directly: the keys
+    /// `identification_time_s`, `identification_deflection_noise_rad`, `identification_hold_s`,
+    /// `identification_prior_deflection_rad`, `identification_filter_hz` and
+    /// `identification_range_factor` of this table ([`IdentificationSettings`]; the table is
+    /// split by its keys when read, [`controller_table`]).
+    #[serde(skip_serializing)]
+    #[schemars(flatten)]
+    pub identification: IdentificationSettings,
     /// `multi_rate`: per elastic joint name, the amplitude [Nm] of a sinusoid added to its
     /// desired torque in the joint loop from the start of the run, so that the identification
     /// sees joints the task leaves unloaded (`sea_ctrl::excitation`; e.g. the legs' roll and
     /// yaw joints on two feet, the same sign on both legs; default none).
+    #[serde(deserialize_with = "Finite::read_map")]
+    #[schemars(with = "BTreeMap<String, Finite>")]
     pub identification_excitation_nm: BTreeMap<String, f64>,
     /// `identification_excitation_nm`: the sinusoid's frequency [Hz] (default 1 Hz).
     #[serde(deserialize_with = "Positive::read")]
@@ -495,6 +463,8 @@ pub struct ControllerConfig {
     pub stiffness_estimate_scale: f64,
     /// Per joint name, a further factor on that joint's stiffness estimate (e.g.
     /// `{ l_knee = 1.3 }`; default none).
+    #[serde(deserialize_with = "Positive::read_map")]
+    #[schemars(with = "BTreeMap<String, Positive>")]
     pub stiffness_estimate_joint_scales: BTreeMap<String, f64>,
     /// The controller's model: every link's mass and rotational inertia times this scale
     /// (centres of mass unchanged; default 1: the plant's model).
@@ -507,11 +477,17 @@ pub struct ControllerConfig {
     pub link_mass_estimate_scales: BTreeMap<String, f64>,
     /// Momentum integral gains (linear xyz, angular xyz; default: the robot description's
     /// for one or two feet).
+    #[serde(deserialize_with = "NonNegative::read_option_entries")]
+    #[schemars(with = "Option<[NonNegative; 6]>")]
     pub momentum_integral: Option<[f64; 6]>,
     /// Momentum proportional gains (default: the critical damping of the integral gains).
+    #[serde(deserialize_with = "NonNegative::read_option_entries")]
+    #[schemars(with = "Option<[NonNegative; 6]>")]
     pub momentum_proportional: Option<[f64; 6]>,
     /// Postural stiffness per joint before `postural_scale` (default: the robot
     /// description's by joint group).
+    #[serde(deserialize_with = "NonNegative::read_option_entries")]
+    #[schemars(with = "Option<Vec<NonNegative>>")]
     pub postural_stiffness: Option<Vec<f64>>,
     /// Scale of the postural stiffness (default: the robot description's).
     #[serde(deserialize_with = "NonNegative::read")]
@@ -568,23 +544,10 @@ impl Default for ControllerConfig {
             rate_hz: None,
             sampling: Sampling::default(),
             inner_rate_hz: 1000.0,
-            torque_bandwidth_hz: sea_ctrl::joint_loop::DEFAULT_TORQUE_BANDWIDTH
-                / (2.0 * std::f64::consts::PI),
-            torque_loop_paper_law: false,
-            joint_stiffness: 0.0,
+            joint_loops: JointLoopSettings::default(),
             stiffness_identification: false,
-            identification_time_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
-                .time_constant,
             identification_wrenches: IdentificationWrenches::default(),
-            identification_deflection_noise_rad: 0.0,
-            identification_hold_s: sea_ctrl::stiffness_id::IdentificationSettings::default()
-                .hold_after_external_force,
-            identification_prior_deflection_rad:
-                sea_ctrl::stiffness_id::IdentificationSettings::default().prior_deflection,
-            identification_range_factor: sea_ctrl::stiffness_id::IdentificationSettings::default()
-                .range_factor,
-            identification_filter_hz: sea_ctrl::stiffness_id::IdentificationSettings::default()
-                .filter_bandwidth,
+            identification: IdentificationSettings::default(),
             identification_excitation_nm: BTreeMap::new(),
             identification_excitation_hz: 1.0,
             identification_excitation_s: 3.0,
@@ -613,6 +576,15 @@ impl Default for ControllerConfig {
 }
 
 impl ControllerConfig {
+    /// `[controller]` as a scenario file writes it: one flat table, the keys of the settings
+    /// read directly ([`IdentificationSettings`]) among the table's own.
+    pub fn table(&self) -> std::result::Result<toml::Table, toml::ser::Error> {
+        let mut table = toml::Table::try_from(self)?;
+        table.extend(toml::Table::try_from(self.joint_loops)?);
+        table.extend(toml::Table::try_from(self.identification)?);
+        Ok(table)
+    }
+
     /// `controller.rate_hz`, or its default under `controller.sampling`
     /// ([`Sampling::default_rate_hz`]) [Hz].
     pub fn rate_hz(&self) -> f64 {
@@ -621,10 +593,9 @@ impl ControllerConfig {
     }
 
     /// `multi_rate`: the joint loops' bandwidth [rad/s], `None` for the paper's `K_S^ / K_D^`
-    /// per joint.
+    /// per joint ([`JointLoopSettings::bandwidth`]).
     pub fn torque_bandwidth(&self) -> Option<f64> {
-        (!self.torque_loop_paper_law)
-            .then_some(2.0 * std::f64::consts::PI * self.torque_bandwidth_hz)
+        self.joint_loops.bandwidth()
     }
 }
 
@@ -654,19 +625,76 @@ fn contact_constraints_table<S: Serializer>(
     table.serialize(serializer)
 }
 
-/// [`ContactConstraints`] of a `[controller.contact]` table read on its own.
-fn contact_table(mut table: toml::Table) -> TableResult<ContactConstraints> {
-    let defaults = ContactConstraints::default();
-    let facets = take(&mut table, "facets")?.unwrap_or(defaults.facets);
-    let min_normal_force =
-        take(&mut table, "min_normal_force")?.unwrap_or(defaults.min_normal_force);
-    let cop_margin = take(&mut table, "cop_margin")?.unwrap_or(defaults.cop_margin);
-    Ok(ContactConstraints {
-        surface: table_as(table, &["facets", "min_normal_force", "cop_margin"])?,
-        facets,
-        min_normal_force,
-        cop_margin,
-    })
+/// Reads `[controller]` (`#[serde(deserialize_with)]` of `Scenario::controller`): the table
+/// split by the keys of the `sea_ctrl` settings it reads directly ([`JointLoopSettings`],
+/// [`IdentificationSettings`]) and its own, each part read by its type with unknown keys
+/// refused; any other key is unknown, reported against every key of the table (in
+/// [`ControllerConfig`]'s order, the settings' keys where their field is).
+pub(crate) fn controller_table<'de, D>(
+    deserializer: D,
+) -> std::result::Result<ControllerConfig, D::Error>
+where
+    D: Deserializer<'de>,
+{
+    let table = toml::Table::deserialize(deserializer)?;
+    read_controller(table).map_err(|e| D::Error::custom(e.within("")))
+}
+
+/// [`ControllerConfig`] of a `[controller]` table read on its own ([`controller_table`]).
+fn read_controller(table: toml::Table) -> TableResult<ControllerConfig> {
+    let joint_loop_keys = field_names::<JointLoopSettings>();
+    let identification_keys = field_names::<IdentificationSettings>();
+    let union: Vec<&str> = field_names::<ControllerConfig>()
+        .iter()
+        .flat_map(|key| match *key {
+            "joint_loops" => joint_loop_keys,
+            "identification" => identification_keys,
+            _ => std::slice::from_ref(key),
+        })
+        .copied()
+        .collect();
+    if let Some(unknown) = table.keys().find(|key| !union.contains(&key.as_str())) {
+        return Err(TableError::unknown_field(unknown, &union));
+    }
+    let (joint_loops, rest) = split(table, joint_loop_keys);
+    let (identification, own) = split(rest, identification_keys);
+    let mut config: ControllerConfig = table_as(own, &[])?;
+    config.joint_loops = table_as(joint_loops, &[])?;
+    config.identification = table_as(identification, &[])?;
+    Ok(config)
+}
+
+/// [`ContactConstraints`] of a `[controller.contact]` table read on its own: the table split
+/// by the keys of [`ContactSurface`] and of the QP's own choices (`facets`, ...), each part
+/// read by its type; any other key is unknown, reported against both types' keys.
+fn contact_table(table: toml::Table) -> TableResult<ContactConstraints> {
+    let surface_keys = field_names::<ContactSurface>();
+    let own_keys = field_names::<ContactConstraints>()
+        .iter()
+        .filter(|&&key| key != "surface");
+    let union: Vec<&str> = own_keys.chain(surface_keys).copied().collect();
+    if let Some(unknown) = table.keys().find(|key| !union.contains(&key.as_str())) {
+        return Err(TableError::unknown_field(unknown, &union));
+    }
+    let (surface, own) = split(table, surface_keys);
+    let mut constraints: ContactConstraints = table_as(own, &[])?;
+    constraints.surface = table_as(surface, &[])?;
+    Ok(constraints)
+}
+
+/// Reads `reference.com_direction`: finite entries, not zero.
+fn direction<'de, D: Deserializer<'de>>(
+    deserializer: D,
+) -> std::result::Result<[f64; 3], D::Error> {
+    let direction: [f64; 3] = Finite::read_entries(deserializer)?;
+    let norm = direction.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if norm > 1e-12 && norm.is_finite() {
+        Ok(direction)
+    } else {
+        Err(D::Error::custom(format!(
+            "must be a non-zero finite vector, got {direction:?}"
+        )))
+    }
 }
 
 /// `[reference]`: the CoM sinusoid `origin + (1 - exp(-t / smooth_start)) A sin(2 pi f t)
@@ -683,7 +711,8 @@ pub struct ReferenceConfig {
     #[serde(deserialize_with = "NonNegative::read")]
     #[schemars(with = "NonNegative")]
     pub com_frequency: f64,
-    /// CoM sinusoid direction (world).
+    /// CoM sinusoid direction (world), a non-zero finite vector.
+    #[serde(deserialize_with = "direction")]
     pub com_direction: [f64; 3],
     /// Smooth-start time constant [s].
     #[serde(deserialize_with = "NonNegative::read")]

@@ -12,8 +12,7 @@ impl ControllerConfig {
         &self,
         controller: &sea_ctrl::MomentumController,
     ) -> sea_ctrl::joint_loop::JointTorqueLoop {
-        sea_ctrl::joint_loop::JointTorqueLoop::new(controller, self.torque_bandwidth())
-            .with_joint_stiffness(self.joint_stiffness)
+        sea_ctrl::joint_loop::JointTorqueLoop::from_settings(controller, &self.joint_loops)
     }
 
     /// `identification_excitation_nm`: the excitation of `controller`'s elastic joints, `None`
@@ -116,16 +115,9 @@ impl ControllerConfig {
     ) -> Option<sea_ctrl::stiffness_id::StiffnessIdentifier> {
         // The external-force check needs measured wrenches (module doc of stiffness_id).
         let measured = self.identification_wrenches == IdentificationWrenches::Measured;
-        let defaults = sea_ctrl::stiffness_id::IdentificationSettings::default();
         let settings = sea_ctrl::stiffness_id::IdentificationSettings {
-            time_constant: self.identification_time_s,
-            max_external_force: defaults.max_external_force.filter(|_| measured),
-            deflection_noise: self.identification_deflection_noise_rad,
-            hold_after_external_force: self.identification_hold_s,
-            prior_deflection: self.identification_prior_deflection_rad,
-            range_factor: self.identification_range_factor,
-            filter_bandwidth: self.identification_filter_hz,
-            ..defaults
+            max_external_force: self.identification.max_external_force.filter(|_| measured),
+            ..self.identification
         };
         self.stiffness_identification
             .then(|| sea_ctrl::stiffness_id::StiffnessIdentifier::new(controller, prior, settings))

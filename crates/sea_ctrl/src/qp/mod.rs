@@ -46,9 +46,12 @@ pub use self::clarabel::CLARABEL_TOLERANCE;
 pub use active_set::{ActiveSetError, ActiveSetQp};
 pub use cross_check::QpAgreement;
 pub use minimiser::Minimizer;
+#[cfg(feature = "serde")]
+pub use problem::CopMargin;
 pub use problem::{
     add_moment_regularization, momentum_tracking_objective, relaxed_momentum_objective,
-    torque_norm_objective, ContactConstraints, RelaxedMomentumWeights,
+    torque_norm_objective, ContactConstraints, RelaxedMomentumWeights, MAX_FRICTION_FACETS,
+    MIN_FRICTION_FACETS,
 };
 
 use self::clarabel::ClarabelQp;

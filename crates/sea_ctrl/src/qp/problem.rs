@@ -6,30 +6,78 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 use sea_dyn::dense::{dot, gemm_small, gemm_tn};
 use sea_dyn::ContactSurface;
 
+/// Largest number of friction cone facets: the QP grows by one row per facet and contact, and
+/// beyond a few dozen the linearised cone is already within 0.2 % of the true one (1e8 facets
+/// allocated about 20 GB).
+pub const MAX_FRICTION_FACETS: usize = 64;
+
+/// Fewest friction cone facets: fewer than 3 half-planes do not bound the tangential force.
+pub const MIN_FRICTION_FACETS: usize = 3;
+
+#[cfg(feature = "serde")]
+sea_dyn::number_bound!(
+    /// [`ContactConstraints::cop_margin`]: a fraction of the sole's half-extents in `[0, 1)`.
+    CopMargin,
+    "must be in [0, 1) (a fraction of the sole's half-extents)",
+    |v| (0.0..1.0).contains(&v),
+    { "type": "number", "minimum": 0.0, "exclusiveMaximum": 1.0 }
+);
+
 /// Contact constraint parameters: the contact surface (friction, torsional friction, foot
 /// rectangle; shared with the plant's wrench margins) and the QP's own choices.
-// With the `serde` feature, its JSON Schema is the one flat table of scenario files
-// (`[controller.contact]`): the surface's keys with the QP's own.
+// With the `serde` feature, one flat table (`[controller.contact]` of scenario files): the
+// surface's keys with the QP's own. A reader splits the table by the two types' keys and
+// reads each part by its type (serde reads `surface` only as the part's default: a reader
+// gives no key of that name); the JSON Schema is the one table's.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
-    derive(schemars::JsonSchema),
-    schemars(default, deny_unknown_fields)
+    derive(serde::Deserialize, schemars::JsonSchema),
+    serde(default, deny_unknown_fields)
 )]
 pub struct ContactConstraints {
     /// Friction coefficients and foot rectangle of each sole.
     #[cfg_attr(feature = "serde", schemars(flatten))]
     pub surface: ContactSurface,
-    /// Number of friction cone facets.
+    /// Number of friction cone facets (bounds: [`MIN_FRICTION_FACETS`], [`MAX_FRICTION_FACETS`]).
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "read_facets"),
+        schemars(range(min = MIN_FRICTION_FACETS, max = MAX_FRICTION_FACETS))
+    )]
     pub facets: usize,
     /// Minimum normal force [N].
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "sea_dyn::bounded::NonNegative::read"),
+        schemars(with = "sea_dyn::bounded::NonNegative")
+    )]
     pub min_normal_force: f64,
     /// Fraction of the foot rectangle's half-extents the QP keeps free around its edges, in
     /// `[0, 1)`: the QP's centre of pressure stays in the rectangle shrunk about its centre by
     /// `1 - cop_margin`, so what the model does not know (a push, the sampling hold) has room
     /// before the plant's centre of pressure reaches the sole's edge. 0: the whole sole (the
     /// original study's QP).
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "CopMargin::read"),
+        schemars(with = "CopMargin")
+    )]
     pub cop_margin: f64,
+}
+
+/// Reads [`ContactConstraints::facets`]: [`MIN_FRICTION_FACETS`] to [`MAX_FRICTION_FACETS`].
+#[cfg(feature = "serde")]
+fn read_facets<'de, D: serde::Deserializer<'de>>(deserializer: D) -> Result<usize, D::Error> {
+    use serde::de::Error as _;
+    let facets = <usize as serde::Deserialize>::deserialize(deserializer)?;
+    if (MIN_FRICTION_FACETS..=MAX_FRICTION_FACETS).contains(&facets) {
+        Ok(facets)
+    } else {
+        Err(D::Error::custom(format!(
+            "must be between {MIN_FRICTION_FACETS} and {MAX_FRICTION_FACETS}, got {facets}"
+        )))
+    }
 }
 
 impl Default for ContactConstraints {

@@ -14,7 +14,7 @@ use std::collections::HashMap;
 
 /// Parameters of one elastic actuator. With the `serde` feature, a table of these keys (any
 /// subset: a missing key takes [`ElasticParameters::default`]'s value, an unknown key is an
-/// error).
+/// error, a value outside its bound is refused as it is read: `crate::bounded`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
@@ -23,14 +23,39 @@ use std::collections::HashMap;
 )]
 pub struct ElasticParameters {
     /// Transmission ratio `Gamma` (joint angle per motor angle), e.g. 0.01 for 1/100.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::bounded::Positive::read"),
+        schemars(with = "crate::bounded::Positive")
+    )]
     pub ratio: f64,
     /// Motor rotor inertia `I_m` [kg m^2], motor side.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::bounded::Positive::read"),
+        schemars(with = "crate::bounded::Positive")
+    )]
     pub motor_inertia: f64,
     /// Spring stiffness `K_S` [Nm/rad], joint side.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::bounded::Positive::read"),
+        schemars(with = "crate::bounded::Positive")
+    )]
     pub stiffness: f64,
     /// Spring damping `K_D` [Nms/rad], joint side.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::bounded::NonNegative::read"),
+        schemars(with = "crate::bounded::NonNegative")
+    )]
     pub damping: f64,
     /// Motor torque limit [Nm], motor side; `None` for no limit.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::bounded::PositiveLimit::read_option"),
+        schemars(with = "Option<crate::bounded::PositiveLimit>")
+    )]
     pub torque_limit: Option<f64>,
 }
 

@@ -6,7 +6,7 @@
 
 /// Friction coefficients and foot rectangle of one sole, sole frame (x forward, z normal).
 /// With the `serde` feature, a table of these keys (missing keys take the default's values,
-/// unknown keys are errors).
+/// unknown keys are errors, values outside their bounds are refused as they are read).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
@@ -15,13 +15,41 @@
 )]
 pub struct ContactSurface {
     /// Coulomb friction coefficient `mu`.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::bounded::Positive::read"),
+        schemars(with = "crate::bounded::Positive")
+    )]
     pub friction: f64,
     /// Torsional friction coefficient `mu_t` [m]: `|n_z| <= mu_t F_z`.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::bounded::NonNegative::read"),
+        schemars(with = "crate::bounded::NonNegative")
+    )]
     pub torsional_friction: f64,
     /// Foot rectangle along the sole x axis `[min, max]` [m].
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "read_foot_interval"))]
     pub foot_x: [f64; 2],
     /// Foot rectangle along the sole y axis `[min, max]` [m].
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "read_foot_interval"))]
     pub foot_y: [f64; 2],
+}
+
+/// Reads a foot rectangle's side `[min, max]`: finite entries, `min < max`.
+#[cfg(feature = "serde")]
+fn read_foot_interval<'de, D: serde::Deserializer<'de>>(
+    deserializer: D,
+) -> Result<[f64; 2], D::Error> {
+    use serde::de::Error as _;
+    let [min, max]: [f64; 2] = crate::bounded::Finite::read_entries(deserializer)?;
+    if min < max {
+        Ok([min, max])
+    } else {
+        Err(D::Error::custom(format!(
+            "must be [min, max] with min < max (sole frame) [m], got [{min}, {max}]"
+        )))
+    }
 }
 
 impl Default for ContactSurface {

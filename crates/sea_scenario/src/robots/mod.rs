@@ -214,11 +214,12 @@ impl RobotDescription {
     /// Reads a description from TOML text; `origin` names it in errors (a file, or the
     /// built-in name).
     pub fn from_toml(text: &str, origin: &str) -> Result<Self> {
+        // toml's whole text: the line, the column and the rule (a description is a file of
+        // its own, its lines are what its author sees).
         let description: Self = toml::from_str(text).map_err(|e| {
-            let error = crate::TableError::of(&e);
             Error::config(
-                format!("robot description {origin}: {}", error.key),
-                error.rule,
+                format!("robot description {origin}: "),
+                e.to_string().trim(),
             )
         })?;
         description.check(origin)?;

@@ -1,7 +1,7 @@
 //! Every scenario value checked against its meaning before anything is built. Names, types
-//! and the bounds of single numbers are the schema's, checked by serde when the file is read
-//! ([`super::bounded`]); here: the rules between keys, ordering, the entries of arrays and
-//! tables, and feasibility where it is cheap. Each failure is an
+//! and the bounds of single values (numbers, the entries of arrays and tables) are the
+//! schema's, checked by serde when the file is read ([`super::bounded`]); here: the rules
+//! between keys and feasibility where it is cheap. Each failure is an
 //! [`Error::Scenario`] naming the dotted key, the rule and the value, so a typo or a value
 //! outside the physics is reported before a run instead of surfacing as failing QPs, a
 //! divergence at t = 0 or a feature silently switched off.
@@ -16,13 +16,8 @@ use super::{
 use crate::error::{Error, Result};
 use sea_loop::inner_ticks;
 
-/// Largest number of friction cone facets: the QP grows by one row per facet and contact, and
-/// beyond a few dozen the linearised cone is already within 0.2 % of the true one (1e8 facets
-/// allocated about 20 GB).
-pub const MAX_FRICTION_FACETS: usize = 64;
-
-/// Fewest friction cone facets: fewer than 3 half-planes do not bound the tangential force.
-pub const MIN_FRICTION_FACETS: usize = 3;
+/// The bounds of `controller.contact.facets` (declared by the contact constraints).
+pub use sea_ctrl::qp::{MAX_FRICTION_FACETS, MIN_FRICTION_FACETS};
 
 /// Largest number of plant steps (or controller samples) of one run: about a day of wall
 /// time; more is a typo (a step of 1e-300 s, a rate of 1e300 Hz) that would hang the run.
@@ -33,8 +28,6 @@ pub fn scenario(scenario: &Scenario) -> Result<()> {
     robot(scenario)?;
     actuators(scenario)?;
     controller(scenario)?;
-    contact(scenario)?;
-    reference(scenario)?;
     super::disturbances::validate(&scenario.disturbances)?;
     sensing(scenario)?;
     run_length(scenario)
@@ -60,79 +53,8 @@ pub fn against_model(scenario: &Scenario, mass_kg: f64, gravity_m_s2: f64) -> Re
     Ok(())
 }
 
-/// `value` as written in a message: plain for ordinary magnitudes, in exponent notation for
-/// tiny or huge ones (Rust's plain format prints 1e-300 with 300 digits).
-pub(crate) fn shown(value: f64) -> String {
-    let magnitude = value.abs();
-    if value == 0.0 || !value.is_finite() || (1e-4..1e15).contains(&magnitude) {
-        value.to_string()
-    } else {
-        format!("{value:e}")
-    }
-}
-
-/// `value` must be finite.
-fn finite(key: &str, value: f64) -> Result<()> {
-    if value.is_finite() {
-        Ok(())
-    } else {
-        Err(Error::invalid(key, "must be finite", shown(value)))
-    }
-}
-
-/// `value` must be finite and `>= 0`.
-fn non_negative(key: &str, value: f64) -> Result<()> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(())
-    } else {
-        Err(Error::invalid(
-            key,
-            "must be finite and non-negative",
-            value,
-        ))
-    }
-}
-
-/// `value` must be finite and `> 0`.
-fn positive(key: &str, value: f64) -> Result<()> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(Error::invalid(
-            key,
-            "must be positive and finite",
-            shown(value),
-        ))
-    }
-}
-
-/// Every entry of the array `key` must pass `ok`; the error names the array's key (as the
-/// schema does) and, in its rule, the first failing entry.
-fn entries(key: &str, values: &[f64], ok: fn(f64) -> bool, rule: &str) -> Result<()> {
-    match values.iter().position(|&value| !ok(value)) {
-        Some(i) => Err(Error::invalid(
-            key,
-            format!("entry {i} {rule}"),
-            shown(values[i]),
-        )),
-        None => Ok(()),
-    }
-}
-
-/// Every entry of the array `key` must be finite and `>= 0`.
-fn non_negative_entries(key: &str, values: &[f64]) -> Result<()> {
-    entries(
-        key,
-        values,
-        |v| v.is_finite() && v >= 0.0,
-        "must be finite and non-negative",
-    )
-}
-
-/// Every entry of the array `key` must be finite.
-fn finite_entries(key: &str, values: &[f64]) -> Result<()> {
-    entries(key, values, f64::is_finite, "must be finite")
-}
+/// `value` as written in a message (`sea_dyn::bounded::shown`).
+pub(crate) use sea_dyn::bounded::shown;
 
 /// `[robot]`: one or two distinct contact frames.
 fn robot(scenario: &Scenario) -> Result<()> {
@@ -164,92 +86,28 @@ fn actuators(scenario: &Scenario) -> Result<()> {
     Ok(())
 }
 
-/// One actuator table (`table` is its dotted name): for an elastic actuator positive ratio,
-/// inertia and stiffness, a non-negative damping (positive under the SEA controller, which
-/// divides by it) and a positive torque limit.
+/// One actuator table (`table` is its dotted name): an elastic actuator's damping must be
+/// positive under the SEA controller, which divides by it (the bounds of each parameter are
+/// read with the file: `sea_dyn::ElasticParameters`).
 fn actuator(table: &str, config: &ActuatorConfig, sea_controller: bool) -> Result<()> {
-    if config.kind == ActuatorKind::Rigid {
+    let damping = config.parameters.damping;
+    if config.kind == ActuatorKind::Rigid || !sea_controller || damping > 0.0 {
         return Ok(());
     }
-    let config = &config.parameters;
-    positive(&format!("{table}.ratio"), config.ratio)?;
-    positive(&format!("{table}.motor_inertia"), config.motor_inertia)?;
-    positive(&format!("{table}.stiffness"), config.stiffness)?;
-    let damping_key = format!("{table}.damping");
-    if sea_controller {
-        if !(config.damping.is_finite() && config.damping > 0.0) {
-            return Err(Error::invalid(
-                damping_key,
-                "must be positive and finite with the SEA controller (it divides by the \
-                 damping; use controller.kind = \"rigid\" for an undamped spring)",
-                config.damping,
-            ));
-        }
-    } else {
-        non_negative(&damping_key, config.damping)?;
-    }
-    match config.torque_limit {
-        Some(limit) if limit.is_nan() || limit <= 0.0 => Err(Error::invalid(
-            format!("{table}.torque_limit"),
-            "must be positive (or absent for no limit)",
-            limit,
-        )),
-        _ => Ok(()),
-    }
+    Err(Error::invalid(
+        format!("{table}.damping"),
+        "must be positive and finite with the SEA controller (it divides by the damping; use \
+         controller.kind = \"rigid\" for an undamped spring)",
+        damping,
+    ))
 }
 
-/// `[controller]` without its contact table: per-joint scales, gains, the identification's
-/// prior and range, and the rules between keys (single values are bounded where they are
-/// read: [`super::bounded`]).
+/// `[controller]`: the rules between its keys (and `plant.motor_velocity_gain`).
 fn controller(scenario: &Scenario) -> Result<()> {
     let c = &scenario.controller;
     joint_loop_rates(c)?;
     torque_bandwidth_limit(c, scenario.plant.motor_velocity_gain)?;
-    for (joint, &scale) in &c.stiffness_estimate_joint_scales {
-        positive(
-            &format!("controller.stiffness_estimate_joint_scales.{joint}"),
-            scale,
-        )?;
-    }
-    for (key, gains) in [
-        ("controller.momentum_integral", c.momentum_integral),
-        ("controller.momentum_proportional", c.momentum_proportional),
-    ] {
-        if let Some(gains) = gains {
-            non_negative_entries(key, &gains)?;
-        }
-    }
-    if let Some(stiffness) = &c.postural_stiffness {
-        non_negative_entries("controller.postural_stiffness", stiffness)?;
-    }
-    let prior = c.identification_prior_deflection_rad;
-    if !(prior > 0.0 && prior <= 0.1) {
-        return Err(Error::invalid(
-            "controller.identification_prior_deflection_rad",
-            "must be positive and at most 0.1 rad",
-            shown(prior),
-        ));
-    }
-    let range = c.identification_range_factor;
-    if !(range.is_finite() && range > 1.0) {
-        return Err(Error::invalid(
-            "controller.identification_range_factor",
-            "must be finite and more than 1",
-            shown(range),
-        ));
-    }
-    external_wrench(c)?;
-    identification_excitation(c)
-}
-
-/// `controller.identification_excitation_nm`: finite amplitudes (its sampling:
-/// [`joint_loop_rates`]).
-fn identification_excitation(c: &ControllerConfig) -> Result<()> {
-    for (joint, &amplitude) in &c.identification_excitation_nm {
-        let key = format!("controller.identification_excitation_nm.{joint}");
-        finite(&key, amplitude)?;
-    }
-    Ok(())
+    external_wrench(c)
 }
 
 /// `controller.external_wrench`: observed only with sampled control (the observer runs once
@@ -266,71 +124,12 @@ fn external_wrench(c: &ControllerConfig) -> Result<()> {
     Ok(())
 }
 
-/// `[controller.contact]`: positive friction, non-negative torsional friction and minimum
-/// normal force, a CoP margin in [0, 1), a foot rectangle with min < max, and 3..=64 facets.
-fn contact(scenario: &Scenario) -> Result<()> {
-    let c = &scenario.controller.contact;
-    let surface = &c.surface;
-    positive("controller.contact.friction", surface.friction)?;
-    non_negative(
-        "controller.contact.torsional_friction",
-        surface.torsional_friction,
-    )?;
-    non_negative("controller.contact.min_normal_force", c.min_normal_force)?;
-    if !(0.0..1.0).contains(&c.cop_margin) {
-        return Err(Error::invalid(
-            "controller.contact.cop_margin",
-            "must be in [0, 1) (a fraction of the sole's half-extents)",
-            c.cop_margin,
-        ));
-    }
-    for (key, [min, max]) in [
-        ("controller.contact.foot_x", surface.foot_x),
-        ("controller.contact.foot_y", surface.foot_y),
-    ] {
-        finite_entries(key, &[min, max])?;
-        if min >= max {
-            return Err(Error::invalid(
-                key,
-                "must be [min, max] with min < max (sole frame) [m]",
-                format!("[{min}, {max}]"),
-            ));
-        }
-    }
-    if !(MIN_FRICTION_FACETS..=MAX_FRICTION_FACETS).contains(&c.facets) {
-        return Err(Error::invalid(
-            "controller.contact.facets",
-            format!("must be between {MIN_FRICTION_FACETS} and {MAX_FRICTION_FACETS}"),
-            c.facets,
-        ));
-    }
-    Ok(())
-}
-
-/// `[reference]`: a finite non-zero direction.
-fn reference(scenario: &Scenario) -> Result<()> {
-    let r = &scenario.reference;
-    finite_entries("reference.com_direction", &r.com_direction)?;
-    let norm = r.com_direction.iter().map(|v| v * v).sum::<f64>().sqrt();
-    if !(norm > 1e-12 && norm.is_finite()) {
-        return Err(Error::invalid(
-            "reference.com_direction",
-            "must be a non-zero finite vector",
-            format!("{:?}", r.com_direction),
-        ));
-    }
-    Ok(())
-}
-
-/// `[sensing]`: finite non-negative noise, and unless sensing is perfect a sampled controller
+/// `[sensing]`: unless sensing is perfect, a sampled controller
 /// (not "continuous") whose measurement delay is at most one whole-body period (the inner
 /// ticks of one period; one with "zero_order_hold"). Also checked when a run starts (a
 /// scenario built in code).
 pub fn sensing(scenario: &Scenario) -> Result<()> {
     let sensing = &scenario.sensing;
-    for (name, std) in sensing.noise() {
-        non_negative(&format!("sensing.{name}"), std)?;
-    }
     let delay = sensing.delay_inner_periods;
     let controller = &scenario.controller;
     let inner_ticks = match controller.sampling {
@@ -426,13 +225,13 @@ fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
 /// [`sea_ctrl::joint_loop::max_stable_bandwidth`] (where the sampled loop's poles leave the
 /// unit circle; beyond it the run diverges).
 fn torque_bandwidth_limit(c: &ControllerConfig, motor_velocity_gain: f64) -> Result<()> {
-    if c.sampling != Sampling::MultiRate || c.torque_loop_paper_law {
+    if c.sampling != Sampling::MultiRate || c.joint_loops.paper_law {
         return Ok(());
     }
     let period = 1.0 / c.inner_rate_hz;
     let bound = sea_ctrl::joint_loop::max_stable_bandwidth(motor_velocity_gain, period);
     let bound_hz = bound / (2.0 * std::f64::consts::PI);
-    if !bound_hz.is_finite() || c.torque_bandwidth_hz < bound_hz {
+    if !bound_hz.is_finite() || c.joint_loops.torque_bandwidth_hz < bound_hz {
         return Ok(()); // a bad gain or rate is reported by its own check
     }
     Err(Error::invalid(
@@ -444,7 +243,7 @@ fn torque_bandwidth_limit(c: &ControllerConfig, motor_velocity_gain: f64) -> Res
              are well below it (default 20 Hz)",
             c.inner_rate_hz
         ),
-        c.torque_bandwidth_hz,
+        c.joint_loops.torque_bandwidth_hz,
     ))
 }
 

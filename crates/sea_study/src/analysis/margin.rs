@@ -209,7 +209,7 @@ impl MarginReport {
 struct ParsedSections<'a> {
     sensing: &'a sea_scenario::SensingConfig,
     plant: &'a sea_scenario::PlantConfig,
-    controller: &'a sea_scenario::ControllerConfig,
+    controller: toml::Table,
     reference: &'a sea_scenario::ReferenceConfig,
     simulation: &'a sea_scenario::SimulationConfig,
 }
@@ -241,7 +241,10 @@ fn scenario_number(
     let sections = ParsedSections {
         sensing: &scenario.sensing,
         plant: &scenario.plant,
-        controller: &scenario.controller,
+        controller: scenario
+            .controller
+            .table()
+            .map_err(|e| Error::config(parameter, format!("reading the scenario's value: {e}")))?,
         reference: &scenario.reference,
         simulation: &scenario.simulation,
     };
