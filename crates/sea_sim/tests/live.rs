@@ -219,3 +219,57 @@ fn a_fall_reaches_the_live_view_on_events() {
     assert!(text.contains("center_of_pressure"), "{text}");
     let _ = socket.close(None);
 }
+
+/// Feet on the ground (the push scenario as shipped: unilateral contacts): a client subscribed
+/// to `/contact_points` receives each sole's points with their forces, which carry the robot's
+/// weight, and on `/contact_check` both feet's verdicts, none violated while it stands.
+#[test]
+fn the_contact_points_and_their_check_reach_the_live_view() {
+    const PUSH: &str = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenarios/robot_rate/push_two_feet.toml"
+    );
+    let started = Instant::now();
+    let no_push = "disturbances=[]";
+    let (_running, port) = start_scenario(PUSH, 2.0, &[no_push]);
+    let (mut socket, _) = connect(port);
+    let mut ids = BTreeMap::new();
+    while ids.len() < 2 {
+        let json = next_json(&mut socket, started, "advertise");
+        for channel in json["channels"].as_array().cloned().unwrap_or_default() {
+            let topic = channel["topic"].as_str().unwrap_or_default().to_string();
+            if topic == "/contact_points" || topic == "/contact_check" {
+                assert_eq!(channel["encoding"], "json", "{topic}");
+                ids.insert(topic, channel["id"].clone());
+            }
+        }
+    }
+    subscribe(&mut socket, 5, &ids["/contact_points"]);
+    let data = next_binary(&mut socket, started, "contact points");
+    assert_eq!(u32::from_le_bytes(data[1..5].try_into().unwrap()), 5);
+    let points: serde_json::Value = serde_json::from_slice(&data[13..]).expect("JSON points");
+    let points = points["points"].as_array().expect("points").clone();
+    assert_eq!(points.len(), 8, "four corners per sole");
+    let normal: f64 = points.iter().map(|p| p["force"][2].as_f64().unwrap()).sum();
+    let weight = 33.0 * 9.81;
+    assert!(
+        (normal - weight).abs() < 0.1 * weight,
+        "normal forces {normal} N"
+    );
+    assert!(points.iter().all(|p| p["active"] == true), "{points:?}");
+    subscribe(&mut socket, 6, &ids["/contact_check"]);
+    let check = loop {
+        let data = next_binary(&mut socket, started, "contact check");
+        if u32::from_le_bytes(data[1..5].try_into().unwrap()) == 6 {
+            break serde_json::from_slice::<serde_json::Value>(&data[13..]).expect("JSON check");
+        }
+    };
+    let contacts = check["contacts"].as_array().expect("contacts");
+    let frames: Vec<&str> = contacts
+        .iter()
+        .map(|c| c["contact"].as_str().unwrap())
+        .collect();
+    assert_eq!(frames, ["l_sole", "r_sole"]);
+    assert!(contacts.iter().all(|c| c["violated"].is_null()), "{check}");
+    let _ = socket.close(None);
+}
