@@ -210,8 +210,7 @@ def robot_loop(scenario: sm.Scenario, *, end_periods: bool) -> np.ndarray:
     """The robot's loop in Python: per period a whole-body ``tick``, ``inner_tick`` at 1 kHz,
     the plant's steps, and ``end_period`` with the plant's force readings over the period's
     first and last steps (what the feet's and joints' sensors read: the wrenches each step
-    delivered, ``Plant.step_outputs``; under bilateral contacts those at the steps' starts)
-    and the wrenches' mean over the period's steps (the scenario stands on the ground)."""
+    delivered, ``Plant.step_outputs``; under bilateral contacts those at the steps' starts)."""
     plant, controller = scenario.plant, scenario.controller
     inner, steps = scenario.steps_per_inner_tick, scenario.steps_per_tick
     x, states = scenario.initial_state, []
@@ -220,12 +219,10 @@ def robot_loop(scenario: sm.Scenario, *, end_periods: bool) -> np.ndarray:
         states.append(x)
         if k == scenario.last_tick:
             break
-        delivered = []
         for j in range(steps):
             if j > 0 and j % inner == 0:
                 u = controller.inner_tick(x)
             x = plant.step(x, u, scenario.plant_dt, scenario.method)
-            delivered.append(plant.step_outputs().step_contact_wrenches)
             if j == 0:
                 start = plant.step_outputs()
             if j == steps - 1:
@@ -236,7 +233,6 @@ def robot_loop(scenario: sm.Scenario, *, end_periods: bool) -> np.ndarray:
                 start.joint_torques,
                 end.step_contact_wrenches,
                 end.joint_torques,
-                mean_wrenches=np.sum(delivered, axis=0) / steps,
             )
     return np.array(states)
 

@@ -448,19 +448,13 @@ class Controller:
         start_joint_torques: ArrayLike,
         end_wrenches: ArrayLike,
         end_joint_torques: ArrayLike,
-        mean_wrenches: ArrayLike | None = None,
     ) -> None:
         """After the period that began at the last ``tick``, before the next: the feet's
         wrenches ((n_contacts, 6) or flat) and the joint torques (n,) at the period's start
         (``Plant.outputs`` at the tick's state and input) and at its end (at the start of the
-        period's last plant step), and optionally the feet's wrenches averaged over the
-        period (``mean_wrenches``: the mean of the sensors' samples, e.g. of
-        ``Plant.step_outputs().step_contact_wrenches`` over the period's steps). The stiffness
-        identification pairs that mean with its finite-difference acceleration; without it,
-        the start reading stands in, which compliant feet (unilateral contacts) make too poor
-        for the identification. The identification and the observers update from them,
-        acting from the next ``tick``; without them it does nothing. ``ValueError`` names a
-        reading of another shape or with a non-finite value."""
+        period's last plant step). The stiffness identification and the observers update
+        from them, acting from the next ``tick``; without them it does nothing.
+        ``ValueError`` names a reading of another shape or with a non-finite value."""
     @property
     def command(self) -> FloatArray:
         """The plant input (n) of the last ``tick`` or ``inner_tick``."""

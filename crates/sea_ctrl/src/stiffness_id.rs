@@ -13,9 +13,7 @@
 //! one the real robot needs).
 //!
 //! The model's joint torques at the measured state, with `nudot` the finite difference of the
-//! measured `nu` over the update period (zero at the first update, where the robot starts at
-//! rest; with the period's mean wrenches the first period only starts the difference, see
-//! "The wrenches over a period"):
+//! measured `nu` over the update period (zero at the first update):
 //!
 //! `tau_model = S ((M + D) nudot + h - J^T f)` (the joint rows of the floating-base dynamics,
 //! `D` the joints' inertia regularisation: the controller's `joint_inertia_regularization` on
@@ -101,21 +99,6 @@
 //! pushed samples); the pushes of 0.1 s in the push tables stay detected. With exact encoders
 //! (no noise declared) the bounds are the fixed ones and a steady push stays detected however
 //! long it lasts.
-//!
-//! The wrenches over a period: the finite-difference `nudot` is the mean acceleration over the
-//! period before the update, so the base rows balance it against the wrenches' mean over that
-//! period (momentum: `m (v_k - v_(k-1)) / T` is the mean force), which the stack hands when
-//! its sensors give it ([`crate::robot::PeriodSensors::mean_contact_wrench`]). A reading at
-//! one instant serves where the wrenches follow the state without dynamics of their own (rigid
-//! contacts), not on compliant feet, whose wrenches move within a period (the contact's own
-//! modes, the friction's stiff response to each command): measured on the iCub on one foot,
-//! the instant's residual departs by 5 to 15 N during the first 50 ms, past the check's 6.5
-//! N, and the check then refused every later update (the stiffness estimate x2 diverged at
-//! 1.05 s as without the identification). With the period's mean the residual is about 1e-3 N,
-//! once the first update is left out: it has no previous period to pair with, and taking
-//! `nudot = 0` there put the start's transient on compliant feet (23 N) into the check's
-//! running mean, which then refused every later update ([`StiffnessIdentifier::start_difference`]
-//! instead). Then x0.5, x1 and x2 complete 10 s on the ground (docs/findings/contacts.md).
 //!
 //! Filtering: the finite-difference `nudot` turns velocity noise into acceleration noise
 //! (1e-2 rad/s over 10 ms: 1.4 rad/s^2 per coordinate), which the model's torques carry into
@@ -417,14 +400,6 @@ impl StiffnessIdentifier {
     /// The joint torques `tau_model` (nv; joint rows from 6) of the last update [Nm].
     pub fn model_torques(&self) -> &[f64] {
         self.generalized_force.as_slice()
-    }
-
-    /// Keeps the measured state `x`'s `nu` (layout `layout`) for the next update's finite
-    /// difference, without an update: where no wrenches pair with this state's acceleration
-    /// (the first period, with the period's mean wrenches; module doc).
-    pub fn start_difference(&mut self, layout: &StateLayout, x: &[f64]) {
-        self.nu_previous.copy_from_slice(layout.nu(x));
-        self.has_previous = true;
     }
 
     /// One update at the measured state `x` (layout `layout`), `period` [s] after the

@@ -148,12 +148,6 @@ struct PlantSide<'a> {
     /// The joint torques (n) at the start of the period's last plant step: what the joint
     /// torque sensors read at the period's end.
     period_end_joint_torque: DVector<f64>,
-    /// Under unilateral contacts, the wrenches each plant step of the period delivered,
-    /// summed over the period so far, then (after its last step) averaged: the feet's
-    /// sensors' mean over the period (6 per contact). Under bilateral contacts the sensors
-    /// hand no mean (the rigid contact's wrench has no dynamics of its own; the welded
-    /// figures were measured with the start reading).
-    period_mean_wrench: DVector<f64>,
     /// `[[disturbances]]`: which external wrench acts at each plant step.
     disturbances: DisturbanceSchedule,
     /// The disturbances' wrenches at the current sample (6 per disturbance), for the record.
@@ -185,7 +179,6 @@ impl PlantSide<'_> {
                 contact_wrench: &self.period_end_wrench,
                 joint_torque: &self.period_end_joint_torque,
             },
-            mean_contact_wrench: self.plant.unilateral().map(|_| &self.period_mean_wrench),
         }
     }
 
@@ -251,9 +244,6 @@ impl PlantSide<'_> {
             self.period_start_joint_torque
                 .copy_from(&outputs.joint_torque);
         }
-        if self.plant.unilateral().is_some() {
-            self.sum_period_wrench(k, schedule.steps_per_period);
-        }
         if k + 1 == schedule.steps_per_period {
             let wrenches = match self.plant.unilateral() {
                 Some(_) => &self.pd.outputs.step_contact_wrench,
@@ -270,19 +260,6 @@ impl PlantSide<'_> {
         self.observe_impacts(step_start, Step::Held);
         std::mem::swap(&mut self.x_step, &mut self.x_next);
         Ok(())
-    }
-
-    /// Adds the wrenches step `k` of a period of `steps` delivered to the period's sum,
-    /// started at its first step and averaged at its last.
-    fn sum_period_wrench(&mut self, k: usize, steps: usize) {
-        let mean = &mut self.period_mean_wrench;
-        if k == 0 {
-            mean.fill(0.0);
-        }
-        *mean += &self.pd.outputs.step_contact_wrench;
-        if k + 1 == steps {
-            *mean /= steps as f64;
-        }
     }
 
     /// Hands the start of the plant step at `time` to the impact detector: the state
@@ -471,7 +448,6 @@ impl<'a> Engine<'a> {
                 period_start_joint_torque: PlantOutputs::new(plant).joint_torque,
                 period_end_wrench: PlantOutputs::new(plant).contact_wrench,
                 period_end_joint_torque: PlantOutputs::new(plant).joint_torque,
-                period_mean_wrench: PlantOutputs::new(plant).contact_wrench,
                 disturbance_wrenches: vec![0.0; 6 * disturbances.len()],
                 disturbances,
                 impacts,

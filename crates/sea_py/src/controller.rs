@@ -45,9 +45,8 @@ pub struct PyController {
     /// The state of the last tick, copied from Python (nx).
     x: Vec<f64>,
     /// The force readings of `end_period`, copied from Python: contact wrenches (6 per
-    /// contact) and joint torques (n) at the period's start and end, and the contact wrenches'
-    /// mean over the period.
-    readings: [nalgebra::DVector<f64>; 5],
+    /// contact) and joint torques (n) at the period's start and end.
+    readings: [nalgebra::DVector<f64>; 4],
 }
 
 impl PyController {
@@ -70,7 +69,7 @@ impl PyController {
             controller.model().n_joints(),
             6 * controller.contact_frames().len(),
         );
-        let readings = [k, n, k, n, k].map(nalgebra::DVector::zeros);
+        let readings = [k, n, k, n].map(nalgebra::DVector::zeros);
         let law = FeedbackLaw::new(controller, com_reference, posture, layout);
         Ok(Self {
             contacts: law.controller().settings().contacts.clone(),
@@ -302,33 +301,25 @@ impl PyController {
     /// `tick`: the force readings of the period, each a float array: the feet's wrenches
     /// (n_contacts, 6) or (6 n_contacts,) and the joint torques (n,) at the period's start
     /// (`Plant.outputs` at the tick's state and command) and at its end (at the start of the
-    /// period's last plant step), and optionally the feet's wrenches averaged over the period
-    /// (`mean_wrenches`, the mean of the sensors' samples; on compliant feet the
-    /// identification needs it, see `PeriodSensors::mean_contact_wrench`). The stiffness
-    /// identification (`controller.stiffness_identification`) and the observers
-    /// (`controller.external_wrench`) update from them; their estimates act from the next
-    /// `tick` on. Without them it does nothing.
-    #[pyo3(signature = (start_wrenches, start_joint_torques, end_wrenches, end_joint_torques, mean_wrenches=None))]
+    /// period's last plant step). The stiffness identification
+    /// (`controller.stiffness_identification`) and the observers (`controller.external_wrench`)
+    /// update from them; their estimates act from the next `tick` on. Without them it does
+    /// nothing.
     fn end_period(
         &mut self,
         start_wrenches: &Bound<'_, PyAny>,
         start_joint_torques: &Bound<'_, PyAny>,
         end_wrenches: &Bound<'_, PyAny>,
         end_joint_torques: &Bound<'_, PyAny>,
-        mean_wrenches: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let arguments = [
-            ("start_wrenches", Some(start_wrenches)),
-            ("start_joint_torques", Some(start_joint_torques)),
-            ("end_wrenches", Some(end_wrenches)),
-            ("end_joint_torques", Some(end_joint_torques)),
-            ("mean_wrenches", mean_wrenches),
+            ("start_wrenches", start_wrenches),
+            ("start_joint_torques", start_joint_torques),
+            ("end_wrenches", end_wrenches),
+            ("end_joint_torques", end_joint_torques),
         ];
         let mut values = Vec::new();
         for ((name, value), reading) in arguments.into_iter().zip(&mut self.readings) {
-            let Some(value) = value else {
-                continue;
-            };
             // The wrenches as `Plant.outputs` gives them, (n_contacts, 6), or flat.
             let numpy = value.py().import("numpy")?;
             let flat = numpy
@@ -337,9 +328,8 @@ impl PyController {
             vector_arg(&flat, name, reading.len(), &mut values)?;
             reading.copy_from_slice(&values);
         }
-        let [start_wrench, start_torque, end_wrench, end_torque, mean_wrench] = &self.readings;
+        let [start_wrench, start_torque, end_wrench, end_torque] = &self.readings;
         self.robot.end_period(PeriodSensors {
-            mean_contact_wrench: mean_wrenches.map(|_| mean_wrench),
             start: ForceReadings {
                 contact_wrench: start_wrench,
                 joint_torque: start_torque,

@@ -23,7 +23,7 @@
 //!    command is held.
 //! 3. After the period, before the next tick: [`RobotController::end_period`] with the force
 //!    readings of the period ([`PeriodSensors`]: the feet's force/torque sensors and the joint
-//!    torques at its start and at its end, and the feet's wrenches averaged over it). The identification updates the joint loops'
+//!    torques at its start and at its end). The identification updates the joint loops'
 //!    stiffness estimates and the observers hand their estimates to the controller; both take
 //!    effect from the next tick on.
 //!
@@ -79,15 +79,6 @@ pub struct RobotController<C = MomentumController> {
     period: f64,
     /// The measured state of the last tick (nx), which the estimators read after the period.
     measured_at_tick: Vec<f64>,
-    /// The feet's wrenches averaged over the last period (6 per contact), valid when
-    /// `previous_mean_valid`: the identification's wrenches at the next update, whose
-    /// finite-difference acceleration spans that period.
-    previous_mean_wrench: nalgebra::DVector<f64>,
-    /// Whether `previous_mean_wrench` is the mean of the period just before the last tick
-    /// (false at the start, and after a tick without `end_period`).
-    previous_mean_valid: bool,
-    /// Whether a tick is waiting for its `end_period`.
-    period_open: bool,
 }
 
 impl<C: BorrowMut<MomentumController>> RobotController<C> {
@@ -103,15 +94,11 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
             "the stiffness identification and its excitation need the joint loops"
         );
         let nx = law.layout().nx();
-        let k = 6 * law.controller().contact_frames().len();
         Self {
             law,
             parts,
             period,
             measured_at_tick: vec![0.0; nx],
-            previous_mean_wrench: nalgebra::DVector::zeros(k),
-            previous_mean_valid: false,
-            period_open: false,
         }
     }
 
@@ -204,10 +191,6 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
             joint_loop.tick(&layout, measured);
         }
         self.measured_at_tick.copy_from_slice(measured);
-        if std::mem::replace(&mut self.period_open, true) {
-            // The last period's end was missed: the kept mean is not the period before.
-            self.previous_mean_valid = false;
-        }
     }
 
     /// A joint tick between two whole-body ticks at the measured state `measured` (nx):
@@ -225,49 +208,24 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
     pub fn end_period(&mut self, sensors: PeriodSensors<'_>) {
         self.identify(&sensors);
         self.observe_external_wrench(&sensors);
-        self.keep_mean_wrench(&sensors);
         self.observe_generalized_disturbance(sensors);
     }
 
-    /// Keeps the period's mean wrenches for the next identification update (or forgets the
-    /// kept ones when the sensors give none).
-    fn keep_mean_wrench(&mut self, sensors: &PeriodSensors<'_>) {
-        self.period_open = false;
-        self.previous_mean_valid = match sensors.mean_contact_wrench {
-            Some(mean) if mean.len() == self.previous_mean_wrench.len() => {
-                self.previous_mean_wrench.copy_from(mean);
-                true
-            }
-            _ => false,
-        };
-    }
-
     /// The stiffness identification's update at the last tick's measured state, with the
-    /// contact wrenches it takes; the joint loops take the estimates from the next tick on.
-    /// Measured wrenches: the mean over the period before that tick, the span of the update's
-    /// finite-difference acceleration, when the sensors gave it; else the reading at the
-    /// period's start. Commanded: the last tick's `f*`.
+    /// contact wrenches it takes (the sensors' at the period's start, or the commanded `f*`);
+    /// the joint loops take the estimates from the next tick on.
     fn identify(&mut self, sensors: &PeriodSensors<'_>) {
         let (Some((identifier, source)), Some(joint_loop)) =
             (&mut self.parts.identifier, &mut self.parts.joint_loop)
         else {
             return;
         };
-        let layout = self.law.layout();
         let wrenches = match source {
-            IdentificationWrenches::Measured if self.previous_mean_valid => {
-                &self.previous_mean_wrench
-            }
-            IdentificationWrenches::Measured if sensors.mean_contact_wrench.is_some() => {
-                // No mean of the period before yet: this state only starts the difference.
-                identifier.start_difference(&layout, &self.measured_at_tick);
-                return;
-            }
             IdentificationWrenches::Measured => sensors.start.contact_wrench,
             IdentificationWrenches::Commanded => &self.law.last().output.wrenches,
         };
         identifier.update(
-            &layout,
+            &self.law.layout(),
             &self.measured_at_tick,
             self.period,
             wrenches,

@@ -29,12 +29,4 @@ pub struct PeriodSensors<'a> {
     pub start: ForceReadings<'a>,
     /// At the period's end, before the next tick (the last joint tick's command acting).
     pub end: ForceReadings<'a>,
-    /// The feet's wrenches averaged over the period (6 per contact, as
-    /// [`ForceReadings::contact_wrench`]): the mean of the force/torque sensors' samples, as a
-    /// joint loop sampling them at its rate can form it. The stiffness identification pairs it
-    /// with its finite-difference acceleration, itself a mean over the period
-    /// ([`crate::stiffness_id`], "The wrenches over a period"). `None`: the start reading
-    /// stands for it, which serves where the wrenches follow the state without dynamics of
-    /// their own (rigid contacts) and not on compliant feet.
-    pub mean_contact_wrench: Option<&'a DVector<f64>>,
 }
