@@ -28,6 +28,7 @@ pub mod robots;
 pub mod run;
 pub mod schema;
 pub mod settings;
+mod split_tables;
 mod stack;
 pub mod validate;
 
@@ -80,7 +81,7 @@ pub struct Scenario {
     #[serde(default)]
     pub ground: GroundConfig,
     /// `[controller]`.
-    #[serde(default, deserialize_with = "schema::controller_table")]
+    #[serde(default, deserialize_with = "split_tables::controller_table")]
     pub controller: ControllerConfig,
     /// `[reference]`.
     #[serde(default)]

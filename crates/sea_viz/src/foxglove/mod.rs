@@ -39,6 +39,7 @@
 //! when a pose in it is not finite, since Foxglove needs numbers there.
 
 mod channels;
+mod json_schemas;
 pub mod live;
 pub mod scene;
 
