@@ -135,6 +135,8 @@ def run(duration: float, push_impulse: float, push_start: float = 5.0) -> dict[s
     for k in range(int(round(duration / period))):
         t = k * period
         x = robot.state()
+        if x[2] < series_start_height(series, x) - FALL_DROP:
+            break  # fallen: the rest would be MuJoCo's robot lying on the floor
         out = controller.tick(t, x)
         u = out.input
         for j in range(steps):
@@ -161,7 +163,13 @@ def run(duration: float, push_impulse: float, push_start: float = 5.0) -> dict[s
     result = {key: np.array(values) for key, values in series.items()}
     result["wall_s"] = np.array(time.perf_counter() - start_wall)
     result["push_start"] = np.array(push_start)
+    result["duration"] = np.array(duration)
     return result
+
+
+def series_start_height(series: dict[str, list], x: np.ndarray) -> float:
+    """The base height at the first tick (``x``'s before any)."""
+    return float(series["base_height"][0]) if series["base_height"] else float(x[2])
 
 
 def summary(series: dict[str, np.ndarray]) -> dict[str, float]:
@@ -170,13 +178,15 @@ def summary(series: dict[str, np.ndarray]) -> dict[str, float]:
     error = np.linalg.norm(series["com"] - series["com_reference"], axis=1)
     before = series["time"] < series["push_start"]
     drop = series["base_height"][0] - series["base_height"].min()
+    fallen = series["time"][-1] < float(series["duration"]) - 0.015
     return {
         "com_error_rms_mm": 1e3 * float(np.sqrt(np.mean(error**2))),
         "com_error_rms_before_push_mm": 1e3 * float(np.sqrt(np.mean(error[before] ** 2))),
         "com_error_max_after_push_mm": 1e3 * float(error[~before].max()) if (~before).any() else 0.0,
         "com_error_final_mm": 1e3 * float(error[-1]),
         "base_drop_mm": 1e3 * float(drop),
-        "standing": float(drop < FALL_DROP),
+        "standing": float(drop < FALL_DROP and not fallen),
+        "simulated_s": float(series["time"][-1]),
         "stiffness_ratio_min": float(series["stiffness_ratio"][-1].min()),
         "stiffness_ratio_max": float(series["stiffness_ratio"][-1].max()),
         "qp_solved_fraction": float(series["qp_solved"].mean()),
