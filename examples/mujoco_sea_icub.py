@@ -19,6 +19,9 @@ The run: 10 s of the 1 cm lateral CoM sinusoid at 0.2 Hz, and a push on the pelv
 forward: 50 N for 0.1 s at 5 s, as the shipped scenario's). Prints the CoM error, the push's
 recovery and the identified stiffnesses; writes a figure.
 
+``--simulator ours`` runs the same loop on our plant (the scenario's, the push through
+``Plant.step(..., external=...)``); ``--compare`` runs both and compares their CoM.
+
 Run: ``python examples/mujoco_sea_icub.py [--duration 10] [--push-impulse 5] [--figure out.png]``.
 """
 
@@ -107,6 +110,33 @@ class Robot:
         return foot_wrenches(self.mj, self.data, FEET), self.boards.joint_torques(self.mj, self.data)
 
 
+class OurPlant:
+    """Our SEA plant (the scenario's: unilateral contacts, the motor velocity loops) behind the
+    same interface as ``Robot``, the push through ``Plant.step(..., external=...)``: the same
+    controller loop on the other simulator."""
+
+    def __init__(self, scenario: sm.Scenario) -> None:
+        self.plant, self.x = scenario.plant, scenario.initial_state
+        self.dt, self.method = scenario.plant_dt, scenario.method
+
+    def settle(self, duration: float) -> None:
+        """The motors held still for ``duration`` s, as ``Robot.settle``."""
+        hold = np.zeros(self.plant.nu_input)
+        for _ in range(int(round(duration / self.dt))):
+            self.step(hold, None)
+
+    def state(self) -> np.ndarray:
+        return self.x
+
+    def step(self, u: np.ndarray, push: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        """One plant step; the wrenches the step delivered and the joint torques at its start
+        (``Plant.step_outputs``)."""
+        external = None if push is None else {PUSH_LINK: push}
+        self.x = self.plant.step(self.x, u, self.dt, self.method, external=external)
+        out = self.plant.step_outputs()
+        return out.step_contact_wrenches, out.joint_torques
+
+
 #: The link joints' armature: the iCub plant's joint_inertia_regularization (the same robot
 #: as our plant, examples/mujoco_sea_check.py).
 JOINT_ARMATURE = 0.1
@@ -118,12 +148,15 @@ TIMESTEP = 2.5e-4
 MOTOR_VELOCITY_GAIN = 200.0
 
 
-def run(duration: float, push_impulse: float, push_start: float = 5.0) -> dict[str, np.ndarray]:
+def run(duration: float, push_impulse: float, push_start: float = 5.0, simulator: str = "mujoco") -> dict[str, np.ndarray]:
     """The robot loop (module doc) for ``duration`` s with a push of ``push_impulse`` [N s]
-    forward at ``push_start``; the time series at every whole-body tick."""
+    forward at ``push_start``, on MuJoCo's SEA iCub (``simulator="mujoco"``) or on our plant
+    (``"ours"``); the time series at every whole-body tick."""
     scenario = sm.Scenario.load(SCENARIO, {**OVERRIDES, "simulation.duration_s": duration})
     controller = scenario.controller
-    robot = Robot(scenario, Sea(), MOTOR_VELOCITY_GAIN, TIMESTEP)
+    if simulator not in ("mujoco", "ours"):
+        raise ValueError(f"simulator: expected 'mujoco' or 'ours', got {simulator!r}")
+    robot = Robot(scenario, Sea(), MOTOR_VELOCITY_GAIN, TIMESTEP) if simulator == "mujoco" else OurPlant(scenario)
     robot.settle(SETTLE)
     elastic = scenario.plant.elastic_joints
     period = scenario.control_period
@@ -165,6 +198,25 @@ def run(duration: float, push_impulse: float, push_start: float = 5.0) -> dict[s
     result["push_start"] = np.array(push_start)
     result["duration"] = np.array(duration)
     return result
+
+
+def compare_simulators(duration: float, push_impulse: float, push_start: float) -> dict[str, float]:
+    """The same controller loop on MuJoCo's SEA iCub and on our plant: the largest and rms
+    distance between the two CoM trajectories [mm], before the push and over the run, and
+    each one's largest forward CoM excursion [mm]."""
+    mujoco_run = run(duration, push_impulse, push_start, "mujoco")
+    ours_run = run(duration, push_impulse, push_start, "ours")
+    rows = min(len(mujoco_run["time"]), len(ours_run["time"]))
+    distance = np.linalg.norm(mujoco_run["com"][:rows] - ours_run["com"][:rows], axis=1)
+    before = mujoco_run["time"][:rows] < push_start
+    forward = lambda s: 1e3 * float(np.max(s["com"][:, 0] - s["com"][0, 0]))  # noqa: E731
+    return {
+        "com_distance_max_mm": 1e3 * float(distance.max()),
+        "com_distance_max_before_push_mm": 1e3 * float(distance[before].max()),
+        "com_distance_rms_mm": 1e3 * float(np.sqrt(np.mean(distance**2))),
+        "forward_excursion_mujoco_mm": forward(mujoco_run),
+        "forward_excursion_ours_mm": forward(ours_run),
+    }
 
 
 def series_start_height(series: dict[str, list], x: np.ndarray) -> float:
@@ -232,8 +284,14 @@ def main() -> None:
     parser.add_argument("--push-impulse", type=float, default=5.0, help="forward push on the pelvis [N s]")
     parser.add_argument("--push-start", type=float, default=5.0, help="when the push starts [s]")
     parser.add_argument("--figure", type=pathlib.Path, default=pathlib.Path("out/mujoco_sea_icub.png"))
+    parser.add_argument("--simulator", choices=["mujoco", "ours"], default="mujoco", help="the robot: MuJoCo's, or our plant for comparison")
+    parser.add_argument("--compare", action="store_true", help="run on both simulators and compare the CoM")
     args = parser.parse_args()
-    series = run(args.duration, args.push_impulse, args.push_start)
+    if args.compare:
+        for key, value in compare_simulators(args.duration, args.push_impulse, args.push_start).items():
+            print(f"{key}: {value:.4g}")
+        return
+    series = run(args.duration, args.push_impulse, args.push_start, args.simulator)
     for key, value in summary(series).items():
         print(f"{key}: {value:.4g}")
     figure(series, args.figure, args.push_impulse)
