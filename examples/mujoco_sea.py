@@ -68,7 +68,9 @@ ROTOR_INERTIA = 1e-12
 @dataclasses.dataclass(frozen=True)
 class Sea:
     """One series elastic actuator's parameters (the paper's iCub SEA by default, as
-    ``sea_dyn::ElasticParameters::paper_icub``; the scenario's ``[actuators]``)."""
+    ``sea_dyn::ElasticParameters::paper_icub``, the scenarios' ``[actuators]`` default; the
+    bindings do not expose them, and ``mujoco_sea_check.py``'s welded check, equal to 2e-8 rad,
+    fails if these differ from our plant's)."""
 
     ratio: float = 0.01  #: Gamma (joint angle per motor angle)
     motor_inertia: float = 1e-5  #: I_m [kg m^2, motor side]

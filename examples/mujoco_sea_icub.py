@@ -72,9 +72,10 @@ def push_wrench(mj: mujoco.MjModel, data: mujoco.MjData, body: int, force: np.nd
 class Robot:
     """MuJoCo's SEA iCub seen as a robot: sensors in, motor commands out."""
 
-    def __init__(self, scenario: sm.Scenario, sea: Sea, gain: float, timestep: float) -> None:
+    def __init__(self, scenario: sm.Scenario, sea: Sea, gain: float) -> None:
         self.joints = scenario.model.joint_names
-        options = SeaModelOptions(motor_velocity_gain=gain, joint_armature=JOINT_ARMATURE, timestep=timestep)
+        # MuJoCo steps at the scenario's plant step (0.25 ms: resolves the SEA modes).
+        options = SeaModelOptions(motor_velocity_gain=gain, joint_armature=JOINT_ARMATURE, timestep=scenario.plant_dt)
         self.mj = sea_model(URDF, self.joints, sea, options)
         self.data = mujoco.MjData(self.mj)
         self.states = SeaStateMap.of(self.mj, self.joints, sea.ratio)
@@ -142,8 +143,6 @@ class OurPlant:
 JOINT_ARMATURE = 0.1
 #: How long the motors hold still on the ground before the controller starts [s].
 SETTLE = 0.2
-#: MuJoCo's step [s]: the plant's 0.25 ms (resolves the SEA modes).
-TIMESTEP = 2.5e-4
 #: The motor boards' velocity loop gain K_m [1/s] (the iCub's plant.motor_velocity_gain).
 MOTOR_VELOCITY_GAIN = 200.0
 
@@ -156,12 +155,11 @@ def run(duration: float, push_impulse: float, push_start: float = 5.0, simulator
     controller = scenario.controller
     if simulator not in ("mujoco", "ours"):
         raise ValueError(f"simulator: expected 'mujoco' or 'ours', got {simulator!r}")
-    robot = Robot(scenario, Sea(), MOTOR_VELOCITY_GAIN, TIMESTEP) if simulator == "mujoco" else OurPlant(scenario)
+    robot = Robot(scenario, Sea(), MOTOR_VELOCITY_GAIN) if simulator == "mujoco" else OurPlant(scenario)
     robot.settle(SETTLE)
     elastic = scenario.plant.elastic_joints
-    period = scenario.control_period
-    steps = int(round(period / TIMESTEP))
-    inner = int(round(steps / 10))  # 1 kHz joint loops in a 100 Hz period
+    period, dt = scenario.control_period, scenario.plant_dt
+    steps, inner = scenario.steps_per_tick, scenario.steps_per_inner_tick  # 100 Hz, 1 kHz
     force = np.array([push_impulse / PUSH_DURATION, 0.0, 0.0])
     series: dict[str, list] = {k: [] for k in ("time", "com", "com_reference", "base_height", "stiffness_ratio", "qp_solved")}
     start_wall = time.perf_counter()
@@ -175,7 +173,7 @@ def run(duration: float, push_impulse: float, push_start: float = 5.0, simulator
         for j in range(steps):
             if j > 0 and j % inner == 0:
                 u = controller.inner_tick(robot.state())
-            now = t + j * TIMESTEP
+            now = t + j * dt
             pushing = push_impulse > 0 and push_start <= now < push_start + PUSH_DURATION - 1e-9
             wrenches, torques = robot.step(u, force if pushing else None)
             if j == 0:

@@ -83,7 +83,8 @@ def test_calls_out_of_order_raise_runtime_errors(scenario) -> None:
 def balance(scenario: sm.Scenario, missed: set[int]) -> tuple[np.ndarray, np.ndarray]:
     """The robot loop of the guide (tick, inner ticks, end_period) with the whole-body ticks
     in ``missed`` not called: the motor boards hold the last command a period longer (no inner
-    ticks either) and that period's ``end_period`` is skipped. The CoM and its reference at
+    ticks either) and that period's ``end_period`` is skipped; the tick after is a late one
+    (its ``t`` two periods after the last tick's). The CoM and its reference at
     every tick."""
     plant, controller, x = scenario.plant, scenario.controller, scenario.initial_state
     inner, steps, dt = scenario.steps_per_inner_tick, scenario.steps_per_tick, scenario.plant_dt
