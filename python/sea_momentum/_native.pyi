@@ -241,12 +241,25 @@ class Plant:
         stiff contact's force follows a new input within the step, so this, not the start's
         ``contact_wrenches``, is what the feet's force/torque sensors read over the step).
         Raises ``RuntimeError`` before any step."""
-    def step(self, x: ArrayLike, u: ArrayLike, dt: float, method: str = "ros2") -> FloatArray:
+    def step(
+        self,
+        x: ArrayLike,
+        u: ArrayLike,
+        dt: float,
+        method: str = "ros2",
+        external: Mapping[str, ArrayLike] | None = None,
+    ) -> FloatArray:
         """One step: "ros2" (Rosenbrock-W, order 2, L-stable), "implicit_euler" or "rk4".
         A scenario's plant (``Scenario.plant``) lets ``plant.w_refresh_steps`` consecutive
         steps share the implicit step matrix ``W`` prepared at the first one's start (any ``W``
         keeps the order; the native run does the same, so a Python loop reproduces it); a
-        plant built with ``Plant(...)`` prepares it at every step."""
+        plant built with ``Plant(...)`` prepares it at every step.
+
+        ``external``: pushes acting during this step only, ``{link: force (3,) or wrench
+        (6,) [force; moment]}`` [N, N m], world axes, at the link frame's origin: a scenario's
+        ``[[disturbances]]`` convention, applied by the same code. A link not in the model or
+        a wrench of another length or with a non-finite entry raises ``ValueError`` naming it
+        (``external['l_hand']``)."""
     def simulate(
         self,
         x0: ArrayLike,
@@ -438,10 +451,17 @@ class Controller:
         """One whole-body tick at time ``t`` [s] and measured state ``x`` (nx). With
         ``multi_rate`` sampling the joint loops hold the tick's torques (and the
         identification's excitation) and ``input`` is their first inner tick's. A failed tick
-        raises ``SolverError``; ``command`` keeps the last command."""
+        raises ``SolverError``; ``command`` keeps the last command.
+
+        Bad input (docs/guide/robot_rate.md, the per-tick contract): a non-finite ``t``, an
+        ``x`` of another length or with a NaN or infinite entry raises ``ValueError`` naming it
+        (``x[12]``) and changes nothing. The clock is not checked (``t`` is the references'
+        time): a tick called twice at the same ``(t, x)`` returns the same command; a late tick
+        evaluates at its own ``t`` and state, the estimators skipping the missed periods."""
     def inner_tick(self, x: ArrayLike) -> FloatArray:
         """``multi_rate`` only: one joint torque loop tick at state ``x`` (nx) between two
-        ticks, the plant input (n); ``ValueError`` for another sampling."""
+        ticks, the plant input (n); ``ValueError`` for another sampling or a bad ``x``,
+        ``RuntimeError`` before the first ``tick``."""
     def end_period(
         self,
         start_wrenches: ArrayLike,
@@ -454,7 +474,9 @@ class Controller:
         (``Plant.outputs`` at the tick's state and input) and at its end (at the start of the
         period's last plant step). The stiffness identification and the observers update
         from them, acting from the next ``tick``; without them it does nothing.
-        ``ValueError`` names a reading of another shape or with a non-finite value."""
+        ``ValueError`` names a reading of another shape or with a non-finite value (nothing is
+        updated); once per period: a second call before the next ``tick``, or one before any
+        tick, raises ``RuntimeError``."""
     @property
     def command(self) -> FloatArray:
         """The plant input (n) of the last ``tick`` or ``inner_tick``."""

@@ -47,6 +47,11 @@ pub struct PyController {
     /// The force readings of `end_period`, copied from Python: contact wrenches (6 per
     /// contact) and joint torques (n) at the period's start and end.
     readings: [nalgebra::DVector<f64>; 4],
+    /// Whether a `tick` succeeded since the last `end_period` (the period is open: its
+    /// `inner_tick`s and its one `end_period` may follow).
+    period_open: bool,
+    /// Whether any `tick` succeeded (before it the joint loops hold nothing).
+    ticked: bool,
 }
 
 impl PyController {
@@ -77,6 +82,8 @@ impl PyController {
             robot: RobotController::new(law, parts, schedule.period),
             joint_names,
             readings,
+            period_open: false,
+            ticked: false,
         })
     }
 
@@ -261,6 +268,13 @@ impl PyController {
     /// joint torques (and the identification's excitation) are held by the joint loops and
     /// `input` is their first inner tick's. A tick that fails raises `SolverError`; the last
     /// command stays `command`.
+    ///
+    /// Bad input (the per-tick contract, docs/guide/robot_rate.md): a non-finite `t`, an `x` of
+    /// another length or with a NaN or infinite entry raises `ValueError` naming it (`x[12]`)
+    /// and changes nothing (`command` stays the last). The clock is not checked: `t` is the
+    /// references' time, so a tick called twice at the same `(t, x)` returns the same command,
+    /// and a late tick (missed periods) evaluates the law at its own `t` and state; the
+    /// estimators skip the missed periods' updates.
     fn tick<'py>(
         &mut self,
         py: Python<'py>,
@@ -273,13 +287,16 @@ impl PyController {
         let layout = self.robot.layout();
         vector_arg(x, "x", layout.nx(), &mut self.x)?;
         self.robot.tick(t, &self.x).map_err(to_py)?;
+        self.period_open = true;
+        self.ticked = true;
         output_object(py, self.robot.last(), self.robot.command())
     }
 
     /// `controller.sampling = "multi_rate"`: one tick of the joint torque loops at the
     /// measured state `x` (nx) between two `tick`s (every `Scenario.steps_per_inner_tick`
     /// plant steps after the first): the plant input (n), each elastic joint's desired motor
-    /// velocity from the held joint torque and the measured deflection.
+    /// velocity from the held joint torque and the measured deflection. Raises
+    /// `RuntimeError` before the first `tick`, `ValueError` for a bad `x` (as `tick`).
     fn inner_tick<'py>(
         &mut self,
         py: Python<'py>,
@@ -293,6 +310,12 @@ impl PyController {
                 "another sampling",
             ));
         }
+        if !self.ticked {
+            return Err(pyo3::exceptions::PyRuntimeError::new_err(
+                "Controller.inner_tick: no tick yet (call tick(t, x) first: the joint loops \
+                 hold the torques of the last tick)",
+            ));
+        }
         vector_arg(x, "x", layout.nx(), &mut self.x)?;
         Ok(vector_out(py, self.robot.joint_tick(&self.x)))
     }
@@ -304,6 +327,9 @@ impl PyController {
     /// period's last plant step). The stiffness identification
     /// (`controller.stiffness_identification`) and the observers (`controller.external_wrench`)
     /// update from them; their estimates act from the next `tick` on. Without them it does
+    /// nothing. Once per period: a second call before the next `tick`, or a call before any
+    /// tick, raises `RuntimeError` (the estimators would take the period twice); a reading of
+    /// another size or with a non-finite entry raises `ValueError` naming it and updates
     /// nothing.
     fn end_period(
         &mut self,
@@ -318,6 +344,16 @@ impl PyController {
             ("end_wrenches", end_wrenches),
             ("end_joint_torques", end_joint_torques),
         ];
+        if !self.period_open {
+            let when = if self.ticked {
+                "called twice in one period (once after each tick)"
+            } else {
+                "no tick yet (call it after each tick's period)"
+            };
+            return Err(pyo3::exceptions::PyRuntimeError::new_err(format!(
+                "Controller.end_period: {when}"
+            )));
+        }
         let mut values = Vec::new();
         for ((name, value), reading) in arguments.into_iter().zip(&mut self.readings) {
             // The wrenches as `Plant.outputs` gives them, (n_contacts, 6), or flat.
@@ -339,6 +375,7 @@ impl PyController {
                 joint_torque: end_torque,
             },
         });
+        self.period_open = false;
         Ok(())
     }
 

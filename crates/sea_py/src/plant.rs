@@ -236,6 +236,33 @@ impl PyPlant {
         vector_arg(u, "u", self.plant.model.n_joints(), &mut self.u)
     }
 
+    /// The pushes of `Plant.step(..., external=...)` into the workspace's external wrenches
+    /// (all active), checked first: each key a frame of the model, each value 3 (a force) or 6
+    /// (`[force; moment]`) finite numbers; nothing is loaded when one is bad.
+    fn load_external(&mut self, external: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        self.data.workspace.external.clear();
+        let Some(external) = external else {
+            return Ok(());
+        };
+        let mut wrenches = Vec::with_capacity(external.len());
+        for (link, value) in external.iter() {
+            let link: String = link
+                .extract()
+                .map_err(|_| argument_error("external", "a dict with link names as keys", &link))?;
+            let name = format!("external['{link}']");
+            let frame = self.plant.model.frame_id(&link).map_err(|_| {
+                argument_error(&name, "a link (frame) of the model", format!("'{link}'"))
+            })?;
+            wrenches.push(sea_plant::ExternalWrench {
+                frame,
+                wrench: external_wrench_arg(&value, &name)?,
+                active: true,
+            });
+        }
+        self.data.workspace.external.extend(wrenches);
+        Ok(())
+    }
+
     /// Loads `x` and `u` and evaluates the plant there (outputs in `self.data.outputs`).
     fn evaluate_at(&mut self, x: &Bound<'_, PyAny>, u: &Bound<'_, PyAny>) -> PyResult<()> {
         self.load(x, u)?;
@@ -488,7 +515,14 @@ impl PyPlant {
     }
 
     /// One step of size dt with u held: method "ros2" (default), "implicit_euler" or "rk4".
-    #[pyo3(signature = (x, u, dt, method="ros2"))]
+    ///
+    /// `external`: pushes acting during this step, a dict `{link: wrench}` with `wrench` a
+    /// force (3,) [N] or a wrench (6,) `[force; moment]` [N, N m], world axes, acting at the
+    /// link frame's origin (a URDF link or any frame of the model): the convention of a
+    /// scenario's `[[disturbances]]`, applied by the same code (`J^T w`,
+    /// `sea_plant::external`). They act for this step only. A link that is not in the model or
+    /// a wrench of another length or with a non-finite entry raises `ValueError` naming it.
+    #[pyo3(signature = (x, u, dt, method="ros2", external=None))]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
@@ -496,14 +530,16 @@ impl PyPlant {
         u: &Bound<'py, PyAny>,
         dt: f64,
         method: &str,
+        external: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let method = method_arg(method)?;
         if !(dt.is_finite() && dt > 0.0) {
             return Err(argument_error("dt", "a positive finite number", dt));
         }
         self.load(x, u)?;
+        self.load_external(external)?;
         let mut out = vec![0.0; self.x.len()];
-        sea_plant::step(
+        let stepped = sea_plant::step(
             &self.plant,
             &mut self.data,
             &self.x,
@@ -511,8 +547,10 @@ impl PyPlant {
             dt,
             method,
             &mut out,
-        )
-        .map_err(to_py)?;
+        );
+        // The pushes act for this step only (not in a later `outputs` or `dynamics`).
+        self.data.workspace.external.clear();
+        stepped.map_err(to_py)?;
         match &mut self.last_step {
             Some((x, last)) => {
                 x.copy_from_slice(&self.x);
@@ -562,6 +600,26 @@ impl PyPlant {
             None => Ok(result),
         }
     }
+}
+
+/// One push of `Plant.step(..., external=...)`: a force (3,) or a wrench (6,) `[force;
+/// moment]` of finite numbers (world axes, at the link origin) as `[force; moment]`; errors
+/// name the argument `name` (`external['root_link']`) and the length allowed.
+fn external_wrench_arg(value: &Bound<'_, PyAny>, name: &str) -> PyResult<[f64; 6]> {
+    let length = value.len().ok();
+    let Some(expected @ (3 | 6)) = length else {
+        let actual = match length {
+            Some(length) => format!("length {length}"),
+            None => value.repr()?.to_string(),
+        };
+        let expected = "a force (3,) or a wrench [force; moment] (6,) [N, N m], world axes";
+        return Err(argument_error(name, expected, actual));
+    };
+    let mut values = Vec::new();
+    vector_arg(value, name, expected, &mut values)?;
+    let mut wrench = [0.0; 6];
+    wrench[..expected].copy_from_slice(&values);
+    Ok(wrench)
 }
 
 /// Most plant steps one `Plant.simulate` call takes (the closed loop's bound,

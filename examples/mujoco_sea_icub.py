@@ -1,0 +1,300 @@
+"""Our robot-rate controller in Python, as on a robot, driving the iCub with SEAs in MuJoCo.
+
+The robot: ``urdf/icub25.urdf`` in MuJoCo with a series elastic actuator on each of its 25
+joints, modelled the MuJoCo way (``mujoco_sea.py``: a rotor hinge with the reflected motor
+inertia as armature behind a spring-damper tendon, the motor boards' velocity loop as an
+implicit velocity actuator), standing on two foot boxes on a floor with MuJoCo's soft
+contacts, 0.25 ms steps.
+
+The controller: the robot-rate design of ``scenarios/robot_rate/push_two_feet.toml``
+(docs/guide/robot_rate.md) as the Python ``Controller`` stack: the whole-body QP at 100 Hz
+(``tick``), the joint torque loops at 1 kHz (``inner_tick``), the stiffness identification
+(started from an estimate x0.7 of the springs' 350 N m/rad) and the push observer, updated
+after each period (``end_period``) from the feet's force/torque sensors and the joint torque
+sensors, read from MuJoCo (``mj_contactForce``, the springs' tendons). It reads only what a
+robot measures: the joint and motor encoders, the base's pose and velocity, the feet's
+wrenches, the joint torques; it writes the motor boards' desired motor velocities.
+
+The run: 10 s of the 1 cm lateral CoM sinusoid at 0.2 Hz, and a push on the pelvis (5 N s
+forward: 50 N for 0.1 s at 5 s, as the shipped scenario's). Prints the CoM error, the push's
+recovery and the identified stiffnesses; writes a figure.
+
+``--simulator ours`` runs the same loop on our plant (the scenario's, the push through
+``Plant.step(..., external=...)``); ``--compare`` runs both and compares their CoM.
+
+Run: ``python examples/mujoco_sea_icub.py [--duration 10] [--push-impulse 5] [--figure out.png]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import pathlib
+import sys
+import time
+
+import mujoco
+import numpy as np
+
+import sea_momentum as sm
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from mujoco_icub import FEET, FOOT_X, FOOT_Y, URDF, foot_wrenches  # noqa: E402
+from mujoco_sea import MotorBoards, Sea, SeaModelOptions, SeaStateMap, sea_model  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+SCENARIO = ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml"
+#: The design's keys over the shipped push scenario: the stiffness estimate x0.7, the CoM
+#: sinusoid, the MuJoCo foot boxes as the CoP rectangle, no scenario push (MuJoCo pushes).
+OVERRIDES = {
+    "controller.stiffness_estimate_scale": 0.7,
+    "controller.stiffness_identification": True,
+    "controller.contact.foot_x": list(FOOT_X),
+    "controller.contact.foot_y": list(FOOT_Y),
+    "reference.com_amplitude": 0.01,
+    "reference.com_frequency": 0.2,
+    "reference.com_direction": [0.0, 1.0, 0.0],
+    "disturbances": [],
+}
+#: The push: on this link's origin, world axes, for PUSH_DURATION s.
+PUSH_LINK = "root_link"
+PUSH_DURATION = 0.1
+#: A run has fallen when the base drops this far below its start [m].
+FALL_DROP = 0.1
+
+
+def push_wrench(mj: mujoco.MjModel, data: mujoco.MjData, body: int, force: np.ndarray) -> np.ndarray:
+    """``xfrc_applied`` of a force at the body's origin: MuJoCo applies it at the body's CoM,
+    so the moment ``(origin - com) x force`` is added."""
+    arm = data.xpos[body] - data.xipos[body]
+    return np.concatenate([force, np.cross(arm, force)])
+
+
+class Robot:
+    """MuJoCo's SEA iCub seen as a robot: sensors in, motor commands out."""
+
+    def __init__(self, scenario: sm.Scenario, sea: Sea, gain: float) -> None:
+        self.joints = scenario.model.joint_names
+        # MuJoCo steps at the scenario's plant step (0.25 ms: resolves the SEA modes).
+        options = SeaModelOptions(motor_velocity_gain=gain, joint_armature=JOINT_ARMATURE, timestep=scenario.plant_dt)
+        self.mj = sea_model(URDF, self.joints, sea, options)
+        self.data = mujoco.MjData(self.mj)
+        self.states = SeaStateMap.of(self.mj, self.joints, sea.ratio)
+        self.boards = MotorBoards.of(self.mj, self.joints, sea.ratio)
+        self.states.set_from_ours(self.data, scenario.initial_state)
+        mujoco.mj_forward(self.mj, self.data)
+        self.push_body = self.mj.body(PUSH_LINK).id
+
+    def settle(self, duration: float) -> None:
+        """The robot powered on before the controller starts: the motor boards hold the
+        motors still (desired motor velocity 0) for ``duration`` s while MuJoCo's soft contacts
+        take the weight (they start at zero penetration, and their first milliseconds' forces,
+        up to the whole weight on one foot, would be the identification's first readings);
+        then the clock restarts at 0."""
+        hold = np.zeros(len(self.joints))
+        for _ in range(int(round(duration / self.mj.opt.timestep))):
+            self.step(hold, None)
+        self.data.time = 0.0
+
+    def state(self) -> np.ndarray:
+        """The encoders and the base estimate: our state ``[q, theta, nu, thetadot]``."""
+        return self.states.to_ours(self.data)
+
+    def step(self, u: np.ndarray, push: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        """One MuJoCo step with the motor boards tracking ``u`` and ``push`` (a force, world)
+        on the pelvis; returns what the feet's and the joints' torque sensors read over it."""
+        self.boards.command(self.mj, self.data, u)
+        self.data.xfrc_applied[self.push_body] = 0.0
+        if push is not None:
+            self.data.xfrc_applied[self.push_body] = push_wrench(self.mj, self.data, self.push_body, push)
+        mujoco.mj_step(self.mj, self.data)
+        # mj_step's forward pass leaves the contacts and the tendons of the step's start.
+        return foot_wrenches(self.mj, self.data, FEET), self.boards.joint_torques(self.mj, self.data)
+
+
+class OurPlant:
+    """Our SEA plant (the scenario's: unilateral contacts, the motor velocity loops) behind the
+    same interface as ``Robot``, the push through ``Plant.step(..., external=...)``: the same
+    controller loop on the other simulator."""
+
+    def __init__(self, scenario: sm.Scenario) -> None:
+        self.plant, self.x = scenario.plant, scenario.initial_state
+        self.dt, self.method = scenario.plant_dt, scenario.method
+
+    def settle(self, duration: float) -> None:
+        """The motors held still for ``duration`` s, as ``Robot.settle``."""
+        hold = np.zeros(self.plant.nu_input)
+        for _ in range(int(round(duration / self.dt))):
+            self.step(hold, None)
+
+    def state(self) -> np.ndarray:
+        return self.x
+
+    def step(self, u: np.ndarray, push: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        """One plant step; the wrenches the step delivered and the joint torques at its start
+        (``Plant.step_outputs``)."""
+        external = None if push is None else {PUSH_LINK: push}
+        self.x = self.plant.step(self.x, u, self.dt, self.method, external=external)
+        out = self.plant.step_outputs()
+        return out.step_contact_wrenches, out.joint_torques
+
+
+#: The link joints' armature: the iCub plant's joint_inertia_regularization (the same robot
+#: as our plant, examples/mujoco_sea_check.py).
+JOINT_ARMATURE = 0.1
+#: How long the motors hold still on the ground before the controller starts [s].
+SETTLE = 0.2
+#: The motor boards' velocity loop gain K_m [1/s] (the iCub's plant.motor_velocity_gain).
+MOTOR_VELOCITY_GAIN = 200.0
+
+
+def run(duration: float, push_impulse: float, push_start: float = 5.0, simulator: str = "mujoco") -> dict[str, np.ndarray]:
+    """The robot loop (module doc) for ``duration`` s with a push of ``push_impulse`` [N s]
+    forward at ``push_start``, on MuJoCo's SEA iCub (``simulator="mujoco"``) or on our plant
+    (``"ours"``); the time series at every whole-body tick."""
+    scenario = sm.Scenario.load(SCENARIO, {**OVERRIDES, "simulation.duration_s": duration})
+    controller = scenario.controller
+    if simulator not in ("mujoco", "ours"):
+        raise ValueError(f"simulator: expected 'mujoco' or 'ours', got {simulator!r}")
+    robot = Robot(scenario, Sea(), MOTOR_VELOCITY_GAIN) if simulator == "mujoco" else OurPlant(scenario)
+    robot.settle(SETTLE)
+    elastic = scenario.plant.elastic_joints
+    period, dt = scenario.control_period, scenario.plant_dt
+    steps, inner = scenario.steps_per_tick, scenario.steps_per_inner_tick  # 100 Hz, 1 kHz
+    force = np.array([push_impulse / PUSH_DURATION, 0.0, 0.0])
+    series: dict[str, list] = {k: [] for k in ("time", "com", "com_reference", "base_height", "stiffness_ratio", "qp_solved")}
+    start_wall = time.perf_counter()
+    for k in range(int(round(duration / period))):
+        t = k * period
+        x = robot.state()
+        if x[2] < series_start_height(series, x) - FALL_DROP:
+            break  # fallen: the rest would be MuJoCo's robot lying on the floor
+        out = controller.tick(t, x)
+        u = out.input
+        for j in range(steps):
+            if j > 0 and j % inner == 0:
+                u = controller.inner_tick(robot.state())
+            now = t + j * dt
+            pushing = push_impulse > 0 and push_start <= now < push_start + PUSH_DURATION - 1e-9
+            wrenches, torques = robot.step(u, force if pushing else None)
+            if j == 0:
+                start = (wrenches, torques)
+            if j == steps - 1:
+                end = (wrenches, torques)
+        controller.end_period(start[0], start[1], end[0], end[1])
+        estimates = np.array([controller.stiffness_estimates[name] for name in elastic])
+        for key, value in (
+            ("time", t),
+            ("com", out.com),
+            ("com_reference", out.com_reference),
+            ("base_height", x[2]),
+            ("stiffness_ratio", estimates / Sea().stiffness),
+            ("qp_solved", out.qp_status == "solved"),
+        ):
+            series[key].append(value)
+    result = {key: np.array(values) for key, values in series.items()}
+    result["wall_s"] = np.array(time.perf_counter() - start_wall)
+    result["push_start"] = np.array(push_start)
+    result["duration"] = np.array(duration)
+    return result
+
+
+def compare_simulators(duration: float, push_impulse: float, push_start: float) -> dict[str, float]:
+    """The same controller loop on MuJoCo's SEA iCub and on our plant: the largest and rms
+    distance between the two CoM trajectories [mm], before the push and over the run, and
+    each one's largest forward CoM excursion [mm]."""
+    mujoco_run = run(duration, push_impulse, push_start, "mujoco")
+    ours_run = run(duration, push_impulse, push_start, "ours")
+    rows = min(len(mujoco_run["time"]), len(ours_run["time"]))
+    distance = np.linalg.norm(mujoco_run["com"][:rows] - ours_run["com"][:rows], axis=1)
+    before = mujoco_run["time"][:rows] < push_start
+    forward = lambda s: 1e3 * float(np.max(s["com"][:, 0] - s["com"][0, 0]))  # noqa: E731
+    return {
+        "com_distance_max_mm": 1e3 * float(distance.max()),
+        "com_distance_max_before_push_mm": 1e3 * float(distance[before].max()),
+        "com_distance_rms_mm": 1e3 * float(np.sqrt(np.mean(distance**2))),
+        "forward_excursion_mujoco_mm": forward(mujoco_run),
+        "forward_excursion_ours_mm": forward(ours_run),
+    }
+
+
+def series_start_height(series: dict[str, list], x: np.ndarray) -> float:
+    """The base height at the first tick (``x``'s before any)."""
+    return float(series["base_height"][0]) if series["base_height"] else float(x[2])
+
+
+def summary(series: dict[str, np.ndarray]) -> dict[str, float]:
+    """CoM error rms and max (before the push and over the run), the largest CoM excursion
+    after the push and the error at the end; whether the robot stands (base drop)."""
+    error = np.linalg.norm(series["com"] - series["com_reference"], axis=1)
+    before = series["time"] < series["push_start"]
+    drop = series["base_height"][0] - series["base_height"].min()
+    fallen = series["time"][-1] < float(series["duration"]) - 0.015
+    return {
+        "com_error_rms_mm": 1e3 * float(np.sqrt(np.mean(error**2))),
+        "com_error_rms_before_push_mm": 1e3 * float(np.sqrt(np.mean(error[before] ** 2))),
+        "com_error_max_after_push_mm": 1e3 * float(error[~before].max()) if (~before).any() else 0.0,
+        "com_error_final_mm": 1e3 * float(error[-1]),
+        "base_drop_mm": 1e3 * float(drop),
+        "standing": float(drop < FALL_DROP and not fallen),
+        "simulated_s": float(series["time"][-1]),
+        "stiffness_ratio_min": float(series["stiffness_ratio"][-1].min()),
+        "stiffness_ratio_max": float(series["stiffness_ratio"][-1].max()),
+        "qp_solved_fraction": float(series["qp_solved"].mean()),
+        "wall_s": float(series["wall_s"]),
+    }
+
+
+def figure(series: dict[str, np.ndarray], path: pathlib.Path, push_impulse: float) -> None:
+    """The CoM against its reference (lateral and forward), the CoM error and the
+    identified stiffness estimates over the run."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    t = series["time"]
+    fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    for axis, label in ((1, "lateral y"), (0, "forward x")):
+        axes[0].plot(t, 1e3 * (series["com"][:, axis] - series["com"][0, axis]), label=f"CoM {label}")
+        axes[0].plot(t, 1e3 * (series["com_reference"][:, axis] - series["com"][0, axis]), "--", label=f"reference {label}")
+    axes[0].axvspan(float(series["push_start"]), float(series["push_start"]) + PUSH_DURATION, color="r", alpha=0.2, label=f"push {push_impulse:g} N s")
+    axes[0].set_ylabel("CoM from start [mm]")
+    axes[0].legend(fontsize=7, ncol=3)
+    error = np.linalg.norm(series["com"] - series["com_reference"], axis=1)
+    axes[1].plot(t, 1e3 * error)
+    axes[1].set_ylabel("|CoM error| [mm]")
+    axes[2].plot(t, series["stiffness_ratio"], lw=0.7)
+    axes[2].set_ylabel("K_S estimate / K_S")
+    axes[2].set_xlabel("time [s]")
+    fig.suptitle(
+        "iCub with SEAs in MuJoCo, the robot-rate design from Python\n"
+        "(100 Hz / 1 kHz, K_S estimate x0.7 identified online)",
+        fontsize=10,
+    )
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--duration", type=float, default=10.0, help="simulated time [s]")
+    parser.add_argument("--push-impulse", type=float, default=5.0, help="forward push on the pelvis [N s]")
+    parser.add_argument("--push-start", type=float, default=5.0, help="when the push starts [s]")
+    parser.add_argument("--figure", type=pathlib.Path, default=pathlib.Path("out/mujoco_sea_icub.png"))
+    parser.add_argument("--simulator", choices=["mujoco", "ours"], default="mujoco", help="the robot: MuJoCo's, or our plant for comparison")
+    parser.add_argument("--compare", action="store_true", help="run on both simulators and compare the CoM")
+    args = parser.parse_args()
+    if args.compare:
+        for key, value in compare_simulators(args.duration, args.push_impulse, args.push_start).items():
+            print(f"{key}: {value:.4g}")
+        return
+    series = run(args.duration, args.push_impulse, args.push_start, args.simulator)
+    for key, value in summary(series).items():
+        print(f"{key}: {value:.4g}")
+    figure(series, args.figure, args.push_impulse)
+    print(f"figure: {args.figure}")
+
+
+if __name__ == "__main__":
+    main()
