@@ -172,7 +172,9 @@ def sea_sim_figures(binary: pathlib.Path, batches: int) -> dict:
 #: (label, our key, scale to microseconds, MuJoCo steps it is compared with).
 RATIOS = [
     ("one implicit SEA step (ROS2, 1 ms) / mj_step", "sim_step_us", 1.0, 1),
+    ("the same step, 10 steps sharing W as scenarios step / mj_step", "sim_step_shared_w_us", 1.0, 1),
     ("the same step, feet on the ground (8 points) / mj_step", "sim_step_unilateral_us", 1.0, 1),
+    ("the same, 10 steps sharing W as scenarios step / mj_step", "sim_step_unilateral_shared_w_us", 1.0, 1),
     ("controller tick, two feet / mj_step", "controller_tick_us", 1.0, 1),
     ("tick with Clarabel every tick / mj_step", "controller_tick_clarabel_us", 1.0, 1),
     ("tick with the active set every tick / mj_step", "controller_tick_active_set_us", 1.0, 1),

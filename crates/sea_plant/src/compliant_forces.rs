@@ -35,21 +35,14 @@ pub(crate) fn add_contact_forces(
         let pose = frame_placement(model, &ws.data, contact.frame);
         let velocity = frame_velocity_from_kinematics(model, &ws.data, contact.frame);
         let (linear, angular) = (velocity.fixed_rows::<3>(0), velocity.fixed_rows::<3>(3));
-        let (stiffness, damping) = (
-            &mut ws.compliance.foot_stiffness[c],
-            &mut ws.compliance.foot_damping[c],
-        );
-        stiffness.fill(0.0);
-        damping.fill(0.0);
         let mut wrench = Vector6::zeros();
         for r in points {
             let offset = pose.rotation * r;
             let position = pose.translation + offset;
             let point_velocity = linear + angular.cross(&offset);
             let contact = point_contact(ground, &unilateral.law, &position, &point_velocity);
-            if contact.active {
-                foot_stiffness(&contact, &ground.normal, &offset, stiffness, damping);
-            }
+            ws.compliance.points[point] = contact;
+            ws.compliance.point_offsets[point] = offset;
             let moment = offset.cross(&contact.force);
             wrench += Vector6::new(
                 contact.force.x,
@@ -66,6 +59,37 @@ pub(crate) fn add_contact_forces(
             .fixed_rows_mut::<6>(6 * c)
             .copy_from(&wrench);
         add_transposed_rows(jacobian, 6 * c, &wrench, ws.acceleration.as_mut_slice());
+    }
+}
+
+/// Contact `c`'s stiffness and damping of its wrench at the sole origin (6 x 6, `[v; omega]`,
+/// world axes; [`foot_stiffness`]) from the points' contacts of the last evaluation in `ws`:
+/// the sum over its points that carry a force.
+pub(crate) fn foot_matrices(
+    unilateral: &UnilateralContacts,
+    ws: &Workspace,
+    c: usize,
+    stiffness: &mut Matrix6<f64>,
+    damping: &mut Matrix6<f64>,
+) {
+    let first: usize = unilateral.points[..c].iter().map(Vec::len).sum();
+    let points = first..first + unilateral.points[c].len();
+    stiffness.fill(0.0);
+    damping.fill(0.0);
+    let terms = &ws.compliance;
+    for (contact, offset) in terms.points[points.clone()]
+        .iter()
+        .zip(&terms.point_offsets[points])
+    {
+        if contact.active {
+            foot_stiffness(
+                contact,
+                &unilateral.ground.normal,
+                offset,
+                stiffness,
+                damping,
+            );
+        }
     }
 }
 
@@ -135,7 +159,11 @@ pub(crate) fn add_foot_to_matrix(
     scratch: &mut nalgebra::DMatrix<f64>,
     matrix: &mut nalgebra::DMatrix<f64>,
 ) {
-    let foot = jacobian.rows(rows, 6);
-    scratch.gemm(1.0, combined, &foot, 0.0);
+    let foot = jacobian.fixed_rows::<6>(rows);
+    // Column by column (6 x 6 times a 6-vector): a general `gemm` would allocate its packing
+    // buffers on every call.
+    for (column, mut out) in foot.column_iter().zip(scratch.column_iter_mut()) {
+        out.copy_from(&(combined * column));
+    }
     matrix.gemm_tr(g, &foot, scratch, 1.0);
 }

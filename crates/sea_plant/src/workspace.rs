@@ -5,7 +5,8 @@
 //! own buffers in `integrator/`).
 
 use crate::plant::Plant;
-use nalgebra::{DMatrix, DVector, Matrix6};
+use crate::unilateral::PointContact;
+use nalgebra::{DMatrix, DVector, Vector3};
 use sea_dyn::data::Data;
 use sea_dyn::tree_factor::TreeFactor;
 
@@ -51,11 +52,12 @@ pub(crate) struct ContactTerms {
 /// evaluated state.
 #[derive(Clone, Debug)]
 pub(crate) struct ComplianceTerms {
-    /// Per contact, the stiffness of its wrench at the sole origin (6 x 6, `[v; omega]`,
-    /// world axes; [`crate::unilateral::foot_stiffness`]).
-    pub(crate) foot_stiffness: Vec<Matrix6<f64>>,
-    /// Per contact, the damping of its wrench (6 x 6).
-    pub(crate) foot_damping: Vec<Matrix6<f64>>,
+    /// Per contact point (all feet's, in order), its contact at the evaluated state: force
+    /// and the slopes of its law. The feet's 6 x 6 stiffness and damping follow from these
+    /// only when the implicit step prepares `W` ([`crate::compliant_forces::foot_matrices`]).
+    pub(crate) points: Vec<PointContact>,
+    /// Per contact point, its offset from its sole's origin (world axes) [m].
+    pub(crate) point_offsets: Vec<Vector3<f64>>,
     /// Per joint, the stop's stiffness (n; 0 off its stop).
     pub(crate) stop_stiffness: Vec<f64>,
     /// Per joint, the stop's damping (n).
@@ -93,8 +95,8 @@ impl Workspace {
                 target: DVector::zeros(k),
             },
             compliance: ComplianceTerms {
-                foot_stiffness: vec![Matrix6::zeros(); plant.contacts.len()],
-                foot_damping: vec![Matrix6::zeros(); plant.contacts.len()],
+                points: vec![PointContact::default(); plant.n_contact_points()],
+                point_offsets: vec![Vector3::zeros(); plant.n_contact_points()],
                 stop_stiffness: vec![0.0; plant.model.n_joints()],
                 stop_damping: vec![0.0; plant.model.n_joints()],
             },

@@ -354,9 +354,11 @@ pub fn standing_sea_plant_on_ground(model: &Model) -> Option<(Plant, Vec<f64>)> 
 }
 
 /// `plant_dynamics_us` (one evaluation of the SEA plant on two feet) and `sim_step_us` (one
-/// ROS2 step, dt = 1 ms), on the standing iCub with motor torques balancing gravity;
-/// `sim_step_unilateral_us`, the step with the feet on the ground
-/// ([`standing_sea_plant_on_ground`]).
+/// ROS2 step, dt = 1 ms, preparing its own `W`), on the standing iCub with motor torques
+/// balancing gravity; `sim_step_unilateral_us`, the step with the feet on the ground
+/// ([`standing_sea_plant_on_ground`]); the `_shared_w` figures are the same steps with
+/// [`SHARED_W_STEPS`] steps sharing one `W`, as every scenario steps (`plant.w_refresh_steps`'s
+/// default): their mean over a whole sharing cycle.
 fn bench_plant(
     model: &Model,
     batches: usize,
@@ -374,6 +376,7 @@ fn bench_plant(
             sea_plant::step(&plant, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut x_next).is_ok(),
         );
     });
+    let welded_x = x.clone();
     let (ground_plant, x) = standing_sea_plant_on_ground(model)?;
     let mut pd = PlantData::new(&ground_plant);
     let on_ground = median_us(batches, calls_per_batch, |_| {
@@ -390,9 +393,25 @@ fn bench_plant(
             .is_ok(),
         );
     });
+    pd.integrator.set_w_refresh_steps(SHARED_W_STEPS);
+    let on_ground_shared = median_us(batches, calls_per_batch, |_| {
+        let stepped = sea_plant::step(&ground_plant, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut x_next);
+        black_box(stepped.is_ok());
+    });
+    let mut pd = PlantData::new(&plant);
+    pd.integrator.set_w_refresh_steps(SHARED_W_STEPS);
+    let (x, u) = (&welded_x, &u);
+    let step_shared = median_us(batches, calls_per_batch, |_| {
+        black_box(sea_plant::step(&plant, &mut pd, x, u, 1e-3, Method::Ros2, &mut x_next).is_ok());
+    });
     Some(vec![
         ("plant_dynamics_us", dynamics),
         ("sim_step_us", step),
+        ("sim_step_shared_w_us", step_shared),
         ("sim_step_unilateral_us", on_ground),
+        ("sim_step_unilateral_shared_w_us", on_ground_shared),
     ])
 }
+
+/// Steps sharing one `W` in the `_shared_w` figures: `plant.w_refresh_steps`' default.
+pub const SHARED_W_STEPS: usize = 10;

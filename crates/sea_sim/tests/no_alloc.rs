@@ -56,7 +56,17 @@ fn the_counting_allocator_is_active() {
 
 #[test]
 fn plant_evaluate_and_one_step_of_each_method_allocate_nothing() {
-    let base = two_feet(&[]);
+    let welded = two_feet(&[]);
+    let on_ground = two_feet(&[("plant.contact_model", "unilateral")]);
+    for (contacts, base) in [("welded", &welded), ("on the ground", &on_ground)] {
+        let offenders = plant_allocations(base);
+        assert!(offenders.is_empty(), "{contacts}: allocations: {offenders:?}");
+    }
+}
+
+/// `(what, allocations)` of every plant evaluation and step of `base`'s plant that allocates
+/// (after a warm-up call), driven by the motor velocity loop and by torques.
+fn plant_allocations(base: &Setup) -> Vec<(String, usize)> {
     let mut torque_driven = base.plant.clone();
     torque_driven.motor_input = MotorInput::Torque;
     let mut rng = Lcg::new(3);
@@ -88,7 +98,7 @@ fn plant_evaluate_and_one_step_of_each_method_allocate_nothing() {
             });
         }
     }
-    assert!(offenders.is_empty(), "allocations: {offenders:?}");
+    offenders
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! The implicit step's matrix `W = I - g Jf`, its factor and its solve, with the buffers they
 //! own.
 
-use crate::compliant_forces::add_foot_to_matrix;
+use crate::compliant_forces::{add_foot_to_matrix, foot_matrices};
 use crate::error::{Error, Result};
 use crate::plant::{MotorInput, Plant};
 use crate::workspace::Workspace;
@@ -188,9 +188,12 @@ impl WMatrix {
         let g = self.g;
         copy_contiguous(&mut self.jacobian, &ws.contact.jacobian);
         copy_contiguous(&mut self.augmented, &ws.data.mass_matrix);
+        let Some(unilateral) = plant.unilateral() else {
+            return;
+        };
         for c in 0..plant.contacts.len() {
-            self.foot_stiffness[c] = ws.compliance.foot_stiffness[c];
-            self.foot_damping[c] = ws.compliance.foot_damping[c];
+            let (stiffness, damping) = (&mut self.foot_stiffness[c], &mut self.foot_damping[c]);
+            foot_matrices(unilateral, ws, c, stiffness, damping);
             let combined = self.foot_stiffness[c] * g + self.foot_damping[c];
             add_foot_to_matrix(
                 &self.jacobian,
@@ -272,7 +275,7 @@ impl WMatrix {
         }
         for c in 0..plant.contacts.len() {
             let force = self.foot_force(c, |v| mul_add(g, r_nu[v], r_q[v]), |v| r_nu[v]);
-            let foot = self.jacobian.rows(6 * c, 6);
+            let foot = self.jacobian.fixed_rows::<6>(6 * c);
             for (z_v, column) in self.z.as_mut_slice().iter_mut().zip(foot.column_iter()) {
                 *z_v -= column.dot(&force);
             }
@@ -288,7 +291,8 @@ impl WMatrix {
         dq: impl Fn(usize) -> f64,
         dnu: impl Fn(usize) -> f64,
     ) -> Vector6<f64> {
-        let foot = self.jacobian.rows(6 * c, 6);
+        // Fixed rows: each column is a `Vector6` view, so the products below allocate nothing.
+        let foot = self.jacobian.fixed_rows::<6>(6 * c);
         let (mut displacement, mut velocity) = (Vector6::zeros(), Vector6::zeros());
         for (v, column) in foot.column_iter().enumerate() {
             displacement += column * dq(v);
