@@ -71,8 +71,8 @@ fn plant_allocations(base: &Setup) -> Vec<(String, usize)> {
     torque_driven.motor_input = MotorInput::Torque;
     let mut rng = Lcg::new(3);
     let states = [
-        perturbed(&base, 0.01, &mut rng),
-        perturbed(&base, 0.01, &mut rng),
+        perturbed(base, 0.01, &mut rng),
+        perturbed(base, 0.01, &mut rng),
     ];
     let n = base.model.n_joints();
     let u: Vec<f64> = (0..n).map(|_| rng.next_signed()).collect();
