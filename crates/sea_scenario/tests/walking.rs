@@ -67,7 +67,11 @@ fn sole_positions(record: &RunRecord, setup: &sea_loop::Setup) -> Vec<[nalgebra:
 #[test]
 #[ignore = "diagnostic"]
 fn print_the_walk() {
-    let (record, summary, setup) = walk(STEPS, &[("simulation.record_every", "10")]);
+    // Overrides from WALK_SET="key=value;key=value".
+    let set = std::env::var("WALK_SET").unwrap_or_default();
+    let mut overrides = vec![("simulation.record_every", "10")];
+    overrides.extend(set.split(';').filter_map(|kv| kv.split_once('=')));
+    let (record, summary, setup) = walk(STEPS, &overrides);
     println!("{}", serde_json::to_string(&summary).unwrap());
     let soles = sole_positions(&record, &setup);
     let gait = setup.controller.gait().unwrap();
@@ -76,7 +80,7 @@ fn print_the_walk() {
         let desired: Vec<String> = tasks
             .iter()
             .map(|task| match task {
-                FootTask::Swing(s) => format!("{:.4}", s.world_p_sole.z),
+                FootTask::Swing(s) => format!("{:.3},{:.4}", s.world_p_sole.x, s.world_p_sole.z),
                 FootTask::Contact { share } => format!("c{share:.2}"),
             })
             .collect();
@@ -84,7 +88,9 @@ fn print_the_walk() {
         let com = &record.com[3 * row..3 * row + 3];
         let reference = &record.com_reference[3 * row..3 * row + 3];
         println!(
-            "{t:.3} z {:.4} {:.4} d {:?} fz {:.1} {:.1} com {:.4} {:.4} ref {:.4} {:.4} je {:.3}",
+            "{t:.3} x {:.3} {:.3} z {:.4} {:.4} d {:?} fz {:.1} {:.1} com {:.4} {:.4} ref {:.4} {:.4} je {:.3}",
+            soles[row][0].x,
+            soles[row][1].x,
             soles[row][0].z,
             soles[row][1].z,
             desired,

@@ -18,14 +18,30 @@
 //!   so a leaving foot's wrench goes to zero continuously before lift-off and a landing
 //!   foot's rises from zero after touchdown: no jump of the planned wrenches at a switch
 //!   (with `controller.contact.min_normal_force = 0`, which a walking scenario needs).
+//!
+//! Touchdown from the feet's force/torque sensors ([`MomentumController::set_foot_forces`],
+//! the stack hands them over after each period): a swinging foot in the second half of its
+//! swing whose measured normal force exceeds [`TOUCHDOWN_FORCE_FRACTION`] of the robot's
+//! weight has landed early: it is held from then on (a foot on the ground with no planned
+//! load until the plan's double support hands it some). A foot the plan has landed whose
+//! normal force is still below that after touchdown is late: through that double support it
+//! keeps descending from its landing pose at [`LATE_TOUCHDOWN_SPEED`], with no planned load,
+//! until the sensor sees it.
 
 use super::MomentumController;
 use crate::error::{Error, Result};
 use crate::qp::{momentum_tracking_objective, Minimizer, QpCounters, QpStatus, WrenchQp};
 use crate::references::ComSample;
-use crate::walking::{FootTask, Gait, SwingSample, WalkingSettings};
+use crate::walking::{Foot, FootTask, Gait, SwingSample, WalkingSettings};
 use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Vector6};
 use sea_dyn::spatial::Pose;
+
+/// The measured normal force, as a fraction of the robot's weight, above which a foot is on
+/// the ground (module doc).
+pub const TOUCHDOWN_FORCE_FRACTION: f64 = 0.05;
+
+/// How fast a late foot keeps descending after its planned touchdown [m/s] (module doc).
+pub const LATE_TOUCHDOWN_SPEED: f64 = 0.1;
 
 /// The walking state of a controller: the gait, this tick's foot tasks and the buffers of
 /// the single-support QP.
@@ -40,6 +56,16 @@ pub(super) struct ContactPhases {
     pub(super) tasks: [FootTask; 2],
     /// The one-contact QP of single support and its buffers.
     single: SingleSupportQp,
+    /// Each contact's measured normal force of the last period (world z) [N]; `None` before
+    /// the sensors were handed over (the plan's timing alone).
+    normal_forces: Option<[f64; 2]>,
+    /// The normal force above which a foot is on the ground [N].
+    touchdown_force: f64,
+    /// Whether the sensors move the touchdowns (`walking.sensed_touchdown`).
+    sensed_touchdown: bool,
+    /// Touchdowns the sensors moved: early, late.
+    pub(super) early_touchdowns: usize,
+    pub(super) late_ticks: usize,
 }
 
 /// The one-contact wrench QP of single support, on the stance foot's wrench.
@@ -81,18 +107,72 @@ pub fn swing_acceleration(
     )
 }
 
+/// 0 for the left foot, 1 for the right.
+fn foot_index(foot: Foot) -> usize {
+    match foot {
+        Foot::Left => 0,
+        Foot::Right => 1,
+    }
+}
+
 /// The penalty weight on a foot's wrench in double support for its planned share of the
 /// load `share` (module doc): `(1 - 2 share) / share` below one half, 0 above (times the
-/// Hessian's scale); capped at 1e12 when the share is zero.
+/// Hessian's scale); capped at [`MAX_SHARE_PENALTY`] (the share 0 of a foot just landed).
 pub fn share_penalty(share: f64) -> f64 {
     if share >= 0.5 {
         0.0
     } else {
-        ((1.0 - 2.0 * share) / share.max(1e-12)).min(1e12)
+        ((1.0 - 2.0 * share) / share.max(1e-12)).min(MAX_SHARE_PENALTY)
     }
 }
 
+/// The largest [`share_penalty`]: a foot's wrench is then about 1e-4 of what the QP would
+/// give it unpenalised (a few hundredths of a newton for the iCub), and the QP's Hessian
+/// stays well conditioned.
+pub const MAX_SHARE_PENALTY: f64 = 1e4;
+
 impl ContactPhases {
+    /// The `planned` tasks at `t` corrected by the measured normal forces (module doc): an
+    /// early touchdown holds the foot, a late one keeps it descending.
+    fn sensed_tasks(&mut self, t: f64, planned: [FootTask; 2]) -> [FootTask; 2] {
+        let Some(forces) = self.normal_forces.filter(|_| self.sensed_touchdown) else {
+            return planned;
+        };
+        let mut tasks = planned;
+        let phase = self.gait.footsteps.phase_at(t);
+        for c in 0..2 {
+            let loaded = forces[c] > self.touchdown_force;
+            match (&planned[c], phase.step) {
+                (FootTask::Swing(_), _) if loaded && phase.fraction > 0.5 => {
+                    if !matches!(self.tasks[c], FootTask::Contact { .. }) {
+                        self.early_touchdowns += 1;
+                    }
+                    tasks[c] = FootTask::Contact { share: 0.0 };
+                }
+                (FootTask::Contact { share }, Some(step)) if !loaded && *share < 0.5 => {
+                    let landing = &self.gait.footsteps.steps[step];
+                    let landed_here = self.gait.contact_of[foot_index(landing.foot)] == c;
+                    let since = t - landing.touchdown;
+                    if landed_here && since >= 0.0 && t < phase.end {
+                        self.late_ticks += 1;
+                        tasks[c] = FootTask::Swing(self.descent(step, since));
+                    }
+                }
+                _ => {}
+            }
+        }
+        tasks
+    }
+
+    /// A late foot `since` [s] after step `step`'s planned touchdown: its landing pose,
+    /// lowered at [`LATE_TOUCHDOWN_SPEED`].
+    fn descent(&self, step: usize, since: f64) -> SwingSample {
+        let mut sample = self.gait.swings[step].sample(f64::INFINITY);
+        sample.world_p_sole.z -= LATE_TOUCHDOWN_SPEED * since;
+        sample.world_v_sole.z = -LATE_TOUCHDOWN_SPEED;
+        sample
+    }
+
     /// Double support: adds each foot's [`share_penalty`] to the two-feet QP's `hessian`
     /// (12 x 12), scaled by its mean diagonal.
     pub(super) fn add_share_penalties(&self, hessian: &mut DMatrix<f64>) {
@@ -147,7 +227,13 @@ impl MomentumController {
         single_qp.unconstrained_first = self.settings.qp_unconstrained_first;
         single_qp.solver = self.settings.qp_solver;
         self.torque_map.desired_acceleration = Some(DVector::zeros(12));
+        let weight = self.mass * gravity;
         self.walking = Some(ContactPhases {
+            normal_forces: None,
+            touchdown_force: TOUCHDOWN_FORCE_FRACTION * weight,
+            sensed_touchdown: settings.sensed_touchdown,
+            early_touchdowns: 0,
+            late_ticks: 0,
             tasks: gait.foot_tasks(0.0),
             gait,
             position_gain: settings.swing_position_gain,
@@ -180,8 +266,26 @@ impl MomentumController {
     /// CoM reference the momentum task tracks then; `None` when not walking.
     pub fn walking_reference(&mut self, t: f64) -> Option<ComSample> {
         let walking = self.walking.as_mut()?;
-        walking.tasks = walking.gait.foot_tasks(t);
+        let planned = walking.gait.foot_tasks(t);
+        walking.tasks = walking.sensed_tasks(t, planned);
         Some(walking.gait.com_reference(t))
+    }
+
+    /// The feet's measured contact wrenches (6 per contact, the controller's order, world
+    /// axes; the force/torque sensors at the end of the last period): the touchdowns of the
+    /// next ticks follow them (module doc). Ignored when not walking.
+    pub fn set_foot_forces(&mut self, contact_wrenches: &DVector<f64>) {
+        if let Some(walking) = &mut self.walking {
+            walking.normal_forces = Some([contact_wrenches[2], contact_wrenches[8]]);
+        }
+    }
+
+    /// Walking: the touchdowns the sensors moved so far, early (feet held before their
+    /// planned touchdown) and late (ticks of a foot still descending after it); `None` when
+    /// not walking.
+    pub fn touchdown_corrections(&self) -> Option<(usize, usize)> {
+        let walking = self.walking.as_ref()?;
+        Some((walking.early_touchdowns, walking.late_ticks))
     }
 
     /// When walking, contact `c`'s desired acceleration into the torque map (zero on the
@@ -312,7 +416,7 @@ mod tests {
         assert_eq!(share_penalty(1.0), 0.0);
         assert!((share_penalty(0.25) - 2.0).abs() < 1e-12);
         assert!(share_penalty(1e-3) > 900.0);
-        assert_eq!(share_penalty(0.0), 1e12);
+        assert_eq!(share_penalty(0.0), MAX_SHARE_PENALTY);
         // Continuous at one half, decreasing in the share.
         assert!(share_penalty(0.4999) < 1e-3);
         assert!(share_penalty(0.1) > share_penalty(0.2));

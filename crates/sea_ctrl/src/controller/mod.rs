@@ -43,7 +43,10 @@ mod output;
 mod qp_solve;
 mod settings;
 
-pub use contact_phase::{share_penalty, swing_acceleration};
+pub use contact_phase::{
+    share_penalty, swing_acceleration, LATE_TOUCHDOWN_SPEED, MAX_SHARE_PENALTY,
+    TOUCHDOWN_FORCE_FRACTION,
+};
 pub use output::{ControlOutput, TaskTerms};
 pub use settings::{ControllerKind, ControllerSettings, MomentumRelaxation};
 

@@ -25,7 +25,8 @@
 //!    readings of the period ([`PeriodSensors`]: the feet's force/torque sensors and the joint
 //!    torques at its start and at its end). The identification updates the joint loops'
 //!    stiffness estimates and the observers hand their estimates to the controller; both take
-//!    effect from the next tick on.
+//!    effect from the next tick on. A walking controller also takes the feet's normal forces
+//!    for its touchdowns ([`MomentumController::set_foot_forces`]).
 //!
 //! A tick that fails (the QP and its fallback fail, a non-finite measurement) returns the
 //! error; the command of the last successful tick is still [`RobotController::command`], and
@@ -206,6 +207,10 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
     /// After the period that began at the last tick: the estimators' updates with the
     /// period's force readings (module doc, step 3).
     pub fn end_period(&mut self, sensors: PeriodSensors<'_>) {
+        // Walking: the touchdowns of the next ticks follow the feet's sensors.
+        self.law
+            .controller_mut()
+            .set_foot_forces(sensors.end.contact_wrench);
         self.identify(&sensors);
         self.observe_external_wrench(&sensors);
         self.observe_generalized_disturbance(sensors);

@@ -125,6 +125,10 @@ pub struct WalkingSettings {
     pub swing_position_gain: f64,
     /// Velocity gain of the swing sole's tracking [1/s], >= 0.
     pub swing_velocity_gain: f64,
+    /// Whether the feet's force/torque sensors move the touchdowns (an early touchdown holds
+    /// the foot, a late foot keeps descending; `controller::contact_phase`); `false`: the
+    /// plan's timing alone.
+    pub sensed_touchdown: bool,
     /// The walking command, used when `footsteps` is empty.
     pub command: WalkCommand,
     /// Explicit footsteps, in order (empty: footsteps from `command`).
@@ -148,6 +152,7 @@ impl Default for WalkingSettings {
             capture_margin: 0.01,
             swing_position_gain: 400.0,
             swing_velocity_gain: 40.0,
+            sensed_touchdown: false,
             command: WalkCommand::default(),
             footsteps: Vec::new(),
         }
