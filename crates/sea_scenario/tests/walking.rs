@@ -239,10 +239,24 @@ fn print_the_walk() {
     let set = std::env::var("WALK_SET").unwrap_or_default();
     let mut overrides = vec![("simulation.record_every", "10")];
     overrides.extend(set.split(';').filter_map(|kv| kv.split_once('=')));
-    let (record, summary, setup) = walk(STEPS, &overrides);
+    let path = std::env::var("WALK_PATH").unwrap_or(STEPS.to_string());
+    let (record, summary, setup) = walk(&path, &overrides);
     println!("{}", serde_json::to_string(&summary).unwrap());
     let soles = sole_positions(&record, &setup);
     let gait = setup.controller.gait().unwrap();
+    // The DCM's tracking: the measured `x + xdot / omega` against the plan's.
+    let (mass, omega) = (setup.controller.mass(), gait.dcm.lip().omega);
+    let dcm_errors: Vec<f64> = (0..record.time.len())
+        .map(|row| {
+            let com = nalgebra::Vector2::new(record.com[3 * row], record.com[3 * row + 1]);
+            let m = &record.momentum[6 * row..6 * row + 2];
+            let xi = com + nalgebra::Vector2::new(m[0], m[1]) / (mass * omega);
+            (xi - gait.dcm.sample(record.time[row]).world_xi.xy()).norm()
+        })
+        .collect();
+    let rms = (dcm_errors.iter().map(|e| e * e).sum::<f64>() / dcm_errors.len() as f64).sqrt();
+    let max = dcm_errors.iter().copied().fold(0.0, f64::max);
+    println!("DCM error: max {max:.4} m, rms {rms:.4} m");
     for (row, t) in record.time.iter().enumerate() {
         let tasks = gait.foot_tasks(*t);
         let desired: Vec<String> = tasks
