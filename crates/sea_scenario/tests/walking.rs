@@ -99,8 +99,8 @@ fn steps_in_place_lift_and_land_the_feet_without_a_fall_and_deterministically() 
         );
     }
     let last = soles.last().unwrap();
-    for c in 0..2 {
-        assert!((last[c].z - ground).abs() < 2e-3, "landed: {}", last[c].z);
+    for sole in last {
+        assert!((sole.z - ground).abs() < 2e-3, "landed: {}", sole.z);
     }
     // Determinism: the same run again, bitwise.
     let (again, _, _) = walk(STEPS, &[]);
