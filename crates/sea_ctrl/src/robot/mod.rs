@@ -49,6 +49,7 @@ use crate::external_wrench::ExternalWrenchObserver;
 use crate::feedback::{FeedbackLaw, Observation};
 use crate::joint_loop::JointTorqueLoop;
 use crate::stiffness_id::{IdentificationWrenches, StiffnessIdentifier};
+use crate::walking::FootTask;
 use crate::MomentumController;
 use sea_dyn::{ElasticParameters, StateLayout};
 use std::borrow::BorrowMut;
@@ -225,6 +226,11 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
         else {
             return;
         };
+        // Walking: a foot in the air carries no load (its zero wrench is kept).
+        if let Some(tasks) = self.law.controller().foot_tasks() {
+            let loaded = tasks.map(|task| matches!(task, FootTask::Contact { .. }));
+            identifier.set_loaded_contacts(&loaded);
+        }
         let wrenches = match source {
             IdentificationWrenches::Measured => sensors.start.contact_wrench,
             IdentificationWrenches::Commanded => &self.law.last().output.wrenches,
