@@ -224,3 +224,12 @@ class RunSummary(Result):
     """Largest ``|thetadot|`` over the 50 ms after a touchdown, at plant-step resolution
     [rad/s] (``motor_velocity_peak_rad_s`` is over the control samples only); None without a
     touchdown."""
+    steps_taken: Optional[int]
+    """``[walking]``: the planned steps whose touchdown time the run reached; None when the
+    robot does not walk."""
+    distance_walked_m: Optional[float]
+    """``[walking]``: horizontal distance between the feet's mid-points at the start and at
+    the run's end [m]; None when the robot does not walk."""
+    walking_speed_m_s: Optional[float]
+    """``[walking]``: ``distance_walked_m`` over the time from the first lift-off to the last
+    touchdown (or the run's end) [m/s]; None when the robot does not walk."""

@@ -5,7 +5,8 @@
 //! Python's `Controller.tick` both evaluate it, so a Python loop of `Controller.tick` and
 //! `Plant.step` computes what the native loop computes.
 //!
-//! An evaluation at `(t, x)`: `p_d(t)` and `s_d(t)` from the references, the controller's tick
+//! An evaluation at `(t, x)`: `p_d(t)` and `s_d(t)` from the references (`p_d` from the
+//! controller's gait when it walks, [`MomentumController::walking_reference`]), the controller's tick
 //! ([`MomentumController::compute_into`]) at `x` with them, and the tracking errors
 //! `|p_com - p_com_d|` and `|s - s_d|`. [`FeedbackLaw::tick`] evaluates into the held
 //! observation ([`FeedbackLaw::last`]); [`FeedbackLaw::observe`] into a caller's (e.g. the
@@ -144,7 +145,12 @@ impl<C: BorrowMut<MomentumController>> FeedbackLaw<C> {
             Some(observation) => observation,
             None => &mut self.last,
         };
-        let reference = self.com_reference.sample(time);
+        // Walking: the gait's CoM reference, and the contact phases of the tick set.
+        let controller = self.controller.borrow_mut();
+        let reference = match controller.walking_reference(time) {
+            Some(reference) => reference,
+            None => self.com_reference.sample(time),
+        };
         self.posture.at(time, &mut self.s_desired);
         let output = &mut observation.output;
         self.controller.borrow_mut().compute_into(

@@ -316,6 +316,11 @@ pub struct StiffnessIdentifier {
     generalized_force: DVector<f64>,
     /// Stacked contact Jacobians (6 k x nv).
     contact_jacobian: DMatrix<f64>,
+    /// Which contacts carry load (k / 6; all by default): a walking foot in the air gets no
+    /// share of the base rows' correction ([`Self::set_loaded_contacts`]).
+    loaded: Vec<bool>,
+    /// The base columns of the loaded contacts' rows, the others zero (6 k x 6).
+    loaded_base: DMatrix<f64>,
     /// The contact wrenches `f` of this update (6 k).
     wrenches: DVector<f64>,
     /// The base rows' residual `r` of the last update (force; moment about the CoM) [N, Nm].
@@ -373,6 +378,8 @@ impl StiffnessIdentifier {
             nudot: vec![0.0; nv],
             generalized_force: DVector::zeros(nv),
             contact_jacobian: DMatrix::zeros(k, nv),
+            loaded: vec![true; k / 6],
+            loaded_base: DMatrix::zeros(k, 6),
             wrenches: DVector::zeros(k),
             residual: Vector6::zeros(),
             residual_mean: None,
@@ -400,6 +407,16 @@ impl StiffnessIdentifier {
     /// The joint torques `tau_model` (nv; joint rows from 6) of the last update [Nm].
     pub fn model_torques(&self) -> &[f64] {
         self.generalized_force.as_slice()
+    }
+
+    /// Which contacts carry load from the next update on (one flag per contact, the
+    /// controller's order): the base rows' correction of the wrenches (module doc) is spread
+    /// over the loaded ones only, so a walking foot in the air keeps its zero wrench. All
+    /// loaded: the correction of the module doc.
+    pub fn set_loaded_contacts(&mut self, loaded: &[bool]) {
+        for (flag, &value) in self.loaded.iter_mut().zip(loaded) {
+            *flag = value;
+        }
     }
 
     /// One update at the measured state `x` (layout `layout`), `period` [s] after the
@@ -584,9 +601,24 @@ impl StiffnessIdentifier {
         let residual: Vector6<f64> =
             self.generalized_force.fixed_rows::<6>(0) - base.tr_mul(&self.wrenches);
         self.residual = about_the_com(&residual, &self.data);
-        let normal: Matrix6<f64> = base.tr_mul(&base);
+        if self.loaded.iter().all(|&loaded| loaded) {
+            let normal: Matrix6<f64> = base.tr_mul(&base);
+            if let Some(solution) = normal.cholesky().map(|c| c.solve(&residual)) {
+                self.wrenches.gemv(1.0, &base, &solution, 1.0);
+            }
+            return;
+        }
+        // Only the loaded contacts' rows take the correction.
+        self.loaded_base.copy_from(&base);
+        for (c, &loaded) in self.loaded.iter().enumerate() {
+            if !loaded {
+                self.loaded_base.rows_mut(6 * c, 6).fill(0.0);
+            }
+        }
+        let loaded_base = &self.loaded_base;
+        let normal = loaded_base.tr_mul(loaded_base);
         if let Some(solution) = normal.cholesky().map(|c| c.solve(&residual)) {
-            self.wrenches.gemv(1.0, &base, &solution, 1.0);
+            self.wrenches.gemv(1.0, loaded_base, &solution, 1.0);
         }
     }
 }

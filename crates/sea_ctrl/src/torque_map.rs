@@ -57,6 +57,10 @@ pub struct TorqueMap {
     pub jacobian: DMatrix<f64>,
     /// Input `Jdot nu` of the contacts, stacked (k).
     pub jdot_nu: DVector<f64>,
+    /// Input, optional: the contacts' desired accelerations `a*` (k; `J nudot + Jdot nu =
+    /// a*` instead of 0, a swinging foot's task while walking); `None`: zero, the paper's
+    /// eq:constraints_acc.
+    pub desired_acceleration: Option<DVector<f64>>,
     /// Result `tau_bias` (n).
     pub tau_bias: DVector<f64>,
     /// Result `Sigma` (n x k).
@@ -99,6 +103,7 @@ impl TorqueMap {
             diagonal: vec![0.0; nv],
             jacobian: DMatrix::zeros(k, nv),
             jdot_nu: DVector::zeros(k),
+            desired_acceleration: None,
             tau_bias: DVector::zeros(n),
             sigma: DMatrix::zeros(n, k),
             split: CentroidalSplit::new(n, k),
@@ -212,9 +217,13 @@ impl TorqueMap {
     /// Paper eq:torques with posturalNew at `f = 0`: `tau_bias = Lambda^+ (J M^-1 h - Jdot nu) +
     /// N_Lambda (h_j + u0)` (n), `h_j` being the joint bias of centrTrans
     /// ([`CentroidalSplit::h_j_centroidal`]; for the SEA controller `h` already holds hjBar).
+    /// With desired contact accelerations `a*`, `J M^-1 h - Jdot nu + a*` in the first term.
     fn torque_bias(&mut self, mass_matrix: &DMatrix<f64>, posture: &PosturalTask) {
-        // J M^-1 h - Jdot nu (k).
+        // J M^-1 h - Jdot nu (+ a*) (k).
         copy_contiguous(&mut self.task_bias, &self.jdot_nu);
+        if let Some(desired) = &self.desired_acceleration {
+            self.task_bias -= desired;
+        }
         self.task_bias.gemv(1.0, &self.minv_jt_t, &self.bias, -1.0);
         self.postural_torque(mass_matrix, posture);
         // u0 is in tau_bias.

@@ -125,6 +125,11 @@ pub fn run_setup_with_sinks(
     let check = engine.contact_check_count();
     summary.contact_check_violations = check.violations;
     summary.contact_check_first_s = check.first_s;
+    if let Some(walked) = engine.walked(duration_s) {
+        summary.steps_taken = Some(walked.steps);
+        summary.distance_walked_m = Some(walked.distance_m);
+        summary.walking_speed_m_s = walked.speed_m_s;
+    }
     Ok(summary)
 }
 

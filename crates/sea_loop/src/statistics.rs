@@ -267,6 +267,16 @@ pub struct Summary {
     /// Largest `|thetadot|` over the 50 ms after a touchdown [rad/s]; `None` without a
     /// touchdown.
     pub touchdown_peak_motor_velocity_rad_s: Option<f64>,
+    /// `[walking]`: the planned steps whose touchdown time the run reached; `None` when the
+    /// robot does not walk.
+    pub steps_taken: Option<usize>,
+    /// `[walking]`: the horizontal distance from the feet's mid-point at the start to the
+    /// feet's mid-point at the run's end (true state) [m]; `None` when it does not walk.
+    pub distance_walked_m: Option<f64>,
+    /// `[walking]`: `distance_walked_m` over the time from the first lift-off to the run's
+    /// end (the walk's last touchdown when it ended standing) [m/s]; `None` when it does not
+    /// walk or no foot lifted.
+    pub walking_speed_m_s: Option<f64>,
     /// Multi-rate sampling: the joint loops' stiffness estimates at the run's end [Nm/rad] by
     /// elastic joint name (identified with `controller.stiffness_identification`, else the
     /// controller's); empty otherwise. Not a sweep column ([`NON_SCALAR_FIELDS`]).
@@ -398,6 +408,9 @@ impl Summary {
             touchdown_velocity_jump_m_s: None,
             touchdown_peak_spring_torque_nm: None,
             touchdown_peak_motor_velocity_rad_s: None,
+            steps_taken: None,
+            distance_walked_m: None,
+            walking_speed_m_s: None,
         }
     }
 

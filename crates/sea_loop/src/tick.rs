@@ -103,6 +103,17 @@ impl HandOver {
     }
 }
 
+/// What a walking robot walked ([`Engine::walked`]).
+pub struct Walked {
+    /// The planned steps whose touchdown time the run reached.
+    pub steps: usize,
+    /// The horizontal distance between the feet's mid-points at the start and the end [m].
+    pub distance_m: f64,
+    /// The distance over the time from the first lift-off to the last touchdown (or the
+    /// run's end) [m/s]; `None` before the first lift-off.
+    pub speed_m_s: Option<f64>,
+}
+
 /// What one sample period gave (the evaluation at its start is the law's last observation):
 /// when the run stops there, how it ended.
 pub(super) struct Period {
@@ -736,6 +747,36 @@ impl<'a> Engine<'a> {
     /// The current state.
     pub fn state(&self) -> &[f64] {
         &self.x
+    }
+
+    /// `[walking]`: what the robot walked by time `end_s` [s] (the current state's feet
+    /// against the gait's initial ones); `None` when it does not walk.
+    pub fn walked(&self, end_s: f64) -> Option<Walked> {
+        let controller = self.robot.controller();
+        let gait = controller.gait()?;
+        let model = &self.side.plant.model;
+        let frames = controller.contact_frames();
+        let mut data = Data::new(model);
+        sea_dyn::forward_kinematics(model, &mut data, self.layout.q(&self.x));
+        let [a, b] = [0, 1].map(|c| sea_dyn::frame_placement(model, &data, frames[c]));
+        let end = (a.translation + b.translation).xy() * 0.5;
+        // The feet where the gait started (the initial posture's soles).
+        let start = gait.footsteps.stances[0].mid_frame().world_p_sole;
+        let distance_m = (end - start).norm();
+        let first_lift_off = gait.footsteps.steps.first().map(|s| s.lift_off);
+        let walking_end = gait
+            .footsteps
+            .steps
+            .last()
+            .map_or(end_s, |s| s.touchdown.min(end_s));
+        let speed_m_s = first_lift_off
+            .filter(|&t0| walking_end > t0)
+            .map(|t0| distance_m / (walking_end - t0));
+        Some(Walked {
+            steps: gait.steps_landed(end_s),
+            distance_m,
+            speed_m_s,
+        })
     }
 
     /// The law's evaluation at the current sample (after [`Engine::period`]).

@@ -266,7 +266,8 @@ pub fn build(scenario: &Scenario) -> Result<Setup> {
     let x0 = initial_state(&plant, &q, scenario.robot.initial_springs)?;
     let settings = scenario.controller_settings(&model.joint_names)?;
     let controller_model = scenario.controller_model(&model)?;
-    let controller = MomentumController::new(&controller_model, &actuation, settings, &q)?;
+    let mut controller = MomentumController::new(&controller_model, &actuation, settings, &q)?;
+    crate::walking::set_up(scenario, &model, &contacts, &q, &mut controller)?;
     let com_reference = com_reference(scenario, &model, &q, contacts[0])?;
     let posture = posture_reference(scenario, &model, s0)?;
     let elastic_names = actuation

@@ -31,6 +31,7 @@ pub mod settings;
 mod split_tables;
 mod stack;
 pub mod validate;
+pub mod walking;
 
 pub use build::{build, Setup};
 pub use disturbances::{DisturbanceConfig, DisturbanceSchedule};
@@ -95,6 +96,11 @@ pub struct Scenario {
     /// `[sensing]`: measurement noise and delay of the controller's state (default: perfect).
     #[serde(default)]
     pub sensing: SensingConfig,
+    /// `[walking]`: the robot walks the gait of these settings (`sea_ctrl`'s
+    /// `WalkingSettings`, read as they stand: the footsteps, their timing, the swing);
+    /// absent: it stands (docs/explanation/walking.md).
+    #[serde(default)]
+    pub walking: Option<sea_ctrl::walking::WalkingSettings>,
     /// Folder of the scenario file (for relative paths).
     #[serde(skip)]
     pub base_dir: PathBuf,

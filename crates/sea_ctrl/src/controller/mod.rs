@@ -36,12 +36,17 @@
 //!   that observers set, and how they enter the dynamics and the momentum task;
 //! - this file: [`MomentumController`], its construction, the tick and the accessors.
 
+mod contact_phase;
 mod disturbances;
 mod model_terms;
 mod output;
 mod qp_solve;
 mod settings;
 
+pub use contact_phase::{
+    share_penalty, swing_acceleration, LATE_TOUCHDOWN_SPEED, MAX_SHARE_PENALTY,
+    TOUCHDOWN_FORCE_FRACTION,
+};
 pub use output::{ControlOutput, TaskTerms};
 pub use settings::{ControllerKind, ControllerSettings, MomentumRelaxation};
 
@@ -125,6 +130,9 @@ pub struct MomentumController {
     /// equalities restricted to the wrenches the joints can produce
     /// ([`crate::redundant_contacts`]); `None` in the paper's case.
     redundant: Option<RedundantContacts>,
+    /// Walking: the gait, the tick's foot tasks and the single-support QP
+    /// ([`Self::set_walking`]; `contact_phase.rs`); `None`: the contacts are held throughout.
+    walking: Option<contact_phase::ContactPhases>,
 }
 
 impl MomentumController {
@@ -192,6 +200,7 @@ impl MomentumController {
             relaxations: 0,
             disturbances: Disturbances::new(),
             redundant,
+            walking: None,
             settings,
             contact_frames,
             contact_references,
@@ -201,7 +210,7 @@ impl MomentumController {
     /// QP solves that fell back to the unconstrained solution so far (the relaxed momentum
     /// task's rescues not counted).
     pub fn qp_failures(&self) -> usize {
-        self.qp.counters().fallbacks - self.relaxations
+        self.qp_solves().fallbacks - self.relaxations
     }
 
     /// Ticks whose momentum equality was infeasible and that the relaxed momentum task solved
@@ -213,7 +222,14 @@ impl MomentumController {
     /// QP solves so far by path: the minimiser without inequalities (feasible, hence
     /// optimal), the active set, Clarabel.
     pub fn qp_solves(&self) -> QpCounters {
-        self.qp.counters()
+        let (two, one) = (self.qp.counters(), self.single_support_counters());
+        QpCounters {
+            unconstrained: two.unconstrained + one.unconstrained,
+            active_set: two.active_set + one.active_set,
+            clarabel: two.clarabel + one.clarabel,
+            active_set_failures: two.active_set_failures + one.active_set_failures,
+            fallbacks: two.fallbacks + one.fallbacks,
+        }
     }
 
     /// Turns the QP cross-check on or off: every tick the active set solves is also solved by

@@ -63,6 +63,9 @@ impl MomentumController {
         )?;
         let (com, momentum) = self.model_terms(x, layout);
         self.contact_terms(&com);
+        if self.walking.is_some() {
+            self.contact_accelerations(layout.nu(x));
+        }
         let (s, sdot) = (layout.s(x), layout.sdot(x));
         for (e, value) in self.posture_error.iter_mut().enumerate() {
             *value = s[e] - s_desired[e];
@@ -142,6 +145,16 @@ impl MomentumController {
             let pose = sea_dyn::frame_placement(model, data, frame);
             self.terms.contact_rotations[c] = pose.rotation;
             set_momentum_map_contact(&mut self.terms.momentum_map, c, &pose.translation, com);
+        }
+    }
+
+    /// Walking: each contact's desired acceleration into the torque map at the tick's
+    /// placements (`contact_phase.rs`), with the generalized velocity `nu`.
+    fn contact_accelerations(&mut self, nu: &[f64]) {
+        for c in 0..self.contact_frames.len() {
+            let frame = self.contact_frames[c];
+            let pose = sea_dyn::frame_placement(&self.model, &self.data, frame);
+            self.set_contact_acceleration(c, &pose, nu);
         }
     }
 

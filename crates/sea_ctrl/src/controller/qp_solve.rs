@@ -22,6 +22,9 @@ impl MomentumController {
     /// [`crate::redundant_contacts`]'s equalities (the momentum task in the directions the
     /// contacts can move, and the wrenches the joints can produce; docs/findings/robots.md).
     pub(super) fn solve_qp(&mut self, wrenches: &mut DVector<f64>) -> QpStatus {
+        if let Some(stance) = self.stance_contact() {
+            return self.solve_single_support(stance, wrenches);
+        }
         let terms = &self.terms;
         let reg = self.settings.qp_regularization;
         let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
@@ -35,6 +38,9 @@ impl MomentumController {
         let found = if two_feet {
             torque_norm_objective(&terms.sigma, &terms.tau_bias, reg, hessian, gradient);
             add_moment_regularization(hessian, self.settings.qp_moment_regularization);
+            if let Some(walking) = &self.walking {
+                walking.add_share_penalties(hessian);
+            }
             self.minimizer.equality_constrained(
                 hessian,
                 gradient,

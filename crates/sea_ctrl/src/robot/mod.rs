@@ -25,7 +25,8 @@
 //!    readings of the period ([`PeriodSensors`]: the feet's force/torque sensors and the joint
 //!    torques at its start and at its end). The identification updates the joint loops'
 //!    stiffness estimates and the observers hand their estimates to the controller; both take
-//!    effect from the next tick on.
+//!    effect from the next tick on. A walking controller also takes the feet's normal forces
+//!    for its touchdowns ([`MomentumController::set_foot_forces`]).
 //!
 //! A tick that fails (the QP and its fallback fail, a non-finite measurement) returns the
 //! error; the command of the last successful tick is still [`RobotController::command`], and
@@ -48,6 +49,7 @@ use crate::external_wrench::ExternalWrenchObserver;
 use crate::feedback::{FeedbackLaw, Observation};
 use crate::joint_loop::JointTorqueLoop;
 use crate::stiffness_id::{IdentificationWrenches, StiffnessIdentifier};
+use crate::walking::FootTask;
 use crate::MomentumController;
 use sea_dyn::{ElasticParameters, StateLayout};
 use std::borrow::BorrowMut;
@@ -206,6 +208,10 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
     /// After the period that began at the last tick: the estimators' updates with the
     /// period's force readings (module doc, step 3).
     pub fn end_period(&mut self, sensors: PeriodSensors<'_>) {
+        // Walking: the touchdowns of the next ticks follow the feet's sensors.
+        self.law
+            .controller_mut()
+            .set_foot_forces(sensors.end.contact_wrench);
         self.identify(&sensors);
         self.observe_external_wrench(&sensors);
         self.observe_generalized_disturbance(sensors);
@@ -220,6 +226,11 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
         else {
             return;
         };
+        // Walking: a foot in the air carries no load (its zero wrench is kept).
+        if let Some(tasks) = self.law.controller().foot_tasks() {
+            let loaded = tasks.map(|task| matches!(task, FootTask::Contact { .. }));
+            identifier.set_loaded_contacts(&loaded);
+        }
         let wrenches = match source {
             IdentificationWrenches::Measured => sensors.start.contact_wrench,
             IdentificationWrenches::Commanded => &self.law.last().output.wrenches,

@@ -2,7 +2,8 @@
 //! or a list, the divergent component of motion (DCM) over them with the CoM reference the
 //! momentum task tracks, the swing soles' trajectories, the contact schedule with the load
 //! hand-over between the feet, and the step that recovers a push from the capture point.
-//! Pure planning on flat ground: nothing here reads the robot or the controller.
+//! Pure planning on flat ground: nothing here reads the robot or the controller (the
+//! controller reads [`Gait`]).
 //!
 //! - [`settings`]: [`WalkingSettings`] (the future `[walking]` table), its check;
 //! - [`footstep`]: feet, sole poses (`world_p_sole`, `world_yaw_sole`), timed footsteps, the
@@ -16,7 +17,9 @@
 //! - [`phase`]: which feet are in contact at `t`, the phase's fraction, the next touchdown,
 //!   the left foot's load share;
 //! - [`polygon`]: the support polygon of one sole or both;
-//! - [`capture`]: whether a step is needed, and where and when ([`recovery_step`]).
+//! - [`capture`]: whether a step is needed, and where and when ([`recovery_step`]);
+//! - [`gait`]: a planned walk sampled at a tick into the CoM reference and each foot's task
+//!   ([`Gait`]), what the controller follows (`controller::contact_phase`).
 //!
 //! Sources: docs/references.md#walking.
 
@@ -24,6 +27,7 @@ pub mod capture;
 pub mod command;
 pub mod dcm;
 pub mod footstep;
+pub mod gait;
 pub mod lip;
 pub mod phase;
 pub mod polygon;
@@ -40,6 +44,7 @@ pub use command::{
 };
 pub use dcm::{DcmPlan, DcmSample};
 pub use footstep::{check_step, Foot, Footstep, FootstepPlan, SolePose, Stance};
+pub use gait::{FootTask, Gait};
 pub use lip::Lip;
 pub use phase::{GaitPhase, Support};
 pub use polygon::SupportPolygon;

@@ -120,6 +120,15 @@ pub struct WalkingSettings {
     /// A step is needed when the measured capture point is closer than this to the support
     /// polygon's edge, or outside it [m], >= 0.
     pub capture_margin: f64,
+    /// Position gain of the swing sole's tracking (the PD on its pose error added to the swing
+    /// trajectory's acceleration) [1/s^2], >= 0.
+    pub swing_position_gain: f64,
+    /// Velocity gain of the swing sole's tracking [1/s], >= 0.
+    pub swing_velocity_gain: f64,
+    /// Whether the feet's force/torque sensors move the touchdowns (an early touchdown holds
+    /// the foot, a late foot keeps descending; `controller::contact_phase`); `false`: the
+    /// plan's timing alone.
+    pub sensed_touchdown: bool,
     /// The walking command, used when `footsteps` is empty.
     pub command: WalkCommand,
     /// Explicit footsteps, in order (empty: footsteps from `command`).
@@ -141,6 +150,9 @@ impl Default for WalkingSettings {
             max_step_turn: 0.35,
             min_swing_duration: 0.3,
             capture_margin: 0.01,
+            swing_position_gain: 400.0,
+            swing_velocity_gain: 40.0,
+            sensed_touchdown: false,
             command: WalkCommand::default(),
             footsteps: Vec::new(),
         }
@@ -220,6 +232,8 @@ impl WalkingSettings {
         for (key, value) in [
             ("walking.swing_height", self.swing_height),
             ("walking.capture_margin", self.capture_margin),
+            ("walking.swing_position_gain", self.swing_position_gain),
+            ("walking.swing_velocity_gain", self.swing_velocity_gain),
         ] {
             if !(value.is_finite() && value >= 0.0) {
                 return Err(Error::invalid(

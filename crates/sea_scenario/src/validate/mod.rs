@@ -30,7 +30,42 @@ pub fn scenario(scenario: &Scenario) -> Result<()> {
     controller(scenario)?;
     super::disturbances::validate(&scenario.disturbances)?;
     sensing(scenario)?;
+    walking(scenario)?;
     run_length(scenario)
+}
+
+/// `[walking]`: two feet on unilateral contacts whose wrench may reach zero, and the
+/// walking settings' own rules for the whole-body period (`WalkingSettings::validate`: no
+/// phase shorter than one period, the widths, the command).
+fn walking(scenario: &Scenario) -> Result<()> {
+    let Some(walking) = &scenario.walking else {
+        return Ok(());
+    };
+    let contacts = &scenario.robot.contacts;
+    if contacts.len() != 2 {
+        return Err(Error::invalid(
+            "walking",
+            "needs two contacts (the feet) in robot.contacts",
+            format!("{contacts:?}"),
+        ));
+    }
+    if scenario.plant.contact_model != crate::ground::ContactModelKind::Unilateral {
+        return Err(Error::invalid(
+            "walking",
+            "needs plant.contact_model = \"unilateral\" (held contacts cannot lift a foot)",
+            "plant.contact_model = \"bilateral\"",
+        ));
+    }
+    let min_normal_force = scenario.controller.contact.min_normal_force;
+    if min_normal_force != 0.0 {
+        return Err(Error::invalid(
+            "controller.contact.min_normal_force",
+            "must be 0 under [walking] (a foot's wrench goes to zero before it lifts off)",
+            min_normal_force,
+        ));
+    }
+    walking.validate(scenario.schedule().period)?;
+    Ok(())
 }
 
 /// Checks what needs the robot: with `mass_kg` and gravity `gravity_m_s2` (magnitude), the

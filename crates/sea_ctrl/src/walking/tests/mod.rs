@@ -5,6 +5,7 @@ mod capture;
 mod dcm;
 mod figures;
 mod footsteps;
+mod gait;
 mod phase;
 #[cfg(feature = "serde")]
 mod serde;

@@ -1,0 +1,424 @@
+//! Walking: the contact phases of a planned gait ([`crate::walking::Gait`]) in the momentum
+//! controller. The controller keeps its two feet as its contacts throughout; at each tick
+//! each foot is either on the ground or swinging ([`FootTask`]):
+//!
+//! - the torque map keeps every foot's rows in the constraint Jacobian. A foot on the ground
+//!   is held (`J_c nudot + Jdot_c nu = 0`, the paper's eq:constraints_acc); a swinging foot's
+//!   rows ask for the sole's desired acceleration instead,
+//!   `J_c nudot + Jdot_c nu = a_c*` ([`swing_acceleration`]: the swing trajectory's
+//!   acceleration plus a PD on the sole's pose and velocity errors), so the legs follow the
+//!   feet and the postural task keeps acting on the rest only;
+//! - single support: the swinging foot's wrench is zero and the stance foot's wrench solves
+//!   the one-contact QP, `min |A_s f_s - b|^2` under its contact constraints (the paper's
+//!   one-foot problem on the stance columns of `A`);
+//! - double support: the paper's two-feet QP (`min |tau(f)|^2` s.t. `A f = b`) with each
+//!   foot whose planned share of the load `sigma` is below one half penalised by
+//!   `w (1 - 2 sigma) / sigma |f_c|^2` ([`share_penalty`]; `w` the mean diagonal of the
+//!   torque-norm Hessian): zero standing (`sigma = 1/2`), unbounded as the share goes to zero,
+//!   so a leaving foot's wrench goes to zero continuously before lift-off and a landing
+//!   foot's rises from zero after touchdown: no jump of the planned wrenches at a switch
+//!   (with `controller.contact.min_normal_force = 0`, which a walking scenario needs).
+//!
+//! Touchdown from the feet's force/torque sensors ([`MomentumController::set_foot_forces`],
+//! the stack hands them over after each period): a swinging foot in the second half of its
+//! swing whose measured normal force exceeds [`TOUCHDOWN_FORCE_FRACTION`] of the robot's
+//! weight has landed early: it is held from then on (a foot on the ground with no planned
+//! load until the plan's double support hands it some). A foot the plan has landed whose
+//! normal force is still below that after touchdown is late: through that double support it
+//! keeps descending from its landing pose at [`LATE_TOUCHDOWN_SPEED`], with no planned load,
+//! until the sensor sees it.
+
+use super::MomentumController;
+use crate::error::{Error, Result};
+use crate::qp::{momentum_tracking_objective, Minimizer, QpCounters, QpStatus, WrenchQp};
+use crate::references::ComSample;
+use crate::walking::{Foot, FootTask, Gait, SwingSample, WalkingSettings};
+use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Vector6};
+use sea_dyn::spatial::Pose;
+
+/// The measured normal force, as a fraction of the robot's weight, above which a foot is on
+/// the ground (module doc).
+pub const TOUCHDOWN_FORCE_FRACTION: f64 = 0.05;
+
+/// How fast a late foot keeps descending after its planned touchdown [m/s] (module doc).
+pub const LATE_TOUCHDOWN_SPEED: f64 = 0.1;
+
+/// The walking state of a controller: the gait, this tick's foot tasks and the buffers of
+/// the single-support QP.
+pub(super) struct ContactPhases {
+    /// The planned walk.
+    pub(super) gait: Gait,
+    /// Position gain of the swing sole's PD [1/s^2].
+    position_gain: f64,
+    /// Velocity gain of the swing sole's PD [1/s].
+    velocity_gain: f64,
+    /// Each contact's task at this tick.
+    pub(super) tasks: [FootTask; 2],
+    /// The one-contact QP of single support and its buffers.
+    single: SingleSupportQp,
+    /// Each contact's measured normal force of the last period (world z) [N]; `None` before
+    /// the sensors were handed over (the plan's timing alone).
+    normal_forces: Option<[f64; 2]>,
+    /// The normal force above which a foot is on the ground [N].
+    touchdown_force: f64,
+    /// Whether the sensors move the touchdowns (`walking.sensed_touchdown`).
+    sensed_touchdown: bool,
+    /// Touchdowns the sensors moved: early, late.
+    pub(super) early_touchdowns: usize,
+    pub(super) late_ticks: usize,
+}
+
+/// The one-contact wrench QP of single support, on the stance foot's wrench.
+struct SingleSupportQp {
+    qp: WrenchQp,
+    minimizer: Minimizer,
+    /// The stance columns of `A` (6 x 6).
+    momentum_map: DMatrix<f64>,
+    hessian: DMatrix<f64>,
+    gradient: DVector<f64>,
+    unconstrained: DVector<f64>,
+    wrench: DVector<f64>,
+}
+
+/// The swing sole's desired classical acceleration `[a_origin; omegadot]` (world axes):
+/// `a* = a_d + K_d (v_d - v) + K_p e`, with `e` the position error of the sole origin and
+/// the rotation error `log(R_d R^T)` (world axes), `v` = `[v_origin; omega]` the sole's
+/// measured velocity.
+pub fn swing_acceleration(
+    desired: &SwingSample,
+    world_h_sole: &Pose,
+    world_v_sole: &Vector6<f64>,
+    position_gain: f64,
+    velocity_gain: f64,
+) -> Vector6<f64> {
+    let position_error = desired.world_p_sole - world_h_sole.translation;
+    let rotation_error = Rotation3::from_matrix_unchecked(
+        desired.world_r_sole().matrix() * world_h_sole.rotation.transpose(),
+    )
+    .scaled_axis();
+    let linear = desired.world_a_sole
+        + (desired.world_v_sole - world_v_sole.fixed_rows::<3>(0)) * velocity_gain
+        + position_error * position_gain;
+    let angular = desired.world_omegadot_sole
+        + (desired.world_omega_sole - world_v_sole.fixed_rows::<3>(3)) * velocity_gain
+        + rotation_error * position_gain;
+    Vector6::new(
+        linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
+    )
+}
+
+/// 0 for the left foot, 1 for the right.
+fn foot_index(foot: Foot) -> usize {
+    match foot {
+        Foot::Left => 0,
+        Foot::Right => 1,
+    }
+}
+
+/// The penalty weight on a foot's wrench in double support for its planned share of the
+/// load `share` (module doc): `(1 - 2 share) / share` below one half, 0 above (times the
+/// Hessian's scale); capped at [`MAX_SHARE_PENALTY`] (the share 0 of a foot just landed).
+pub fn share_penalty(share: f64) -> f64 {
+    if share >= 0.5 {
+        0.0
+    } else {
+        ((1.0 - 2.0 * share) / share.max(1e-12)).min(MAX_SHARE_PENALTY)
+    }
+}
+
+/// The largest [`share_penalty`]: a foot's wrench is then about 1e-4 of what the QP would
+/// give it unpenalised (a few hundredths of a newton for the iCub), and the QP's Hessian
+/// stays well conditioned.
+pub const MAX_SHARE_PENALTY: f64 = 1e4;
+
+impl ContactPhases {
+    /// The `planned` tasks at `t` corrected by the measured normal forces (module doc): an
+    /// early touchdown holds the foot, a late one keeps it descending.
+    fn sensed_tasks(&mut self, t: f64, planned: [FootTask; 2]) -> [FootTask; 2] {
+        let Some(forces) = self.normal_forces.filter(|_| self.sensed_touchdown) else {
+            return planned;
+        };
+        let mut tasks = planned;
+        let phase = self.gait.footsteps.phase_at(t);
+        for c in 0..2 {
+            let loaded = forces[c] > self.touchdown_force;
+            match (&planned[c], phase.step) {
+                (FootTask::Swing(_), _) if loaded && phase.fraction > 0.5 => {
+                    if !matches!(self.tasks[c], FootTask::Contact { .. }) {
+                        self.early_touchdowns += 1;
+                    }
+                    tasks[c] = FootTask::Contact { share: 0.0 };
+                }
+                (FootTask::Contact { share }, Some(step)) if !loaded && *share < 0.5 => {
+                    let landing = &self.gait.footsteps.steps[step];
+                    let landed_here = self.gait.contact_of[foot_index(landing.foot)] == c;
+                    let since = t - landing.touchdown;
+                    if landed_here && since >= 0.0 && t < phase.end {
+                        self.late_ticks += 1;
+                        tasks[c] = FootTask::Swing(self.descent(step, since));
+                    }
+                }
+                _ => {}
+            }
+        }
+        tasks
+    }
+
+    /// A late foot `since` [s] after step `step`'s planned touchdown: its landing pose,
+    /// lowered at [`LATE_TOUCHDOWN_SPEED`].
+    fn descent(&self, step: usize, since: f64) -> SwingSample {
+        let mut sample = self.gait.swings[step].sample(f64::INFINITY);
+        sample.world_p_sole.z -= LATE_TOUCHDOWN_SPEED * since;
+        sample.world_v_sole.z = -LATE_TOUCHDOWN_SPEED;
+        sample
+    }
+
+    /// Double support: adds each foot's [`share_penalty`] to the two-feet QP's `hessian`
+    /// (12 x 12), scaled by its mean diagonal.
+    pub(super) fn add_share_penalties(&self, hessian: &mut DMatrix<f64>) {
+        let scale = hessian.trace() / hessian.nrows() as f64;
+        for (c, task) in self.tasks.iter().enumerate() {
+            if let FootTask::Contact { share } = task {
+                let weight = scale * share_penalty(*share);
+                for r in 0..6 {
+                    hessian[(6 * c + r, 6 * c + r)] += weight;
+                }
+            }
+        }
+    }
+}
+
+impl MomentumController {
+    /// Makes the controller walk the gait of `settings` from the posture `q0` (the robot
+    /// standing on its two contacts, where [`Self::new`] placed them), whose whole-body period
+    /// is `whole_body_period` [s]: from then on [`Self::walking_reference`] gives each tick's
+    /// CoM reference and contact phases. Errors name the key: the settings' check
+    /// ([`WalkingSettings::validate`]), the footsteps', one contact
+    /// (`controller.contacts`), a minimum normal force above zero
+    /// (`controller.contact.min_normal_force`: a foot's wrench must reach zero to lift off).
+    pub fn set_walking(
+        &mut self,
+        settings: &WalkingSettings,
+        q0: &[f64],
+        whole_body_period: f64,
+    ) -> Result<()> {
+        settings.validate(whole_body_period)?;
+        if self.contact_frames.len() != 2 {
+            return Err(Error::config(
+                "walking",
+                format!(
+                    "walking needs two contacts (the feet) in controller.contacts, got {}",
+                    self.contact_frames.len()
+                ),
+            ));
+        }
+        let min_normal_force = self.settings.constraints.min_normal_force;
+        if min_normal_force != 0.0 {
+            return Err(Error::invalid(
+                "controller.contact.min_normal_force",
+                "must be 0 when walking (a foot's wrench goes to zero before it lifts off)",
+                min_normal_force,
+            ));
+        }
+        let world_p_com = sea_dyn::centroidal::com(&self.model, &mut self.data, q0);
+        let gravity = self.model.gravity.norm();
+        let gait = Gait::new(settings, &self.contact_references, world_p_com, gravity)?;
+        let mut single_qp = WrenchQp::new(1, 0, &self.settings.constraints);
+        single_qp.unconstrained_first = self.settings.qp_unconstrained_first;
+        single_qp.solver = self.settings.qp_solver;
+        self.torque_map.desired_acceleration = Some(DVector::zeros(12));
+        let weight = self.mass * gravity;
+        self.walking = Some(ContactPhases {
+            normal_forces: None,
+            touchdown_force: TOUCHDOWN_FORCE_FRACTION * weight,
+            sensed_touchdown: settings.sensed_touchdown,
+            early_touchdowns: 0,
+            late_ticks: 0,
+            tasks: gait.foot_tasks(0.0),
+            gait,
+            position_gain: settings.swing_position_gain,
+            velocity_gain: settings.swing_velocity_gain,
+            single: SingleSupportQp {
+                qp: single_qp,
+                minimizer: Minimizer::new(6, 0),
+                momentum_map: DMatrix::zeros(6, 6),
+                hessian: DMatrix::zeros(6, 6),
+                gradient: DVector::zeros(6),
+                unconstrained: DVector::zeros(6),
+                wrench: DVector::zeros(6),
+            },
+        });
+        Ok(())
+    }
+
+    /// The gait the controller walks, if any.
+    pub fn gait(&self) -> Option<&Gait> {
+        self.walking.as_ref().map(|walking| &walking.gait)
+    }
+
+    /// The foot tasks of the last [`Self::walking_reference`], in the order of the contacts
+    /// (`None` when not walking).
+    pub fn foot_tasks(&self) -> Option<&[FootTask; 2]> {
+        self.walking.as_ref().map(|walking| &walking.tasks)
+    }
+
+    /// When walking: sets the contact phases of the tick at time `t` [s] and returns the
+    /// CoM reference the momentum task tracks then; `None` when not walking.
+    pub fn walking_reference(&mut self, t: f64) -> Option<ComSample> {
+        let walking = self.walking.as_mut()?;
+        let planned = walking.gait.foot_tasks(t);
+        walking.tasks = walking.sensed_tasks(t, planned);
+        Some(walking.gait.com_reference(t))
+    }
+
+    /// The feet's measured contact wrenches (6 per contact, the controller's order, world
+    /// axes; the force/torque sensors at the end of the last period): the touchdowns of the
+    /// next ticks follow them (module doc). Ignored when not walking.
+    pub fn set_foot_forces(&mut self, contact_wrenches: &DVector<f64>) {
+        if let Some(walking) = &mut self.walking {
+            walking.normal_forces = Some([contact_wrenches[2], contact_wrenches[8]]);
+        }
+    }
+
+    /// Walking: the touchdowns the sensors moved so far, early (feet held before their
+    /// planned touchdown) and late (ticks of a foot still descending after it); `None` when
+    /// not walking.
+    pub fn touchdown_corrections(&self) -> Option<(usize, usize)> {
+        let walking = self.walking.as_ref()?;
+        Some((walking.early_touchdowns, walking.late_ticks))
+    }
+
+    /// When walking, contact `c`'s desired acceleration into the torque map (zero on the
+    /// ground, [`swing_acceleration`] when swinging), at the sole placement `world_h_sole`,
+    /// with the generalized velocity `nu`.
+    pub(super) fn set_contact_acceleration(&mut self, c: usize, world_h_sole: &Pose, nu: &[f64]) {
+        let Some(walking) = &self.walking else {
+            return;
+        };
+        let map = &mut self.torque_map;
+        let Some(desired) = map.desired_acceleration.as_mut() else {
+            return;
+        };
+        let acceleration = match &walking.tasks[c] {
+            FootTask::Contact { .. } => Vector6::zeros(),
+            FootTask::Swing(sample) => {
+                let rows = map.jacobian.rows(6 * c, 6);
+                let velocity =
+                    Vector6::from_fn(|r, _| rows.row(r).iter().zip(nu).map(|(j, v)| j * v).sum());
+                let (kp, kd) = (walking.position_gain, walking.velocity_gain);
+                swing_acceleration(sample, world_h_sole, &velocity, kp, kd)
+            }
+        };
+        desired.fixed_rows_mut::<6>(6 * c).copy_from(&acceleration);
+    }
+
+    /// The stance contact of single support (`None` in double support or when not walking).
+    pub(super) fn stance_contact(&self) -> Option<usize> {
+        let tasks = &self.walking.as_ref()?.tasks;
+        match tasks {
+            [FootTask::Contact { .. }, FootTask::Swing(_)] => Some(0),
+            [FootTask::Swing(_), FootTask::Contact { .. }] => Some(1),
+            _ => None,
+        }
+    }
+
+    /// Single support on contact `stance`: the one-contact QP on the stance columns of the
+    /// momentum task into `wrenches` (the swinging foot's wrench zero).
+    pub(super) fn solve_single_support(
+        &mut self,
+        stance: usize,
+        wrenches: &mut DVector<f64>,
+    ) -> QpStatus {
+        let walking = self
+            .walking
+            .as_mut()
+            .expect("single support only when walking");
+        let single = &mut walking.single;
+        let terms = &self.terms;
+        single
+            .momentum_map
+            .copy_from(&terms.momentum_map.columns(6 * stance, 6));
+        momentum_tracking_objective(
+            &single.momentum_map,
+            &terms.momentum_target,
+            self.settings.qp_regularization,
+            &mut single.hessian,
+            &mut single.gradient,
+        );
+        let found = single.minimizer.unconstrained(
+            &single.hessian,
+            &single.gradient,
+            &mut single.unconstrained,
+        );
+        let rotation: [Matrix3<f64>; 1] = [terms.contact_rotations[stance]];
+        let status = single.qp.solve(
+            &single.hessian,
+            &single.gradient,
+            None,
+            &rotation,
+            found.then_some(&single.unconstrained),
+            &mut single.wrench,
+        );
+        wrenches.fill(0.0);
+        wrenches.rows_mut(6 * stance, 6).copy_from(&single.wrench);
+        status
+    }
+
+    /// The single-support QP's counters (zero when not walking).
+    pub(super) fn single_support_counters(&self) -> QpCounters {
+        self.walking
+            .as_ref()
+            .map_or_else(QpCounters::default, |walking| walking.single.qp.counters())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::walking::SwingSample;
+    use nalgebra::Vector3;
+
+    fn sample_at(p: Vector3<f64>) -> SwingSample {
+        SwingSample {
+            world_p_sole: p,
+            world_v_sole: Vector3::zeros(),
+            world_a_sole: Vector3::new(0.0, 0.0, 1.0),
+            world_yaw_sole: 0.3,
+            world_omega_sole: Vector3::zeros(),
+            world_omegadot_sole: Vector3::zeros(),
+        }
+    }
+
+    #[test]
+    fn the_swing_pd_pulls_the_sole_towards_its_reference() {
+        let desired = sample_at(Vector3::new(0.1, 0.0, 0.05));
+        let mut pose = Pose {
+            rotation: *desired.world_r_sole().matrix(),
+            translation: desired.world_p_sole,
+        };
+        let at_rest = swing_acceleration(&desired, &pose, &Vector6::zeros(), 400.0, 40.0);
+        assert!((at_rest - Vector6::new(0.0, 0.0, 1.0, 0.0, 0.0, 0.0)).norm() < 1e-12);
+        // 1 cm too low and yawed 0.1 rad too far: pushed up, turned back.
+        pose.translation.z -= 0.01;
+        pose.rotation = *Rotation3::from_axis_angle(&Vector3::z_axis(), 0.4).matrix();
+        let a = swing_acceleration(&desired, &pose, &Vector6::zeros(), 400.0, 40.0);
+        assert!((a[2] - (1.0 + 4.0)).abs() < 1e-9);
+        assert!((a[5] + 40.0).abs() < 1e-9);
+        // Moving up at 0.1 m/s: damped.
+        let v = Vector6::new(0.0, 0.0, 0.1, 0.0, 0.0, 0.0);
+        let damped = swing_acceleration(&desired, &pose, &v, 400.0, 40.0);
+        assert!((damped[2] - (a[2] - 4.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_share_penalty_vanishes_at_half_and_grows_without_bound_at_zero() {
+        assert_eq!(share_penalty(0.5), 0.0);
+        assert_eq!(share_penalty(1.0), 0.0);
+        assert!((share_penalty(0.25) - 2.0).abs() < 1e-12);
+        assert!(share_penalty(1e-3) > 900.0);
+        assert_eq!(share_penalty(0.0), MAX_SHARE_PENALTY);
+        // Continuous at one half, decreasing in the share.
+        assert!(share_penalty(0.4999) < 1e-3);
+        assert!(share_penalty(0.1) > share_penalty(0.2));
+    }
+}

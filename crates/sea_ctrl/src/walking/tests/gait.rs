@@ -1,0 +1,58 @@
+//! The gait the controller follows: feet identified by their side, the tasks of each phase,
+//! the CoM reference at the robot's height.
+
+use super::walking;
+use crate::walking::{FootTask, Gait};
+use nalgebra::{Matrix3, Vector3};
+use sea_dyn::spatial::Pose;
+
+/// Soles 0.14 m apart at the ground height 0.01 m, the right one first (contact 0).
+fn soles() -> [Pose; 2] {
+    let sole = |y: f64| Pose {
+        rotation: Matrix3::identity(),
+        translation: Vector3::new(0.0, y, 0.01),
+    };
+    [sole(-0.07), sole(0.07)]
+}
+
+#[test]
+fn the_feet_are_named_by_their_side_and_follow_the_plan() {
+    let settings = walking(2, 0.1, 0.0, 0.0);
+    let com = Vector3::new(0.0, 0.0, 0.54);
+    let gait = Gait::new(&settings, &soles(), com, 9.81).unwrap();
+    // The contact further along +y is the left foot.
+    assert_eq!(gait.contact_of, [1, 0]);
+    // Standing at the start: both on the ground, half the load each.
+    assert_eq!(
+        gait.foot_tasks(0.0),
+        [
+            FootTask::Contact { share: 0.5 },
+            FootTask::Contact { share: 0.5 }
+        ]
+    );
+    // Mid-swing of the first step (the left foot, contact 1): it swings, the right carries.
+    let step = gait.footsteps.steps[0];
+    let mid = 0.5 * (step.lift_off + step.touchdown);
+    let [right, left] = gait.foot_tasks(mid);
+    assert_eq!(right, FootTask::Contact { share: 1.0 });
+    let FootTask::Swing(swing) = left else {
+        panic!("the left foot swings: {left:?}")
+    };
+    assert!((swing.world_p_sole.z - (0.01 + settings.swing_height)).abs() < 1e-12);
+    // The CoM reference keeps the robot's height, the plan's horizontal CoM.
+    let reference = gait.com_reference(mid);
+    assert_eq!(reference.position.z, 0.54);
+    assert_eq!((reference.velocity.z, reference.acceleration.z), (0.0, 0.0));
+    assert_eq!(
+        reference.position.xy(),
+        gait.dcm.sample(mid).com.position.xy()
+    );
+    assert_eq!(gait.steps_landed(step.touchdown), 1);
+}
+
+#[test]
+fn a_gait_needs_two_feet() {
+    let settings = walking(2, 0.1, 0.0, 0.0);
+    let error = Gait::new(&settings, &soles()[..1], Vector3::zeros(), 9.81).unwrap_err();
+    assert!(error.to_string().contains("controller.contacts"), "{error}");
+}
