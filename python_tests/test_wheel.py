@@ -16,6 +16,7 @@ import json
 import os
 import pathlib
 import platform
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -137,3 +138,30 @@ def test_an_unknown_module_choice_is_an_error_naming_the_choices(fresh_python, t
                             capture_output=True, text=True, timeout=120)
     assert result.returncode != 0
     assert "SEA_MOMENTUM_NATIVE='fast' is not one of auto, baseline" in result.stderr, result.stderr
+
+
+#: Emulated CPUs (QEMU's names) and the module expected on each: Nehalem (2008) has SSE4.2 but
+#: no AVX, Haswell (2013) is the first x86-64-v3 CPU.
+EMULATED_CPUS = [("Nehalem", "_native"), ("Haswell", "_native_v3")]
+
+
+@pytest.mark.skipif(platform.machine() != "x86_64" or shutil.which("qemu-x86_64") is None,
+                    reason="needs qemu-x86_64 (Debian: apt-get install qemu-user) on x86-64")
+@pytest.mark.parametrize(("cpu", "expected"), EMULATED_CPUS)
+def test_an_older_cpu_gets_the_baseline_module(fresh_python, tmp_path, cpu, expected):
+    """The wheel on an emulated CPU (QEMU user mode): the module it chooses runs a short
+    scenario there; on the pre-AVX CPU the x86-64-v3 module itself stops on an illegal
+    instruction, which is what the choice avoids."""
+    code = ("import sys, sea_momentum as sm; r = sm.run_scenario(sys.argv[1], {'simulation.duration_s': 0.05}); "
+            "print(sm.NATIVE_MODULE, r.summary.status)")
+    command = ["qemu-x86_64", "-cpu", cpu, str(fresh_python), "-c", code, str(TRACKING)]
+    result = subprocess.run(command, cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert result.stdout.split() == [expected, "completed"], result.stdout
+    if expected == "_native":
+        forced = ("import sea_momentum._native_v3 as v3; "
+                  f"model = v3.Model.from_urdf({str(ROOT / 'urdf' / 'icub25.urdf')!r}); "
+                  "model.mass_matrix(model.neutral())")
+        crash = subprocess.run(["qemu-x86_64", "-cpu", cpu, str(fresh_python), "-c", forced],
+                               cwd=tmp_path, capture_output=True, text=True, timeout=600)
+        assert crash.returncode != 0 and "Illegal instruction" in crash.stderr, crash.stderr[-2000:]
