@@ -5,7 +5,10 @@ in a module fixture (about a second of wall time each); the shipped Talos scenar
 committed. Marked ``robots``."""
 
 import importlib.metadata
+import os
 import pathlib
+import subprocess
+import sys
 
 import pytest
 
@@ -94,3 +97,19 @@ def test_the_pictures_find_the_urdf_of_a_robot_description(monkeypatch, tmp_path
     written = pictures.scenario_pictures(scenario, result, tmp_path, "talos", animation_frames=2)
     assert [p.name for p in written] == ["talos_strip.png", "talos.gif"]
     assert all(p.stat().st_size > 10_000 for p in written)
+
+
+def test_package_uris_resolve_in_the_interpreters_cmeel_prefix_without_virtual_env(tmp_path):
+    """The way IDEs, Jupyter kernels and cron start Python (no ``activate``): no VIRTUAL_ENV nor
+    ROS variables; the shipped Talos scenario's ``package://example-robot-data/...`` URDF is
+    found in the running interpreter's own cmeel prefix (its ``sys.path``)."""
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("VIRTUAL_ENV", "ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH", "CMAKE_PREFIX_PATH")}
+    scenario = ROOT / "scenarios" / "robots" / "talos_two_feet.toml"
+    code = f"import sea_momentum; print(sea_momentum._native.scenario_urdf({str(scenario)!r}))"
+    result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env,
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    found = pathlib.Path(result.stdout.strip()).resolve()
+    expected = example_robot_data_share() / "example-robot-data/robots/talos_data/robots/talos_reduced.urdf"
+    assert found == expected.resolve()

@@ -2,13 +2,15 @@
 # The main job: installs sea-momentum and reproduces the paper's three experiments on the iCub
 # (figures, MCAP logs, outcome table beside the paper's), Talos balancing on two feet (a robot
 # set up by `sea-sim init`), then the dynamics check and the benchmarks. Everything goes under
-# out/ (or the directory given as $1). Installs into the project virtual environment .venv,
-# created on the first run (see scripts/setup_env.sh).
+# out/ (or the directory given as $1). Installs sea-momentum with the extra `main` (matplotlib,
+# the robots' packages, Pinocchio: what this job uses) into the project virtual environment
+# .venv, created on the first run (see scripts/setup_env.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-out}"
 mkdir -p "$out"
 
+export SEA_EXTRAS=main
 source scripts/setup_env.sh
 echo "== building sea-sim (reuses the crates compiled for the wheel)"
 # --bin, not -p sea_sim: features are then resolved over the whole workspace, as for the wheel
@@ -25,7 +27,7 @@ echo "== sea-sim on the tracking scenario (native binary, MCAP + summary)"
 
 echo "== a robot set up by sea-sim init: Talos on two feet (example-robot-data, CoM sinusoid 1 cm / 0.2 Hz, 5 s)"
 # The scenario names its URDF as package://example-robot-data/...: found in the share folder of
-# the environment's cmeel prefix (example-robot-data, a test extra installed by setup_env.sh).
+# the environment's cmeel prefix (example-robot-data, of the extra `robots`).
 "$sea_sim" run scenarios/robots/talos_two_feet.toml --mcap "$out/talos_two_feet.mcap" \
     --summary "$out/talos_two_feet_summary.json" --quiet > /dev/null
 # The CoM plot, and Talos drawn along the run (talos_two_feet_strip.png, talos_two_feet.gif)

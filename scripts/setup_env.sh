@@ -1,11 +1,16 @@
 # Sourced by run_main.sh and run_tests.sh (from the repository root): creates the project
-# virtual environment .venv once, activates it and installs sea-momentum with its test
-# dependencies into it. Works on a stock Python (PEP 668 refuses `pip install` into the
-# system interpreter, so nothing is ever installed there). Uses uv when it is on PATH, else
-# `python3 -m venv` and pip. SEA_PYTHON chooses the base interpreter (default python3).
+# virtual environment .venv once, activates it and installs sea-momentum with the extras of
+# pyproject.toml that the caller names in SEA_EXTRAS (default `test`: everything the tests use;
+# run_main.sh: `main`, what the main job uses). Works on a stock Python (PEP 668 refuses `pip
+# install` into the system interpreter, so nothing is ever installed there). Uses uv when it is on
+# PATH, else `python3 -m venv` and pip. SEA_PYTHON chooses the base interpreter (default python3).
 #
-# The wheel is built by maturin in release mode into target/ with the environment's
-# interpreter as PYO3_PYTHON, so the cargo commands that follow reuse the compiled crates.
+# SEA_INSTALL chooses how the package is built:
+# - `source` (default): `pip install .`; maturin builds the extension natively (.cargo/config.toml)
+#   in release mode into target/ with the environment's interpreter as PYO3_PYTHON, so the cargo
+#   commands that follow reuse the compiled crates;
+# - `wheel`: the distributable wheel of scripts/build_wheel.sh (baseline and x86-64-v3 modules),
+#   whose path is then in SEA_WHEEL.
 
 venv_dir=.venv
 base_python="${SEA_PYTHON:-python3}"
@@ -26,14 +31,48 @@ create_venv() {
     fi
 }
 
-# Installs the package (release build of the extension) and the test dependencies.
-install_package() {
-    echo "== installing sea-momentum (release build) with Pinocchio, iCub models, scipy, mcap, mypy"
+extras="${SEA_EXTRAS:-test}"
+install_mode="${SEA_INSTALL:-source}"
+
+# Runs pip (or uv's pip) in the environment, quietly.
+pip_install() {
     if command -v uv > /dev/null; then
-        uv pip install --quiet --reinstall-package sea-momentum ".[test]"
+        uv pip install --quiet "$@"
     else
-        python -m pip install --quiet --disable-pip-version-check ".[test]"
+        python -m pip install --quiet --disable-pip-version-check "$@"
     fi
+}
+
+# Installs the package (release build) with the extras $extras.
+install_package() {
+    case "$install_mode" in
+        source)
+            echo "== installing sea-momentum[$extras] (release build for this CPU)"
+            if command -v uv > /dev/null; then
+                uv pip install --quiet --reinstall-package sea-momentum ".[$extras]"
+            else
+                pip_install ".[$extras]"
+            fi
+            ;;
+        wheel)
+            echo "== building the distributable wheel (scripts/build_wheel.sh)"
+            pip_install "maturin>=1.5,<2"
+            SEA_WHEEL=$(bash scripts/build_wheel.sh | tail -n 1)
+            export SEA_WHEEL
+            echo "== installing $SEA_WHEEL[$extras]"
+            if command -v uv > /dev/null; then
+                uv pip install --quiet --reinstall-package sea-momentum "$SEA_WHEEL[$extras]"
+            else
+                # The same version may be installed already: replace it by this build.
+                pip_install --force-reinstall --no-deps "$SEA_WHEEL"
+                pip_install "$SEA_WHEEL[$extras]"
+            fi
+            ;;
+        *)
+            echo "error: SEA_INSTALL='$install_mode' is not one of: source, wheel" >&2
+            return 1
+            ;;
+    esac
 }
 
 # cargo test links sea_py against libpython (the wheel does not): the shared library must be

@@ -6,8 +6,13 @@ Conventions (the same everywhere):
 - velocity ``nu = [pdot_B (3, world), omega_B (3, world axes), sdot (n)]``, ``nv = 6 + n``;
 - spatial vectors and wrenches: linear part first, angular second;
 - ``M(q) nudot + h(q, nu) = B tau + sum_k J_k^T f_k``, gravity -9.81 m/s^2 along world z.
+
+The library needs numpy only; plots need the extra ``plots`` (matplotlib), see the guide's
+install section. ``NATIVE_MODULE`` names the compiled module in use (``_native``, or
+``_native_v3`` on an x86-64-v3 CPU with the distributable wheel; :mod:`._native_choice`).
 """
 
+from ._native_choice import NATIVE_MODULE
 from ._native import (
     ICUB25_JOINTS,
     Controller,
@@ -32,6 +37,7 @@ from .sweep import SweepResult, sweep
 __all__ = [
     "init_scenario",
     "ICUB25_JOINTS",
+    "NATIVE_MODULE",
     "ControlOutput",
     "Controller",
     "Linearization",

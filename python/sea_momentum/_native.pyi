@@ -38,6 +38,7 @@ __all__ = [
     "sweep_batch",
     "init_scenario",
     "link_meshes",
+    "cpu_supports_x86_64_v3",
     "__version__",
     "ICUB25_JOINTS",
     "PICTURE_TRIANGLE_BUDGET",
@@ -340,6 +341,11 @@ def link_meshes(
     ``package_dirs``, then ROS_PACKAGE_PATH, AMENT/CMAKE_PREFIX_PATH, the Python environment's
     cmeel prefix, then above the URDF. ``strict=True`` raises ``ModelError`` instead of
     warning; an unreadable URDF raises ``SeaIOError`` or ``ModelError``."""
+
+def cpu_supports_x86_64_v3() -> bool:
+    """Whether this CPU and operating system run the x86-64-v3 build (AVX, AVX2, BMI1/2, F16C,
+    FMA, LZCNT, MOVBE, XSAVE and the SSE levels below); always false on other architectures.
+    ``sea_momentum`` imports the ``_native_v3`` module where it holds."""
 
 # --- Stability analysis (sea_momentum.analysis) ---
 

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .arrays import BoolArray, FloatArray
+from .extras import require_plots
 
 if TYPE_CHECKING:
     from .scenario import ScenarioResult
@@ -100,6 +101,7 @@ def contact_points_figure(result: ScenarioResult, instant: float | None = None) 
     force axes per contact (``fig.axes[:n_contacts]``, one line per point), then the top view
     at the recorded sample nearest ``instant`` (default: the last). ``ValueError`` for a run
     under bilateral contacts (it has no contact points)."""
+    require_plots("contact_points_figure")
     import matplotlib.pyplot as plt
 
     if not result.contact_points:
@@ -129,6 +131,7 @@ def contact_points_picture(
     result: ScenarioResult, path: str | os.PathLike[str], instant: float | None = None
 ) -> pathlib.Path:
     """:func:`contact_points_figure` written to ``path`` (PNG, 110 dpi); returns the path."""
+    require_plots("contact_points_picture")
     import matplotlib.pyplot as plt
 
     fig = contact_points_figure(result, instant)

@@ -24,6 +24,7 @@ import numpy as np
 
 from ._native import PICTURE_TRIANGLE_BUDGET, Model, link_meshes, scenario_urdf
 from .arrays import FloatArray
+from .extras import require_plots
 
 if TYPE_CHECKING:
     from .scenario import ScenarioResult
@@ -262,6 +263,7 @@ def robot_strip(
 ) -> pathlib.Path:
     """A PNG strip of the robot at configurations ``qs`` (each nq) labelled with ``times``
     (``package_dirs``: see :func:`urdf_visuals`)."""
+    require_plots("robot_strip")
     import matplotlib.pyplot as plt
 
     visuals = urdf_visuals(urdf, package_dirs)
@@ -291,6 +293,7 @@ def robot_animation(
 ) -> pathlib.Path | None:
     """An animated GIF of the robot through ``qs``; None when Pillow is missing (then nothing
     is written). ``package_dirs``: see :func:`urdf_visuals`."""
+    require_plots("robot_animation")
     import matplotlib.pyplot as plt
     from matplotlib.animation import FuncAnimation, PillowWriter
 

@@ -12,6 +12,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..arrays import FloatArray
+from ..extras import require_plots
 from ..pictures import scenario_pictures
 from ..scenario import ScenarioResult
 from .session import outcome, stable
@@ -30,6 +31,7 @@ def _save(fig: Any, path: pathlib.Path) -> None:
 
 def figure_tracking(runs: Mapping[str, ScenarioResult], path: pathlib.Path) -> None:
     """Figure 1: lateral CoM error for each damping estimate (paper's setting)."""
+    require_plots("figure_tracking")
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 4))
@@ -49,6 +51,7 @@ def figure_tracking(runs: Mapping[str, ScenarioResult], path: pathlib.Path) -> N
 
 def figure_step(runs: Mapping[str, ScenarioResult], path: pathlib.Path) -> None:
     """Figure 2: joint error norm after the step, rigid and SEA controllers."""
+    require_plots("figure_step")
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 4))
@@ -67,6 +70,7 @@ def figure_step(runs: Mapping[str, ScenarioResult], path: pathlib.Path) -> None:
 
 def figure_saturation(runs: Mapping[str, ScenarioResult], path: pathlib.Path) -> None:
     """Figure 3: the saturated joint's motor velocity, whole run and the first 0.3 s."""
+    require_plots("figure_saturation")
     import matplotlib.pyplot as plt
 
     fig, (whole, start) = plt.subplots(2, 1, figsize=(7, 6))
@@ -105,6 +109,7 @@ def _edges(centres: FloatArray) -> FloatArray:
 def figure_stability_map(grid: StabilityMap, path: pathlib.Path) -> None:
     """Stable or not and the CoM error on (control rate, damping scale), log10 axes, the
     continuous setting as the last column, the eigenvalue boundary rate drawn over it."""
+    require_plots("figure_stability_map")
     import matplotlib.pyplot as plt
 
     log_rates = np.log10(grid.rates_hz)
@@ -141,6 +146,7 @@ def matplotlib_null_formatter() -> Any:
 
 def figure_growth_rate(curve: dict[str, list[float]], path: pathlib.Path) -> None:
     """Growth rate of the least stable mode against the damping scale; the paper's scales."""
+    require_plots("figure_growth_rate")
     import matplotlib.pyplot as plt
 
     fig, (slow, fast) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)

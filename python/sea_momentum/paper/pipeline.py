@@ -8,6 +8,7 @@ import pathlib
 import time as clock
 from typing import Any
 
+from ..extras import require_plots
 from . import evidence, experiments, figures, outcomes
 from .session import Session
 from .setting import SAMPLED_1KHZ
@@ -24,6 +25,7 @@ def reproduce(scenario_dir: pathlib.Path, out: pathlib.Path, duration: float | N
     """Runs every experiment and analysis; writes the figures, logs, ``summary.json`` and
     ``outcomes.md`` to ``out``; returns the summary. ``duration`` [s] (if given) overrides every
     run's length (and caps the stability map's)."""
+    require_plots("reproduce")
     import matplotlib
 
     matplotlib.use("Agg")

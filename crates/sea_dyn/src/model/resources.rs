@@ -7,9 +7,12 @@
 //! 1. in the package directories given by the user ([`PackageDirs::new`]), then those of the
 //!    environment ([`PackageDirs::from_environment`]): every entry of `ROS_PACKAGE_PATH`, the
 //!    `share/` folder of every prefix of `AMENT_PREFIX_PATH` and `CMAKE_PREFIX_PATH` (ROS 2
-//!    install spaces), and the `share/` folder of the cmeel prefix of the active Python
-//!    environment (`$VIRTUAL_ENV/lib/python3.*/site-packages/cmeel.prefix`, where the PyPI
-//!    packages `example-robot-data` and `pin` install their ROS-style share folders). In a
+//!    install spaces), and the `share/` folder of the cmeel prefixes of Python: those of the
+//!    interpreter this process runs in when it is Python (its `sys.path` folders, registered
+//!    by the Python module at import: [`register_python_site_packages`]; no `activate` needed),
+//!    then that of the active environment (`$VIRTUAL_ENV/lib/python3.*/site-packages/cmeel.prefix`),
+//!    where the PyPI packages `example-robot-data` and `pin` install their ROS-style share
+//!    folders. In a
 //!    directory `D`, the package is `D/NAME`, or `D` itself when `D` is named `NAME` (a
 //!    `ROS_PACKAGE_PATH` entry that is the package). This is Pinocchio's rule
 //!    (`package_dirs`, then `ROS_PACKAGE_PATH` and `AMENT_PREFIX_PATH`).
@@ -22,11 +25,44 @@
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 /// Scheme of ROS package URIs.
 const PACKAGE_SCHEME: &str = "package://";
 /// Scheme of file URIs.
 const FILE_SCHEME: &str = "file://";
+
+/// The `site-packages` folders (and other `sys.path` entries) of the Python interpreter this
+/// process runs in, registered by [`register_python_site_packages`].
+static PYTHON_SITE_PACKAGES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Registers the folders of the running Python interpreter's `sys.path` (the Python module does
+/// at import): the `share/` folder of the cmeel prefix of each that has one
+/// (`DIR/cmeel.prefix/share`) is then searched by [`PackageDirs::from_environment`], whether or
+/// not `VIRTUAL_ENV` is set (IDEs, Jupyter kernels and cron start Python without `activate`).
+/// Each folder is kept once.
+pub fn register_python_site_packages(dirs: impl IntoIterator<Item = PathBuf>) {
+    let mut registered = PYTHON_SITE_PACKAGES
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    for dir in dirs {
+        if !registered.contains(&dir) {
+            registered.push(dir);
+        }
+    }
+}
+
+/// The `share/` folders of the cmeel prefixes in the registered Python folders.
+fn python_cmeel_share_dirs() -> Vec<PathBuf> {
+    let registered = PYTHON_SITE_PACKAGES
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    registered
+        .iter()
+        .map(|dir| dir.join("cmeel.prefix/share"))
+        .filter(|share| share.is_dir())
+        .collect()
+}
 
 /// The package directories searched for `package://` URIs, in order (module doc).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -52,6 +88,7 @@ impl PackageDirs {
             let prefixes = variable(prefixes);
             found.extend(std::env::split_paths(&prefixes).map(|p| p.join("share")));
         }
+        found.extend(python_cmeel_share_dirs());
         if let Some(env) = std::env::var_os("VIRTUAL_ENV") {
             found.extend(cmeel_share_dirs(Path::new(&env)));
         }
@@ -242,6 +279,27 @@ mod tests {
             .to_string();
         assert!(message.contains("file 'meshes/missing.dae'"), "{message}");
         assert!(dirs.resolve("package://only_name", &urdf_dir).is_err());
+        fs::remove_dir_all(root).unwrap();
+    }
+
+    #[test]
+    fn registered_python_folders_add_their_cmeel_share_without_virtual_env() {
+        let root = tree("python");
+        let site_packages = root.join("lib/python3.x/site-packages");
+        let share = site_packages.join("cmeel.prefix/share");
+        fs::create_dir_all(share.join("robot_pkg/meshes")).unwrap();
+        fs::write(share.join("robot_pkg/meshes/c.stl"), b"x").unwrap();
+        // A folder without a cmeel prefix adds nothing.
+        register_python_site_packages([root.join("other"), site_packages.clone()]);
+        register_python_site_packages([site_packages]);
+        let dirs = PackageDirs::from_environment(Vec::<PathBuf>::new());
+        assert_eq!(dirs.dirs.iter().filter(|d| **d == share).count(), 1);
+        assert!(!dirs.dirs.contains(&root.join("other/cmeel.prefix/share")));
+        assert_eq!(
+            dirs.resolve("package://robot_pkg/meshes/c.stl", Path::new("/"))
+                .unwrap(),
+            share.join("robot_pkg/meshes/c.stl")
+        );
         fs::remove_dir_all(root).unwrap();
     }
 
