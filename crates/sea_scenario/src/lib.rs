@@ -368,6 +368,14 @@ mod tests {
             s.plant.baumgarte_kd(),
             critical_damping(Plant::DEFAULT_BAUMGARTE_KP)
         );
+        // The tuning's own defaults (the schema's) are the paper's iCub, the default robot.
+        let tuning = sea_ctrl::controller::ControllerTuning::default();
+        assert_eq!(s.controller.tuning, tuning);
+        assert_eq!(ControllerConfig::default().tuning, tuning);
+        let excitation = &s.controller.excitation;
+        assert_eq!(*excitation, sea_ctrl::excitation::ExcitationSettings::default());
+        let observer = sea_ctrl::external_wrench::ExternalWrenchSettings::default();
+        assert_eq!(s.controller.wrench_observer, observer);
     }
 
     #[test]
