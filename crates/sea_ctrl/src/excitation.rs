@@ -36,8 +36,8 @@ use std::collections::BTreeMap;
 pub struct ExcitationSettings {
     /// `multi_rate`: per elastic joint name, the amplitude `a_e` [Nm] of a sinusoid added to
     /// its desired torque in the joint loop from the start of the run, so that the
-    /// identification sees joints the task leaves unloaded (module doc; e.g. the legs' roll
-    /// and yaw joints on two feet, the same sign on both legs; default none).
+    /// identification sees joints the task leaves unloaded (`sea_ctrl::excitation`; e.g. the
+    /// legs' roll and yaw joints on two feet, the same sign on both legs; default none).
     #[cfg_attr(
         feature = "serde",
         serde(

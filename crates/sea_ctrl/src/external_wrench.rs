@@ -84,14 +84,14 @@ pub struct ExternalWrenchSettings {
     /// The unmodelled external wrench (a push): "none" (the paper's controller; the default)
     /// or "observed" (estimated each whole-body period from the centroidal momentum and the
     /// feet's measured contact wrenches, and taken into the controller's dynamics as a wrench
-    /// on the base; [`ExternalWrenchObserver`]) or "generalized" (the generalized force the
+    /// on the base; `sea_ctrl::external_wrench`) or "generalized" (the generalized force the
     /// model misses, link mass errors included, estimated by inverse dynamics and taken into
     /// every row of the dynamics; `sea_ctrl::generalized_disturbance`). Needs sampling
     /// "zero_order_hold" or "multi_rate".
     #[cfg_attr(feature = "serde", serde(rename = "external_wrench"))]
     pub kind: ExternalWrench,
     /// `external_wrench` "observed" or "generalized": bandwidth `f_c` of the estimate's low
-    /// pass [Hz] (default [`DEFAULT_BANDWIDTH_HZ`], 5 Hz).
+    /// pass [Hz] (default `sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ`, 5 Hz).
     #[cfg_attr(
         feature = "serde",
         serde(

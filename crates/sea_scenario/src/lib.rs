@@ -373,7 +373,10 @@ mod tests {
         assert_eq!(s.controller.tuning, tuning);
         assert_eq!(ControllerConfig::default().tuning, tuning);
         let excitation = &s.controller.excitation;
-        assert_eq!(*excitation, sea_ctrl::excitation::ExcitationSettings::default());
+        assert_eq!(
+            *excitation,
+            sea_ctrl::excitation::ExcitationSettings::default()
+        );
         let observer = sea_ctrl::external_wrench::ExternalWrenchSettings::default();
         assert_eq!(s.controller.wrench_observer, observer);
     }

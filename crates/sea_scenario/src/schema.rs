@@ -386,8 +386,7 @@ impl PlantConfig {
 /// sampling and rates, whether the identification runs and on which wrenches) and those of
 /// the `sea_ctrl` settings it reads directly ([`JointLoopSettings`],
 /// [`IdentificationSettings`], [`ExcitationSettings`], [`ExternalWrenchSettings`],
-/// [`ControllerTuning`]; the table is split by their keys when read,
-/// [`super::split_tables::controller_table`]).
+/// [`ControllerTuning`]; the table is split by their keys when read).
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct ControllerConfig {
