@@ -323,8 +323,11 @@ def init_scenario(
     ``urdf`` (a path or a ``package://`` / ``file://`` URI) standing on ``contacts`` (frame
     names or ``LINK:x,y,z``), the foot rectangle ``foot`` (x0, x1, y0, y1, contact frame, m)
     or measured on the collision geometry; returns ``out``, ``robot``, ``mass``, ``joints``,
-    ``foot_x``, ``foot_y``, ``measured``, ``lowering_m``, ``residual``, ``warnings``. Bad
-    input raises ``ScenarioError`` naming the element (nothing is written)."""
+    ``foot_x``, ``foot_y``, ``measured``, ``lowering_m``, ``residual``, ``feet_rank`` (the
+    rank of the two feet's 12 contact constraints: 12 with legs of 6 joints, fewer with
+    shorter legs, whose scenario then gets a larger ``controller.pinv_damping``),
+    ``warnings``. Bad input raises ``ScenarioError`` naming the element (nothing is
+    written)."""
 
 # --- The robot's meshes (sea_momentum.pictures) ---
 

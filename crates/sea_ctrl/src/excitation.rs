@@ -20,6 +20,67 @@
 //! 2 cm). The excitation is an input, not a state: it does not change the period map's
 //! eigenvalues.
 
+use std::collections::BTreeMap;
+
+/// The excitation as a user sets it ([`IdentificationExcitation::new`] takes its amplitudes
+/// per elastic joint once the names are resolved). With the `serde` feature, the keys
+/// `identification_excitation_nm`, `identification_excitation_hz` and
+/// `identification_excitation_s` of a scenario's `[controller]`, each bounded as it is read
+/// (`sea_dyn::bounded`).
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
+    serde(default, deny_unknown_fields)
+)]
+pub struct ExcitationSettings {
+    /// `multi_rate`: per elastic joint name, the amplitude `a_e` [Nm] of a sinusoid added to
+    /// its desired torque in the joint loop from the start of the run, so that the
+    /// identification sees joints the task leaves unloaded (`sea_ctrl::excitation`; e.g. the
+    /// legs' roll and yaw joints on two feet, the same sign on both legs; default none).
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "identification_excitation_nm",
+            deserialize_with = "sea_dyn::bounded::Finite::read_map"
+        ),
+        schemars(with = "BTreeMap<String, sea_dyn::bounded::Finite>")
+    )]
+    pub amplitudes_nm: BTreeMap<String, f64>,
+    /// `identification_excitation_nm`: the sinusoid's frequency `f` [Hz] (default 1 Hz).
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "identification_excitation_hz",
+            deserialize_with = "sea_dyn::bounded::Positive::read"
+        ),
+        schemars(with = "sea_dyn::bounded::Positive")
+    )]
+    pub frequency_hz: f64,
+    /// `identification_excitation_nm`: how long it lasts [s], rounded up to whole cycles
+    /// (default 3 s).
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "identification_excitation_s",
+            deserialize_with = "sea_dyn::bounded::NonNegative::read"
+        ),
+        schemars(with = "sea_dyn::bounded::NonNegative")
+    )]
+    pub duration_s: f64,
+}
+
+impl Default for ExcitationSettings {
+    /// No excitation; when one is set, 1 Hz for 3 s.
+    fn default() -> Self {
+        Self {
+            amplitudes_nm: BTreeMap::new(),
+            frequency_hz: 1.0,
+            duration_s: 3.0,
+        }
+    }
+}
+
 /// The sinusoid added to the joint loops' desired torques (module doc).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IdentificationExcitation {
@@ -42,6 +103,12 @@ impl IdentificationExcitation {
             frequency_hz,
             end_s,
         }
+    }
+
+    /// The excitation of `settings` with `amplitudes` (n_e, [Nm]): its amplitudes by name
+    /// resolved to the elastic joints.
+    pub fn from_settings(amplitudes: Vec<f64>, settings: &ExcitationSettings) -> Self {
+        Self::new(amplitudes, settings.frequency_hz, settings.duration_s)
     }
 
     /// When the excitation ends [s] (a whole number of cycles).

@@ -48,6 +48,71 @@ use sea_dyn::spatial::Force;
 /// 12 Hz for pushes on the iCub (docs/references.md, "External wrench observer").
 pub const DEFAULT_BANDWIDTH_HZ: f64 = 5.0;
 
+/// What the controller knows of an unmodelled external wrench; with the `serde` feature,
+/// named "none", "observed" or "generalized".
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
+    serde(rename_all = "snake_case")
+)]
+pub enum ExternalWrench {
+    /// Nothing: its dynamics have no external wrench (the paper's controller; the default).
+    #[default]
+    None,
+    /// Estimated from the centroidal momentum and the feet's force/torque sensors (in
+    /// simulation: the plant's contact wrenches at the sample), taken as acting on the base
+    /// ([`ExternalWrenchObserver`]).
+    Observed,
+    /// The generalized force the controller's model misses (link mass errors, a wrench on any
+    /// link), estimated by inverse dynamics from the encoders, the joint torque sensors and the
+    /// feet's force/torque sensors (`crate::generalized_disturbance`), taken into every row
+    /// of the dynamics.
+    Generalized,
+}
+
+/// The observer of the unmodelled external wrench as a user sets it. With the `serde`
+/// feature, the keys `external_wrench` and `external_wrench_bandwidth_hz` of a scenario's
+/// `[controller]`, each checked as it is read (`sea_dyn::bounded`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
+    serde(default, deny_unknown_fields)
+)]
+pub struct ExternalWrenchSettings {
+    /// The unmodelled external wrench (a push): "none" (the paper's controller; the default)
+    /// or "observed" (estimated each whole-body period from the centroidal momentum and the
+    /// feet's measured contact wrenches, and taken into the controller's dynamics as a wrench
+    /// on the base; `sea_ctrl::external_wrench`) or "generalized" (the generalized force the
+    /// model misses, link mass errors included, estimated by inverse dynamics and taken into
+    /// every row of the dynamics; `sea_ctrl::generalized_disturbance`). Needs sampling
+    /// "zero_order_hold" or "multi_rate".
+    #[cfg_attr(feature = "serde", serde(rename = "external_wrench"))]
+    pub kind: ExternalWrench,
+    /// `external_wrench` "observed" or "generalized": bandwidth `f_c` of the estimate's low
+    /// pass [Hz] (default `sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ`, 5 Hz).
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "external_wrench_bandwidth_hz",
+            deserialize_with = "sea_dyn::bounded::Positive::read"
+        ),
+        schemars(with = "sea_dyn::bounded::Positive")
+    )]
+    pub bandwidth_hz: f64,
+}
+
+impl Default for ExternalWrenchSettings {
+    /// No observer; when one is set, [`DEFAULT_BANDWIDTH_HZ`].
+    fn default() -> Self {
+        Self {
+            kind: ExternalWrench::None,
+            bandwidth_hz: DEFAULT_BANDWIDTH_HZ,
+        }
+    }
+}
+
 /// The observer of the external wrench (module doc): its estimate and what it keeps of the
 /// previous sample.
 #[derive(Clone, Debug)]

@@ -369,7 +369,7 @@ impl StiffnessIdentifier {
             elapsed: 0.0,
             hold_left: 0.0,
             prior,
-            joint_inertia_regularization: controller.settings().joint_inertia_regularization,
+            joint_inertia_regularization: controller.settings().tuning.joint_inertia_regularization,
             filtered_spring: vec![0.0; n_e],
             filtered_deflection: vec![0.0; n_e],
             has_filtered: false,

@@ -194,7 +194,7 @@ impl Scenario {
     /// `controller.stiffness_estimate_joint_scales` as one factor per joint (n, coordinate
     /// order; empty when none is given); an unknown joint name is an error naming it.
     fn stiffness_estimate_joint_scales(&self, joint_names: &[String]) -> Result<Vec<f64>> {
-        let scales = &self.controller.stiffness_estimate_joint_scales;
+        let scales = &self.controller.tuning.stiffness_estimate_joint_scales;
         if scales.is_empty() {
             return Ok(Vec::new());
         }
@@ -211,17 +211,15 @@ impl Scenario {
 
     /// The controller's model: `model` with the masses and rotational inertias scaled by
     /// `controller.mass_estimate_scale` and `controller.link_mass_estimate_scales` (an unknown
-    /// link or a non-positive factor is an error naming its key).
+    /// link is an error naming its key; the factors are bounded when the file is read).
     pub fn controller_model(&self, model: &Model) -> Result<Model> {
-        let mut scales = vec![self.controller.mass_estimate_scale; model.body_inertias.len()];
-        for (link, &scale) in &self.controller.link_mass_estimate_scales {
+        let tuning = &self.controller.tuning;
+        let mut scales = vec![tuning.mass_estimate_scale; model.body_inertias.len()];
+        for (link, &scale) in &tuning.link_mass_estimate_scales {
             let key = format!("controller.link_mass_estimate_scales.{link}");
             let Ok(frame) = model.frame_id(link) else {
                 return Err(Error::config(key, "is not a link of the model"));
             };
-            if !(scale.is_finite() && scale > 0.0) {
-                return Err(Error::config(key, format!("must be positive, got {scale}")));
-            }
             scales[model.frames[frame].body] *= scale;
         }
         let mut scaled = model.clone();
@@ -232,18 +230,18 @@ impl Scenario {
         Ok(scaled)
     }
 
-    /// Controller settings for a model with `joint_names`.
+    /// Controller settings for a model with `joint_names`: `controller`'s tuning as read, the
+    /// gains it leaves out from the robot description.
     pub fn controller_settings(&self, joint_names: &[String]) -> Result<ControllerSettings> {
         let one_foot = self.robot.contacts.len() == 1;
-        let integral = self
-            .controller
+        let tuning = &self.controller.tuning;
+        let integral = tuning
             .momentum_integral
             .unwrap_or_else(|| self.description.momentum_integral.gains(one_foot));
-        let proportional = self
-            .controller
+        let proportional = tuning
             .momentum_proportional
             .unwrap_or(integral.map(critical_damping));
-        let stiffness: Vec<f64> = match &self.controller.postural_stiffness {
+        let stiffness: Vec<f64> = match &tuning.postural_stiffness {
             Some(values) if values.len() == joint_names.len() => values.clone(),
             Some(values) => {
                 return Err(Error::config(
@@ -260,7 +258,7 @@ impl Scenario {
                 .collect(),
         }
         .into_iter()
-        .map(|k| k * self.controller.postural_scale)
+        .map(|k| k * tuning.postural_scale)
         .collect();
         let damping = stiffness.iter().copied().map(critical_damping).collect();
         let stiffness_estimate_joint_scales = self.stiffness_estimate_joint_scales(joint_names)?;
@@ -272,17 +270,8 @@ impl Scenario {
             postural_stiffness: stiffness,
             postural_damping: damping,
             constraints: self.contact_constraints(),
-            damping_estimate_scale: self.controller.damping_estimate_scale,
-            stiffness_estimate_scale: self.controller.stiffness_estimate_scale,
             stiffness_estimate_joint_scales,
-            pinv_damping: self.controller.pinv_damping,
-            qp_regularization: self.controller.qp_regularization,
-            qp_moment_regularization: self.controller.qp_moment_regularization,
-            momentum_relaxation: self.controller.momentum_relaxation,
-            reflected_inertia: self.controller.reflected_inertia,
-            joint_inertia_regularization: self.controller.joint_inertia_regularization,
-            qp_unconstrained_first: self.controller.qp_unconstrained_first,
-            qp_solver: self.controller.qp_solver,
+            tuning: tuning.clone(),
         })
     }
 }
@@ -332,7 +321,7 @@ mod tests {
             Path::new("."),
         )
         .unwrap();
-        assert_eq!(s.controller.damping_estimate_scale, 1.45);
+        assert_eq!(s.controller.tuning.damping_estimate_scale, 1.45);
         let err = Scenario::from_toml(
             text,
             &[("controller.dampnig".into(), "1".into())],
@@ -385,6 +374,17 @@ mod tests {
             s.plant.baumgarte_kd(),
             critical_damping(Plant::DEFAULT_BAUMGARTE_KP)
         );
+        // The tuning's own defaults (the schema's) are the paper's iCub, the default robot.
+        let tuning = sea_ctrl::controller::ControllerTuning::default();
+        assert_eq!(s.controller.tuning, tuning);
+        assert_eq!(ControllerConfig::default().tuning, tuning);
+        let excitation = &s.controller.excitation;
+        assert_eq!(
+            *excitation,
+            sea_ctrl::excitation::ExcitationSettings::default()
+        );
+        let observer = sea_ctrl::external_wrench::ExternalWrenchSettings::default();
+        assert_eq!(s.controller.wrench_observer, observer);
     }
 
     #[test]
@@ -512,7 +512,7 @@ mod tests {
         assert_eq!(s.plant.method, Method::LinearlyImplicitEuler);
         assert_eq!(s.controller.kind, ControllerKind::Rigid);
         assert_eq!(s.controller.sampling, Sampling::Continuous);
-        assert_eq!(s.controller.qp_solver, QpSolver::Clarabel);
+        assert_eq!(s.controller.tuning.qp_solver, QpSolver::Clarabel);
         assert_eq!(s.reference.com_origin, ComOrigin::Initial);
     }
 
@@ -547,7 +547,7 @@ mod tests {
         assert_eq!(identification.range_factor, 4.0);
         let defaults = sea_ctrl::stiffness_id::IdentificationSettings::default();
         assert_eq!(identification.filter_bandwidth, defaults.filter_bandwidth);
-        assert_eq!(s.controller.qp_solver, QpSolver::Clarabel);
+        assert_eq!(s.controller.tuning.qp_solver, QpSolver::Clarabel);
         let table = s.controller.table().unwrap();
         assert_eq!(table["identification_time_s"].as_float(), Some(2.5));
         assert!(!table.contains_key("identification"));

@@ -8,11 +8,13 @@ use super::bounded::{AtLeastOne, Finite, NonNegative, Positive};
 use super::parse::{table_as, take, TableResult};
 use super::robots::icub;
 use super::settings::{
-    ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationWrenches, Method,
-    MomentumRelaxation, QpSolver, Sampling, Setting,
+    ActuatorKind, ComOrigin, ControllerKind, IdentificationWrenches, Method, Sampling, Setting,
 };
 use super::split_tables::{contact_constraints, contact_constraints_table};
 use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
+use sea_ctrl::controller::ControllerTuning;
+use sea_ctrl::excitation::ExcitationSettings;
+use sea_ctrl::external_wrench::ExternalWrenchSettings;
 use sea_ctrl::joint_loop::JointLoopSettings;
 use sea_ctrl::qp::ContactConstraints;
 use sea_ctrl::stiffness_id::IdentificationSettings;
@@ -380,8 +382,11 @@ impl PlantConfig {
     }
 }
 
-/// `[controller]`: one flat table, the scenario's own keys and those of the `sea_ctrl`
-/// settings it reads directly ([`JointLoopSettings`], [`IdentificationSettings`]).
+/// `[controller]`: one flat table, the scenario's own keys (the controller's kind, its
+/// sampling and rates, whether the identification runs and on which wrenches) and those of
+/// the `sea_ctrl` settings it reads directly ([`JointLoopSettings`],
+/// [`IdentificationSettings`], [`ExcitationSettings`], [`ExternalWrenchSettings`],
+/// [`ControllerTuning`]; the table is split by their keys when read).
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct ControllerConfig {
@@ -424,107 +429,25 @@ pub struct ControllerConfig {
     #[serde(skip_serializing)]
     #[schemars(flatten)]
     pub identification: IdentificationSettings,
-    /// `multi_rate`: per elastic joint name, the amplitude [Nm] of a sinusoid added to its
-    /// desired torque in the joint loop from the start of the run, so that the identification
-    /// sees joints the task leaves unloaded (`sea_ctrl::excitation`; e.g. the legs' roll and
-    /// yaw joints on two feet, the same sign on both legs; default none).
-    #[serde(deserialize_with = "Finite::read_map")]
-    #[schemars(with = "BTreeMap<String, Finite>")]
-    pub identification_excitation_nm: BTreeMap<String, f64>,
-    /// `identification_excitation_nm`: the sinusoid's frequency [Hz] (default 1 Hz).
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub identification_excitation_hz: f64,
-    /// `identification_excitation_nm`: how long it lasts [s], rounded up to whole cycles
-    /// (default 3 s).
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub identification_excitation_s: f64,
-    /// The unmodelled external wrench (a push): "none" (the paper's controller; the default)
-    /// or "observed" (estimated each whole-body period from the centroidal momentum and the
-    /// feet's measured contact wrenches, and taken into the controller's dynamics as a wrench
-    /// on the base; `sea_ctrl::external_wrench`) or "generalized" (the generalized force the
-    /// model misses, link mass errors included, estimated by inverse dynamics and taken into
-    /// every row of the dynamics; `sea_ctrl::generalized_disturbance`). Needs sampling
-    /// "zero_order_hold" or "multi_rate".
-    pub external_wrench: ExternalWrench,
-    /// `external_wrench` "observed" or "generalized": bandwidth of the estimate's low pass
-    /// [Hz] (default
-    /// [`sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ`], 5 Hz).
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub external_wrench_bandwidth_hz: f64,
-    /// Controller damping estimate = true damping x scale.
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub damping_estimate_scale: f64,
-    /// Controller stiffness estimate = true stiffness x scale.
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub stiffness_estimate_scale: f64,
-    /// Per joint name, a further factor on that joint's stiffness estimate (e.g.
-    /// `{ l_knee = 1.3 }`; default none).
-    #[serde(deserialize_with = "Positive::read_map")]
-    #[schemars(with = "BTreeMap<String, Positive>")]
-    pub stiffness_estimate_joint_scales: BTreeMap<String, f64>,
-    /// The controller's model: every link's mass and rotational inertia times this scale
-    /// (centres of mass unchanged; default 1: the plant's model).
-    #[serde(deserialize_with = "Positive::read")]
-    #[schemars(with = "Positive")]
-    pub mass_estimate_scale: f64,
-    /// Per link name, a further factor on that link's mass and rotational inertia in the
-    /// controller's model (a massless link fused into its parent scales that body; default
-    /// none).
-    pub link_mass_estimate_scales: BTreeMap<String, f64>,
-    /// Momentum integral gains (linear xyz, angular xyz; default: the robot description's
-    /// for one or two feet).
-    #[serde(deserialize_with = "NonNegative::read_option_entries")]
-    #[schemars(with = "Option<[NonNegative; 6]>")]
-    pub momentum_integral: Option<[f64; 6]>,
-    /// Momentum proportional gains (default: the critical damping of the integral gains).
-    #[serde(deserialize_with = "NonNegative::read_option_entries")]
-    #[schemars(with = "Option<[NonNegative; 6]>")]
-    pub momentum_proportional: Option<[f64; 6]>,
-    /// Postural stiffness per joint before `postural_scale` (default: the robot
-    /// description's by joint group).
-    #[serde(deserialize_with = "NonNegative::read_option_entries")]
-    #[schemars(with = "Option<Vec<NonNegative>>")]
-    pub postural_stiffness: Option<Vec<f64>>,
-    /// Scale of the postural stiffness (default: the robot description's).
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub postural_scale: f64,
-    /// Pseudo-inverse damping (default: the robot description's).
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub pinv_damping: f64,
-    /// QP Hessian regulariser (default: the robot description's).
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub qp_regularization: f64,
-    /// Two feet: weight of the contact moments `|n|^2` in the QP's objective (0, the original
-    /// study's objective; the push scenarios' 30 moves normal force between the feet before
-    /// they move a sole's centre of pressure).
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub qp_moment_regularization: f64,
-    /// Two feet, when the momentum equality is infeasible under the contact constraints:
-    /// "none" (the paper's QP; the minimiser without the contact constraints is used) or
-    /// "when_infeasible" (the closest momentum rate the contacts can produce).
-    pub momentum_relaxation: MomentumRelaxation,
-    /// Skip the QP solver when the QP's minimiser without inequalities satisfies them (it is
-    /// then the optimum); `false` runs the solver every tick.
-    pub qp_unconstrained_first: bool,
-    /// The QP solver: "active_set" (Goldfarb-Idnani, Clarabel as fallback; the default) or
-    /// "clarabel".
-    pub qp_solver: QpSolver,
-    /// Rigid controller: include the motor reflected inertia (Remark 1).
-    pub reflected_inertia: bool,
-    /// Added to the controller model's joint inertia diagonal [kg m^2] (default: the robot
-    /// description's).
-    #[serde(deserialize_with = "NonNegative::read")]
-    #[schemars(with = "NonNegative")]
-    pub joint_inertia_regularization: f64,
+    /// `multi_rate`: the identification's excitation, `sea_ctrl`'s settings read directly:
+    /// the keys `identification_excitation_nm`, `identification_excitation_hz` and
+    /// `identification_excitation_s` of this table ([`ExcitationSettings`]).
+    #[serde(skip_serializing)]
+    #[schemars(flatten)]
+    pub excitation: ExcitationSettings,
+    /// The observer of an unmodelled external wrench, `sea_ctrl`'s settings read directly:
+    /// the keys `external_wrench` and `external_wrench_bandwidth_hz` of this table
+    /// ([`ExternalWrenchSettings`]).
+    #[serde(skip_serializing)]
+    #[schemars(flatten)]
+    pub wrench_observer: ExternalWrenchSettings,
+    /// The controller's tuning, `sea_ctrl`'s settings read directly: the estimate scales,
+    /// gains, regularisers and QP choices of this table ([`ControllerTuning`]; the defaults
+    /// the robot description decides are written into the file's tree before it is read,
+    /// [`super::robots::defaults`]).
+    #[serde(skip_serializing)]
+    #[schemars(flatten)]
+    pub tuning: ControllerTuning,
     /// `[controller.contact]`: the QP's contact constraints, whose contact surface the plant
     /// also uses for its wrench margins (one flat table: `facets`, `min_normal_force`,
     /// `cop_margin` and the keys of [`sea_dyn::ContactSurface`]; defaults
@@ -549,28 +472,15 @@ impl Default for ControllerConfig {
             stiffness_identification: false,
             identification_wrenches: IdentificationWrenches::default(),
             identification: IdentificationSettings::default(),
-            identification_excitation_nm: BTreeMap::new(),
-            identification_excitation_hz: 1.0,
-            identification_excitation_s: 3.0,
-            external_wrench: ExternalWrench::default(),
-            external_wrench_bandwidth_hz: sea_ctrl::external_wrench::DEFAULT_BANDWIDTH_HZ,
-            damping_estimate_scale: 1.0,
-            stiffness_estimate_scale: 1.0,
-            stiffness_estimate_joint_scales: BTreeMap::new(),
-            mass_estimate_scale: 1.0,
-            link_mass_estimate_scales: BTreeMap::new(),
-            momentum_integral: None,
-            momentum_proportional: None,
-            postural_stiffness: None,
-            postural_scale: robot.postural_scale,
-            pinv_damping: robot.pinv_damping,
-            qp_regularization: robot.qp_regularization,
-            qp_moment_regularization: 0.0,
-            momentum_relaxation: MomentumRelaxation::default(),
-            qp_unconstrained_first: true,
-            qp_solver: QpSolver::default(),
-            reflected_inertia: true,
-            joint_inertia_regularization: robot.joint_inertia_regularization,
+            excitation: ExcitationSettings::default(),
+            wrench_observer: ExternalWrenchSettings::default(),
+            tuning: ControllerTuning {
+                postural_scale: robot.postural_scale,
+                pinv_damping: robot.pinv_damping,
+                qp_regularization: robot.qp_regularization,
+                joint_inertia_regularization: robot.joint_inertia_regularization,
+                ..ControllerTuning::default()
+            },
             contact: ContactConstraints::default(),
         }
     }
@@ -578,12 +488,10 @@ impl Default for ControllerConfig {
 
 impl ControllerConfig {
     /// `[controller]` as a scenario file writes it: one flat table, the keys of the settings
-    /// read directly ([`IdentificationSettings`]) among the table's own.
+    /// read directly ([`IdentificationSettings`], [`ControllerTuning`], ...) among the
+    /// table's own.
     pub fn table(&self) -> std::result::Result<toml::Table, toml::ser::Error> {
-        let mut table = toml::Table::try_from(self)?;
-        table.extend(toml::Table::try_from(self.joint_loops)?);
-        table.extend(toml::Table::try_from(self.identification)?);
-        Ok(table)
+        super::split_tables::controller_flat_table(self)
     }
 
     /// `controller.rate_hz`, or its default under `controller.sampling`

@@ -14,11 +14,15 @@
 //! | `controller.sampling`  | [`Sampling`]     | here       |
 //! | `controller.qp_solver` | [`QpSolver`]     | `sea_ctrl` |
 //! | `controller.momentum_relaxation` | [`MomentumRelaxation`] | `sea_ctrl` |
+//! | `controller.external_wrench` | [`ExternalWrench`] | `sea_ctrl` |
+//! | `controller.identification_wrenches` | [`IdentificationWrenches`] | `sea_ctrl` |
 //! | `reference.com_origin` | [`ComOrigin`]    | here       |
 
 use crate::error::{Error, Result};
 use schemars::JsonSchema;
 pub use sea_ctrl::controller::{ControllerKind, MomentumRelaxation};
+/// `controller.external_wrench`: what the controller knows of an unmodelled external wrench.
+pub use sea_ctrl::external_wrench::ExternalWrench;
 pub use sea_ctrl::qp::QpSolver;
 /// `controller.identification_wrenches`: the contact wrenches the stiffness identification
 /// takes.
@@ -116,24 +120,6 @@ impl Setting for IdentificationWrenches {
             IdentificationWrenches::Commanded => "commanded",
         }
     }
-}
-
-/// `controller.external_wrench`: what the controller knows of an unmodelled external wrench
-/// (`sea_ctrl::external_wrench`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
-#[serde(rename_all = "snake_case")]
-pub enum ExternalWrench {
-    /// Nothing: its dynamics have no external wrench (the paper's controller; the default).
-    #[default]
-    None,
-    /// Estimated from the centroidal momentum and the feet's force/torque sensors (in
-    /// simulation: the plant's contact wrenches at the sample), taken as acting on the base.
-    Observed,
-    /// The generalized force the controller's model misses (link mass errors, a wrench on any
-    /// link), estimated by inverse dynamics from the encoders, the joint torque sensors and the
-    /// feet's force/torque sensors (`sea_ctrl::generalized_disturbance`), taken into every row
-    /// of the dynamics.
-    Generalized,
 }
 
 impl Setting for ExternalWrench {
@@ -240,6 +226,8 @@ mod tests {
         names_agree_with_serde::<Sampling>();
         names_agree_with_serde::<QpSolver>();
         names_agree_with_serde::<MomentumRelaxation>();
+        names_agree_with_serde::<ExternalWrench>();
+        names_agree_with_serde::<IdentificationWrenches>();
         names_agree_with_serde::<ComOrigin>();
     }
 

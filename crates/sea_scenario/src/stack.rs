@@ -22,12 +22,12 @@ impl ControllerConfig {
         &self,
         controller: &sea_ctrl::MomentumController,
     ) -> crate::Result<Option<sea_ctrl::excitation::IdentificationExcitation>> {
-        if self.identification_excitation_nm.is_empty() {
+        if self.excitation.amplitudes_nm.is_empty() {
             return Ok(None);
         }
         let (names, actuation) = (&controller.model().joint_names, controller.actuation());
         let mut amplitudes = vec![0.0; actuation.n_elastic()];
-        for (name, &amplitude) in &self.identification_excitation_nm {
+        for (name, &amplitude) in &self.excitation.amplitudes_nm {
             let key = format!("controller.identification_excitation_nm.{name}");
             let Some(j) = names.iter().position(|joint| joint == name) else {
                 return Err(crate::Error::config(key, "is not a joint of the model"));
@@ -37,11 +37,12 @@ impl ControllerConfig {
             };
             amplitudes[e] = amplitude;
         }
-        Ok(Some(sea_ctrl::excitation::IdentificationExcitation::new(
-            amplitudes,
-            self.identification_excitation_hz,
-            self.identification_excitation_s,
-        )))
+        Ok(Some(
+            sea_ctrl::excitation::IdentificationExcitation::from_settings(
+                amplitudes,
+                &self.excitation,
+            ),
+        ))
     }
 
     /// `external_wrench = "observed"`: the observer for the whole-body period `period` [s];
@@ -50,11 +51,9 @@ impl ControllerConfig {
         &self,
         period: f64,
     ) -> Option<sea_ctrl::external_wrench::ExternalWrenchObserver> {
-        (self.external_wrench == ExternalWrench::Observed).then(|| {
-            sea_ctrl::external_wrench::ExternalWrenchObserver::new(
-                period,
-                self.external_wrench_bandwidth_hz,
-            )
+        let settings = &self.wrench_observer;
+        (settings.kind == ExternalWrench::Observed).then(|| {
+            sea_ctrl::external_wrench::ExternalWrenchObserver::new(period, settings.bandwidth_hz)
         })
     }
 
@@ -65,11 +64,12 @@ impl ControllerConfig {
         controller: &sea_ctrl::MomentumController,
         period: f64,
     ) -> Option<sea_ctrl::generalized_disturbance::GeneralizedDisturbanceObserver> {
-        (self.external_wrench == ExternalWrench::Generalized).then(|| {
+        let settings = &self.wrench_observer;
+        (settings.kind == ExternalWrench::Generalized).then(|| {
             sea_ctrl::generalized_disturbance::GeneralizedDisturbanceObserver::new(
                 controller,
                 period,
-                self.external_wrench_bandwidth_hz,
+                settings.bandwidth_hz,
             )
         })
     }

@@ -168,7 +168,7 @@ fn two_feet_on_legs_of_five_joints_are_written_and_balance() {
     assert_eq!(report.feet_rank, 11);
     let scenario = Scenario::from_file(&options.out, &[]).unwrap();
     assert_eq!(
-        scenario.controller.pinv_damping,
+        scenario.controller.tuning.pinv_damping,
         sea_sim::init::write::REDUNDANT_PINV_DAMPING
     );
     let setup = build(&scenario).unwrap();

@@ -77,7 +77,7 @@ fn cross_checked(name: &str, file: &str, overrides: &[(&str, &str)]) -> CrossChe
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
     let scenario = Scenario::from_file(&path, &pairs).unwrap();
-    assert_eq!(scenario.controller.qp_solver, QpSolver::ActiveSet);
+    assert_eq!(scenario.controller.tuning.qp_solver, QpSolver::ActiveSet);
     let mut setup = build(&scenario).unwrap();
     setup.controller.set_qp_cross_check(true);
     let cancel = AtomicBool::new(false);

@@ -224,8 +224,8 @@ impl MomentumController {
         let gravity = self.model.gravity.norm();
         let gait = Gait::new(settings, &self.contact_references, world_p_com, gravity)?;
         let mut single_qp = WrenchQp::new(1, 0, &self.settings.constraints);
-        single_qp.unconstrained_first = self.settings.qp_unconstrained_first;
-        single_qp.solver = self.settings.qp_solver;
+        single_qp.unconstrained_first = self.settings.tuning.qp_unconstrained_first;
+        single_qp.solver = self.settings.tuning.qp_solver;
         self.torque_map.desired_acceleration = Some(DVector::zeros(12));
         let weight = self.mass * gravity;
         self.walking = Some(ContactPhases {
@@ -341,7 +341,7 @@ impl MomentumController {
         momentum_tracking_objective(
             &single.momentum_map,
             &terms.momentum_target,
-            self.settings.qp_regularization,
+            self.settings.tuning.qp_regularization,
             &mut single.hessian,
             &mut single.gradient,
         );

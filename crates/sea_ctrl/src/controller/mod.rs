@@ -26,6 +26,8 @@
 //! The module by concern:
 //! - `settings.rs`: [`ControllerKind`], [`MomentumRelaxation`], [`ControllerSettings`] and
 //!   their check;
+//! - `tuning.rs`: [`ControllerTuning`], the settings as a user writes them (a scenario's
+//!   `[controller]` keys);
 //! - `output.rs`: [`ControlOutput`], [`TaskTerms`] and step 5, the plant input
 //!   (inputDesMotVel, remark1);
 //! - `model_terms.rs`: steps 1 to 3, the model terms, the torque map and the momentum target
@@ -42,6 +44,7 @@ mod model_terms;
 mod output;
 mod qp_solve;
 mod settings;
+mod tuning;
 
 pub use contact_phase::{
     share_penalty, swing_acceleration, LATE_TOUCHDOWN_SPEED, MAX_SHARE_PENALTY,
@@ -49,6 +52,7 @@ pub use contact_phase::{
 };
 pub use output::{ControlOutput, TaskTerms};
 pub use settings::{ControllerKind, ControllerSettings, MomentumRelaxation};
+pub use tuning::ControllerTuning;
 
 use crate::error::{Error, Result};
 use crate::momentum::MomentumJacobian;
@@ -170,18 +174,18 @@ impl MomentumController {
             (None, false) => 0,
         };
         let mut qp = WrenchQp::new(n_contacts, equalities, &settings.constraints);
-        qp.unconstrained_first = settings.qp_unconstrained_first;
-        qp.solver = settings.qp_solver;
+        qp.unconstrained_first = settings.tuning.qp_unconstrained_first;
+        qp.solver = settings.tuning.qp_solver;
         let mut relaxed_qp = WrenchQp::new(n_contacts, 0, &settings.constraints);
-        relaxed_qp.solver = settings.qp_solver;
+        relaxed_qp.solver = settings.tuning.qp_solver;
         Ok(Self {
             model: model.clone(),
             data,
             actuation: actuation.clone(),
             estimates: controller_estimates(
                 actuation,
-                settings.stiffness_estimate_scale,
-                settings.damping_estimate_scale,
+                settings.tuning.stiffness_estimate_scale,
+                settings.tuning.damping_estimate_scale,
                 &settings.stiffness_estimate_joint_scales,
             ),
             qp,

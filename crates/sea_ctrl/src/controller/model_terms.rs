@@ -34,9 +34,9 @@ pub(super) fn inertia_diagonal(
     diagonal: &mut [f64],
 ) {
     for value in &mut diagonal[6..] {
-        *value = settings.joint_inertia_regularization;
+        *value = settings.tuning.joint_inertia_regularization;
     }
-    if settings.kind == ControllerKind::Rigid && settings.reflected_inertia {
+    if settings.kind == ControllerKind::Rigid && settings.tuning.reflected_inertia {
         for (&j, p) in actuation.elastic_joints.iter().zip(&actuation.elastic) {
             diagonal[6 + j] += p.reflected_inertia();
         }
@@ -77,7 +77,11 @@ impl MomentumController {
             damping: &self.settings.postural_damping,
         };
         let map = &mut self.torque_map;
-        map.compute(&self.data.mass_matrix, &posture, self.settings.pinv_damping)?;
+        map.compute(
+            &self.data.mass_matrix,
+            &posture,
+            self.settings.tuning.pinv_damping,
+        )?;
         copy_contiguous(&mut self.terms.tau_bias, &map.tau_bias);
         copy_contiguous(&mut self.terms.sigma, &map.sigma);
         self.momentum_target(reference, com, &momentum);

@@ -26,7 +26,7 @@ impl MomentumController {
             return self.solve_single_support(stance, wrenches);
         }
         let terms = &self.terms;
-        let reg = self.settings.qp_regularization;
+        let reg = self.settings.tuning.qp_regularization;
         let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
         let two_feet = self.contact_frames.len() > 1;
         // The paper's `A f = b`, or with a redundant contact set the momentum task the
@@ -37,7 +37,7 @@ impl MomentumController {
         };
         let found = if two_feet {
             torque_norm_objective(&terms.sigma, &terms.tau_bias, reg, hessian, gradient);
-            add_moment_regularization(hessian, self.settings.qp_moment_regularization);
+            add_moment_regularization(hessian, self.settings.tuning.qp_moment_regularization);
             if let Some(walking) = &self.walking {
                 walking.add_share_penalties(hessian);
             }
@@ -63,7 +63,7 @@ impl MomentumController {
             found.then_some(&self.unconstrained),
             wrenches,
         );
-        let relax = self.settings.momentum_relaxation == MomentumRelaxation::WhenInfeasible;
+        let relax = self.settings.tuning.momentum_relaxation == MomentumRelaxation::WhenInfeasible;
         match status {
             QpStatus::Fallback(_) if two_feet && relax => {
                 self.solve_relaxed(wrenches).unwrap_or(status)
@@ -81,7 +81,7 @@ impl MomentumController {
             (&terms.momentum_map, &terms.momentum_target),
             (&terms.sigma, &terms.tau_bias),
             RelaxedMomentumWeights::default(),
-            self.settings.qp_regularization,
+            self.settings.tuning.qp_regularization,
             hessian,
             gradient,
         );

@@ -6,11 +6,12 @@
 //! controller's estimates of `K_S`, `K_D` (hjBar, inputDesMotVel) and the reflected inertia of
 //! the rigid controller (remark1).
 
+use super::tuning::ControllerTuning;
 use crate::error::{Error, Result};
-use crate::qp::{ContactConstraints, QpSolver};
+use crate::qp::ContactConstraints;
 // Named by the doc comments only.
 #[cfg(doc)]
-use crate::qp::{add_moment_regularization, relaxed_momentum_objective, QpStatus};
+use crate::qp::{relaxed_momentum_objective, QpStatus};
 
 /// Which controller; with the `serde` feature, named "sea" or "rigid".
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,50 +47,33 @@ pub enum MomentumRelaxation {
     WhenInfeasible,
 }
 
-/// Settings of the controller.
+/// Settings of the controller: its kind, contacts and contact constraints, the task gains
+/// resolved for the robot, and the user's [`ControllerTuning`] (read as is).
 #[derive(Clone, Debug)]
 pub struct ControllerSettings {
     /// Rigid or SEA.
     pub kind: ControllerKind,
     /// Contact frames (one or two feet).
     pub contacts: Vec<String>,
-    /// Momentum proportional gains `K_p` (diagonal, linear then angular).
+    /// Momentum proportional gains `K_p` (diagonal, linear then angular): the tuning's
+    /// `momentum_proportional` or the robot's default.
     pub momentum_proportional: [f64; 6],
-    /// Momentum integral gains `K_i` (diagonal).
+    /// Momentum integral gains `K_i` (diagonal): the tuning's `momentum_integral` or the
+    /// robot's default.
     pub momentum_integral: [f64; 6],
-    /// Postural stiffness `K_p^j` (n, diagonal).
+    /// Postural stiffness `K_p^j` (n, diagonal): the tuning's `postural_stiffness` (or the
+    /// robot's default) times its `postural_scale`.
     pub postural_stiffness: Vec<f64>,
     /// Postural damping `K_d^j` (n, diagonal).
     pub postural_damping: Vec<f64>,
     /// Contact constraints of the QP.
     pub constraints: ContactConstraints,
-    /// Controller's damping estimate = true damping x this scale.
-    pub damping_estimate_scale: f64,
-    /// Controller's stiffness estimate = true stiffness x this scale.
-    pub stiffness_estimate_scale: f64,
-    /// Per joint (n, coordinate order), a further factor on the stiffness estimate of each
-    /// elastic joint; empty for none.
+    /// Per joint (n, coordinate order), the tuning's `stiffness_estimate_joint_scales` by
+    /// name, 1 for a joint it leaves out; empty for none.
     pub stiffness_estimate_joint_scales: Vec<f64>,
-    /// Damping of the pseudo-inverse of `Lambda` (original study: 5e-4,
-    /// docs/references.md#original-study-contact-wrench-qp).
-    pub pinv_damping: f64,
-    /// QP Hessian regulariser (original study: 1e-3,
-    /// docs/references.md#original-study-contact-wrench-qp).
-    pub qp_regularization: f64,
-    /// Two feet: weight of the contact moments `|n_k|^2` added to the torque-norm objective
-    /// ([`add_moment_regularization`]; 0 in the original study).
-    pub qp_moment_regularization: f64,
-    /// Two feet: what an infeasible momentum equality does.
-    pub momentum_relaxation: MomentumRelaxation,
-    /// Rigid controller: add the motor reflected inertia of elastic joints to `M_j`.
-    pub reflected_inertia: bool,
-    /// Added to the joint diagonal of the controller's `M` [kg m^2].
-    pub joint_inertia_regularization: f64,
-    /// Try the QP's minimiser without inequalities first: when it satisfies them all it is the
-    /// QP's optimum (the KKT conditions hold with zero multipliers) and no QP solver is called.
-    pub qp_unconstrained_first: bool,
-    /// The QP solver ([`QpSolver::default`]: the active set, Clarabel as fallback).
-    pub qp_solver: QpSolver,
+    /// Everything else as the user sets it: the estimate scales, the regularisers, the QP's
+    /// solver and the reflected inertia.
+    pub tuning: ControllerTuning,
 }
 
 impl ControllerSettings {
@@ -133,11 +117,11 @@ impl ControllerSettings {
         for (key, v) in [
             (
                 "controller.damping_estimate_scale",
-                self.damping_estimate_scale,
+                self.tuning.damping_estimate_scale,
             ),
             (
                 "controller.stiffness_estimate_scale",
-                self.stiffness_estimate_scale,
+                self.tuning.stiffness_estimate_scale,
             ),
         ]
         .into_iter()
@@ -167,7 +151,7 @@ impl ControllerSettings {
                 return Err(Error::config(key, message));
             }
         }
-        let moment = self.qp_moment_regularization;
+        let moment = self.tuning.qp_moment_regularization;
         if !(moment.is_finite() && moment >= 0.0) {
             let message = format!("must be finite and non-negative, got {moment}");
             return Err(Error::config(

@@ -36,9 +36,6 @@ sea_dyn::number_bound!(
     serde(default, deny_unknown_fields)
 )]
 pub struct ContactConstraints {
-    /// Friction coefficients and foot rectangle of each sole.
-    #[cfg_attr(feature = "serde", schemars(flatten))]
-    pub surface: ContactSurface,
     /// Number of friction cone facets (bounds: [`MIN_FRICTION_FACETS`], [`MAX_FRICTION_FACETS`]).
     #[cfg_attr(
         feature = "serde",
@@ -64,6 +61,10 @@ pub struct ContactConstraints {
         schemars(with = "CopMargin")
     )]
     pub cop_margin: f64,
+    /// Friction coefficients and foot rectangle of each sole (its keys listed after the QP's
+    /// own in messages).
+    #[cfg_attr(feature = "serde", schemars(flatten))]
+    pub surface: ContactSurface,
 }
 
 /// Reads [`ContactConstraints::facets`]: [`MIN_FRICTION_FACETS`] to [`MAX_FRICTION_FACETS`].

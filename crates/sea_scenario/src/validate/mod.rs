@@ -148,12 +148,13 @@ fn controller(scenario: &Scenario) -> Result<()> {
 /// `controller.external_wrench`: observed only with sampled control (the observer runs once
 /// per whole-body period).
 fn external_wrench(c: &ControllerConfig) -> Result<()> {
-    if c.external_wrench != ExternalWrench::None && c.sampling == Sampling::Continuous {
+    let observer = c.wrench_observer.kind;
+    if observer != ExternalWrench::None && c.sampling == Sampling::Continuous {
         return Err(Error::invalid(
             "controller.external_wrench",
             "needs controller.sampling = \"zero_order_hold\" or \"multi_rate\" (the \
              observer runs once per whole-body period)",
-            c.external_wrench.name(),
+            observer.name(),
         ));
     }
     Ok(())
@@ -197,7 +198,8 @@ pub fn sensing(scenario: &Scenario) -> Result<()> {
             delay,
         ));
     }
-    if delay > 0 && controller.external_wrench != ExternalWrench::None {
+    let observer = controller.wrench_observer.kind;
+    if delay > 0 && observer != ExternalWrench::None {
         // The observer pairs the measured state's momentum with the feet's wrenches at the
         // sample: a delay of the one and not the other would show as an external wrench.
         return Err(Error::invalid(
@@ -205,7 +207,7 @@ pub fn sensing(scenario: &Scenario) -> Result<()> {
             format!(
                 "must be 0 with controller.external_wrench = \"{}\" (the contact wrenches \
                  are not delayed)",
-                controller.external_wrench.name()
+                observer.name()
             ),
             delay,
         ));
@@ -224,8 +226,8 @@ fn joint_loop_rates(c: &ControllerConfig) -> Result<()> {
                 true,
             ));
         }
-        if !c.identification_excitation_nm.is_empty() {
-            let joints: Vec<_> = c.identification_excitation_nm.keys().cloned().collect();
+        if !c.excitation.amplitudes_nm.is_empty() {
+            let joints: Vec<_> = c.excitation.amplitudes_nm.keys().cloned().collect();
             return Err(Error::invalid(
                 "controller.identification_excitation_nm",
                 "needs controller.sampling = \"multi_rate\" (it is added in the joint loops)",

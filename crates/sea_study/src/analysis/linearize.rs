@@ -432,12 +432,12 @@ pub fn closed_loop_system(
     scenario: &Scenario,
     options: &LinearizeOptions,
 ) -> Result<ClosedLoopSystem> {
-    if scenario.controller.external_wrench != ExternalWrench::None {
+    if scenario.controller.wrench_observer.kind != ExternalWrench::None {
         return Err(Error::invalid(
             "controller.external_wrench",
             "the period map has no state for the observer's estimate (analyse the loop with \
              \"none\")",
-            scenario.controller.external_wrench.name(),
+            scenario.controller.wrench_observer.kind.name(),
         ));
     }
     let setup = sea_scenario::build(scenario)?;
