@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
-# Creates the project virtual environment .venv (once), builds the distributable wheel
-# (scripts/build_wheel.sh: baseline and x86-64-v3 modules) and installs it with the test extras
-# into it, then runs all tests: cargo tests of every Rust crate (native build, sea_py included,
-# linked against libpython), then pytest on the installed wheel (which also checks the stub
-# against the module with mypy's stubtest, and installs the same wheel, $SEA_WHEEL, into a fresh
-# environment with numpy alone: python_tests/test_wheel.py). A failed import of sea_momentum
-# fails the run.
+# Creates the project virtual environment .venv (once), installs sea-momentum (built for this
+# CPU) with the test extras into it, then runs all tests: cargo tests of every Rust crate (sea_py
+# included, linked against libpython), then pytest (which also checks the stub against the
+# module with mypy's stubtest, and installs a wheel of the same build into a fresh environment
+# with numpy alone: python_tests/test_wheel.py). A failed import of sea_momentum fails the run.
+#
+# `SEA_INSTALL=wheel bash scripts/run_tests.sh` tests the distributable wheel instead
+# (scripts/build_wheel.sh: baseline and x86-64-v3 modules, two more full builds of the
+# extension; about 40 minutes on 2 cores): installed into .venv, and test_wheel.py checks both
+# modules, the choice between them and, where qemu-x86_64 is installed, older CPUs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-export SEA_INSTALL=wheel
 source scripts/setup_env.sh
 ensure_libpython
 
