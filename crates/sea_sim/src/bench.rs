@@ -395,7 +395,15 @@ fn bench_plant(
     });
     pd.integrator.set_w_refresh_steps(SHARED_W_STEPS);
     let on_ground_shared = median_us(batches, calls_per_batch, |_| {
-        let stepped = sea_plant::step(&ground_plant, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut x_next);
+        let stepped = sea_plant::step(
+            &ground_plant,
+            &mut pd,
+            &x,
+            &u,
+            1e-3,
+            Method::Ros2,
+            &mut x_next,
+        );
         black_box(stepped.is_ok());
     });
     let mut pd = PlantData::new(&plant);

@@ -60,7 +60,10 @@ fn plant_evaluate_and_one_step_of_each_method_allocate_nothing() {
     let on_ground = two_feet(&[("plant.contact_model", "unilateral")]);
     for (contacts, base) in [("welded", &welded), ("on the ground", &on_ground)] {
         let offenders = plant_allocations(base);
-        assert!(offenders.is_empty(), "{contacts}: allocations: {offenders:?}");
+        assert!(
+            offenders.is_empty(),
+            "{contacts}: allocations: {offenders:?}"
+        );
     }
 }
 
