@@ -357,7 +357,7 @@ pub fn standing_sea_plant_on_ground(model: &Model) -> Option<(Plant, Vec<f64>)> 
 /// ROS2 step, dt = 1 ms, preparing its own `W`), on the standing iCub with motor torques
 /// balancing gravity; `sim_step_unilateral_us`, the step with the feet on the ground
 /// ([`standing_sea_plant_on_ground`]); the `_shared_w` figures are the same steps with
-/// [`SHARED_W_STEPS`] steps sharing one `W`, as every scenario steps (`plant.w_refresh_steps`'s
+/// [`shared_w_steps`] steps sharing one `W`, as every scenario steps (`plant.w_refresh_steps`'s
 /// default): their mean over a whole sharing cycle.
 fn bench_plant(
     model: &Model,
@@ -393,7 +393,7 @@ fn bench_plant(
             .is_ok(),
         );
     });
-    pd.integrator.set_w_refresh_steps(SHARED_W_STEPS);
+    pd.integrator.set_w_refresh_steps(shared_w_steps());
     let on_ground_shared = median_us(batches, calls_per_batch, |_| {
         let stepped = sea_plant::step(
             &ground_plant,
@@ -407,7 +407,7 @@ fn bench_plant(
         black_box(stepped.is_ok());
     });
     let mut pd = PlantData::new(&plant);
-    pd.integrator.set_w_refresh_steps(SHARED_W_STEPS);
+    pd.integrator.set_w_refresh_steps(shared_w_steps());
     let (x, u) = (&welded_x, &u);
     let step_shared = median_us(batches, calls_per_batch, |_| {
         black_box(sea_plant::step(&plant, &mut pd, x, u, 1e-3, Method::Ros2, &mut x_next).is_ok());
@@ -422,4 +422,6 @@ fn bench_plant(
 }
 
 /// Steps sharing one `W` in the `_shared_w` figures: `plant.w_refresh_steps`' default.
-pub const SHARED_W_STEPS: usize = 10;
+fn shared_w_steps() -> usize {
+    crate::scenario::PlantConfig::default().w_refresh_steps
+}
