@@ -39,6 +39,7 @@
 
 #![forbid(unsafe_code)]
 
+mod bounds;
 pub mod contact_check;
 pub mod disturbance_schedule;
 pub mod error;

@@ -1,8 +1,9 @@
 //! One sample period of the closed loop: the feedback law's evaluation at a state
 //! ([`FeedbackLaw`] of `sea_ctrl`, with the hand-over of its model terms to the plant), the
-//! divergence bounds, and the plant's advance to the next sample with the input held
+//! divergence bounds ([`super::bounds`]), and the plant's advance to the next sample with the input held
 //! (zero-order hold) or the law at every integrator stage (continuous).
 
+use super::bounds::bound_crossed;
 use super::contact_check::{ContactCheck, ContactCheckEvent, ViolationEpisodes, WrenchCheck};
 use super::fall_check::{Fall, FallCheck};
 use super::impacts::{Impact, ImpactDetector};
@@ -12,7 +13,7 @@ use super::sensing::Sensor;
 use super::statistics::{Divergence, RunEnd};
 use crate::disturbance_schedule::DisturbanceSchedule;
 use crate::error::Result;
-use crate::settings::{DivergenceBounds, LoopSettings, Setup};
+use crate::settings::{LoopSettings, Setup};
 use nalgebra::DVector;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::robot::{ForceReadings, PeriodSensors, RobotController, StackParts};
@@ -27,58 +28,6 @@ pub(super) type Law<'a> = FeedbackLaw<&'a mut MomentumController>;
 
 /// The robot's controller stack of the loop, around the borrowed controller.
 pub(super) type Robot<'a> = RobotController<&'a mut MomentumController>;
-
-/// The bound the sample crosses, as the reason of a divergence: the law's `observation`'s
-/// errors (the quantity, its value and the bound; a NaN error counts as crossing), then, with
-/// `bounds.stop_at_joint_limits`, the true joint positions `s` (n) against `model`'s
-/// limits.
-fn bound_crossed(
-    observation: &Observation,
-    (model, s): (&Model, &[f64]),
-    bounds: &DivergenceBounds,
-) -> Option<Divergence> {
-    let (com_bound, joint_bound) = (bounds.com_error_m, bounds.joint_error_rad);
-    if exceeds(observation.com_error, com_bound) {
-        Some(Divergence::ComErrorOverBound {
-            value: observation.com_error,
-            bound: com_bound,
-        })
-    } else if exceeds(observation.joint_error, joint_bound) {
-        Some(Divergence::JointErrorOverBound {
-            value: observation.joint_error,
-            bound: joint_bound,
-        })
-    } else if bounds.stop_at_joint_limits {
-        joint_limit_crossed(model, s)
-    } else {
-        None
-    }
-}
-
-/// The first joint (model order) whose position in `s` (n) lies outside its URDF limits.
-fn joint_limit_crossed(model: &Model, s: &[f64]) -> Option<Divergence> {
-    model.joints.iter().find_map(|joint| {
-        let value = s[joint.coordinate];
-        let [lower, upper] = joint.position_limits;
-        let limit = if value < lower {
-            lower
-        } else if value > upper {
-            upper
-        } else {
-            return None;
-        };
-        Some(Divergence::JointOutsideLimits {
-            joint: joint.name.clone(),
-            value,
-            limit,
-        })
-    })
-}
-
-/// `value > bound`, and NaN (an undefined error) counts as over.
-fn exceeds(value: f64, bound: f64) -> bool {
-    value > bound || value.is_nan()
-}
 
 /// The hand-over of the law's model terms to the plant: whether the controller's model is
 /// the plant's, so that the model terms of a tick (kinematics, `h`, `M` at the tick's state)

@@ -367,51 +367,15 @@ fn bench_plant(
     let (plant, x) = standing_sea_plant(model)?;
     let mut pd = PlantData::new(&plant);
     let u = standing_motor_input(model, &x);
-    let mut x_next = x.clone();
     let dynamics = median_us(batches, calls_per_batch, |_| {
         black_box(sea_plant::evaluate(&plant, &mut pd.workspace, &x, &u, &mut pd.outputs).is_ok());
     });
-    let step = median_us(batches, calls_per_batch, |_| {
-        black_box(
-            sea_plant::step(&plant, &mut pd, &x, &u, 1e-3, Method::Ros2, &mut x_next).is_ok(),
-        );
-    });
-    let welded_x = x.clone();
+    let timing = (batches, calls_per_batch);
+    let step = median_step_us(&plant, &x, &u, 1, timing);
+    let step_shared = median_step_us(&plant, &x, &u, shared_w_steps(), timing);
     let (ground_plant, x) = standing_sea_plant_on_ground(model)?;
-    let mut pd = PlantData::new(&ground_plant);
-    let on_ground = median_us(batches, calls_per_batch, |_| {
-        black_box(
-            sea_plant::step(
-                &ground_plant,
-                &mut pd,
-                &x,
-                &u,
-                1e-3,
-                Method::Ros2,
-                &mut x_next,
-            )
-            .is_ok(),
-        );
-    });
-    pd.integrator.set_w_refresh_steps(shared_w_steps());
-    let on_ground_shared = median_us(batches, calls_per_batch, |_| {
-        let stepped = sea_plant::step(
-            &ground_plant,
-            &mut pd,
-            &x,
-            &u,
-            1e-3,
-            Method::Ros2,
-            &mut x_next,
-        );
-        black_box(stepped.is_ok());
-    });
-    let mut pd = PlantData::new(&plant);
-    pd.integrator.set_w_refresh_steps(shared_w_steps());
-    let (x, u) = (&welded_x, &u);
-    let step_shared = median_us(batches, calls_per_batch, |_| {
-        black_box(sea_plant::step(&plant, &mut pd, x, u, 1e-3, Method::Ros2, &mut x_next).is_ok());
-    });
+    let on_ground = median_step_us(&ground_plant, &x, &u, 1, timing);
+    let on_ground_shared = median_step_us(&ground_plant, &x, &u, shared_w_steps(), timing);
     Some(vec![
         ("plant_dynamics_us", dynamics),
         ("sim_step_us", step),
@@ -419,6 +383,23 @@ fn bench_plant(
         ("sim_step_unilateral_us", on_ground),
         ("sim_step_unilateral_shared_w_us", on_ground_shared),
     ])
+}
+
+/// Median microseconds of one ROS2 step (dt = 1 ms) of `plant` from `x` with `u` held, with
+/// `w_refresh_steps` steps sharing one `W`; `timing` is `(batches, calls per batch)`.
+fn median_step_us(
+    plant: &Plant,
+    x: &[f64],
+    u: &[f64],
+    w_refresh_steps: usize,
+    (batches, calls_per_batch): (usize, usize),
+) -> f64 {
+    let mut pd = PlantData::new(plant);
+    pd.integrator.set_w_refresh_steps(w_refresh_steps);
+    let mut x_next = x.to_vec();
+    median_us(batches, calls_per_batch, |_| {
+        black_box(sea_plant::step(plant, &mut pd, x, u, 1e-3, Method::Ros2, &mut x_next).is_ok());
+    })
 }
 
 /// Steps sharing one `W` in the `_shared_w` figures: `plant.w_refresh_steps`' default.
