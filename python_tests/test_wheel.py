@@ -16,10 +16,12 @@ the module choice's errors) run. The fresh environment gets numpy from the packa
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import pathlib
 import platform
+import re
 import shutil
 import subprocess
 import sys
@@ -119,6 +121,29 @@ def test_the_wheel_is_abi3_manylinux_with_both_modules(wheel):
         assert "manylinux" in name and name.endswith("_x86_64.whl"), name
         assert ("sea_momentum/_native_v3.abi3.so" in names) == PORTABLE, sorted(names)
     assert "sea_momentum/_native.pyi" in names and "sea_momentum/py.typed" in names
+
+
+@pytest.mark.skipif(not PORTABLE, reason="the wheel of the native build links against this machine's glibc")
+def test_the_portable_wheel_keeps_its_manylinux_promise(wheel, tmp_path):
+    """Where ziglang is installed, scripts/build_wheel.sh links with zig against glibc 2.17 and
+    the tag says manylinux2014; whatever the tag's glibc, no symbol of either module asks for a
+    newer one (their dynamic symbols, read with ``objdump -T``)."""
+    tag = re.search(r"manylinux_(\d+)_(\d+)_x86_64", wheel.name)
+    assert tag, wheel.name
+    promised = (int(tag.group(1)), int(tag.group(2)))
+    if importlib.util.find_spec("ziglang") is not None:
+        assert promised == (2, 17), wheel.name
+    objdump = shutil.which("objdump")
+    if objdump is None:
+        pytest.skip("objdump (binutils) is not installed")
+    with zipfile.ZipFile(wheel) as archive:
+        modules = [n for n in archive.namelist() if n.endswith(".abi3.so")]
+        archive.extractall(tmp_path, modules)
+    for module in modules:
+        symbols = subprocess.run([objdump, "-T", str(tmp_path / module)], capture_output=True,
+                                 text=True, check=True, timeout=120).stdout
+        versions = {tuple(int(part) for part in v.split(".")) for v in re.findall(r"GLIBC_(\d+(?:\.\d+)*)", symbols)}
+        assert versions and max(versions) <= promised, (module, wheel.name, sorted(versions)[-3:])
 
 
 def test_the_wheel_runs_a_scenario_with_numpy_alone(fresh_python, tmp_path):

@@ -16,6 +16,12 @@
 # wheel, its RECORD completed. The sdist carries no compiled file: `pip install` from it builds
 # the baseline module only, for the building machine's architecture.
 #
+# The manylinux tag: with ziglang installed (pip install ziglang) both modules are linked by
+# `zig cc` against glibc 2.17's symbols (maturin --zig), so the wheel is manylinux2014 and installs
+# on any x86-64 Linux of the last decade (CentOS 7, Ubuntu 18.04 and later); without it they
+# link against this machine's glibc and maturin tags the wheel with the newest glibc symbol
+# they use (manylinux_2_35 on Debian 12). SEA_WHEEL_ZIG=0 skips zig even where it is installed.
+#
 # Needs maturin (pip install 'maturin>=1.5,<2') and Python 3.9 or later on PATH.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,6 +29,14 @@ target_dir="${CARGO_TARGET_DIR:-target}"
 out="${1:-$target_dir/dist}"
 python="${SEA_PYTHON:-python3}"
 host=$(rustc -vV | sed -n 's/^host: //p')
+
+linkage=()
+if [[ ${SEA_WHEEL_ZIG:-1} != 0 ]] && "$python" -m ziglang version > /dev/null 2>&1; then
+    linkage=(--zig --compatibility manylinux2014)
+    echo "== linking with zig against glibc 2.17 (manylinux2014)"
+else
+    echo "== linking against this machine's glibc (no ziglang, or SEA_WHEEL_ZIG=0): the tag follows its symbols"
+fi
 
 mkdir -p "$out"
 rm -f "$out"/sea_momentum-*.whl "$out"/sea_momentum-*.tar.gz
@@ -34,13 +48,13 @@ maturin sdist --out "$out"
 
 if [[ $host == x86_64-* ]]; then
     echo "== the x86-64-v3 module ($host)"
-    RUSTFLAGS="-C target-cpu=x86-64-v3" maturin build --profile wheel --target "$host" --out "$scratch/v3"
+    RUSTFLAGS="-C target-cpu=x86-64-v3" maturin build --profile wheel --target "$host" "${linkage[@]}" --out "$scratch/v3"
 else
     echo "== $host: no x86-64-v3 module, the baseline only"
 fi
 
 echo "== the baseline module and its wheel"
-RUSTFLAGS="" maturin build --profile wheel --out "$scratch/baseline"
+RUSTFLAGS="" maturin build --profile wheel "${linkage[@]}" --out "$scratch/baseline"
 
 echo "== the wheel: the baseline wheel with the x86-64-v3 module"
 "$python" - "$scratch" "$out" <<'PYTHON'

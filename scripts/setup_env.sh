@@ -56,7 +56,7 @@ install_package() {
             ;;
         wheel)
             echo "== building the distributable wheel (scripts/build_wheel.sh)"
-            pip_install "maturin>=1.5,<2"
+            pip_install "maturin>=1.5,<2" ziglang  # zig links against glibc 2.17: manylinux2014
             SEA_WHEEL=$(bash scripts/build_wheel.sh | tail -n 1)
             export SEA_WHEEL
             echo "== installing $SEA_WHEEL[$extras]"
