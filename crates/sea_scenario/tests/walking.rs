@@ -293,3 +293,68 @@ fn print_the_walk() {
         println!("{} {:.3}", record.joint_names[j], last[j] - first[j]);
     }
 }
+
+const TURN: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/walking/turn_in_place.toml"
+);
+
+/// The base's yaw in the recorded state `x` (`q = [p_B; (w, x, y, z); s]`) [rad].
+fn base_yaw(x: &[f64]) -> f64 {
+    let (w, qx, qy, qz) = (x[3], x[4], x[5], x[6]);
+    (2.0 * (w * qz + qx * qy)).atan2(1.0 - 2.0 * (qy * qy + qz * qz))
+}
+
+/// Turning 90 degrees in place, then standing still (the stop on command: the command's
+/// steps end with the feet side by side): the feet turn at least 80 degrees without a fall,
+/// and over the last second of standing the feet are at the plan's final stance, the CoM over
+/// their mid-point, at rest, and the DCM on the plan's.
+#[test]
+fn turns_ninety_degrees_in_place_then_stands_still() {
+    let (record, summary, setup) = walk(TURN, &[]);
+    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    let turned = summary.turned_rad.unwrap();
+    assert!(turned > 80f64.to_radians(), "turned {turned} rad");
+    let gait = setup.controller.gait().unwrap();
+    assert_eq!(summary.steps_taken, Some(gait.footsteps.steps.len()));
+    let standing_from = gait.end_time();
+    let end = *record.time.last().unwrap();
+    assert!(end - standing_from > 2.0, "stands {} s", end - standing_from);
+    let soles = sole_positions(&record, &setup);
+    let stance = gait.footsteps.final_stance();
+    let nx = record.state.len() / record.time.len();
+    let (mass, omega) = (setup.controller.mass(), gait.dcm.lip().omega);
+    let (mut sole_error, mut com_offset, mut com_speed, mut dcm_error) = (0f64, 0f64, 0f64, 0f64);
+    for row in row_at(&record, end - 1.0)..record.time.len() {
+        for foot in [sea_ctrl::walking::Foot::Left, sea_ctrl::walking::Foot::Right] {
+            let sole = soles[row][gait.contact_of[foot as usize]].xy();
+            sole_error = sole_error.max((sole - stance.get(foot).world_p_sole).norm());
+        }
+        let mid = 0.5 * (soles[row][0].xy() + soles[row][1].xy());
+        let com = nalgebra::Vector2::new(record.com[3 * row], record.com[3 * row + 1]);
+        let velocity = nalgebra::Vector2::new(record.momentum[6 * row], record.momentum[6 * row + 1]) / mass;
+        let xi = com + velocity / omega;
+        com_offset = com_offset.max((com - mid).norm());
+        com_speed = com_speed.max(velocity.norm());
+        dcm_error = dcm_error.max((xi - gait.dcm.sample(record.time[row]).world_xi.xy()).norm());
+    }
+    // The base turns with the feet (its frame's heading need not be the feet's: the iCub's
+    // root_link faces backwards).
+    let last = &record.state[nx * (record.time.len() - 1)..];
+    let base_turned = sea_ctrl::walking::footstep::wrap_angle(base_yaw(last) - base_yaw(&record.state));
+    println!(
+        "turned {:.1} deg (base {:.1} deg), standing: soles within {:.4} m of the plan, CoM {:.4} m \
+         from their mid-point at {:.4} m/s at most, DCM error {:.4} m",
+        turned.to_degrees(),
+        base_turned.to_degrees(),
+        sole_error,
+        com_offset,
+        com_speed,
+        dcm_error
+    );
+    assert!(sole_error < 0.02, "the feet side by side at the plan's stance: {sole_error} m");
+    assert!(com_offset < 0.02, "the CoM back over the feet: {com_offset} m");
+    assert!(com_speed < 0.02, "standing still: {com_speed} m/s");
+    assert!(dcm_error < 0.01, "the DCM on the plan's: {dcm_error} m");
+    assert!((base_turned - turned).abs() < 0.1, "the base turned {base_turned} rad");
+}
