@@ -250,3 +250,40 @@ fn a_missing_or_unresolvable_mesh_is_named() {
         std::fs::remove_dir_all(urdf_dir).unwrap();
     }
 }
+
+/// `init --walking` for the iCub: the `[walking]` written is the scaled rule's
+/// (`WalkingSettings::scaled_to` of the figures `init` reports, rounded to 1 mm and 1 ms; the
+/// iCub's own legs give `k` = 1, so the durations are the defaults'), the scenario builds, and
+/// the robot walks its 8 steps and the stop without a fall.
+#[test]
+fn a_walking_scenario_is_written_scaled_to_the_robot_and_walks() {
+    use sea_ctrl::walking::WalkingSettings;
+    let dir = folder("icub_walk");
+    let options = InitOptions {
+        walking: true,
+        out: dir.join("icub_walk.toml"),
+        ..icub_options(&dir)
+    };
+    let report = init(&options).unwrap();
+    let scenario = Scenario::from_file(&options.out, &[]).unwrap();
+    let written = scenario.walking.clone().expect("[walking]");
+    let scaled = WalkingSettings::scaled_to(&report.walking_figures).unwrap();
+    let figures = report.walking_figures;
+    assert!((figures.leg_length - sea_ctrl::walking::ICUB_LEG_LENGTH).abs() < 1e-4);
+    for (written, rule) in [
+        (written.com_height, scaled.com_height),
+        (written.nominal_width, scaled.nominal_width),
+        (written.max_step_length, scaled.max_step_length),
+        (written.swing_height, scaled.swing_height),
+        (written.step_duration, scaled.step_duration),
+        (written.transfer_duration, scaled.transfer_duration),
+    ] {
+        assert!((written - rule).abs() <= 5e-4, "{written} against {rule}");
+    }
+    assert!((written.step_duration - WalkingSettings::default().step_duration).abs() < 1e-3);
+    assert_eq!(written.command.steps, Some(8));
+    let (_, summary) = sea_sim::scenario::run::run(&scenario, |_, _| ()).unwrap();
+    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    assert_eq!(summary.steps_taken, Some(9));
+    std::fs::remove_dir_all(dir).unwrap();
+}
