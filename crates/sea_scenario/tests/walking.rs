@@ -325,8 +325,14 @@ impl Still {
     /// `width_tolerance` [m]), the CoM back over them (2 cm) and at rest (2 cm/s), the DCM on
     /// the plan's (1 cm).
     fn assert_still(&self, width_tolerance: f64) {
-        assert!(self.width_error < width_tolerance, "the feet side by side: {self:?}");
-        assert!(self.com_offset < 0.02, "the CoM back over the feet: {self:?}");
+        assert!(
+            self.width_error < width_tolerance,
+            "the feet side by side: {self:?}"
+        );
+        assert!(
+            self.com_offset < 0.02,
+            "the CoM back over the feet: {self:?}"
+        );
         assert!(self.com_speed < 0.02, "standing still: {self:?}");
         assert!(self.dcm_error < 0.01, "the DCM on the plan's: {self:?}");
     }
@@ -346,7 +352,10 @@ fn standing_still(record: &RunRecord, setup: &sea_loop::Setup, from: f64) -> Sti
         dcm_error: 0.0,
     };
     for row in row_at(record, from)..record.time.len() {
-        for foot in [sea_ctrl::walking::Foot::Left, sea_ctrl::walking::Foot::Right] {
+        for foot in [
+            sea_ctrl::walking::Foot::Left,
+            sea_ctrl::walking::Foot::Right,
+        ] {
             let sole = soles[row][gait.contact_of[foot as usize]].xy();
             let error = (sole - stance.get(foot).world_p_sole).norm();
             still.sole_error = still.sole_error.max(error);
@@ -381,13 +390,18 @@ fn turns_ninety_degrees_in_place_then_stands_still() {
     assert_eq!(summary.steps_taken, Some(gait.footsteps.steps.len()));
     let standing_from = gait.end_time();
     let end = *record.time.last().unwrap();
-    assert!(end - standing_from > 2.0, "stands {} s", end - standing_from);
+    assert!(
+        end - standing_from > 2.0,
+        "stands {} s",
+        end - standing_from
+    );
     let still = standing_still(&record, &setup, end - 1.0);
     let nx = record.state.len() / record.time.len();
     // The base turns with the feet (its frame's heading need not be the feet's: the iCub's
     // root_link faces backwards).
     let last = &record.state[nx * (record.time.len() - 1)..];
-    let base_turned = sea_ctrl::walking::footstep::wrap_angle(base_yaw(last) - base_yaw(&record.state));
+    let base_turned =
+        sea_ctrl::walking::footstep::wrap_angle(base_yaw(last) - base_yaw(&record.state));
     println!(
         "turned {:.1} deg (base {:.1} deg), standing: {still:?}",
         turned.to_degrees(),
@@ -395,7 +409,10 @@ fn turns_ninety_degrees_in_place_then_stands_still() {
     );
     still.assert_still(0.01);
     assert!(still.sole_error < 0.02, "the feet where planned: {still:?}");
-    assert!((base_turned - turned).abs() < 0.1, "the base turned {base_turned} rad");
+    assert!(
+        (base_turned - turned).abs() < 0.1,
+        "the base turned {base_turned} rad"
+    );
 }
 
 /// Talos set up by `sea-sim init --walking` (scenarios/walking/talos_walk.toml: 8 steps of

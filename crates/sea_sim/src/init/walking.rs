@@ -49,7 +49,11 @@ divergence_joint_error_rad = 3.0
 /// The figures of the robot standing at `standing` on the soles `feet`: the CoM's height
 /// above the soles, the soles' distance, the shorter straight leg and the legs' reach (the
 /// scenario's reach check, `sea_scenario::walking::legs_reach`).
-pub fn walking_figures(model: &Model, feet: [FrameId; 2], standing: &Standing) -> RobotWalkingFigures {
+pub fn walking_figures(
+    model: &Model,
+    feet: [FrameId; 2],
+    standing: &Standing,
+) -> RobotWalkingFigures {
     let mut q = model.neutral();
     q[7..].copy_from_slice(&standing.joints);
     let mut data = Data::new(model);

@@ -49,7 +49,11 @@ pub fn write_scenario(
     if body.feet_rank < 12 {
         description.pinv_damping = REDUNDANT_PINV_DAMPING;
     }
-    let suffix = if body.walking.is_some() { "walk" } else { "two_feet" };
+    let suffix = if body.walking.is_some() {
+        "walk"
+    } else {
+        "two_feet"
+    };
     let name = options
         .name
         .clone()

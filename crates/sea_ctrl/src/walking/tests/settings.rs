@@ -128,9 +128,18 @@ fn the_scaled_settings_follow_the_rule_and_are_valid() {
     assert!(close(scaled.max_step_length, STEP_LENGTH_PER_REACH * 1.5));
     assert!(close(scaled.swing_height, 4.0 * icub.swing_height));
     assert!(close(scaled.step_duration, 2.0 * icub.step_duration));
-    assert!(close(scaled.double_support_duration, 2.0 * icub.double_support_duration));
-    assert!(close(scaled.transfer_duration, 2.0 * icub.transfer_duration));
-    assert!(close(scaled.min_swing_duration, 2.0 * icub.min_swing_duration));
+    assert!(close(
+        scaled.double_support_duration,
+        2.0 * icub.double_support_duration
+    ));
+    assert!(close(
+        scaled.transfer_duration,
+        2.0 * icub.transfer_duration
+    ));
+    assert!(close(
+        scaled.min_swing_duration,
+        2.0 * icub.min_swing_duration
+    ));
     assert_eq!(scaled.max_step_turn, icub.max_step_turn);
     let mut walking = scaled.clone();
     walking.command.steps = Some(2);

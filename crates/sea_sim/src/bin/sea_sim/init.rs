@@ -43,13 +43,10 @@ pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
         contacts: [args.contacts[0].clone(), args.contacts[1].clone()],
         foot,
         package_dirs: args.package_dirs.clone(),
-        out: args
-            .out
-            .clone()
-            .unwrap_or_else(|| {
-                let suffix = if args.walking { "walk" } else { "two_feet" };
-                PathBuf::from(format!("{stem}_{suffix}.toml"))
-            }),
+        out: args.out.clone().unwrap_or_else(|| {
+            let suffix = if args.walking { "walk" } else { "two_feet" };
+            PathBuf::from(format!("{stem}_{suffix}.toml"))
+        }),
         name: None,
         walking: args.walking,
     };
