@@ -351,19 +351,20 @@ fn standing_still(record: &RunRecord, setup: &sea_loop::Setup, from: f64) -> Sti
         com_speed: 0.0,
         dcm_error: 0.0,
     };
-    for row in row_at(record, from)..record.time.len() {
+    let first = row_at(record, from);
+    for (row, feet) in soles.iter().enumerate().skip(first) {
         for foot in [
             sea_ctrl::walking::Foot::Left,
             sea_ctrl::walking::Foot::Right,
         ] {
-            let sole = soles[row][gait.contact_of[foot as usize]].xy();
+            let sole = feet[gait.contact_of[foot as usize]].xy();
             let error = (sole - stance.get(foot).world_p_sole).norm();
             still.sole_error = still.sole_error.max(error);
         }
-        let width = (soles[row][0].xy() - soles[row][1].xy()).norm();
+        let width = (feet[0].xy() - feet[1].xy()).norm();
         let planned_width = (stance.left.world_p_sole - stance.right.world_p_sole).norm();
         still.width_error = still.width_error.max((width - planned_width).abs());
-        let mid = 0.5 * (soles[row][0].xy() + soles[row][1].xy());
+        let mid = 0.5 * (feet[0].xy() + feet[1].xy());
         let com = nalgebra::Vector2::new(record.com[3 * row], record.com[3 * row + 1]);
         let momentum = &record.momentum[6 * row..6 * row + 2];
         let velocity = nalgebra::Vector2::new(momentum[0], momentum[1]) / mass;
