@@ -287,3 +287,37 @@ fn a_walking_scenario_is_written_scaled_to_the_robot_and_walks() {
     assert_eq!(summary.steps_taken, Some(9));
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `[walking]` in an init scenario takes the defaults scaled to the robot for the keys it
+/// leaves out: the iCub written by init with only `[walking.command]` walks on a pendulum of
+/// its own CoM height and at its own feet's distance, not the iCub-sized defaults'.
+#[test]
+fn walking_keys_left_out_take_the_defaults_scaled_to_the_robot() {
+    use sea_ctrl::walking::WalkingSettings;
+    let dir = folder("icub_walk_defaults");
+    let options = InitOptions {
+        walking: true,
+        out: dir.join("icub_walk.toml"),
+        ..icub_options(&dir)
+    };
+    let report = init(&options).unwrap();
+    let text = std::fs::read_to_string(&options.out).unwrap();
+    let mut root: toml::Table = toml::from_str(&text).unwrap();
+    let walking = root["walking"].as_table_mut().unwrap();
+    walking.retain(|key, _| key == "command");
+    std::fs::write(&options.out, toml::to_string(&root).unwrap()).unwrap();
+    let scenario = Scenario::from_file(&options.out, &[]).unwrap();
+    let setup = build(&scenario).unwrap();
+    let gait = setup.controller.gait().expect("walking");
+    let figures = report.walking_figures;
+    let scaled = WalkingSettings::scaled_to(&figures).unwrap();
+    let gravity = setup.model.gravity.norm();
+    let omega = (gravity / scaled.com_height).sqrt();
+    assert!((gait.dcm.lip().omega - omega).abs() < 1e-9);
+    assert!((scaled.com_height - WalkingSettings::default().com_height).abs() > 0.01);
+    let last = gait.footsteps.final_stance();
+    let width = (last.left.world_p_sole - last.right.world_p_sole).norm();
+    assert!((width - figures.feet_distance).abs() < 1e-9, "{width}");
+    assert!((gait.swings[0].height - scaled.swing_height).abs() < 1e-12);
+    std::fs::remove_dir_all(dir).unwrap();
+}

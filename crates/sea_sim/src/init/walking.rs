@@ -5,9 +5,8 @@
 
 use super::posture::Standing;
 use crate::error::Result;
-use crate::scenario::walking::{leg_length_and_hip_height, legs_reach};
 use sea_ctrl::walking::{RobotWalkingFigures, WalkingSettings};
-use sea_dyn::{Data, FrameId, Model};
+use sea_dyn::{FrameId, Model};
 
 /// The command of the written walk: this many steps forward, then the stop step.
 pub const WALK_STEPS: usize = 8;
@@ -46,9 +45,9 @@ cop_margin = 0.3
 divergence_joint_error_rad = 3.0
 ";
 
-/// The figures of the robot standing at `standing` on the soles `feet`: the CoM's height
-/// above the soles, the soles' distance, the shorter straight leg and the legs' reach (the
-/// scenario's reach check, `sea_scenario::walking::legs_reach`).
+/// The figures of the robot standing at `standing` on the soles `feet`
+/// (`sea_scenario::walking::walking_figures`: the CoM's height above the soles, the soles'
+/// distance, the shorter straight leg and the legs' reach, the scenario's reach check).
 pub fn walking_figures(
     model: &Model,
     feet: [FrameId; 2],
@@ -56,20 +55,7 @@ pub fn walking_figures(
 ) -> RobotWalkingFigures {
     let mut q = model.neutral();
     q[7..].copy_from_slice(&standing.joints);
-    let mut data = Data::new(model);
-    let world_p_com = sea_dyn::centroidal::com(model, &mut data, &q);
-    sea_dyn::forward_kinematics(model, &mut data, &q);
-    let [left, right] = feet.map(|foot| sea_dyn::frame_placement(model, &data, foot).translation);
-    let leg_length = feet
-        .iter()
-        .map(|&foot| leg_length_and_hip_height(model, &q, foot).0)
-        .fold(f64::INFINITY, f64::min);
-    RobotWalkingFigures {
-        com_height: world_p_com.z - 0.5 * (left.z + right.z),
-        feet_distance: (left - right).xy().norm(),
-        leg_length,
-        reach: legs_reach(model, &q, &feet),
-    }
+    crate::scenario::walking::walking_figures(model, &q, &feet)
 }
 
 /// The walking settings written for `figures`: the scaled defaults
