@@ -416,7 +416,7 @@ fn turns_ninety_degrees_in_place_then_stands_still() {
     );
 }
 
-/// Talos set up by `sea-sim init --walking` (scenarios/walking/talos_walk.toml: 8 steps of
+/// Talos set up by `sea-sim init --walking` (scenarios/robots/talos_walk.toml: 8 steps of
 /// 0.22 m and the stop) walks at 0.25 m/s or more without a fall and stands still after: the
 /// CoM over the feet and at rest, the DCM on the plan's, the feet side by side within 3 cm of
 /// the planned width (they slip 2.2 cm apart over the walk, docs/findings/walking_robots.md).
@@ -426,7 +426,7 @@ fn turns_ninety_degrees_in_place_then_stands_still() {
 fn talos_walks_a_quarter_metre_per_second_and_stops() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../scenarios/walking/talos_walk.toml"
+        "/../../scenarios/robots/talos_walk.toml"
     );
     let (record, summary, setup) = walk(path, &[]);
     assert_eq!(summary.status, "completed", "{}", summary.reason);
