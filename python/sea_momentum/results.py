@@ -233,3 +233,7 @@ class RunSummary(Result):
     walking_speed_m_s: Optional[float]
     """``[walking]``: ``distance_walked_m`` over the time from the first lift-off to the last
     touchdown (or the run's end) [m/s]; None when the robot does not walk."""
+    turned_rad: Optional[float]
+    """``[walking]``: the yaw the feet turned, start to end (the soles' mean heading at the
+    end minus the walking frame's at the start), counter-clockwise positive, wrapped into
+    (-pi, pi] [rad]; None when the robot does not walk."""

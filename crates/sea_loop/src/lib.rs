@@ -130,6 +130,7 @@ pub fn run_setup_with_sinks(
         summary.steps_taken = Some(walked.steps);
         summary.distance_walked_m = Some(walked.distance_m);
         summary.walking_speed_m_s = walked.speed_m_s;
+        summary.turned_rad = Some(walked.turned_rad);
     }
     Ok(summary)
 }

@@ -277,6 +277,10 @@ pub struct Summary {
     /// end (the walk's last touchdown when it ended standing) [m/s]; `None` when it does not
     /// walk or no foot lifted.
     pub walking_speed_m_s: Option<f64>,
+    /// `[walking]`: the yaw the feet turned, start to end: the mean heading of the soles at
+    /// the run's end (true state) minus the walking frame's at the start, counter-clockwise
+    /// positive, wrapped into (-pi, pi] [rad]; `None` when it does not walk.
+    pub turned_rad: Option<f64>,
     /// Multi-rate sampling: the joint loops' stiffness estimates at the run's end [Nm/rad] by
     /// elastic joint name (identified with `controller.stiffness_identification`, else the
     /// controller's); empty otherwise. Not a sweep column ([`NON_SCALAR_FIELDS`]).
@@ -411,6 +415,7 @@ impl Summary {
             steps_taken: None,
             distance_walked_m: None,
             walking_speed_m_s: None,
+            turned_rad: None,
         }
     }
 

@@ -17,6 +17,7 @@ use crate::settings::{LoopSettings, Setup};
 use nalgebra::DVector;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::robot::{ForceReadings, PeriodSensors, RobotController, StackParts};
+use sea_ctrl::walking::footstep::wrap_angle;
 use sea_ctrl::MomentumController;
 use sea_dyn::{Data, Model};
 use sea_plant::integrator::step_with_feedback;
@@ -61,6 +62,9 @@ pub struct Walked {
     /// The distance over the time from the first lift-off to the last touchdown (or the
     /// run's end) [m/s]; `None` before the first lift-off.
     pub speed_m_s: Option<f64>,
+    /// The yaw the feet turned: the walking frame's yaw (the soles' mean heading) at the end
+    /// minus at the start, counter-clockwise positive, wrapped into (-pi, pi] [rad].
+    pub turned_rad: f64,
 }
 
 /// What one sample period gave (the evaluation at its start is the law's last observation):
@@ -710,8 +714,12 @@ impl<'a> Engine<'a> {
         let [a, b] = [0, 1].map(|c| sea_dyn::frame_placement(model, &data, frames[c]));
         let end = (a.translation + b.translation).xy() * 0.5;
         // The feet where the gait started (the initial posture's soles).
-        let start = gait.footsteps.stances[0].mid_frame().world_p_sole;
-        let distance_m = (end - start).norm();
+        let start_frame = gait.footsteps.stances[0].mid_frame();
+        let distance_m = (end - start_frame.world_p_sole).norm();
+        // The soles' mean heading (the sum of their x axes' ground projections).
+        let heading = a.rotation.column(0) + b.rotation.column(0);
+        let end_yaw = heading.y.atan2(heading.x);
+        let turned_rad = wrap_angle(end_yaw - start_frame.world_yaw_sole);
         let first_lift_off = gait.footsteps.steps.first().map(|s| s.lift_off);
         let walking_end = gait
             .footsteps
@@ -725,6 +733,7 @@ impl<'a> Engine<'a> {
             steps: gait.steps_landed(end_s),
             distance_m,
             speed_m_s,
+            turned_rad,
         })
     }
 

@@ -38,6 +38,7 @@ pub fn init_scenario<'py>(
         package_dirs: package_dirs.unwrap_or_default(),
         out,
         name: None,
+        walking: false,
     };
     let report = py.detach(|| init(&options)).map_err(to_py)?;
     let dict = PyDict::new(py);

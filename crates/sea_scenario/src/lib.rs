@@ -101,6 +101,12 @@ pub struct Scenario {
     /// absent: it stands (docs/explanation/walking.md).
     #[serde(default)]
     pub walking: Option<sea_ctrl::walking::WalkingSettings>,
+    /// The keys `[walking]` gives (after the overrides) when the robot description is not the
+    /// paper's iCub: at build the keys it leaves out take the defaults scaled to the robot
+    /// (`WalkingSettings::scaled_to`, [`walking::walking_settings`]); `None`: `walking` as
+    /// read (the iCub-sized defaults).
+    #[serde(skip)]
+    pub walking_given: Option<toml::Table>,
     /// Folder of the scenario file (for relative paths).
     #[serde(skip)]
     pub base_dir: PathBuf,
@@ -127,8 +133,13 @@ impl Scenario {
             apply_override(&mut root, key, value)?;
         }
         let source = robots::defaults::take_and_apply(&mut root, base_dir)?;
+        let walking_given = match root.get("walking") {
+            Some(toml::Value::Table(given)) if source.description != *icub() => Some(given.clone()),
+            _ => None,
+        };
         let mut scenario: Scenario = parse::read_value(toml::Value::Table(root.clone()))
             .map_err(|e| schema_error(e, &root))?;
+        scenario.walking_given = walking_given;
         scenario.base_dir = base_dir.to_path_buf();
         scenario.description = Arc::new(source.description);
         scenario.resolve_urdf_uri()?;

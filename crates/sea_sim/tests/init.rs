@@ -250,3 +250,74 @@ fn a_missing_or_unresolvable_mesh_is_named() {
         std::fs::remove_dir_all(urdf_dir).unwrap();
     }
 }
+
+/// `init --walking` for the iCub: the `[walking]` written is the scaled rule's
+/// (`WalkingSettings::scaled_to` of the figures `init` reports, rounded to 1 mm and 1 ms; the
+/// iCub's own legs give `k` = 1, so the durations are the defaults'), the scenario builds, and
+/// the robot walks its 8 steps and the stop without a fall.
+#[test]
+fn a_walking_scenario_is_written_scaled_to_the_robot_and_walks() {
+    use sea_ctrl::walking::WalkingSettings;
+    let dir = folder("icub_walk");
+    let options = InitOptions {
+        walking: true,
+        out: dir.join("icub_walk.toml"),
+        ..icub_options(&dir)
+    };
+    let report = init(&options).unwrap();
+    let scenario = Scenario::from_file(&options.out, &[]).unwrap();
+    let written = scenario.walking.clone().expect("[walking]");
+    let scaled = WalkingSettings::scaled_to(&report.walking_figures).unwrap();
+    let figures = report.walking_figures;
+    assert!((figures.leg_length - sea_ctrl::walking::ICUB_LEG_LENGTH).abs() < 1e-4);
+    for (written, rule) in [
+        (written.com_height, scaled.com_height),
+        (written.nominal_width, scaled.nominal_width),
+        (written.max_step_length, scaled.max_step_length),
+        (written.swing_height, scaled.swing_height),
+        (written.step_duration, scaled.step_duration),
+        (written.transfer_duration, scaled.transfer_duration),
+    ] {
+        assert!((written - rule).abs() <= 5e-4, "{written} against {rule}");
+    }
+    assert!((written.step_duration - WalkingSettings::default().step_duration).abs() < 1e-3);
+    assert_eq!(written.command.steps, Some(8));
+    let (_, summary) = sea_sim::scenario::run::run(&scenario, |_, _| ()).unwrap();
+    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    assert_eq!(summary.steps_taken, Some(9));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `[walking]` in an init scenario takes the defaults scaled to the robot for the keys it
+/// leaves out: the iCub written by init with only `[walking.command]` walks on a pendulum of
+/// its own CoM height and at its own feet's distance, not the iCub-sized defaults'.
+#[test]
+fn walking_keys_left_out_take_the_defaults_scaled_to_the_robot() {
+    use sea_ctrl::walking::WalkingSettings;
+    let dir = folder("icub_walk_defaults");
+    let options = InitOptions {
+        walking: true,
+        out: dir.join("icub_walk.toml"),
+        ..icub_options(&dir)
+    };
+    let report = init(&options).unwrap();
+    let text = std::fs::read_to_string(&options.out).unwrap();
+    let mut root: toml::Table = toml::from_str(&text).unwrap();
+    let walking = root["walking"].as_table_mut().unwrap();
+    walking.retain(|key, _| key == "command");
+    std::fs::write(&options.out, toml::to_string(&root).unwrap()).unwrap();
+    let scenario = Scenario::from_file(&options.out, &[]).unwrap();
+    let setup = build(&scenario).unwrap();
+    let gait = setup.controller.gait().expect("walking");
+    let figures = report.walking_figures;
+    let scaled = WalkingSettings::scaled_to(&figures).unwrap();
+    let gravity = setup.model.gravity.norm();
+    let omega = (gravity / scaled.com_height).sqrt();
+    assert!((gait.dcm.lip().omega - omega).abs() < 1e-9);
+    assert!((scaled.com_height - WalkingSettings::default().com_height).abs() > 0.01);
+    let last = gait.footsteps.final_stance();
+    let width = (last.left.world_p_sole - last.right.world_p_sole).norm();
+    assert!((width - figures.feet_distance).abs() < 1e-9, "{width}");
+    assert!((gait.swings[0].height - scaled.swing_height).abs() < 1e-12);
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -48,5 +48,8 @@ pub use gait::{FootTask, Gait};
 pub use lip::Lip;
 pub use phase::{GaitPhase, Support};
 pub use polygon::SupportPolygon;
-pub use settings::{FootstepSpec, WalkCommand, WalkingSettings};
+pub use settings::{
+    FootstepSpec, RobotWalkingFigures, WalkCommand, WalkingSettings, ICUB_LEG_LENGTH,
+    STEP_LENGTH_PER_REACH,
+};
 pub use swing::{SwingSample, SwingTrajectory};

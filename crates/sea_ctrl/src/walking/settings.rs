@@ -159,7 +159,74 @@ impl Default for WalkingSettings {
     }
 }
 
+/// The figures of a robot standing that the walking settings scale with
+/// ([`WalkingSettings::scaled_to`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RobotWalkingFigures {
+    /// The CoM's height above the soles, standing [m].
+    pub com_height: f64,
+    /// The horizontal distance between the two sole origins, standing [m].
+    pub feet_distance: f64,
+    /// The straight leg's length [m]: the sum of the distances between the leg's joint
+    /// origins from the hip down to the sole (the shorter leg's).
+    pub leg_length: f64,
+    /// The longest step the legs reach from the standing posture, `2 sqrt(L^2 - h^2)` (straight
+    /// leg `L`, hip height `h`) [m].
+    pub reach: f64,
+}
+
+/// The iCub's straight leg length [m] (urdf/icub25.urdf, hip yaw origin to sole: 0.5436 m), the
+/// length the defaults are sized for and [`WalkingSettings::scaled_to`] scales from.
+pub const ICUB_LEG_LENGTH: f64 = 0.5436;
+
+/// `max_step_length` of [`WalkingSettings::scaled_to`] as a fraction of the legs' reach (the
+/// iCub's hand-set 0.20 m is 0.44 of its 0.459 m).
+pub const STEP_LENGTH_PER_REACH: f64 = 0.6;
+
 impl WalkingSettings {
+    /// The defaults scaled to a robot of `figures` (the rule `sea-sim init` writes,
+    /// docs/explanation/walking.md#settings): `com_height` the CoM's standing height,
+    /// `nominal_width` the feet's distance, `min_step_width` and `max_step_width` the defaults'
+    /// in proportion to it, `max_step_length` [`STEP_LENGTH_PER_REACH`] of the reach; with the
+    /// length ratio `k = leg_length / ICUB_LEG_LENGTH`, `swing_height` and `capture_margin`
+    /// times `k` and every duration (step, double support, transfer, shortest swing) times
+    /// `sqrt(k)` (a pendulum's time scale); the swing gains, the command and the footsteps as
+    /// the defaults'. An error names the figure that is not positive and finite.
+    pub fn scaled_to(figures: &RobotWalkingFigures) -> Result<Self> {
+        for (name, value) in [
+            ("com_height", figures.com_height),
+            ("feet_distance", figures.feet_distance),
+            ("leg_length", figures.leg_length),
+            ("reach", figures.reach),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(Error::invalid(
+                    format!("walking figures: {name}"),
+                    "must be positive and finite",
+                    value,
+                ));
+            }
+        }
+        let icub = Self::default();
+        let length_scale = figures.leg_length / ICUB_LEG_LENGTH;
+        let time_scale = length_scale.sqrt();
+        let width_scale = figures.feet_distance / icub.nominal_width;
+        Ok(Self {
+            com_height: figures.com_height,
+            step_duration: icub.step_duration * time_scale,
+            double_support_duration: icub.double_support_duration * time_scale,
+            transfer_duration: icub.transfer_duration * time_scale,
+            swing_height: icub.swing_height * length_scale,
+            nominal_width: figures.feet_distance,
+            max_step_length: STEP_LENGTH_PER_REACH * figures.reach,
+            min_step_width: icub.min_step_width * width_scale,
+            max_step_width: icub.max_step_width * width_scale,
+            min_swing_duration: icub.min_swing_duration * time_scale,
+            capture_margin: icub.capture_margin * length_scale,
+            ..icub
+        })
+    }
+
     /// The pendulum of `com_height` under gravity of magnitude `gravity` [m/s^2] (the
     /// model's); an error names `walking.com_height` when it is not positive.
     pub fn lip(&self, gravity: f64) -> Result<Lip> {

@@ -4,7 +4,8 @@
 //! ([`actuators`]), a standing posture found by inverse kinematics ([`posture`]), the foot
 //! rectangle measured on the collision geometry ([`foot`], meshes read by [`crate::meshes`])
 //! unless given, gains scaled to the robot ([`gains`]); the run is the paper's CoM sinusoid
-//! (1 cm, 0.2 Hz, lateral) for 5 s. The file is written beside its target and renamed over it only when
+//! (1 cm, 0.2 Hz, lateral) for 5 s, or with `walking` a walk ([`walking`]: the `[walking]`
+//! defaults scaled to the robot, the controller settings the iCub walks with). The file is written beside its target and renamed over it only when
 //! complete ([`crate::output::OutputFile`]).
 //!
 //! A robot whose two feet's 12 constraints are dependent at the standing posture (legs of 5
@@ -18,6 +19,7 @@ pub mod foot;
 pub mod gains;
 pub mod mesh_files;
 pub mod posture;
+pub mod walking;
 pub mod write;
 
 use crate::error::{Error, Result};
@@ -41,8 +43,11 @@ pub struct InitOptions {
     pub package_dirs: Vec<PathBuf>,
     /// The scenario file to write.
     pub out: PathBuf,
-    /// The scenario's name (default: the robot's name and "two_feet").
+    /// The scenario's name (default: the robot's name and "two_feet", or "walk" with
+    /// `walking`).
     pub name: Option<String>,
+    /// Write a walking scenario ([`walking`]) instead of the CoM sinusoid.
+    pub walking: bool,
 }
 
 /// What `init` found, for the user.
@@ -65,6 +70,8 @@ pub struct InitReport {
     pub feet_rank: usize,
     /// The model's warnings (doubtful inertias, fused massless links).
     pub warnings: Vec<String>,
+    /// The robot's figures the walking settings scale with ([`walking::walking_figures`]).
+    pub walking_figures: sea_ctrl::walking::RobotWalkingFigures,
 }
 
 /// Reads `FOOT` as `X0,X1,Y0,Y1` (metres, contact frame) with `x0 < x1` and `y0 < y1`.
@@ -136,7 +143,18 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
     };
     let standing = posture::standing_posture(&model, feet, rectangles)?;
     let feet_rank = two_feet_rank(&model, feet, &standing);
-    let written = write::write_scenario(options, &model, feet, rectangles, &standing, feet_rank)?;
+    let walking_figures = walking::walking_figures(&model, feet, &standing);
+    let settings = options
+        .walking
+        .then(|| walking::walking_settings(&walking_figures))
+        .transpose()?;
+    let body = write::Body {
+        rectangles,
+        standing: &standing,
+        feet_rank,
+        walking: settings.as_ref(),
+    };
+    let written = write::write_scenario(options, &model, feet, &body)?;
     Ok(InitReport {
         out: written,
         robot: (model.name.clone(), model.total_mass(), model.n_joints()),
@@ -146,6 +164,7 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
         residual: standing.residual,
         feet_rank,
         warnings: model.warnings.iter().map(|w| w.to_string()).collect(),
+        walking_figures,
     })
 }
 

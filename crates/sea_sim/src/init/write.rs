@@ -3,13 +3,14 @@
 //! when complete.
 
 use super::posture::Standing;
-use super::{actuators, gains, InitOptions};
+use super::{actuators, gains, walking, InitOptions};
 use crate::error::{Error, Result};
 use crate::output::OutputFile;
 use crate::scenario::robots::AngleUnit;
 use crate::scenario::robots::{
     icub, FootRectangle, MomentumIntegral, PosturalStiffness, Posture, RobotDescription,
 };
+use sea_ctrl::walking::WalkingSettings;
 use sea_dyn::{FrameId, Model};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -24,25 +25,43 @@ pub const COM_SINUSOID: (f64, f64, f64) = (0.01, 0.2, 5.0);
 /// (60 s, docs/findings/robots.md).
 pub const REDUNDANT_PINV_DAMPING: f64 = 3e-2;
 
-/// Writes the scenario for feet whose constraints have rank `feet_rank` (12, or fewer when
-/// redundant: then [`REDUNDANT_PINV_DAMPING`]); returns the path written.
+/// What the scenario is made of besides the options.
+pub struct Body<'a> {
+    /// The foot rectangles (left, right).
+    pub rectangles: [FootRectangle; 2],
+    /// The standing posture.
+    pub standing: &'a Standing,
+    /// The rank of the two feet's constraints (12, or fewer when redundant: then
+    /// [`REDUNDANT_PINV_DAMPING`]).
+    pub feet_rank: usize,
+    /// `Some`: a walking scenario with these settings (`super::walking`).
+    pub walking: Option<&'a WalkingSettings>,
+}
+
+/// Writes the scenario of `body`; returns the path written.
 pub fn write_scenario(
     options: &InitOptions,
     model: &Model,
     feet: [FrameId; 2],
-    rectangles: [FootRectangle; 2],
-    standing: &Standing,
-    feet_rank: usize,
+    body: &Body<'_>,
 ) -> Result<PathBuf> {
-    let mut description = describe(options, model, feet, rectangles, standing)?;
-    if feet_rank < 12 {
+    let mut description = describe(options, model, feet, body.rectangles, body.standing)?;
+    if body.feet_rank < 12 {
         description.pinv_damping = REDUNDANT_PINV_DAMPING;
     }
+    let suffix = if body.walking.is_some() {
+        "walk"
+    } else {
+        "two_feet"
+    };
     let name = options
         .name
         .clone()
-        .unwrap_or_else(|| format!("{}_two_feet", model.name));
-    let text = scenario_text(options, &name, &description)?;
+        .unwrap_or_else(|| format!("{}_{suffix}", model.name));
+    let text = match body.walking {
+        None => scenario_text(options, &name, &description)?,
+        Some(settings) => walking_text(options, &name, &description, settings)?,
+    };
     let mut file = OutputFile::create(&options.out)?;
     file.write_all(text.as_bytes())?;
     file.commit()?;
@@ -154,18 +173,7 @@ fn scenario_text(options: &InitOptions, name: &str, robot: &RobotDescription) ->
     let (amplitude, frequency, duration) = COM_SINUSOID;
     let mut root = toml::Table::new();
     root.insert("name".into(), name.into());
-    let mut robot_table = toml::Table::new();
-    if !options.package_dirs.is_empty() {
-        let dirs = options
-            .package_dirs
-            .iter()
-            .map(|d| d.display().to_string().into());
-        robot_table.insert("package_dirs".into(), toml::Value::Array(dirs.collect()));
-    }
-    let description = toml::Table::try_from(robot)
-        .map_err(|e| Error::config("robot.description", e.to_string()))?;
-    robot_table.insert("description".into(), description.into());
-    root.insert("robot".into(), robot_table.into());
+    root.insert("robot".into(), robot_table(options, robot)?.into());
     let reference: toml::Table = toml::from_str(&format!(
         "com_amplitude = {amplitude:?}\ncom_frequency = {frequency:?}\n\
          com_direction = [0.0, 1.0, 0.0]\ncom_origin = \"initial\"\n"
@@ -181,6 +189,69 @@ fn scenario_text(options: &InitOptions, name: &str, robot: &RobotDescription) ->
     root.insert("simulation".into(), simulation.into());
     let body = toml::to_string(&root).map_err(|e| Error::config("scenario", e.to_string()))?;
     Ok(format!("{}{body}", header(options)))
+}
+
+/// The walking scenario's TOML text: the robot, [`walking::WALKING_CONTROLLER`]'s tables, the
+/// `[walking]` table of `settings` and the duration of the walk and the standing after.
+fn walking_text(
+    options: &InitOptions,
+    name: &str,
+    robot: &RobotDescription,
+    settings: &WalkingSettings,
+) -> Result<String> {
+    let mut root: toml::Table = toml::from_str(walking::WALKING_CONTROLLER)
+        .map_err(|e| Error::config("controller", e.to_string()))?;
+    root.insert("name".into(), name.into());
+    root.insert("robot".into(), robot_table(options, robot)?.into());
+    root["plant"]
+        .as_table_mut()
+        .expect("a table")
+        .insert("contact_model".into(), "unilateral".into());
+    root["simulation"].as_table_mut().expect("a table").insert(
+        "duration_s".into(),
+        walking::walking_duration(settings).into(),
+    );
+    let table =
+        toml::Table::try_from(settings).map_err(|e| Error::config("walking", e.to_string()))?;
+    root.insert("walking".into(), table.into());
+    let body = toml::to_string(&root).map_err(|e| Error::config("scenario", e.to_string()))?;
+    Ok(format!("{}{body}", walking_header(options, settings)))
+}
+
+/// The `[robot]` table: the package folders given and the description inline.
+fn robot_table(options: &InitOptions, robot: &RobotDescription) -> Result<toml::Table> {
+    let mut robot_table = toml::Table::new();
+    if !options.package_dirs.is_empty() {
+        let dirs = options
+            .package_dirs
+            .iter()
+            .map(|d| d.display().to_string().into());
+        robot_table.insert("package_dirs".into(), toml::Value::Array(dirs.collect()));
+    }
+    let description = toml::Table::try_from(robot)
+        .map_err(|e| Error::config("robot.description", e.to_string()))?;
+    robot_table.insert("description".into(), description.into());
+    Ok(robot_table)
+}
+
+/// The comment on top of a walking scenario.
+fn walking_header(options: &InitOptions, settings: &WalkingSettings) -> String {
+    let made = header(options);
+    let first = made.lines().next().unwrap_or_default().replace(
+        "`: a two-feet balancing scenario",
+        " --walking`: a walking scenario",
+    );
+    format!(
+        "{first}\n\
+         # with its robot description inline ([robot.description], docs/guide/your_robot.md).\n\
+         # [walking]: the defaults scaled to the robot (com_height its CoM's, nominal_width its\n\
+         # feet's distance, max_step_length 0.6 of the legs' reach, durations times sqrt(k) and\n\
+         # swing_height times k, k = leg length / the iCub's: docs/explanation/walking.md), then\n\
+         # {} steps forward of {:.3} m and the stop; the controller as the iCub walks\n\
+         # (scenarios/walking/walk_straight.toml).\n\n",
+        walking::WALK_STEPS,
+        settings.command.forward_velocity * settings.step_duration,
+    )
 }
 
 /// The comment on top of the file: how it was made.

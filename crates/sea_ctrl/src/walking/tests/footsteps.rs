@@ -105,6 +105,32 @@ fn turning_in_place_ninety_degrees() {
     assert_valid_and_stopped(&plan, &settings);
 }
 
+/// A clockwise turn stepping with the right foot first is the mirror image (y and yaw
+/// negated, the feet swapped) of the counter-clockwise turn with the left foot first, and the
+/// clockwise turn with the left foot first (its first step turns the left foot inwards) is
+/// valid and turns as far.
+#[test]
+fn clockwise_turns_mirror_counter_clockwise_ones() {
+    let steps = 6;
+    let rate = FRAC_PI_2 / (steps as f64 * 0.6);
+    let ccw = walking(steps, 0.0, 0.0, rate);
+    let mut cw = walking(steps, 0.0, 0.0, -rate);
+    cw.command.first_foot = Foot::Right;
+    let ccw_plan = footsteps_from_command(&ccw, standing(&ccw)).unwrap();
+    let cw_plan = footsteps_from_command(&cw, standing(&cw)).unwrap();
+    for (a, b) in ccw_plan.steps.iter().zip(&cw_plan.steps) {
+        assert_eq!(a.foot.other(), b.foot);
+        let mirrored = Vector2::new(a.pose.world_p_sole.x, -a.pose.world_p_sole.y);
+        assert_close(b.pose.world_p_sole, mirrored, 1e-12, "mirrored landing");
+        assert!((b.pose.world_yaw_sole + a.pose.world_yaw_sole).abs() < 1e-12);
+    }
+    cw.command.first_foot = Foot::Left;
+    let inwards = footsteps_from_command(&cw, standing(&cw)).unwrap();
+    assert_valid_and_stopped(&inwards, &cw);
+    let yaw = inwards.final_stance().mid_frame().world_yaw_sole;
+    assert!((yaw + FRAC_PI_2).abs() < 1e-12, "{yaw}");
+}
+
 #[test]
 fn turns_are_clipped_per_step() {
     let settings = walking(2, 0.0, 0.0, 10.0);

@@ -105,3 +105,49 @@ fn other_bad_values_name_their_keys() {
         assert_eq!(key_of(settings.validate(0.01).unwrap_err()), key);
     }
 }
+
+#[test]
+fn the_scaled_settings_follow_the_rule_and_are_valid() {
+    use super::super::settings::{
+        RobotWalkingFigures, WalkingSettings, ICUB_LEG_LENGTH, STEP_LENGTH_PER_REACH,
+    };
+    let icub = WalkingSettings::default();
+    // A robot with legs 4 times the iCub's: lengths x4, durations x2.
+    let figures = RobotWalkingFigures {
+        com_height: 1.9,
+        feet_distance: 0.28,
+        leg_length: 4.0 * ICUB_LEG_LENGTH,
+        reach: 1.5,
+    };
+    let scaled = WalkingSettings::scaled_to(&figures).unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+    assert!(close(scaled.com_height, 1.9));
+    assert!(close(scaled.nominal_width, 0.28));
+    assert!(close(scaled.min_step_width, 2.0 * icub.min_step_width));
+    assert!(close(scaled.max_step_width, 2.0 * icub.max_step_width));
+    assert!(close(scaled.max_step_length, STEP_LENGTH_PER_REACH * 1.5));
+    assert!(close(scaled.swing_height, 4.0 * icub.swing_height));
+    assert!(close(scaled.step_duration, 2.0 * icub.step_duration));
+    assert!(close(
+        scaled.double_support_duration,
+        2.0 * icub.double_support_duration
+    ));
+    assert!(close(
+        scaled.transfer_duration,
+        2.0 * icub.transfer_duration
+    ));
+    assert!(close(
+        scaled.min_swing_duration,
+        2.0 * icub.min_swing_duration
+    ));
+    assert_eq!(scaled.max_step_turn, icub.max_step_turn);
+    let mut walking = scaled.clone();
+    walking.command.steps = Some(2);
+    walking.validate(0.01).expect("valid");
+    let bad = RobotWalkingFigures {
+        reach: f64::NAN,
+        ..figures
+    };
+    let message = WalkingSettings::scaled_to(&bad).unwrap_err().to_string();
+    assert!(message.contains("reach"), "{message}");
+}

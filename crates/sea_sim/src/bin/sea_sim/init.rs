@@ -24,9 +24,12 @@ pub(crate) struct InitArgs {
     /// A folder searched first for package:// URIs (repeatable).
     #[arg(long = "package-dir", value_name = "DIR")]
     package_dirs: Vec<PathBuf>,
+    /// Write a walking scenario ([walking] with the defaults scaled to the robot, 8 steps
+    /// forward and the stop) instead of the CoM sinusoid [default file: ROBOT_walk.toml].
+    #[arg(long)]
+    walking: bool,
 }
 
-/// `sea-sim bench`.
 /// `sea-sim init`: writes the scenario, says what it found on stderr.
 pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
     use sea_sim::init::{init, parse_foot, InitOptions};
@@ -40,11 +43,12 @@ pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
         contacts: [args.contacts[0].clone(), args.contacts[1].clone()],
         foot,
         package_dirs: args.package_dirs.clone(),
-        out: args
-            .out
-            .clone()
-            .unwrap_or_else(|| PathBuf::from(format!("{stem}_two_feet.toml"))),
+        out: args.out.clone().unwrap_or_else(|| {
+            let suffix = if args.walking { "walk" } else { "two_feet" };
+            PathBuf::from(format!("{stem}_{suffix}.toml"))
+        }),
         name: None,
+        walking: args.walking,
     };
     let report = init(&options)?;
     let (name, mass, joints) = &report.robot;
@@ -58,6 +62,14 @@ pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
              controller.pinv_damping {}",
             report.feet_rank,
             sea_sim::init::write::REDUNDANT_PINV_DAMPING
+        ));
+    }
+    if args.walking {
+        let figures = &report.walking_figures;
+        say(format_args!(
+            "sea-sim: walking scaled to CoM height {:.3} m, feet {:.3} m apart, leg {:.3} m, \
+             reach {:.3} m",
+            figures.com_height, figures.feet_distance, figures.leg_length, figures.reach
         ));
     }
     let [left, _] = report.feet;
