@@ -52,6 +52,10 @@ pub(super) struct ContactPhases {
     position_gain: f64,
     /// Velocity gain of the swing sole's PD [1/s].
     velocity_gain: f64,
+    /// The gains (position [1/s^2], velocity [1/s]) of the PD that settles a foot on the
+    /// ground flat ([`settle_acceleration`], `walking.settle_position_gain` and
+    /// `walking.settle_velocity_gain`); `None` when both are zero: the paper's held contact.
+    settle_gains: Option<(f64, f64)>,
     /// Each contact's task at this tick.
     pub(super) tasks: [FootTask; 2],
     /// The one-contact QP of single support and its buffers.
@@ -105,6 +109,36 @@ pub fn swing_acceleration(
     Vector6::new(
         linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
     )
+}
+
+/// A foot on the ground's desired classical acceleration `[a_origin; omegadot]` (world
+/// axes): a PD that settles the sole flat on the ground, `a* = K_p e - K_d v`, with `e` the
+/// sole origin's height error to the ground `world_z_ground` (along z only) and the rotation
+/// error `log(R_flat R^T)` to the sole turned flat about its own yaw, `v` its measured velocity
+/// `[v_origin; omega]`. Zero on a sole at rest flat on the ground (the paper's held contact,
+/// eq:constraints_acc); a landing sole that bounced or rocks onto an edge is pulled back down
+/// and flat instead of being held where it is.
+pub fn settle_acceleration(
+    world_h_sole: &Pose,
+    world_v_sole: &Vector6<f64>,
+    world_z_ground: f64,
+    position_gain: f64,
+    velocity_gain: f64,
+) -> Vector6<f64> {
+    let x_axis = world_h_sole.rotation.column(0);
+    let yaw = x_axis.y.atan2(x_axis.x);
+    let world_r_flat = Rotation3::from_axis_angle(&nalgebra::Vector3::z_axis(), yaw);
+    let rotation_error = Rotation3::from_matrix_unchecked(
+        world_r_flat.matrix() * world_h_sole.rotation.transpose(),
+    )
+    .scaled_axis();
+    let height_error = world_z_ground - world_h_sole.translation.z;
+    let mut acceleration = -world_v_sole * velocity_gain;
+    acceleration[2] += height_error * position_gain;
+    for r in 0..3 {
+        acceleration[3 + r] += rotation_error[r] * position_gain;
+    }
+    acceleration
 }
 
 /// 0 for the left foot, 1 for the right.
@@ -238,6 +272,9 @@ impl MomentumController {
             gait,
             position_gain: settings.swing_position_gain,
             velocity_gain: settings.swing_velocity_gain,
+            settle_gains: (settings.settle_position_gain > 0.0
+                || settings.settle_velocity_gain > 0.0)
+                .then_some((settings.settle_position_gain, settings.settle_velocity_gain)),
             single: SingleSupportQp {
                 qp: single_qp,
                 minimizer: Minimizer::new(6, 0),
@@ -299,12 +336,21 @@ impl MomentumController {
         let Some(desired) = map.desired_acceleration.as_mut() else {
             return;
         };
+        let rows = map.jacobian.rows(6 * c, 6);
+        let velocity =
+            Vector6::from_fn(|r, _| rows.row(r).iter().zip(nu).map(|(j, v)| j * v).sum());
         let acceleration = match &walking.tasks[c] {
-            FootTask::Contact { .. } => Vector6::zeros(),
+            FootTask::Contact { .. } => match walking.settle_gains {
+                Some((kp, kd)) => settle_acceleration(
+                    world_h_sole,
+                    &velocity,
+                    walking.gait.world_z_ground,
+                    kp,
+                    kd,
+                ),
+                None => Vector6::zeros(),
+            },
             FootTask::Swing(sample) => {
-                let rows = map.jacobian.rows(6 * c, 6);
-                let velocity =
-                    Vector6::from_fn(|r, _| rows.row(r).iter().zip(nu).map(|(j, v)| j * v).sum());
                 let (kp, kd) = (walking.position_gain, walking.velocity_gain);
                 swing_acceleration(sample, world_h_sole, &velocity, kp, kd)
             }

@@ -47,6 +47,8 @@ pub struct Gait {
     pub world_z_com_start: f64,
     /// Which contact index (in the controller's order of contacts) each foot is: left, right.
     pub contact_of: [usize; 2],
+    /// The ground's height in world [m]: the standing soles' mean.
+    pub world_z_ground: f64,
 }
 
 impl Gait {
@@ -94,6 +96,7 @@ impl Gait {
             world_z_com: world_z_ground + settings.com_height,
             world_z_com_start: world_p_com.z,
             contact_of,
+            world_z_ground,
         })
     }
 
