@@ -127,10 +127,12 @@ pub struct WalkingSettings {
     pub swing_velocity_gain: f64,
     /// Position gain of the PD that settles a foot on the ground flat on it (its height to
     /// the ground, its roll and pitch to zero; `controller::contact_phase::settle_acceleration`)
-    /// [1/s^2], >= 0; 0 with `settle_velocity_gain` 0: the foot is held where it is (the
-    /// paper's contact, zero acceleration).
+    /// [1/s^2], >= 0 (default 100: with 20 below, critically damped at 10 rad/s); 0 with
+    /// `settle_velocity_gain` 0: the foot is held where it is (the paper's contact, zero
+    /// acceleration; then landing soles that bounce or rock stay in the air, and 50 steps at
+    /// 0.3 m/s end early, docs/findings/walking.md).
     pub settle_position_gain: f64,
-    /// Velocity gain of the PD that settles a foot on the ground [1/s], >= 0.
+    /// Velocity gain of the PD that settles a foot on the ground [1/s], >= 0 (default 20).
     pub settle_velocity_gain: f64,
     /// Whether the feet's force/torque sensors move the touchdowns (an early touchdown holds
     /// the foot, a late foot keeps descending; `controller::contact_phase`); `false`: the
@@ -159,8 +161,8 @@ impl Default for WalkingSettings {
             capture_margin: 0.01,
             swing_position_gain: 400.0,
             swing_velocity_gain: 40.0,
-            settle_position_gain: 0.0,
-            settle_velocity_gain: 0.0,
+            settle_position_gain: 100.0,
+            settle_velocity_gain: 20.0,
             sensed_touchdown: false,
             command: WalkCommand::default(),
             footsteps: Vec::new(),
