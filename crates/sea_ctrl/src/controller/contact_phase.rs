@@ -56,6 +56,11 @@ pub(super) struct ContactPhases {
     /// ground flat ([`settle_acceleration`], `walking.settle_position_gain` and
     /// `walking.settle_velocity_gain`); `None` when both are zero: the paper's held contact.
     settle_gains: Option<(f64, f64)>,
+    /// `walking.double_support_momentum_weight` (0: the paper's equality in double support).
+    double_support_momentum_weight: f64,
+    /// The two-feet QP without equalities of double support's momentum task in least
+    /// squares (`qp_solve.rs`).
+    pub(super) least_squares_qp: WrenchQp,
     /// Each contact's task at this tick.
     pub(super) tasks: [FootTask; 2],
     /// The one-contact QP of single support and its buffers.
@@ -260,6 +265,8 @@ impl MomentumController {
         let mut single_qp = WrenchQp::new(1, 0, &self.settings.constraints);
         single_qp.unconstrained_first = self.settings.tuning.qp_unconstrained_first;
         single_qp.solver = self.settings.tuning.qp_solver;
+        let mut least_squares_qp = WrenchQp::new(2, 0, &self.settings.constraints);
+        least_squares_qp.solver = self.settings.tuning.qp_solver;
         self.torque_map.desired_acceleration = Some(DVector::zeros(12));
         let weight = self.mass * gravity;
         self.walking = Some(ContactPhases {
@@ -275,6 +282,8 @@ impl MomentumController {
             settle_gains: (settings.settle_position_gain > 0.0
                 || settings.settle_velocity_gain > 0.0)
                 .then_some((settings.settle_position_gain, settings.settle_velocity_gain)),
+            double_support_momentum_weight: settings.double_support_momentum_weight,
+            least_squares_qp,
             single: SingleSupportQp {
                 qp: single_qp,
                 minimizer: Minimizer::new(6, 0),
@@ -358,6 +367,14 @@ impl MomentumController {
         desired.fixed_rows_mut::<6>(6 * c).copy_from(&acceleration);
     }
 
+    /// Walking with `walking.double_support_momentum_weight` above zero: that weight (the
+    /// double support's momentum task in least squares, `qp_solve.rs`); `None` otherwise (the
+    /// paper's equality `A f = b`).
+    pub(super) fn double_support_momentum_weight(&self) -> Option<f64> {
+        let weight = self.walking.as_ref()?.double_support_momentum_weight;
+        (weight > 0.0 && self.redundant.is_none()).then_some(weight)
+    }
+
     /// The stance contact of single support (`None` in double support or when not walking).
     pub(super) fn stance_contact(&self) -> Option<usize> {
         let tasks = &self.walking.as_ref()?.tasks;
@@ -410,11 +427,23 @@ impl MomentumController {
         status
     }
 
-    /// The single-support QP's counters (zero when not walking).
+    /// The counters of the walking QPs, single support's and double support's in least
+    /// squares, summed (zero when not walking).
     pub(super) fn single_support_counters(&self) -> QpCounters {
-        self.walking
-            .as_ref()
-            .map_or_else(QpCounters::default, |walking| walking.single.qp.counters())
+        let Some(walking) = self.walking.as_ref() else {
+            return QpCounters::default();
+        };
+        let (one, two) = (
+            walking.single.qp.counters(),
+            walking.least_squares_qp.counters(),
+        );
+        QpCounters {
+            unconstrained: one.unconstrained + two.unconstrained,
+            active_set: one.active_set + two.active_set,
+            clarabel: one.clarabel + two.clarabel,
+            active_set_failures: one.active_set_failures + two.active_set_failures,
+            fallbacks: one.fallbacks + two.fallbacks,
+        }
     }
 }
 

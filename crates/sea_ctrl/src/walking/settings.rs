@@ -134,6 +134,11 @@ pub struct WalkingSettings {
     pub settle_position_gain: f64,
     /// Velocity gain of the PD that settles a foot on the ground [1/s], >= 0 (default 20).
     pub settle_velocity_gain: f64,
+    /// Double support: the momentum task in least squares with this weight (times the
+    /// torque objective's mean diagonal) instead of the paper's equality `A f = b`, >= 0
+    /// (default 0: the equality, which at a touchdown loads the landing foot at once with
+    /// the momentum rate the stance foot could not produce).
+    pub double_support_momentum_weight: f64,
     /// Whether the feet's force/torque sensors move the touchdowns (an early touchdown holds
     /// the foot, a late foot keeps descending; `controller::contact_phase`); `false`: the
     /// plan's timing alone.
@@ -163,6 +168,7 @@ impl Default for WalkingSettings {
             swing_velocity_gain: 40.0,
             settle_position_gain: 100.0,
             settle_velocity_gain: 20.0,
+            double_support_momentum_weight: 0.0,
             sensed_touchdown: false,
             command: WalkCommand::default(),
             footsteps: Vec::new(),
@@ -247,6 +253,10 @@ impl WalkingSettings {
             ("walking.swing_velocity_gain", self.swing_velocity_gain),
             ("walking.settle_position_gain", self.settle_position_gain),
             ("walking.settle_velocity_gain", self.settle_velocity_gain),
+            (
+                "walking.double_support_momentum_weight",
+                self.double_support_momentum_weight,
+            ),
         ] {
             if !(value.is_finite() && value >= 0.0) {
                 return Err(Error::invalid(
