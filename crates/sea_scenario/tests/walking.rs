@@ -222,7 +222,10 @@ fn eight_steps_at_0_3_m_s_walk_the_planned_distance() {
     assert_eq!(summary.status, "completed", "{}", summary.reason);
     let gait = setup.controller.gait().unwrap();
     assert_eq!(summary.steps_taken, Some(gait.footsteps.steps.len()));
-    assert!(gait.end_time() <= 5.0, "the walk ends standing within the run");
+    assert!(
+        gait.end_time() <= 5.0,
+        "the walk ends standing within the run"
+    );
     let mid_feet = |i: usize| {
         let stance = gait.footsteps.stances[i];
         (stance.left.world_p_sole + stance.right.world_p_sole) * 0.5

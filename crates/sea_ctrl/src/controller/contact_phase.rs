@@ -133,10 +133,9 @@ pub fn settle_acceleration(
     let x_axis = world_h_sole.rotation.column(0);
     let yaw = x_axis.y.atan2(x_axis.x);
     let world_r_flat = Rotation3::from_axis_angle(&nalgebra::Vector3::z_axis(), yaw);
-    let rotation_error = Rotation3::from_matrix_unchecked(
-        world_r_flat.matrix() * world_h_sole.rotation.transpose(),
-    )
-    .scaled_axis();
+    let rotation_error =
+        Rotation3::from_matrix_unchecked(world_r_flat.matrix() * world_h_sole.rotation.transpose())
+            .scaled_axis();
     let height_error = world_z_ground - world_h_sole.translation.z;
     let mut acceleration = -world_v_sole * velocity_gain;
     acceleration[2] += height_error * position_gain;
