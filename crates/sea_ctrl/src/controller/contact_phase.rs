@@ -485,6 +485,29 @@ mod tests {
     }
 
     #[test]
+    fn the_settling_pd_pulls_a_foot_down_and_flat_and_leaves_a_resting_one_alone() {
+        let yawed = *Rotation3::from_axis_angle(&Vector3::z_axis(), 0.3).matrix();
+        let mut pose = Pose {
+            rotation: yawed,
+            translation: Vector3::new(0.2, 0.1, 0.01),
+        };
+        // Flat on the ground at 0.01 m, at rest: nothing asked (the paper's held contact).
+        let rest = settle_acceleration(&pose, &Vector6::zeros(), 0.01, 100.0, 20.0);
+        assert!(rest.norm() < 1e-12);
+        // 5 mm up, pitched 0.1 rad about its own y axis, rising at 0.1 m/s: pushed down,
+        // pitched back, damped; no horizontal pull, the yaw kept.
+        pose.translation.z = 0.015;
+        pose.rotation = yawed * Rotation3::from_axis_angle(&Vector3::y_axis(), 0.1).matrix();
+        let v = Vector6::new(0.0, 0.0, 0.1, 0.0, 0.0, 0.0);
+        let a = settle_acceleration(&pose, &v, 0.01, 100.0, 20.0);
+        assert!((a[2] - (-0.5 - 2.0)).abs() < 1e-9, "{a}");
+        assert!(a[0].abs() < 1e-12 && a[1].abs() < 1e-12);
+        let pitch_axis = yawed * Vector3::y();
+        let angular = a.fixed_rows::<3>(3).into_owned();
+        assert!((angular + pitch_axis * 10.0).norm() < 1e-9, "{angular}");
+    }
+
+    #[test]
     fn the_share_penalty_vanishes_at_half_and_grows_without_bound_at_zero() {
         assert_eq!(share_penalty(0.5), 0.0);
         assert_eq!(share_penalty(1.0), 0.0);
