@@ -205,6 +205,40 @@ fn the_planned_wrenches_do_not_jump_at_a_switch() {
     }
 }
 
+/// walk_fast.toml's gait (0.3 m/s, 0.12 m steps of 0.4 s, the CoM at 0.51 m) for 8 steps and
+/// the stop: the robot does not fall and the feet's mid-point travels the planned distance
+/// within 10 %.
+#[test]
+fn eight_steps_at_0_3_m_s_walk_the_planned_distance() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenarios/walking/walk_fast.toml"
+    );
+    let overrides = [
+        ("walking.command.steps", "8"),
+        ("simulation.duration_s", "5.0"),
+    ];
+    let (_, summary, setup) = walk(path, &overrides);
+    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    let gait = setup.controller.gait().unwrap();
+    assert_eq!(summary.steps_taken, Some(gait.footsteps.steps.len()));
+    assert!(
+        gait.end_time() <= 5.0,
+        "the walk ends standing within the run"
+    );
+    let mid_feet = |i: usize| {
+        let stance = gait.footsteps.stances[i];
+        (stance.left.world_p_sole + stance.right.world_p_sole) * 0.5
+    };
+    let planned = (mid_feet(gait.footsteps.stances.len() - 1) - mid_feet(0)).norm();
+    assert!((planned - 8.0 * 0.12).abs() < 0.07, "planned {planned} m");
+    let walked = summary.distance_walked_m.unwrap();
+    assert!(
+        (walked - planned).abs() < 0.1 * planned,
+        "walked {walked} m of {planned} m"
+    );
+}
+
 /// Bad walking settings are refused naming the key.
 #[test]
 fn bad_walking_settings_are_refused_naming_the_key() {

@@ -52,6 +52,15 @@ pub(super) struct ContactPhases {
     position_gain: f64,
     /// Velocity gain of the swing sole's PD [1/s].
     velocity_gain: f64,
+    /// The gains (position [1/s^2], velocity [1/s]) of the PD that settles a foot on the
+    /// ground flat ([`settle_acceleration`], `walking.settle_position_gain` and
+    /// `walking.settle_velocity_gain`); `None` when both are zero: the paper's held contact.
+    settle_gains: Option<(f64, f64)>,
+    /// `walking.double_support_momentum_weight` (0: the paper's equality in double support).
+    double_support_momentum_weight: f64,
+    /// The two-feet QP without equalities of double support's momentum task in least
+    /// squares (`qp_solve.rs`).
+    pub(super) least_squares_qp: WrenchQp,
     /// Each contact's task at this tick.
     pub(super) tasks: [FootTask; 2],
     /// The one-contact QP of single support and its buffers.
@@ -105,6 +114,35 @@ pub fn swing_acceleration(
     Vector6::new(
         linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
     )
+}
+
+/// A foot on the ground's desired classical acceleration `[a_origin; omegadot]` (world
+/// axes): a PD that settles the sole flat on the ground, `a* = K_p e - K_d v`, with `e` the
+/// sole origin's height error to the ground `world_z_ground` (along z only) and the rotation
+/// error `log(R_flat R^T)` to the sole turned flat about its own yaw, `v` its measured velocity
+/// `[v_origin; omega]`. Zero on a sole at rest flat on the ground (the paper's held contact,
+/// eq:constraints_acc); a landing sole that bounced or rocks onto an edge is pulled back down
+/// and flat instead of being held where it is.
+pub fn settle_acceleration(
+    world_h_sole: &Pose,
+    world_v_sole: &Vector6<f64>,
+    world_z_ground: f64,
+    position_gain: f64,
+    velocity_gain: f64,
+) -> Vector6<f64> {
+    let x_axis = world_h_sole.rotation.column(0);
+    let yaw = x_axis.y.atan2(x_axis.x);
+    let world_r_flat = Rotation3::from_axis_angle(&nalgebra::Vector3::z_axis(), yaw);
+    let rotation_error =
+        Rotation3::from_matrix_unchecked(world_r_flat.matrix() * world_h_sole.rotation.transpose())
+            .scaled_axis();
+    let height_error = world_z_ground - world_h_sole.translation.z;
+    let mut acceleration = -world_v_sole * velocity_gain;
+    acceleration[2] += height_error * position_gain;
+    for r in 0..3 {
+        acceleration[3 + r] += rotation_error[r] * position_gain;
+    }
+    acceleration
 }
 
 /// 0 for the left foot, 1 for the right.
@@ -226,6 +264,8 @@ impl MomentumController {
         let mut single_qp = WrenchQp::new(1, 0, &self.settings.constraints);
         single_qp.unconstrained_first = self.settings.tuning.qp_unconstrained_first;
         single_qp.solver = self.settings.tuning.qp_solver;
+        let mut least_squares_qp = WrenchQp::new(2, 0, &self.settings.constraints);
+        least_squares_qp.solver = self.settings.tuning.qp_solver;
         self.torque_map.desired_acceleration = Some(DVector::zeros(12));
         let weight = self.mass * gravity;
         self.walking = Some(ContactPhases {
@@ -238,6 +278,11 @@ impl MomentumController {
             gait,
             position_gain: settings.swing_position_gain,
             velocity_gain: settings.swing_velocity_gain,
+            settle_gains: (settings.settle_position_gain > 0.0
+                || settings.settle_velocity_gain > 0.0)
+                .then_some((settings.settle_position_gain, settings.settle_velocity_gain)),
+            double_support_momentum_weight: settings.double_support_momentum_weight,
+            least_squares_qp,
             single: SingleSupportQp {
                 qp: single_qp,
                 minimizer: Minimizer::new(6, 0),
@@ -299,17 +344,34 @@ impl MomentumController {
         let Some(desired) = map.desired_acceleration.as_mut() else {
             return;
         };
+        let rows = map.jacobian.rows(6 * c, 6);
+        let velocity =
+            Vector6::from_fn(|r, _| rows.row(r).iter().zip(nu).map(|(j, v)| j * v).sum());
         let acceleration = match &walking.tasks[c] {
-            FootTask::Contact { .. } => Vector6::zeros(),
+            FootTask::Contact { .. } => match walking.settle_gains {
+                Some((kp, kd)) => settle_acceleration(
+                    world_h_sole,
+                    &velocity,
+                    walking.gait.world_z_ground,
+                    kp,
+                    kd,
+                ),
+                None => Vector6::zeros(),
+            },
             FootTask::Swing(sample) => {
-                let rows = map.jacobian.rows(6 * c, 6);
-                let velocity =
-                    Vector6::from_fn(|r, _| rows.row(r).iter().zip(nu).map(|(j, v)| j * v).sum());
                 let (kp, kd) = (walking.position_gain, walking.velocity_gain);
                 swing_acceleration(sample, world_h_sole, &velocity, kp, kd)
             }
         };
         desired.fixed_rows_mut::<6>(6 * c).copy_from(&acceleration);
+    }
+
+    /// Walking with `walking.double_support_momentum_weight` above zero: that weight (the
+    /// double support's momentum task in least squares, `qp_solve.rs`); `None` otherwise (the
+    /// paper's equality `A f = b`).
+    pub(super) fn double_support_momentum_weight(&self) -> Option<f64> {
+        let weight = self.walking.as_ref()?.double_support_momentum_weight;
+        (weight > 0.0 && self.redundant.is_none()).then_some(weight)
     }
 
     /// The stance contact of single support (`None` in double support or when not walking).
@@ -364,11 +426,23 @@ impl MomentumController {
         status
     }
 
-    /// The single-support QP's counters (zero when not walking).
+    /// The counters of the walking QPs, single support's and double support's in least
+    /// squares, summed (zero when not walking).
     pub(super) fn single_support_counters(&self) -> QpCounters {
-        self.walking
-            .as_ref()
-            .map_or_else(QpCounters::default, |walking| walking.single.qp.counters())
+        let Some(walking) = self.walking.as_ref() else {
+            return QpCounters::default();
+        };
+        let (one, two) = (
+            walking.single.qp.counters(),
+            walking.least_squares_qp.counters(),
+        );
+        QpCounters {
+            unconstrained: one.unconstrained + two.unconstrained,
+            active_set: one.active_set + two.active_set,
+            clarabel: one.clarabel + two.clarabel,
+            active_set_failures: one.active_set_failures + two.active_set_failures,
+            fallbacks: one.fallbacks + two.fallbacks,
+        }
     }
 }
 
@@ -408,6 +482,29 @@ mod tests {
         let v = Vector6::new(0.0, 0.0, 0.1, 0.0, 0.0, 0.0);
         let damped = swing_acceleration(&desired, &pose, &v, 400.0, 40.0);
         assert!((damped[2] - (a[2] - 4.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_settling_pd_pulls_a_foot_down_and_flat_and_leaves_a_resting_one_alone() {
+        let yawed = *Rotation3::from_axis_angle(&Vector3::z_axis(), 0.3).matrix();
+        let mut pose = Pose {
+            rotation: yawed,
+            translation: Vector3::new(0.2, 0.1, 0.01),
+        };
+        // Flat on the ground at 0.01 m, at rest: nothing asked (the paper's held contact).
+        let rest = settle_acceleration(&pose, &Vector6::zeros(), 0.01, 100.0, 20.0);
+        assert!(rest.norm() < 1e-12);
+        // 5 mm up, pitched 0.1 rad about its own y axis, rising at 0.1 m/s: pushed down,
+        // pitched back, damped; no horizontal pull, the yaw kept.
+        pose.translation.z = 0.015;
+        pose.rotation = yawed * Rotation3::from_axis_angle(&Vector3::y_axis(), 0.1).matrix();
+        let v = Vector6::new(0.0, 0.0, 0.1, 0.0, 0.0, 0.0);
+        let a = settle_acceleration(&pose, &v, 0.01, 100.0, 20.0);
+        assert!((a[2] - (-0.5 - 2.0)).abs() < 1e-9, "{a}");
+        assert!(a[0].abs() < 1e-12 && a[1].abs() < 1e-12);
+        let pitch_axis = yawed * Vector3::y();
+        let angular = a.fixed_rows::<3>(3).into_owned();
+        assert!((angular + pitch_axis * 10.0).norm() < 1e-9, "{angular}");
     }
 
     #[test]

@@ -47,8 +47,8 @@ mod settings;
 mod tuning;
 
 pub use contact_phase::{
-    share_penalty, swing_acceleration, LATE_TOUCHDOWN_SPEED, MAX_SHARE_PENALTY,
-    TOUCHDOWN_FORCE_FRACTION,
+    settle_acceleration, share_penalty, swing_acceleration, LATE_TOUCHDOWN_SPEED,
+    MAX_SHARE_PENALTY, TOUCHDOWN_FORCE_FRACTION,
 };
 pub use output::{ControlOutput, TaskTerms};
 pub use settings::{ControllerKind, ControllerSettings, MomentumRelaxation};

@@ -25,6 +25,9 @@ impl MomentumController {
         if let Some(stance) = self.stance_contact() {
             return self.solve_single_support(stance, wrenches);
         }
+        if let Some(weight) = self.double_support_momentum_weight() {
+            return self.solve_double_support_least_squares(weight, wrenches);
+        }
         let terms = &self.terms;
         let reg = self.settings.tuning.qp_regularization;
         let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
@@ -100,5 +103,44 @@ impl MomentumController {
             self.relaxations += 1;
         }
         solved.then_some(QpStatus::MomentumRelaxed)
+    }
+
+    /// Walking, double support with `walking.double_support_momentum_weight` = `weight` > 0:
+    /// the momentum task in least squares instead of the paper's equality, `min |tau(f)|^2 +
+    /// w |A f - b|^2` (plus the share penalties), `w` = `weight` times the torque Hessian's
+    /// mean diagonal, solved by the two-feet QP without equalities into `wrenches` (k).
+    fn solve_double_support_least_squares(
+        &mut self,
+        weight: f64,
+        wrenches: &mut DVector<f64>,
+    ) -> QpStatus {
+        let terms = &self.terms;
+        let reg = self.settings.tuning.qp_regularization;
+        let (hessian, gradient) = (&mut self.qp_hessian, &mut self.qp_gradient);
+        torque_norm_objective(&terms.sigma, &terms.tau_bias, reg, hessian, gradient);
+        add_moment_regularization(hessian, self.settings.tuning.qp_moment_regularization);
+        let scale = weight * hessian.trace() / hessian.nrows() as f64;
+        // The share penalties on the torque objective's scale, as with the equality.
+        if let Some(walking) = &self.walking {
+            walking.add_share_penalties(hessian);
+        }
+        let (a, b) = (&terms.momentum_map, &terms.momentum_target);
+        hessian.gemm_tr(2.0 * scale, a, a, 1.0);
+        gradient.gemv_tr(-2.0 * scale, a, b, 1.0);
+        let found = self
+            .minimizer
+            .unconstrained(hessian, gradient, &mut self.unconstrained);
+        let walking = self
+            .walking
+            .as_mut()
+            .expect("double support in least squares only when walking");
+        walking.least_squares_qp.solve(
+            hessian,
+            gradient,
+            None,
+            &terms.contact_rotations,
+            found.then_some(&self.unconstrained),
+            wrenches,
+        )
     }
 }

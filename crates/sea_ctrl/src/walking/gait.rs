@@ -38,10 +38,17 @@ pub struct Gait {
     pub dcm: DcmPlan,
     /// The swing of each step, in the order of `footsteps.steps`.
     pub swings: Vec<SwingTrajectory>,
-    /// The CoM height the momentum task holds, in world [m] (the robot's at the start).
+    /// The CoM height the momentum task holds while walking, in world [m]: the ground plus
+    /// the pendulum's height (`walking.com_height`), so that the plan's `omega` is the
+    /// robot's.
     pub world_z_com: f64,
+    /// The robot's CoM height at the start, in world [m]: the reference moves from it to
+    /// [`Self::world_z_com`] over the initial transfer ([`Self::com_reference`]).
+    pub world_z_com_start: f64,
     /// Which contact index (in the controller's order of contacts) each foot is: left, right.
     pub contact_of: [usize; 2],
+    /// The ground's height in world [m]: the standing soles' mean.
+    pub world_z_ground: f64,
 }
 
 impl Gait {
@@ -86,18 +93,29 @@ impl Gait {
             footsteps,
             dcm,
             swings,
-            world_z_com: world_p_com.z,
+            world_z_com: world_z_ground + settings.com_height,
+            world_z_com_start: world_p_com.z,
             contact_of,
+            world_z_ground,
         })
     }
 
-    /// The CoM reference at `t` [s]: the DCM plan's horizontal CoM, at the constant height
-    /// [`Self::world_z_com`].
+    /// The CoM reference at `t` [s]: the DCM plan's horizontal CoM; its height goes from
+    /// [`Self::world_z_com_start`] to [`Self::world_z_com`] over the initial transfer by
+    /// `10 u^3 - 15 u^4 + 6 u^5` of the transfer's fraction `u` (zero velocity and
+    /// acceleration at both ends), and is held after.
     pub fn com_reference(&self, t: f64) -> ComSample {
         let mut com = self.dcm.sample(t).com;
-        com.position.z = self.world_z_com;
-        com.velocity.z = 0.0;
-        com.acceleration.z = 0.0;
+        let duration = self.footsteps.transfer_duration;
+        let u = (t / duration).clamp(0.0, 1.0);
+        let (u2, u3) = (u * u, u * u * u);
+        let blend = u3 * (10.0 - 15.0 * u + 6.0 * u2);
+        let rate = 30.0 * u2 * (1.0 - 2.0 * u + u2) / duration;
+        let curvature = 60.0 * u * (1.0 - 3.0 * u + 2.0 * u2) / (duration * duration);
+        let drop = self.world_z_com - self.world_z_com_start;
+        com.position.z = self.world_z_com_start + drop * blend;
+        com.velocity.z = drop * rate;
+        com.acceleration.z = drop * curvature;
         com
     }
 

@@ -125,6 +125,20 @@ pub struct WalkingSettings {
     pub swing_position_gain: f64,
     /// Velocity gain of the swing sole's tracking [1/s], >= 0.
     pub swing_velocity_gain: f64,
+    /// Position gain of the PD that settles a foot on the ground flat on it (its height to
+    /// the ground, its roll and pitch to zero; `controller::contact_phase::settle_acceleration`)
+    /// [1/s^2], >= 0 (default 100: with 20 below, critically damped at 10 rad/s); 0 with
+    /// `settle_velocity_gain` 0: the foot is held where it is (the paper's contact, zero
+    /// acceleration; then landing soles that bounce or rock stay in the air, and 50 steps at
+    /// 0.3 m/s end early, docs/findings/walking.md).
+    pub settle_position_gain: f64,
+    /// Velocity gain of the PD that settles a foot on the ground [1/s], >= 0 (default 20).
+    pub settle_velocity_gain: f64,
+    /// Double support: the momentum task in least squares with this weight (times the
+    /// torque objective's mean diagonal) instead of the paper's equality `A f = b`, >= 0
+    /// (default 0: the equality, which at a touchdown loads the landing foot at once with
+    /// the momentum rate the stance foot could not produce).
+    pub double_support_momentum_weight: f64,
     /// Whether the feet's force/torque sensors move the touchdowns (an early touchdown holds
     /// the foot, a late foot keeps descending; `controller::contact_phase`); `false`: the
     /// plan's timing alone.
@@ -152,6 +166,9 @@ impl Default for WalkingSettings {
             capture_margin: 0.01,
             swing_position_gain: 400.0,
             swing_velocity_gain: 40.0,
+            settle_position_gain: 100.0,
+            settle_velocity_gain: 20.0,
+            double_support_momentum_weight: 0.0,
             sensed_touchdown: false,
             command: WalkCommand::default(),
             footsteps: Vec::new(),
@@ -301,6 +318,12 @@ impl WalkingSettings {
             ("walking.capture_margin", self.capture_margin),
             ("walking.swing_position_gain", self.swing_position_gain),
             ("walking.swing_velocity_gain", self.swing_velocity_gain),
+            ("walking.settle_position_gain", self.settle_position_gain),
+            ("walking.settle_velocity_gain", self.settle_velocity_gain),
+            (
+                "walking.double_support_momentum_weight",
+                self.double_support_momentum_weight,
+            ),
         ] {
             if !(value.is_finite() && value >= 0.0) {
                 return Err(Error::invalid(
