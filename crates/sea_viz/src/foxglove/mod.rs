@@ -42,6 +42,7 @@ mod channels;
 mod json_schemas;
 pub mod live;
 pub mod scene;
+mod walking;
 
 pub use channels::{nanoseconds, SampleEncoder, Topic};
 pub(crate) use scene::StaticScene;
