@@ -32,13 +32,13 @@ fn run(scenario: &Scenario) -> (Summary, RunRecord) {
     (summary.unwrap(), record)
 }
 
-/// Each touchdown's (foot velocity jump, joint torque change, joint velocity jump, spring
-/// torque peak, motor velocity peak).
-fn touchdowns(record: &RunRecord) -> Vec<[f64; 5]> {
+/// Each touchdown's before `until_s` [s] (foot velocity jump, joint torque change, joint
+/// velocity jump, spring torque peak, motor velocity peak).
+fn touchdowns(record: &RunRecord, until_s: f64) -> Vec<[f64; 5]> {
     record
         .impacts
         .iter()
-        .filter(|i| i.kind == ImpactKind::Touchdown)
+        .filter(|i| i.kind == ImpactKind::Touchdown && i.time_s < until_s)
         .map(|i| {
             [
                 i.velocity_jump(),
@@ -95,28 +95,33 @@ fn both_actuations_report_the_joint_side_of_every_touchdown() {
     }
 }
 
+/// The touchdowns compared: those in the first 9 s of the walk (the elastic robot's walk
+/// ends at 9.93 s on the current controller: its joint error passes the 3 rad bound; the
+/// touchdowns just before are the divergence's, not the gait's).
+const COMPARED_S: f64 = 9.0;
+
 #[test]
 #[ignore = "prints the findings' table (two 14.5 s walks)"]
 fn print_the_touchdowns_of_both_actuations() {
     println!(
-        "| actuation | outcome | steps | touchdowns | foot velocity jump [m/s] | largest joint torque \
-         change [Nm] | joint velocity jump [rad/s] | peak spring torque [Nm] | peak motor \
-         velocity [rad/s] | wall [s] |"
+        "| actuation | outcome | steps | touchdowns before {COMPARED_S} s | foot velocity jump \
+         [m/s] | largest joint torque change [Nm] | joint velocity jump [rad/s] | peak spring \
+         torque [Nm] | peak motor velocity [rad/s] | wall [s] |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for kind in ["elastic", "rigid"] {
         let actuation = format!("\"{kind}\"");
         let (summary, record) = run(&scenario(&[("actuators.kind", &actuation)]));
-        let figures = touchdowns(&record);
-        eprintln!("{kind}: {:?} {:?}", summary.status, summary.reason);
+        let figures = touchdowns(&record, COMPARED_S);
         let column = |k: usize| {
             let (median, max) = median_max(figures.iter().map(|f| f[k]).collect());
             format!("{median:.3} / {max:.3}")
         };
         println!(
-            "| {kind} | {} at {:.2} s | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
+            "| {kind} | {} at {:.2} s ({}) | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
             summary.status,
             summary.duration_s,
+            summary.reason,
             summary.steps_taken.unwrap_or(0),
             figures.len(),
             column(0),
