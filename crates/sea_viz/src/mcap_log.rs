@@ -12,6 +12,8 @@
 //! reaching its stop; [`sea_loop::impacts`]) is a `foxglove.Log` message (level INFO) on
 //! `/events` at its time, written when its window after closes (so up to 50 ms of samples
 //! later in the file; readers that index by log time, as Foxglove, place it at its time).
+//! Under `[walking]` ([`McapLogger::set_walking`]) `/scene` draws the walk and `/events` has
+//! its planned lift-offs and touchdowns and the measured lift-offs.
 //! Under unilateral contacts ([`McapLogger::set_contact_points`]) the contact points are on
 //! `/contact_points` and in `/scene`; the contact check of the delivered wrenches, a
 //! diagnostic there, is on `/contact_check` at every recorded sample, and each change of a
