@@ -15,8 +15,8 @@ use std::sync::atomic::AtomicBool;
 
 /// `walk_straight` with `overrides`.
 fn scenario(overrides: &[(&str, &str)]) -> Scenario {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios/walking/walk_straight.toml");
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/walking/walk_straight.toml");
     let pairs: Vec<(String, String)> = overrides
         .iter()
         .map(|(k, v)| (k.to_string(), v.to_string()))
