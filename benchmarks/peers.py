@@ -20,6 +20,11 @@ Ratios printed (below 1: ours is faster):
 - the same tick with the active-set QP solver on every tick / ``mj_step``;
 - one simulated second of the closed loop at 1 kHz / 1000 ``mj_step``;
 - one simulated second of the multi-rate loop (QP at 100 Hz, joint loops at 1 kHz) / 1000 ``mj_step``;
+- one simulated second of walking (``scenarios/walking/walk_straight.toml``: the same rates, plant
+  step 0.25 ms, feet on the ground; its first ``WALK_S`` seconds, the transfer and 14 steps, run
+  by ``sea-sim run`` and its wall time divided by its simulated time) / 1000 ``mj_step`` (the
+  standing model above: MuJoCo does not walk, its step with its 8 foot contacts is the
+  reference);
 - the continuous-time closed loop (controller at every integrator stage) / the 1 kHz one.
 
 Our own plant step with unilateral contacts will be timed beside them by
@@ -43,6 +48,7 @@ import platform
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from typing import Callable
 
@@ -169,6 +175,12 @@ def sea_sim_figures(binary: pathlib.Path, batches: int) -> dict:
     return json.loads(subprocess.run(command, check=True, capture_output=True, text=True).stdout)
 
 
+#: The walk timed for ``walking_second_ms``.
+WALK = ROOT / "scenarios" / "walking" / "walk_straight.toml"
+#: Simulated seconds of it timed: the elastic walk passes its joint error bound at 9.93 s on the
+#: controller of 2026-12-01 (docs/findings/walking_impacts.md), so its first 9 s.
+WALK_S = 9.0
+
 #: (label, our key, scale to microseconds, MuJoCo steps it is compared with).
 RATIOS = [
     ("one implicit SEA step (ROS2, 1 ms) / mj_step", "sim_step_us", 1.0, 1),
@@ -181,7 +193,24 @@ RATIOS = [
     ("closed loop, 1 simulated s at 1 kHz / 1000 mj_step", "closed_loop_second_ms", 1e3, 1000),
     ("closed loop, 1 simulated s multi-rate 100 Hz / 1 kHz / 1000 mj_step", "closed_loop_second_multi_rate_ms", 1e3, 1000),
     ("the same, feet on the ground / 1000 mj_step", "closed_loop_second_multi_rate_unilateral_ms", 1e3, 1000),
+    ("walking (walk_straight, plant 0.25 ms), 1 simulated s / 1000 mj_step", "walking_second_ms", 1e3, 1000),
 ]
+
+
+def walking_second_ms(binary: pathlib.Path) -> float:
+    """Wall milliseconds per simulated second of ``WALK`` run by ``binary`` (``sea-sim run``,
+    no log; the summary's ``wall_time_s`` over its ``duration_s``: the closed loop alone, the
+    scenario's loading not included). A walk that does not complete is an error naming how it
+    ended."""
+    with tempfile.TemporaryDirectory() as folder:
+        summary_path = pathlib.Path(folder) / "summary.json"
+        command = [str(binary), "run", str(WALK), "--summary", str(summary_path)]
+        command += ["--set", f"simulation.duration_s={WALK_S}"]
+        subprocess.run(command, check=True, capture_output=True, text=True)
+        summary = json.loads(summary_path.read_text())
+    if summary["status"] != "completed":
+        raise RuntimeError(f"{WALK}: the walk ended {summary['status']}: {summary.get('reason')}")
+    return summary["wall_time_s"] / summary["duration_s"] * 1e3
 
 
 def medians(runs: list[dict]) -> dict:
@@ -239,7 +268,9 @@ def measure(
             for name in INTEGRATORS:
                 mujoco_runs[model][name].append(held.step_us(name, batches, steps))
         for binary in binaries:
-            ours_runs[str(binary)].append(sea_sim_figures(binary, batches))
+            figures = sea_sim_figures(binary, batches)
+            figures["walking_second_ms"] = walking_second_ms(binary)
+            ours_runs[str(binary)].append(figures)
         if unilateral_step is not None:
             unilateral_runs.append(time_our_unilateral_step(unilateral_step, batches, steps))
     per_binary = {binary: medians(figures) for binary, figures in ours_runs.items()}

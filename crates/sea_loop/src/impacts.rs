@@ -17,7 +17,12 @@
 //! - over the [`PEAK_WINDOW_S`] (50 ms) from `t` on, the peak spring torque `max |K_S (Gamma
 //!   theta - s)|` over the elastic joints [Nm] and the peak motor velocity `max |thetadot|`
 //!   [rad/s], taken at the plant steps' starts; and the same peaks over the window before `t`
-//!   as a reference (shorter when the run is younger).
+//!   as a reference (shorter when the run is younger);
+//! - the joint side, for any actuation (elastic or rigid): over the same window after, the
+//!   largest change of a joint torque from its value at `t`, `max_j |tau_j(t') - tau_j(t)|`
+//!   [Nm] (the torque the plant applies to the links: the spring's for an elastic joint, the
+//!   motor's for a rigid one), and the joint velocity jump `max_j |sdot_j(t + 5 ms) -
+//!   sdot_j(t)|` at the time the speed after is taken [rad/s].
 //!
 //! An impact is complete when its window after closes; it closes early (a shorter window,
 //! [`Impact::window_after_s`]) when the same foot or joint strikes again or the run ends. The
@@ -80,6 +85,12 @@ pub struct Impact {
     pub peak_spring_torque_before_nm: f64,
     /// Peak `|thetadot|` over the window before [rad/s].
     pub peak_motor_velocity_before_rad_s: f64,
+    /// Largest change of a joint torque from its value at the impact over the window after,
+    /// `max_j |tau_j(t') - tau_j(t)|` [Nm].
+    pub peak_joint_torque_change_nm: f64,
+    /// `max_j |sdot_j(t + SPEED_AFTER_S) - sdot_j(t)|` [rad/s] (at the step that closed the
+    /// window when it closed earlier; NaN when it closed at once).
+    pub joint_velocity_jump_rad_s: f64,
     /// Length of the window after [s]: [`PEAK_WINDOW_S`] unless it closed early.
     pub window_after_s: f64,
 }
@@ -109,7 +120,8 @@ impl std::fmt::Display for Impact {
             f,
             "{} of {} at t = {:.4} s: speed before {:.4} {unit}, after {:.4} {unit}, jump {:.4} \
              {unit}; over {:.0} ms after: peak spring torque {:.3} Nm, peak motor velocity \
-             {:.3} rad/s; over {:.0} ms before: {:.3} Nm, {:.3} rad/s",
+             {:.3} rad/s, largest joint torque change {:.3} Nm, joint velocity jump {:.3} rad/s; \
+             over {:.0} ms before: {:.3} Nm, {:.3} rad/s",
             self.kind.name(),
             self.name,
             self.time_s,
@@ -119,6 +131,8 @@ impl std::fmt::Display for Impact {
             1e3 * self.window_after_s,
             self.peak_spring_torque_after_nm,
             self.peak_motor_velocity_after_rad_s,
+            self.peak_joint_torque_change_nm,
+            self.joint_velocity_jump_rad_s,
             1e3 * PEAK_WINDOW_S,
             self.peak_spring_torque_before_nm,
             self.peak_motor_velocity_before_rad_s,
@@ -155,6 +169,10 @@ struct Open {
     speed_after: f64,
     peaks_after: [f64; 2],
     peaks_before: [f64; 2],
+    /// `max_j |tau_j - tau_j(t)|` so far.
+    torque_change: f64,
+    /// NaN until taken.
+    velocity_jump: f64,
 }
 
 /// Fixed-size history of per-step values: `width` values per slot, `slots` slots.
@@ -209,6 +227,11 @@ pub(crate) struct ImpactDetector {
     open: Vec<Option<Open>>,
     /// Every complete impact, in the order they closed.
     impacts: Vec<Impact>,
+    /// Per source, the joint torques (n) and then the joint velocities (n) at its open
+    /// impact (sized once).
+    at_impact: Vec<Vec<f64>>,
+    /// The joint torques (n) and velocities (n) of the current step.
+    joint_now: Vec<f64>,
 }
 
 impl ImpactDetector {
@@ -260,6 +283,8 @@ impl ImpactDetector {
             peaks: Ring::new(2, window_steps + 1),
             steps: 0,
             open: vec![None; sources.len()],
+            at_impact: vec![vec![0.0; 2 * plant.model.nv().saturating_sub(6)]; sources.len()],
+            joint_now: vec![0.0; 2 * plant.model.nv().saturating_sub(6)],
             sources,
             impacts: Vec::with_capacity(RESERVED_IMPACTS),
         })
@@ -344,6 +369,10 @@ impl ImpactDetector {
             velocity_peak(layout.thetadot(x)),
         ];
         self.peaks.slot_mut(step).copy_from_slice(&peaks);
+        let n = self.joint_now.len() / 2;
+        let (torques, velocities) = self.joint_now.split_at_mut(n);
+        copy_into(torques, outputs.joint_torque.as_slice());
+        copy_into(velocities, &layout.nu(x)[6..]);
     }
 
     /// Whether source `index` carries force in `outputs`.
@@ -377,6 +406,7 @@ impl ImpactDetector {
             }
         }
         let speed_before = sign * self.rate((first, mask), self.steps, self.span_steps);
+        self.at_impact[index].copy_from_slice(&self.joint_now);
         self.open[index] = Some(Open {
             steps: 0,
             mask,
@@ -386,6 +416,8 @@ impl ImpactDetector {
             speed_after: f64::NAN,
             peaks_after: [0.0; 2],
             peaks_before,
+            torque_change: 0.0,
+            velocity_jump: f64::NAN,
         });
     }
 
@@ -400,9 +432,15 @@ impl ImpactDetector {
             for (after, now) in open.peaks_after.iter_mut().zip(peaks) {
                 *after = after.max(now);
             }
+            let n = self.joint_now.len() / 2;
+            let at_impact = &self.at_impact[index];
+            let torques = (&self.joint_now[..n], &at_impact[..n]);
+            open.torque_change = open.torque_change.max(largest_difference(torques));
             if open.steps == self.after_steps {
                 let columns = (self.sources[index].columns.0, open.mask);
                 open.speed_after = open.sign * self.rate(columns, step, self.span_steps);
+                let velocities = (&self.joint_now[n..], &at_impact[n..]);
+                open.velocity_jump = largest_difference(velocities);
             }
             self.open[index] = Some(open);
         }
@@ -439,6 +477,13 @@ impl ImpactDetector {
             let columns = (source.columns.0, open.mask);
             speed_after = open.sign * self.rate(columns, self.steps - 1, span);
         }
+        let mut velocity_jump = open.velocity_jump;
+        if velocity_jump.is_nan() && open.steps > 1 {
+            // The velocities of the step that closed the window.
+            let n = self.joint_now.len() / 2;
+            let at_impact = &self.at_impact[index][n..];
+            velocity_jump = largest_difference((&self.joint_now[n..], at_impact));
+        }
         self.impacts.push(Impact {
             kind: source.kind,
             name: Arc::clone(&source.name),
@@ -449,6 +494,8 @@ impl ImpactDetector {
             peak_motor_velocity_after_rad_s: open.peaks_after[1],
             peak_spring_torque_before_nm: open.peaks_before[0],
             peak_motor_velocity_before_rad_s: open.peaks_before[1],
+            peak_joint_torque_change_nm: open.torque_change,
+            joint_velocity_jump_rad_s: velocity_jump,
             window_after_s: open.steps as f64 * self.step_s,
         });
     }
@@ -463,6 +510,17 @@ fn spring_torque_peak(plant: &Plant, layout: StateLayout, x: &[f64]) -> f64 {
         .zip(theta)
         .map(|((&j, e), theta)| (e.stiffness * (e.ratio * theta - s[j])).abs())
         .fold(0.0, f64::max)
+}
+
+/// `max_j |a_j - b_j|` (0 when empty).
+fn largest_difference((a, b): (&[f64], &[f64])) -> f64 {
+    a.iter().zip(b).fold(0.0, |m, (a, b)| m.max((a - b).abs()))
+}
+
+/// Copies `source` into `target` as far as both reach.
+fn copy_into(target: &mut [f64], source: &[f64]) {
+    let n = target.len().min(source.len());
+    target[..n].copy_from_slice(&source[..n]);
 }
 
 /// `max |v|` (0 when empty).

@@ -9,6 +9,7 @@ use super::statistics::RunEnd;
 use crate::error::Result;
 use crate::settings::RunScene;
 use sea_ctrl::qp::QpStatus;
+use sea_ctrl::walking::Gait;
 use sea_dyn::{Model, StateLayout};
 
 /// What a sink learns before the first sample.
@@ -29,6 +30,9 @@ pub struct RunInfo<'a> {
     /// Unilateral contacts: the number of points of each contact (the order of the samples'
     /// contact points); empty under bilateral contacts.
     pub contact_points: &'a [usize],
+    /// `[walking]`: the walk the controller follows (footsteps, DCM plan, swings; times from
+    /// the run's start), which the logs draw; `None` when the robot does not walk.
+    pub walking: Option<&'a Gait>,
 }
 
 /// One recorded sample of a run: the plant state at `time_s`, the controller's evaluation

@@ -439,6 +439,7 @@ impl<'a> Engine<'a> {
             scene: &self.settings.scene,
             disturbance_links: &self.disturbance_links,
             contact_points: &self.contact_points,
+            walking: self.robot.controller().gait(),
         }
     }
 

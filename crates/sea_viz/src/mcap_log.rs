@@ -12,6 +12,8 @@
 //! reaching its stop; [`sea_loop::impacts`]) is a `foxglove.Log` message (level INFO) on
 //! `/events` at its time, written when its window after closes (so up to 50 ms of samples
 //! later in the file; readers that index by log time, as Foxglove, place it at its time).
+//! Under `[walking]` ([`McapLogger::set_walking`]) `/scene` draws the walk and `/events` has
+//! its planned lift-offs and touchdowns and the measured lift-offs.
 //! Under unilateral contacts ([`McapLogger::set_contact_points`]) the contact points are on
 //! `/contact_points` and in `/scene`; the contact check of the delivered wrenches, a
 //! diagnostic there, is on `/contact_check` at every recorded sample, and each change of a
@@ -29,7 +31,9 @@
 //! [`RecordSink`] of the closed loop.
 
 use crate::error::Error;
-use crate::foxglove::{nanoseconds, SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC};
+use crate::foxglove::{
+    nanoseconds, FootRectangle, SampleEncoder, SceneSource, StaticScene, Topic, ROBOT_TOPIC,
+};
 use crate::meshes::visuals::MeshWarning;
 use crate::Result;
 use ::foxglove::messages::{log::Level, Log, Timestamp};
@@ -289,7 +293,7 @@ impl McapLogger {
         }
         let (out, channels) = (&mut self.out, &self.channels);
         let (points, check) = (self.contact_points, self.contact_check);
-        self.encoder.encode(sample, |topic, time, message| {
+        let encoded = self.encoder.encode(sample, |topic, time, message| {
             let channel = match topic {
                 Topic::ContactPoints => points,
                 Topic::ContactCheck => check,
@@ -299,7 +303,20 @@ impl McapLogger {
                 Some(channel) => out.write(channel, time, message),
                 None => Ok(()),
             }
-        })
+        });
+        encoded?;
+        for (time, message) in self.encoder.walking_events(sample)? {
+            self.write_event(time, &message)?;
+        }
+        Ok(())
+    }
+
+    /// `[walking]`: draws the walk `gait` in `/scene` from the next sample on (the
+    /// footsteps as the soles `foot`, none when `None`) and writes its lift-offs and
+    /// touchdowns on `/events` ([`SampleEncoder::set_walking`]). Call it after
+    /// [`Self::set_contact_points`].
+    pub fn set_walking(&mut self, gait: &sea_ctrl::walking::Gait, foot: Option<FootRectangle>) {
+        self.encoder.set_walking(gait, foot);
     }
 
     /// Unilateral contacts: `counts[c]` points on contact `c` (the samples' contact points):
@@ -509,7 +526,12 @@ pub(crate) fn contact_check_event(event: &ContactCheckEvent) -> Result<(u64, Vec
 }
 
 /// A `foxglove.Log` at `time_s` with `level`, `text` and `name`, encoded, with its time [ns].
-fn log_event(time_s: f64, level: Level, text: String, name: &str) -> Result<(u64, Vec<u8>)> {
+pub(crate) fn log_event(
+    time_s: f64,
+    level: Level,
+    text: String,
+    name: &str,
+) -> Result<(u64, Vec<u8>)> {
     let time = nanoseconds(time_s);
     let message = Log {
         timestamp: Some(Timestamp::new(
@@ -722,6 +744,9 @@ impl RecordSink for McapSink {
         logger.set_disturbance_links(run.disturbance_links);
         logger.set_contact_points(run.contact_points)?;
         let source = SceneSource::of_run(run.scene).with_package_dirs(&self.package_dirs);
+        if let Some(gait) = run.walking {
+            logger.set_walking(gait, source.foot);
+        }
         self.warnings = logger.set_scene(&source)?;
         self.logger = Some(ThreadedMcapLogger::spawn(logger));
         Ok(())

@@ -7,7 +7,8 @@ use super::json_schemas::{
     MOTOR_STATE_SCHEMA, QP_STATUS_SCHEMA,
 };
 use super::scene::{ContactPoints, ForceArrows, Markers, StaticScene};
-use super::WORLD_FRAME;
+use super::walking::WalkingScene;
+use super::{FootRectangle, WORLD_FRAME};
 use crate::error::Error;
 use crate::Result;
 use ::foxglove::messages::{
@@ -15,6 +16,7 @@ use ::foxglove::messages::{
 };
 use ::foxglove::{Encode, Schema};
 use sea_ctrl::qp::QpStatus;
+use sea_ctrl::walking::Gait;
 use sea_dyn::spatial::quaternion_from_rotation;
 use sea_dyn::{Data, Model};
 use sea_loop::{ContactConstraint, Sample, WrenchCheck};
@@ -289,6 +291,8 @@ pub struct SampleEncoder {
     /// The static part of `/scene`, once set.
     scene: Option<StaticScene>,
     markers: Markers,
+    /// `[walking]`: the walk's markers and events, once set.
+    walking: Option<WalkingScene>,
     buffer: Vec<u8>,
     /// The text of the sample's QP status ([`write_qp_status`]).
     qp_text: String,
@@ -326,6 +330,7 @@ impl SampleEncoder {
             tf,
             scene: None,
             markers: Markers::new(contact_names),
+            walking: None,
             buffer: Vec::with_capacity(8192),
             qp_text: String::new(),
         }
@@ -359,6 +364,33 @@ impl SampleEncoder {
             self.contact_points.extend((0..count).map(|i| (c, i)));
         }
         self.markers.set_contact_points(self.contact_points.len());
+    }
+
+    /// `[walking]`: draws the walk `gait` in `/scene` (footsteps with the soles `foot`, none
+    /// when `None`; the swing path; the planned and measured DCM, the planned VRP and CoM;
+    /// module `walking` of [`crate::foxglove`]) and gives its events
+    /// ([`Self::walking_events`]; measured lift-offs from the contact points of
+    /// [`Self::set_contact_points`], so call that first).
+    pub fn set_walking(&mut self, gait: &Gait, foot: Option<FootRectangle>) {
+        let mut counts = vec![0; self.contact_labels.len()];
+        for &(c, _) in &self.contact_points {
+            counts[c] += 1;
+        }
+        let mass = self.model.total_mass();
+        let contacts = (&self.contact_labels[..], &counts[..]);
+        self.walking = Some(WalkingScene::new(gait, mass, foot, contacts));
+    }
+
+    /// `[walking]`: the `/events` messages due at `sample` (time [ns], encoded `foxglove.Log`):
+    /// the planned lift-offs and touchdowns up to its time, and the feet that stopped
+    /// carrying force since the last sample; none when not walking.
+    ///
+    /// Errors: [`Error::Log`] when a message does not encode.
+    pub fn walking_events(&mut self, sample: &Sample<'_>) -> Result<Vec<(u64, Vec<u8>)>> {
+        match self.walking.as_mut() {
+            Some(walking) => walking.events(sample),
+            None => Ok(Vec::new()),
+        }
     }
 
     /// Whether the samples' contact points are encoded (`/contact_points` is sent).
@@ -507,12 +539,16 @@ impl SampleEncoder {
             forces: sample.contact_point_forces,
             active: sample.contact_point_active,
         };
+        let stamp = time_stamp(time);
         self.markers.encode(
-            time_stamp(time),
+            stamp,
             [sample.com, sample.com_reference],
             (contacts, pushes, points),
             &mut self.buffer,
-        )
+        ) && self
+            .walking
+            .as_mut()
+            .is_none_or(|walking| walking.encode(stamp, sample, &mut self.buffer))
     }
 
     /// One of our JSON channels into the buffer.

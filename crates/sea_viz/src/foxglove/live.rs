@@ -223,6 +223,9 @@ impl RecordSink for LiveSink {
         encoder.set_scene(scene);
         encoder.set_disturbance_links(run.disturbance_links);
         encoder.set_contact_points(run.contact_points);
+        if let Some(gait) = run.walking {
+            encoder.set_walking(gait, SceneSource::of_run(run.scene).foot);
+        }
         if encoder.has_contact_points() {
             self.server.add_contact_points()?;
         }
@@ -262,7 +265,12 @@ impl RecordSink for LiveSink {
         encoder.encode(sample, |topic, time, message| {
             server.publish(topic, time, message);
             Ok(())
-        })
+        })?;
+        for (time, message) in encoder.walking_events(sample)? {
+            let meta = PartialMetadata::with_log_time(time);
+            server.events.log_with_meta(&message, meta);
+        }
+        Ok(())
     }
 
     fn end(&mut self, end: &RunEnd) -> Result<()> {

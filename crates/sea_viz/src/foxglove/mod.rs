@@ -5,7 +5,7 @@
 //! |---------------------|----------|---------------------------------|-------------------------------------------------|
 //! | `/tf`               | protobuf | `foxglove.FrameTransforms`      | `world_H_link` of every URDF link               |
 //! | `/robot` (once)     | protobuf | `foxglove.SceneUpdate`          | robot bodies: URDF boxes, cylinders, spheres, meshes |
-//! | `/scene`            | protobuf | `foxglove.SceneUpdate`          | support polygon, CoM, wrenches, pushes          |
+//! | `/scene`            | protobuf | `foxglove.SceneUpdate`          | support polygon, CoM, wrenches, pushes; `[walking]`: footsteps, swing path, DCM, VRP |
 //! | `/com`              | json     | `sea_momentum.Com`              | CoM, its reference, `error = com - ref`         |
 //! | `/momentum`         | json     | `sea_momentum.Momentum`         | centroidal momentum `[m pdot_com; L_com]`       |
 //! | `/joints`           | json     | `sea_momentum.JointState`       | `s`, `sdot`, joint torques                      |
@@ -16,7 +16,7 @@
 //! | `/disturbances`     | json     | `sea_momentum.Disturbances`     | each `[[disturbances]]` push: link, force, torque |
 //! | `/contact_points`   | json     | `sea_momentum.ContactPoints`    | unilateral contacts only: each point's contact, position, force, activity |
 //! | `/contact_check`    | json     | `sea_momentum.ContactCheck`     | unilateral contacts only: each foot's contact check of its delivered wrench (constraint, value, bounds, verdict) |
-//! | `/events`           | protobuf | `foxglove.Log`                  | a fall (time, foot, constraint, value, bound); each impact ([`sea_loop::impacts`]); unilateral contacts: each change of a foot's contact check |
+//! | `/events`           | protobuf | `foxglove.Log`                  | a fall (time, foot, constraint, value, bound); each impact ([`sea_loop::impacts`]); unilateral contacts: each change of a foot's contact check; `[walking]`: planned lift-offs and touchdowns, measured lift-offs |
 //!
 //! Why two encodings: the SDK's typed messages (`foxglove::messages`) are protobuf messages
 //! with their descriptors as schemas, so `/tf` and `/scene` use them as they are, no copied
@@ -33,7 +33,8 @@
 //! polygon), the CoM and its reference as spheres, the contact forces as arrows at the soles,
 //! and each `[[disturbances]]` push as a blue arrow ending at its link (zero length while it
 //! is off), in the `world` frame; under unilateral contacts also the entity `contact_points`
-//! (a sphere per point, green while it carries force, and an arrow along its force).
+//! (a sphere per point, green while it carries force, and an arrow along its force); under
+//! `[walking]` the walk's entities `walking/*` (module `walking`).
 //! Units are SI, axes are world axes, `log_time = publish_time = time_s` in nanoseconds.
 //! Non-finite numbers (a diverged run) are JSON `null`; a `/tf` or `/scene` message is skipped
 //! when a pose in it is not finite, since Foxglove needs numbers there.
@@ -42,6 +43,7 @@ mod channels;
 mod json_schemas;
 pub mod live;
 pub mod scene;
+mod walking;
 
 pub use channels::{nanoseconds, SampleEncoder, Topic};
 pub(crate) use scene::StaticScene;

@@ -268,7 +268,7 @@ fn triangle_list(
 }
 
 /// An empty entity `id` that moves with `frame_id` (lifetime: until replaced).
-fn frame_locked_entity(frame_id: &str, id: String) -> SceneEntity {
+pub(super) fn frame_locked_entity(frame_id: &str, id: String) -> SceneEntity {
     SceneEntity {
         frame_id: frame_id.to_string(),
         id,
@@ -568,7 +568,7 @@ fn set_arrow(arrow: &mut ArrowPrimitive, origin: [f64; 3], force: [f64; 3]) {
 }
 
 /// An entity in the world frame with id `id`.
-fn world_entity(id: String) -> SceneEntity {
+pub(super) fn world_entity(id: String) -> SceneEntity {
     SceneEntity {
         frame_id: super::WORLD_FRAME.to_string(),
         id,
@@ -577,7 +577,7 @@ fn world_entity(id: String) -> SceneEntity {
 }
 
 /// A pose at `position` with orientation `[w, x, y, z]`.
-fn pose_at(position: [f64; 3], [w, x, y, z]: [f64; 4]) -> Pose {
+pub(super) fn pose_at(position: [f64; 3], [w, x, y, z]: [f64; 4]) -> Pose {
     Pose {
         position: Some(vector(position)),
         orientation: Some(Quaternion { x, y, z, w }),
@@ -585,16 +585,16 @@ fn pose_at(position: [f64; 3], [w, x, y, z]: [f64; 4]) -> Pose {
 }
 
 /// The identity pose.
-fn identity_pose() -> Pose {
+pub(super) fn identity_pose() -> Pose {
     pose_at([0.0; 3], [1.0, 0.0, 0.0, 0.0])
 }
 
 /// A Foxglove vector.
-fn vector([x, y, z]: [f64; 3]) -> Vector3 {
+pub(super) fn vector([x, y, z]: [f64; 3]) -> Vector3 {
     Vector3 { x, y, z }
 }
 
 /// A Foxglove colour from `[r, g, b, a]` in `[0, 1]`.
-fn color([r, g, b, a]: [f64; 4]) -> Color {
+pub(super) fn color([r, g, b, a]: [f64; 4]) -> Color {
     Color { r, g, b, a }
 }

@@ -1,0 +1,257 @@
+//! `[walking]` in the MCAP log: a short walk of `scenarios/walking/walk_straight.toml` (two
+//! steps and the stop, cut at 1.6 s: the first transfer, the first step, the second's swing)
+//! draws the planned footsteps (one sole rectangle per step at its landing, the step under
+//! way and the next one in their own colours), the swing path, the planned and measured DCM,
+//! the planned VRP and CoM in `/scene`, and puts the planned lift-offs and touchdowns and the
+//! measured lift-offs on `/events` beside the touchdowns. The plan compared with is the
+//! controller's own (`MomentumController::gait`). A run without `[walking]` draws none of it.
+
+use foxglove::messages::{Log, SceneEntity, SceneUpdate};
+use foxglove::Decode;
+use sea_sim::closed_loop::RecordSink;
+use sea_sim::mcap_log::{McapSink, EVENTS_TOPIC};
+use sea_sim::scenario::run::run_setup_with_sinks;
+use sea_sim::scenario::{build, Scenario};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+/// `walk_straight` with `overrides`.
+fn scenario(overrides: &[(&str, &str)]) -> Scenario {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/walking/walk_straight.toml");
+    let pairs: Vec<(String, String)> = overrides
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    Scenario::from_file(&path, &pairs).unwrap()
+}
+
+/// A file in the temporary folder, removed when dropped.
+struct TempFile(PathBuf);
+
+impl TempFile {
+    fn new(tag: &str) -> Self {
+        let name = format!("walking_mcap_{tag}_{}.mcap", std::process::id());
+        Self(std::env::temp_dir().join(name))
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
+}
+
+/// Runs `scenario` into an MCAP log at `file`; the setup after the run (its controller's
+/// gait readable).
+fn run(scenario: &Scenario, file: &Path) -> (sea_sim::closed_loop::Summary, sea_loop::Setup) {
+    let mut setup = build(scenario).unwrap();
+    let mut log = McapSink::new(file);
+    let mut sinks: Vec<&mut dyn RecordSink> = vec![&mut log];
+    let cancel = AtomicBool::new(false);
+    let summary = run_setup_with_sinks(scenario, &mut setup, &mut sinks, &cancel, |_, _| ());
+    (summary.unwrap(), setup)
+}
+
+/// The `/scene` messages (log time [s], update) and the `/events` logs of the MCAP at `file`.
+fn read(file: &Path) -> (Vec<(f64, SceneUpdate)>, Vec<Log>) {
+    let bytes = std::fs::read(file).unwrap();
+    let (mut scenes, mut events) = (Vec::new(), Vec::new());
+    for message in mcap::MessageStream::new(&bytes).unwrap() {
+        let message = message.unwrap();
+        match message.channel.topic.as_str() {
+            "/scene" => scenes.push((
+                message.log_time as f64 * 1e-9,
+                SceneUpdate::decode(&message.data[..]).unwrap(),
+            )),
+            EVENTS_TOPIC => events.push(Log::decode(&message.data[..]).unwrap()),
+            _ => {}
+        }
+    }
+    (scenes, events)
+}
+
+/// The entity `id` of `update`.
+fn entity<'a>(update: &'a SceneUpdate, id: &str) -> &'a SceneEntity {
+    let found = update.entities.iter().find(|e| e.id == id);
+    found.unwrap_or_else(|| panic!("no {id} in /scene"))
+}
+
+/// The `/scene` message nearest to time `t` [s], with its time.
+fn scene_at(scenes: &[(f64, SceneUpdate)], t: f64) -> (f64, &SceneUpdate) {
+    let nearest = scenes
+        .iter()
+        .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))
+        .expect("a /scene message");
+    assert!((nearest.0 - t).abs() < 0.02, "no /scene near {t} s");
+    (nearest.0, &nearest.1)
+}
+
+/// The colour of footstep `k` in `update`, `[r, g, b]`.
+fn footstep_color(update: &SceneUpdate, k: usize) -> [f64; 3] {
+    let c = entity(update, "walking/footsteps").lines[k].color.unwrap();
+    [c.r, c.g, c.b]
+}
+
+#[test]
+fn a_short_walk_draws_its_plan_and_its_events() {
+    let file = TempFile::new("walk");
+    let walk = scenario(&[
+        ("walking.command", "{ forward_velocity = 0.1, steps = 2 }"),
+        ("simulation.duration_s", "1.6"),
+        ("simulation.record_every", "1"),
+    ]);
+    let (summary, setup) = run(&walk, &file.0);
+    assert_eq!(summary.status, "completed", "{summary:?}");
+    let gait = setup.controller.gait().expect("walking");
+    let steps = &gait.footsteps.steps;
+    assert_eq!(steps.len(), 3, "two steps and the stop");
+    let (scenes, events) = read(&file.0);
+    assert!(!scenes.is_empty());
+
+    // Every /scene message has the footsteps at their landing poses: the rectangle's centre
+    // is the sole frame's foot-rectangle centre at the step's pose.
+    let foot = walk_foot(&walk);
+    for (_, update) in &scenes {
+        let footsteps = entity(update, "walking/footsteps");
+        assert_eq!(footsteps.lines.len(), steps.len());
+        for (line, step) in footsteps.lines.iter().zip(steps) {
+            assert_eq!(line.points.len(), 4);
+            let centre = line
+                .points
+                .iter()
+                .fold([0.0; 2], |c, p| [c[0] + p.x / 4.0, c[1] + p.y / 4.0]);
+            let expected = step.pose.to_world(nalgebra::Vector2::new(
+                0.5 * (foot.0[0] + foot.0[1]),
+                0.5 * (foot.1[0] + foot.1[1]),
+            ));
+            assert!((centre[0] - expected.x).abs() < 1e-9 && (centre[1] - expected.y).abs() < 1e-9);
+        }
+        for id in [
+            "walking/swing",
+            "walking/dcm_planned",
+            "walking/dcm_measured",
+            "walking/vrp_planned",
+            "walking/com_planned",
+            "walking/dcm_path",
+        ] {
+            entity(update, id);
+        }
+    }
+
+    // Mid-swing of the first step: it is the current one (orange), the second the next
+    // (yellow), the stop planned (blue); the swing path runs from its lift-off sole to its
+    // landing and rises; the planned DCM disc is the plan's DCM.
+    let first = steps[0];
+    let (mid, update) = scene_at(&scenes, 0.5 * (first.lift_off + first.touchdown));
+    let colors = [0, 1, 2].map(|k| footstep_color(update, k));
+    assert!(
+        colors[0] != colors[1] && colors[1] != colors[2] && colors[0] != colors[2],
+        "{colors:?}"
+    );
+    let swing = &entity(update, "walking/swing").lines[0].points;
+    assert!(swing.len() > 2);
+    let (start, end) = (swing[0], swing[swing.len() - 1]);
+    let landing = first.pose.world_p_sole;
+    assert!((end.x - landing.x).abs() < 1e-9 && (end.y - landing.y).abs() < 1e-9);
+    assert!(swing
+        .iter()
+        .any(|p| p.z > start.z + 0.5 * gait.swings[0].height));
+    let planned = entity(update, "walking/dcm_planned").cylinders[0]
+        .pose
+        .unwrap();
+    let planned = planned.position.unwrap();
+    let xi = gait.dcm.sample(mid).world_xi;
+    assert!((planned.x - xi.x).abs() < 1e-9 && (planned.y - xi.y).abs() < 1e-9);
+    // The measured DCM is near the planned one (the walk tracks it within centimetres).
+    let measured = entity(update, "walking/dcm_measured").cylinders[0]
+        .pose
+        .unwrap();
+    let measured = measured.position.unwrap();
+    let error = (measured.x - planned.x).hypot(measured.y - planned.y);
+    assert!(error < 0.05, "DCM error {error} m");
+    // After the first touchdown the first step is landed (grey), the second current.
+    let (_, update) = scene_at(&scenes, 1.55);
+    assert_ne!(footstep_color(update, 0), colors[0]);
+    assert_eq!(footstep_color(update, 1), colors[0]);
+
+    // /events: the planned lift-offs and touchdowns reached, at their times, the measured
+    // touchdowns (impacts) and lift-offs of the feet.
+    let named = |name: &str| events.iter().filter(|e| e.name == name).collect::<Vec<_>>();
+    let time = |log: &Log| {
+        let stamp = log.timestamp.unwrap();
+        f64::from(stamp.sec()) + 1e-9 * f64::from(stamp.nsec())
+    };
+    let lift_offs = named("sea_sim.planned_lift_off");
+    let touchdowns = named("sea_sim.planned_touchdown");
+    assert_eq!(lift_offs.len(), 2, "{events:?}");
+    assert_eq!(touchdowns.len(), 1, "{events:?}");
+    assert!((time(lift_offs[0]) - first.lift_off).abs() < 1e-9);
+    assert!((time(touchdowns[0]) - first.touchdown).abs() < 1e-9);
+    assert!(
+        touchdowns[0].message.contains("step 0"),
+        "{}",
+        touchdowns[0].message
+    );
+    let measured_lift_offs = named("sea_sim.lift_off");
+    assert!(!measured_lift_offs.is_empty(), "{events:?}");
+    // Each stepping foot's first measured lift-off comes within 0.1 s before its planned one
+    // (its load goes to zero through the double support; at 0.06 s before in this walk).
+    for k in [0, 1] {
+        let foot = gait_foot_name(&walk, &setup, k);
+        let first_lift = measured_lift_offs
+            .iter()
+            .find(|log| log.message.contains(foot) && time(log) > steps[k].lift_off - 0.1)
+            .unwrap_or_else(|| panic!("no lift-off of {foot}: {measured_lift_offs:?}"));
+        let t = time(first_lift);
+        assert!(t <= steps[k].lift_off + 1e-9, "{foot} lifts off at {t} s");
+    }
+    assert!(!named("sea_sim.touchdown").is_empty(), "{events:?}");
+}
+
+/// The foot rectangle of the scenario's contacts, `(x, y)` bounds in the sole frame.
+fn walk_foot(scenario: &Scenario) -> ([f64; 2], [f64; 2]) {
+    let settings = scenario.loop_settings().unwrap();
+    settings
+        .scene
+        .foot
+        .expect("the controller's foot rectangle")
+}
+
+/// The contact name of the foot that makes step `k`.
+fn gait_foot_name<'a>(scenario: &'a Scenario, setup: &sea_loop::Setup, k: usize) -> &'a str {
+    let gait = setup.controller.gait().unwrap();
+    let foot = gait.footsteps.steps[k].foot;
+    let index = match foot {
+        sea_ctrl::walking::Foot::Left => gait.contact_of[0],
+        sea_ctrl::walking::Foot::Right => gait.contact_of[1],
+    };
+    &scenario.robot.contacts[index]
+}
+
+#[test]
+fn a_run_without_walking_draws_no_walk() {
+    let file = TempFile::new("standing");
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/robot_rate/push_two_feet.toml");
+    let overrides = [
+        ("plant.contact_model", "\"unilateral\""),
+        ("disturbances", "[]"),
+        ("simulation.duration_s", "0.05"),
+    ];
+    let pairs: Vec<(String, String)> = overrides
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    let standing = Scenario::from_file(&path, &pairs).unwrap();
+    run(&standing, &file.0);
+    let (scenes, events) = read(&file.0);
+    assert!(!scenes.is_empty());
+    for (_, update) in &scenes {
+        assert!(update
+            .entities
+            .iter()
+            .all(|e| !e.id.starts_with("walking/")));
+    }
+    assert!(events.iter().all(|e| !e.name.contains("lift_off")));
+}

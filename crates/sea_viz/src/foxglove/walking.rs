@@ -1,0 +1,381 @@
+//! The walk in the scene (`[walking]` only): what the controller plans, drawn beside what the
+//! robot does, on `/scene` (world frame, on the ground plane) and `/events`.
+//!
+//! Entities of `/scene`:
+//! - `walking/footsteps`: one closed line per planned landing (the sole rectangle at the
+//!   footstep's pose, in step order), coloured by its state at the sample: landed (grey), the
+//!   step under way (swinging, orange), the next one to lift off (yellow), later ones (blue);
+//! - `walking/swing`: the planned path of the swinging sole's origin (a line strip, the step
+//!   under way, or in double support the next one; empty after the last);
+//! - `walking/dcm_planned`, `walking/dcm_measured`: the planned DCM (capture point) and the
+//!   measured one `x + xdot / omega` (`xdot` = the linear momentum over the mass), as discs on
+//!   the ground; `walking/vrp_planned`, `walking/com_planned`: the planned VRP (the centre of
+//!   pressure the plan asks for) and the planned CoM's ground projection;
+//! - `walking/dcm_path`: the planned DCM over the whole walk (a line strip, static).
+//!
+//! `/events` (`foxglove.Log`, level INFO): `sea_sim.planned_lift_off` and
+//! `sea_sim.planned_touchdown` at each step's planned times, and `sea_sim.lift_off` when a
+//! foot's contact points stop carrying force (at the first recorded sample without force, so
+//! at the recording's resolution; the touchdowns are the impacts' `sea_sim.touchdown`, at
+//! plant-step resolution).
+//!
+//! The walk is the one planned at the run's start ([`sea_loop::RunInfo::walking`]).
+
+use super::scene::{color, encode_to_vec, identity_pose, pose_at, vector, world_entity};
+use super::FootRectangle;
+use crate::Result;
+use ::foxglove::messages::{
+    line_primitive, log::Level, CylinderPrimitive, LinePrimitive, Point3, SceneEntity, SceneUpdate,
+    Timestamp,
+};
+use ::foxglove::Encode;
+use nalgebra::{Vector2, Vector3};
+use sea_ctrl::walking::{Foot, Gait, Support};
+use sea_loop::Sample;
+
+/// Colour of a landed footstep.
+const LANDED_COLOR: [f64; 4] = [0.5, 0.5, 0.5, 0.6];
+/// Colour of the footstep under way (its foot swinging).
+const CURRENT_COLOR: [f64; 4] = [1.0, 0.4, 0.0, 1.0];
+/// Colour of the next footstep to lift off.
+const NEXT_COLOR: [f64; 4] = [1.0, 0.85, 0.0, 1.0];
+/// Colour of the later footsteps.
+const PLANNED_COLOR: [f64; 4] = [0.3, 0.6, 1.0, 0.7];
+/// Colour of the swing path.
+const SWING_COLOR: [f64; 4] = [1.0, 0.4, 0.0, 1.0];
+/// Colour of the planned DCM path.
+const DCM_PATH_COLOR: [f64; 4] = [0.7, 0.2, 0.9, 0.6];
+/// Line width of the footsteps and paths [m].
+const LINE_WIDTH_M: f64 = 0.003;
+/// Points per swing path.
+const SWING_POINTS: usize = 25;
+/// Time between the points of the DCM path [s].
+const DCM_PATH_STEP_S: f64 = 0.02;
+/// Height of the drawn points above the ground, so that they are not hidden by it [m].
+const ABOVE_GROUND_M: f64 = 0.001;
+
+/// The point markers: entity id, disc diameter [m], colour.
+const POINT_MARKERS: [(&str, f64, [f64; 4]); 4] = [
+    ("walking/dcm_planned", 0.03, [0.7, 0.2, 0.9, 1.0]),
+    ("walking/dcm_measured", 0.024, [1.0, 0.1, 0.5, 1.0]),
+    ("walking/vrp_planned", 0.02, [0.1, 0.7, 0.7, 1.0]),
+    ("walking/com_planned", 0.02, [0.1, 0.8, 0.2, 1.0]),
+];
+
+/// What the walk's markers show at one sample (module doc).
+pub(crate) struct WalkingScene {
+    gait: Gait,
+    /// `omega` of the plan's pendulum [1/s].
+    omega: f64,
+    /// The robot's mass [kg].
+    mass: f64,
+    /// The ground's height [m].
+    world_z_ground: f64,
+    /// The swing path of each step (its sole origin over its swing).
+    swing_paths: Vec<Vec<Point3>>,
+    /// The static `walking/dcm_path`, encoded.
+    static_encoded: Vec<u8>,
+    /// The moving entities: footsteps (when the sole is known), swing, the point markers.
+    update: SceneUpdate,
+    /// Whether `update`'s first entity is `walking/footsteps`.
+    has_footsteps: bool,
+    /// The planned events (time [s], name, text) in time order, and how many were emitted.
+    planned_events: Vec<(f64, &'static str, String)>,
+    planned_emitted: usize,
+    /// Per contact, its points' range in the samples' contact points (unilateral contacts).
+    contact_points: Vec<(usize, usize)>,
+    /// The contact names (the events' feet).
+    contact_names: Vec<String>,
+    /// Per contact, whether it carried force at the last sample.
+    loaded: Vec<bool>,
+}
+
+impl WalkingScene {
+    /// The scene of `gait` for a robot of `mass` [kg] whose soles are `foot` (no footstep
+    /// rectangles when `None`), with `contact_names` and `counts[c]` contact points on
+    /// contact `c` (unilateral contacts; empty: no measured lift-offs).
+    pub fn new(
+        gait: &Gait,
+        mass: f64,
+        foot: Option<FootRectangle>,
+        (contact_names, counts): (&[String], &[usize]),
+    ) -> Self {
+        let lip = gait.dcm.lip();
+        let world_z_ground = gait.dcm.sample(0.0).world_xi.z - lip.com_height;
+        let z = world_z_ground + ABOVE_GROUND_M;
+        let swing_paths = gait
+            .swings
+            .iter()
+            .map(|swing| {
+                (0..SWING_POINTS)
+                    .map(|k| {
+                        let u = k as f64 / (SWING_POINTS - 1) as f64;
+                        let p = swing.sample(swing.start + u * swing.duration).world_p_sole;
+                        point(p.x, p.y, p.z + ABOVE_GROUND_M)
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut entities = Vec::new();
+        if let Some(foot) = foot {
+            entities.push(footsteps_entity(gait, foot, z));
+        }
+        entities.push(line_entity("walking/swing", Vec::new(), SWING_COLOR));
+        entities.extend(POINT_MARKERS.iter().map(|(id, diameter, rgba)| {
+            let mut entity = world_entity(id.to_string());
+            entity.cylinders.push(CylinderPrimitive {
+                pose: Some(identity_pose()),
+                size: Some(vector([*diameter, *diameter, 0.002])),
+                bottom_scale: 1.0,
+                top_scale: 1.0,
+                color: Some(color(*rgba)),
+            });
+            entity
+        }));
+        let mut start = 0;
+        let contact_points = counts
+            .iter()
+            .map(|&n| {
+                start += n;
+                (start - n, start)
+            })
+            .collect();
+        Self {
+            static_encoded: encode_to_vec(&SceneUpdate {
+                deletions: Vec::new(),
+                entities: vec![dcm_path_entity(gait, z)],
+            }),
+            omega: lip.omega,
+            mass,
+            world_z_ground,
+            swing_paths,
+            update: SceneUpdate {
+                deletions: Vec::new(),
+                entities,
+            },
+            has_footsteps: foot.is_some(),
+            planned_events: planned_events(gait),
+            planned_emitted: 0,
+            contact_points,
+            contact_names: contact_names.to_vec(),
+            loaded: vec![false; counts.len()],
+            gait: gait.clone(),
+        }
+    }
+
+    /// Sets the markers of `sample` and appends the encoded `walking/*` entities (the static
+    /// path, then the moving ones) to `buffer`; `false`, appending nothing, when a value is not
+    /// finite.
+    pub fn encode(&mut self, stamp: Timestamp, sample: &Sample<'_>, buffer: &mut Vec<u8>) -> bool {
+        let t = sample.time_s;
+        let planned = self.gait.dcm.sample(t);
+        let com = Vector3::from(sample.com);
+        let com_velocity =
+            Vector3::new(sample.momentum[0], sample.momentum[1], sample.momentum[2]) / self.mass;
+        let measured_dcm = com + com_velocity / self.omega;
+        let positions = [
+            planned.world_xi.xy(),
+            measured_dcm.xy(),
+            planned.world_p_vrp.xy(),
+            planned.com.position.xy(),
+        ];
+        if !positions.iter().all(|p| p.iter().all(|v| v.is_finite())) {
+            return false;
+        }
+        let step = self.step_shown(t);
+        let first_point = usize::from(self.has_footsteps) + 1;
+        let (lines, points) = self.update.entities.split_at_mut(first_point);
+        if self.has_footsteps {
+            set_footstep_colors(&mut lines[0], &self.gait, t);
+        }
+        let swing = &mut lines[first_point - 1];
+        swing.lines[0].points.clear();
+        if let Some(path) = step.and_then(|k| self.swing_paths.get(k)) {
+            swing.lines[0].points.extend_from_slice(path);
+        }
+        let z = self.world_z_ground + ABOVE_GROUND_M;
+        for (entity, p) in points.iter_mut().zip(positions) {
+            entity.cylinders[0].pose = Some(pose_at([p.x, p.y, z], [1.0, 0.0, 0.0, 0.0]));
+        }
+        for entity in &mut self.update.entities {
+            entity.timestamp = Some(stamp);
+        }
+        buffer.extend_from_slice(&self.static_encoded);
+        Encode::encode(&self.update, buffer).is_ok()
+    }
+
+    /// The step whose swing is drawn at `t`: the one under way, else the next to lift off.
+    fn step_shown(&self, t: f64) -> Option<usize> {
+        let phase = self.gait.footsteps.phase_at(t);
+        match (phase.support, phase.step) {
+            (Support::Single { .. }, Some(step)) => Some(step),
+            _ => self
+                .gait
+                .footsteps
+                .steps
+                .iter()
+                .position(|s| s.lift_off > t),
+        }
+    }
+
+    /// The `/events` messages due at `sample` (time [ns], encoded `foxglove.Log`): the planned
+    /// lift-offs and touchdowns up to its time, and each foot whose points stopped carrying
+    /// force since the last sample.
+    ///
+    /// Errors: [`Error::Log`] when a message does not encode.
+    pub fn events(&mut self, sample: &Sample<'_>) -> Result<Vec<(u64, Vec<u8>)>> {
+        let mut events = Vec::new();
+        while let Some((time_s, name, text)) = self.planned_events.get(self.planned_emitted) {
+            if *time_s > sample.time_s {
+                break;
+            }
+            events.push(crate::mcap_log::log_event(
+                *time_s,
+                Level::Info,
+                text.clone(),
+                name,
+            )?);
+            self.planned_emitted += 1;
+        }
+        let active = sample.contact_point_active;
+        for (c, &(first, end)) in self.contact_points.iter().enumerate() {
+            let Some(points) = active.get(first..end) else {
+                continue;
+            };
+            let loaded = points.iter().any(|&a| a);
+            if self.loaded[c] && !loaded {
+                let name = self.contact_names.get(c).map_or("contact", String::as_str);
+                let text = format!(
+                    "lift-off of {name} at t = {:.4} s (its points carry no force)",
+                    sample.time_s
+                );
+                events.push(crate::mcap_log::log_event(
+                    sample.time_s,
+                    Level::Info,
+                    text,
+                    "sea_sim.lift_off",
+                )?);
+            }
+            self.loaded[c] = loaded;
+        }
+        Ok(events)
+    }
+}
+
+/// Each step's planned lift-off and touchdown as (time [s], event name, text), in time order.
+fn planned_events(gait: &Gait) -> Vec<(f64, &'static str, String)> {
+    let mut events = Vec::with_capacity(2 * gait.footsteps.steps.len());
+    for (k, step) in gait.footsteps.steps.iter().enumerate() {
+        let foot = match step.foot {
+            Foot::Left => "left",
+            Foot::Right => "right",
+        };
+        let p = step.pose.world_p_sole;
+        events.push((
+            step.lift_off,
+            "sea_sim.planned_lift_off",
+            format!(
+                "step {k}: the {foot} foot lifts off at t = {:.4} s (planned)",
+                step.lift_off
+            ),
+        ));
+        events.push((
+            step.touchdown,
+            "sea_sim.planned_touchdown",
+            format!(
+                "step {k}: the {foot} foot lands at t = {:.4} s on x = {:.4} m, y = {:.4} m, \
+                 yaw = {:.4} rad (planned)",
+                step.touchdown, p.x, p.y, step.pose.world_yaw_sole
+            ),
+        ));
+    }
+    events.sort_by(|a, b| a.0.total_cmp(&b.0));
+    events
+}
+
+/// `walking/footsteps`: one closed line per planned landing, at height `z` (colours set per
+/// sample).
+fn footsteps_entity(gait: &Gait, foot: FootRectangle, z: f64) -> SceneEntity {
+    let mut entity = world_entity("walking/footsteps".to_string());
+    let corners = [
+        [foot.x[0], foot.y[0]],
+        [foot.x[1], foot.y[0]],
+        [foot.x[1], foot.y[1]],
+        [foot.x[0], foot.y[1]],
+    ];
+    for step in &gait.footsteps.steps {
+        let points = corners
+            .iter()
+            .map(|&[x, y]| {
+                let world_p = step.pose.to_world(Vector2::new(x, y));
+                point(world_p.x, world_p.y, z)
+            })
+            .collect();
+        entity
+            .lines
+            .push(line(line_primitive::Type::LineLoop, points, PLANNED_COLOR));
+    }
+    entity
+}
+
+/// Colours the footsteps of `entity` by their state at `t` (module doc).
+fn set_footstep_colors(entity: &mut SceneEntity, gait: &Gait, t: f64) {
+    let steps = &gait.footsteps.steps;
+    let next = steps.iter().position(|s| s.lift_off > t);
+    for (k, (line, step)) in entity.lines.iter_mut().zip(steps).enumerate() {
+        let rgba = if step.touchdown <= t {
+            LANDED_COLOR
+        } else if step.lift_off <= t {
+            CURRENT_COLOR
+        } else if Some(k) == next {
+            NEXT_COLOR
+        } else {
+            PLANNED_COLOR
+        };
+        line.color = Some(color(rgba));
+    }
+}
+
+/// `walking/dcm_path`: the planned DCM from the start to the walk's end, at height `z`.
+fn dcm_path_entity(gait: &Gait, z: f64) -> SceneEntity {
+    let end = gait.end_time();
+    let count = (end / DCM_PATH_STEP_S).ceil() as usize + 1;
+    let points = (0..count)
+        .map(|k| {
+            let xi = gait
+                .dcm
+                .sample((k as f64 * DCM_PATH_STEP_S).min(end))
+                .world_xi;
+            point(xi.x, xi.y, z)
+        })
+        .collect();
+    line_entity("walking/dcm_path", points, DCM_PATH_COLOR)
+}
+
+/// A world entity `id` with one line strip through `points`.
+fn line_entity(id: &str, points: Vec<Point3>, rgba: [f64; 4]) -> SceneEntity {
+    let mut entity = world_entity(id.to_string());
+    entity
+        .lines
+        .push(line(line_primitive::Type::LineStrip, points, rgba));
+    entity
+}
+
+/// A line of `kind` through `points` (world axes).
+fn line(kind: line_primitive::Type, points: Vec<Point3>, rgba: [f64; 4]) -> LinePrimitive {
+    LinePrimitive {
+        r#type: kind as i32,
+        pose: Some(identity_pose()),
+        thickness: LINE_WIDTH_M,
+        scale_invariant: false,
+        points,
+        color: Some(color(rgba)),
+        colors: Vec::new(),
+        indices: Vec::new(),
+    }
+}
+
+/// A Foxglove point.
+fn point(x: f64, y: f64, z: f64) -> Point3 {
+    Point3 { x, y, z }
+}
