@@ -709,8 +709,8 @@ impl<'a> Engine<'a> {
         sea_dyn::forward_kinematics(model, &mut data, self.layout.q(&self.x));
         let [a, b] = [0, 1].map(|c| sea_dyn::frame_placement(model, &data, frames[c]));
         let end = (a.translation + b.translation).xy() * 0.5;
-        // The feet where the gait started (the initial posture's soles).
-        let start = gait.footsteps.stances[0].mid_frame().world_p_sole;
+        // The feet where the walk started (the initial posture's soles).
+        let start = controller.initial_stance()?.mid_frame().world_p_sole;
         let distance_m = (end - start).norm();
         let first_lift_off = gait.footsteps.steps.first().map(|s| s.lift_off);
         let walking_end = gait
@@ -722,7 +722,7 @@ impl<'a> Engine<'a> {
             .filter(|&t0| walking_end > t0)
             .map(|t0| distance_m / (walking_end - t0));
         Some(Walked {
-            steps: gait.steps_landed(end_s),
+            steps: controller.steps_landed(end_s)?,
             distance_m,
             speed_m_s,
         })
