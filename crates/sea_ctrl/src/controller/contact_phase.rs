@@ -228,7 +228,11 @@ impl MomentumController {
         let gravity = self.model.gravity.norm();
         let gait = Gait::new(settings, &self.contact_references, world_p_com, gravity)?;
         let stepping = settings.stepping.then(|| {
-            let world_z_ground = self.contact_references.iter().map(|h| h.translation.z).sum::<f64>()
+            let world_z_ground = self
+                .contact_references
+                .iter()
+                .map(|h| h.translation.z)
+                .sum::<f64>()
                 / self.contact_references.len() as f64;
             let lip = gait.dcm.lip();
             Stepping::new(

@@ -21,8 +21,8 @@
 use super::contact_phase::ContactPhases;
 use super::MomentumController;
 use crate::walking::{
-    needs_step, recovery_gait, settle_from, swing_foot_for, Foot, FootTask, Lip, MeasuredCom, RecoveryFrame,
-    RecoveryStep, Stance, SupportPolygon, WalkingSettings,
+    needs_step, recovery_gait, settle_from, swing_foot_for, Foot, FootTask, Lip, MeasuredCom,
+    RecoveryFrame, RecoveryStep, Stance, SupportPolygon, WalkingSettings,
 };
 use nalgebra::Vector2;
 use sea_dyn::{ContactSurface, StateLayout};
@@ -93,7 +93,6 @@ impl Stepping {
     pub(super) fn has_stepped(&self) -> bool {
         !self.planned.is_empty()
     }
-
 }
 
 impl ContactPhases {
@@ -166,9 +165,7 @@ impl MomentumController {
             Decision::Watch { sequence_steps } => {
                 stepping.sequence_steps = sequence_steps;
                 let stance = gait.footsteps.final_stance();
-                let world_xi = stepping
-                    .lip
-                    .dcm(measured.world_p_com, measured.world_v_com);
+                let world_xi = stepping.lip.dcm(measured.world_p_com, measured.world_v_com);
                 let support = SupportPolygon::of_stance(&stance, &stepping.surface);
                 if !needs_step(&support, world_xi, stepping.settings.capture_margin) {
                     return;
@@ -219,9 +216,15 @@ impl MomentumController {
                 });
             }
         }
-        let last_touchdown = steps.last().map_or(f64::NEG_INFINITY, |step| step.touchdown);
+        let last_touchdown = steps
+            .last()
+            .map_or(f64::NEG_INFINITY, |step| step.touchdown);
         // A landing foot still descending (`recovery_landing_tasks`): not yet.
-        if walking.tasks.iter().any(|task| matches!(task, FootTask::Swing(_))) {
+        if walking
+            .tasks
+            .iter()
+            .any(|task| matches!(task, FootTask::Swing(_)))
+        {
             return None;
         }
         let sequence_steps = if t >= walking.gait.end_time() {

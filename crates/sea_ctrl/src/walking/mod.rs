@@ -41,7 +41,9 @@ pub mod swing;
 #[cfg(test)]
 mod tests;
 
-pub use capture::{needs_step, recovery_step, swing_foot_for, RecoveryStep, StepRequest};
+pub use capture::{
+    needs_step, recovery_step, recovery_step_beyond, swing_foot_for, RecoveryStep, StepRequest,
+};
 pub use command::{
     footsteps_from_command, footsteps_from_list, footsteps_from_settings, stop_after,
 };

@@ -10,8 +10,9 @@
 //!    DCM at lift-off, `xi_lift` (the exact solution of `xidot = omega (xi - p)` for a linear
 //!    VRP);
 //! 2. the swing of [`super::recovery_step`] from `xi_lift`: at least
-//!    `walking.min_swing_duration`, the VRP held at `p_s`, the swing sole aimed at the DCM at
-//!    touchdown `xi_td = p_s + (xi_lift - p_s) e^(omega T)`, clipped to the step limits;
+//!    `walking.min_swing_duration`, the VRP held at `p_s`, the swing sole aimed
+//!    `walking.recovery_step_offset` beyond the DCM at touchdown
+//!    `xi_td = p_s + (xi_lift - p_s) e^(omega T)`, clipped to the step limits;
 //! 3. after touchdown, over `walking.transfer_duration`, a cubic DCM from rest at `xi_td`
 //!    (the VRP jumps onto the DCM: the landing foot takes the load at once, both feet then
 //!    free to carry it, `controller::stepping`) to rest over the new mid-feet point; then
@@ -22,13 +23,13 @@
 //! is and moving as it moves (the DCM's velocity `omega (xi0 - p)`), and follows the DCM the
 //! feet can produce rather than the one a walk from rest would plan.
 
-use super::capture::{recovery_step, RecoveryStep, StepRequest};
+use super::capture::{recovery_step_beyond, RecoveryStep, StepRequest};
 use super::dcm::DcmPlan;
-use super::segment::{Cubic, DcmSegment};
 use super::footstep::{Foot, Footstep, FootstepPlan, Stance};
 use super::gait::Gait;
 use super::lip::Lip;
 use super::polygon::SupportPolygon;
+use super::segment::{Cubic, DcmSegment};
 use super::settings::WalkingSettings;
 use super::swing::SwingTrajectory;
 use nalgebra::Vector2;
@@ -80,17 +81,14 @@ pub fn recovery_gait(
     let guess_lift_off = transfer_dcm(lip, world_xi, (world_p_cop, first_guess), transfer);
     let world_p_stance = stance_sole.closest_point(guess_lift_off);
     let world_xi_lift_off = transfer_dcm(lip, world_xi, (world_p_cop, world_p_stance), transfer);
-    let step = recovery_step(
-        settings,
-        lip,
-        surface,
-        StepRequest {
-            world_xi: world_xi_lift_off,
-            stance: frame.stance.get(swing_foot.other()),
-            swing_foot,
-            swing_duration: settings.min_swing_duration,
-        },
-    );
+    let request = StepRequest {
+        world_xi: world_xi_lift_off,
+        stance: frame.stance.get(swing_foot.other()),
+        swing_foot,
+        swing_duration: settings.min_swing_duration,
+    };
+    let offset = settings.recovery_step_offset;
+    let step = recovery_step_beyond(settings, lip, surface, request, offset);
     let touchdown = lift_off + step.swing_duration;
     let mut after = frame.stance;
     after.set(swing_foot, step.pose);
@@ -124,7 +122,12 @@ pub fn recovery_gait(
             step.dcm_at_touchdown,
         ),
     ];
-    segments.extend(settling_segments(touchdown, settle, step.dcm_at_touchdown, rest_point));
+    segments.extend(settling_segments(
+        touchdown,
+        settle,
+        step.dcm_at_touchdown,
+        rest_point,
+    ));
     let dcm = DcmPlan::from_segments(*lip, segments, measured.world_p_com, frame.world_z_ground);
     let swings = vec![SwingTrajectory::of_step(
         &footsteps,

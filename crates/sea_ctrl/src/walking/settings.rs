@@ -141,6 +141,10 @@ pub struct WalkingSettings {
     /// Stepping: the double support that moves the load off the swing foot before a
     /// recovery step lifts off [s], at least one whole-body period.
     pub recovery_transfer_duration: f64,
+    /// Stepping: how far beyond the DCM predicted at touchdown the swing sole is aimed, along
+    /// the DCM's motion away from the stance's centre of pressure [m], >= 0
+    /// ([`super::recovery_step_beyond`]).
+    pub recovery_step_offset: f64,
     /// The walking command, used when `footsteps` is empty.
     pub command: WalkCommand,
     /// Explicit footsteps, in order (empty: footsteps from `command`).
@@ -168,6 +172,7 @@ impl Default for WalkingSettings {
             stepping: false,
             max_recovery_steps: 2,
             recovery_transfer_duration: 0.1,
+            recovery_step_offset: 0.03,
             command: WalkCommand::default(),
             footsteps: Vec::new(),
         }
@@ -251,6 +256,7 @@ impl WalkingSettings {
         for (key, value) in [
             ("walking.swing_height", self.swing_height),
             ("walking.capture_margin", self.capture_margin),
+            ("walking.recovery_step_offset", self.recovery_step_offset),
             ("walking.swing_position_gain", self.swing_position_gain),
             ("walking.swing_velocity_gain", self.swing_velocity_gain),
         ] {
