@@ -324,6 +324,13 @@ impl WalkingSettings {
                 ));
             }
         }
+        if self.max_recovery_steps == 0 {
+            return Err(Error::invalid(
+                "walking.max_recovery_steps",
+                "must be at least 1",
+                0,
+            ));
+        }
         if self.stepping {
             return self.validate_stepping();
         }
@@ -337,7 +344,7 @@ impl WalkingSettings {
         Ok(())
     }
 
-    /// Stepping: standing only (no command length, no footsteps), at least one step.
+    /// Stepping: standing only (no command length, no footsteps).
     fn validate_stepping(&self) -> Result<()> {
         if self.command.steps.is_some()
             || self.command.duration.is_some()
@@ -348,13 +355,6 @@ impl WalkingSettings {
                 "stepping recovers pushes while standing: leave walking.command.steps, \
                  walking.command.duration and walking.footsteps unset (pushes while walking \
                  are not handled)",
-            ));
-        }
-        if self.max_recovery_steps == 0 {
-            return Err(Error::invalid(
-                "walking.max_recovery_steps",
-                "must be at least 1",
-                0,
             ));
         }
         Ok(())

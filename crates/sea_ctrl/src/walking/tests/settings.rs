@@ -105,3 +105,35 @@ fn other_bad_values_name_their_keys() {
         assert_eq!(key_of(settings.validate(0.01).unwrap_err()), key);
     }
 }
+
+#[test]
+fn stepping_stands_and_refuses_a_walk_naming_walking_stepping() {
+    let mut settings = super::WalkingSettings {
+        stepping: true,
+        ..Default::default()
+    };
+    settings.validate(0.01).expect("standing with stepping");
+    settings.command.steps = Some(2);
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.stepping"
+    );
+    settings.command.steps = None;
+    settings.max_recovery_steps = 0;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.max_recovery_steps"
+    );
+    settings.max_recovery_steps = 2;
+    settings.recovery_step_offset = -0.01;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.recovery_step_offset"
+    );
+    settings.recovery_step_offset = 0.03;
+    settings.recovery_transfer_duration = 0.001;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.recovery_transfer_duration"
+    );
+}
