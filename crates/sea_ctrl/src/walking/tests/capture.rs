@@ -229,13 +229,28 @@ fn a_recovery_gait_starts_at_the_measured_state_and_ends_at_rest_over_the_new_fe
     let start = gait.dcm.sample(1.0);
     let xi0 = lip.dcm(measured.world_p_com, measured.world_v_com);
     assert_close(start.world_xi.xy(), xi0, 1e-12, "DCM at the start");
-    assert_close(start.com.position.xy(), measured.world_p_com, 1e-12, "CoM at the start");
-    assert_close(start.com.velocity.xy(), measured.world_v_com, 1e-9, "CoM velocity at the start");
+    assert_close(
+        start.com.position.xy(),
+        measured.world_p_com,
+        1e-12,
+        "CoM at the start",
+    );
+    assert_close(
+        start.com.velocity.xy(),
+        measured.world_v_com,
+        1e-9,
+        "CoM velocity at the start",
+    );
     let footstep = gait.footsteps.steps[0];
     assert_eq!(footstep.foot, Foot::Right);
     assert!(step.pose.world_p_sole.x > 0.1, "{step:?}");
     let at_touchdown = gait.dcm.sample(footstep.touchdown).world_xi.xy();
-    assert_close(at_touchdown, step.dcm_at_touchdown, 1e-9, "DCM at touchdown");
+    assert_close(
+        at_touchdown,
+        step.dcm_at_touchdown,
+        1e-9,
+        "DCM at touchdown",
+    );
     let swing_end = gait.swings[0].sample(footstep.touchdown).world_p_sole;
     assert_close(swing_end.xy(), step.pose.world_p_sole, 1e-12, "landing");
     let rest = gait.footsteps.final_stance().mid_frame().world_p_sole;
