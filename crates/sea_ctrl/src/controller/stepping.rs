@@ -107,9 +107,10 @@ impl ContactPhases {
             return;
         };
         let steps = &self.gait.footsteps.steps;
-        let Some((index, step)) = steps.iter().enumerate().last() else {
+        let Some(index) = steps.len().checked_sub(1) else {
             return;
         };
+        let step = &steps[index];
         if !stepping.has_stepped() || t < step.touchdown {
             return;
         }
