@@ -714,8 +714,9 @@ impl<'a> Engine<'a> {
         sea_dyn::forward_kinematics(model, &mut data, self.layout.q(&self.x));
         let [a, b] = [0, 1].map(|c| sea_dyn::frame_placement(model, &data, frames[c]));
         let end = (a.translation + b.translation).xy() * 0.5;
-        // The feet where the gait started (the initial posture's soles).
-        let start_frame = gait.footsteps.stances[0].mid_frame();
+        // The feet where the walk started (the initial posture's soles; a re-planned gait,
+        // as stepping makes, starts elsewhere).
+        let start_frame = controller.initial_stance()?.mid_frame();
         let distance_m = (end - start_frame.world_p_sole).norm();
         // The soles' mean heading (the sum of their x axes' ground projections).
         let heading = a.rotation.column(0) + b.rotation.column(0);
@@ -731,7 +732,7 @@ impl<'a> Engine<'a> {
             .filter(|&t0| walking_end > t0)
             .map(|t0| distance_m / (walking_end - t0));
         Some(Walked {
-            steps: gait.steps_landed(end_s),
+            steps: controller.steps_landed(end_s)?,
             distance_m,
             speed_m_s,
             turned_rad,

@@ -28,6 +28,7 @@
 //! keeps descending from its landing pose at [`LATE_TOUCHDOWN_SPEED`], with no planned load,
 //! until the sensor sees it.
 
+use super::stepping::Stepping;
 use super::MomentumController;
 use crate::error::{Error, Result};
 use crate::qp::{momentum_tracking_objective, Minimizer, QpCounters, QpStatus, WrenchQp};
@@ -67,14 +68,17 @@ pub(super) struct ContactPhases {
     single: SingleSupportQp,
     /// Each contact's measured normal force of the last period (world z) [N]; `None` before
     /// the sensors were handed over (the plan's timing alone).
-    normal_forces: Option<[f64; 2]>,
+    pub(super) normal_forces: Option<[f64; 2]>,
     /// The normal force above which a foot is on the ground [N].
-    touchdown_force: f64,
+    pub(super) touchdown_force: f64,
     /// Whether the sensors move the touchdowns (`walking.sensed_touchdown`).
     sensed_touchdown: bool,
     /// Touchdowns the sensors moved: early, late.
     pub(super) early_touchdowns: usize,
     pub(super) late_ticks: usize,
+    /// Stepping to recover pushes (`walking.stepping`, `stepping.rs`); `None`: the gait as
+    /// planned.
+    pub(super) stepping: Option<Stepping>,
 }
 
 /// The one-contact wrench QP of single support, on the stance foot's wrench.
@@ -204,7 +208,7 @@ impl ContactPhases {
 
     /// A late foot `since` [s] after step `step`'s planned touchdown: its landing pose,
     /// lowered at [`LATE_TOUCHDOWN_SPEED`].
-    fn descent(&self, step: usize, since: f64) -> SwingSample {
+    pub(super) fn descent(&self, step: usize, since: f64) -> SwingSample {
         let mut sample = self.gait.swings[step].sample(f64::INFINITY);
         sample.world_p_sole.z -= LATE_TOUCHDOWN_SPEED * since;
         sample.world_v_sole.z = -LATE_TOUCHDOWN_SPEED;
@@ -261,6 +265,22 @@ impl MomentumController {
         let world_p_com = sea_dyn::centroidal::com(&self.model, &mut self.data, q0);
         let gravity = self.model.gravity.norm();
         let gait = Gait::new(settings, &self.contact_references, world_p_com, gravity)?;
+        let stepping = settings.stepping.then(|| {
+            let world_z_ground = self
+                .contact_references
+                .iter()
+                .map(|h| h.translation.z)
+                .sum::<f64>()
+                / self.contact_references.len() as f64;
+            let lip = gait.dcm.lip();
+            Stepping::new(
+                settings,
+                lip,
+                self.settings.constraints.surface,
+                gait.footsteps.stances[0],
+                world_z_ground,
+            )
+        });
         let mut single_qp = WrenchQp::new(1, 0, &self.settings.constraints);
         single_qp.unconstrained_first = self.settings.tuning.qp_unconstrained_first;
         single_qp.solver = self.settings.tuning.qp_solver;
@@ -274,6 +294,7 @@ impl MomentumController {
             sensed_touchdown: settings.sensed_touchdown,
             early_touchdowns: 0,
             late_ticks: 0,
+            stepping,
             tasks: gait.foot_tasks(0.0),
             gait,
             position_gain: settings.swing_position_gain,
@@ -308,11 +329,19 @@ impl MomentumController {
     }
 
     /// When walking: sets the contact phases of the tick at time `t` [s] and returns the
-    /// CoM reference the momentum task tracks then; `None` when not walking.
+    /// CoM reference the momentum task tracks then; `None` when not walking, or when stepping
+    /// (`walking.stepping`) before any step (the caller's reference then, `stepping.rs`).
     pub fn walking_reference(&mut self, t: f64) -> Option<ComSample> {
         let walking = self.walking.as_mut()?;
-        let planned = walking.gait.foot_tasks(t);
+        let mut planned = walking.gait.foot_tasks(t);
+        let standing = walking.stepping.as_ref().is_some_and(|stepping| {
+            walking.recovery_landing_tasks(t, &mut planned);
+            !stepping.has_stepped()
+        });
         walking.tasks = walking.sensed_tasks(t, planned);
+        if standing {
+            return None;
+        }
         Some(walking.gait.com_reference(t))
     }
 

@@ -36,6 +36,8 @@
 //!   relaxed momentum task;
 //! - `disturbances.rs`: the external wrench, the generalized disturbance and the CoM offset
 //!   that observers set, and how they enter the dynamics and the momentum task;
+//! - `contact_phase.rs`, `stepping.rs`: walking's contact phases and stepping to recover a
+//!   push;
 //! - this file: [`MomentumController`], its construction, the tick and the accessors.
 
 mod contact_phase;
@@ -44,6 +46,7 @@ mod model_terms;
 mod output;
 mod qp_solve;
 mod settings;
+mod stepping;
 mod tuning;
 
 pub use contact_phase::{

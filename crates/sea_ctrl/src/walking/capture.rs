@@ -74,6 +74,20 @@ pub fn recovery_step(
     surface: &ContactSurface,
     request: StepRequest,
 ) -> RecoveryStep {
+    recovery_step_beyond(settings, lip, surface, request, 0.0)
+}
+
+/// [`recovery_step`] with the swing sole aimed `offset` [m] beyond the DCM at touchdown,
+/// along the DCM's motion away from the stance's centre of pressure (`xi(T) - p`): the DCM
+/// then lands inside the new sole on the stance's side, with room for the landing foot's
+/// centre of pressure to stop it (`walking.recovery_step_offset`).
+pub fn recovery_step_beyond(
+    settings: &WalkingSettings,
+    lip: &Lip,
+    surface: &ContactSurface,
+    request: StepRequest,
+    offset: f64,
+) -> RecoveryStep {
     let StepRequest {
         world_xi: xi0,
         stance,
@@ -83,7 +97,13 @@ pub fn recovery_step(
     let duration = swing_duration.max(settings.min_swing_duration);
     let stance_cop = SupportPolygon::of_sole(stance, surface).closest_point(xi0);
     let dcm_at_touchdown = lip.dcm_after(stance_cop, xi0, duration);
-    let aim = stance.to_sole(dcm_at_touchdown);
+    let away = dcm_at_touchdown - stance_cop;
+    let beyond = if away.norm() > 1e-9 {
+        away * (offset / away.norm())
+    } else {
+        Vector2::zeros()
+    };
+    let aim = stance.to_sole(dcm_at_touchdown + beyond);
     let side = swing_foot.side();
     let reach = settings.max_step_length;
     let clipped_aim = Vector2::new(

@@ -66,7 +66,10 @@ pub fn footsteps_from_settings(
     settings: &WalkingSettings,
     initial: Stance,
 ) -> Result<FootstepPlan> {
-    if settings.footsteps.is_empty() {
+    if settings.stepping {
+        // Standing: no planned step; pushes add the recovery steps (`walking::recovery`).
+        FootstepPlan::timed(settings, initial, &[], "walking")
+    } else if settings.footsteps.is_empty() {
         footsteps_from_command(settings, initial)
     } else {
         let list: Vec<_> = settings

@@ -42,6 +42,17 @@ pub struct DcmSample {
     pub com: ComSample,
 }
 
+/// Where a DCM plan starts (world x, y): the DCM [m], its velocity [m/s], the CoM [m].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DcmStart {
+    /// The DCM `xi`.
+    pub world_xi: Vector2<f64>,
+    /// Its velocity `xidot`.
+    pub world_xidot: Vector2<f64>,
+    /// The CoM's ground projection.
+    pub world_p_com: Vector2<f64>,
+}
+
 /// The DCM trajectory and CoM reference over a footstep plan (module doc).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DcmPlan {
@@ -60,20 +71,48 @@ impl DcmPlan {
         world_p_com0: Vector2<f64>,
         world_z_ground: f64,
     ) -> Self {
+        let at_rest = DcmStart {
+            world_xi: world_p_com0,
+            world_xidot: Vector2::zeros(),
+            world_p_com: world_p_com0,
+        };
+        Self::from_state(footsteps, lip, at_rest, world_z_ground)
+    }
+
+    /// The plan over `footsteps` (whose first double support starts at `footsteps.start_s`)
+    /// from the DCM, DCM velocity and CoM of `start` (a measured state: a push-recovery plan,
+    /// `walking::recovery`): the first double support's cubic joins `start`'s DCM and DCM
+    /// velocity to the DCM the recursion asks for at the first lift-off; the CoM starts at
+    /// `start`'s.
+    pub fn from_state(
+        footsteps: &FootstepPlan,
+        lip: Lip,
+        start: DcmStart,
+        world_z_ground: f64,
+    ) -> Self {
         let omega = lip.omega;
         let mut segments = backward_recursion(footsteps, omega);
         let first = &segments[0];
         let target = first.dcm(omega, 0.0);
-        let start = DcmSegment::polynomial(
-            0.0,
-            footsteps.transfer_duration,
-            Cubic::hermite(
-                (world_p_com0, Vector2::zeros()),
-                target,
-                footsteps.transfer_duration,
-            ),
+        let transfer = first.start - footsteps.start_s;
+        let initial = DcmSegment::polynomial(
+            footsteps.start_s,
+            transfer,
+            Cubic::hermite((start.world_xi, start.world_xidot), target, transfer),
         );
-        segments.insert(0, start);
+        segments.insert(0, initial);
+        Self::from_segments(lip, segments, start.world_p_com, world_z_ground)
+    }
+
+    /// The plan of the DCM `segments` (in time order, the last at rest), the CoM starting at
+    /// `world_p_com0` (x, y) on ground at height `world_z_ground` [m].
+    pub(crate) fn from_segments(
+        lip: Lip,
+        mut segments: Vec<DcmSegment>,
+        world_p_com0: Vector2<f64>,
+        world_z_ground: f64,
+    ) -> Self {
+        let omega = lip.omega;
         let mut x0 = world_p_com0;
         for segment in &mut segments {
             segment.set_com_start(omega, x0);
@@ -86,6 +125,11 @@ impl DcmPlan {
             world_z_com: world_z_ground + lip.com_height,
             segments,
         }
+    }
+
+    /// The CoM's height in world: the ground's plus `z0` [m].
+    pub fn world_z_com(&self) -> f64 {
+        self.world_z_com
     }
 
     /// The pendulum.
@@ -104,10 +148,10 @@ impl DcmPlan {
         self.segments.last().map_or(0.0, |segment| segment.start)
     }
 
-    /// The plan at time `t` [s] (before 0: the start; after the end: at rest, the CoM
-    /// converging to the DCM).
+    /// The plan at time `t` [s] (before its start: the start; after the end: at rest, the
+    /// CoM converging to the DCM).
     pub fn sample(&self, t: f64) -> DcmSample {
-        let t = t.max(0.0);
+        let t = t.max(self.segments[0].start);
         let index = self.segments.partition_point(|segment| segment.start <= t) - 1;
         self.sample_segment(index, t - self.segments[index].start)
     }

@@ -145,6 +145,9 @@ pub struct FootstepPlan {
     /// The double support from standing into the first lift-off, and from the last
     /// touchdown back to standing [s].
     pub transfer_duration: f64,
+    /// The plan's start [s]: 0 for a walk, the time a push-recovery plan was made
+    /// (`walking::recovery`); the first double support runs from here to the first lift-off.
+    pub start_s: f64,
 }
 
 impl FootstepPlan {
@@ -178,6 +181,7 @@ impl FootstepPlan {
             steps,
             stances,
             transfer_duration: settings.transfer_duration,
+            start_s: 0.0,
         })
     }
 

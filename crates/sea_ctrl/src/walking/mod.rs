@@ -18,6 +18,8 @@
 //!   the left foot's load share;
 //! - [`polygon`]: the support polygon of one sole or both;
 //! - [`capture`]: whether a step is needed, and where and when ([`recovery_step`]);
+//! - [`recovery`]: the walk of one push-recovery step from a measured state
+//!   ([`recovery_gait`]);
 //! - [`gait`]: a planned walk sampled at a tick into the CoM reference and each foot's task
 //!   ([`Gait`]), what the controller follows (`controller::contact_phase`).
 //!
@@ -31,6 +33,7 @@ pub mod gait;
 pub mod lip;
 pub mod phase;
 pub mod polygon;
+pub mod recovery;
 mod segment;
 pub mod settings;
 pub mod swing;
@@ -38,16 +41,19 @@ pub mod swing;
 #[cfg(test)]
 mod tests;
 
-pub use capture::{needs_step, recovery_step, swing_foot_for, RecoveryStep, StepRequest};
+pub use capture::{
+    needs_step, recovery_step, recovery_step_beyond, swing_foot_for, RecoveryStep, StepRequest,
+};
 pub use command::{
     footsteps_from_command, footsteps_from_list, footsteps_from_settings, stop_after,
 };
-pub use dcm::{DcmPlan, DcmSample};
+pub use dcm::{DcmPlan, DcmSample, DcmStart};
 pub use footstep::{check_step, Foot, Footstep, FootstepPlan, SolePose, Stance};
 pub use gait::{FootTask, Gait};
 pub use lip::Lip;
 pub use phase::{GaitPhase, Support};
 pub use polygon::SupportPolygon;
+pub use recovery::{recovery_gait, settle_from, MeasuredCom, RecoveryFrame};
 pub use settings::{
     FootstepSpec, RobotWalkingFigures, WalkCommand, WalkingSettings, ICUB_LEG_LENGTH,
     STEP_LENGTH_PER_REACH,

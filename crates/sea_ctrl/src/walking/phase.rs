@@ -49,14 +49,14 @@ impl GaitPhase {
 }
 
 impl FootstepPlan {
-    /// The phase at `t` [s] (before 0: the initial double support).
+    /// The phase at `t` [s] (before the plan's start `start_s`: the initial double support).
     pub fn phase_at(&self, t: f64) -> GaitPhase {
-        let t = t.max(0.0);
+        let t = t.max(self.start_s);
         let upcoming = self.steps.partition_point(|step| step.lift_off <= t);
         // upcoming: index of the first step not lifted off yet; the step before it (if any)
         // is swinging or has landed.
         let (support, start, end, step) = match upcoming.checked_sub(1) {
-            None => (Support::Double, 0.0, self.first_lift_off(), None),
+            None => (Support::Double, self.start_s, self.first_lift_off(), None),
             Some(i) if t < self.steps[i].touchdown => {
                 let stance = self.steps[i].foot.other();
                 let s = &self.steps[i];

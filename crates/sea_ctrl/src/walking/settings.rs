@@ -143,6 +143,22 @@ pub struct WalkingSettings {
     /// the foot, a late foot keeps descending; `controller::contact_phase`); `false`: the
     /// plan's timing alone.
     pub sensed_touchdown: bool,
+    /// Stepping to recover a push while standing (`controller::stepping`): each whole-body
+    /// tick the measured DCM is checked against the support polygon (`capture_margin`); when
+    /// it needs a step, a recovery step is planned from it ([`super::recovery_step`]) and
+    /// walked, then the robot stands over its new feet. Only standing: with `true`, leave
+    /// `command` and `footsteps` unset (pushes while walking are not handled).
+    pub stepping: bool,
+    /// Stepping: the most recovery steps taken one after the other after a push (a second
+    /// step when the first does not capture the DCM), >= 1.
+    pub max_recovery_steps: usize,
+    /// Stepping: the double support that moves the load off the swing foot before a
+    /// recovery step lifts off [s], at least one whole-body period.
+    pub recovery_transfer_duration: f64,
+    /// Stepping: how far beyond the DCM predicted at touchdown the swing sole is aimed, along
+    /// the DCM's motion away from the stance's centre of pressure [m], >= 0
+    /// ([`super::recovery_step_beyond`]).
+    pub recovery_step_offset: f64,
     /// The walking command, used when `footsteps` is empty.
     pub command: WalkCommand,
     /// Explicit footsteps, in order (empty: footsteps from `command`).
@@ -170,6 +186,10 @@ impl Default for WalkingSettings {
             settle_velocity_gain: 20.0,
             double_support_momentum_weight: 0.0,
             sensed_touchdown: false,
+            stepping: false,
+            max_recovery_steps: 2,
+            recovery_transfer_duration: 0.1,
+            recovery_step_offset: 0.03,
             command: WalkCommand::default(),
             footsteps: Vec::new(),
         }
@@ -283,6 +303,10 @@ impl WalkingSettings {
             ),
             ("walking.transfer_duration", self.transfer_duration),
             ("walking.min_swing_duration", self.min_swing_duration),
+            (
+                "walking.recovery_transfer_duration",
+                self.recovery_transfer_duration,
+            ),
         ] {
             if !(value.is_finite() && value >= period) {
                 return Err(Error::invalid(key, at_least_period.clone(), value));
@@ -316,6 +340,7 @@ impl WalkingSettings {
         for (key, value) in [
             ("walking.swing_height", self.swing_height),
             ("walking.capture_margin", self.capture_margin),
+            ("walking.recovery_step_offset", self.recovery_step_offset),
             ("walking.swing_position_gain", self.swing_position_gain),
             ("walking.swing_velocity_gain", self.swing_velocity_gain),
             ("walking.settle_position_gain", self.settle_position_gain),
@@ -389,11 +414,37 @@ impl WalkingSettings {
                 ));
             }
         }
+        if self.max_recovery_steps == 0 {
+            return Err(Error::invalid(
+                "walking.max_recovery_steps",
+                "must be at least 1",
+                0,
+            ));
+        }
+        if self.stepping {
+            return self.validate_stepping();
+        }
         if self.footsteps.is_empty() && command.steps.is_some() == command.duration.is_some() {
             return Err(Error::config(
                 "walking.command.steps",
                 "set exactly one of walking.command.steps and walking.command.duration \
-                 (or give walking.footsteps)",
+                 (or give walking.footsteps, or stand with walking.stepping = true)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Stepping: standing only (no command length, no footsteps).
+    fn validate_stepping(&self) -> Result<()> {
+        if self.command.steps.is_some()
+            || self.command.duration.is_some()
+            || !self.footsteps.is_empty()
+        {
+            return Err(Error::config(
+                "walking.stepping",
+                "stepping recovers pushes while standing: leave walking.command.steps, \
+                 walking.command.duration and walking.footsteps unset (pushes while walking \
+                 are not handled)",
             ));
         }
         Ok(())

@@ -201,3 +201,60 @@ fn a_sideways_push_steps_sideways_within_the_width_limit() {
         !step.clipped || right_p_step.y < settings.max_step_width
     );
 }
+
+/// A recovery gait (`walking::recovery`) starts at the measured CoM, CoM velocity and DCM,
+/// reaches the predicted DCM at touchdown with the landing sole there, and ends at rest over
+/// the new mid-feet point.
+#[test]
+fn a_recovery_gait_starts_at_the_measured_state_and_ends_at_rest_over_the_new_feet() {
+    use super::super::recovery::{recovery_gait, MeasuredCom, RecoveryFrame};
+    let settings = walking(1, 0.0, 0.0, 0.0);
+    let lip = lip(&settings);
+    let surface = ContactSurface::default();
+    let stance = standing(&settings);
+    let frame = RecoveryFrame {
+        stance,
+        world_z_ground: 0.0,
+        world_z_com: 0.53,
+        contact_of: [0, 1],
+    };
+    // Pushed forward and a little to the right at 1 s: the DCM past the toes.
+    let measured = MeasuredCom {
+        time: 1.0,
+        world_p_com: Vector2::new(0.01, -0.005),
+        world_v_com: Vector2::new(0.5, -0.05),
+    };
+    let timing = (Foot::Right, 1.0, 1.0 + settings.recovery_transfer_duration);
+    let (gait, step) = recovery_gait(&settings, &lip, &surface, &frame, timing, measured);
+    let start = gait.dcm.sample(1.0);
+    let xi0 = lip.dcm(measured.world_p_com, measured.world_v_com);
+    assert_close(start.world_xi.xy(), xi0, 1e-12, "DCM at the start");
+    assert_close(
+        start.com.position.xy(),
+        measured.world_p_com,
+        1e-12,
+        "CoM at the start",
+    );
+    assert_close(
+        start.com.velocity.xy(),
+        measured.world_v_com,
+        1e-9,
+        "CoM velocity at the start",
+    );
+    let footstep = gait.footsteps.steps[0];
+    assert_eq!(footstep.foot, Foot::Right);
+    assert!(step.pose.world_p_sole.x > 0.1, "{step:?}");
+    let at_touchdown = gait.dcm.sample(footstep.touchdown).world_xi.xy();
+    assert_close(
+        at_touchdown,
+        step.dcm_at_touchdown,
+        1e-9,
+        "DCM at touchdown",
+    );
+    let swing_end = gait.swings[0].sample(footstep.touchdown).world_p_sole;
+    assert_close(swing_end.xy(), step.pose.world_p_sole, 1e-12, "landing");
+    let rest = gait.footsteps.final_stance().mid_frame().world_p_sole;
+    let end = gait.dcm.sample(gait.end_time() + 5.0);
+    assert_close(end.world_xi.xy(), rest, 1e-9, "DCM at rest");
+    assert!(end.com.velocity.norm() < 1e-3);
+}

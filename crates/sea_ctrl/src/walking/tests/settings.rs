@@ -151,3 +151,35 @@ fn the_scaled_settings_follow_the_rule_and_are_valid() {
     let message = WalkingSettings::scaled_to(&bad).unwrap_err().to_string();
     assert!(message.contains("reach"), "{message}");
 }
+
+#[test]
+fn stepping_stands_and_refuses_a_walk_naming_walking_stepping() {
+    let mut settings = super::WalkingSettings {
+        stepping: true,
+        ..Default::default()
+    };
+    settings.validate(0.01).expect("standing with stepping");
+    settings.command.steps = Some(2);
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.stepping"
+    );
+    settings.command.steps = None;
+    settings.max_recovery_steps = 0;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.max_recovery_steps"
+    );
+    settings.max_recovery_steps = 2;
+    settings.recovery_step_offset = -0.01;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.recovery_step_offset"
+    );
+    settings.recovery_step_offset = 0.03;
+    settings.recovery_transfer_duration = 0.001;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.recovery_transfer_duration"
+    );
+}
