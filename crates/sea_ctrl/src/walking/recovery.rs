@@ -140,7 +140,10 @@ pub fn recovery_gait(
         dcm,
         swings,
         world_z_com: frame.world_z_com,
+        // A recovery step holds the CoM height it starts from (no lowering over its transfer).
+        world_z_com_start: frame.world_z_com,
         contact_of: frame.contact_of,
+        world_z_ground: frame.world_z_ground,
     };
     (gait, step)
 }
