@@ -6,14 +6,17 @@
 //! so their normal force is zero), and pushed 20 N s (the feet tip onto their toes, then
 //! lift, before the robot falls).
 
+mod support;
+
 use foxglove::messages::Log;
 use foxglove::Decode;
 use sea_sim::closed_loop::{run_with_sinks, ImpactKind, RecordSink, RunRecord, Summary};
 use sea_sim::mcap_log::{McapSink, EVENTS_TOPIC};
 use sea_sim::scenario::Scenario;
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::AtomicBool;
+use support::TempFile;
 
 /// The push scenario on the ground (unilateral contacts) with `overrides`, every sample
 /// recorded.
@@ -33,22 +36,6 @@ fn scenario(overrides: &[(&str, &str)]) -> Scenario {
     Scenario::from_file(&path, &pairs).unwrap()
 }
 
-/// A file in the temporary folder, removed when dropped.
-struct TempFile(PathBuf);
-
-impl TempFile {
-    fn new(tag: &str) -> Self {
-        let name = format!("contact_check_{tag}_{}.mcap", std::process::id());
-        Self(std::env::temp_dir().join(name))
-    }
-}
-
-impl Drop for TempFile {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.0);
-    }
-}
-
 /// What the log of a run holds about the contact check.
 struct Logged {
     /// `/contact_check` messages: time [s] and body.
@@ -59,7 +46,7 @@ struct Logged {
 
 /// Runs `scenario` into a record and an MCAP log, and reads the log back.
 fn run(scenario: &Scenario, tag: &str) -> (Summary, RunRecord, Logged) {
-    let file = TempFile::new(tag);
+    let file = TempFile::new("contact_check", tag);
     let mut record = RunRecord::default();
     let mut log = McapSink::new(&file.0);
     let mut sinks: Vec<&mut dyn RecordSink> = vec![&mut record, &mut log];

@@ -4,13 +4,16 @@
 //! `/contact_points` and the `contact_points` entity of `/scene` show the soles' points with
 //! their forces. A bilateral run has neither channel.
 
+mod support;
+
 use foxglove::messages::{Log, SceneUpdate};
 use foxglove::Decode;
 use sea_sim::closed_loop::{run_with_sinks, ImpactKind, RecordSink, RunRecord, Summary};
 use sea_sim::mcap_log::{McapSink, EVENTS_TOPIC};
 use sea_sim::scenario::Scenario;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::AtomicBool;
+use support::TempFile;
 
 /// The push scenario (no push) with `overrides`.
 fn scenario(overrides: &[(&str, &str)]) -> Scenario {
@@ -35,22 +38,6 @@ fn dropped() -> Scenario {
     ])
 }
 
-/// A file in the temporary folder, removed when dropped.
-struct TempFile(PathBuf);
-
-impl TempFile {
-    fn new(tag: &str) -> Self {
-        let name = format!("impacts_{tag}_{}.mcap", std::process::id());
-        Self(std::env::temp_dir().join(name))
-    }
-}
-
-impl Drop for TempFile {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.0);
-    }
-}
-
 /// Runs `scenario` into a record and an MCAP log at `file`.
 fn run(scenario: &Scenario, file: &Path) -> (Summary, RunRecord) {
     let mut record = RunRecord::default();
@@ -62,7 +49,7 @@ fn run(scenario: &Scenario, file: &Path) -> (Summary, RunRecord) {
 
 #[test]
 fn a_dropped_robot_touches_down_on_both_feet_and_the_log_shows_it() {
-    let file = TempFile::new("dropped");
+    let file = TempFile::new("impacts", "dropped");
     let (summary, record) = run(&dropped(), &file.0);
     assert_eq!(summary.status, "completed", "{summary:?}");
     // Both feet touch down once, at the first steps' fall of 2 mm: about 0.2 m/s.
@@ -143,7 +130,7 @@ fn a_dropped_robot_touches_down_on_both_feet_and_the_log_shows_it() {
 
 #[test]
 fn a_bilateral_run_has_no_contact_points_contact_check_or_events() {
-    let file = TempFile::new("bilateral");
+    let file = TempFile::new("impacts", "bilateral");
     let bilateral = scenario(&[
         ("plant.contact_model", "\"bilateral\""),
         ("disturbances", "[]"),

@@ -6,14 +6,17 @@
 //! measured lift-offs on `/events` beside the touchdowns. The plan compared with is the
 //! controller's own (`MomentumController::gait`). A run without `[walking]` draws none of it.
 
+mod support;
+
 use foxglove::messages::{Log, SceneEntity, SceneUpdate};
 use foxglove::Decode;
 use sea_sim::closed_loop::RecordSink;
 use sea_sim::mcap_log::{McapSink, EVENTS_TOPIC};
 use sea_sim::scenario::run::run_setup_with_sinks;
 use sea_sim::scenario::{build, Scenario};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::AtomicBool;
+use support::TempFile;
 
 /// `walk_straight` with `overrides`.
 fn scenario(overrides: &[(&str, &str)]) -> Scenario {
@@ -24,22 +27,6 @@ fn scenario(overrides: &[(&str, &str)]) -> Scenario {
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
     Scenario::from_file(&path, &pairs).unwrap()
-}
-
-/// A file in the temporary folder, removed when dropped.
-struct TempFile(PathBuf);
-
-impl TempFile {
-    fn new(tag: &str) -> Self {
-        let name = format!("walking_mcap_{tag}_{}.mcap", std::process::id());
-        Self(std::env::temp_dir().join(name))
-    }
-}
-
-impl Drop for TempFile {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.0);
-    }
 }
 
 /// Runs `scenario` into an MCAP log at `file`; the setup after the run (its controller's
@@ -95,7 +82,7 @@ fn footstep_color(update: &SceneUpdate, k: usize) -> [f64; 3] {
 
 #[test]
 fn a_short_walk_draws_its_plan_and_its_events() {
-    let file = TempFile::new("walk");
+    let file = TempFile::new("walking_mcap", "walk");
     let walk = scenario(&[
         ("walking.command", "{ forward_velocity = 0.1, steps = 2 }"),
         ("simulation.duration_s", "1.6"),
@@ -241,7 +228,7 @@ fn gait_foot_name<'a>(scenario: &'a Scenario, setup: &sea_loop::Setup, k: usize)
 
 #[test]
 fn a_run_without_walking_draws_no_walk() {
-    let file = TempFile::new("standing");
+    let file = TempFile::new("walking_mcap", "standing");
     let path =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/robot_rate/push_two_feet.toml");
     let overrides = [

@@ -461,17 +461,7 @@ impl MomentumController {
         let Some(walking) = self.walking.as_ref() else {
             return QpCounters::default();
         };
-        let (one, two) = (
-            walking.single.qp.counters(),
-            walking.least_squares_qp.counters(),
-        );
-        QpCounters {
-            unconstrained: one.unconstrained + two.unconstrained,
-            active_set: one.active_set + two.active_set,
-            clarabel: one.clarabel + two.clarabel,
-            active_set_failures: one.active_set_failures + two.active_set_failures,
-            fallbacks: one.fallbacks + two.fallbacks,
-        }
+        walking.single.qp.counters() + walking.least_squares_qp.counters()
     }
 }
 

@@ -229,14 +229,7 @@ impl MomentumController {
     /// QP solves so far by path: the minimiser without inequalities (feasible, hence
     /// optimal), the active set, Clarabel.
     pub fn qp_solves(&self) -> QpCounters {
-        let (two, one) = (self.qp.counters(), self.single_support_counters());
-        QpCounters {
-            unconstrained: two.unconstrained + one.unconstrained,
-            active_set: two.active_set + one.active_set,
-            clarabel: two.clarabel + one.clarabel,
-            active_set_failures: two.active_set_failures + one.active_set_failures,
-            fallbacks: two.fallbacks + one.fallbacks,
-        }
+        self.qp.counters() + self.single_support_counters()
     }
 
     /// Turns the QP cross-check on or off: every tick the active set solves is also solved by

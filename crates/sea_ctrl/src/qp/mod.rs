@@ -118,6 +118,21 @@ pub struct QpCounters {
     pub fallbacks: usize,
 }
 
+impl std::ops::Add for QpCounters {
+    type Output = Self;
+
+    /// The counts of two QPs' solves together (path by path).
+    fn add(self, other: Self) -> Self {
+        Self {
+            unconstrained: self.unconstrained + other.unconstrained,
+            active_set: self.active_set + other.active_set,
+            clarabel: self.clarabel + other.clarabel,
+            active_set_failures: self.active_set_failures + other.active_set_failures,
+            fallbacks: self.fallbacks + other.fallbacks,
+        }
+    }
+}
+
 /// The contact-wrench QP for a fixed number of contacts and equality rows (see the module
 /// doc), with every buffer allocated in [`WrenchQp::new`].
 pub struct WrenchQp {

@@ -106,3 +106,21 @@ pub const STIFF_COM_GAINS: [(&str, &str); 2] = [
     ),
     ("controller.postural_scale", "0.2"),
 ];
+
+/// A file in the temporary folder named after its test (`prefix`), `tag` and this process,
+/// removed when dropped.
+pub struct TempFile(pub PathBuf);
+
+impl TempFile {
+    /// `<temp dir>/<prefix>_<tag>_<pid>.mcap`.
+    pub fn new(prefix: &str, tag: &str) -> Self {
+        let name = format!("{prefix}_{tag}_{}.mcap", std::process::id());
+        Self(std::env::temp_dir().join(name))
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
+}
