@@ -35,6 +35,12 @@ echo "== a robot set up by sea-sim init: Talos on two feet (example-robot-data, 
 python scripts/plot_com.py scenarios/robots/talos_two_feet.toml "$out/talos_two_feet_com.png" \
     --pictures talos_two_feet
 
+echo "== walking at the robot's rate: the iCub walks 50 steps at 0.3 m/s and turns 90 degrees in place (MCAP: footsteps, capture point, swings)"
+"$sea_sim" run scenarios/walking/walk_fast.toml --mcap "$out/walk_fast.mcap" \
+    --summary "$out/walk_fast_summary.json" --quiet > /dev/null
+"$sea_sim" run scenarios/walking/turn_in_place.toml --mcap "$out/turn_in_place.mcap" \
+    --summary "$out/turn_in_place_summary.json" --quiet > /dev/null
+
 echo "== at the robot's rate: robustness maps and pushes of the 100 Hz / 1 kHz loop (scripts/robot_rate.py)"
 python scripts/robot_rate.py "$out/robot_rate" --sea-sim "$sea_sim" --outcomes "$out/outcomes.md"
 # The push scenario as shipped (5 N s forward at 1 s, recovered): the push's arrow, the
