@@ -7,22 +7,13 @@
 //! The test that runs by default checks that both actuations report the joint-side figures of
 //! every touchdown of a short walk.
 
+mod support;
+
 use sea_loop::impacts::SPEED_AFTER_S;
 use sea_sim::closed_loop::{run_with_sinks, ImpactKind, RecordSink, RunRecord, Summary};
 use sea_sim::scenario::Scenario;
-use std::path::Path;
 use std::sync::atomic::AtomicBool;
-
-/// `walk_straight` with `overrides`.
-fn scenario(overrides: &[(&str, &str)]) -> Scenario {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/walking/walk_straight.toml");
-    let pairs: Vec<(String, String)> = overrides
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    Scenario::from_file(&path, &pairs).unwrap()
-}
+use support::walk_straight;
 
 /// Runs `scenario`: its summary and record (the impacts).
 fn run(scenario: &Scenario) -> (Summary, RunRecord) {
@@ -65,7 +56,7 @@ fn median_max(mut values: Vec<f64>) -> (f64, f64) {
 fn both_actuations_report_the_joint_side_of_every_touchdown() {
     for kind in ["elastic", "rigid"] {
         let actuation = format!("\"{kind}\"");
-        let walk = scenario(&[
+        let walk = walk_straight(&[
             ("actuators.kind", &actuation),
             ("walking.command", "{ forward_velocity = 0.1, steps = 2 }"),
             ("simulation.duration_s", "1.6"),
@@ -110,7 +101,7 @@ fn print_the_touchdowns_of_both_actuations() {
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for kind in ["elastic", "rigid"] {
         let actuation = format!("\"{kind}\"");
-        let (summary, record) = run(&scenario(&[("actuators.kind", &actuation)]));
+        let (summary, record) = run(&walk_straight(&[("actuators.kind", &actuation)]));
         let figures = touchdowns(&record, COMPARED_S);
         let column = |k: usize| {
             let (median, max) = median_max(figures.iter().map(|f| f[k]).collect());

@@ -16,18 +16,7 @@ use sea_sim::scenario::run::run_setup_with_sinks;
 use sea_sim::scenario::{build, Scenario};
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
-use support::TempFile;
-
-/// `walk_straight` with `overrides`.
-fn scenario(overrides: &[(&str, &str)]) -> Scenario {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/walking/walk_straight.toml");
-    let pairs: Vec<(String, String)> = overrides
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    Scenario::from_file(&path, &pairs).unwrap()
-}
+use support::{walk_straight, TempFile};
 
 /// Runs `scenario` into an MCAP log at `file`; the setup after the run (its controller's
 /// gait readable).
@@ -83,7 +72,7 @@ fn footstep_color(update: &SceneUpdate, k: usize) -> [f64; 3] {
 #[test]
 fn a_short_walk_draws_its_plan_and_its_events() {
     let file = TempFile::new("walking_mcap", "walk");
-    let walk = scenario(&[
+    let walk = walk_straight(&[
         ("walking.command", "{ forward_velocity = 0.1, steps = 2 }"),
         ("simulation.duration_s", "1.6"),
         ("simulation.record_every", "1"),

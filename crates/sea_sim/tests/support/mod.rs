@@ -60,6 +60,21 @@ pub fn tracking(overrides: &[(&str, &str)]) -> Scenario {
     Scenario::from_file(&path, &welded(&pairs)).unwrap()
 }
 
+/// `scenarios/walking/walk_straight.toml` (20 steps at 0.1 m/s) with `overrides` (dotted key,
+/// TOML value).
+///
+/// # Panics
+/// When the scenario does not load with them.
+pub fn walk_straight(overrides: &[(&str, &str)]) -> Scenario {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/walking/walk_straight.toml");
+    let pairs: Vec<(String, String)> = overrides
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    Scenario::from_file(&path, &pairs).unwrap()
+}
+
 /// A state of `setup` (built from `scenario`) where the robot accelerates: the initial state
 /// with every spring deflected `extra` [rad] more, the plant's outputs there and its
 /// accelerations `nudot` (nv).
