@@ -643,10 +643,16 @@ fn print_the_feet() {
         // The knees' spring torques `K_S (Gamma theta - s)` [Nm] (elastic actuators only).
         let actuation = &setup.plant.actuation;
         let theta = &x[nq..nq + actuation.elastic.len()];
-        for (_, j) in picks.iter().filter(|(name, _)| name.contains('4') || name.contains("knee")) {
+        for (_, j) in picks
+            .iter()
+            .filter(|(name, _)| name.contains('4') || name.contains("knee"))
+        {
             if let Some(e) = actuation.elastic_joints.iter().position(|&k| k == *j) {
                 let spring = &actuation.elastic[e];
-                line += &format!(" tk {:+.0}", spring.stiffness * (spring.ratio * theta[e] - x[7 + j]));
+                line += &format!(
+                    " tk {:+.0}",
+                    spring.stiffness * (spring.ratio * theta[e] - x[7 + j])
+                );
             }
         }
         line += &format!(" je {:.2}", record.joint_error_norm[row]);
