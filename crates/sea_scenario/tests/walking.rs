@@ -456,7 +456,7 @@ fn turns_ninety_degrees_in_place_then_stands_still() {
 /// side by side within 3 cm of the planned width (docs/findings/walking_robots.md).
 /// Needs example-robot-data (the Python environment's cmeel prefix: VIRTUAL_ENV).
 #[test]
-#[ignore = "needs example-robot-data"]
+#[ignore = "needs example-robot-data (scripts/run_tests.sh runs it)"]
 fn talos_walks_a_quarter_metre_per_second_and_stops() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -486,7 +486,7 @@ fn talos_walks_a_quarter_metre_per_second_and_stops() {
 /// feet side by side within 3 cm of the planned width). Needs example-robot-data
 /// (VIRTUAL_ENV).
 #[test]
-#[ignore = "needs example-robot-data"]
+#[ignore = "needs example-robot-data (scripts/run_tests.sh runs it)"]
 fn talos_walks_0_35_m_steps_at_a_quarter_metre_per_second_or_more() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
