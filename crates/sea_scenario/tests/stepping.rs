@@ -139,3 +139,24 @@ fn a_push_past_the_step_threshold_is_recovered_with_a_step_deterministically() {
     assert_eq!(summary_again.duration_s, summary.duration_s);
     assert_eq!(again.state, record.state, "not deterministic");
 }
+
+/// 7 and 8 N s backward (8: past the backward capture-point bound of the two feet, 7.69 N s),
+/// above the figure before the scenario's double supports in least squares and held feet
+/// (5.89 N s; both pushes then fell): recovered with a step backward (a short one, 2-5 cm,
+/// and out: the DCM stays near the stance sole's heel), standing at the end
+/// (docs/findings/stepping.md).
+#[test]
+fn backward_pushes_past_the_capture_point_bound_are_recovered_with_a_step() {
+    for impulse in [7.0, 8.0] {
+        let (_, summary, setup) = run(&[push(-1.0, 0.0, impulse)], true);
+        assert_eq!(
+            summary.status, "completed",
+            "{impulse} N s: {}",
+            summary.reason
+        );
+        let steps = setup.controller.recovery_steps();
+        assert!(!steps.is_empty(), "{impulse} N s: no step");
+        let (_, step) = steps[0];
+        assert!(step.pose.world_p_sole.x < -0.02, "{impulse} N s: {step:?}");
+    }
+}

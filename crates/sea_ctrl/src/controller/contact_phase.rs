@@ -376,8 +376,16 @@ impl MomentumController {
         let rows = map.jacobian.rows(6 * c, 6);
         let velocity =
             Vector6::from_fn(|r, _| rows.row(r).iter().zip(nu).map(|(j, v)| j * v).sum());
+        // Stepping, before the first recovery step: the feet stand held (the paper's contact,
+        // as standing without `[walking]`); settling them pulled down a foot that a sideways
+        // push lifts and lowered the recovered pushes (docs/findings/stepping.md).
+        let standing = walking
+            .stepping
+            .as_ref()
+            .is_some_and(|stepping| !stepping.has_stepped());
+        let settle_gains = walking.settle_gains.filter(|_| !standing);
         let acceleration = match &walking.tasks[c] {
-            FootTask::Contact { .. } => match walking.settle_gains {
+            FootTask::Contact { .. } => match settle_gains {
                 Some((kp, kd)) => settle_acceleration(
                     world_h_sole,
                     &velocity,

@@ -15,8 +15,10 @@
 //! ([`swing_foot_for`]); for a further step the foot that stood (the feet alternate).
 //!
 //! Until the first step the CoM reference is the scenario's (`[reference]`; the controller
-//! stands as without `[walking]`, both feet with half the load each); from the first step on
-//! the recovery gait's, which ends at rest over the new mid-feet point.
+//! stands as without `[walking]`, both feet with half the load each and held, zero desired
+//! acceleration, not settled by `walking.settle_position_gain`'s PD); from the first step on
+//! the recovery gait's, which ends at rest over the new mid-feet point, and the feet on the
+//! ground are settled flat as in a walk.
 
 use super::contact_phase::ContactPhases;
 use super::MomentumController;
