@@ -364,7 +364,11 @@ impl MomentumController {
         });
         let tasks = walking.sensed_tasks(t, planned);
         let on_ground = |task: &FootTask| matches!(task, FootTask::Contact { .. });
-        if tasks.iter().map(on_ground).ne(walking.tasks.iter().map(on_ground)) {
+        if tasks
+            .iter()
+            .map(on_ground)
+            .ne(walking.tasks.iter().map(on_ground))
+        {
             walking.last_contact_change_s = t;
         }
         walking.tasks = tasks;
