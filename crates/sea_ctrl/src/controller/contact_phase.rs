@@ -79,6 +79,13 @@ pub(super) struct ContactPhases {
     /// Stepping to recover pushes (`walking.stepping`, `stepping.rs`); `None`: the gait as
     /// planned.
     pub(super) stepping: Option<Stepping>,
+    /// `walking.identification_settle` [s].
+    identification_settle: f64,
+    /// The time of the last tick [s].
+    last_tick_s: f64,
+    /// The last tick at which a foot's task changed between ground and air (the run's start
+    /// before any) [s].
+    last_contact_change_s: f64,
 }
 
 /// The one-contact wrench QP of single support, on the stance foot's wrench.
@@ -296,6 +303,9 @@ impl MomentumController {
             late_ticks: 0,
             stepping,
             tasks: gait.foot_tasks(0.0),
+            identification_settle: settings.identification_settle,
+            last_tick_s: 0.0,
+            last_contact_change_s: 0.0,
             gait,
             position_gain: settings.swing_position_gain,
             velocity_gain: settings.swing_velocity_gain,
@@ -328,6 +338,20 @@ impl MomentumController {
         self.walking.as_ref().map(|walking| &walking.tasks)
     }
 
+    /// When walking: whether the stiffness identification may update from the last tick's
+    /// samples: both feet on the ground since at least `walking.identification_settle`
+    /// (lift-offs, touchdowns and the run's start reopen the window); `None` when not
+    /// walking (no contact changes: always).
+    pub fn identification_settled(&self) -> Option<bool> {
+        let walking = self.walking.as_ref()?;
+        let on_ground = walking
+            .tasks
+            .iter()
+            .all(|task| matches!(task, FootTask::Contact { .. }));
+        let settled = walking.last_tick_s - walking.last_contact_change_s;
+        Some(on_ground && settled >= walking.identification_settle - 1e-9)
+    }
+
     /// When walking: sets the contact phases of the tick at time `t` [s] and returns the
     /// CoM reference the momentum task tracks then; `None` when not walking, or when stepping
     /// (`walking.stepping`) before any step (the caller's reference then, `stepping.rs`).
@@ -338,7 +362,17 @@ impl MomentumController {
             walking.recovery_landing_tasks(t, &mut planned);
             !stepping.has_stepped()
         });
-        walking.tasks = walking.sensed_tasks(t, planned);
+        let tasks = walking.sensed_tasks(t, planned);
+        let on_ground = |task: &FootTask| matches!(task, FootTask::Contact { .. });
+        if tasks
+            .iter()
+            .map(on_ground)
+            .ne(walking.tasks.iter().map(on_ground))
+        {
+            walking.last_contact_change_s = t;
+        }
+        walking.tasks = tasks;
+        walking.last_tick_s = t;
         if standing {
             return None;
         }

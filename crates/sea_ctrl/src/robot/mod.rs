@@ -24,8 +24,11 @@
 //! 3. After the period, before the next tick: [`RobotController::end_period`] with the force
 //!    readings of the period ([`PeriodSensors`]: the feet's force/torque sensors and the joint
 //!    torques at its start and at its end). The identification updates the joint loops'
-//!    stiffness estimates and the observers hand their estimates to the controller; both take
-//!    effect from the next tick on. A walking controller also takes the feet's normal forces
+//!    stiffness estimates (walking: only when both feet have been on the ground for
+//!    `walking.identification_settle`, [`MomentumController::identification_settled`];
+//!    otherwise the estimates are held and only the period's velocity is kept) and the
+//!    observers hand their estimates to the controller; both take effect from the next tick
+//!    on. A walking controller also takes the feet's normal forces
 //!    for its touchdowns ([`MomentumController::set_foot_forces`]).
 //!
 //! A tick that fails (the QP and its fallback fail, a non-finite measurement) returns the
@@ -227,9 +230,15 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
             return;
         };
         // Walking: a foot in the air carries no load (its zero wrench is kept).
-        if let Some(tasks) = self.law.controller().foot_tasks() {
+        let controller = self.law.controller();
+        if let Some(tasks) = controller.foot_tasks() {
             let loaded = tasks.map(|task| matches!(task, FootTask::Contact { .. }));
             identifier.set_loaded_contacts(&loaded);
+        }
+        // Walking: learn only on both feet settled (`walking.identification_settle`).
+        if controller.identification_settled() == Some(false) {
+            identifier.hold_sample(&self.law.layout(), &self.measured_at_tick);
+            return;
         }
         let wrenches = match source {
             IdentificationWrenches::Measured => sensors.start.contact_wrench,

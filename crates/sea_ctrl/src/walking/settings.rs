@@ -99,6 +99,18 @@ pub struct WalkingSettings {
     /// The double support from standing into the first step and from the last step back to
     /// standing over the mid-feet point [s], at least one whole-body period.
     pub transfer_duration: f64,
+    /// With `controller.stiffness_identification`: the identification updates the stiffness
+    /// estimates only while both feet are on the ground and have been for at least this
+    /// long [s] (a lift-off, a planned or sensed touchdown, and the run's start reopen the
+    /// window), and holds them otherwise, keeping only the measured velocity for its next
+    /// finite difference (`sea_ctrl::robot`, `StiffnessIdentifier::hold_sample`); >= 0,
+    /// default 0.2 s. Above `double_support_duration` (the iCub's gaits: 0.1 and 0.15 s) the
+    /// estimates are held from the first lift-off to the walk's end: they are learnt in the
+    /// initial transfer (whose sideways CoM shift loads the hips' and ankles' roll joints)
+    /// and standing after the walk. At 0 the first sample, in the feet's settling on the
+    /// ground, moves the estimates by up to 16 % and the walks fall (docs/findings/walking.md,
+    /// "The stiffness identification while walking").
+    pub identification_settle: f64,
     /// Apex height of the swing sole above the ground [m], >= 0.
     pub swing_height: f64,
     /// Nominal lateral distance between the sole origins [m], in (`min_step_width`,
@@ -172,6 +184,7 @@ impl Default for WalkingSettings {
             step_duration: 0.6,
             double_support_duration: 0.15,
             transfer_duration: 0.6,
+            identification_settle: 0.2,
             swing_height: 0.03,
             nominal_width: 0.14,
             max_step_length: 0.20,
@@ -311,6 +324,14 @@ impl WalkingSettings {
             if !(value.is_finite() && value >= period) {
                 return Err(Error::invalid(key, at_least_period.clone(), value));
             }
+        }
+        let settle = self.identification_settle;
+        if !(settle.is_finite() && settle >= 0.0) {
+            return Err(Error::invalid(
+                "walking.identification_settle",
+                "must be finite and at least 0 s",
+                settle,
+            ));
         }
         if self.single_support_duration() < period {
             return Err(Error::invalid(
