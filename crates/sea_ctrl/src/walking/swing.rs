@@ -39,7 +39,8 @@ impl SwingSample {
 pub struct SwingTrajectory {
     /// Lift-off pose.
     pub lift_off: SolePose,
-    /// Touchdown pose (its yaw reached the short way round).
+    /// Touchdown pose as planned at lift-off (its yaw reached the short way round); a re-aimed
+    /// swing lands where its [`Self::reaimed`] quintic ends.
     pub touchdown: SolePose,
     /// Lift-off time [s].
     pub start: f64,
@@ -133,7 +134,6 @@ impl SwingTrajectory {
             planar,
             world_p_landing,
         ));
-        self.touchdown.world_p_sole = world_p_landing;
     }
 
     /// The sole at time `t` [s] (held at the lift-off pose before, at the touchdown pose

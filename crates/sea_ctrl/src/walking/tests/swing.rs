@@ -133,7 +133,6 @@ fn a_swing_reaimed_in_flight_is_continuous_and_lands_at_rest_at_the_new_target()
     assert_small(end.world_p_sole - expected, 1e-12, "landing");
     assert_small(end.world_v_sole, 1e-9, "landing velocity");
     assert_small(end.world_a_sole, 1e-7, "landing acceleration");
-    assert_eq!(reaimed.touchdown.world_p_sole, target);
     // Velocity and acceleration are the position's derivatives (central differences).
     let (tm, h) = (t + 0.1, 1e-5);
     let (a, b, c) = (
