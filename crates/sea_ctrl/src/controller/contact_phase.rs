@@ -154,7 +154,7 @@ pub fn settle_acceleration(
 }
 
 /// 0 for the left foot, 1 for the right.
-fn foot_index(foot: Foot) -> usize {
+pub(super) fn foot_index(foot: Foot) -> usize {
     match foot {
         Foot::Left => 0,
         Foot::Right => 1,

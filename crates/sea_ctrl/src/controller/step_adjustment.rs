@@ -5,6 +5,7 @@
 //! and the swing re-aimed in flight ([`adjust_step`], docs/explanation/walking.md). Not in
 //! double support, nor once the swing foot is on the ground (an early touchdown).
 
+use super::contact_phase::foot_index;
 use super::MomentumController;
 use crate::walking::{adjust_step, FootTask, StepAdjustment, Support, WalkingSettings};
 use sea_dyn::{ContactSurface, StateLayout};
@@ -70,13 +71,5 @@ impl MomentumController {
             .as_ref()
             .and_then(|walking| walking.adjusting.as_ref())
             .map_or(&[], |adjusting| &adjusting.made)
-    }
-}
-
-/// 0 for the left foot, 1 for the right.
-fn foot_index(foot: crate::walking::Foot) -> usize {
-    match foot {
-        crate::walking::Foot::Left => 0,
-        crate::walking::Foot::Right => 1,
     }
 }

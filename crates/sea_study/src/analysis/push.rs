@@ -221,14 +221,9 @@ pub fn swing_push_start(
         .gait()
         .map_or(&[][..], |gait| &gait.footsteps.steps[..]);
     if steps.is_empty() {
-        return Err(Error::config(
-            "--phase",
-            format!(
-                "a push at a phase of a swing needs a scenario that walks ([walking] with a \
-                 command or footsteps); {} plans no step",
-                path.display()
-            ),
-        ));
+        let expected = "a scenario that walks ([walking] with a command or footsteps)";
+        let actual = format!("{} (it plans no step)", path.display());
+        return Err(sea_dyn::Error::invalid("--phase", expected, actual).into());
     }
     let step = steps.get(at.step).ok_or_else(|| {
         let expected = format!("a step of the plan, 0 to {}", steps.len() - 1);
