@@ -146,9 +146,11 @@ impl<C: BorrowMut<MomentumController>> FeedbackLaw<C> {
             None => &mut self.last,
         };
         // Walking: the gait's CoM reference, and the contact phases of the tick set (after a
-        // recovery step is planned when the measured DCM needs one, `walking.stepping`).
+        // recovery step is planned when the measured DCM needs one, `walking.stepping`, and
+        // the footsteps adjusted to the measured DCM, `walking.step_adjustment`).
         let controller = self.controller.borrow_mut();
         controller.watch_capture_point(time, x, &self.layout);
+        controller.adjust_steps(time, x, &self.layout);
         let reference = match controller.walking_reference(time) {
             Some(reference) => reference,
             None => self.com_reference.sample(time),

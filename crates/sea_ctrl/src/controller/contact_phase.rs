@@ -28,6 +28,7 @@
 //! keeps descending from its landing pose at [`LATE_TOUCHDOWN_SPEED`], with no planned load,
 //! until the sensor sees it.
 
+use super::step_adjustment::StepAdjusting;
 use super::stepping::Stepping;
 use super::MomentumController;
 use crate::error::{Error, Result};
@@ -79,6 +80,9 @@ pub(super) struct ContactPhases {
     /// Stepping to recover pushes (`walking.stepping`, `stepping.rs`); `None`: the gait as
     /// planned.
     pub(super) stepping: Option<Stepping>,
+    /// Step adjustment while walking (`walking.step_adjustment`, `step_adjustment.rs`);
+    /// `None`: the footsteps as planned.
+    pub(super) adjusting: Option<StepAdjusting>,
     /// `walking.identification_settle` [s].
     identification_settle: f64,
     /// The time of the last tick [s].
@@ -157,7 +161,7 @@ pub fn settle_acceleration(
 }
 
 /// 0 for the left foot, 1 for the right.
-fn foot_index(foot: Foot) -> usize {
+pub(super) fn foot_index(foot: Foot) -> usize {
     match foot {
         Foot::Left => 0,
         Foot::Right => 1,
@@ -288,6 +292,9 @@ impl MomentumController {
                 world_z_ground,
             )
         });
+        let adjusting = settings
+            .step_adjustment
+            .then(|| StepAdjusting::new(settings, self.settings.constraints.surface));
         let mut single_qp = WrenchQp::new(1, 0, &self.settings.constraints);
         single_qp.unconstrained_first = self.settings.tuning.qp_unconstrained_first;
         single_qp.solver = self.settings.tuning.qp_solver;
@@ -302,6 +309,7 @@ impl MomentumController {
             early_touchdowns: 0,
             late_ticks: 0,
             stepping,
+            adjusting,
             tasks: gait.foot_tasks(0.0),
             identification_settle: settings.identification_settle,
             last_tick_s: 0.0,

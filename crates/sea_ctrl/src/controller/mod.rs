@@ -46,6 +46,7 @@ mod model_terms;
 mod output;
 mod qp_solve;
 mod settings;
+mod step_adjustment;
 mod stepping;
 mod tuning;
 

@@ -241,7 +241,7 @@ impl MomentumController {
 
     /// The CoM's ground projection and horizontal velocity at `x` (the controller's model;
     /// `self.data` is scratch until the tick recomputes it).
-    fn measured_com(&mut self, t: f64, x: &[f64], layout: &StateLayout) -> MeasuredCom {
+    pub(super) fn measured_com(&mut self, t: f64, x: &[f64], layout: &StateLayout) -> MeasuredCom {
         let (q, nu) = (layout.q(x), layout.nu(x));
         let momentum = sea_dyn::centroidal::centroidal_momentum(&self.model, &mut self.data, q, nu);
         let world_p_com = self.data.p_base_world + self.data.p_com_rel;

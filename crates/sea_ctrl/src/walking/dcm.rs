@@ -194,7 +194,7 @@ impl DcmPlan {
 /// final mid-feet point: per step a single support (VRP at the stance sole) and a double
 /// support (VRP from this stance sole to the next, or to the final mid-feet point over the
 /// transfer), then standing.
-fn backward_recursion(footsteps: &FootstepPlan, omega: f64) -> Vec<DcmSegment> {
+pub(crate) fn backward_recursion(footsteps: &FootstepPlan, omega: f64) -> Vec<DcmSegment> {
     let rest_point = footsteps.final_stance().mid_frame().world_p_sole;
     let mut vrp_moves = Vec::with_capacity(2 * footsteps.steps.len());
     for (index, step) in footsteps.steps.iter().enumerate() {

@@ -18,6 +18,8 @@
 //!   the left foot's load share;
 //! - [`polygon`]: the support polygon of one sole or both;
 //! - [`capture`]: whether a step is needed, and where and when ([`recovery_step`]);
+//! - [`adjust`]: step adjustment while walking, the landing moved by the DCM error
+//!   ([`adjust_step`]);
 //! - [`recovery`]: the walk of one push-recovery step from a measured state
 //!   ([`recovery_gait`]);
 //! - [`gait`]: a planned walk sampled at a tick into the CoM reference and each foot's task
@@ -25,6 +27,7 @@
 //!
 //! Sources: docs/references.md#walking.
 
+pub mod adjust;
 pub mod capture;
 pub mod command;
 pub mod dcm;
@@ -41,6 +44,7 @@ pub mod swing;
 #[cfg(test)]
 mod tests;
 
+pub use adjust::{adjust_step, StepAdjustment};
 pub use capture::{
     needs_step, recovery_step, recovery_step_beyond, swing_foot_for, RecoveryStep, StepRequest,
 };
@@ -58,4 +62,4 @@ pub use settings::{
     FootstepSpec, RobotWalkingFigures, WalkCommand, WalkingSettings, ICUB_LEG_LENGTH,
     STEP_LENGTH_PER_REACH,
 };
-pub use swing::{SwingSample, SwingTrajectory};
+pub use swing::{PlanarQuintic, SwingSample, SwingTrajectory};

@@ -171,6 +171,21 @@ pub struct WalkingSettings {
     /// the DCM's motion away from the stance's centre of pressure [m], >= 0
     /// ([`super::recovery_step_beyond`]).
     pub recovery_step_offset: f64,
+    /// Step adjustment while walking (`controller::step_adjustment`, [`super::adjust_step`]):
+    /// at each whole-body tick of a swing whose measured DCM is more than
+    /// `step_adjustment_threshold` from the plan's, the swing's landing (and every later
+    /// footstep with it) is moved by that error grown to touchdown,
+    /// `(xi_measured - xi_planned) e^(omega t_remaining)`, clipped to the step limits
+    /// (`max_step_length`, `min_step_width`..`max_step_width`: the feet never cross); the DCM
+    /// plan is made again from the measured state over the moved footsteps (the stance's
+    /// centre of pressure, within its sole, taking what the clipping leaves) and the swing
+    /// re-aimed in flight. `false`: the plan as made at the start.
+    pub step_adjustment: bool,
+    /// Step adjustment: the DCM error [m] (measured minus planned, now) above which a
+    /// swing's landing is moved, >= 0 (default 0.03: above the iCub's tracking errors of an
+    /// unpushed walk, so walk_fast.toml's 50 steps are not adjusted; with 0.02 they are, and
+    /// the walk diverges after 41 steps; docs/findings/stepping.md).
+    pub step_adjustment_threshold: f64,
     /// The walking command, used when `footsteps` is empty.
     pub command: WalkCommand,
     /// Explicit footsteps, in order (empty: footsteps from `command`).
@@ -203,6 +218,8 @@ impl Default for WalkingSettings {
             max_recovery_steps: 2,
             recovery_transfer_duration: 0.1,
             recovery_step_offset: 0.03,
+            step_adjustment: false,
+            step_adjustment_threshold: 0.03,
             command: WalkCommand::default(),
             footsteps: Vec::new(),
         }
@@ -238,8 +255,8 @@ impl WalkingSettings {
     /// docs/explanation/walking.md#settings): `com_height` the CoM's standing height,
     /// `nominal_width` the feet's distance, `min_step_width` and `max_step_width` the defaults'
     /// in proportion to it, `max_step_length` [`STEP_LENGTH_PER_REACH`] of the reach; with the
-    /// length ratio `k = leg_length / ICUB_LEG_LENGTH`, `swing_height` and `capture_margin`
-    /// times `k` and every duration (step, double support, transfer, shortest swing) times
+    /// length ratio `k = leg_length / ICUB_LEG_LENGTH`, `swing_height`, `capture_margin` and
+    /// `step_adjustment_threshold` times `k` and every duration (step, double support, transfer, shortest swing) times
     /// `sqrt(k)` (a pendulum's time scale); the swing gains, the command and the footsteps as
     /// the defaults'. An error names the figure that is not positive and finite.
     pub fn scaled_to(figures: &RobotWalkingFigures) -> Result<Self> {
@@ -273,6 +290,7 @@ impl WalkingSettings {
             max_step_width: icub.max_step_width * width_scale,
             min_swing_duration: icub.min_swing_duration * time_scale,
             capture_margin: icub.capture_margin * length_scale,
+            step_adjustment_threshold: icub.step_adjustment_threshold * length_scale,
             ..icub
         })
     }
@@ -362,6 +380,10 @@ impl WalkingSettings {
             ("walking.swing_height", self.swing_height),
             ("walking.capture_margin", self.capture_margin),
             ("walking.recovery_step_offset", self.recovery_step_offset),
+            (
+                "walking.step_adjustment_threshold",
+                self.step_adjustment_threshold,
+            ),
             ("walking.swing_position_gain", self.swing_position_gain),
             ("walking.swing_velocity_gain", self.swing_velocity_gain),
             ("walking.settle_position_gain", self.settle_position_gain),
@@ -440,6 +462,13 @@ impl WalkingSettings {
                 "walking.max_recovery_steps",
                 "must be at least 1",
                 0,
+            ));
+        }
+        if self.stepping && self.step_adjustment {
+            return Err(Error::config(
+                "walking.step_adjustment",
+                "adjusts the steps of a walk; walking.stepping (standing) takes its own \
+                 recovery steps: set one of them",
             ));
         }
         if self.stepping {

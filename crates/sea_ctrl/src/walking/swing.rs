@@ -3,10 +3,12 @@
 //! 6 u^5` of the normalised time `u` (zero velocity and acceleration at both ends), z the
 //! sextic `64 h u^3 (1 - u)^3` above the ground (zero height, velocity and acceleration at
 //! both ends, apex `h` at `u = 1/2`). The sole stays flat (roll and pitch zero), so its
-//! angular velocity and acceleration are along world z.
+//! angular velocity and acceleration are along world z. A swing re-aimed in flight
+//! ([`SwingTrajectory::reaim`], step adjustment) follows, from then on, a quintic in x, y from
+//! its sample then (position, velocity, acceleration) to the new landing at rest.
 
 use super::footstep::{wrap_angle, Footstep, FootstepPlan, SolePose};
-use nalgebra::{Rotation3, Vector3};
+use nalgebra::{Rotation3, Vector2, Vector3};
 
 /// The swing sole's pose, velocity and acceleration at one instant (world).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,7 +39,8 @@ impl SwingSample {
 pub struct SwingTrajectory {
     /// Lift-off pose.
     pub lift_off: SolePose,
-    /// Touchdown pose (its yaw reached the short way round).
+    /// Touchdown pose as planned at lift-off (its yaw reached the short way round); a re-aimed
+    /// swing lands where its [`Self::reaimed`] quintic ends.
     pub touchdown: SolePose,
     /// Lift-off time [s].
     pub start: f64,
@@ -47,6 +50,55 @@ pub struct SwingTrajectory {
     pub height: f64,
     /// Ground height in world [m].
     pub world_z_ground: f64,
+    /// The x, y of the sole from a re-aim in flight on (`None`: the quintic from lift-off).
+    pub reaimed: Option<PlanarQuintic>,
+}
+
+/// A quintic in the plane over `[start, start + duration]`: `sum c_k tau^k`, `tau` the time
+/// from `start` (held at its end value after, at its start value before).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanarQuintic {
+    /// Start time [s].
+    pub start: f64,
+    /// Duration [s], > 0.
+    pub duration: f64,
+    /// Coefficients `c_0..c_5`.
+    pub coefficients: [Vector2<f64>; 6],
+}
+
+impl PlanarQuintic {
+    /// The quintic from position `p0`, velocity `v0`, acceleration `a0` at `start` to `p1`
+    /// at rest (zero velocity and acceleration) at `start + duration`.
+    pub fn to_rest(
+        start: f64,
+        duration: f64,
+        [p0, v0, a0]: [Vector2<f64>; 3],
+        p1: Vector2<f64>,
+    ) -> Self {
+        let t = duration;
+        let d = p1 - p0;
+        let c3 = (d * 20.0 - v0 * (12.0 * t) - a0 * (3.0 * t * t)) / (2.0 * t.powi(3));
+        let c4 = (-d * 30.0 + v0 * (16.0 * t) + a0 * (3.0 * t * t)) / (2.0 * t.powi(4));
+        let c5 = (d * 12.0 - v0 * (6.0 * t) - a0 * (t * t)) / (2.0 * t.powi(5));
+        Self {
+            start,
+            duration,
+            coefficients: [p0, v0, a0 * 0.5, c3, c4, c5],
+        }
+    }
+
+    /// Position, velocity and acceleration at time `t` [s].
+    pub fn sample(&self, t: f64) -> [Vector2<f64>; 3] {
+        let tau = (t - self.start).clamp(0.0, self.duration);
+        let c = &self.coefficients;
+        let mut out = [Vector2::zeros(); 3];
+        for k in (0..6).rev() {
+            out[2] = out[2] * tau + out[1] * 2.0;
+            out[1] = out[1] * tau + out[0];
+            out[0] = out[0] * tau + c[k];
+        }
+        out
+    }
 }
 
 impl SwingTrajectory {
@@ -60,7 +112,28 @@ impl SwingTrajectory {
             duration: step.touchdown - step.lift_off,
             height,
             world_z_ground,
+            reaimed: None,
         }
+    }
+
+    /// Re-aims the swing in flight at time `t` [s] (before its touchdown) to land at
+    /// `world_p_landing` (x, y; the yaw kept): from `t` on x and y follow a
+    /// [`PlanarQuintic`] from this swing's sample at `t` to the landing at rest at the
+    /// touchdown time, so the sole's reference has no jump in position, velocity or
+    /// acceleration; the height is unchanged.
+    pub fn reaim(&mut self, t: f64, world_p_landing: Vector2<f64>) {
+        let remaining = self.start + self.duration - t;
+        if remaining <= 0.0 {
+            return;
+        }
+        let now = self.sample(t);
+        let planar = [now.world_p_sole, now.world_v_sole, now.world_a_sole].map(|v| v.xy());
+        self.reaimed = Some(PlanarQuintic::to_rest(
+            t,
+            remaining,
+            planar,
+            world_p_landing,
+        ));
     }
 
     /// The sole at time `t` [s] (held at the lift-off pose before, at the touchdown pose
@@ -72,9 +145,14 @@ impl SwingTrajectory {
         let [z, dz, ddz] = apex_profile(u, self.height);
         let delta_p = self.touchdown.world_p_sole - self.lift_off.world_p_sole;
         let delta_yaw = wrap_angle(self.touchdown.world_yaw_sole - self.lift_off.world_yaw_sole);
-        let p = self.lift_off.world_p_sole + delta_p * s;
-        let v = delta_p * (ds * rate);
-        let a = delta_p * (dds * rate * rate);
+        let [p, v, a] = match &self.reaimed {
+            Some(planar) if t >= planar.start => planar.sample(t),
+            _ => [
+                self.lift_off.world_p_sole + delta_p * s,
+                delta_p * (ds * rate),
+                delta_p * (dds * rate * rate),
+            ],
+        };
         SwingSample {
             world_p_sole: Vector3::new(p.x, p.y, self.world_z_ground + z),
             world_v_sole: Vector3::new(v.x, v.y, dz * rate),

@@ -186,6 +186,54 @@ fn convex_hull(mut points: Vec<Vector2<f64>>) -> Vec<Vector2<f64>> {
     hull
 }
 
+/// A time in a walk: fraction `phase` of the swing (single support) of step `step` of the
+/// scenario's walking plan (0 the first step).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SwingPhase {
+    /// The step whose swing is meant, counted from 0 in the plan's order.
+    pub step: usize,
+    /// The fraction of its swing in [0, 1]: 0 at lift-off, 1 at touchdown.
+    pub phase: f64,
+}
+
+/// The time at `at` in the walk of the scenario at `path` with `overrides`: the planned
+/// lift-off of the step plus `phase` times its swing, as the controller's planner makes it
+/// (the scenario built, its gait read), rounded to the nearest plant step; with the step's
+/// lift-off and touchdown [s].
+///
+/// Errors: `phase` outside [0, 1] or not finite (naming `--phase`), a scenario without a
+/// walk (`[walking]` with a command or footsteps; naming `--phase`), `step` beyond the plan
+/// (naming `--step` and the plan's steps), the scenario's.
+pub fn swing_push_start(
+    path: &Path,
+    overrides: &[(String, String)],
+    at: SwingPhase,
+) -> Result<(f64, [f64; 2])> {
+    if !(0.0..=1.0).contains(&at.phase) {
+        let expected = "a fraction of the swing in [0, 1]";
+        return Err(sea_dyn::Error::invalid("--phase", expected, at.phase).into());
+    }
+    let scenario = Scenario::from_file(path, overrides)?;
+    let plant_dt = scenario.plant.dt;
+    let setup = build(&scenario)?;
+    let steps = setup
+        .controller
+        .gait()
+        .map_or(&[][..], |gait| &gait.footsteps.steps[..]);
+    if steps.is_empty() {
+        let expected = "a scenario that walks ([walking] with a command or footsteps)";
+        let actual = format!("{} (it plans no step)", path.display());
+        return Err(sea_dyn::Error::invalid("--phase", expected, actual).into());
+    }
+    let step = steps.get(at.step).ok_or_else(|| {
+        let expected = format!("a step of the plan, 0 to {}", steps.len() - 1);
+        sea_dyn::Error::invalid("--step", expected, at.step)
+    })?;
+    let start = step.lift_off + at.phase * (step.touchdown - step.lift_off);
+    let start_s = (start / plant_dt).round() * plant_dt;
+    Ok((start_s, [step.lift_off, step.touchdown]))
+}
+
 /// The push: where, when, how long, and the bisection's resolution.
 #[derive(Clone, Debug)]
 pub struct PushOptions {

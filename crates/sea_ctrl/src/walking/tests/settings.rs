@@ -183,3 +183,27 @@ fn stepping_stands_and_refuses_a_walk_naming_walking_stepping() {
         "walking.recovery_transfer_duration"
     );
 }
+
+#[test]
+fn step_adjustment_is_refused_with_stepping_and_a_negative_threshold_naming_the_key() {
+    let mut settings = super::WalkingSettings {
+        step_adjustment: true,
+        ..Default::default()
+    };
+    settings.command.steps = Some(2);
+    settings
+        .validate(0.01)
+        .expect("a walk with step adjustment");
+    settings.step_adjustment_threshold = -0.01;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.step_adjustment_threshold"
+    );
+    settings.step_adjustment_threshold = 0.03;
+    settings.command.steps = None;
+    settings.stepping = true;
+    assert_eq!(
+        key_of(settings.validate(0.01).unwrap_err()),
+        "walking.step_adjustment"
+    );
+}

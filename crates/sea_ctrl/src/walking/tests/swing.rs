@@ -15,6 +15,7 @@ fn swing() -> SwingTrajectory {
         duration: 0.45,
         height: 0.04,
         world_z_ground: 0.3,
+        reaimed: None,
     }
 }
 
@@ -105,4 +106,46 @@ fn a_planned_swing_goes_from_the_previous_pose_to_the_footstep() {
         assert!((end.world_p_sole.xy() - step.pose.world_p_sole).norm() < 1e-12);
         assert!((end.world_yaw_sole - step.pose.world_yaw_sole).abs() < 1e-12);
     }
+}
+
+#[test]
+fn a_swing_reaimed_in_flight_is_continuous_and_lands_at_rest_at_the_new_target() {
+    let original = swing();
+    let mut reaimed = original;
+    let t = original.start + 0.4 * original.duration;
+    let target = Vector2::new(0.25, 0.02);
+    reaimed.reaim(t, target);
+    // No jump at the re-aim: the same position, velocity and acceleration.
+    let (before, after) = (original.sample(t), reaimed.sample(t));
+    assert_small(after.world_p_sole - before.world_p_sole, 1e-12, "position");
+    assert_small(after.world_v_sole - before.world_v_sole, 1e-9, "velocity");
+    assert_small(
+        after.world_a_sole - before.world_a_sole,
+        1e-7,
+        "acceleration",
+    );
+    // Before the re-aim, the original.
+    let earlier = original.start + 0.1;
+    assert_eq!(reaimed.sample(earlier), original.sample(earlier));
+    // Lands at the new target, on the ground, at rest, at the planned touchdown.
+    let end = reaimed.sample(original.start + original.duration);
+    let expected = Vector3::new(target.x, target.y, 0.3);
+    assert_small(end.world_p_sole - expected, 1e-12, "landing");
+    assert_small(end.world_v_sole, 1e-9, "landing velocity");
+    assert_small(end.world_a_sole, 1e-7, "landing acceleration");
+    // Velocity and acceleration are the position's derivatives (central differences).
+    let (tm, h) = (t + 0.1, 1e-5);
+    let (a, b, c) = (
+        reaimed.sample(tm - h),
+        reaimed.sample(tm),
+        reaimed.sample(tm + h),
+    );
+    let velocity = (c.world_p_sole - a.world_p_sole) / (2.0 * h);
+    let acceleration = (c.world_v_sole - a.world_v_sole) / (2.0 * h);
+    assert_small(velocity - b.world_v_sole, 1e-6, "velocity by differences");
+    assert_small(
+        acceleration - b.world_a_sole,
+        1e-4,
+        "acceleration by differences",
+    );
 }

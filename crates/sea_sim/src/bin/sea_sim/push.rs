@@ -22,9 +22,17 @@ pub(crate) struct PushArgs {
     /// The pushed link.
     #[arg(long, default_value_t = PushOptions::default().link)]
     link: String,
-    /// Start of the push [s].
-    #[arg(long, default_value_t = PushOptions::default().start_s)]
+    /// Start of the push [s] (without `--phase`).
+    #[arg(long, default_value_t = PushOptions::default().start_s, conflicts_with = "phase")]
     start: f64,
+    /// Start the push at this fraction of a swing of the scenario's walk, in [0, 1] (0 the
+    /// swing foot's lift-off, 1 its planned touchdown) instead of at `--start`; the swing is
+    /// step `--step`'s, the time the scenario's walking plan's (rounded to a plant step).
+    #[arg(long)]
+    phase: Option<f64>,
+    /// With `--phase`: the step whose swing is pushed, counted from 0 in the plan's order.
+    #[arg(long, default_value_t = DEFAULT_PUSHED_STEP, requires = "phase")]
+    step: usize,
     /// Length of the push [s] (finite, positive).
     #[arg(long, default_value_t = PushOptions::default().duration_s, value_parser = parse_positive)]
     duration: f64,
@@ -36,17 +44,30 @@ pub(crate) struct PushArgs {
     overrides: Vec<(String, String)>,
 }
 
+/// The step `--phase` pushes by default: the fourth (0-based 3), the walk under way.
+const DEFAULT_PUSHED_STEP: usize = 3;
+
 /// `sea-sim push`: the push table as JSON on stdout.
 pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
-    use sea_sim::analysis::push::{push_table, PushDirection};
+    use sea_sim::analysis::push::{push_table, swing_push_start, PushDirection, SwingPhase};
     let directions = args
         .directions
         .iter()
         .map(|name| PushDirection::parse(name))
         .collect::<sea_sim::Result<Vec<_>>>()?;
+    let swing = args
+        .phase
+        .map(|phase| {
+            let at = SwingPhase {
+                step: args.step,
+                phase,
+            };
+            swing_push_start(&args.scenario, &args.overrides, at).map(|found| (at, found))
+        })
+        .transpose()?;
     let options = PushOptions {
         link: args.link.clone(),
-        start_s: args.start,
+        start_s: swing.map_or(args.start, |(_, (start_s, _))| start_s),
         duration_s: args.duration,
         tolerance_n_s: args.tolerance,
     };
@@ -66,7 +87,7 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
             })
         })
         .collect();
-    let json = serde_json::json!({
+    let mut json = serde_json::json!({
         "scenario": args.scenario,
         "overrides": args.overrides.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>(),
         "link": options.link,
@@ -74,6 +95,14 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
         "duration_s": options.duration_s,
         "directions": rows,
     });
+    if let Some((at, (_, [lift_off, touchdown]))) = swing {
+        json["swing"] = serde_json::json!({
+            "step": at.step,
+            "phase": at.phase,
+            "lift_off_s": lift_off,
+            "touchdown_s": touchdown,
+        });
+    }
     let text = serde_json::to_string_pretty(&json)
         .map_err(|e| sea_sim::Error::Log(format!("push JSON: {e}")))?;
     print_out(text);

@@ -1,0 +1,153 @@
+//! Step adjustment while walking ([`adjust_step`], `walking.step_adjustment`): the classic
+//! DCM step adjustment (Englsberger et al. 2015; Khadiv et al. 2016, docs/references.md#walking).
+//!
+//! During the swing of step `i` the VRP is held at the stance sole `p`, so a DCM error `e0 =
+//! xi_measured - xi_planned` now grows to `e0 e^(omega t_remaining)` by touchdown. Moving the
+//! landing of step `i`, and every later footstep with it, by that much moves the whole DCM
+//! plan after touchdown by the same vector (the backward recursion is equivariant under a
+//! common shift of the footsteps), so the plan made again over the moved footsteps starts at
+//! the measured DCM: the walk goes on from where the push left it, on a shifted line.
+//!
+//! The move is clipped in the stance sole's frame to the reach (`max_step_length`) and to
+//! `min_step_width`..`max_step_width` on the swing foot's own side (the feet never cross), the
+//! yaw kept. What the clipping leaves is taken by the stance's centre of pressure: the VRP
+//! held over the rest of the swing is the point `p'` with `p' + (xi_measured - p')
+//! e^(omega t_remaining)` the plan's DCM at touchdown, `p'` moved into the stance sole (the
+//! ankle strategy); when it has to be moved, the plan's DCM now differs from the measured one
+//! and the next step is adjusted in its turn.
+//!
+//! The CoM reference starts at the measured CoM (the plan follows the robot, as a recovery
+//! step's does, `walking::recovery`).
+
+use super::dcm::{backward_recursion, DcmPlan};
+use super::footstep::SolePose;
+use super::gait::Gait;
+use super::polygon::SupportPolygon;
+use super::recovery::MeasuredCom;
+use super::segment::DcmSegment;
+use super::settings::WalkingSettings;
+use super::swing::SwingTrajectory;
+use nalgebra::Vector2;
+use sea_dyn::ContactSurface;
+
+/// What one adjustment did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepAdjustment {
+    /// The time of the adjustment [s].
+    pub time: f64,
+    /// The step whose landing moved (index in the plan).
+    pub step: usize,
+    /// The DCM error now, measured minus planned (world x, y) [m].
+    pub world_dcm_error: Vector2<f64>,
+    /// How far the landing (and every later footstep) moved (world x, y) [m].
+    pub world_shift: Vector2<f64>,
+    /// Whether the move was clipped to the step limits.
+    pub clipped: bool,
+}
+
+/// Adjusts `gait` during the swing of its step `index` at the `measured` state (module doc):
+/// moves that step's landing and every later footstep, makes the DCM plan again from the
+/// measured state over them and re-aims the swing in flight. Nothing is done (`None`) when the
+/// DCM error is at most `walking.step_adjustment_threshold`, the step is not in flight or its
+/// swing has ended.
+pub fn adjust_step(
+    gait: &mut Gait,
+    settings: &WalkingSettings,
+    surface: &ContactSurface,
+    index: usize,
+    measured: MeasuredCom,
+) -> Option<StepAdjustment> {
+    let lip = gait.dcm.lip();
+    let t = measured.time;
+    let step = gait.footsteps.steps[index];
+    let remaining = step.touchdown - t;
+    let world_xi = lip.dcm(measured.world_p_com, measured.world_v_com);
+    let world_dcm_error = world_xi - gait.dcm.sample(t).world_xi.xy();
+    let in_flight = t >= step.lift_off && remaining > 1e-6;
+    if !in_flight || world_dcm_error.norm() <= settings.step_adjustment_threshold {
+        return None;
+    }
+    let stance = gait.footsteps.stance_sole(index);
+    let growth = (lip.omega * remaining).exp();
+    let wished = step.pose.world_p_sole + world_dcm_error * growth;
+    let landing = clip_landing(settings, stance, step.foot.side(), wished);
+    let world_shift = landing - step.pose.world_p_sole;
+    shift_footsteps(gait, index, world_shift);
+    replan_in_swing(gait, surface, index, measured, world_xi);
+    gait.swings[index].reaim(t, landing);
+    Some(StepAdjustment {
+        time: t,
+        step: index,
+        world_dcm_error,
+        world_shift,
+        clipped: (landing - wished).norm() > 1e-12,
+    })
+}
+
+/// `world_p` moved, in the `stance` sole's frame, into the reach and onto the swing foot's
+/// own side (`side` +1 left, -1 right) `min_step_width`..`max_step_width` from it.
+fn clip_landing(
+    settings: &WalkingSettings,
+    stance: SolePose,
+    side: f64,
+    world_p: Vector2<f64>,
+) -> Vector2<f64> {
+    let aim = stance.to_sole(world_p);
+    let reach = settings.max_step_length;
+    let lateral = (side * aim.y).clamp(settings.min_step_width, settings.max_step_width);
+    stance.to_world(Vector2::new(aim.x.clamp(-reach, reach), side * lateral))
+}
+
+/// Moves the landing of step `index` and of every later step by `world_shift`, the feet
+/// before each later step with them, and rebuilds the later steps' swings (their lift-off
+/// poses moved).
+fn shift_footsteps(gait: &mut Gait, index: usize, world_shift: Vector2<f64>) {
+    let plan = &mut gait.footsteps;
+    for step in &mut plan.steps[index..] {
+        step.pose.world_p_sole += world_shift;
+    }
+    for next in index..plan.steps.len() {
+        let step = plan.steps[next];
+        let mut feet = plan.stances[next];
+        feet.set(step.foot, step.pose);
+        plan.stances[next + 1] = feet;
+    }
+    let height = gait.swings[index].height;
+    for later in index + 1..plan.steps.len() {
+        gait.swings[later] = SwingTrajectory::of_step(plan, later, height, gait.world_z_ground);
+    }
+}
+
+/// The DCM plan of `gait` made again at `measured.time`, in the swing of step `index`: the
+/// backward recursion over its (moved) footsteps from that step's touchdown on, and before
+/// it the rest of the swing with the stance's centre of pressure at the point that joins the
+/// measured DCM `world_xi` to the recursion's DCM at touchdown, moved into the stance sole
+/// (module doc); the CoM from the measured one.
+fn replan_in_swing(
+    gait: &mut Gait,
+    surface: &ContactSurface,
+    index: usize,
+    measured: MeasuredCom,
+    world_xi: Vector2<f64>,
+) {
+    let lip = gait.dcm.lip();
+    let omega = lip.omega;
+    let touchdown = gait.footsteps.steps[index].touchdown;
+    let remaining = touchdown - measured.time;
+    let mut later = backward_recursion(&gait.footsteps, omega).split_off(2 * index + 1);
+    let xi_touchdown = later[0].dcm(omega, 0.0).0;
+    let growth = (omega * remaining).exp();
+    let joining = (xi_touchdown - world_xi * growth) / (1.0 - growth);
+    let stance = SupportPolygon::of_sole(gait.footsteps.stance_sole(index), surface);
+    let world_p_cop = stance.closest_point(joining);
+    let swing_rest = DcmSegment::linear_vrp(
+        omega,
+        measured.time,
+        remaining,
+        (world_p_cop, world_p_cop),
+        xi_touchdown,
+    );
+    later.insert(0, swing_rest);
+    let world_z_ground = gait.dcm.world_z_com() - lip.com_height;
+    gait.dcm = DcmPlan::from_segments(lip, later, measured.world_p_com, world_z_ground);
+}

@@ -1,0 +1,226 @@
+//! Pushes while walking (issue 32): `sea-sim push --phase` resolves the push's start inside
+//! the chosen swing of `scenarios/walking/walk_push.toml` (0.25 m/s) from the walking plan;
+//! step adjustment (`walking.step_adjustment`) recovers a push at mid-swing that the walk as
+//! planned does not (docs/findings/stepping.md, "Pushes while walking").
+
+use sea_ctrl::walking::Support;
+use sea_sim::analysis::push::{swing_push_start, SwingPhase};
+use sea_sim::closed_loop::RunRecord;
+use sea_sim::scenario::run::run_setup_with_sinks;
+use sea_sim::scenario::{build, Scenario};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+fn walk_push() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/walking/walk_push.toml")
+}
+
+/// The override of one 0.1 s push on the pelvis at `start_s` of `impulse` [N s] along world
+/// (`x`, `y`).
+fn push(x: f64, y: f64, impulse: f64, start_s: f64) -> (String, String) {
+    let force = [x * impulse / 0.1, y * impulse / 0.1];
+    (
+        "disturbances".to_string(),
+        format!(
+            "[{{link = \"root_link\", force = [{:e}, {:e}, 0.0], start_s = {start_s:e}, \
+             duration_s = 0.1}}]",
+            force[0], force[1]
+        ),
+    )
+}
+
+/// A run of walk_push.toml with `overrides`: record, summary and the setup after it.
+fn run(
+    overrides: &[(String, String)],
+) -> (
+    RunRecord,
+    sea_sim::closed_loop::Summary,
+    sea_sim::closed_loop::Setup,
+) {
+    let scenario = Scenario::from_file(&walk_push(), overrides).unwrap();
+    let mut setup = build(&scenario).unwrap();
+    let mut record = RunRecord::default();
+    let cancel = AtomicBool::new(false);
+    let summary = run_setup_with_sinks(
+        &scenario,
+        &mut setup,
+        &mut [&mut record],
+        &cancel,
+        |_, _| (),
+    )
+    .unwrap();
+    (record, summary, setup)
+}
+
+#[test]
+fn the_phase_resolves_the_push_start_inside_the_chosen_swing() {
+    let scenario = Scenario::from_file(&walk_push(), &[]).unwrap();
+    let setup = build(&scenario).unwrap();
+    let plan = &setup.controller.gait().unwrap().footsteps;
+    for (step, phase) in [(3, 0.2), (3, 0.5), (3, 0.8), (5, 0.5)] {
+        let at = SwingPhase { step, phase };
+        let (start_s, [lift_off, touchdown]) = swing_push_start(&walk_push(), &[], at).unwrap();
+        assert_eq!(
+            [lift_off, touchdown],
+            [plan.steps[step].lift_off, plan.steps[step].touchdown]
+        );
+        // A whole number of plant steps (0.25 ms), within half a step of the fraction.
+        let wished = lift_off + phase * (touchdown - lift_off);
+        assert!(
+            (start_s - wished).abs() <= 0.5 * 0.00025 + 1e-12,
+            "{start_s} vs {wished}"
+        );
+        let ticks = start_s / 0.00025;
+        assert!((ticks - ticks.round()).abs() < 1e-6, "{start_s}");
+        // The plan has step `step` swinging then, that far into its single support.
+        let gait_phase = plan.phase_at(start_s);
+        assert!(
+            matches!(gait_phase.support, Support::Single { .. }),
+            "{gait_phase:?}"
+        );
+        assert_eq!(gait_phase.step, Some(step));
+        assert!((gait_phase.fraction - phase).abs() < 1e-3, "{gait_phase:?}");
+    }
+    // The plan's steps are the command's ten and the stop.
+    assert_eq!(plan.steps.len(), 11);
+    let beyond = SwingPhase {
+        step: 11,
+        phase: 0.5,
+    };
+    let message = swing_push_start(&walk_push(), &[], beyond)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("--step") && message.contains("0 to 10"),
+        "{message}"
+    );
+    let outside = SwingPhase {
+        step: 3,
+        phase: 1.5,
+    };
+    let message = swing_push_start(&walk_push(), &[], outside)
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("--phase"), "{message}");
+    let standing =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/robot_rate/push_two_feet.toml");
+    let at = SwingPhase {
+        step: 0,
+        phase: 0.5,
+    };
+    let message = swing_push_start(&standing, &[], at)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("--phase") && message.contains("walk"),
+        "{message}"
+    );
+}
+
+/// Prints what a push while walking does (`WALK_PUSH="x y impulse start_s"`,
+/// `WALK_SET="key=value,..."`): the outcome, the adjustments, the CoM and reference every
+/// 50 ms around the push.
+#[test]
+#[ignore]
+fn print_a_push_while_walking() {
+    let spec = std::env::var("WALK_PUSH").unwrap_or("0 1 5 1.95".into());
+    let v: Vec<f64> = spec
+        .split_whitespace()
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let mut overrides = vec![push(v[0], v[1], v[2], v[3])];
+    if let Ok(extra) = std::env::var("WALK_SET") {
+        for pair in extra.split(',') {
+            let (k, val) = pair.split_once('=').unwrap();
+            overrides.push((k.into(), val.into()));
+        }
+    }
+    let (record, summary, setup) = run(&overrides);
+    println!(
+        "{} {} at {:.3} s, steps {:?}",
+        summary.status, summary.reason, summary.duration_s, summary.steps_taken
+    );
+    for made in setup.controller.step_adjustments() {
+        println!(
+            "t {:.2} step {} error ({:.3} {:.3}) shift ({:.3} {:.3}) clipped {}",
+            made.time,
+            made.step,
+            made.world_dcm_error.x,
+            made.world_dcm_error.y,
+            made.world_shift.x,
+            made.world_shift.y,
+            made.clipped
+        );
+    }
+    let steps = &setup.controller.gait().unwrap().footsteps.steps;
+    for (i, step) in steps.iter().enumerate() {
+        println!(
+            "step {i} {:?} lands ({:.3} {:.3}) at {:.2}",
+            step.foot, step.pose.world_p_sole.x, step.pose.world_p_sole.y, step.touchdown
+        );
+    }
+    for (row, t) in record.time.iter().enumerate().step_by(5) {
+        if *t < v[3] - 0.1 {
+            continue;
+        }
+        let com = &record.com[3 * row..3 * row + 3];
+        let reference = &record.com_reference[3 * row..3 * row + 3];
+        println!(
+            "t {t:.2} com ({:.3} {:.3}) ref ({:.3} {:.3})",
+            com[0], com[1], reference[0], reference[1]
+        );
+    }
+}
+
+/// The forward push of 9 N s (above the goal's 8.3 N s, 0.25 m/s times the iCub's 33 kg) at
+/// 20 % of the fourth step's swing, and the backward push of 10 N s at mid-swing: the walk as
+/// planned does not recover them, with step adjustment it walks on (measured: without, every
+/// forward push from 7 N s and backward from 7 N s failed at this phase; with, every one up to
+/// 10 and 14 N s was recovered; docs/findings/stepping.md). The pushed step lands moved along
+/// the push, every landing within the step limits.
+#[test]
+fn step_adjustment_recovers_pushes_the_planned_walk_does_not() {
+    let plan_start = |phase: f64| {
+        swing_push_start(&walk_push(), &[], SwingPhase { step: 3, phase })
+            .unwrap()
+            .0
+    };
+    let on = ("walking.step_adjustment".to_string(), "true".to_string());
+    for (direction, impulse, phase) in [(1.0, 9.0, 0.2), (-1.0, 10.0, 0.5)] {
+        let pushed = push(direction, 0.0, impulse, plan_start(phase));
+        let (_, without, _) = run(std::slice::from_ref(&pushed));
+        assert_ne!(
+            without.status, "completed",
+            "{impulse} N s without adjustment"
+        );
+        let (_, with, setup) = run(&[pushed, on.clone()]);
+        assert_eq!(with.status, "completed", "{impulse} N s: {}", with.reason);
+        assert_eq!(with.steps_taken, Some(11));
+        let made = setup.controller.step_adjustments();
+        let pushed_step: Vec<_> = made.iter().filter(|m| m.step == 3).collect();
+        assert!(!pushed_step.is_empty(), "{made:?}");
+        let shift_x: f64 = pushed_step.iter().map(|m| m.world_shift.x).sum();
+        assert!(direction * shift_x > 0.02, "{made:?}");
+        let plan = &setup.controller.gait().unwrap().footsteps;
+        let settings = &Scenario::from_file(&walk_push(), &[])
+            .unwrap()
+            .walking
+            .unwrap();
+        for (i, step) in plan.steps.iter().enumerate() {
+            sea_ctrl::walking::check_step(settings, plan.stance_sole(i), step.foot, step.pose)
+                .unwrap_or_else(|rule| panic!("step {i}: {rule:?}"));
+        }
+    }
+}
+
+/// Unpushed, the walk's tracking errors stay below `walking.step_adjustment_threshold`:
+/// nothing is adjusted and the walk is the one without step adjustment, bitwise.
+#[test]
+fn an_unpushed_walk_is_not_adjusted() {
+    let on = ("walking.step_adjustment".to_string(), "true".to_string());
+    let (with_record, with, setup) = run(&[on]);
+    assert_eq!(with.status, "completed", "{}", with.reason);
+    assert!(setup.controller.step_adjustments().is_empty());
+    let (without_record, _, _) = run(&[]);
+    assert_eq!(with_record.com, without_record.com);
+}
