@@ -702,3 +702,137 @@ fn print_the_feet() {
         println!("{line}");
     }
 }
+
+const WALK_STRAIGHT: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/walking/walk_straight.toml"
+);
+
+/// Newton's law on the recorded feet: at a sample, the feet's recorded forces (world axes)
+/// against what moves the CoM, `d(m v_com)/dt - m g` (the recorded momentum's central
+/// difference over the neighbouring samples).
+struct ForceBalance {
+    /// The time [s].
+    time_s: f64,
+    /// Each foot's recorded force [N], world axes.
+    world_f_feet: [nalgebra::Vector3<f64>; 2],
+    /// `d(m v_com)/dt - m g` [N], world axes.
+    world_f_needed: nalgebra::Vector3<f64>,
+}
+
+/// [`ForceBalance`] at every recorded sample but the first and the last.
+fn force_balances(record: &RunRecord, setup: &sea_loop::Setup) -> Vec<ForceBalance> {
+    let mass = setup.controller.mass();
+    let gravity = setup.model.gravity;
+    let linear =
+        |row: usize| nalgebra::Vector3::from_column_slice(&record.momentum[6 * row..6 * row + 3]);
+    (1..record.time.len() - 1)
+        .map(|row| {
+            let dt = record.time[row + 1] - record.time[row - 1];
+            let w = &record.contact_wrenches[12 * row..12 * row + 12];
+            ForceBalance {
+                time_s: record.time[row],
+                world_f_feet: [0, 6].map(|k| nalgebra::Vector3::new(w[k], w[k + 1], w[k + 2])),
+                world_f_needed: (linear(row + 1) - linear(row - 1)) / dt - mass * gravity,
+            }
+        })
+        .collect()
+}
+
+const PUSH_TWO_FEET: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/robot_rate/push_two_feet.toml"
+);
+
+/// The recorded contact wrenches are the forces that move the robot (docs/findings/contacts.md,
+/// 2026-12-01): the iCub of `push_two_feet.toml` without its push stands on its two feet
+/// (unilateral contacts) and at every sample after 0.1 s the feet's normal forces add up to
+/// `m g` within 1 %, each foot's tangential force is within the friction cone `mu f_n` of
+/// `[ground]` and the feet's tangential forces add up to less than 2 % of `m g` (the
+/// wrench evaluated at the sample's state instead, with the stiff regularised friction's
+/// creep, reached `|f_t| / f_n` of 0.4 to 1 on a standing Talos).
+#[test]
+fn standing_the_feet_carry_the_weight_inside_the_friction_cone() {
+    let (record, summary, setup) = walk(
+        PUSH_TWO_FEET,
+        &[("disturbances", "[]"), ("simulation.duration_s", "1.0")],
+    );
+    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    let weight = setup.controller.mass() * setup.model.gravity.norm();
+    let mu = setup.plant.unilateral().unwrap().ground.friction;
+    let (mut worst_normal, mut worst_ratio, mut worst_tangential): (f64, f64, f64) =
+        (0.0, 0.0, 0.0);
+    for balance in force_balances(&record, &setup)
+        .iter()
+        .filter(|b| b.time_s > 0.1)
+    {
+        let [left, right] = balance.world_f_feet;
+        worst_normal = worst_normal.max(((left.z + right.z) / weight - 1.0).abs());
+        for foot in [left, right] {
+            assert!(foot.z > 0.0, "a foot lifted at {} s", balance.time_s);
+            worst_ratio = worst_ratio.max(foot.xy().norm() / foot.z);
+        }
+        worst_tangential = worst_tangential.max((left + right).xy().norm() / weight);
+    }
+    println!(
+        "standing: |sum f_n / m g - 1| <= {worst_normal:.2e}, |f_t| / f_n <= {worst_ratio:.3} \
+         (mu {mu}), |sum f_t| / m g <= {worst_tangential:.2e}"
+    );
+    assert!(
+        worst_normal < 0.01,
+        "sum of normal forces off m g by {worst_normal}"
+    );
+    assert!(
+        worst_ratio < mu,
+        "|f_t| / f_n = {worst_ratio} outside mu = {mu}"
+    );
+    assert!(
+        worst_tangential < 0.02,
+        "sum of tangential forces {worst_tangential} m g"
+    );
+}
+
+/// In the first steps of `walk_straight.toml` (2 s, every 10 ms period recorded), at every
+/// sample where one foot carries no force, nor at the samples either side (single support), the stance foot's recorded force
+/// is what moves the CoM, `d(m v_com)/dt - m g` (the momentum's central difference) within
+/// 3 % of `m g` on each axis, and its tangential force is inside the friction cone.
+#[test]
+fn in_single_support_the_stance_foot_carries_the_com_acceleration() {
+    let (record, summary, setup) = walk(
+        WALK_STRAIGHT,
+        &[
+            ("simulation.duration_s", "2.0"),
+            ("simulation.record_every", "1"),
+        ],
+    );
+    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    let weight = setup.controller.mass() * setup.model.gravity.norm();
+    let mu = setup.plant.unilateral().unwrap().ground.friction;
+    let (mut samples, mut worst_error, mut worst_ratio): (usize, f64, f64) = (0, 0.0, 0.0);
+    let balances = force_balances(&record, &setup);
+    let lifted = |b: &ForceBalance, c: usize| b.world_f_feet[c] == nalgebra::Vector3::zeros();
+    for window in balances.windows(3) {
+        // The momentum's difference spans the neighbouring samples: all three single support.
+        let swing = (0..2).find(|&c| window.iter().all(|b| lifted(b, c)));
+        let (Some(swing), balance) = (swing, &window[1]) else {
+            continue;
+        };
+        let stance = balance.world_f_feet[1 - swing];
+        samples += 1;
+        worst_error = worst_error.max((stance - balance.world_f_needed).amax() / weight);
+        worst_ratio = worst_ratio.max(stance.xy().norm() / stance.z);
+    }
+    println!(
+        "single support: {samples} samples, |f - (m a - m g)| <= {worst_error:.3} m g, \
+         |f_t| / f_n <= {worst_ratio:.3} (mu {mu})"
+    );
+    assert!(samples > 50, "{samples} single-support samples");
+    assert!(
+        worst_error < 0.03,
+        "stance force off the CoM's by {worst_error} m g"
+    );
+    assert!(
+        worst_ratio < mu,
+        "|f_t| / f_n = {worst_ratio} outside mu = {mu}"
+    );
+}
