@@ -744,13 +744,13 @@ const PUSH_TWO_FEET: &str = concat!(
     "/../../scenarios/robot_rate/push_two_feet.toml"
 );
 
-/// The recorded contact wrenches are the forces that move the robot (docs/findings/contacts.md,
-/// 2026-12-01): the iCub of `push_two_feet.toml` without its push stands on its two feet
-/// (unilateral contacts) and at every sample after 0.1 s the feet's normal forces add up to
-/// `m g` within 1 %, each foot's tangential force is within the friction cone `mu f_n` of
-/// `[ground]` and the feet's tangential forces add up to less than 2 % of `m g` (the
-/// wrench evaluated at the sample's state instead, with the stiff regularised friction's
-/// creep, reached `|f_t| / f_n` of 0.4 to 1 on a standing Talos).
+/// The recorded contact wrenches are the forces that hold the robot up (docs/findings/contacts.md,
+/// "The recorded contact wrenches"): the iCub of `push_two_feet.toml` without its push stands
+/// on its two feet (unilateral contacts) and at every sample after 0.1 s the feet's normal
+/// forces add up to `m g` within 1 %, each foot's tangential force is within the friction cone
+/// `mu f_n` of `[ground]` and the feet's tangential forces add up to less than 2 % of `m g`.
+/// Standing, the wrench evaluated at the sample's state passes too; the single-support test
+/// below tells the two apart.
 #[test]
 fn standing_the_feet_carry_the_weight_inside_the_friction_cone() {
     let (record, summary, setup) = walk(
