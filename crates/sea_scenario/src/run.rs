@@ -72,6 +72,17 @@ pub fn run(scenario: &Scenario, progress: impl FnMut(f64, f64)) -> Result<(RunRe
     Ok((record, summary))
 }
 
+/// [`run`] that also hands back the setup as the run leaves it (its controller's gait,
+/// counters and estimates readable; the plant's parameters beside them).
+pub fn run_keeping_setup(scenario: &Scenario) -> Result<(RunRecord, Summary, Setup)> {
+    let mut setup = build(scenario)?;
+    let mut record = RunRecord::default();
+    let cancel = AtomicBool::new(false);
+    let summary =
+        run_setup_with_sinks(scenario, &mut setup, &mut [&mut record], &cancel, |_, _| ())?;
+    Ok((record, summary, setup))
+}
+
 /// Runs a scenario, handing every recorded sample to each of `sinks` (none: only the
 /// summary, in constant memory); see [`sea_loop::run_setup_with_sinks`] for `cancel`,
 /// `progress` and how the sinks are finished.

@@ -5,10 +5,9 @@
 
 use sea_ctrl::walking::FootTask;
 use sea_loop::RunRecord;
-use sea_scenario::run::run_setup_with_sinks;
+use sea_scenario::run::run_keeping_setup;
 use sea_scenario::{build, Scenario};
 use std::path::Path;
-use std::sync::atomic::AtomicBool;
 
 const STEPS: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -33,19 +32,7 @@ fn refused(path: &str, overrides: &[(&str, &str)]) -> String {
 
 /// A run of `path` with `overrides`: its record, summary and built setup after the run.
 fn walk(path: &str, overrides: &[(&str, &str)]) -> (RunRecord, sea_loop::Summary, sea_loop::Setup) {
-    let scenario = scenario(path, overrides).unwrap();
-    let mut setup = build(&scenario).unwrap();
-    let mut record = RunRecord::default();
-    let cancel = AtomicBool::new(false);
-    let summary = run_setup_with_sinks(
-        &scenario,
-        &mut setup,
-        &mut [&mut record],
-        &cancel,
-        |_, _| (),
-    )
-    .unwrap();
-    (record, summary, setup)
+    run_keeping_setup(&scenario(path, overrides).unwrap()).unwrap()
 }
 
 /// Each sole's world position at every recorded sample (rows x 2 contacts).
@@ -205,23 +192,32 @@ fn the_planned_wrenches_do_not_jump_at_a_switch() {
     }
 }
 
+/// 8 steps of walk_fast.toml (and its stop, within a 5 s run) with `overrides` more: the run
+/// completed with every planned step taken; its summary and setup.
+fn eight_steps_of_walk_fast(overrides: &[(&str, &str)]) -> (sea_loop::Summary, sea_loop::Setup) {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenarios/walking/walk_fast.toml"
+    );
+    let mut all = vec![
+        ("walking.command.steps", "8"),
+        ("simulation.duration_s", "5.0"),
+    ];
+    all.extend_from_slice(overrides);
+    let (_, summary, setup) = walk(path, &all);
+    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    let gait = setup.controller.gait().unwrap();
+    assert_eq!(summary.steps_taken, Some(gait.footsteps.steps.len()));
+    (summary, setup)
+}
+
 /// walk_fast.toml's gait (0.3 m/s, 0.12 m steps of 0.4 s, the CoM at 0.51 m) for 8 steps and
 /// the stop: the robot does not fall and the feet's mid-point travels the planned distance
 /// within 10 %.
 #[test]
 fn eight_steps_at_0_3_m_s_walk_the_planned_distance() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../scenarios/walking/walk_fast.toml"
-    );
-    let overrides = [
-        ("walking.command.steps", "8"),
-        ("simulation.duration_s", "5.0"),
-    ];
-    let (_, summary, setup) = walk(path, &overrides);
-    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    let (summary, setup) = eight_steps_of_walk_fast(&[]);
     let gait = setup.controller.gait().unwrap();
-    assert_eq!(summary.steps_taken, Some(gait.footsteps.steps.len()));
     assert!(
         gait.end_time() <= 5.0,
         "the walk ends standing within the run"
@@ -247,20 +243,10 @@ fn eight_steps_at_0_3_m_s_walk_the_planned_distance() {
 /// 50-step walk.
 #[test]
 fn eight_steps_with_the_stiffness_estimate_off_by_0_7_under_the_identification_complete() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../scenarios/walking/walk_fast.toml"
-    );
-    let overrides = [
-        ("walking.command.steps", "8"),
-        ("simulation.duration_s", "5.0"),
+    let (summary, setup) = eight_steps_of_walk_fast(&[
         ("controller.stiffness_estimate_scale", "0.7"),
         ("controller.stiffness_identification", "true"),
-    ];
-    let (_, summary, setup) = walk(path, &overrides);
-    assert_eq!(summary.status, "completed", "{}", summary.reason);
-    let gait = setup.controller.gait().unwrap();
-    assert_eq!(summary.steps_taken, Some(gait.footsteps.steps.len()));
+    ]);
     let truth = &setup.plant.actuation.elastic;
     let names = &setup.elastic_names;
     let estimates: std::collections::HashMap<_, _> =

@@ -6,10 +6,9 @@
 use sea_ctrl::walking::Support;
 use sea_sim::analysis::push::{swing_push_start, SwingPhase};
 use sea_sim::closed_loop::RunRecord;
-use sea_sim::scenario::run::run_setup_with_sinks;
+use sea_sim::scenario::run::run_keeping_setup;
 use sea_sim::scenario::{build, Scenario};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 
 fn walk_push() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/walking/walk_push.toml")
@@ -38,18 +37,7 @@ fn run(
     sea_sim::closed_loop::Setup,
 ) {
     let scenario = Scenario::from_file(&walk_push(), overrides).unwrap();
-    let mut setup = build(&scenario).unwrap();
-    let mut record = RunRecord::default();
-    let cancel = AtomicBool::new(false);
-    let summary = run_setup_with_sinks(
-        &scenario,
-        &mut setup,
-        &mut [&mut record],
-        &cancel,
-        |_, _| (),
-    )
-    .unwrap();
-    (record, summary, setup)
+    run_keeping_setup(&scenario).unwrap()
 }
 
 #[test]
