@@ -48,20 +48,25 @@ def test_the_result_has_each_contact_points_position_force_and_activity(dropped)
     assert result.ground_normal is not None
     np.testing.assert_allclose(result.ground_normal, [0.0, 0.0, 1.0], atol=1e-12)
     # In the air at first: no point touches, no force; at the end every point carries the
-    # robot, and the points' forces add up to each foot's contact wrench.
+    # robot. The points' forces (at each sample's state) add up to each foot's contact wrench
+    # (delivered over the sample's first plant step) within 1 % of the weight, but at the
+    # touchdown's sample: there the step delivered the impact, which the state before it
+    # does not hold.
     assert not result.contact_point_active[0].any()
     assert (result.contact_point_forces[0] == 0.0).all()
     assert result.contact_point_active[-1].all()
+    weight = 9.81 * sm.Model.from_urdf(scenario_urdf(PUSH)).total_mass
+    touchdown = int(np.argmax(result.contact_point_active.any(axis=1)))
     for c, contact in enumerate(result.contacts):
         columns = result.contact_point_slice(contact)
-        np.testing.assert_allclose(
-            result.contact_point_forces[:, columns].sum(axis=1), result.contact_wrenches[:, c, :3], atol=1e-6
-        )
+        points = result.contact_point_forces[:, columns].sum(axis=1)
+        after = slice(touchdown + 1, None)
+        np.testing.assert_allclose(points[after], result.contact_wrenches[after, c, :3], atol=0.01 * weight)
+        np.testing.assert_array_equal(points[:touchdown], 0.0)
     # Along the ground's normal the points push, and at the end they carry the weight.
     normal = result.contact_point_normal_forces()
     assert (normal >= 0.0).all()
-    mass = sm.Model.from_urdf(scenario_urdf(PUSH)).total_mass
-    assert abs(normal[-1].sum() - 9.81 * mass) < 0.1 * 9.81 * mass
+    assert abs(normal[-1].sum() - weight) < 0.1 * weight
 
 
 def test_a_bilateral_run_has_no_contact_points():

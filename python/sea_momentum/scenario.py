@@ -32,7 +32,10 @@ class ScenarioResult(Result):
     com: FloatArray  #: (m, 3) float64, CoM, world [m]
     com_reference: FloatArray  #: (m, 3) float64, CoM reference, world [m]
     momentum: FloatArray  #: (m, 6) float64, centroidal momentum [m pdot_com; L_com]
-    contact_wrenches: FloatArray  #: (m, n_contacts, 6) float64, simulated wrenches, world axes
+    #: (m, n_contacts, 6) float64, simulated wrenches, world axes; under unilateral contacts
+    #: those delivered over each sample's first plant step (what moves the robot, what the
+    #: feet's sensors read)
+    contact_wrenches: FloatArray
     motor_torques: FloatArray  #: (m, n_e) float64, applied motor torques [N m]
     joint_error_norm: FloatArray  #: (m,) float64, |s - s_d| [rad]
     qp_solved: FloatArray  #: (m,) float64, 1 solved (the relaxed momentum task included), 0 fallback
@@ -53,7 +56,9 @@ class ScenarioResult(Result):
     contact_points: list[int]
     #: (m, n_points, 3) float64, each contact point's position, world [m]
     contact_point_positions: FloatArray
-    #: (m, n_points, 3) float64, each contact point's force on its foot, world axes [N]
+    #: (m, n_points, 3) float64, each contact point's force on its foot, world axes [N], at
+    #: the sample's state: they add up to ``contact_wrenches`` but at an impact or a
+    #: stick-slip change within the sample's first plant step
     contact_point_forces: FloatArray
     #: (m, n_points) bool, whether each contact point carries a force (touches the ground)
     contact_point_active: BoolArray

@@ -58,12 +58,16 @@ pub struct Sample<'a> {
     /// the CoM]` (`controller.external_wrench = "observed"`: the observer's estimate; zero
     /// otherwise).
     pub external_wrench: [f64; 6],
-    /// Simulated contact wrenches, 6 per contact `[force; moment]` at the frame origins.
+    /// Simulated contact wrenches, 6 per contact `[force; moment]` at the frame origins. Under
+    /// unilateral contacts those delivered over the sample's first plant step (what moves the
+    /// robot and what the feet's sensors read), at a run's last sample those at its state.
     pub contact_wrenches: &'a [f64],
     /// Unilateral contacts: each contact point's position [m], 3 per point (contacts in
     /// order, [`RunInfo::contact_points`] each); empty under bilateral contacts.
     pub contact_point_positions: &'a [f64],
-    /// Unilateral contacts: each contact point's force on its foot [N], 3 per point.
+    /// Unilateral contacts: each contact point's force on its foot [N], 3 per point, at the
+    /// sample's state (they add up to `contact_wrenches` but at an impact or a stick-slip
+    /// change within the sample's first plant step).
     pub contact_point_forces: &'a [f64],
     /// Unilateral contacts: whether each contact point carries a force.
     pub contact_point_active: &'a [bool],
@@ -143,7 +147,7 @@ pub struct RunRecord {
     pub momentum: Vec<f64>,
     /// The external wrench the controller took (rows x 6), `[force; moment about the CoM]`.
     pub external_wrench: Vec<f64>,
-    /// Simulated contact wrenches (rows x 6 n_contacts).
+    /// Simulated contact wrenches (rows x 6 n_contacts), as [`Sample::contact_wrenches`].
     pub contact_wrenches: Vec<f64>,
     /// Motor torques applied by the plant (rows x n_e).
     pub motor_torques: Vec<f64>,
