@@ -34,7 +34,7 @@ use super::MomentumController;
 use crate::error::{Error, Result};
 use crate::qp::{momentum_tracking_objective, Minimizer, QpCounters, QpStatus, WrenchQp};
 use crate::references::ComSample;
-use crate::walking::{Foot, FootTask, Gait, SwingSample, WalkingSettings};
+use crate::walking::{FootTask, Gait, SwingSample, WalkingSettings};
 use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Vector6};
 use sea_dyn::spatial::Pose;
 
@@ -160,14 +160,6 @@ pub fn settle_acceleration(
     acceleration
 }
 
-/// 0 for the left foot, 1 for the right.
-pub(super) fn foot_index(foot: Foot) -> usize {
-    match foot {
-        Foot::Left => 0,
-        Foot::Right => 1,
-    }
-}
-
 /// The penalty weight on a foot's wrench in double support for its planned share of the
 /// load `share` (module doc): `(1 - 2 share) / share` below one half, 0 above (times the
 /// Hessian's scale); capped at [`MAX_SHARE_PENALTY`] (the share 0 of a foot just landed).
@@ -204,7 +196,7 @@ impl ContactPhases {
                 }
                 (FootTask::Contact { share }, Some(step)) if !loaded && *share < 0.5 => {
                     let landing = &self.gait.footsteps.steps[step];
-                    let landed_here = self.gait.contact_of[foot_index(landing.foot)] == c;
+                    let landed_here = self.gait.contact_of_foot(landing.foot) == c;
                     let since = t - landing.touchdown;
                     if landed_here && since >= 0.0 && t < phase.end {
                         self.late_ticks += 1;

@@ -5,7 +5,6 @@
 //! and the swing re-aimed in flight ([`adjust_step`], docs/explanation/walking.md). Not in
 //! double support, nor once the swing foot is on the ground (an early touchdown).
 
-use super::contact_phase::foot_index;
 use super::MomentumController;
 use crate::walking::{adjust_step, FootTask, StepAdjustment, Support, WalkingSettings};
 use sea_dyn::{ContactSurface, StateLayout};
@@ -58,7 +57,7 @@ impl MomentumController {
             return None;
         };
         let foot = walking.gait.footsteps.steps[index].foot;
-        let contact = walking.gait.contact_of[foot_index(foot)];
+        let contact = walking.gait.contact_of_foot(foot);
         let landed =
             matches!(walking.tasks[contact], FootTask::Contact { .. }) && phase.fraction > 0.5;
         (!landed).then_some(index)

@@ -23,7 +23,7 @@
 use super::contact_phase::ContactPhases;
 use super::MomentumController;
 use crate::walking::{
-    needs_step, recovery_gait, settle_from, swing_foot_for, Foot, FootTask, Lip, MeasuredCom,
+    needs_step, recovery_gait, settle_from, swing_foot_for, FootTask, Lip, MeasuredCom,
     RecoveryFrame, RecoveryStep, Stance, SupportPolygon, WalkingSettings,
 };
 use nalgebra::Vector2;
@@ -116,7 +116,7 @@ impl ContactPhases {
         if !stepping.has_stepped() || t < step.touchdown {
             return;
         }
-        let landing = self.gait.contact_of[foot_index(step.foot)];
+        let landing = self.gait.contact_of_foot(step.foot);
         let since = t - step.touchdown;
         let unloaded = self
             .normal_forces
@@ -131,14 +131,6 @@ impl ContactPhases {
                 *share = 0.5;
             }
         }
-    }
-}
-
-/// 0 for the left foot, 1 for the right.
-fn foot_index(foot: Foot) -> usize {
-    match foot {
-        Foot::Left => 0,
-        Foot::Right => 1,
     }
 }
 

@@ -135,9 +135,17 @@ impl Gait {
                 }
                 _ => FootTask::Contact { share },
             };
-            tasks[self.contact_of[foot_index(foot)]] = task;
+            tasks[self.contact_of_foot(foot)] = task;
         }
         tasks
+    }
+
+    /// The contact (the scenario's order) that `foot` stands on: `contact_of`'s entry.
+    pub fn contact_of_foot(&self, foot: Foot) -> usize {
+        match foot {
+            Foot::Left => self.contact_of[0],
+            Foot::Right => self.contact_of[1],
+        }
     }
 
     /// The steps whose touchdown is at or before `t` [s].
@@ -152,14 +160,6 @@ impl Gait {
     /// The time the walk ends standing [s].
     pub fn end_time(&self) -> f64 {
         self.footsteps.end_time()
-    }
-}
-
-/// 0 for the left foot, 1 for the right.
-fn foot_index(foot: Foot) -> usize {
-    match foot {
-        Foot::Left => 0,
-        Foot::Right => 1,
     }
 }
 

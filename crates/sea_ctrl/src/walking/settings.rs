@@ -343,14 +343,6 @@ impl WalkingSettings {
                 return Err(Error::invalid(key, at_least_period.clone(), value));
             }
         }
-        let settle = self.identification_settle;
-        if !(settle.is_finite() && settle >= 0.0) {
-            return Err(Error::invalid(
-                "walking.identification_settle",
-                "must be finite and at least 0 s",
-                settle,
-            ));
-        }
         if self.single_support_duration() < period {
             return Err(Error::invalid(
                 "walking.double_support_duration",
@@ -365,7 +357,8 @@ impl WalkingSettings {
         Ok(())
     }
 
-    /// Heights, widths, reach and turn.
+    /// Heights, widths, reach and turn; the margins, gains, weights and times that must be
+    /// non-negative.
     fn validate_geometry(&self) -> Result<()> {
         for (key, value) in [
             ("walking.com_height", self.com_height),
@@ -380,6 +373,7 @@ impl WalkingSettings {
             ("walking.swing_height", self.swing_height),
             ("walking.capture_margin", self.capture_margin),
             ("walking.recovery_step_offset", self.recovery_step_offset),
+            ("walking.identification_settle", self.identification_settle),
             (
                 "walking.step_adjustment_threshold",
                 self.step_adjustment_threshold,
