@@ -762,3 +762,33 @@ fn push_refuses_a_zero_tolerance_or_duration_naming_the_flag() {
         );
     }
 }
+
+#[test]
+fn push_at_fixed_impulses_reports_each_outcome_and_refuses_a_negative_one() {
+    let scenario = format!("{REPO}/scenarios/robot_rate/push_two_feet.toml");
+    let refused = sea_sim(&["push", &scenario, "--impulses=1,-2"]);
+    assert!(!refused.status.success(), "a negative impulse accepted");
+    let stderr = text(&refused.stderr);
+    assert!(stderr.contains("impulses"), "{stderr}");
+    // No push, and eight times the backward capture-point bound (7.7 N s).
+    let args = [
+        "push",
+        &scenario,
+        "--directions",
+        "backward",
+        "--impulses",
+        "0,60",
+    ];
+    let out = sea_sim(&[&args[..], &["--set", "simulation.duration_s=2.0"]].concat());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let row = &report["directions"][0];
+    assert_eq!(row["direction"], "backward");
+    assert_eq!(row["outcomes"], "ox", "{row}");
+    assert_eq!(row["recovered_count"], 1);
+    assert_eq!(row["recovered_up_to_n_s"], 0.0);
+    let pushes = row["pushes"].as_array().unwrap();
+    assert_eq!(pushes[0]["status"], "completed");
+    assert_ne!(pushes[1]["status"], "completed");
+    assert!(pushes[1]["end_s"].as_f64().unwrap() < 2.0, "{row}");
+}

@@ -397,6 +397,110 @@ pub fn push_table(
         .collect()
 }
 
+/// One direction's outcomes at fixed impulses ([`fixed_push_table`]).
+#[derive(Clone, Debug)]
+pub struct FixedPushRow {
+    /// The direction.
+    pub direction: PushDirection,
+    /// The capture-point bound [N s].
+    pub capture_point_impulse: f64,
+    /// Each impulse [N s], in the order given, with its run's summary.
+    pub outcomes: Vec<(f64, Summary)>,
+}
+
+impl FixedPushRow {
+    /// How many of the pushes were recovered (their runs completed).
+    pub fn recovered_count(&self) -> usize {
+        self.outcomes
+            .iter()
+            .filter(|(_, summary)| summary.status == "completed")
+            .count()
+    }
+
+    /// The largest impulse [N s] at and below which every given impulse was recovered (0 when
+    /// the smallest was not): what a bisection would take for the boundary when the outcomes
+    /// have one, and below the islands of recovery when they have several.
+    pub fn recovered_up_to(&self) -> f64 {
+        recovered_up_to(
+            self.outcomes
+                .iter()
+                .map(|(impulse, summary)| (*impulse, summary.status == "completed")),
+        )
+    }
+}
+
+/// [`FixedPushRow::recovered_up_to`] of `(impulse, recovered)` pairs in any order.
+fn recovered_up_to(outcomes: impl Iterator<Item = (f64, bool)>) -> f64 {
+    let mut sorted: Vec<(f64, bool)> = outcomes.collect();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    sorted
+        .iter()
+        .take_while(|(_, recovered)| *recovered)
+        .last()
+        .map_or(0.0, |(impulse, _)| *impulse)
+}
+
+/// Checks fixed impulses: at least one, each finite and non-negative [N s]; the error names
+/// `impulses` and the value.
+pub fn check_impulses(impulses: &[f64]) -> Result<()> {
+    if impulses.is_empty() {
+        return Err(Error::config("impulses", "give at least one impulse [N s]"));
+    }
+    match impulses.iter().find(|i| !(i.is_finite() && **i >= 0.0)) {
+        Some(bad) => {
+            Err(
+                sea_dyn::Error::invalid("impulses", "finite, non-negative impulses [N s]", *bad)
+                    .into(),
+            )
+        }
+        None => Ok(()),
+    }
+}
+
+/// The push of each of `impulses` [N s] along each of `directions`, one run each (all in
+/// parallel, rayon's pool), instead of a bisection: the outcomes over a range show where
+/// recovery has islands, which a bisection, assuming one boundary, does not
+/// (docs/findings/stepping.md).
+///
+/// Errors: the options' ([`PushOptions::check`]; the tolerance is not used), the impulses'
+/// ([`check_impulses`]), the scenario's and the runs'.
+pub fn fixed_push_table(
+    path: &Path,
+    overrides: &[(String, String)],
+    options: &PushOptions,
+    directions: &[PushDirection],
+    impulses: &[f64],
+) -> Result<Vec<FixedPushRow>> {
+    options.check()?;
+    check_impulses(impulses)?;
+    let stance = Stance::of(&Scenario::from_file(path, overrides)?)?;
+    let pairs: Vec<(PushDirection, f64)> = directions
+        .iter()
+        .flat_map(|&direction| impulses.iter().map(move |&impulse| (direction, impulse)))
+        .collect();
+    let summaries = pairs
+        .par_iter()
+        .map(|&(direction, impulse)| {
+            push_run(
+                path,
+                overrides,
+                options,
+                stance.direction(direction),
+                impulse,
+            )
+        })
+        .collect::<Result<Vec<Summary>>>()?;
+    let mut summaries = summaries.into_iter();
+    Ok(directions
+        .iter()
+        .map(|&direction| FixedPushRow {
+            direction,
+            capture_point_impulse: stance.capture_point_impulse(direction),
+            outcomes: impulses.iter().copied().zip(summaries.by_ref()).collect(),
+        })
+        .collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -476,5 +580,28 @@ mod tests {
                 "{message}"
             );
         }
+    }
+
+    #[test]
+    fn fixed_impulses_are_refused_when_none_negative_or_not_finite_naming_the_flag() {
+        assert!(check_impulses(&[0.0, 2.5]).is_ok());
+        for bad in [
+            &[][..],
+            &[1.0, -1.0][..],
+            &[f64::NAN][..],
+            &[f64::INFINITY][..],
+        ] {
+            let message = check_impulses(bad).unwrap_err().to_string();
+            assert!(message.contains("impulses"), "{bad:?}: {message}");
+        }
+    }
+
+    #[test]
+    fn the_impulse_recovered_up_to_stops_at_the_first_failure_in_order() {
+        // Given out of order, with an island of recovery above the first failure.
+        let islands = [(3.0, false), (1.0, true), (4.0, true), (2.0, true)];
+        assert_eq!(recovered_up_to(islands.into_iter()), 2.0);
+        assert_eq!(recovered_up_to([(1.0, false)].into_iter()), 0.0);
+        assert_eq!(recovered_up_to([(1.0, true)].into_iter()), 1.0);
     }
 }

@@ -1,8 +1,9 @@
-//! `sea-sim push`: the largest push recovered per direction, bisected.
+//! `sea-sim push`: the largest push recovered per direction, bisected, or the outcomes of
+//! pushes of fixed impulses (`--impulses`).
 
 use crate::common::{parse_key_value, parse_positive, print_out};
 use clap::Args;
-use sea_sim::analysis::push::PushOptions;
+use sea_sim::analysis::push::{fixed_push_table, push_table, PushDirection, PushOptions};
 use std::path::PathBuf;
 
 /// Options of `sea-sim push`.
@@ -39,9 +40,86 @@ pub(crate) struct PushArgs {
     /// Bisection resolution [N s] (finite, positive).
     #[arg(long, default_value_t = PushOptions::default().tolerance_n_s, value_parser = parse_positive)]
     tolerance: f64,
+    /// Instead of the bisection, push once at each of these impulses [N s], comma-separated
+    /// (finite, non-negative), e.g. `--impulses 1,2,3,4`: every outcome is reported, so
+    /// islands of recovery above a failure show (all runs in parallel).
+    #[arg(long, value_delimiter = ',', conflicts_with = "tolerance")]
+    impulses: Option<Vec<f64>>,
     /// Override a scenario value, e.g. `--set controller.kind=rigid` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
     overrides: Vec<(String, String)>,
+}
+
+/// The bisection's rows of the JSON report, one per direction.
+fn bisected_rows(
+    args: &PushArgs,
+    options: &PushOptions,
+    directions: &[PushDirection],
+) -> sea_sim::Result<Vec<serde_json::Value>> {
+    let table = push_table(&args.scenario, &args.overrides, options, directions)?;
+    Ok(table
+        .iter()
+        .map(|row| {
+            let fall = row.failed_summary.as_ref().map(|s| s.to_json());
+            serde_json::json!({
+                "direction": row.direction.name(),
+                "capture_point_impulse_n_s": row.capture_point_impulse,
+                "recovered_impulse_n_s": row.recovered_impulse,
+                "failed_impulse_n_s": row.failed_impulse,
+                "failed_status": fall.as_ref().map(|j| j["status"].clone()),
+                "failed_reason": fall.as_ref().map(|j| j["reason"].clone()),
+                "runs": row.runs,
+            })
+        })
+        .collect())
+}
+
+/// `--impulses`: the rows of the JSON report, one per direction, with every push's outcome
+/// (its status, reason and end time) and `outcomes`, one character per impulse in the order
+/// given (`o` recovered, `x` not).
+fn fixed_rows(
+    args: &PushArgs,
+    options: &PushOptions,
+    directions: &[PushDirection],
+    impulses: &[f64],
+) -> sea_sim::Result<Vec<serde_json::Value>> {
+    let table = fixed_push_table(
+        &args.scenario,
+        &args.overrides,
+        options,
+        directions,
+        impulses,
+    )?;
+    Ok(table
+        .iter()
+        .map(|row| {
+            let pushes: Vec<serde_json::Value> = row
+                .outcomes
+                .iter()
+                .map(|(impulse, summary)| {
+                    serde_json::json!({
+                        "impulse_n_s": impulse,
+                        "status": summary.status,
+                        "reason": summary.reason,
+                        "end_s": summary.duration_s,
+                    })
+                })
+                .collect();
+            let outcomes: String = row
+                .outcomes
+                .iter()
+                .map(|(_, s)| if s.status == "completed" { 'o' } else { 'x' })
+                .collect();
+            serde_json::json!({
+                "direction": row.direction.name(),
+                "capture_point_impulse_n_s": row.capture_point_impulse,
+                "recovered_count": row.recovered_count(),
+                "recovered_up_to_n_s": row.recovered_up_to(),
+                "outcomes": outcomes,
+                "pushes": pushes,
+            })
+        })
+        .collect())
 }
 
 /// The step `--phase` pushes by default: the fourth (0-based 3), the walk under way.
@@ -49,7 +127,7 @@ const DEFAULT_PUSHED_STEP: usize = 3;
 
 /// `sea-sim push`: the push table as JSON on stdout.
 pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
-    use sea_sim::analysis::push::{push_table, swing_push_start, PushDirection, SwingPhase};
+    use sea_sim::analysis::push::{swing_push_start, SwingPhase};
     let directions = args
         .directions
         .iter()
@@ -71,22 +149,10 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
         duration_s: args.duration,
         tolerance_n_s: args.tolerance,
     };
-    let table = push_table(&args.scenario, &args.overrides, &options, &directions)?;
-    let rows: Vec<serde_json::Value> = table
-        .iter()
-        .map(|row| {
-            let fall = row.failed_summary.as_ref().map(|s| s.to_json());
-            serde_json::json!({
-                "direction": row.direction.name(),
-                "capture_point_impulse_n_s": row.capture_point_impulse,
-                "recovered_impulse_n_s": row.recovered_impulse,
-                "failed_impulse_n_s": row.failed_impulse,
-                "failed_status": fall.as_ref().map(|j| j["status"].clone()),
-                "failed_reason": fall.as_ref().map(|j| j["reason"].clone()),
-                "runs": row.runs,
-            })
-        })
-        .collect();
+    let rows = match &args.impulses {
+        Some(impulses) => fixed_rows(args, &options, &directions, impulses)?,
+        None => bisected_rows(args, &options, &directions)?,
+    };
     let mut json = serde_json::json!({
         "scenario": args.scenario,
         "overrides": args.overrides.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>(),
