@@ -24,9 +24,10 @@
 //! swing whose measured normal force exceeds [`TOUCHDOWN_FORCE_FRACTION`] of the robot's
 //! weight has landed early: it is held from then on (a foot on the ground with no planned
 //! load until the plan's double support hands it some). A foot the plan has landed whose
-//! normal force is still below that after touchdown is late: through that double support it
-//! keeps descending from its landing pose at [`LATE_TOUCHDOWN_SPEED`], with no planned load,
-//! until the sensor sees it.
+//! normal force has stayed below that since its lift-off is late: through that double
+//! support it keeps descending from its landing pose at [`LATE_TOUCHDOWN_SPEED`], with no
+//! planned load, until the sensor sees it. Once seen loaded it has landed, and a normal force
+//! chattering about the threshold afterwards does not make it late again.
 
 use super::step_adjustment::StepAdjusting;
 use super::stepping::Stepping;
@@ -77,6 +78,9 @@ pub(super) struct ContactPhases {
     /// Touchdowns the sensors moved: early, late.
     pub(super) early_touchdowns: usize,
     pub(super) late_ticks: usize,
+    /// Each contact's last tick with its measured normal force above `touchdown_force` [s]
+    /// (`-inf` before any): a foot loaded since its lift-off has landed and is not late.
+    last_loaded_s: [f64; 2],
     /// Stepping to recover pushes (`walking.stepping`, `stepping.rs`); `None`: the gait as
     /// planned.
     pub(super) stepping: Option<Stepping>,
@@ -187,6 +191,9 @@ impl ContactPhases {
         let phase = self.gait.footsteps.phase_at(t);
         for c in 0..2 {
             let loaded = forces[c] > self.touchdown_force;
+            if loaded {
+                self.last_loaded_s[c] = t;
+            }
             match (&planned[c], phase.step) {
                 (FootTask::Swing(_), _) if loaded && phase.fraction > 0.5 => {
                     if !matches!(self.tasks[c], FootTask::Contact { .. }) {
@@ -198,7 +205,8 @@ impl ContactPhases {
                     let landing = &self.gait.footsteps.steps[step];
                     let landed_here = self.gait.contact_of_foot(landing.foot) == c;
                     let since = t - landing.touchdown;
-                    if landed_here && since >= 0.0 && t < phase.end {
+                    let landed = self.last_loaded_s[c] >= landing.lift_off;
+                    if landed_here && !landed && since >= 0.0 && t < phase.end {
                         self.late_ticks += 1;
                         tasks[c] = FootTask::Swing(self.descent(step, since));
                     }
@@ -305,6 +313,7 @@ impl MomentumController {
             tasks: gait.foot_tasks(0.0),
             identification_settle: settings.identification_settle,
             last_tick_s: 0.0,
+            last_loaded_s: [f64::NEG_INFINITY; 2],
             last_contact_change_s: 0.0,
             gait,
             position_gain: settings.swing_position_gain,
