@@ -160,12 +160,12 @@ fn print_a_push_while_walking() {
     }
 }
 
-/// The forward push of 9 N s (above the goal's 8.3 N s, 0.25 m/s times the iCub's 33 kg) at
-/// 20 % of the fourth step's swing, and the backward push of 10 N s at mid-swing: the walk as
-/// planned does not recover them, with step adjustment it walks on (measured: without, every
-/// forward push from 7 N s and backward from 7 N s failed at this phase; with, every one up to
-/// 10 and 14 N s was recovered; docs/findings/stepping.md). The pushed step lands moved along
-/// the push, every landing within the step limits.
+/// Forward pushes of 7-10 N s at 20 % of the fourth step's swing and backward pushes of
+/// 8-12 N s at mid-swing (around and above the goal's 8.3 N s, 0.25 m/s times the iCub's
+/// 33 kg): the walk as planned recovers at most 2 of the 9, with step adjustment it walks on
+/// after at least 8 (measured: 1 and 9; the outcomes have islands, a push recovered above
+/// one that fell, so the test counts over a range; docs/findings/stepping.md). The pushed
+/// step of the 9 N s forward push lands moved along it, every landing within the step limits.
 #[test]
 fn step_adjustment_recovers_pushes_the_planned_walk_does_not() {
     let plan_start = |phase: f64| {
@@ -174,30 +174,41 @@ fn step_adjustment_recovers_pushes_the_planned_walk_does_not() {
             .0
     };
     let on = ("walking.step_adjustment".to_string(), "true".to_string());
-    for (direction, impulse, phase) in [(1.0, 9.0, 0.2), (-1.0, 10.0, 0.5)] {
-        let pushed = push(direction, 0.0, impulse, plan_start(phase));
-        let (_, without, _) = run(std::slice::from_ref(&pushed));
-        assert_ne!(
-            without.status, "completed",
-            "{impulse} N s without adjustment"
-        );
-        let (_, with, setup) = run(&[pushed, on.clone()]);
-        assert_eq!(with.status, "completed", "{impulse} N s: {}", with.reason);
-        assert_eq!(with.steps_taken, Some(11));
-        let made = setup.controller.step_adjustments();
-        let pushed_step: Vec<_> = made.iter().filter(|m| m.step == 3).collect();
-        assert!(!pushed_step.is_empty(), "{made:?}");
-        let shift_x: f64 = pushed_step.iter().map(|m| m.world_shift.x).sum();
-        assert!(direction * shift_x > 0.02, "{made:?}");
-        let plan = &setup.controller.gait().unwrap().footsteps;
-        let settings = &Scenario::from_file(&walk_push(), &[])
-            .unwrap()
-            .walking
-            .unwrap();
-        for (i, step) in plan.steps.iter().enumerate() {
-            sea_ctrl::walking::check_step(settings, plan.stance_sole(i), step.foot, step.pose)
-                .unwrap_or_else(|rule| panic!("step {i}: {rule:?}"));
-        }
+    let pushes: Vec<(f64, f64, f64)> = [7.0, 8.0, 9.0, 10.0]
+        .map(|impulse| (1.0, impulse, 0.2))
+        .into_iter()
+        .chain([8.0, 9.0, 10.0, 11.0, 12.0].map(|impulse| (-1.0, impulse, 0.5)))
+        .collect();
+    let recovered = |adjusting: bool| {
+        pushes
+            .iter()
+            .filter(|&&(direction, impulse, phase)| {
+                let mut overrides = vec![push(direction, 0.0, impulse, plan_start(phase))];
+                overrides.extend(adjusting.then(|| on.clone()));
+                let (_, summary, _) = run(&overrides);
+                summary.status == "completed"
+            })
+            .count()
+    };
+    let (without, with) = (recovered(false), recovered(true));
+    assert!(without <= 2, "{without} of 9 recovered without adjustment");
+    assert!(with >= 8, "{with} of 9 recovered with adjustment");
+    let (_, summary, setup) = run(&[push(1.0, 0.0, 9.0, plan_start(0.2)), on]);
+    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    assert_eq!(summary.steps_taken, Some(11));
+    let made = setup.controller.step_adjustments();
+    let pushed_step: Vec<_> = made.iter().filter(|m| m.step == 3).collect();
+    assert!(!pushed_step.is_empty(), "{made:?}");
+    let shift_x: f64 = pushed_step.iter().map(|m| m.world_shift.x).sum();
+    assert!(shift_x > 0.02, "{made:?}");
+    let plan = &setup.controller.gait().unwrap().footsteps;
+    let settings = &Scenario::from_file(&walk_push(), &[])
+        .unwrap()
+        .walking
+        .unwrap();
+    for (i, step) in plan.steps.iter().enumerate() {
+        sea_ctrl::walking::check_step(settings, plan.stance_sole(i), step.foot, step.pose)
+            .unwrap_or_else(|rule| panic!("step {i}: {rule:?}"));
     }
 }
 

@@ -152,8 +152,10 @@ pub struct WalkingSettings {
     /// the momentum rate the stance foot could not produce).
     pub double_support_momentum_weight: f64,
     /// Whether the feet's force/torque sensors move the touchdowns (an early touchdown holds
-    /// the foot, a late foot keeps descending; `controller::contact_phase`); `false`: the
-    /// plan's timing alone.
+    /// the foot, a late foot keeps descending; `controller::contact_phase`), default `true`
+    /// (every shipped walk completes either way, the iCub's feet touch down early at every
+    /// step, and a robot's touchdowns do not keep to a plan's time; docs/findings/walking.md);
+    /// `false`: the plan's timing alone.
     pub sensed_touchdown: bool,
     /// Stepping to recover a push while standing (`controller::stepping`): each whole-body
     /// tick the measured DCM is checked against the support polygon (`capture_margin`); when
@@ -213,7 +215,7 @@ impl Default for WalkingSettings {
             settle_position_gain: 100.0,
             settle_velocity_gain: 20.0,
             double_support_momentum_weight: 0.0,
-            sensed_touchdown: false,
+            sensed_touchdown: true,
             stepping: false,
             max_recovery_steps: 2,
             recovery_transfer_duration: 0.1,
