@@ -264,7 +264,7 @@ fn eight_steps_with_the_stiffness_estimate_off_by_0_7_under_the_identification_c
     assert_eq!(checked, 12, "the iCub's twelve leg joints");
 }
 
-/// Bad walking settings are refused naming the key.
+/// The iCub walking ten steps at 0.25 m/s (the subject of pushes while walking).
 const WALK_PUSH: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../../scenarios/walking/walk_push.toml"
@@ -286,6 +286,7 @@ fn with_sensed_touchdowns_the_walk_completes_and_a_landed_foot_is_not_late_again
     assert!(early > 0, "no early touchdown sensed");
 }
 
+/// Bad walking settings are refused naming the key.
 #[test]
 fn bad_walking_settings_are_refused_naming_the_key() {
     let cases: &[(&[(&str, &str)], &str)] = &[

@@ -1,6 +1,7 @@
 //! Push recovery: the largest impulse of a short push on a link that the closed loop recovers
-//! from (the run completes: no fall, no divergence), found by bisection, and the capture-point
-//! bound of the stance for the same direction.
+//! from (the run completes: no fall, no divergence), found by bisection
+//! ([`recoverable_impulse`]), or the outcomes of pushes of given impulses
+//! ([`fixed_push_table`]), and the capture-point bound of the stance for the same direction.
 //!
 //! The bound is the linear inverted pendulum's: a push of impulse `I` gives the CoM the
 //! velocity `I / m`; the instantaneous capture point `x_com + v / omega0`,
