@@ -147,6 +147,10 @@ fn print_a_push_while_walking() {
             step.foot, step.pose.world_p_sole.x, step.pose.world_p_sole.y, step.touchdown
         );
     }
+    if std::env::var("WALK_FEET").is_ok() {
+        print_the_feet(&record, v[3]);
+        return;
+    }
     for (row, t) in record.time.iter().enumerate().step_by(5) {
         if *t < v[3] - 0.1 {
             continue;
@@ -156,6 +160,42 @@ fn print_a_push_while_walking() {
         println!(
             "t {t:.2} com ({:.3} {:.3}) ref ({:.3} {:.3})",
             com[0], com[1], reference[0], reference[1]
+        );
+    }
+}
+
+/// `print_a_push_while_walking` with `WALK_FEET` set (and `WALK_SET` with
+/// `simulation.record_every=1`): from 0.05 s before the push's start `start` [s] for 0.7 s,
+/// each recorded sample's CoM and reference (lateral) and each sole corner's height [mm] and
+/// normal force [N] (left sole's four corners, then the right's).
+fn print_the_feet(record: &RunRecord, start: f64) {
+    let points = record.contact_point_active.len() / record.time.len();
+    for (row, t) in record.time.iter().enumerate() {
+        if *t < start - 0.05 || *t > start + 0.7 {
+            continue;
+        }
+        let heights: Vec<String> = (0..points)
+            .map(|k| {
+                format!(
+                    "{:5.1}",
+                    1e3 * record.contact_point_positions[3 * (row * points + k) + 2]
+                )
+            })
+            .collect();
+        let forces: Vec<String> = (0..points)
+            .map(|k| {
+                format!(
+                    "{:4.0}",
+                    record.contact_point_forces[3 * (row * points + k) + 2]
+                )
+            })
+            .collect();
+        println!(
+            "{t:.2} comy {:+.3} refy {:+.3} z {} N {}",
+            record.com[3 * row + 1],
+            record.com_reference[3 * row + 1],
+            heights.join(" "),
+            forces.join(" ")
         );
     }
 }
