@@ -359,6 +359,12 @@ pub struct RunTotals {
 }
 
 impl Summary {
+    /// Whether the run reached its duration ([`RunEnd::Completed`]): the test of a recovered
+    /// push, a stable sample and a usable benchmark run.
+    pub fn completed(&self) -> bool {
+        self.status == RunEnd::Completed.status()
+    }
+
     /// The summary of a run that ended with `end`.
     pub fn new(
         end: &RunEnd,

@@ -205,7 +205,7 @@ pub fn bench_closed_loop(urdf: &str, runs: usize) -> Option<Vec<(&'static str, f
             let cancel = std::sync::atomic::AtomicBool::new(false);
             let summary =
                 crate::closed_loop::run_with_sinks(&scenario, &mut [], &cancel, |_, _| {}).ok()?;
-            if summary.status != "completed" {
+            if !summary.completed() {
                 return None;
             }
             wall_ms.push(summary.wall_time_s * 1e3);

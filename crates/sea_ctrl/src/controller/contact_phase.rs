@@ -20,14 +20,15 @@
 //!   (with `controller.contact.min_normal_force = 0`, which a walking scenario needs).
 //!
 //! Touchdown from the feet's force/torque sensors ([`MomentumController::set_foot_forces`],
-//! the stack hands them over after each period): a swinging foot in the second half of its
-//! swing whose measured normal force exceeds [`TOUCHDOWN_FORCE_FRACTION`] of the robot's
-//! weight has landed early: it is held from then on (a foot on the ground with no planned
-//! load until the plan's double support hands it some). A foot the plan has landed whose
-//! normal force has stayed below that since its lift-off is late: through that double
-//! support it keeps descending from its landing pose at [`LATE_TOUCHDOWN_SPEED`], with no
-//! planned load, until the sensor sees it. Once seen loaded it has landed, and a normal force
-//! chattering about the threshold afterwards does not make it late again.
+//! the stack hands them over after each period): a swinging foot past its mid-swing
+//! ([`crate::walking::Footstep::mid_swing`]) whose measured normal force exceeds
+//! [`TOUCHDOWN_FORCE_FRACTION`] of the robot's weight has landed early: it is held from then
+//! on (a foot on the ground with no planned load until the plan's double support hands it
+//! some). A foot the plan has landed whose normal force has stayed below that since its
+//! mid-swing is late: through that double support it keeps descending from its landing pose
+//! at [`LATE_TOUCHDOWN_SPEED`], with no planned load, until the sensor sees it. Once seen
+//! loaded it has landed, and a normal force chattering about the threshold afterwards does
+//! not make it late again.
 
 use super::step_adjustment::StepAdjusting;
 use super::stepping::Stepping;
@@ -79,7 +80,7 @@ pub(super) struct ContactPhases {
     pub(super) early_touchdowns: usize,
     pub(super) late_ticks: usize,
     /// Each contact's last tick with its measured normal force above `touchdown_force` [s]
-    /// (`-inf` before any): a foot loaded since its lift-off has landed and is not late.
+    /// (`-inf` before any): a foot loaded since its mid-swing has landed and is not late.
     last_loaded_s: [f64; 2],
     /// Stepping to recover pushes (`walking.stepping`, `stepping.rs`); `None`: the gait as
     /// planned.
@@ -180,6 +181,56 @@ pub fn share_penalty(share: f64) -> f64 {
 /// stays well conditioned.
 pub const MAX_SHARE_PENALTY: f64 = 1e4;
 
+/// What the feet's sensors make of a foot's planned task (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Touchdown {
+    /// The plan stands.
+    AsPlanned,
+    /// A swinging foot loaded past its mid-swing: held on the ground from now on.
+    Early,
+    /// A foot the plan has landed `since` [s] ago and the sensors have not seen loaded since
+    /// its mid-swing: it keeps descending.
+    Late {
+        /// Time since the planned touchdown [s].
+        since: f64,
+    },
+}
+
+/// One foot's sensor reading at a tick.
+#[derive(Clone, Copy, Debug)]
+struct SensedFoot {
+    /// Its measured normal force is above the touchdown force.
+    loaded: bool,
+    /// The last tick it was loaded [s] (`-inf` before any).
+    last_loaded_s: f64,
+}
+
+/// The correction of a foot's `planned` task at `t` [s] in a gait phase ending at
+/// `phase_end` [s] whose step is `landing` (`lands_here`: that step's foot is this one), by
+/// what its sensor reads (`sensed`).
+fn touchdown(
+    planned: &FootTask,
+    landing: &crate::walking::Footstep,
+    lands_here: bool,
+    sensed: SensedFoot,
+    t: f64,
+    phase_end: f64,
+) -> Touchdown {
+    match planned {
+        FootTask::Swing(_) if sensed.loaded && t > landing.mid_swing() => Touchdown::Early,
+        FootTask::Contact { share } if !sensed.loaded && *share < 0.5 && lands_here => {
+            let since = t - landing.touchdown;
+            let landed = sensed.last_loaded_s > landing.mid_swing();
+            if !landed && since >= 0.0 && t < phase_end {
+                Touchdown::Late { since }
+            } else {
+                Touchdown::AsPlanned
+            }
+        }
+        _ => Touchdown::AsPlanned,
+    }
+}
+
 impl ContactPhases {
     /// The `planned` tasks at `t` corrected by the measured normal forces (module doc): an
     /// early touchdown holds the foot, a late one keeps it descending.
@@ -194,24 +245,27 @@ impl ContactPhases {
             if loaded {
                 self.last_loaded_s[c] = t;
             }
-            match (&planned[c], phase.step) {
-                (FootTask::Swing(_), _) if loaded && phase.fraction > 0.5 => {
+            let Some(step) = phase.step else {
+                continue;
+            };
+            let landing = &self.gait.footsteps.steps[step];
+            let lands_here = self.gait.contact_of_foot(landing.foot) == c;
+            let sensed = SensedFoot {
+                loaded,
+                last_loaded_s: self.last_loaded_s[c],
+            };
+            match touchdown(&planned[c], landing, lands_here, sensed, t, phase.end) {
+                Touchdown::AsPlanned => {}
+                Touchdown::Early => {
                     if !matches!(self.tasks[c], FootTask::Contact { .. }) {
                         self.early_touchdowns += 1;
                     }
                     tasks[c] = FootTask::Contact { share: 0.0 };
                 }
-                (FootTask::Contact { share }, Some(step)) if !loaded && *share < 0.5 => {
-                    let landing = &self.gait.footsteps.steps[step];
-                    let landed_here = self.gait.contact_of_foot(landing.foot) == c;
-                    let since = t - landing.touchdown;
-                    let landed = self.last_loaded_s[c] >= landing.lift_off;
-                    if landed_here && !landed && since >= 0.0 && t < phase.end {
-                        self.late_ticks += 1;
-                        tasks[c] = FootTask::Swing(self.descent(step, since));
-                    }
+                Touchdown::Late { since } => {
+                    self.late_ticks += 1;
+                    tasks[c] = FootTask::Swing(self.descent(step, since));
                 }
-                _ => {}
             }
         }
         tasks
@@ -531,6 +585,76 @@ mod tests {
             world_omega_sole: Vector3::zeros(),
             world_omegadot_sole: Vector3::zeros(),
         }
+    }
+
+    /// Step lifting off at 1.0 s and landing at 1.3 s (mid-swing 1.15 s).
+    fn landing() -> crate::walking::Footstep {
+        crate::walking::Footstep {
+            foot: crate::walking::Foot::Left,
+            pose: crate::walking::SolePose::new(nalgebra::Vector2::new(0.1, 0.05), 0.0),
+            lift_off: 1.0,
+            touchdown: 1.3,
+        }
+    }
+
+    fn sensed(loaded: bool, last_loaded_s: f64) -> SensedFoot {
+        SensedFoot {
+            loaded,
+            last_loaded_s,
+        }
+    }
+
+    #[test]
+    fn a_swinging_foot_lands_early_only_when_loaded_past_its_mid_swing() {
+        let swing = FootTask::Swing(sample_at(Vector3::zeros()));
+        let step = landing();
+        let loaded = sensed(true, 1.1);
+        assert_eq!(
+            touchdown(&swing, &step, true, loaded, 1.1, 1.3),
+            Touchdown::AsPlanned
+        );
+        assert_eq!(
+            touchdown(&swing, &step, true, loaded, 1.2, 1.3),
+            Touchdown::Early
+        );
+        let unloaded = sensed(false, 0.9);
+        assert_eq!(
+            touchdown(&swing, &step, true, unloaded, 1.2, 1.3),
+            Touchdown::AsPlanned
+        );
+    }
+
+    #[test]
+    fn a_landed_foot_is_late_unless_loaded_since_its_mid_swing() {
+        let contact = FootTask::Contact { share: 0.2 };
+        let step = landing();
+        let late = |last_loaded_s| {
+            touchdown(
+                &contact,
+                &step,
+                true,
+                sensed(false, last_loaded_s),
+                1.35,
+                1.4,
+            )
+        };
+        // Never loaded, or loaded only at its lift-off (the last period's force of a foot
+        // leaving the ground): late, descending.
+        assert_eq!(
+            late(f64::NEG_INFINITY),
+            Touchdown::Late { since: 1.35 - 1.3 }
+        );
+        assert_eq!(late(1.0), Touchdown::Late { since: 1.35 - 1.3 });
+        // Loaded once past mid-swing: landed, a chattering force does not make it late.
+        assert_eq!(late(1.2), Touchdown::AsPlanned);
+        // Not the landing foot, or a share already handed over, or the phase over: as planned.
+        let other = touchdown(&contact, &step, false, sensed(false, 0.0), 1.35, 1.4);
+        assert_eq!(other, Touchdown::AsPlanned);
+        let loaded_share = FootTask::Contact { share: 0.6 };
+        let handed = touchdown(&loaded_share, &step, true, sensed(false, 0.0), 1.35, 1.4);
+        assert_eq!(handed, Touchdown::AsPlanned);
+        let over = touchdown(&contact, &step, true, sensed(false, 0.0), 1.4, 1.4);
+        assert_eq!(over, Touchdown::AsPlanned);
     }
 
     #[test]

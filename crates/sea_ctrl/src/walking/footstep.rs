@@ -135,6 +135,14 @@ pub struct Footstep {
     pub touchdown: f64,
 }
 
+impl Footstep {
+    /// The middle of the swing [s]: from here on the sensors may land the foot
+    /// (`controller::contact_phase`).
+    pub fn mid_swing(&self) -> f64 {
+        0.5 * (self.lift_off + self.touchdown)
+    }
+}
+
 /// The footsteps of a walk with the feet before and after each.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FootstepPlan {

@@ -342,7 +342,7 @@ impl Judge<'_> {
             }
             MarginMethod::Simulate => {
                 let (_, summary) = sea_scenario::run::run(&scenario, |_, _| {})?;
-                (summary.status == "completed", None)
+                (summary.completed(), None)
             }
         };
         self.samples.push(MarginSample {

@@ -356,7 +356,7 @@ pub fn recoverable_impulse(
     while high <= 8.0 * bound {
         let summary = run(high)?;
         runs += 1;
-        if summary.status != "completed" {
+        if !summary.completed() {
             result.failed_impulse = Some(high);
             result.failed_summary = Some(summary);
             break;
@@ -371,7 +371,7 @@ pub fn recoverable_impulse(
         let middle = 0.5 * (result.recovered_impulse + failed);
         let summary = run(middle)?;
         runs += 1;
-        if summary.status == "completed" {
+        if summary.completed() {
             result.recovered_impulse = middle;
         } else {
             result.failed_impulse = Some(middle);
@@ -414,7 +414,7 @@ impl FixedPushRow {
     pub fn recovered_count(&self) -> usize {
         self.outcomes
             .iter()
-            .filter(|(_, summary)| summary.status == "completed")
+            .filter(|(_, summary)| summary.completed())
             .count()
     }
 
@@ -425,7 +425,7 @@ impl FixedPushRow {
         recovered_up_to(
             self.outcomes
                 .iter()
-                .map(|(impulse, summary)| (*impulse, summary.status == "completed")),
+                .map(|(impulse, summary)| (*impulse, summary.completed())),
         )
     }
 }

@@ -108,7 +108,7 @@ fn fixed_rows(
             let outcomes: String = row
                 .outcomes
                 .iter()
-                .map(|(_, s)| if s.status == "completed" { 'o' } else { 'x' })
+                .map(|(_, s)| if s.completed() { 'o' } else { 'x' })
                 .collect();
             serde_json::json!({
                 "direction": row.direction.name(),
