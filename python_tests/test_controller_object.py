@@ -271,4 +271,8 @@ def test_end_period_names_a_bad_reading() -> None:
     bad[0, 2] = np.nan
     with pytest.raises(ValueError, match=r"start_wrenches\[2\]"):
         controller.end_period(bad, torques, wrenches, torques)
+    with pytest.raises(ValueError, match="mean_wrenches"):
+        controller.end_period(wrenches, torques, wrenches, torques, mean_wrenches=np.zeros(5))
+    with pytest.raises(ValueError, match=r"mean_wrenches\[2\]"):
+        controller.end_period(wrenches, torques, wrenches, torques, mean_wrenches=bad)
     assert controller.command.shape == (n,)

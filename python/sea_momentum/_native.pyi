@@ -477,12 +477,17 @@ class Controller:
         start_joint_torques: ArrayLike,
         end_wrenches: ArrayLike,
         end_joint_torques: ArrayLike,
+        *,
+        mean_wrenches: ArrayLike | None = None,
     ) -> None:
         """After the period that began at the last ``tick``, before the next: the feet's
         wrenches ((n_contacts, 6) or flat) and the joint torques (n,) at the period's start
         (``Plant.outputs`` at the tick's state and input) and at its end (at the start of the
         period's last plant step). The stiffness identification and the observers update
         from them, acting from the next ``tick``; without them it does nothing.
+        ``mean_wrenches``: the feet's wrenches averaged over the period (read at every plant
+        step or joint tick), which the external wrench observer then takes instead of the
+        two instants (a foot bouncing within the period aliases them).
         ``ValueError`` names a reading of another shape or with a non-finite value (nothing is
         updated); once per period: a second call before the next ``tick``, or one before any
         tick, raises ``RuntimeError``."""

@@ -22,8 +22,16 @@
 //! contact wrenches `f` measured by the feet's force/torque sensors (the iCub has them) over
 //! the period: `f_{k-1}^+` at its start, after the command of tick `k - 1` took effect, and
 //! `f_k^-` at its end, with that command still held (the two differ at a sample when the
-//! contact forces follow the command at once: rigid joints under torque control). The
-//! estimate is its first-order low pass with bandwidth `f_c`:
+//! contact forces follow the command at once: rigid joints under torque control). When the
+//! stack reads the sensors through the period and averages them
+//! ([`crate::robot::PeriodSensors::mean_contact_wrench`]; the simulated loop does, over its
+//! plant steps), that mean `f_bar` takes the place of both, and the residual is the period's
+//! mean external wrench exactly (the contact term is linear in `f`). The two instants alone
+//! alias a contact that bounces within the period: a landed foot whose force alternates
+//! between 0 and 130 N from one 10 ms sample to the next makes the trapezoid miss the contact
+//! impulse, and walk_push.toml with the observer and no push then ends on its CoM error at
+//! 4.2 s; with the mean it walks its ten steps (docs/findings/walking.md). The estimate is its
+//! first-order low pass with bandwidth `f_c`:
 //!
 //! `w^_k = w^_{k-1} + a (r_k - w^_{k-1})`, `a = 1 - exp(-2 pi f_c T)`, `w^_0 = 0`.
 //!

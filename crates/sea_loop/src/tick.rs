@@ -112,6 +112,9 @@ struct PlantSide<'a> {
     /// The joint torques (n) at the start of the period's last plant step: what the joint
     /// torque sensors read at the period's end.
     period_end_joint_torque: DVector<f64>,
+    /// The contact wrenches (6 per contact) averaged over the period's plant steps (under
+    /// unilateral contacts those delivered over each step): the sensors' mean reading.
+    period_mean_wrench: DVector<f64>,
     /// `[[disturbances]]`: which external wrench acts at each plant step.
     disturbances: DisturbanceSchedule,
     /// The disturbances' wrenches at the current sample (6 per disturbance), for the record.
@@ -143,6 +146,7 @@ impl PlantSide<'_> {
                 contact_wrench: &self.period_end_wrench,
                 joint_torque: &self.period_end_joint_torque,
             },
+            mean_contact_wrench: Some(&self.period_mean_wrench),
         }
     }
 
@@ -208,11 +212,16 @@ impl PlantSide<'_> {
             self.period_start_joint_torque
                 .copy_from(&outputs.joint_torque);
         }
+        let wrenches = match self.plant.unilateral() {
+            Some(_) => &self.pd.outputs.step_contact_wrench,
+            None => &self.pd.outputs.contact_wrench,
+        };
+        if k == 0 {
+            self.period_mean_wrench.fill(0.0);
+        }
+        self.period_mean_wrench
+            .axpy(1.0 / schedule.steps_per_period as f64, wrenches, 1.0);
         if k + 1 == schedule.steps_per_period {
-            let wrenches = match self.plant.unilateral() {
-                Some(_) => &self.pd.outputs.step_contact_wrench,
-                None => &self.pd.outputs.contact_wrench,
-            };
             self.period_end_wrench.copy_from(wrenches);
             let torques = &self.pd.outputs.joint_torque;
             self.period_end_joint_torque.copy_from(torques);
@@ -412,6 +421,7 @@ impl<'a> Engine<'a> {
                 period_start_joint_torque: PlantOutputs::new(plant).joint_torque,
                 period_end_wrench: PlantOutputs::new(plant).contact_wrench,
                 period_end_joint_torque: PlantOutputs::new(plant).joint_torque,
+                period_mean_wrench: PlantOutputs::new(plant).contact_wrench,
                 disturbance_wrenches: vec![0.0; 6 * disturbances.len()],
                 disturbances,
                 impacts,

@@ -45,8 +45,9 @@ pub struct PyController {
     /// The state of the last tick, copied from Python (nx).
     x: Vec<f64>,
     /// The force readings of `end_period`, copied from Python: contact wrenches (6 per
-    /// contact) and joint torques (n) at the period's start and end.
-    readings: [nalgebra::DVector<f64>; 4],
+    /// contact) and joint torques (n) at the period's start and end, and the contact
+    /// wrenches' mean over the period.
+    readings: [nalgebra::DVector<f64>; 5],
     /// Whether a `tick` succeeded since the last `end_period` (the period is open: its
     /// `inner_tick`s and its one `end_period` may follow).
     period_open: bool,
@@ -74,7 +75,7 @@ impl PyController {
             controller.model().n_joints(),
             6 * controller.contact_frames().len(),
         );
-        let readings = [k, n, k, n].map(nalgebra::DVector::zeros);
+        let readings = [k, n, k, n, k].map(nalgebra::DVector::zeros);
         let law = FeedbackLaw::new(controller, com_reference, posture, layout);
         Ok(Self {
             contacts: law.controller().settings().contacts.clone(),
@@ -330,20 +331,25 @@ impl PyController {
     /// nothing. Once per period: a second call before the next `tick`, or a call before any
     /// tick, raises `RuntimeError` (the estimators would take the period twice); a reading of
     /// another size or with a non-finite entry raises `ValueError` naming it and updates
-    /// nothing.
+    /// nothing. `mean_wrenches` (keyword, optional): the feet's wrenches averaged over the
+    /// period (read at every plant step or joint tick), which the external wrench observer
+    /// then takes instead of the two instants (a foot bouncing within the period aliases them).
+    #[pyo3(signature = (start_wrenches, start_joint_torques, end_wrenches, end_joint_torques, *, mean_wrenches=None))]
     fn end_period(
         &mut self,
         start_wrenches: &Bound<'_, PyAny>,
         start_joint_torques: &Bound<'_, PyAny>,
         end_wrenches: &Bound<'_, PyAny>,
         end_joint_torques: &Bound<'_, PyAny>,
+        mean_wrenches: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let arguments = [
+        let mut arguments = vec![
             ("start_wrenches", start_wrenches),
             ("start_joint_torques", start_joint_torques),
             ("end_wrenches", end_wrenches),
             ("end_joint_torques", end_joint_torques),
         ];
+        arguments.extend(mean_wrenches.map(|mean| ("mean_wrenches", mean)));
         if !self.period_open {
             let when = if self.ticked {
                 "called twice in one period (once after each tick)"
@@ -364,7 +370,7 @@ impl PyController {
             vector_arg(&flat, name, reading.len(), &mut values)?;
             reading.copy_from_slice(&values);
         }
-        let [start_wrench, start_torque, end_wrench, end_torque] = &self.readings;
+        let [start_wrench, start_torque, end_wrench, end_torque, mean_wrench] = &self.readings;
         self.robot.end_period(PeriodSensors {
             start: ForceReadings {
                 contact_wrench: start_wrench,
@@ -374,6 +380,7 @@ impl PyController {
                 contact_wrench: end_wrench,
                 joint_torque: end_torque,
             },
+            mean_contact_wrench: mean_wrenches.map(|_| mean_wrench),
         });
         self.period_open = false;
         Ok(())

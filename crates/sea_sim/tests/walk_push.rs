@@ -148,7 +148,8 @@ fn print_a_push_while_walking() {
         );
     }
     if std::env::var("WALK_FEET").is_ok() {
-        print_the_feet(&record, v[3]);
+        let from = std::env::var("WALK_FEET_FROM").map_or(v[3], |t| t.parse().unwrap());
+        print_the_feet(&record, from);
         return;
     }
     for (row, t) in record.time.iter().enumerate().step_by(5) {
@@ -165,7 +166,8 @@ fn print_a_push_while_walking() {
 }
 
 /// `print_a_push_while_walking` with `WALK_FEET` set (and `WALK_SET` with
-/// `simulation.record_every=1`): from 0.05 s before the push's start `start` [s] for 0.7 s,
+/// `simulation.record_every=1`; `WALK_FEET_FROM=t` starts at `t` [s] instead of the push's
+/// start): from 0.05 s before `start` [s] for 0.7 s,
 /// each recorded sample's CoM and reference (lateral) and each sole corner's height [mm] and
 /// normal force [N] (left sole's four corners, then the right's).
 fn print_the_feet(record: &RunRecord, start: f64) {

@@ -254,7 +254,8 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
     }
 
     /// `external_wrench = "observed"`: one update with the tick's momentum and momentum map
-    /// and the feet's wrenches at the period's start and end.
+    /// and the feet's wrenches over the period: their mean when the sensors give it, else
+    /// those at the period's start and end.
     fn observe_external_wrench(&mut self, sensors: &PeriodSensors<'_>) {
         let Some(observer) = &mut self.parts.external_wrench_observer else {
             return;
@@ -262,7 +263,12 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
         let controller = self.law.controller();
         let tick = (&self.law.last().output.momentum, controller.momentum_map());
         let model = (controller.mass(), &controller.model().gravity);
-        let (start, end) = (sensors.start.contact_wrench, sensors.end.contact_wrench);
+        // The trapezoid of the period's mean with itself is that mean (module doc of
+        // `external_wrench`).
+        let (start, end) = match sensors.mean_contact_wrench {
+            Some(mean) => (mean, mean),
+            None => (sensors.start.contact_wrench, sensors.end.contact_wrench),
+        };
         let estimate = *observer.update(tick, start, end, model);
         self.law.controller_mut().set_external_wrench(&estimate);
     }

@@ -29,4 +29,9 @@ pub struct PeriodSensors<'a> {
     pub start: ForceReadings<'a>,
     /// At the period's end, before the next tick (the last joint tick's command acting).
     pub end: ForceReadings<'a>,
+    /// The contact wrenches (6 per contact) averaged over the period, when the sensors are
+    /// read at the joint loop's rate and the stack can average them: the external wrench
+    /// observer then takes this mean instead of the trapezoid of `start` and `end`
+    /// (`crate::external_wrench`). `None`: only the two instants are read.
+    pub mean_contact_wrench: Option<&'a DVector<f64>>,
 }
