@@ -10,8 +10,8 @@ The controller: the robot-rate design of ``scenarios/robot_rate/push_two_feet.to
 (docs/guide/robot_rate.md) as the Python ``Controller`` stack: the whole-body QP at 100 Hz
 (``tick``), the joint torque loops at 1 kHz (``inner_tick``), the stiffness identification
 (started from an estimate x0.7 of the springs' 350 N m/rad) and the push observer, updated
-after each period (``end_period``) from the feet's force/torque sensors and the joint torque
-sensors, read from MuJoCo (``mj_contactForce``, the springs' tendons). It reads only what a
+after each period (``end_period``) from the feet's force/torque sensors (the first and last
+steps' and their mean over the period) and the joint torque sensors, read from MuJoCo (``mj_contactForce``, the springs' tendons). It reads only what a
 robot measures: the joint and motor encoders, the base's pose and velocity, the feet's
 wrenches, the joint torques; it writes the motor boards' desired motor velocities.
 
@@ -170,17 +170,19 @@ def run(duration: float, push_impulse: float, push_start: float = 5.0, simulator
             break  # fallen: the rest would be MuJoCo's robot lying on the floor
         out = controller.tick(t, x)
         u = out.input
+        mean_wrenches = 0.0
         for j in range(steps):
             if j > 0 and j % inner == 0:
                 u = controller.inner_tick(robot.state())
             now = t + j * dt
             pushing = push_impulse > 0 and push_start <= now < push_start + PUSH_DURATION - 1e-9
             wrenches, torques = robot.step(u, force if pushing else None)
+            mean_wrenches = mean_wrenches + np.asarray(wrenches) / steps
             if j == 0:
                 start = (wrenches, torques)
             if j == steps - 1:
                 end = (wrenches, torques)
-        controller.end_period(start[0], start[1], end[0], end[1])
+        controller.end_period(start[0], start[1], end[0], end[1], mean_wrenches=mean_wrenches)
         estimates = np.array([controller.stiffness_estimates[name] for name in elastic])
         for key, value in (
             ("time", t),

@@ -203,22 +203,18 @@ impl PlantSide<'_> {
             &mut self.x_next,
         );
         if k == 0 {
-            self.outputs.copy_from(&self.pd.outputs);
-        }
-        if k == 0 {
             let outputs = &self.pd.outputs;
+            self.outputs.copy_from(outputs);
             self.period_start_wrench
                 .copy_from(&outputs.step_contact_wrench);
             self.period_start_joint_torque
                 .copy_from(&outputs.joint_torque);
+            self.period_mean_wrench.fill(0.0);
         }
         let wrenches = match self.plant.unilateral() {
             Some(_) => &self.pd.outputs.step_contact_wrench,
             None => &self.pd.outputs.contact_wrench,
         };
-        if k == 0 {
-            self.period_mean_wrench.fill(0.0);
-        }
         self.period_mean_wrench
             .axpy(1.0 / schedule.steps_per_period as f64, wrenches, 1.0);
         if k + 1 == schedule.steps_per_period {

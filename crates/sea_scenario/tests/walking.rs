@@ -304,6 +304,37 @@ fn with_the_push_observer_the_walk_completes() {
     );
 }
 
+/// walk_fast.toml's 50 steps with step adjustment at a 5 mm threshold
+/// (`walking.step_adjustment_threshold`), below the unpushed walk's tracking errors: the
+/// landings are moved, each before `walking.step_adjustment_end_phase` (0.8) of its swing,
+/// and the walk completes. Adjusted up to touchdown (end phase 1), it follows the impacts'
+/// jumps of the measured DCM in the swings' last ticks and diverges (docs/findings/stepping.md).
+#[test]
+fn a_walk_adjusted_at_a_low_threshold_completes_its_landings_moved_only_until_the_end_phase() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenarios/walking/walk_fast.toml"
+    );
+    let adjusting = [
+        ("walking.step_adjustment", "true"),
+        ("walking.step_adjustment_threshold", "0.005"),
+    ];
+    let (_, summary, setup) = walk(path, &adjusting);
+    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    assert_eq!(summary.steps_taken, Some(51));
+    let made = setup.controller.step_adjustments();
+    assert!(!made.is_empty(), "nothing adjusted at 5 mm");
+    let steps = &setup.controller.gait().unwrap().footsteps.steps;
+    for adjustment in made {
+        let step = steps[adjustment.step];
+        let phase = (adjustment.time - step.lift_off) / (step.touchdown - step.lift_off);
+        assert!(
+            (0.0..0.8).contains(&phase),
+            "{adjustment:?} at phase {phase}"
+        );
+    }
+}
+
 /// Bad walking settings are refused naming the key.
 #[test]
 fn bad_walking_settings_are_refused_naming_the_key() {

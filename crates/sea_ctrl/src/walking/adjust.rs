@@ -16,6 +16,10 @@
 //! ankle strategy); when it has to be moved, the plan's DCM now differs from the measured one
 //! and the next step is adjusted in its turn.
 //!
+//! Only until `step_adjustment_end_phase` of the swing (0.8 by default): as the foot meets
+//! the ground the measured DCM error jumps (impacts), and a landing moved in the last
+//! periods asks the swing foot for accelerations it cannot follow.
+//!
 //! The CoM reference starts at the measured CoM (the plan follows the robot, as a recovery
 //! step's does, `walking::recovery`).
 
@@ -48,8 +52,8 @@ pub struct StepAdjustment {
 /// Adjusts `gait` during the swing of its step `index` at the `measured` state (module doc):
 /// moves that step's landing and every later footstep, makes the DCM plan again from the
 /// measured state over them and re-aims the swing in flight. Nothing is done (`None`) when the
-/// DCM error is at most `walking.step_adjustment_threshold`, the step is not in flight or its
-/// swing has ended.
+/// DCM error is at most `walking.step_adjustment_threshold`, the step is not in flight, or
+/// its swing is past `walking.step_adjustment_end_phase` (module doc).
 pub fn adjust_step(
     gait: &mut Gait,
     settings: &WalkingSettings,
@@ -63,7 +67,8 @@ pub fn adjust_step(
     let remaining = step.touchdown - t;
     let world_xi = lip.dcm(measured.world_p_com, measured.world_v_com);
     let world_dcm_error = world_xi - gait.dcm.sample(t).world_xi.xy();
-    let in_flight = t >= step.lift_off && remaining > 1e-6;
+    let phase = (t - step.lift_off) / (step.touchdown - step.lift_off);
+    let in_flight = phase >= 0.0 && phase < settings.step_adjustment_end_phase && remaining > 1e-6;
     if !in_flight || world_dcm_error.norm() <= settings.step_adjustment_threshold {
         return None;
     }

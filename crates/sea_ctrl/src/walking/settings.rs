@@ -181,13 +181,20 @@ pub struct WalkingSettings {
     /// (`max_step_length`, `min_step_width`..`max_step_width`: the feet never cross); the DCM
     /// plan is made again from the measured state over the moved footsteps (the stance's
     /// centre of pressure, within its sole, taking what the clipping leaves) and the swing
-    /// re-aimed in flight. `false`: the plan as made at the start.
+    /// re-aimed in flight, until `step_adjustment_end_phase` of the swing. `false`: the plan
+    /// as made at the start.
     pub step_adjustment: bool,
     /// Step adjustment: the DCM error [m] (measured minus planned, now) above which a
     /// swing's landing is moved, >= 0 (default 0.03: above the iCub's tracking errors of an
-    /// unpushed walk, so walk_fast.toml's 50 steps are not adjusted; with 0.02 they are, and
-    /// the walk diverges after 41 steps; docs/findings/stepping.md).
+    /// unpushed walk, so walk_fast.toml's 50 steps are not adjusted; lower thresholds did
+    /// not recover more of the walking-push grid, docs/findings/stepping.md).
     pub step_adjustment_threshold: f64,
+    /// Step adjustment: the fraction of a swing after which its landing is no longer moved,
+    /// in (0, 1] (default 0.8). In the last ticks of each unpushed iCub swing the measured DCM
+    /// error jumps to 1.1-1.6 cm as the foot meets the ground; a landing moved then has one
+    /// or two periods to get there, and walk_fast.toml adjusted there falls (with
+    /// `step_adjustment_threshold` 0.01; docs/findings/stepping.md).
+    pub step_adjustment_end_phase: f64,
     /// The walking command, used when `footsteps` is empty.
     pub command: WalkCommand,
     /// Explicit footsteps, in order (empty: footsteps from `command`).
@@ -222,6 +229,7 @@ impl Default for WalkingSettings {
             recovery_step_offset: 0.03,
             step_adjustment: false,
             step_adjustment_threshold: 0.03,
+            step_adjustment_end_phase: 0.8,
             command: WalkCommand::default(),
             footsteps: Vec::new(),
         }
@@ -407,6 +415,14 @@ impl WalkingSettings {
                      walking.max_step_width = {max} m"
                 ),
                 width,
+            ));
+        }
+        let end_phase = self.step_adjustment_end_phase;
+        if !(end_phase > 0.0 && end_phase <= 1.0) {
+            return Err(Error::invalid(
+                "walking.step_adjustment_end_phase",
+                "must be in (0, 1], a fraction of the swing",
+                end_phase,
             ));
         }
         let turn = self.max_step_turn;

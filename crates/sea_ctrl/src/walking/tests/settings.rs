@@ -185,7 +185,8 @@ fn stepping_stands_and_refuses_a_walk_naming_walking_stepping() {
 }
 
 #[test]
-fn step_adjustment_is_refused_with_stepping_and_a_negative_threshold_naming_the_key() {
+fn step_adjustment_is_refused_with_stepping_a_negative_threshold_or_an_end_phase_off_0_1_naming_the_key(
+) {
     let mut settings = super::WalkingSettings {
         step_adjustment: true,
         ..Default::default()
@@ -200,6 +201,15 @@ fn step_adjustment_is_refused_with_stepping_and_a_negative_threshold_naming_the_
         "walking.step_adjustment_threshold"
     );
     settings.step_adjustment_threshold = 0.03;
+    for bad in [0.0, 1.5, f64::NAN] {
+        settings.step_adjustment_end_phase = bad;
+        assert_eq!(
+            key_of(settings.validate(0.01).unwrap_err()),
+            "walking.step_adjustment_end_phase"
+        );
+    }
+    settings.step_adjustment_end_phase = 1.0;
+    settings.validate(0.01).expect("adjusting up to touchdown");
     settings.command.steps = None;
     settings.stepping = true;
     assert_eq!(
