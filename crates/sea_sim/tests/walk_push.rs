@@ -158,18 +158,59 @@ fn print_a_push_while_walking() {
         }
         let com = &record.com[3 * row..3 * row + 3];
         let reference = &record.com_reference[3 * row..3 * row + 3];
+        let [base, left, right] = yaws(&record, row);
         println!(
-            "t {t:.2} com ({:.3} {:.3}) ref ({:.3} {:.3})",
+            "t {t:.2} com ({:.3} {:.3}) ref ({:.3} {:.3}) yaw base {base:+.3} soles {left:+.3} {right:+.3}",
             com[0], com[1], reference[0], reference[1]
         );
     }
 }
 
+/// The yaws [rad] of the base and of the left and right soles (from their back-right to
+/// their front-right corners) at the recorded `row`.
+fn yaws(record: &RunRecord, row: usize) -> [f64; 3] {
+    let nx = record.state.len() / record.time.len();
+    let x = &record.state[nx * row..];
+    let (w, qx, qy, qz) = (x[3], x[4], x[5], x[6]);
+    let base = (2.0 * (w * qz + qx * qy)).atan2(1.0 - 2.0 * (qy * qy + qz * qz));
+    let points = record.contact_point_active.len() / record.time.len();
+    let corner = |k: usize| &record.contact_point_positions[3 * (row * points + k)..][..2];
+    let sole = |first: usize| {
+        let (back, front) = (corner(first), corner(first + 2));
+        (front[1] - back[1]).atan2(front[0] - back[0])
+    };
+    [base, sole(0), sole(4)]
+}
+
+/// The hip pitch, knee and ankle pitch angles [rad] of the right then the left leg at the
+/// recorded `row` (the knee's stop is at +0.07 rad, straight).
+fn sagittal_leg_joints(record: &RunRecord, row: usize) -> String {
+    let nx = record.state.len() / record.time.len();
+    let q = &record.state[nx * row + 7..];
+    let names = [
+        "r_hip_pitch",
+        "r_knee",
+        "r_ankle_pitch",
+        "l_hip_pitch",
+        "l_knee",
+        "l_ankle_pitch",
+    ];
+    let angles: Vec<String> = names
+        .iter()
+        .map(|name| {
+            let j = record.joint_names.iter().position(|m| m == name).unwrap();
+            format!("{:+.3}", q[j])
+        })
+        .collect();
+    angles.join(" ")
+}
+
 /// `print_a_push_while_walking` with `WALK_FEET` set (and `WALK_SET` with
 /// `simulation.record_every=1`; `WALK_FEET_FROM=t` starts at `t` [s] instead of the push's
 /// start): from 0.05 s before `start` [s] for 0.7 s,
-/// each recorded sample's CoM and reference (lateral) and each sole corner's height [mm] and
-/// normal force [N] (left sole's four corners, then the right's).
+/// each recorded sample's CoM and reference (lateral), each sole corner's height [mm] and
+/// normal force [N] (left sole's four corners, then the right's) and the yaws of the base and
+/// the soles [rad]; with `WALK_JOINTS` set, the legs' sagittal joints before each line.
 fn print_the_feet(record: &RunRecord, start: f64) {
     let points = record.contact_point_active.len() / record.time.len();
     for (row, t) in record.time.iter().enumerate() {
@@ -192,8 +233,12 @@ fn print_the_feet(record: &RunRecord, start: f64) {
                 )
             })
             .collect();
+        let [base, left, right] = yaws(record, row);
+        if std::env::var("WALK_JOINTS").is_ok() {
+            println!("{t:.4} joints {}", sagittal_leg_joints(record, row));
+        }
         println!(
-            "{t:.2} comy {:+.3} refy {:+.3} z {} N {}",
+            "{t:.4} comy {:+.3} refy {:+.3} z {} N {} yaw {base:+.3} {left:+.3} {right:+.3}",
             record.com[3 * row + 1],
             record.com_reference[3 * row + 1],
             heights.join(" "),
@@ -254,14 +299,25 @@ fn step_adjustment_recovers_pushes_the_planned_walk_does_not() {
     }
 }
 
-/// Unpushed, the walk's tracking errors stay below `walking.step_adjustment_threshold`:
-/// nothing is adjusted and the walk is the one without step adjustment, bitwise.
+/// Unpushed, the walk's DCM errors stay within 0.7 cm before the end phase: at the default
+/// threshold (`walking.step_adjustment_threshold` 0.005 m) its landings move by at most
+/// 2.5 cm each and it completes its 11 steps; at 0.03 m nothing is adjusted and the walk is
+/// the one without step adjustment, bitwise.
 #[test]
-fn an_unpushed_walk_is_not_adjusted() {
+fn an_unpushed_walk_is_adjusted_by_little_and_not_at_all_above_its_errors() {
     let on = ("walking.step_adjustment".to_string(), "true".to_string());
-    let (with_record, with, setup) = run(&[on]);
+    let (_, with, setup) = run(std::slice::from_ref(&on));
     assert_eq!(with.status, "completed", "{}", with.reason);
+    assert_eq!(with.steps_taken, Some(11));
+    for made in setup.controller.step_adjustments() {
+        assert!(made.world_shift.norm() < 0.025, "{made:?}");
+    }
+    let above = (
+        "walking.step_adjustment_threshold".to_string(),
+        "0.03".to_string(),
+    );
+    let (above_record, _, setup) = run(&[on, above]);
     assert!(setup.controller.step_adjustments().is_empty());
     let (without_record, _, _) = run(&[]);
-    assert_eq!(with_record.com, without_record.com);
+    assert_eq!(above_record.com, without_record.com);
 }

@@ -117,7 +117,9 @@ pub struct WalkingSettings {
     /// `max_step_width`).
     pub nominal_width: f64,
     /// Largest forward or backward distance of the landing sole from the stance sole, in the
-    /// stance sole's frame [m], > 0 (the reach).
+    /// stance sole's frame [m], > 0 (the reach; default 0.17, the iCub's: a step adjusted to
+    /// 0.2 m at a CoM height of 0.51 m straightens the swing knee onto its stop with the sole
+    /// still 16-18 mm above the ground, and the foot lands on its toe; docs/findings/stepping.md).
     pub max_step_length: f64,
     /// Smallest lateral distance of the landing sole from the stance sole, on its own side, in
     /// the stance sole's frame [m], > 0 (the feet do not collide or cross).
@@ -185,9 +187,10 @@ pub struct WalkingSettings {
     /// as made at the start.
     pub step_adjustment: bool,
     /// Step adjustment: the DCM error [m] (measured minus planned, now) above which a
-    /// swing's landing is moved, >= 0 (default 0.03: above the iCub's tracking errors of an
-    /// unpushed walk, so walk_fast.toml's 50 steps are not adjusted; lower thresholds did
-    /// not recover more of the walking-push grid, docs/findings/stepping.md).
+    /// swing's landing is moved, >= 0 (default 0.005, within the iCub's tracking errors of an
+    /// unpushed walk, up to 0.7 cm, which are then adjusted by 1-2 cm: with 0.03 a push of
+    /// 4 N s to the side does not reach the threshold in its own swing, and the walk falls;
+    /// docs/findings/stepping.md).
     pub step_adjustment_threshold: f64,
     /// Step adjustment: the fraction of a swing after which its landing is no longer moved,
     /// in (0, 1] (default 0.8). In the last ticks of each unpushed iCub swing the measured DCM
@@ -211,7 +214,7 @@ impl Default for WalkingSettings {
             identification_settle: 0.2,
             swing_height: 0.03,
             nominal_width: 0.14,
-            max_step_length: 0.20,
+            max_step_length: 0.17,
             min_step_width: 0.09,
             max_step_width: 0.25,
             max_step_turn: 0.35,
@@ -228,7 +231,7 @@ impl Default for WalkingSettings {
             recovery_transfer_duration: 0.1,
             recovery_step_offset: 0.03,
             step_adjustment: false,
-            step_adjustment_threshold: 0.03,
+            step_adjustment_threshold: 0.005,
             step_adjustment_end_phase: 0.8,
             command: WalkCommand::default(),
             footsteps: Vec::new(),
@@ -257,7 +260,8 @@ pub struct RobotWalkingFigures {
 pub const ICUB_LEG_LENGTH: f64 = 0.5436;
 
 /// `max_step_length` of [`WalkingSettings::scaled_to`] as a fraction of the legs' reach (the
-/// iCub's hand-set 0.20 m is 0.44 of its 0.459 m).
+/// iCub's 0.17 m, measured walking, is 0.37 of its 0.459 m; the robots set up by `init` take
+/// 0.6, not measured that way).
 pub const STEP_LENGTH_PER_REACH: f64 = 0.6;
 
 impl WalkingSettings {

@@ -12,7 +12,7 @@ use sea_dyn::{FrameId, Model};
 pub const WALK_STEPS: usize = 8;
 
 /// The written walk's forward step as a fraction of `max_step_length` (the iCub's
-/// walk_straight.toml: 0.06 m of 0.20 m).
+/// walk_straight.toml steps 0.06 m, 0.3 of the 0.20 m its `max_step_length` was then).
 pub const STEP_FRACTION: f64 = 0.3;
 
 /// How long the run stands after the walk ends [s].

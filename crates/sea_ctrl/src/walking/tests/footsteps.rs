@@ -174,7 +174,7 @@ fn an_explicit_list_is_timed_and_checked() {
         .to_string();
     assert!(message.contains("walking.footsteps[1]"), "{message}");
     assert!(
-        message.contains("walking.max_step_length = 0.2 m"),
+        message.contains("walking.max_step_length = 0.17 m"),
         "{message}"
     );
     assert!(message.contains("got 0.35"), "{message}");
