@@ -11,9 +11,10 @@ The controller: the robot-rate design of ``scenarios/robot_rate/push_two_feet.to
 (``tick``), the joint torque loops at 1 kHz (``inner_tick``), the stiffness identification
 (started from an estimate x0.7 of the springs' 350 N m/rad) and the push observer, updated
 after each period (``end_period``) from the feet's force/torque sensors (the first and last
-steps' and their mean over the period) and the joint torque sensors, read from MuJoCo (``mj_contactForce``, the springs' tendons). It reads only what a
-robot measures: the joint and motor encoders, the base's pose and velocity, the feet's
-wrenches, the joint torques; it writes the motor boards' desired motor velocities.
+steps' and their mean over the period) and the joint torque sensors, read from MuJoCo
+(``mj_contactForce``, the springs' tendons). It reads only what a robot measures: the joint
+and motor encoders, the base's pose and velocity, the feet's wrenches, the joint torques; it
+writes the motor boards' desired motor velocities.
 
 The run: 10 s of the 1 cm lateral CoM sinusoid at 0.2 Hz, and a push on the pelvis (5 N s
 forward: 50 N for 0.1 s at 5 s, as the shipped scenario's). Prints the CoM error, the push's

@@ -192,19 +192,21 @@ fn the_planned_wrenches_do_not_jump_at_a_switch() {
     }
 }
 
+/// The iCub walking 50 steps at 0.3 m/s.
+const WALK_FAST: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/walking/walk_fast.toml"
+);
+
 /// 8 steps of walk_fast.toml (and its stop, within a 5 s run) with `overrides` more: the run
 /// completed with every planned step taken; its summary and setup.
 fn eight_steps_of_walk_fast(overrides: &[(&str, &str)]) -> (sea_loop::Summary, sea_loop::Setup) {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../scenarios/walking/walk_fast.toml"
-    );
     let mut all = vec![
         ("walking.command.steps", "8"),
         ("simulation.duration_s", "5.0"),
     ];
     all.extend_from_slice(overrides);
-    let (_, summary, setup) = walk(path, &all);
+    let (_, summary, setup) = walk(WALK_FAST, &all);
     assert_eq!(summary.status, "completed", "{}", summary.reason);
     let gait = setup.controller.gait().unwrap();
     assert_eq!(summary.steps_taken, Some(gait.footsteps.steps.len()));
@@ -311,15 +313,11 @@ fn with_the_push_observer_the_walk_completes() {
 /// jumps of the measured DCM in the swings' last ticks and diverges (docs/findings/stepping.md).
 #[test]
 fn a_walk_adjusted_at_a_low_threshold_completes_its_landings_moved_only_until_the_end_phase() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../scenarios/walking/walk_fast.toml"
-    );
     let adjusting = [
         ("walking.step_adjustment", "true"),
         ("walking.step_adjustment_threshold", "0.005"),
     ];
-    let (_, summary, setup) = walk(path, &adjusting);
+    let (_, summary, setup) = walk(WALK_FAST, &adjusting);
     assert_eq!(summary.status, "completed", "{}", summary.reason);
     assert_eq!(summary.steps_taken, Some(51));
     let made = setup.controller.step_adjustments();

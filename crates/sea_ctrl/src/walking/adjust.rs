@@ -68,8 +68,8 @@ pub fn adjust_step(
     let world_xi = lip.dcm(measured.world_p_com, measured.world_v_com);
     let world_dcm_error = world_xi - gait.dcm.sample(t).world_xi.xy();
     let phase = (t - step.lift_off) / (step.touchdown - step.lift_off);
-    let in_flight = phase >= 0.0 && phase < settings.step_adjustment_end_phase && remaining > 1e-6;
-    if !in_flight || world_dcm_error.norm() <= settings.step_adjustment_threshold {
+    let adjustable = phase >= 0.0 && phase < settings.step_adjustment_end_phase && remaining > 1e-6;
+    if !adjustable || world_dcm_error.norm() <= settings.step_adjustment_threshold {
         return None;
     }
     let stance = gait.footsteps.stance_sole(index);

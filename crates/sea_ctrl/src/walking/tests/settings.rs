@@ -185,8 +185,7 @@ fn stepping_stands_and_refuses_a_walk_naming_walking_stepping() {
 }
 
 #[test]
-fn step_adjustment_is_refused_with_stepping_a_negative_threshold_or_an_end_phase_off_0_1_naming_the_key(
-) {
+fn step_adjustment_settings_out_of_range_or_with_stepping_are_refused_naming_the_key() {
     let mut settings = super::WalkingSettings {
         step_adjustment: true,
         ..Default::default()
