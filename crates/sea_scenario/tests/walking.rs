@@ -324,8 +324,7 @@ fn a_walk_adjusted_at_a_low_threshold_completes_its_landings_moved_only_until_th
     assert!(!made.is_empty(), "nothing adjusted at 5 mm");
     let steps = &setup.controller.gait().unwrap().footsteps.steps;
     for adjustment in made {
-        let step = steps[adjustment.step];
-        let phase = (adjustment.time - step.lift_off) / (step.touchdown - step.lift_off);
+        let phase = steps[adjustment.step].swing_fraction(adjustment.time);
         assert!(
             (0.0..0.8).contains(&phase),
             "{adjustment:?} at phase {phase}"

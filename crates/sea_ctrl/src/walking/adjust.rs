@@ -67,7 +67,7 @@ pub fn adjust_step(
     let remaining = step.touchdown - t;
     let world_xi = lip.dcm(measured.world_p_com, measured.world_v_com);
     let world_dcm_error = world_xi - gait.dcm.sample(t).world_xi.xy();
-    let phase = (t - step.lift_off) / (step.touchdown - step.lift_off);
+    let phase = step.swing_fraction(t);
     let adjustable = phase >= 0.0 && phase < settings.step_adjustment_end_phase && remaining > 1e-6;
     if !adjustable || world_dcm_error.norm() <= settings.step_adjustment_threshold {
         return None;

@@ -141,6 +141,12 @@ impl Footstep {
     pub fn mid_swing(&self) -> f64 {
         0.5 * (self.lift_off + self.touchdown)
     }
+
+    /// How far into the swing time `t` [s] is: 0 at the lift-off, 1 at the touchdown (below
+    /// 0 before, above 1 after; `walking.step_adjustment_end_phase` compares with it).
+    pub fn swing_fraction(&self, t: f64) -> f64 {
+        (t - self.lift_off) / (self.touchdown - self.lift_off)
+    }
 }
 
 /// The footsteps of a walk with the feet before and after each.
