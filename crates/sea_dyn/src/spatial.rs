@@ -114,6 +114,13 @@ pub fn rotation_from_quaternion(w: f64, x: f64, y: f64, z: f64) -> Matrix3<f64> 
     )
 }
 
+/// The heading of a rotation `a_R_b` about `a`'s z axis [rad], in (-pi, pi]: the angle of
+/// `b`'s x axis projected on `a`'s x-y plane (for a sole or a base on flat ground, its yaw).
+#[inline]
+pub fn heading(r: &Matrix3<f64>) -> f64 {
+    r[(1, 0)].atan2(r[(0, 0)])
+}
+
 /// Unit quaternion (w, x, y, z) of a rotation matrix (Shepperd's method: pivot on the largest
 /// of the four squared components, so it is accurate for every rotation). `w >= 0`.
 pub fn quaternion_from_rotation(r: &Matrix3<f64>) -> [f64; 4] {
@@ -559,6 +566,23 @@ mod tests {
     fn v3(seed: &mut u64) -> Vector3<f64> {
         Vector3::new(rnd(seed), rnd(seed), rnd(seed))
     }
+    #[test]
+    fn the_heading_is_the_yaw_whatever_the_roll_and_a_pitch_short_of_vertical() {
+        let mut seed = 7;
+        for _ in 0..100 {
+            let (roll, pitch, yaw) = (
+                3.0 * rnd(&mut seed),
+                1.5 * rnd(&mut seed),
+                3.1 * rnd(&mut seed),
+            );
+            let r = rotation_from_rpy(roll, pitch, yaw);
+            assert!((heading(&r) - yaw).abs() < 1e-12, "{roll} {pitch} {yaw}");
+        }
+        // Past a half turn the heading wraps.
+        let r = rotation_from_rpy(0.0, 0.0, 3.5);
+        assert!((heading(&r) - (3.5 - 2.0 * std::f64::consts::PI)).abs() < 1e-12);
+    }
+
     fn body(seed: &mut u64) -> BodyInertia {
         let a = v3(seed).normalize();
         let r = rotation_about_axis(&a, rnd(seed) * 3.0);

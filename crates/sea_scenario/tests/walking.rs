@@ -4,6 +4,7 @@
 //! key.
 
 use sea_ctrl::walking::FootTask;
+use sea_dyn::spatial::{heading, rotation_from_quaternion};
 use sea_loop::RunRecord;
 use sea_scenario::run::run_keeping_setup;
 use sea_scenario::{build, Scenario};
@@ -432,8 +433,7 @@ const TURN: &str = concat!(
 
 /// The base's yaw in the recorded state `x` (`q = [p_B; (w, x, y, z); s]`) [rad].
 fn base_yaw(x: &[f64]) -> f64 {
-    let (w, qx, qy, qz) = (x[3], x[4], x[5], x[6]);
-    (2.0 * (w * qz + qx * qy)).atan2(1.0 - 2.0 * (qy * qy + qz * qz))
+    heading(&rotation_from_quaternion(x[3], x[4], x[5], x[6]))
 }
 
 /// How still the robot stands from `from` [s] to the run's end (largest over the samples).

@@ -4,6 +4,7 @@
 //! planned does not (docs/findings/stepping.md, "Pushes while walking").
 
 use sea_ctrl::walking::Support;
+use sea_dyn::spatial::{heading, rotation_from_quaternion};
 use sea_sim::analysis::push::{swing_push_start, SwingPhase};
 use sea_sim::closed_loop::RunRecord;
 use sea_sim::scenario::run::run_keeping_setup;
@@ -171,8 +172,7 @@ fn print_a_push_while_walking() {
 fn yaws(record: &RunRecord, row: usize) -> [f64; 3] {
     let nx = record.state.len() / record.time.len();
     let x = &record.state[nx * row..];
-    let (w, qx, qy, qz) = (x[3], x[4], x[5], x[6]);
-    let base = (2.0 * (w * qz + qx * qy)).atan2(1.0 - 2.0 * (qy * qy + qz * qz));
+    let base = heading(&rotation_from_quaternion(x[3], x[4], x[5], x[6]));
     let points = record.contact_point_active.len() / record.time.len();
     let corner = |k: usize| &record.contact_point_positions[3 * (row * points + k)..][..2];
     let sole = |first: usize| {

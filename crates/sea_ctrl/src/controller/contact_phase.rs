@@ -38,7 +38,7 @@ use crate::qp::{momentum_tracking_objective, Minimizer, QpCounters, QpStatus, Wr
 use crate::references::ComSample;
 use crate::walking::{FootTask, Gait, SwingSample, WalkingSettings};
 use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Vector6};
-use sea_dyn::spatial::Pose;
+use sea_dyn::spatial::{heading, Pose};
 
 /// The measured normal force, as a fraction of the robot's weight, above which a foot is on
 /// the ground (module doc).
@@ -150,8 +150,7 @@ pub fn settle_acceleration(
     position_gain: f64,
     velocity_gain: f64,
 ) -> Vector6<f64> {
-    let x_axis = world_h_sole.rotation.column(0);
-    let yaw = x_axis.y.atan2(x_axis.x);
+    let yaw = heading(&world_h_sole.rotation);
     let world_r_flat = Rotation3::from_axis_angle(&nalgebra::Vector3::z_axis(), yaw);
     let rotation_error =
         Rotation3::from_matrix_unchecked(world_r_flat.matrix() * world_h_sole.rotation.transpose())

@@ -14,7 +14,7 @@ use super::swing::{SwingSample, SwingTrajectory};
 use crate::error::{Error, Result};
 use crate::references::ComSample;
 use nalgebra::{Vector2, Vector3};
-use sea_dyn::spatial::Pose;
+use sea_dyn::spatial::{heading, Pose};
 
 /// What one foot does at a tick.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -166,9 +166,8 @@ impl Gait {
 /// A sole's placement as a pose on flat ground: its origin's x, y and its yaw (the heading
 /// of its x axis in the world's x-y plane).
 fn sole_pose(world_h_sole: &Pose) -> SolePose {
-    let x_axis = world_h_sole.rotation.column(0);
     SolePose::new(
         Vector2::new(world_h_sole.translation.x, world_h_sole.translation.y),
-        x_axis.y.atan2(x_axis.x),
+        heading(&world_h_sole.rotation),
     )
 }

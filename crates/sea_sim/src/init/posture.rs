@@ -92,7 +92,7 @@ pub fn standing_posture(
 
 /// The rotation about world z closest to `rotation` (its x axis projected on the ground).
 fn yaw_only(rotation: &Matrix3<f64>) -> Matrix3<f64> {
-    let yaw = rotation[(1, 0)].atan2(rotation[(0, 0)]);
+    let yaw = sea_dyn::spatial::heading(rotation);
     sea_dyn::spatial::rotation_from_rpy(0.0, 0.0, yaw)
 }
 
