@@ -114,7 +114,7 @@ pub fn rotation_from_quaternion(w: f64, x: f64, y: f64, z: f64) -> Matrix3<f64> 
     )
 }
 
-/// The heading of a rotation `a_R_b` about `a`'s z axis [rad], in (-pi, pi]: the angle of
+/// The heading of a rotation `a_R_b` about `a`'s z axis [rad], in [-pi, pi]: the angle of
 /// `b`'s x axis projected on `a`'s x-y plane (for a sole or a base on flat ground, its yaw).
 #[inline]
 pub fn heading(r: &Matrix3<f64>) -> f64 {
@@ -566,6 +566,7 @@ mod tests {
     fn v3(seed: &mut u64) -> Vector3<f64> {
         Vector3::new(rnd(seed), rnd(seed), rnd(seed))
     }
+
     #[test]
     fn the_heading_is_the_yaw_whatever_the_roll_and_a_pitch_short_of_vertical() {
         let mut seed = 7;
