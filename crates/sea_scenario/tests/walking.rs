@@ -128,7 +128,7 @@ fn the_swing_sole_reaches_its_target_pose() {
             (sole.translation.z - ground).abs() < 3e-3,
             "step {i} on the ground"
         );
-        let yaw = sole.rotation[(1, 0)].atan2(sole.rotation[(0, 0)]);
+        let yaw = heading(&sole.rotation);
         assert!(
             (yaw - step.pose.world_yaw_sole).abs() < 0.02,
             "step {i} yaw {yaw}"
