@@ -182,19 +182,27 @@ fn yaws(record: &RunRecord, row: usize) -> [f64; 3] {
     [base, sole(0), sole(4)]
 }
 
-/// The hip pitch, knee and ankle pitch angles [rad] of the right then the left leg at the
-/// recorded `row` (the knee's stop is at +0.07 rad, straight).
-fn sagittal_leg_joints(record: &RunRecord, row: usize) -> String {
+/// The angles [rad] at the recorded `row` of the joints `WALK_JOINTS` names (comma separated),
+/// or, when it names none of the model's (`WALK_JOINTS=1`), the hip pitch, knee and ankle
+/// pitch of the right then the left leg (the knee's stop is at +0.07 rad, straight).
+fn leg_joints(record: &RunRecord, row: usize) -> String {
     let nx = record.state.len() / record.time.len();
     let q = &record.state[nx * row + 7..];
-    let names = [
-        "r_hip_pitch",
-        "r_knee",
-        "r_ankle_pitch",
-        "l_hip_pitch",
-        "l_knee",
-        "l_ankle_pitch",
-    ];
+    let asked = std::env::var("WALK_JOINTS").unwrap_or_default();
+    let mut names: Vec<&str> = asked
+        .split(',')
+        .filter(|name| record.joint_names.iter().any(|m| m == name))
+        .collect();
+    if names.is_empty() {
+        names = vec![
+            "r_hip_pitch",
+            "r_knee",
+            "r_ankle_pitch",
+            "l_hip_pitch",
+            "l_knee",
+            "l_ankle_pitch",
+        ];
+    }
     let angles: Vec<String> = names
         .iter()
         .map(|name| {
@@ -210,7 +218,7 @@ fn sagittal_leg_joints(record: &RunRecord, row: usize) -> String {
 /// start): from 0.05 s before `start` [s] for 0.7 s,
 /// each recorded sample's CoM and reference (lateral), each sole corner's height [mm] and
 /// normal force [N] (left sole's four corners, then the right's) and the yaws of the base and
-/// the soles [rad]; with `WALK_JOINTS` set, the legs' sagittal joints before each line.
+/// the soles [rad]; with `WALK_JOINTS` set, the joints of [`leg_joints`] before each line.
 fn print_the_feet(record: &RunRecord, start: f64) {
     let points = record.contact_point_active.len() / record.time.len();
     for (row, t) in record.time.iter().enumerate() {
@@ -235,7 +243,7 @@ fn print_the_feet(record: &RunRecord, start: f64) {
             .collect();
         let [base, left, right] = yaws(record, row);
         if std::env::var("WALK_JOINTS").is_ok() {
-            println!("{t:.4} joints {}", sagittal_leg_joints(record, row));
+            println!("{t:.4} joints {}", leg_joints(record, row));
         }
         println!(
             "{t:.4} comy {:+.3} refy {:+.3} z {} N {} yaw {base:+.3} {left:+.3} {right:+.3}",
