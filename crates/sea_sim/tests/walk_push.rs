@@ -182,31 +182,32 @@ fn yaws(record: &RunRecord, row: usize) -> [f64; 3] {
     [base, sole(0), sole(4)]
 }
 
-/// The angles [rad] at the recorded `row` of the joints `WALK_JOINTS` names (comma separated),
-/// or, when it names none of the model's (`WALK_JOINTS=1`), the hip pitch, knee and ankle
-/// pitch of the right then the left leg (the knee's stop is at +0.07 rad, straight).
-fn leg_joints(record: &RunRecord, row: usize) -> String {
+/// The angles [rad] at the recorded `row` of the joints `WALK_JOINTS` names (comma separated;
+/// a name not in the model panics, naming it), or with `WALK_JOINTS=1` the hip pitch, knee and
+/// ankle pitch of the right then the left leg (the knee's stop is at +0.07 rad, straight).
+fn printed_joints(record: &RunRecord, row: usize) -> String {
     let nx = record.state.len() / record.time.len();
     let q = &record.state[nx * row + 7..];
     let asked = std::env::var("WALK_JOINTS").unwrap_or_default();
-    let mut names: Vec<&str> = asked
-        .split(',')
-        .filter(|name| record.joint_names.iter().any(|m| m == name))
-        .collect();
-    if names.is_empty() {
-        names = vec![
+    let names: Vec<&str> = match asked.as_str() {
+        "" | "1" => vec![
             "r_hip_pitch",
             "r_knee",
             "r_ankle_pitch",
             "l_hip_pitch",
             "l_knee",
             "l_ankle_pitch",
-        ];
-    }
+        ],
+        _ => asked.split(',').collect(),
+    };
     let angles: Vec<String> = names
         .iter()
         .map(|name| {
-            let j = record.joint_names.iter().position(|m| m == name).unwrap();
+            let j = record
+                .joint_names
+                .iter()
+                .position(|m| m == name)
+                .unwrap_or_else(|| panic!("WALK_JOINTS: no joint '{name}' in the model"));
             format!("{:+.3}", q[j])
         })
         .collect();
@@ -218,7 +219,7 @@ fn leg_joints(record: &RunRecord, row: usize) -> String {
 /// start): from 0.05 s before `start` [s] for 0.7 s,
 /// each recorded sample's CoM and reference (lateral), each sole corner's height [mm] and
 /// normal force [N] (left sole's four corners, then the right's) and the yaws of the base and
-/// the soles [rad]; with `WALK_JOINTS` set, the joints of [`leg_joints`] before each line.
+/// the soles [rad]; with `WALK_JOINTS` set, the joints of [`printed_joints`] before each line.
 fn print_the_feet(record: &RunRecord, start: f64) {
     let points = record.contact_point_active.len() / record.time.len();
     for (row, t) in record.time.iter().enumerate() {
@@ -243,7 +244,7 @@ fn print_the_feet(record: &RunRecord, start: f64) {
             .collect();
         let [base, left, right] = yaws(record, row);
         if std::env::var("WALK_JOINTS").is_ok() {
-            println!("{t:.4} joints {}", leg_joints(record, row));
+            println!("{t:.4} joints {}", printed_joints(record, row));
         }
         println!(
             "{t:.4} comy {:+.3} refy {:+.3} z {} N {} yaw {base:+.3} {left:+.3} {right:+.3}",
