@@ -25,11 +25,14 @@ more), no swing dynamics (the swing foot lands anywhere at the planned time): an
 what the gait can capture with its CoP and its steps, not a prediction of a controller.
 
 The defaults are `scenarios/walking/walk_push.toml` on the paper's iCub: 33.0 kg (the model's
-mass), CoM at 0.51 m, 0.3 s swings and 0.1 s double supports, feet 0.122 m apart, step widths
-0.09-0.25 m (`walking.min_step_width`, `max_step_width`), the sole 0.05 m wide
-(`controller.contact.foot_y`) with `cop_margin` 0.3, the push of 0.1 s. The pushed swing is
-the right foot's, the left foot stands at y = 0; `direction` +1 pushes to the left (towards the
-stance foot), -1 to the right (towards the swing foot).
+mass), CoM at 0.51 m, 0.3 s swings and 0.1 s double supports, the walk's feet 0.14 m apart
+(`walking.nominal_width`; 0.122 m standing), step widths 0.09-0.25 m (`walking.min_step_width`,
+`max_step_width`), the sole 0.05 m wide (`controller.contact.foot_y`) with `cop_margin` 0.3,
+the push of 0.1 s. The pushed swing is the right foot's, the left foot stands at y = 0;
+`direction` +1 pushes to the left (towards the stance foot), -1 to the right (towards the
+swing foot). `sea-sim push --phase` reports the same bound from the scenario's own plan
+(`gait_bound_impulse_n_s`; `sea_study::analysis::gait_bound`, written apart from this script
+and checked against it).
 
     python3 scripts/lateral_push_bound.py            # the table of docs/findings/stepping.md
 """
@@ -49,7 +52,7 @@ class Gait:
     gravity: float = 9.81
     swing: float = 0.3
     double_support: float = 0.1
-    width: float = 0.122
+    width: float = 0.14
     min_width: float = 0.09
     max_width: float = 0.25
     half_width: float = 0.025 * (1.0 - 0.3)

@@ -106,6 +106,60 @@ fn the_phase_resolves_the_push_start_inside_the_chosen_swing() {
     );
 }
 
+/// The gait's bound on a sideways push reads walk_push.toml's plan: at step 3 (the right foot
+/// swings, the left stands) the feet 0.14 m apart (`walking.nominal_width`), 0.3 s swings, 0.1 s double supports, the
+/// pendulum of `walking.com_height`, the QP's sole, and the plan's DCM at the lift-off near
+/// the periodic walk's; a left push is towards the stance foot, forward has no bound; the
+/// swing foot's side mirrors the axis at step 4 (the left swings).
+#[test]
+fn the_gait_bound_reads_the_walks_plan_and_maps_the_directions() {
+    use sea_sim::analysis::gait_bound::{gait_bounds, lateral_gait_of_walk, LateralSide};
+    use sea_sim::analysis::push::PushDirection;
+    let (gait, world_axis) = lateral_gait_of_walk(&walk_push(), &[], 3, 0.1).unwrap();
+    let close = |a: f64, b: f64, tolerance: f64| (a - b).abs() <= tolerance;
+    assert!(close(gait.swing_s, 0.3, 1e-12) && close(gait.double_support_s, 0.1, 1e-12));
+    assert!(close(gait.width_m, 0.14, 1e-9), "{gait:?}");
+    assert!(
+        close(gait.omega, (9.81_f64 / 0.51).sqrt(), 1e-3),
+        "{gait:?}"
+    );
+    assert!(close(gait.half_width_m, 0.025 * 0.7, 1e-12), "{gait:?}");
+    assert!(close(gait.mass_kg, 33.0, 0.5), "{gait:?}");
+    assert_eq!([gait.min_width_m, gait.max_width_m], [0.09, 0.25]);
+    let periodic = gait.periodic_dcm_at_lift_off();
+    assert!(
+        close(gait.dcm_at_lift_off_m, periodic, 0.005),
+        "{gait:?}: {periodic}"
+    );
+    assert!(world_axis.y > 0.99, "{world_axis}");
+    let at = SwingPhase {
+        step: 3,
+        phase: 0.5,
+    };
+    let directions = [
+        PushDirection::Forward,
+        PushDirection::Left,
+        PushDirection::Right,
+    ];
+    let bounds = gait_bounds(&walk_push(), &[], at, 0.1, &directions).unwrap();
+    assert_eq!(bounds[0], None);
+    assert_eq!(bounds[1], Some(gait.bound(LateralSide::TowardStance, 0.5)));
+    assert_eq!(bounds[2], Some(gait.bound(LateralSide::TowardSwing, 0.5)));
+    let (left_swing, axis) = lateral_gait_of_walk(&walk_push(), &[], 4, 0.1).unwrap();
+    assert!(axis.y < -0.99, "{axis}");
+    assert!(
+        close(left_swing.width_m, gait.width_m, 1e-3),
+        "{left_swing:?}"
+    );
+    let message = lateral_gait_of_walk(&walk_push(), &[], 11, 0.1)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("--step") && message.contains("0 to 10"),
+        "{message}"
+    );
+}
+
 /// Prints what a push while walking does (`WALK_PUSH="x y impulse start_s"`,
 /// `WALK_SET="key=value,..."`): the outcome, the adjustments, the CoM and reference every
 /// 50 ms around the push.

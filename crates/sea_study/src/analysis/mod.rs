@@ -4,6 +4,7 @@
 //! ([`linearize`]), and the parameter values where stability changes ([`margin`]).
 
 pub mod eigen;
+pub mod gait_bound;
 pub mod linearize;
 pub mod margin;
 pub mod push;

@@ -29,6 +29,10 @@ pub(crate) struct PushArgs {
     /// Start the push at this fraction of a swing of the scenario's walk, in [0, 1] (0 the
     /// swing foot's lift-off, 1 its planned touchdown) instead of at `--start`; the swing is
     /// step `--step`'s, the time the scenario's walking plan's (rounded to a plant step).
+    /// Each sideways row then also gives `gait_bound_impulse_n_s`: the largest push the
+    /// gait's timing and step widths could capture with the best centre of pressure and
+    /// landings (the linear inverted pendulum, `sea_study::analysis::gait_bound`); `null`
+    /// forward and backward. `capture_point_impulse_n_s` stays the initial stance's.
     #[arg(long)]
     phase: Option<f64>,
     /// With `--phase`: the step whose swing is pushed, counted from 0 in the plan's order.
@@ -127,6 +131,7 @@ const DEFAULT_PUSHED_STEP: usize = 3;
 
 /// `sea-sim push`: the push table as JSON on stdout.
 pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
+    use sea_sim::analysis::gait_bound::gait_bounds;
     use sea_sim::analysis::push::{swing_push_start, SwingPhase};
     let directions = args
         .directions
@@ -149,10 +154,22 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
         duration_s: args.duration,
         tolerance_n_s: args.tolerance,
     };
-    let rows = match &args.impulses {
+    let mut rows = match &args.impulses {
         Some(impulses) => fixed_rows(args, &options, &directions, impulses)?,
         None => bisected_rows(args, &options, &directions)?,
     };
+    if let Some((at, _)) = swing {
+        let bounds = gait_bounds(
+            &args.scenario,
+            &args.overrides,
+            at,
+            options.duration_s,
+            &directions,
+        )?;
+        for (row, bound) in rows.iter_mut().zip(bounds) {
+            row["gait_bound_impulse_n_s"] = serde_json::json!(bound);
+        }
+    }
     let mut json = serde_json::json!({
         "scenario": args.scenario,
         "overrides": args.overrides.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>(),
