@@ -26,7 +26,7 @@ what the gait can capture with its CoP and its steps, not a prediction of a cont
 
 The defaults are `scenarios/walking/walk_push.toml` on the paper's iCub: 33.0 kg (the model's
 mass), CoM at 0.51 m, 0.3 s swings and 0.1 s double supports, the walk's feet 0.14 m apart
-(`walking.nominal_width`; 0.122 m standing), step widths 0.09-0.25 m (`walking.min_step_width`,
+(`walking.nominal_width`, as they stand), step widths 0.09-0.25 m (`walking.min_step_width`,
 `max_step_width`), the sole 0.05 m wide (`controller.contact.foot_y`) with `cop_margin` 0.3,
 the push of 0.1 s. The pushed swing is the right foot's, the left foot stands at y = 0;
 `direction` +1 pushes to the left (towards the stance foot), -1 to the right (towards the

@@ -417,3 +417,52 @@ fn bad_disturbances_name_their_key() {
     assert_eq!(good.disturbances[0].impulse(), [0.1, 0.0, 0.0]);
     sea_sim::closed_loop::run_with_sinks(&good, &mut [], &cancel, |_, _| {}).unwrap();
 }
+
+/// The stepping bound reads push_recovery_step.toml: the stance's mass, pendulum and CoM, the
+/// soles side by side, the QP's sole (`cop_margin` 0.1), the settings' step limits; forward a
+/// step at the push's start captures the most and more than standing, sideways no step of
+/// 0.3 s captures more than standing (the feet's width grows past `max_step_width` in a
+/// swing), a scenario that does not step has none.
+#[test]
+fn the_stepping_bound_reads_the_scenario_and_steps_only_along_the_soles() {
+    use sea_sim::analysis::step_bound::{standing_step_of, stepping_bounds_json, StepReach};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/walking/push_recovery_step.toml");
+    let stance = Stance::of(&Scenario::from_file(&path, &[]).unwrap()).unwrap();
+    let forward = standing_step_of(&path, &[], PushDirection::Forward, 0.1).unwrap();
+    assert_eq!(forward.reach, StepReach::Along { max_length: 0.17 });
+    assert!((forward.omega - stance.omega0).abs() < 1e-12);
+    assert!(
+        (forward.feet_m[0] - forward.feet_m[1]).abs() < 1e-3,
+        "{forward:?}"
+    );
+    // foot_x [-0.05, 0.10] shrunk by 0.9 about 0.025.
+    assert!((forward.cop_reach_m - (0.025 + 0.075 * 0.9)).abs() < 1e-12);
+    assert_eq!([forward.swing_s, forward.transfer_s], [0.3, 0.1]);
+    let bound = forward.bound();
+    let first = bound.first_step.expect("forward, a step captures the most");
+    assert_eq!(first.lift_off_s, 0.0);
+    let standing = forward.bound_without_steps();
+    assert!(
+        bound.impulse_n_s > 1.5 * standing,
+        "{bound:?} vs {standing}"
+    );
+    let left = standing_step_of(&path, &[], PushDirection::Left, 0.1).unwrap();
+    assert!(matches!(left.reach, StepReach::Across { .. }), "{left:?}");
+    let width = (left.feet_m[0] - left.feet_m[1]).abs();
+    assert!((width - 0.14).abs() < 0.001, "{left:?}");
+    let bound = left.bound();
+    assert_eq!(bound.first_step, None, "{bound:?}");
+    let json = stepping_bounds_json(&path, &[], 0.1, &[PushDirection::Forward])
+        .unwrap()
+        .unwrap();
+    assert_eq!(json[0]["first_step"]["contact"], "r_sole");
+    assert_eq!(
+        stepping_bounds_json(&push_two_feet(), &[], 0.1, &[PushDirection::Forward]).unwrap(),
+        None
+    );
+    let message = standing_step_of(&push_two_feet(), &[], PushDirection::Left, 0.1)
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("walking.stepping"), "{message}");
+}

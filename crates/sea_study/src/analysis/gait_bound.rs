@@ -105,12 +105,48 @@ pub fn dcm_after(xi: f64, p0: f64, p1: f64, duration: f64, omega: f64) -> f64 {
     p1 + rate / omega + (xi - p0 - rate / omega) * (omega * duration).exp()
 }
 
-/// The push's window and its force as an offset of the CoP:
-/// `omega (xi - p) + F / (m omega) = omega (xi - (p - offset))`.
-struct PushWindow {
-    start: f64,
-    end: f64,
-    cop_offset: f64,
+/// A push's window [s] and its force as an offset of the CoP along the axis:
+/// `omega (xi - p) + F / (m omega) = omega (xi - (p - cop_offset))`.
+pub(crate) struct PushWindow {
+    pub(crate) start: f64,
+    pub(crate) end: f64,
+    pub(crate) cop_offset: f64,
+}
+
+impl PushWindow {
+    /// The push of `impulse` [N s] along the axis's sign `sign` over `[start, start +
+    /// duration]` on a robot of `mass` [kg] and pendulum `omega` [1/s].
+    pub(crate) fn new(
+        impulse: f64,
+        sign: f64,
+        start: f64,
+        duration: f64,
+        mass: f64,
+        omega: f64,
+    ) -> Self {
+        Self {
+            start,
+            end: start + duration,
+            cop_offset: sign * impulse / duration / (mass * omega.powi(2)),
+        }
+    }
+
+    /// The DCM after `[from, to]` [s] from `xi` with the CoP at `cop` and the push's force
+    /// where the window overlaps.
+    pub(crate) fn dcm_over(&self, xi: f64, cop: f64, from: f64, to: f64, omega: f64) -> f64 {
+        let mut cuts = vec![from];
+        cuts.extend(
+            [self.start, self.end]
+                .into_iter()
+                .filter(|&t| from < t && t < to),
+        );
+        cuts.push(to);
+        cuts.windows(2).fold(xi, |xi, piece| {
+            let pushed = self.start <= piece[0] && piece[0] < self.end;
+            let p = if pushed { cop - self.cop_offset } else { cop };
+            dcm_after(xi, p, p, piece[1] - piece[0], omega)
+        })
+    }
 }
 
 impl LateralGait {
@@ -131,23 +167,6 @@ impl LateralGait {
         offset / (1.0 - slope)
     }
 
-    /// The DCM after `[from, to]` [s] from `xi` with the CoP at `cop` and the push's force
-    /// where the window overlaps.
-    fn dcm_over(&self, xi: f64, cop: f64, from: f64, to: f64, push: &PushWindow) -> f64 {
-        let mut cuts = vec![from];
-        cuts.extend(
-            [push.start, push.end]
-                .into_iter()
-                .filter(|&t| from < t && t < to),
-        );
-        cuts.push(to);
-        cuts.windows(2).fold(xi, |xi, piece| {
-            let pushed = push.start <= piece[0] && piece[0] < push.end;
-            let p = if pushed { cop - push.cop_offset } else { cop };
-            dcm_after(xi, p, p, piece[1] - piece[0], self.omega)
-        })
-    }
-
     /// Whether a lateral push of `impulse` [N s] towards `side`, starting at `phase` of the
     /// swing, is captured with the best CoP and landings (module doc) within
     /// [`CAPTURE_STEPS`] steps.
@@ -155,18 +174,15 @@ impl LateralGait {
         let s = side.sign();
         let half = self.half_width_m;
         let start = phase * self.swing_s;
-        let push = PushWindow {
-            start,
-            end: start + self.push_duration_s,
-            cop_offset: s * impulse / self.push_duration_s / (self.mass_kg * self.omega.powi(2)),
-        };
+        let (mass, w) = (self.mass_kg, self.omega);
+        let push = PushWindow::new(impulse, s, start, self.push_duration_s, mass, w);
         // [stance foot at the lift-off, swing foot]; each foot's outward direction.
         let mut feet = [0.0, -self.width_m];
         let outward = [1.0, -1.0];
         let mut xi = self.dcm_at_lift_off_m;
         let (mut t, mut stance) = (0.0, 0);
         for _ in 0..CAPTURE_STEPS {
-            xi = self.dcm_over(xi, feet[stance] + s * half, t, t + self.swing_s, &push);
+            xi = push.dcm_over(xi, feet[stance] + s * half, t, t + self.swing_s, w);
             t += self.swing_s;
             let swing = 1 - stance;
             let width = if outward[swing] == s {
@@ -180,7 +196,7 @@ impl LateralGait {
                 return true;
             }
             let edge = feet[outermost] + s * half;
-            xi = self.dcm_over(xi, edge, t, t + self.double_support_s, &push);
+            xi = push.dcm_over(xi, edge, t, t + self.double_support_s, w);
             t += self.double_support_s;
             stance = swing;
         }

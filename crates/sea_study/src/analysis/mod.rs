@@ -8,6 +8,7 @@ pub mod gait_bound;
 pub mod linearize;
 pub mod margin;
 pub mod push;
+pub mod step_bound;
 pub mod system;
 
 pub use linearize::{

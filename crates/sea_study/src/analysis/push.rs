@@ -68,7 +68,7 @@ impl PushDirection {
     }
 
     /// The unit vector in the sole frame's (x, y).
-    fn in_sole(&self) -> Vector2<f64> {
+    pub fn in_sole(&self) -> Vector2<f64> {
         match self {
             PushDirection::Forward => Vector2::new(1.0, 0.0),
             PushDirection::Backward => Vector2::new(-1.0, 0.0),

@@ -33,6 +33,10 @@ pub(crate) struct PushArgs {
     /// gait's timing and step widths could capture with the best centre of pressure and
     /// landings (the linear inverted pendulum, `sea_study::analysis::gait_bound`); `null`
     /// forward and backward. `capture_point_impulse_n_s` stays the initial stance's.
+    /// Without `--phase`, on a scenario that steps (`walking.stepping`), each row also gives
+    /// `stepping_bound`: the largest push the stepping settings could capture at all
+    /// (`impulse_n_s`, and `first_step`: `contact` and `lift_off_s` of the best recovery's
+    /// first step, `null` when standing captures the most; `sea_study::analysis::step_bound`).
     #[arg(long)]
     phase: Option<f64>,
     /// With `--phase`: the step whose swing is pushed, counted from 0 in the plan's order.
@@ -133,6 +137,7 @@ const DEFAULT_PUSHED_STEP: usize = 3;
 pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
     use sea_sim::analysis::gait_bound::gait_bounds;
     use sea_sim::analysis::push::{swing_push_start, SwingPhase};
+    use sea_sim::analysis::step_bound::stepping_bounds_json;
     let directions = args
         .directions
         .iter()
@@ -158,6 +163,18 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
         Some(impulses) => fixed_rows(args, &options, &directions, impulses)?,
         None => bisected_rows(args, &options, &directions)?,
     };
+    let stepping = match swing {
+        Some(_) => None,
+        None => stepping_bounds_json(
+            &args.scenario,
+            &args.overrides,
+            options.duration_s,
+            &directions,
+        )?,
+    };
+    for (row, bound) in rows.iter_mut().zip(stepping.into_iter().flatten()) {
+        row["stepping_bound"] = bound;
+    }
     if let Some((at, _)) = swing {
         let bounds = gait_bounds(
             &args.scenario,
