@@ -792,3 +792,44 @@ fn push_at_fixed_impulses_reports_each_outcome_and_refuses_a_negative_one() {
     assert_ne!(pushes[1]["status"], "completed");
     assert!(pushes[1]["end_s"].as_f64().unwrap() < 2.0, "{row}");
 }
+
+#[test]
+fn push_reports_the_stepping_bound_on_a_stepping_scenario_and_the_gaits_pushing_a_walk() {
+    let short = ["--impulses", "0", "--set", "simulation.duration_s=0.05"];
+    let stepping = format!("{REPO}/scenarios/walking/push_recovery_step.toml");
+    let args = ["push", &stepping, "--directions", "forward,left"];
+    let out = sea_sim(&[&args[..], &short[..]].concat());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let [forward, left] = [&report["directions"][0], &report["directions"][1]];
+    assert_eq!(forward["stepping_bound"]["first_step"]["lift_off_s"], 0.0);
+    assert!(
+        forward["stepping_bound"]["impulse_n_s"].as_f64().unwrap() > 20.0,
+        "{forward}"
+    );
+    assert!(left["stepping_bound"]["first_step"].is_null(), "{left}");
+    assert!(forward.get("gait_bound_impulse_n_s").is_none(), "{forward}");
+    let walk = format!("{REPO}/scenarios/walking/walk_push.toml");
+    let args = [
+        "push",
+        &walk,
+        "--phase",
+        "0.2",
+        "--directions",
+        "forward,right",
+    ];
+    let out = sea_sim(&[&args[..], &short[..]].concat());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let [forward, right] = [&report["directions"][0], &report["directions"][1]];
+    assert!(forward["gait_bound_impulse_n_s"].is_null(), "{forward}");
+    let bound = right["gait_bound_impulse_n_s"].as_f64().unwrap();
+    assert!((bound - 13.67).abs() < 0.05, "{right}");
+    assert!(right.get("stepping_bound").is_none(), "{right}");
+    // A scenario that does not step has no stepping bound.
+    let standing = format!("{REPO}/scenarios/robot_rate/push_two_feet.toml");
+    let out = sea_sim(&[&["push", &standing, "--directions", "left"][..], &short[..]].concat());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(report["directions"][0].get("stepping_bound").is_none());
+}

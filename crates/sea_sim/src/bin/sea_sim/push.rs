@@ -1,9 +1,14 @@
 //! `sea-sim push`: the largest push recovered per direction, bisected, or the outcomes of
-//! pushes of fixed impulses (`--impulses`).
+//! pushes of fixed impulses (`--impulses`), beside the bounds of the pendulum: the stance's
+//! capture point, and the gait's (`--phase`) or the stepping settings' (`walking.stepping`).
 
 use crate::common::{parse_key_value, parse_positive, print_out};
 use clap::Args;
-use sea_sim::analysis::push::{fixed_push_table, push_table, PushDirection, PushOptions};
+use sea_sim::analysis::gait_bound::gait_bounds;
+use sea_sim::analysis::push::{
+    fixed_push_table, push_table, PushDirection, PushOptions, SwingPhase,
+};
+use sea_sim::analysis::step_bound::stepping_bounds_json;
 use std::path::PathBuf;
 
 /// Options of `sea-sim push`.
@@ -33,10 +38,6 @@ pub(crate) struct PushArgs {
     /// gait's timing and step widths could capture with the best centre of pressure and
     /// landings (the linear inverted pendulum, `sea_study::analysis::gait_bound`); `null`
     /// forward and backward. `capture_point_impulse_n_s` stays the initial stance's.
-    /// Without `--phase`, on a scenario that steps (`walking.stepping`), each row also gives
-    /// `stepping_bound`: the largest push the stepping settings could capture at all
-    /// (`impulse_n_s`, and `first_step`: `contact` and `lift_off_s` of the best recovery's
-    /// first step, `null` when standing captures the most; `sea_study::analysis::step_bound`).
     #[arg(long)]
     phase: Option<f64>,
     /// With `--phase`: the step whose swing is pushed, counted from 0 in the plan's order.
@@ -133,11 +134,33 @@ fn fixed_rows(
 /// The step `--phase` pushes by default: the fourth (0-based 3), the walk under way.
 const DEFAULT_PUSHED_STEP: usize = 3;
 
+/// Per direction, the bound the report adds to its row, with its key: pushing a walk (`at`),
+/// the gait's bound on a sideways push (`gait_bound_impulse_n_s`, `null` along the walk); on
+/// a scenario that steps, the stepping settings' bound (`stepping_bound`); none otherwise.
+fn bounds_by_direction(
+    args: &PushArgs,
+    at: Option<SwingPhase>,
+    directions: &[PushDirection],
+) -> sea_sim::Result<Vec<(&'static str, serde_json::Value)>> {
+    let (path, overrides, duration) = (&args.scenario, &args.overrides, args.duration);
+    if let Some(at) = at {
+        let bounds = gait_bounds(path, overrides, at, duration, directions)?;
+        return Ok(bounds
+            .into_iter()
+            .map(|bound| ("gait_bound_impulse_n_s", serde_json::json!(bound)))
+            .collect());
+    }
+    let stepping = stepping_bounds_json(path, overrides, duration, directions)?;
+    Ok(stepping
+        .into_iter()
+        .flatten()
+        .map(|bound| ("stepping_bound", bound))
+        .collect())
+}
+
 /// `sea-sim push`: the push table as JSON on stdout.
 pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
-    use sea_sim::analysis::gait_bound::gait_bounds;
-    use sea_sim::analysis::push::{swing_push_start, SwingPhase};
-    use sea_sim::analysis::step_bound::stepping_bounds_json;
+    use sea_sim::analysis::push::swing_push_start;
     let directions = args
         .directions
         .iter()
@@ -159,33 +182,14 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
         duration_s: args.duration,
         tolerance_n_s: args.tolerance,
     };
+    // The bounds first: cheap, and their errors come before the runs, not after.
+    let bounds = bounds_by_direction(args, swing.map(|(at, _)| at), &directions)?;
     let mut rows = match &args.impulses {
         Some(impulses) => fixed_rows(args, &options, &directions, impulses)?,
         None => bisected_rows(args, &options, &directions)?,
     };
-    let stepping = match swing {
-        Some(_) => None,
-        None => stepping_bounds_json(
-            &args.scenario,
-            &args.overrides,
-            options.duration_s,
-            &directions,
-        )?,
-    };
-    for (row, bound) in rows.iter_mut().zip(stepping.into_iter().flatten()) {
-        row["stepping_bound"] = bound;
-    }
-    if let Some((at, _)) = swing {
-        let bounds = gait_bounds(
-            &args.scenario,
-            &args.overrides,
-            at,
-            options.duration_s,
-            &directions,
-        )?;
-        for (row, bound) in rows.iter_mut().zip(bounds) {
-            row["gait_bound_impulse_n_s"] = serde_json::json!(bound);
-        }
+    for (row, (key, bound)) in rows.iter_mut().zip(bounds) {
+        row[key] = bound;
     }
     let mut json = serde_json::json!({
         "scenario": args.scenario,
