@@ -203,23 +203,30 @@ impl LateralGait {
         false
     }
 
-    /// The largest impulse [N s] [`Self::captured`] towards `side` at `phase` of the swing,
-    /// bisected to [`BOUND_TOLERANCE_N_S`]; the ceiling when it is captured.
+    /// The largest impulse [N s] [`Self::captured`] towards `side` at `phase` of the swing
+    /// ([`largest_captured`]).
     pub fn bound(&self, side: LateralSide, phase: f64) -> f64 {
-        let (mut low, mut high) = (0.0, BOUND_CEILING_N_S);
-        if self.captured(high, side, phase) {
-            return high;
-        }
-        while high - low > BOUND_TOLERANCE_N_S {
-            let middle = 0.5 * (low + high);
-            if self.captured(middle, side, phase) {
-                low = middle;
-            } else {
-                high = middle;
-            }
-        }
-        low
+        largest_captured(|impulse| self.captured(impulse, side, phase))
     }
+}
+
+/// The largest impulse [N s] `captured` holds, bisected to [`BOUND_TOLERANCE_N_S`] from 0 to
+/// [`BOUND_CEILING_N_S`] (the ceiling when it holds there); `captured` must hold for every
+/// impulse below one it holds for (the pendulum's DCM grows with the impulse).
+pub(crate) fn largest_captured(captured: impl Fn(f64) -> bool) -> f64 {
+    let (mut low, mut high) = (0.0, BOUND_CEILING_N_S);
+    if captured(high) {
+        return high;
+    }
+    while high - low > BOUND_TOLERANCE_N_S {
+        let middle = 0.5 * (low + high);
+        if captured(middle) {
+            low = middle;
+        } else {
+            high = middle;
+        }
+    }
+    low
 }
 
 /// A walk's lateral figures at the lift-off of step `step` of its plan

@@ -41,7 +41,7 @@
 //! more than the stance alone only if `w e^(omega T) < max_step_width`, `w` at least
 //! `min_step_width` (the far foot stepped in first).
 
-use super::gait_bound::{PushWindow, BOUND_CEILING_N_S, BOUND_TOLERANCE_N_S};
+use super::gait_bound::{largest_captured, PushWindow};
 use super::push::{PushDirection, Stance};
 use crate::error::{Error, Result};
 use nalgebra::Vector2;
@@ -177,22 +177,9 @@ impl StandingStep {
         false
     }
 
-    /// The largest impulse [N s] `first` captures, bisected to [`BOUND_TOLERANCE_N_S`] (the
-    /// ceiling [`BOUND_CEILING_N_S`] when it captures that).
+    /// The largest impulse [N s] `first` captures ([`largest_captured`]).
     fn bound_of(&self, first: Option<FirstStep>) -> f64 {
-        let (mut low, mut high) = (0.0, BOUND_CEILING_N_S);
-        if self.captured(high, first) {
-            return high;
-        }
-        while high - low > BOUND_TOLERANCE_N_S {
-            let middle = 0.5 * (low + high);
-            if self.captured(middle, first) {
-                low = middle;
-            } else {
-                high = middle;
-            }
-        }
-        low
+        largest_captured(|impulse| self.captured(impulse, first))
     }
 
     /// The largest impulse [N s] standing captures (no step).
@@ -218,19 +205,14 @@ impl StandingStep {
                 impulse_n_s: self.bound_of(first),
                 first_step: first,
             })
-            .fold(
-                StepBound {
-                    impulse_n_s: -1.0,
-                    first_step: None,
-                },
-                |best, this| {
-                    if this.impulse_n_s > best.impulse_n_s {
-                        this
-                    } else {
-                        best
-                    }
-                },
-            )
+            .reduce(|best, this| {
+                if this.impulse_n_s > best.impulse_n_s {
+                    this
+                } else {
+                    best
+                }
+            })
+            .expect("standing is always a candidate")
     }
 }
 
