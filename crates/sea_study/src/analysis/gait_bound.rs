@@ -41,11 +41,11 @@ use std::path::Path;
 /// Steps after the pushed swing's lift-off within which the push must be captured.
 pub const CAPTURE_STEPS: usize = 6;
 
-/// The largest impulse [N s] [`LateralGait::bound`] tries: a push it captures is reported as
-/// this.
+/// The largest impulse [N s] the bounds try ([`largest_captured`]): a push captured at this
+/// impulse is reported as this.
 pub const BOUND_CEILING_N_S: f64 = 1000.0;
 
-/// The resolution of [`LateralGait::bound`]'s bisection [N s].
+/// The resolution of the bounds' bisection ([`largest_captured`]) [N s].
 pub const BOUND_TOLERANCE_N_S: f64 = 1e-6;
 
 /// The side of a lateral push, seen from the pushed swing.
@@ -192,10 +192,10 @@ impl LateralGait {
             };
             feet[swing] = feet[stance] + outward[swing] * width;
             let outermost = if s * feet[0] >= s * feet[1] { 0 } else { 1 };
-            if outermost == swing && t >= push.end && s * (xi - feet[outermost] - s * half) <= 0.0 {
+            let edge = feet[outermost] + s * half;
+            if outermost == swing && t >= push.end && s * (xi - edge) <= 0.0 {
                 return true;
             }
-            let edge = feet[outermost] + s * half;
             xi = push.dcm_over(xi, edge, t, t + self.double_support_s, w);
             t += self.double_support_s;
             stance = swing;
