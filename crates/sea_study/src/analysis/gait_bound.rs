@@ -282,7 +282,7 @@ pub fn lateral_gait_of_walk(
         width_m: -along(swing_foot.world_p_sole),
         min_width_m: settings.min_step_width,
         max_width_m: settings.max_step_width,
-        half_width_m: half_width(constraints.surface.foot_y) * (1.0 - constraints.cop_margin),
+        half_width_m: half_width(constraints.cop_range(constraints.surface.foot_y)),
         push_duration_s,
         dcm_at_lift_off_m: along(dcm),
     };
@@ -295,11 +295,11 @@ pub fn lateral_gait_of_walk(
     Ok((lateral, world_axis))
 }
 
-/// Half the lateral extent of the sole rectangle `foot_y` [m]: the CoP's room on either side
-/// of the sole's middle, taken at the sole's origin (the iCub's `[-0.025, 0.025]` is
-/// centred on it).
-fn half_width(foot_y: [f64; 2]) -> f64 {
-    0.5 * (foot_y[1] - foot_y[0])
+/// Half the lateral extent `[y_min, y_max]` of the QP's sole [m]: the CoP's room on either
+/// side of the sole's middle, taken at the sole's origin (the iCub's `foot_y`,
+/// `[-0.025, 0.025]`, is centred on it).
+fn half_width([y_min, y_max]: [f64; 2]) -> f64 {
+    0.5 * (y_max - y_min)
 }
 
 /// The bound of [`LateralGait::bound`] for a push along each of `directions` at `at` of the

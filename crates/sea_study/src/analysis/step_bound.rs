@@ -45,6 +45,7 @@ use super::gait_bound::{largest_captured, PushWindow};
 use super::push::{PushDirection, Stance};
 use crate::error::{Error, Result};
 use nalgebra::Vector2;
+use sea_ctrl::qp::ContactConstraints;
 use sea_scenario::build::contact_frames;
 use sea_scenario::walking::walking_settings;
 use sea_scenario::{build, Scenario};
@@ -273,12 +274,7 @@ pub fn standing_step_of(
         push_duration_s,
         com_m: stance.com_xy.dot(&u),
         feet_m: [left, right],
-        cop_reach_m: cop_reach(
-            constraints.surface.foot_x,
-            constraints.surface.foot_y,
-            constraints.cop_margin,
-            in_sole,
-        ),
+        cop_reach_m: cop_reach(constraints, in_sole),
         reach,
         swing_s: settings.min_swing_duration,
         transfer_s: settings.recovery_transfer_duration,
@@ -286,12 +282,16 @@ pub fn standing_step_of(
     })
 }
 
-/// The farthest point along `in_sole` (a unit vector of the sole's x or y axis) of the
-/// rectangle `foot_x` x `foot_y` shrunk about its middle by `1 - cop_margin` [m].
-fn cop_reach(foot_x: [f64; 2], foot_y: [f64; 2], cop_margin: f64, in_sole: Vector2<f64>) -> f64 {
-    let middle = Vector2::new(0.5 * (foot_x[0] + foot_x[1]), 0.5 * (foot_y[0] + foot_y[1]));
-    let half = Vector2::new(0.5 * (foot_x[1] - foot_x[0]), 0.5 * (foot_y[1] - foot_y[0]));
-    middle.dot(&in_sole) + (1.0 - cop_margin) * half.dot(&in_sole.abs())
+/// The farthest point along `in_sole` (a unit vector in the sole's x, y) of the QP's sole:
+/// the rectangle `foot_x` x `foot_y` of `constraints`, each side its
+/// [`ContactConstraints::cop_range`] [m].
+fn cop_reach(constraints: &ContactConstraints, in_sole: Vector2<f64>) -> f64 {
+    let [x, y] = [constraints.surface.foot_x, constraints.surface.foot_y];
+    let ([x_min, x_max], [y_min, y_max]) = (constraints.cop_range(x), constraints.cop_range(y));
+    [x_min, x_max]
+        .into_iter()
+        .flat_map(|x| [y_min, y_max].map(|y| Vector2::new(x, y).dot(&in_sole)))
+        .fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// [`StandingStep::bound`] along each of `directions` for the scenario at `path` with
@@ -501,7 +501,12 @@ mod tests {
 
     #[test]
     fn the_cop_reach_is_the_shrunk_soles_farthest_point() {
-        let (x, y) = ([-0.05, 0.10], [-0.025, 0.025]);
+        let mut constraints = ContactConstraints {
+            cop_margin: 0.1,
+            ..Default::default()
+        };
+        constraints.surface.foot_x = [-0.05, 0.10];
+        constraints.surface.foot_y = [-0.025, 0.025];
         let cases = [
             (Vector2::new(1.0, 0.0), 0.025 + 0.075 * 0.9),
             (Vector2::new(-1.0, 0.0), -0.025 + 0.075 * 0.9),
@@ -509,7 +514,7 @@ mod tests {
             (Vector2::new(0.0, -1.0), 0.025 * 0.9),
         ];
         for (direction, want) in cases {
-            let got = cop_reach(x, y, 0.1, direction);
+            let got = cop_reach(&constraints, direction);
             assert!((got - want).abs() < 1e-15, "{direction}: {got} vs {want}");
         }
     }
