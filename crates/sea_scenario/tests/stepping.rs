@@ -50,7 +50,9 @@ fn run(
 }
 
 /// Prints what a push does (`STEP_PUSH="x y impulse"`): the outcome, the recovery steps
-/// planned, the CoM and soles every 50 ms.
+/// planned, the CoM and the soles' positions and pitch every 50 ms from `STEP_FROM` [s]
+/// (0.95 unless set), with `STEP_JOINTS` set the knees' and ankles' pitch; `STEP_SET` holds
+/// `key=value` overrides separated by `;;` (values may hold commas).
 #[test]
 #[ignore]
 fn print_a_push() {
@@ -61,7 +63,7 @@ fn print_a_push() {
         .collect();
     let mut overrides = vec![push(v[0], v[1], v[2])];
     if let Ok(extra) = std::env::var("STEP_SET") {
-        for pair in extra.split(',') {
+        for pair in extra.split(";;") {
             let (k, val) = pair.split_once('=').unwrap();
             overrides.push((k.into(), val.into()));
         }
@@ -81,18 +83,30 @@ fn print_a_push() {
     let mut data = sea_dyn::Data::new(model);
     for (row, x) in record.state.chunks(nx).enumerate().step_by(5) {
         let t = record.time[row];
-        if t < 0.95 {
+        if t < std::env::var("STEP_FROM").map_or(0.95, |s| s.parse().unwrap()) {
             continue;
         }
         sea_dyn::forward_kinematics(model, &mut data, &x[..model.nq()]);
-        let soles = [0, 1].map(|c| sea_dyn::frame_placement(model, &data, frames[c]).translation);
+        let placements = [0, 1].map(|c| sea_dyn::frame_placement(model, &data, frames[c]));
+        let soles = placements.map(|p| p.translation);
+        let pitch = placements.map(|p| (-p.rotation[(2, 0)]).asin());
         let com = &record.com[3 * row..3 * row + 3];
         let reference = &record.com_reference[3 * row..3 * row + 3];
         println!(
-            "t {t:.2} com ({:.3} {:.3}) ref ({:.3} {:.3}) l ({:.3} {:.3} {:.3}) r ({:.3} {:.3} {:.3})",
-            com[0], com[1], reference[0], reference[1], soles[0].x, soles[0].y, soles[0].z,
-            soles[1].x, soles[1].y, soles[1].z
+            "t {t:.3} com ({:.3} {:.3} {:.3}) ref ({:.3} {:.3}) l ({:.3} {:.3} {:.3} p {:.3}) r ({:.3} {:.3} {:.3} p {:.3})",
+            com[0], com[1], com[2], reference[0], reference[1], soles[0].x, soles[0].y, soles[0].z, pitch[0],
+            soles[1].x, soles[1].y, soles[1].z, pitch[1]
         );
+        if std::env::var("STEP_JOINTS").is_ok() {
+            let knee_ankle = ["l_knee", "l_ankle_pitch", "r_knee", "r_ankle_pitch"].map(|name| {
+                let j = model.joint_names.iter().position(|n| n == name).unwrap();
+                x[7 + j]
+            });
+            println!(
+                "  knees/ankles l {:.3} {:.3} r {:.3} {:.3}",
+                knee_ankle[0], knee_ankle[1], knee_ankle[2], knee_ankle[3]
+            );
+        }
     }
 }
 

@@ -177,6 +177,13 @@ impl MomentumController {
             stance,
             world_z_ground: stepping.world_z_ground,
             world_z_com: gait.world_z_com,
+            world_z_com_start: match decision {
+                Decision::Replan { .. } => gait.world_z_com_start,
+                Decision::Watch { .. } if stepping.has_stepped() => {
+                    gait.com_reference(t).position.z
+                }
+                Decision::Watch { .. } => measured.world_z_com,
+            },
             contact_of: gait.contact_of,
         };
         let (recovery, step) = recovery_gait(
@@ -241,6 +248,7 @@ impl MomentumController {
             time: t,
             world_p_com: world_p_com.xy(),
             world_v_com: Vector2::new(momentum[0], momentum[1]) / self.mass,
+            world_z_com: world_p_com.z,
         }
     }
 

@@ -87,21 +87,19 @@ impl ClarabelQp {
             None => false,
         };
         if !updated {
-            self.build_solver(&problem.hessian)?;
+            self.solver = Some(self.new_solver(&problem.hessian, self.settings.clone())?);
         }
         let solver = self.solver.as_mut().expect("solver was just built");
-        solver.solve();
-        match solver.solution.status {
-            SolverStatus::Solved | SolverStatus::AlmostSolved => {
-                let x = &solver.solution.x;
-                if x.iter().all(|v| v.is_finite()) {
-                    solution.copy_from_slice(x);
-                    Ok(())
-                } else {
-                    Err("non-finite solution".into())
-                }
+        match solved(solver, solution) {
+            Err(SolverStatus::MaxIterations) => {
+                // Equilibration off (the per-tick settings) stalls on some badly scaled
+                // problems; one solve with it on, in a solver of its own, keeps the fast one.
+                let mut settings = self.settings.clone();
+                settings.equilibrate_enable = true;
+                let mut equilibrated = self.new_solver(&problem.hessian, settings)?;
+                solved(&mut equilibrated, solution).map_err(|status| format!("{status:?}"))
             }
-            other => Err(format!("{other:?}")),
+            result => result.map_err(|status| format!("{status:?}")),
         }
     }
 
@@ -119,9 +117,13 @@ impl ClarabelQp {
         }
     }
 
-    /// A new Clarabel solver for the current values, `hessian` = `P'` (allocates: once per
-    /// controller).
-    fn build_solver(&mut self, hessian: &DMatrix<f64>) -> Result<(), String> {
+    /// A new Clarabel solver for the current values with `settings`, `hessian` = `P'`
+    /// (allocates: once per controller, and for the equilibrated retry of [`Self::solve`]).
+    fn new_solver(
+        &self,
+        hessian: &DMatrix<f64>,
+        settings: DefaultSettings<f64>,
+    ) -> Result<DefaultSolver<f64>, String> {
         let rows = self.rhs_values.len();
         let cones = if self.n_equalities > 0 {
             vec![
@@ -134,17 +136,36 @@ impl ClarabelQp {
         let p = dense_csc(hessian, true);
         let mut a = self.constraint_pattern.clone();
         a.nzval.copy_from_slice(&self.constraint_values);
-        let solver = DefaultSolver::new(
+        DefaultSolver::new(
             &p,
             &self.gradient_values,
             &a,
             &self.rhs_values,
             &cones,
-            self.settings.clone(),
+            settings,
         )
-        .map_err(|e| format!("setup failed: {e}"))?;
-        self.solver = Some(solver);
-        Ok(())
+        .map_err(|e| format!("setup failed: {e}"))
+    }
+}
+
+/// Solves with `solver` into `solution`; the status when it did not solve (or `Unsolved` for a
+/// non-finite solution).
+fn solved(
+    solver: &mut DefaultSolver<f64>,
+    solution: &mut DVector<f64>,
+) -> Result<(), SolverStatus> {
+    solver.solve();
+    match solver.solution.status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => {
+            let x = &solver.solution.x;
+            if x.iter().all(|v| v.is_finite()) {
+                solution.copy_from_slice(x);
+                Ok(())
+            } else {
+                Err(SolverStatus::Unsolved)
+            }
+        }
+        other => Err(other),
     }
 }
 

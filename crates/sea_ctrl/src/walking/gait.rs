@@ -107,7 +107,7 @@ impl Gait {
     pub fn com_reference(&self, t: f64) -> ComSample {
         let mut com = self.dcm.sample(t).com;
         let duration = self.footsteps.transfer_duration;
-        let u = (t / duration).clamp(0.0, 1.0);
+        let u = ((t - self.footsteps.start_s) / duration).clamp(0.0, 1.0);
         let (u2, u3) = (u * u, u * u * u);
         let blend = u3 * (10.0 - 15.0 * u + 6.0 * u2);
         let rate = 30.0 * u2 * (1.0 - 2.0 * u + u2) / duration;

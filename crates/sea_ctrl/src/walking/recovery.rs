@@ -44,6 +44,8 @@ pub struct MeasuredCom {
     pub world_p_com: Vector2<f64>,
     /// The CoM's horizontal velocity [m/s].
     pub world_v_com: Vector2<f64>,
+    /// The CoM's height [m].
+    pub world_z_com: f64,
 }
 
 /// Where a recovery gait stands and how its CoM reference is placed.
@@ -53,8 +55,10 @@ pub struct RecoveryFrame {
     pub stance: Stance,
     /// The ground's height [m].
     pub world_z_ground: f64,
-    /// The CoM height the momentum task holds [m].
+    /// The CoM height the recovery lowers the CoM reference to [m].
     pub world_z_com: f64,
+    /// The CoM reference's height at the recovery's start [m].
+    pub world_z_com_start: f64,
     /// Which contact index each foot is (left, right), as [`Gait::contact_of`].
     pub contact_of: [usize; 2],
 }
@@ -140,8 +144,7 @@ pub fn recovery_gait(
         dcm,
         swings,
         world_z_com: frame.world_z_com,
-        // A recovery step holds the CoM height it starts from (no lowering over its transfer).
-        world_z_com_start: frame.world_z_com,
+        world_z_com_start: frame.world_z_com_start,
         contact_of: frame.contact_of,
         world_z_ground: frame.world_z_ground,
     };

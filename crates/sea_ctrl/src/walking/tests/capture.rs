@@ -216,6 +216,7 @@ fn a_recovery_gait_starts_at_the_measured_state_and_ends_at_rest_over_the_new_fe
         stance,
         world_z_ground: 0.0,
         world_z_com: 0.53,
+        world_z_com_start: 0.545,
         contact_of: [0, 1],
     };
     // Pushed forward and a little to the right at 1 s: the DCM past the toes.
@@ -223,6 +224,7 @@ fn a_recovery_gait_starts_at_the_measured_state_and_ends_at_rest_over_the_new_fe
         time: 1.0,
         world_p_com: Vector2::new(0.01, -0.005),
         world_v_com: Vector2::new(0.5, -0.05),
+        world_z_com: 0.545,
     };
     let timing = (Foot::Right, 1.0, 1.0 + settings.recovery_transfer_duration);
     let (gait, step) = recovery_gait(&settings, &lip, &surface, &frame, timing, measured);
@@ -241,6 +243,15 @@ fn a_recovery_gait_starts_at_the_measured_state_and_ends_at_rest_over_the_new_fe
         1e-9,
         "CoM velocity at the start",
     );
+    // The CoM reference's height blends from the recovery's start over the transfer.
+    let lowered = 1.0 + gait.footsteps.transfer_duration;
+    for (t, z) in [(1.0, 0.545), (lowered, 0.53), (lowered + 1.0, 0.53)] {
+        let reference = gait.com_reference(t).position.z;
+        assert!(
+            (reference - z).abs() < 1e-12,
+            "CoM height {reference} at {t} s, not {z}"
+        );
+    }
     let footstep = gait.footsteps.steps[0];
     assert_eq!(footstep.foot, Foot::Right);
     assert!(step.pose.world_p_sole.x > 0.1, "{step:?}");
