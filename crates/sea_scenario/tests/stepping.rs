@@ -81,9 +81,14 @@ fn print_a_push() {
     let frames = setup.controller.contact_frames().to_vec();
     let nx = record.state.len() / record.time.len();
     let mut data = sea_dyn::Data::new(model);
+    let from: f64 = std::env::var("STEP_FROM").map_or(0.95, |s| s.parse().unwrap());
+    let knee_ankle_joints = std::env::var("STEP_JOINTS").is_ok().then(|| {
+        ["l_knee", "l_ankle_pitch", "r_knee", "r_ankle_pitch"]
+            .map(|name| model.joint_names.iter().position(|n| n == name).unwrap())
+    });
     for (row, x) in record.state.chunks(nx).enumerate().step_by(5) {
         let t = record.time[row];
-        if t < std::env::var("STEP_FROM").map_or(0.95, |s| s.parse().unwrap()) {
+        if t < from {
             continue;
         }
         sea_dyn::forward_kinematics(model, &mut data, &x[..model.nq()]);
@@ -97,11 +102,9 @@ fn print_a_push() {
             com[0], com[1], com[2], reference[0], reference[1], soles[0].x, soles[0].y, soles[0].z, pitch[0],
             soles[1].x, soles[1].y, soles[1].z, pitch[1]
         );
-        if std::env::var("STEP_JOINTS").is_ok() {
-            let knee_ankle = ["l_knee", "l_ankle_pitch", "r_knee", "r_ankle_pitch"].map(|name| {
-                let j = model.joint_names.iter().position(|n| n == name).unwrap();
-                x[7 + j]
-            });
+        if let Some(joints) = knee_ankle_joints {
+            // The joints' angles follow the floating base's 7 coordinates in q.
+            let knee_ankle = joints.map(|j| x[7 + j]);
             println!(
                 "  knees/ankles l {:.3} {:.3} r {:.3} {:.3}",
                 knee_ankle[0], knee_ankle[1], knee_ankle[2], knee_ankle[3]
