@@ -50,9 +50,9 @@ fn run(
 }
 
 /// Prints what a push does (`STEP_PUSH="x y impulse"`): the outcome, the recovery steps
-/// planned, the CoM and the soles' positions and pitch every 50 ms from `STEP_FROM` [s]
-/// (0.95 unless set), with `STEP_JOINTS` set the knees' and ankles' pitch; `STEP_SET` holds
-/// `key=value` overrides separated by `;;` (values may hold commas).
+/// planned, the CoM and its reference (x, y, z) and the soles' positions and pitch every 50 ms
+/// from `STEP_FROM` [s] (0.95 unless set), with `STEP_JOINTS` set the knees' and ankles'
+/// pitch; `STEP_SET` holds `key=value` overrides separated by `;;` (values may hold commas).
 #[test]
 #[ignore]
 fn print_a_push() {
@@ -98,8 +98,8 @@ fn print_a_push() {
         let com = &record.com[3 * row..3 * row + 3];
         let reference = &record.com_reference[3 * row..3 * row + 3];
         println!(
-            "t {t:.3} com ({:.3} {:.3} {:.3}) ref ({:.3} {:.3}) l ({:.3} {:.3} {:.3} p {:.3}) r ({:.3} {:.3} {:.3} p {:.3})",
-            com[0], com[1], com[2], reference[0], reference[1], soles[0].x, soles[0].y, soles[0].z, pitch[0],
+            "t {t:.3} com ({:.3} {:.3} {:.3}) ref ({:.3} {:.3} {:.3}) l ({:.3} {:.3} {:.3} p {:.3}) r ({:.3} {:.3} {:.3} p {:.3})",
+            com[0], com[1], com[2], reference[0], reference[1], reference[2], soles[0].x, soles[0].y, soles[0].z, pitch[0],
             soles[1].x, soles[1].y, soles[1].z, pitch[1]
         );
         if let Some(joints) = knee_ankle_joints {
