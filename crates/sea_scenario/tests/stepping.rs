@@ -50,9 +50,11 @@ fn run(
 }
 
 /// Prints what a push does (`STEP_PUSH="x y impulse"`): the outcome, the recovery steps
-/// planned, the CoM and its reference (x, y, z) and the soles' positions and pitch every 50 ms
-/// from `STEP_FROM` [s] (0.95 unless set), with `STEP_JOINTS` set the knees' and ankles'
-/// pitch; `STEP_SET` holds `key=value` overrides separated by `;;` (values may hold commas).
+/// planned, the CoM and its reference (x, y, z) and the soles' positions and pitch at every
+/// fifth record (50 ms at the scenario's 100 Hz; every fifth plant step under continuous
+/// sampling) from `STEP_FROM` [s] (0.95 unless set), with `STEP_JOINTS` set the knees' and
+/// ankles' pitch; `STEP_SET` holds `key=value` overrides separated by `;;` (values may hold
+/// commas).
 #[test]
 #[ignore]
 fn print_a_push() {
