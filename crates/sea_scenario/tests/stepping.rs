@@ -179,3 +179,33 @@ fn backward_pushes_past_the_capture_point_bound_are_recovered_with_a_step() {
         assert!(step.pose.world_p_sole.x < -0.02, "{impulse} N s: {step:?}");
     }
 }
+
+/// The capture margin by direction (`walking.capture_margin`, docs/findings/stepping.md,
+/// "Where a step is needed"): 6.5 N s backward and 11 N s to the left bring the DCM within
+/// 1 cm of the feet's edge but not past it. The default steps there only forward, so both
+/// are recovered standing; with the former 1 cm in every direction both take a step, and
+/// fall.
+#[test]
+fn pushes_the_stance_holds_behind_and_aside_are_recovered_without_a_step() {
+    let uniform = ("walking.capture_margin".to_string(), "0.01".to_string());
+    for (x, y, impulse) in [(-1.0, 0.0, 6.5), (0.0, 1.0, 11.0)] {
+        let (_, summary, _) = run(&[push(x, y, impulse)], true);
+        assert_eq!(
+            summary.status, "completed",
+            "({x}, {y}) {impulse} N s: {}",
+            summary.reason
+        );
+        assert_eq!(summary.steps_taken, Some(0), "({x}, {y}) {impulse} N s");
+        let (_, summary, _) = run(&[push(x, y, impulse), uniform.clone()], true);
+        assert_eq!(
+            summary.steps_taken,
+            Some(1),
+            "({x}, {y}) {impulse} N s, uniform"
+        );
+        assert_eq!(
+            summary.status, "fell",
+            "({x}, {y}) {impulse} N s, uniform: {}",
+            summary.reason
+        );
+    }
+}

@@ -2,7 +2,8 @@
 //! robot stands, and at each whole-body tick ([`MomentumController::watch_capture_point`])
 //! the measured DCM `xi = x + xdot / omega` (the CoM and its velocity at the measured state)
 //! is checked against the support polygon of the feet ([`needs_step`], within
-//! `walking.capture_margin` of its edge or outside). When it needs a step, the controller
+//! `walking.capture_margin` of its edge in the DCM's direction, [`stance_margin`], or
+//! outside). When it needs a step, the controller
 //! replaces its gait with the walk of one recovery step planned from the measured state
 //! ([`recovery_gait`]: a short transfer of the load, the swing aimed at the DCM predicted at
 //! touchdown, the transfer back to standing over the new feet), walked through the contact
@@ -23,8 +24,8 @@
 use super::contact_phase::ContactPhases;
 use super::MomentumController;
 use crate::walking::{
-    needs_step, recovery_gait, settle_from, swing_foot_for, FootTask, Lip, MeasuredCom,
-    RecoveryFrame, RecoveryStep, Stance, SupportPolygon, WalkingSettings,
+    needs_step, recovery_gait, settle_from, stance_margin, swing_foot_for, FootTask, Lip,
+    MeasuredCom, RecoveryFrame, RecoveryStep, Stance, SupportPolygon, WalkingSettings,
 };
 use nalgebra::Vector2;
 use sea_dyn::{ContactSurface, StateLayout};
@@ -162,7 +163,8 @@ impl MomentumController {
                 let stance = gait.footsteps.final_stance();
                 let world_xi = stepping.lip.dcm(measured.world_p_com, measured.world_v_com);
                 let support = SupportPolygon::of_stance(&stance, &stepping.surface);
-                if !needs_step(&support, world_xi, stepping.settings.capture_margin) {
+                let margin = stance_margin(&stepping.settings.capture_margin, &stance, world_xi);
+                if !needs_step(&support, world_xi, margin) {
                     return;
                 }
                 let swing_foot = match (sequence_steps, gait.footsteps.steps.last()) {

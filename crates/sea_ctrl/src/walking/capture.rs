@@ -2,7 +2,8 @@
 //! al. 2006; Koolen et al. 2012).
 //!
 //! A step is needed when the measured DCM `xi0` is outside the support polygon or closer to
-//! its edge than `walking.capture_margin` ([`needs_step`]). During the swing of duration `T`
+//! its edge than `walking.capture_margin` in its direction ([`needs_step`],
+//! [`stance_margin`]). During the swing of duration `T`
 //! the stance foot's centre of pressure is best held at the point `p` of its sole closest to
 //! the DCM, so the DCM at touchdown is `xi(T) = p + (xi0 - p) e^(omega T)`; the swing sole is
 //! aimed there ([`recovery_step`]), so that the new foot's centre of pressure can hold the
@@ -15,7 +16,7 @@
 use super::footstep::{Foot, SolePose, Stance};
 use super::lip::Lip;
 use super::polygon::SupportPolygon;
-use super::settings::WalkingSettings;
+use super::settings::{CaptureMargin, WalkingSettings};
 use nalgebra::Vector2;
 use sea_dyn::ContactSurface;
 
@@ -54,6 +55,12 @@ pub struct RecoveryStep {
 /// Whether the DCM `xi` needs a step: outside `support` or within `margin` [m] of its edge.
 pub fn needs_step(support: &SupportPolygon, xi: Vector2<f64>, margin: f64) -> bool {
     support.signed_margin(xi) < margin
+}
+
+/// The margin of `margins` for the DCM `world_xi` standing on `stance`: by its direction
+/// from the mid-feet point in the mid-feet frame ([`CaptureMargin::toward`]) [m].
+pub fn stance_margin(margins: &CaptureMargin, stance: &Stance, world_xi: Vector2<f64>) -> f64 {
+    margins.toward(stance.mid_frame().to_sole(world_xi))
 }
 
 /// On two feet, the foot to step with: the one on the side the DCM lies, in the walking

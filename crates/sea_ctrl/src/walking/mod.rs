@@ -46,7 +46,8 @@ mod tests;
 
 pub use adjust::{adjust_step, StepAdjustment};
 pub use capture::{
-    needs_step, recovery_step, recovery_step_beyond, swing_foot_for, RecoveryStep, StepRequest,
+    needs_step, recovery_step, recovery_step_beyond, stance_margin, swing_foot_for, RecoveryStep,
+    StepRequest,
 };
 pub use command::{
     footsteps_from_command, footsteps_from_list, footsteps_from_settings, stop_after,
@@ -59,7 +60,7 @@ pub use phase::{GaitPhase, Support};
 pub use polygon::SupportPolygon;
 pub use recovery::{recovery_gait, settle_from, MeasuredCom, RecoveryFrame};
 pub use settings::{
-    FootstepSpec, RobotWalkingFigures, WalkCommand, WalkingSettings, ICUB_LEG_LENGTH,
-    STEP_LENGTH_PER_REACH,
+    CaptureMargin, FootstepSpec, RobotWalkingFigures, WalkCommand, WalkingSettings,
+    ICUB_LEG_LENGTH, STEP_LENGTH_PER_REACH,
 };
 pub use swing::{PlanarQuintic, SwingSample, SwingTrajectory};

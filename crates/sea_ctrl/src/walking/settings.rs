@@ -131,9 +131,16 @@ pub struct WalkingSettings {
     pub max_step_turn: f64,
     /// Shortest swing of a push-recovery step [s], at least one whole-body period.
     pub min_swing_duration: f64,
-    /// A step is needed when the measured capture point is closer than this to the support
-    /// polygon's edge, or outside it [m], >= 0.
-    pub capture_margin: f64,
+    /// A step is needed when the measured capture point is outside the support polygon or
+    /// closer to its edge than this margin, taken by the DCM's direction from the mid-feet
+    /// point ([`CaptureMargin`]); a number is the same margin in every direction. Default:
+    /// 0.01 m forward, 0 backward and sideways.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "CaptureMargin::read"),
+        schemars(with = "CaptureMarginInput")
+    )]
+    pub capture_margin: CaptureMargin,
     /// Position gain of the swing sole's tracking (the PD on its pose error added to the swing
     /// trajectory's acceleration) [1/s^2], >= 0.
     pub swing_position_gain: f64,
@@ -219,7 +226,11 @@ impl Default for WalkingSettings {
             max_step_width: 0.25,
             max_step_turn: 0.35,
             min_swing_duration: 0.3,
-            capture_margin: 0.01,
+            capture_margin: CaptureMargin {
+                forward: 0.01,
+                backward: 0.0,
+                sideways: 0.0,
+            },
             swing_position_gain: 400.0,
             swing_velocity_gain: 40.0,
             settle_position_gain: 100.0,
@@ -236,6 +247,93 @@ impl Default for WalkingSettings {
             command: WalkCommand::default(),
             footsteps: Vec::new(),
         }
+    }
+}
+
+/// How close the measured DCM may come to the support polygon's edge before a recovery step
+/// is taken [m], each >= 0, by the DCM's direction from the mid-feet point in the mid-feet
+/// frame, `u` (unit; x forward): `forward max(u_x, 0)^2 + backward max(-u_x, 0)^2 + sideways
+/// u_y^2` ([`Self::toward`]), so equal margins are that margin in every direction. A margin
+/// steps before the DCM reaches the edge, which buys the swing time; it pays forward, where a
+/// step captures far beyond the stance. Sideways a step of the loaded foot captures no more
+/// than standing, and a small step backward drifts sideways and falls, so both step at the
+/// edge by default (docs/findings/stepping.md, "Where a step is needed"). With the `serde`
+/// feature: a number (every direction) or a table `{ forward, backward, sideways }`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
+    serde(deny_unknown_fields)
+)]
+pub struct CaptureMargin {
+    /// The margin ahead of the feet [m].
+    pub forward: f64,
+    /// The margin behind the feet [m].
+    pub backward: f64,
+    /// The margin on either side [m].
+    pub sideways: f64,
+}
+
+/// A scenario's `walking.capture_margin`: a number or a table.
+#[cfg(feature = "serde")]
+#[derive(serde::Deserialize, schemars::JsonSchema)]
+#[serde(untagged)]
+enum CaptureMarginInput {
+    /// The same margin in every direction [m].
+    Uniform(f64),
+    /// A margin per direction.
+    Directions(CaptureMargin),
+}
+
+impl CaptureMargin {
+    /// The same margin `margin` [m] in every direction.
+    pub fn uniform(margin: f64) -> Self {
+        Self {
+            forward: margin,
+            backward: margin,
+            sideways: margin,
+        }
+    }
+
+    /// The margin [m] for a DCM in the direction `direction` from the mid-feet point (mid-feet
+    /// frame; any length, zero: 0).
+    pub fn toward(&self, direction: Vector2<f64>) -> f64 {
+        let norm = direction.norm();
+        if norm <= 0.0 {
+            return 0.0;
+        }
+        let u = direction / norm;
+        self.forward * u.x.max(0.0).powi(2)
+            + self.backward * (-u.x).max(0.0).powi(2)
+            + self.sideways * u.y * u.y
+    }
+
+    /// Every margin times `scale`.
+    pub fn scaled(&self, scale: f64) -> Self {
+        Self {
+            forward: self.forward * scale,
+            backward: self.backward * scale,
+            sideways: self.sideways * scale,
+        }
+    }
+
+    /// Reads a number (every direction) or a table (every key given).
+    #[cfg(feature = "serde")]
+    fn read<'de, D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> std::result::Result<Self, D::Error> {
+        use serde::de::Error as _;
+        let input = <CaptureMarginInput as serde::Deserialize>::deserialize(deserializer).map_err(
+            |_| {
+                D::Error::custom(
+                    "expected a number or a table { forward, backward, sideways } of numbers",
+                )
+            },
+        )?;
+        Ok(match input {
+            CaptureMarginInput::Uniform(margin) => Self::uniform(margin),
+            CaptureMarginInput::Directions(margins) => margins,
+        })
     }
 }
 
@@ -303,7 +401,7 @@ impl WalkingSettings {
             min_step_width: icub.min_step_width * width_scale,
             max_step_width: icub.max_step_width * width_scale,
             min_swing_duration: icub.min_swing_duration * time_scale,
-            capture_margin: icub.capture_margin * length_scale,
+            capture_margin: icub.capture_margin.scaled(length_scale),
             step_adjustment_threshold: icub.step_adjustment_threshold * length_scale,
             ..icub
         })
@@ -385,7 +483,18 @@ impl WalkingSettings {
         }
         for (key, value) in [
             ("walking.swing_height", self.swing_height),
-            ("walking.capture_margin", self.capture_margin),
+            (
+                "walking.capture_margin.forward",
+                self.capture_margin.forward,
+            ),
+            (
+                "walking.capture_margin.backward",
+                self.capture_margin.backward,
+            ),
+            (
+                "walking.capture_margin.sideways",
+                self.capture_margin.sideways,
+            ),
             ("walking.recovery_step_offset", self.recovery_step_offset),
             ("walking.identification_settle", self.identification_settle),
             (

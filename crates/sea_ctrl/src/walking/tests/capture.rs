@@ -1,8 +1,11 @@
 //! Push-recovery steps from the capture point.
 
-use super::super::capture::{needs_step, recovery_step, swing_foot_for, StepRequest};
+use super::super::capture::{
+    needs_step, recovery_step, stance_margin, swing_foot_for, StepRequest,
+};
 use super::super::footstep::{Foot, SolePose};
 use super::super::polygon::SupportPolygon;
+use super::super::settings::CaptureMargin;
 use super::{assert_close, lip, standing, walking};
 use nalgebra::Vector2;
 use sea_dyn::ContactSurface;
@@ -55,7 +58,7 @@ fn a_dcm_inside_the_support_needs_no_step() {
     assert!(!needs_step(
         &two_feet,
         Vector2::new(0.02, 0.0),
-        settings.capture_margin
+        settings.capture_margin.forward
     ));
     assert!(
         (two_feet.signed_margin(Vector2::new(0.02, 0.0)) - 0.07).abs() < 1e-12,
@@ -65,14 +68,60 @@ fn a_dcm_inside_the_support_needs_no_step() {
     assert!(!needs_step(
         &one_foot,
         Vector2::new(0.02, -0.07),
-        settings.capture_margin
+        settings.capture_margin.forward
     ));
     // Within the margin of the front edge (10 cm ahead of the sole origin).
     assert!(needs_step(
         &one_foot,
         Vector2::new(0.095, -0.07),
-        settings.capture_margin
+        settings.capture_margin.forward
     ));
+}
+
+/// `margin` is `expected` [m] to rounding.
+fn assert_margin(margin: f64, expected: f64) {
+    assert!((margin - expected).abs() < 1e-12, "{margin} vs {expected}");
+}
+
+#[test]
+fn the_margin_follows_the_dcm_direction_from_the_mid_feet_point() {
+    let settings = walking(1, 0.0, 0.0, 0.0);
+    let surface = ContactSurface::default();
+    let stance = standing(&settings);
+    let support = SupportPolygon::of_stance(&stance, &surface);
+    let margins = CaptureMargin {
+        forward: 0.01,
+        backward: 0.004,
+        sideways: 0.002,
+    };
+    // The mid-feet point is the world origin (the feet at y = +-0.07, facing x).
+    let ahead = Vector2::new(0.095, 0.0);
+    let at_the_side = Vector2::new(0.0, 0.07 + 0.025 - 0.005);
+    let behind = Vector2::new(-0.05 + 0.003, 0.0);
+    assert_margin(stance_margin(&margins, &stance, ahead), 0.01);
+    assert_margin(stance_margin(&margins, &stance, at_the_side), 0.002);
+    assert_margin(stance_margin(&margins, &stance, behind), 0.004);
+    let diagonal = Vector2::new(0.03, 0.03);
+    assert_margin(
+        stance_margin(&margins, &stance, diagonal),
+        0.5 * 0.01 + 0.5 * 0.002,
+    );
+    assert_eq!(
+        stance_margin(&margins, &stance, Vector2::zeros()),
+        0.0,
+        "no direction"
+    );
+    // 5 mm inside the front edge: a step; 5 mm inside the outer edge: none; 3 mm inside the
+    // back edge: a step.
+    for (xi, expected) in [(ahead, true), (at_the_side, false), (behind, true)] {
+        let margin = stance_margin(&margins, &stance, xi);
+        assert_eq!(needs_step(&support, xi, margin), expected, "{xi:?}");
+    }
+    // Equal margins: the same margin in every direction.
+    let uniform = CaptureMargin::uniform(0.007);
+    for xi in [ahead, at_the_side, behind, diagonal] {
+        assert_margin(stance_margin(&uniform, &stance, xi), 0.007);
+    }
 }
 
 #[test]
@@ -83,7 +132,7 @@ fn a_dcm_ahead_asks_for_the_step_the_dcm_evolution_predicts() {
     let stance = standing(&settings);
     let xi0 = Vector2::new(0.11, 0.0);
     let support = SupportPolygon::of_stance(&stance, &surface);
-    assert!(needs_step(&support, xi0, settings.capture_margin));
+    assert!(needs_step(&support, xi0, settings.capture_margin.forward));
     let foot = swing_foot_for(&stance, xi0);
     assert_eq!(foot, Foot::Left, "on the line: the left foot");
     let step = recovery_step(
@@ -180,7 +229,7 @@ fn a_sideways_push_steps_sideways_within_the_width_limit() {
     assert!(needs_step(
         &SupportPolygon::of_stance(&stance, &surface),
         xi0,
-        settings.capture_margin
+        settings.capture_margin.forward
     ));
     let foot = swing_foot_for(&stance, xi0);
     assert_eq!(foot, Foot::Left);

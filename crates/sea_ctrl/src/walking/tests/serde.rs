@@ -1,7 +1,7 @@
 //! The settings read from a `[walking]` table (with the `serde` feature).
 
 use super::super::footstep::Foot;
-use super::super::settings::WalkingSettings;
+use super::super::settings::{CaptureMargin, WalkingSettings};
 
 /// The `[walking]` table of `text` as settings.
 fn walking_table(text: &str) -> Result<WalkingSettings, toml::de::Error> {
@@ -38,6 +38,44 @@ fn explicit_footsteps_read_as_a_table_array() {
     assert_eq!(settings.footsteps[1].foot, Foot::Right);
     assert_eq!(settings.footsteps[1].yaw, 0.1);
     settings.validate(0.01).unwrap();
+}
+
+#[test]
+fn the_capture_margin_reads_as_a_number_or_a_table() {
+    let uniform = walking_table("[walking]\ncapture_margin = 0.02\n").unwrap();
+    assert_eq!(uniform.capture_margin, CaptureMargin::uniform(0.02));
+    let table = walking_table(
+        "[walking]\ncapture_margin = { forward = 0.01, backward = 0.003, sideways = 0.0 }\n",
+    )
+    .unwrap();
+    assert_eq!(table.capture_margin.backward, 0.003);
+    let default = walking_table("[walking]\n").unwrap();
+    assert_eq!(
+        default.capture_margin,
+        WalkingSettings::default().capture_margin
+    );
+    for bad in [
+        "capture_margin = { forward = 0.01 }",
+        "capture_margin = { forward = 0.01, backward = 0, sideways = 0, up = 1 }",
+        "capture_margin = \"wide\"",
+    ] {
+        let message = walking_table(&format!("[walking]\n{bad}\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("expected a number or a table { forward, backward, sideways }"),
+            "{bad}: {message}"
+        );
+    }
+    let negative = walking_table(
+        "[walking]\ncapture_margin = { forward = 0.01, backward = -1, sideways = 0 }\n",
+    )
+    .unwrap();
+    let message = negative.validate(0.01).unwrap_err().to_string();
+    assert!(
+        message.contains("walking.capture_margin.backward"),
+        "{message}"
+    );
 }
 
 #[test]
