@@ -137,12 +137,16 @@ fn table_items(schema: &Object) -> Option<Object> {
         .filter(|items| !items.is_empty())
 }
 
-/// `schema` with a `$ref` (or an `allOf` of one `$ref`) replaced by the definition it names.
+/// `schema` with a `$ref` (or an `allOf` of one `$ref`, or an optional table: an `anyOf` of one
+/// `$ref` and `null`) replaced by the definition it names.
 fn resolved(root: &Value, schema: &Object) -> Object {
-    let reference = schema.get("$ref").or_else(|| {
-        let all = schema.get("allOf")?.as_array()?;
-        (all.len() == 1).then(|| all[0].get("$ref"))?
-    });
+    let reference = schema
+        .get("$ref")
+        .or_else(|| {
+            let all = schema.get("allOf")?.as_array()?;
+            (all.len() == 1).then(|| all[0].get("$ref"))?
+        })
+        .or_else(|| optional_reference(schema));
     let Some(path) = reference.and_then(Value::as_str) else {
         return schema.clone();
     };
@@ -150,6 +154,17 @@ fn resolved(root: &Value, schema: &Object) -> Object {
     match root.pointer(pointer).and_then(Value::as_object) {
         Some(target) => resolved(root, target),
         None => schema.clone(),
+    }
+}
+
+/// The `$ref` of an `anyOf` of one `$ref` and `{"type": "null"}` (an `Option` of a table).
+fn optional_reference(schema: &Object) -> Option<&Value> {
+    let any = schema.get("anyOf")?.as_array()?;
+    let is_null = |v: &Value| v.get("type").and_then(Value::as_str) == Some("null");
+    match any.as_slice() {
+        [a, b] if is_null(b) => a.get("$ref"),
+        [a, b] if is_null(a) => b.get("$ref"),
+        _ => None,
     }
 }
 
@@ -307,6 +322,9 @@ mod tests {
             "`disturbances[].force`",
             "`robot.description`",
             "`simulation.duration_s`",
+            "`walking.capture_margin`",
+            "`walking.command.forward_velocity`",
+            "`walking.footsteps[].yaw`",
         ] {
             assert!(page.contains(key), "{key} missing");
         }

@@ -132,7 +132,7 @@ pub struct WalkingSettings {
     /// Shortest swing of a push-recovery step [s], at least one whole-body period.
     pub min_swing_duration: f64,
     /// A step is needed when the measured capture point is outside the support polygon or
-    /// closer to its edge than this margin, taken by the DCM's direction from the mid-feet
+    /// closer to its edge than this margin [m], taken by the DCM's direction from the mid-feet
     /// point ([`CaptureMargin`]); a number is the same margin in every direction. Default:
     /// 0.01 m forward, 0 backward and sideways.
     #[cfg_attr(
