@@ -229,7 +229,7 @@ fn a_sideways_push_steps_sideways_within_the_width_limit() {
     assert!(needs_step(
         &SupportPolygon::of_stance(&stance, &surface),
         xi0,
-        settings.capture_margin.forward
+        stance_margin(&settings.capture_margin, &stance, xi0)
     ));
     let foot = swing_foot_for(&stance, xi0);
     assert_eq!(foot, Foot::Left);
