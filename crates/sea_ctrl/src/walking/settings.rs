@@ -133,8 +133,9 @@ pub struct WalkingSettings {
     pub min_swing_duration: f64,
     /// A step is needed when the measured capture point is outside the support polygon or
     /// closer to its edge than this margin [m], taken by the DCM's direction from the mid-feet
-    /// point ([`CaptureMargin`]); a number is the same margin in every direction. Default:
-    /// 0.01 m forward, 0 backward and sideways.
+    /// point ([`CaptureMargin`]): a number (the same margin in every direction) or a table
+    /// `{ forward, backward, sideways }` (a key left out: its default). Default: 0.01 m
+    /// forward, 0 backward and sideways.
     #[cfg_attr(
         feature = "serde",
         serde(deserialize_with = "CaptureMargin::read"),
@@ -226,11 +227,7 @@ impl Default for WalkingSettings {
             max_step_width: 0.25,
             max_step_turn: 0.35,
             min_swing_duration: 0.3,
-            capture_margin: CaptureMargin {
-                forward: 0.01,
-                backward: 0.0,
-                sideways: 0.0,
-            },
+            capture_margin: CaptureMargin::default(),
             swing_position_gain: 400.0,
             swing_velocity_gain: 40.0,
             settle_position_gain: 100.0,
@@ -253,17 +250,18 @@ impl Default for WalkingSettings {
 /// How close the measured DCM may come to the support polygon's edge before a recovery step
 /// is taken [m], each >= 0, by the DCM's direction from the mid-feet point in the mid-feet
 /// frame, `u` (unit; x forward): `forward max(u_x, 0)^2 + backward max(-u_x, 0)^2 + sideways
-/// u_y^2` ([`Self::toward`]), so equal margins are that margin in every direction. A margin
-/// steps before the DCM reaches the edge, which buys the swing time; it pays forward, where a
-/// step captures far beyond the stance. Sideways a step of the loaded foot captures no more
-/// than standing, and a small step backward drifts sideways and falls, so both step at the
-/// edge by default (docs/findings/stepping.md, "Where a step is needed"). With the `serde`
-/// feature: a number (every direction) or a table `{ forward, backward, sideways }`.
+/// u_y^2`, so equal margins are that margin in every direction (the direction is the DCM's,
+/// not the nearest edge's normal: near a front corner the forward margin is blended with the
+/// sideways one). A margin steps before the DCM reaches the edge, which buys the swing time;
+/// it pays forward, where a step captures far beyond the stance. Sideways a step of the loaded
+/// foot captures no more than standing, and a small step backward drifts sideways and falls,
+/// so both step at the edge by default (docs/findings/stepping.md, "Where a step is needed").
+/// A key left out of the table takes its default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
     derive(serde::Deserialize, serde::Serialize, schemars::JsonSchema),
-    serde(deny_unknown_fields)
+    serde(default, deny_unknown_fields)
 )]
 pub struct CaptureMargin {
     /// The margin ahead of the feet [m].
@@ -283,6 +281,17 @@ enum CaptureMarginInput {
     Uniform(f64),
     /// A margin per direction.
     Directions(CaptureMargin),
+}
+
+impl Default for CaptureMargin {
+    /// 0.01 m forward, 0 backward and sideways.
+    fn default() -> Self {
+        Self {
+            forward: 0.01,
+            backward: 0.0,
+            sideways: 0.0,
+        }
+    }
 }
 
 impl CaptureMargin {
@@ -317,7 +326,7 @@ impl CaptureMargin {
         }
     }
 
-    /// Reads a number (every direction) or a table (every key given).
+    /// Reads a number (every direction) or a table (a key left out: its default).
     #[cfg(feature = "serde")]
     fn read<'de, D: serde::Deserializer<'de>>(
         deserializer: D,
@@ -326,7 +335,7 @@ impl CaptureMargin {
         let input = <CaptureMarginInput as serde::Deserialize>::deserialize(deserializer).map_err(
             |_| {
                 D::Error::custom(
-                    "expected a number or a table { forward, backward, sideways } of numbers",
+                    "expected a number or a table with numbers among forward, backward, sideways",
                 )
             },
         )?;

@@ -3,12 +3,13 @@
 use super::super::capture::{
     needs_step, recovery_step, stance_margin, swing_foot_for, StepRequest,
 };
-use super::super::footstep::{Foot, SolePose};
+use super::super::footstep::{Foot, SolePose, Stance};
 use super::super::polygon::SupportPolygon;
 use super::super::settings::CaptureMargin;
 use super::{assert_close, lip, standing, walking};
 use nalgebra::Vector2;
 use sea_dyn::ContactSurface;
+use std::f64::consts::FRAC_PI_2;
 
 /// The DCM after `duration` of the LIP from its DCM `xi0` (CoM at `x0`) with the centre of
 /// pressure at `p`, by integrating `xddot = omega^2 (x - p)` (RK4).
@@ -117,6 +118,13 @@ fn the_margin_follows_the_dcm_direction_from_the_mid_feet_point() {
         let margin = stance_margin(&margins, &stance, xi);
         assert_eq!(needs_step(&support, xi, margin), expected, "{xi:?}");
     }
+    // The stance moved and turned a quarter turn: its forward is world +y.
+    let width = settings.nominal_width;
+    let turned = Stance::side_by_side(Vector2::new(1.0, 2.0), FRAC_PI_2, width);
+    let world = |local: Vector2<f64>| Vector2::new(1.0 - local.y, 2.0 + local.x);
+    assert_margin(stance_margin(&margins, &turned, world(ahead)), 0.01);
+    assert_margin(stance_margin(&margins, &turned, world(at_the_side)), 0.002);
+    assert_margin(stance_margin(&margins, &turned, world(behind)), 0.004);
     // Equal margins: the same margin in every direction.
     let uniform = CaptureMargin::uniform(0.007);
     for xi in [ahead, at_the_side, behind, diagonal] {

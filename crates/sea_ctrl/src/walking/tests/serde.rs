@@ -54,16 +54,26 @@ fn the_capture_margin_reads_as_a_number_or_a_table() {
         default.capture_margin,
         WalkingSettings::default().capture_margin
     );
+    let partial = walking_table("[walking]\ncapture_margin = { backward = 0.005 }\n").unwrap();
+    assert_eq!(
+        partial.capture_margin,
+        CaptureMargin {
+            backward: 0.005,
+            ..CaptureMargin::default()
+        }
+    );
     for bad in [
-        "capture_margin = { forward = 0.01 }",
-        "capture_margin = { forward = 0.01, backward = 0, sideways = 0, up = 1 }",
+        "capture_margin = { forward = 0.01, up = 1 }",
+        "capture_margin = { forward = \"far\" }",
         "capture_margin = \"wide\"",
     ] {
         let message = walking_table(&format!("[walking]\n{bad}\n"))
             .unwrap_err()
             .to_string();
         assert!(
-            message.contains("expected a number or a table { forward, backward, sideways }"),
+            message.contains(
+                "expected a number or a table with numbers among forward, backward, sideways"
+            ),
             "{bad}: {message}"
         );
     }
