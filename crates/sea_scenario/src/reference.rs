@@ -122,10 +122,24 @@ fn keys(root: &Value, schema: &Object, prefix: &str, rows: &mut Vec<Row>) {
         } else if let Some(items) = table_items(&inner) {
             rows.push(Row::of(root, &key, &property));
             keys(root, &items, &format!("{key}[]"), rows);
+        } else if let Some(table) = table_variant(root, &inner) {
+            rows.push(Row::of(root, &key, &property));
+            keys(root, &table, &key, rows);
         } else {
             rows.push(Row::of(root, &key, &property));
         }
     }
+}
+
+/// The table among the alternatives of a value that is one of several kinds (`anyOf`, as a
+/// number or a table of numbers by direction), if one is.
+fn table_variant(root: &Value, schema: &Object) -> Option<Object> {
+    let any = schema.get("anyOf").or_else(|| schema.get("oneOf"))?;
+    any.as_array()?
+        .iter()
+        .filter_map(Value::as_object)
+        .map(|variant| resolved(root, variant))
+        .find(|variant| variant.contains_key("properties"))
 }
 
 /// The schema of the tables of an array of tables (`[[disturbances]]`), if `schema` is one.
@@ -328,5 +342,20 @@ mod tests {
         ] {
             assert!(page.contains(key), "{key} missing");
         }
+    }
+
+    #[test]
+    fn a_number_or_table_key_lists_the_tables_keys_with_their_defaults() {
+        let page = markdown(&super::super::schema::json_schema());
+        let row = |key: &str| {
+            page.lines()
+                .find(|line| line.starts_with(&format!("| `{key}` |")))
+                .unwrap_or_else(|| panic!("{key} missing"))
+                .to_string()
+        };
+        assert!(row("walking.capture_margin").contains("number or table"));
+        assert!(row("walking.capture_margin.forward").contains("| `0.01` |"));
+        assert!(row("walking.capture_margin.sideways").contains("| `0.0` |"));
+        assert!(row("walking.max_recovery_steps").contains("| >= 1 |"));
     }
 }

@@ -32,6 +32,7 @@ pub struct WalkCommand {
     pub first_foot: Foot,
     /// The number of steps of the command (>= 1), after which one more step brings the feet
     /// side by side; set this or `duration`.
+    #[cfg_attr(feature = "serde", schemars(range(min = 1)))]
     pub steps: Option<usize>,
     /// How long to walk [s] (> 0): `floor(duration / step_duration)` steps (at least one),
     /// then the stop step; set this or `steps`.
@@ -175,6 +176,7 @@ pub struct WalkingSettings {
     pub stepping: bool,
     /// Stepping: the most recovery steps taken one after the other after a push (a second
     /// step when the first does not capture the DCM), >= 1.
+    #[cfg_attr(feature = "serde", schemars(range(min = 1)))]
     pub max_recovery_steps: usize,
     /// Stepping: the double support that moves the load off the swing foot before a
     /// recovery step lifts off [s], at least one whole-body period.
@@ -340,6 +342,11 @@ impl CaptureMargin {
             },
         )?;
         Ok(match input {
+            CaptureMarginInput::Uniform(margin) if !(margin.is_finite() && margin >= 0.0) => {
+                return Err(D::Error::custom(format!(
+                    "must be non-negative and finite, got {margin}"
+                )));
+            }
             CaptureMarginInput::Uniform(margin) => Self::uniform(margin),
             CaptureMarginInput::Directions(margins) => margins,
         })

@@ -86,6 +86,15 @@ fn the_capture_margin_reads_as_a_number_or_a_table() {
         message.contains("walking.capture_margin.backward"),
         "{message}"
     );
+    // A negative number is refused when read, as the number it is (not as one direction).
+    let message = walking_table("[walking]\ncapture_margin = -0.01\n")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("must be non-negative and finite, got -0.01")
+            && !message.contains("forward"),
+        "{message}"
+    );
 }
 
 #[test]
