@@ -825,6 +825,13 @@ fn push_reports_the_stepping_bound_on_a_stepping_scenario_and_the_gaits_pushing_
     assert!(forward["gait_bound_impulse_n_s"].is_null(), "{forward}");
     let bound = right["gait_bound_impulse_n_s"].as_f64().unwrap();
     assert!((bound - 13.67).abs() < 0.05, "{right}");
+    // walk_push.toml does not adjust its steps: every landing where the plan puts it.
+    let planned = right["adjustment_bound_impulse_n_s"].as_f64().unwrap();
+    assert!(planned < bound, "{right}");
+    assert!(
+        forward["adjustment_bound_impulse_n_s"].is_null(),
+        "{forward}"
+    );
     assert!(right.get("stepping_bound").is_none(), "{right}");
     // A scenario that does not step has no stepping bound.
     let standing = format!("{REPO}/scenarios/robot_rate/push_two_feet.toml");

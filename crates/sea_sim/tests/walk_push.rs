@@ -113,9 +113,13 @@ fn the_phase_resolves_the_push_start_inside_the_chosen_swing() {
 /// swing foot's side mirrors the axis at step 4 (the left swings).
 #[test]
 fn the_gait_bound_reads_the_walks_plan_and_maps_the_directions() {
-    use sea_sim::analysis::gait_bound::{gait_bounds, lateral_gait_of_walk, LateralSide};
+    use sea_sim::analysis::gait_bound::{
+        gait_bounds, lateral_gait_of_walk, GaitBounds, Landings, LateralSide,
+    };
     use sea_sim::analysis::push::PushDirection;
-    let (gait, world_axis) = lateral_gait_of_walk(&walk_push(), &[], 3, 0.1).unwrap();
+    let walk = lateral_gait_of_walk(&walk_push(), &[], 3, 0.1).unwrap();
+    let (gait, world_axis) = (walk.gait, walk.world_axis);
+    assert_eq!(walk.landings, Landings::Planned);
     let close = |a: f64, b: f64, tolerance: f64| (a - b).abs() <= tolerance;
     assert!(close(gait.swing_s, 0.3, 1e-12) && close(gait.double_support_s, 0.1, 1e-12));
     assert!(close(gait.width_m, 0.14, 1e-9), "{gait:?}");
@@ -143,9 +147,24 @@ fn the_gait_bound_reads_the_walks_plan_and_maps_the_directions() {
     ];
     let bounds = gait_bounds(&walk_push(), &[], at, 0.1, &directions).unwrap();
     assert_eq!(bounds[0], None);
-    assert_eq!(bounds[1], Some(gait.bound(LateralSide::TowardStance, 0.5)));
-    assert_eq!(bounds[2], Some(gait.bound(LateralSide::TowardSwing, 0.5)));
-    let (left_swing, axis) = lateral_gait_of_walk(&walk_push(), &[], 4, 0.1).unwrap();
+    let both = |side| GaitBounds {
+        within_limits: gait.bound(side, 0.5, Landings::WithinLimits),
+        adjusted: gait.bound(side, 0.5, Landings::Planned),
+    };
+    assert_eq!(bounds[1], Some(both(LateralSide::TowardStance)));
+    assert_eq!(bounds[2], Some(both(LateralSide::TowardSwing)));
+    // With the step adjustment on, its end phase is the scenario's.
+    let adjusting = [
+        ("walking.step_adjustment".to_string(), "true".to_string()),
+        (
+            "walking.step_adjustment_end_phase".to_string(),
+            "0.6".to_string(),
+        ),
+    ];
+    let walk = lateral_gait_of_walk(&walk_push(), &adjusting, 3, 0.1).unwrap();
+    assert_eq!(walk.landings, Landings::Adjusted { end_phase: 0.6 });
+    let left_swing = lateral_gait_of_walk(&walk_push(), &[], 4, 0.1).unwrap();
+    let (left_swing, axis) = (left_swing.gait, left_swing.world_axis);
     assert!(axis.y < -0.99, "{axis}");
     assert!(
         close(left_swing.width_m, gait.width_m, 1e-3),

@@ -18,7 +18,11 @@
 //!   (the QP's sole: the sole's half-width times `1 - cop_margin`);
 //! - land each foot that steps towards the push `max_step_width` from the other foot, and
 //!   each foot on the far side `min_step_width` from it (the feet never cross), at the
-//!   planned touchdowns, the swing in flight included.
+//!   planned touchdowns: every landing, the swing in flight's included
+//!   ([`Landings::WithinLimits`], what the gait's timing allows at all), or only those the
+//!   scenario's controller moves ([`Landings::of_settings`]: with `walking.step_adjustment`
+//!   the swing in flight when the push starts before `walking.step_adjustment_end_phase` of
+//!   it, and every later one; without it none), the others where the plan puts them.
 //!
 //! The DCM at any later time decreases with the CoP at every instant and with every landing
 //! on the pushed side, so these choices give the smallest excursion. The push is captured
@@ -32,6 +36,7 @@
 use super::push::{PushDirection, Stance, SwingPhase};
 use crate::error::{Error, Result};
 use nalgebra::Vector2;
+use sea_ctrl::walking::WalkingSettings;
 use sea_scenario::build::contact_frames;
 use sea_scenario::walking::walking_settings;
 use sea_scenario::{build, Scenario};
@@ -64,6 +69,46 @@ impl LateralSide {
         match self {
             LateralSide::TowardStance => 1.0,
             LateralSide::TowardSwing => -1.0,
+        }
+    }
+}
+
+/// Which landings a bound may move (module doc); a landing not moved is where the plan puts
+/// it, the walk's width from the other foot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Landings {
+    /// Every landing, the swing in flight's included, anywhere within the step widths.
+    WithinLimits,
+    /// As the controller's step adjustment (`walking.step_adjustment`) moves them: the swing
+    /// in flight only when the push starts before `end_phase` of it
+    /// (`walking.step_adjustment_end_phase`), every later one.
+    Adjusted {
+        /// The fraction of a swing after which its landing is no longer moved.
+        end_phase: f64,
+    },
+    /// Every landing where the plan puts it (`walking.step_adjustment` off).
+    Planned,
+}
+
+impl Landings {
+    /// The landings the controller of `settings` moves.
+    pub fn of_settings(settings: &WalkingSettings) -> Self {
+        if settings.step_adjustment {
+            Landings::Adjusted {
+                end_phase: settings.step_adjustment_end_phase,
+            }
+        } else {
+            Landings::Planned
+        }
+    }
+
+    /// Whether the `index`-th landing from the pushed swing's (0: the swing in flight) moves
+    /// for a push starting at `phase` of that swing.
+    fn moves(self, index: usize, phase: f64) -> bool {
+        match self {
+            Landings::WithinLimits => true,
+            Landings::Adjusted { end_phase } => index > 0 || phase < end_phase,
+            Landings::Planned => false,
         }
     }
 }
@@ -168,9 +213,15 @@ impl LateralGait {
     }
 
     /// Whether a lateral push of `impulse` [N s] towards `side`, starting at `phase` of the
-    /// swing, is captured with the best CoP and landings (module doc) within
+    /// swing, is captured with the best CoP and the best of `landings` (module doc) within
     /// [`CAPTURE_STEPS`] steps.
-    pub fn captured(&self, impulse: f64, side: LateralSide, phase: f64) -> bool {
+    pub fn captured(
+        &self,
+        impulse: f64,
+        side: LateralSide,
+        phase: f64,
+        landings: Landings,
+    ) -> bool {
         let s = side.sign();
         let half = self.half_width_m;
         let start = phase * self.swing_s;
@@ -181,11 +232,13 @@ impl LateralGait {
         let outward = [1.0, -1.0];
         let mut xi = self.dcm_at_lift_off_m;
         let (mut t, mut stance) = (0.0, 0);
-        for _ in 0..CAPTURE_STEPS {
+        for index in 0..CAPTURE_STEPS {
             xi = push.dcm_over(xi, feet[stance] + s * half, t, t + self.swing_s, w);
             t += self.swing_s;
             let swing = 1 - stance;
-            let width = if outward[swing] == s {
+            let width = if !landings.moves(index, phase) {
+                self.width_m
+            } else if outward[swing] == s {
                 self.max_width_m
             } else {
                 self.min_width_m
@@ -204,9 +257,9 @@ impl LateralGait {
     }
 
     /// The largest impulse [N s] [`Self::captured`] towards `side` at `phase` of the swing
-    /// ([`largest_captured`]).
-    pub fn bound(&self, side: LateralSide, phase: f64) -> f64 {
-        largest_captured(|impulse| self.captured(impulse, side, phase))
+    /// with `landings` ([`largest_captured`]).
+    pub fn bound(&self, side: LateralSide, phase: f64, landings: Landings) -> f64 {
+        largest_captured(|impulse| self.captured(impulse, side, phase, landings))
     }
 }
 
@@ -229,9 +282,22 @@ pub(crate) fn largest_captured(captured: impl Fn(f64) -> bool) -> f64 {
     low
 }
 
+/// A walk's lateral figures at a pushed step ([`lateral_gait_of_walk`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WalkLateral {
+    /// The figures along the axis.
+    pub gait: LateralGait,
+    /// The world (x, y) unit vector of the axis, from the swing foot towards the stance foot
+    /// (the stance sole's lateral axis).
+    pub world_axis: Vector2<f64>,
+    /// The landings the scenario's controller moves ([`Landings::of_settings`]).
+    pub landings: Landings,
+}
+
 /// A walk's lateral figures at the lift-off of step `step` of its plan
-/// ([`LateralGait`]), and the world (x, y) unit vector of its axis (from the swing foot
-/// towards the stance foot, the stance sole's lateral axis): the scenario at `path` with
+/// ([`LateralGait`]), the world (x, y) unit vector of its axis (from the swing foot
+/// towards the stance foot, the stance sole's lateral axis) and the landings its controller
+/// moves ([`WalkLateral`]): the scenario at `path` with
 /// `overrides` built, the gait its controller plans, the robot's mass and pendulum, the swing
 /// of the step and the double support after it, the feet and the plan's DCM at the lift-off
 /// in the stance sole's frame, `walking.min_step_width` and `max_step_width`, the sole's
@@ -244,7 +310,7 @@ pub fn lateral_gait_of_walk(
     overrides: &[(String, String)],
     step: usize,
     push_duration_s: f64,
-) -> Result<(LateralGait, Vector2<f64>)> {
+) -> Result<WalkLateral> {
     let scenario = Scenario::from_file(path, overrides)?;
     let setup = build(&scenario)?;
     let model = &setup.model;
@@ -292,7 +358,11 @@ pub fn lateral_gait_of_walk(
             format!("step {step}: the swing foot is not beside the stance foot"),
         ));
     }
-    Ok((lateral, world_axis))
+    Ok(WalkLateral {
+        gait: lateral,
+        world_axis,
+        landings: Landings::of_settings(&settings),
+    })
 }
 
 /// Half the lateral extent `[y_min, y_max]` of the QP's sole [m]: the CoP's room on either
@@ -302,7 +372,16 @@ fn half_width([y_min, y_max]: [f64; 2]) -> f64 {
     0.5 * (y_max - y_min)
 }
 
-/// The bound of [`LateralGait::bound`] for a push along each of `directions` at `at` of the
+/// The two bounds [N s] of a sideways push on a walk ([`gait_bounds`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GaitBounds {
+    /// With every landing within the step widths ([`Landings::WithinLimits`]).
+    pub within_limits: f64,
+    /// With the landings the scenario's controller moves ([`Landings::of_settings`]).
+    pub adjusted: f64,
+}
+
+/// The bounds of [`LateralGait::bound`] for a push along each of `directions` at `at` of the
 /// walk of the scenario at `path` with `overrides`, `push_duration_s` long: `None` for a
 /// direction more along the walk than across it (more than 45 degrees from the stance sole's
 /// lateral axis; forward and backward on a straight walk).
@@ -314,13 +393,13 @@ pub fn gait_bounds(
     at: SwingPhase,
     push_duration_s: f64,
     directions: &[PushDirection],
-) -> Result<Vec<Option<f64>>> {
-    let (lateral, world_axis) = lateral_gait_of_walk(path, overrides, at.step, push_duration_s)?;
+) -> Result<Vec<Option<GaitBounds>>> {
+    let walk = lateral_gait_of_walk(path, overrides, at.step, push_duration_s)?;
     let stance = Stance::of(&Scenario::from_file(path, overrides)?)?;
     Ok(directions
         .iter()
         .map(|&direction| {
-            let across = stance.direction(direction).dot(&world_axis);
+            let across = stance.direction(direction).dot(&walk.world_axis);
             let side = if across >= FRAC_1_SQRT_2 {
                 LateralSide::TowardStance
             } else if across <= -FRAC_1_SQRT_2 {
@@ -328,7 +407,11 @@ pub fn gait_bounds(
             } else {
                 return None;
             };
-            Some(lateral.bound(side, at.phase))
+            let bound = |landings| walk.gait.bound(side, at.phase, landings);
+            Some(GaitBounds {
+                within_limits: bound(Landings::WithinLimits),
+                adjusted: bound(walk.landings),
+            })
         })
         .collect())
 }
@@ -377,7 +460,7 @@ mod tests {
         ];
         for (side, expected) in script {
             for (phase, want) in phases.into_iter().zip(expected) {
-                let got = gait.bound(side, phase);
+                let got = gait.bound(side, phase, Landings::WithinLimits);
                 assert!(
                     (got - want).abs() < 1.5e-4,
                     "{side:?} at {phase}: {got} vs {want}"
@@ -387,9 +470,57 @@ mod tests {
     }
 
     #[test]
+    fn after_the_adjustments_end_phase_the_bound_is_the_scripts_with_the_swing_not_moved() {
+        // `scripts/lateral_push_bound.py`'s bound() with `landing_speed=0.0` (the swing in
+        // flight lands where it lifted off, the later landings within the widths) at 0.8,
+        // 0.9 and 1 of the swing.
+        let gait = script_gait();
+        let adjusted = Landings::Adjusted { end_phase: 0.8 };
+        let script = [
+            (LateralSide::TowardStance, [15.777242, 17.99587, 20.526505]),
+            (LateralSide::TowardSwing, [14.573658, 16.623044, 18.960619]),
+        ];
+        for (side, expected) in script {
+            for (phase, want) in [0.8, 0.9, 1.0].into_iter().zip(expected) {
+                let got = gait.bound(side, phase, adjusted);
+                assert!(
+                    (got - want).abs() < 1.5e-4,
+                    "{side:?} at {phase}: {got} vs {want}"
+                );
+                assert!(got < gait.bound(side, phase, Landings::WithinLimits));
+            }
+        }
+    }
+
+    #[test]
+    fn before_the_end_phase_the_adjusted_bound_is_every_landings_and_the_plans_is_below() {
+        let gait = script_gait();
+        let adjusted = Landings::Adjusted { end_phase: 0.8 };
+        for side in [LateralSide::TowardStance, LateralSide::TowardSwing] {
+            for phase in [0.0, 0.2, 0.5, 0.79] {
+                let within = gait.bound(side, phase, Landings::WithinLimits);
+                assert_eq!(gait.bound(side, phase, adjusted), within);
+                let planned = gait.bound(side, phase, Landings::Planned);
+                assert!(
+                    planned < within,
+                    "{side:?} at {phase}: {planned} vs {within}"
+                );
+            }
+        }
+        let mut settings = WalkingSettings::default();
+        assert_eq!(Landings::of_settings(&settings), Landings::Planned);
+        settings.step_adjustment = true;
+        settings.step_adjustment_end_phase = 0.7;
+        assert_eq!(
+            Landings::of_settings(&settings),
+            Landings::Adjusted { end_phase: 0.7 }
+        );
+    }
+
+    #[test]
     fn the_bound_grows_with_the_soles_room_and_the_step_width_and_shrinks_with_mass() {
         let gait = script_gait();
-        let base = gait.bound(LateralSide::TowardStance, 0.5);
+        let base = gait.bound(LateralSide::TowardStance, 0.5, Landings::WithinLimits);
         let variants = [
             (
                 LateralGait {
@@ -421,7 +552,7 @@ mod tests {
             ),
         ];
         for (variant, larger) in variants {
-            let bound = variant.bound(LateralSide::TowardStance, 0.5);
+            let bound = variant.bound(LateralSide::TowardStance, 0.5, Landings::WithinLimits);
             assert_eq!(bound > base, larger, "{variant:?}: {bound} vs {base}");
         }
     }
@@ -430,9 +561,10 @@ mod tests {
     fn an_impulse_just_over_the_bound_is_not_captured_and_one_just_under_is() {
         let gait = script_gait();
         for side in [LateralSide::TowardStance, LateralSide::TowardSwing] {
-            let bound = gait.bound(side, 0.2);
-            assert!(gait.captured(bound * 0.999, side, 0.2));
-            assert!(!gait.captured(bound * 1.001, side, 0.2));
+            let within = Landings::WithinLimits;
+            let bound = gait.bound(side, 0.2, within);
+            assert!(gait.captured(bound * 0.999, side, 0.2, within));
+            assert!(!gait.captured(bound * 1.001, side, 0.2, within));
         }
     }
 

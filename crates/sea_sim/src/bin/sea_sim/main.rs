@@ -65,7 +65,8 @@ enum Command {
     /// Find, per direction, the largest impulse of a short push on a link that the closed loop
     /// recovers from (bisection on full runs, directions in parallel), with the stance's
     /// capture-point bound (with `--phase`, pushing a walk: also the gait's bound on a
-    /// sideways push, `gait_bound_impulse_n_s`; on a scenario with `walking.stepping`, the
+    /// sideways push, `gait_bound_impulse_n_s`, and with the landings the step adjustment
+    /// moves, `adjustment_bound_impulse_n_s`; on a scenario with `walking.stepping`, the
     /// stepping settings' bound, `stepping_bound`); prints a JSON report.
     Push(push::PushArgs),
     /// Print the JSON Schema of scenario files (derived from the types that read them; the

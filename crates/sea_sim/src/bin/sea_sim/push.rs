@@ -36,8 +36,11 @@ pub(crate) struct PushArgs {
     /// step `--step`'s, the time the scenario's walking plan's (rounded to a plant step).
     /// Each sideways row then also gives `gait_bound_impulse_n_s`: the largest push the
     /// gait's timing and step widths could capture with the best centre of pressure and
-    /// landings (the linear inverted pendulum, `sea_study::analysis::gait_bound`); `null`
-    /// forward and backward. `capture_point_impulse_n_s` stays the initial stance's.
+    /// landings (the linear inverted pendulum, `sea_study::analysis::gait_bound`), and
+    /// `adjustment_bound_impulse_n_s`: the same with only the landings the controller's step
+    /// adjustment moves (`walking.step_adjustment`: the swing in flight when the push starts
+    /// before `walking.step_adjustment_end_phase`, and the later ones; without it, none);
+    /// `null` forward and backward. `capture_point_impulse_n_s` stays the initial stance's.
     #[arg(long)]
     phase: Option<f64>,
     /// With `--phase`: the step whose swing is pushed, counted from 0 in the plan's order.
@@ -134,27 +137,40 @@ fn fixed_rows(
 /// The step `--phase` pushes by default: the fourth (0-based 3), the walk under way.
 const DEFAULT_PUSHED_STEP: usize = 3;
 
-/// Per direction, the bound the report adds to its row, with its key: pushing a walk (`at`),
-/// the gait's bound on a sideways push (`gait_bound_impulse_n_s`, `null` along the walk); on
-/// a scenario that steps, the stepping settings' bound (`stepping_bound`); none otherwise.
+/// Per direction, the bounds the report adds to its row, with their keys: pushing a walk
+/// (`at`), the gait's bounds on a sideways push (`gait_bound_impulse_n_s` with every landing
+/// within the step widths, `adjustment_bound_impulse_n_s` with those the controller's step
+/// adjustment moves; `null` along the walk); on a scenario that steps, the stepping
+/// settings' bound (`stepping_bound`); none otherwise.
 fn bounds_by_direction(
     args: &PushArgs,
     at: Option<SwingPhase>,
     directions: &[PushDirection],
-) -> sea_sim::Result<Vec<(&'static str, serde_json::Value)>> {
+) -> sea_sim::Result<Vec<Vec<(&'static str, serde_json::Value)>>> {
     let (path, overrides, duration) = (&args.scenario, &args.overrides, args.duration);
     if let Some(at) = at {
         let bounds = gait_bounds(path, overrides, at, duration, directions)?;
         return Ok(bounds
             .into_iter()
-            .map(|bound| ("gait_bound_impulse_n_s", serde_json::json!(bound)))
+            .map(|bounds| {
+                vec![
+                    (
+                        "gait_bound_impulse_n_s",
+                        serde_json::json!(bounds.map(|b| b.within_limits)),
+                    ),
+                    (
+                        "adjustment_bound_impulse_n_s",
+                        serde_json::json!(bounds.map(|b| b.adjusted)),
+                    ),
+                ]
+            })
             .collect());
     }
     let stepping = stepping_bounds_json(path, overrides, duration, directions)?;
     Ok(stepping
+        .unwrap_or_default()
         .into_iter()
-        .flatten()
-        .map(|bound| ("stepping_bound", bound))
+        .map(|bound| vec![("stepping_bound", bound)])
         .collect())
 }
 
@@ -188,8 +204,10 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
         Some(impulses) => fixed_rows(args, &options, &directions, impulses)?,
         None => bisected_rows(args, &options, &directions)?,
     };
-    for (row, (key, bound)) in rows.iter_mut().zip(bounds) {
-        row[key] = bound;
+    for (row, bounds) in rows.iter_mut().zip(bounds) {
+        for (key, bound) in bounds {
+            row[key] = bound;
+        }
     }
     let mut json = serde_json::json!({
         "scenario": args.scenario,
