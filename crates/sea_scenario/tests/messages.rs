@@ -64,6 +64,7 @@ const KEYS: &[&str] = &[
     "controller.qp_unconstrained_first",
     "controller.rate_hz",
     "controller.reflected_inertia",
+    "controller.relaxed_angular_weight",
     "controller.sampling",
     "controller.stiffness_estimate_joint_scales",
     "controller.stiffness_estimate_joint_scales.l_knee",

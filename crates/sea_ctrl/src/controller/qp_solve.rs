@@ -83,7 +83,10 @@ impl MomentumController {
         relaxed_momentum_objective(
             (&terms.momentum_map, &terms.momentum_target),
             (&terms.sigma, &terms.tau_bias),
-            RelaxedMomentumWeights::default(),
+            RelaxedMomentumWeights {
+                angular: self.settings.tuning.relaxed_angular_weight,
+                ..RelaxedMomentumWeights::default()
+            },
             self.settings.tuning.qp_regularization,
             hessian,
             gradient,

@@ -151,13 +151,21 @@ impl ControllerSettings {
                 return Err(Error::config(key, message));
             }
         }
-        let moment = self.tuning.qp_moment_regularization;
-        if !(moment.is_finite() && moment >= 0.0) {
-            let message = format!("must be finite and non-negative, got {moment}");
-            return Err(Error::config(
+        let weights = [
+            (
                 "controller.qp_moment_regularization",
-                message,
-            ));
+                self.tuning.qp_moment_regularization,
+            ),
+            (
+                "controller.relaxed_angular_weight",
+                self.tuning.relaxed_angular_weight,
+            ),
+        ];
+        for (key, weight) in weights {
+            if !(weight.is_finite() && weight >= 0.0) {
+                let message = format!("must be finite and non-negative, got {weight}");
+                return Err(Error::config(key, message));
+            }
         }
         Ok(())
     }

@@ -6,7 +6,7 @@
 //! joints, the robot description's gains) is resolved when the controller is built.
 
 use super::settings::MomentumRelaxation;
-use crate::qp::QpSolver;
+use crate::qp::{QpSolver, RelaxedMomentumWeights};
 use std::collections::BTreeMap;
 
 /// The controller's tuning (module doc). With the `serde` feature, the keys of the same names
@@ -124,6 +124,17 @@ pub struct ControllerTuning {
     /// "none" (the paper's QP; the minimiser without the contact constraints is used) or
     /// "when_infeasible" (the closest momentum rate the contacts can produce).
     pub momentum_relaxation: MomentumRelaxation,
+    /// With `momentum_relaxation = "when_infeasible"`: the weight of the relaxed task's
+    /// angular rows against its linear rows' 1 [1/m^2] (default 0.1: the CoM's rate kept
+    /// before the angular momentum's, a hip strategy). While walking the moments about the
+    /// CoM must not give way first: walk_fast.toml with the relaxation completes its 51 steps
+    /// at 1 or more and diverges after 36 at 0.1 (docs/findings/stepping.md).
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "sea_dyn::bounded::NonNegative::read"),
+        schemars(with = "sea_dyn::bounded::NonNegative")
+    )]
+    pub relaxed_angular_weight: f64,
     /// Skip the QP solver when the QP's minimiser without inequalities satisfies them (it is
     /// then the optimum: the KKT conditions hold with zero multipliers); `false` runs the
     /// solver every tick.
@@ -165,6 +176,7 @@ impl Default for ControllerTuning {
             qp_regularization: 1e-3,
             qp_moment_regularization: 0.0,
             momentum_relaxation: MomentumRelaxation::default(),
+            relaxed_angular_weight: RelaxedMomentumWeights::default().angular,
             qp_unconstrained_first: true,
             qp_solver: QpSolver::default(),
             reflected_inertia: true,
