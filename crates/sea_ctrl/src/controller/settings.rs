@@ -134,9 +134,10 @@ impl ControllerSettings {
         Ok(())
     }
 
-    /// The gains and the QP's contact-moment weight: finite and non-negative.
+    /// The gains and the QP's weights (contact moments, the relaxed task's angular rows):
+    /// finite and non-negative.
     fn validate_gains(&self) -> Result<()> {
-        let gains: [(&str, &[f64]); 4] = [
+        let gains: [(&str, &[f64]); 6] = [
             (
                 "controller.momentum_proportional",
                 &self.momentum_proportional,
@@ -144,26 +145,18 @@ impl ControllerSettings {
             ("controller.momentum_integral", &self.momentum_integral),
             ("controller.postural_stiffness", &self.postural_stiffness),
             ("controller.postural_damping", &self.postural_damping),
+            (
+                "controller.qp_moment_regularization",
+                std::slice::from_ref(&self.tuning.qp_moment_regularization),
+            ),
+            (
+                "controller.relaxed_angular_weight",
+                std::slice::from_ref(&self.tuning.relaxed_angular_weight),
+            ),
         ];
         for (key, values) in gains {
             if let Some(g) = values.iter().find(|g| !(g.is_finite() && **g >= 0.0)) {
                 let message = format!("must be finite and non-negative, got {g}");
-                return Err(Error::config(key, message));
-            }
-        }
-        let weights = [
-            (
-                "controller.qp_moment_regularization",
-                self.tuning.qp_moment_regularization,
-            ),
-            (
-                "controller.relaxed_angular_weight",
-                self.tuning.relaxed_angular_weight,
-            ),
-        ];
-        for (key, weight) in weights {
-            if !(weight.is_finite() && weight >= 0.0) {
-                let message = format!("must be finite and non-negative, got {weight}");
                 return Err(Error::config(key, message));
             }
         }
