@@ -22,13 +22,15 @@
 //! Touchdown from the feet's force/torque sensors ([`MomentumController::set_foot_forces`],
 //! the stack hands them over after each period): a swinging foot past its mid-swing
 //! ([`crate::walking::Footstep::mid_swing`]) whose measured normal force exceeds
-//! [`TOUCHDOWN_FORCE_FRACTION`] of the robot's weight has landed early: it is held from then
-//! on (a foot on the ground with no planned load until the plan's double support hands it
-//! some). A foot the plan has landed whose normal force has stayed below that since its
-//! mid-swing is late: through that double support it keeps descending from its landing pose
-//! at [`LATE_TOUCHDOWN_SPEED`], with no planned load, until the sensor sees it. Once seen
-//! loaded it has landed, and a normal force chattering about the threshold afterwards does
-//! not make it late again.
+//! [`TOUCHDOWN_FORCE_FRACTION`] of the robot's weight has landed early: it is held while its
+//! sensor reads it loaded (a foot on the ground with no planned load until the plan's double
+//! support hands it some); one that bounces off before the plan lands it follows its swing
+//! again until it is loaded again (docs/findings/stepping.md, "The touchdowns' infeasible
+//! double supports"). A foot the plan has landed whose normal force has stayed below that
+//! since its mid-swing is late: through that double support it keeps descending from its
+//! landing pose at [`LATE_TOUCHDOWN_SPEED`], with no planned load, until the sensor sees it.
+//! Once seen loaded it has landed, and a normal force chattering about the threshold
+//! afterwards does not make it late again.
 
 use super::step_adjustment::StepAdjusting;
 use super::stepping::Stepping;
@@ -185,7 +187,7 @@ pub const MAX_SHARE_PENALTY: f64 = 1e4;
 enum Touchdown {
     /// The plan stands.
     AsPlanned,
-    /// A swinging foot loaded past its mid-swing: held on the ground from now on.
+    /// A swinging foot loaded past its mid-swing: held on the ground at this tick.
     Early,
     /// A foot the plan has landed `since` [s] ago and the sensors have not seen loaded since
     /// its mid-swing: it keeps descending.
@@ -619,6 +621,13 @@ mod tests {
         let unloaded = sensed(false, 0.9);
         assert_eq!(
             touchdown(&swing, &step, true, unloaded, 1.2, 1.3),
+            Touchdown::AsPlanned
+        );
+        // Loaded at 1.2 s, bounced off by 1.22 s: its swing again until loaded again (holding
+        // it from the first contact on lost walks, docs/findings/stepping.md).
+        let bounced = sensed(false, 1.2);
+        assert_eq!(
+            touchdown(&swing, &step, true, bounced, 1.22, 1.3),
             Touchdown::AsPlanned
         );
     }
