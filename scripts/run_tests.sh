@@ -19,7 +19,7 @@ echo "== cargo tests"
 cargo test --release --workspace
 # The walks of robots from example-robot-data (installed with the test extras, found through
 # VIRTUAL_ENV); ignored by a plain `cargo test`, where the models may be missing.
-cargo test --release -p sea_scenario --test walking -- --ignored talos_walks
+cargo test --release -p sea_scenario --test integration -- --ignored talos_walks
 
 echo "== pytest"
 python -m pytest python_tests -q -p no:cacheprovider

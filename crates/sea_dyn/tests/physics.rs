@@ -4,7 +4,7 @@
 //! CoM Jacobian, frame Jacobians, `Jdot nu` and `Adot_G nu` against finite differences along
 //! `integrate`, and the centroidal split against a dense Schur complement.
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{DMatrix, DVector, Vector3, Vector6};

@@ -8,7 +8,7 @@
 //! checked exactly: `L^-T e_i` is zero outside the ancestors of DOF i, `L^-1 e_i` outside its
 //! descendants.
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{DMatrix, DVector};

@@ -2,7 +2,7 @@
 //! element; physically doubtful ones load with warnings naming it (strict loading refuses
 //! them); reduced models (locked joints) and reordered joint lists agree with the full model.
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{DMatrix, DVector};

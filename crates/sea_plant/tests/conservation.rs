@@ -14,7 +14,7 @@
 //!   `H = A_G(q) nu` is conserved, whatever the motor torques; the rotors' momentum
 //!   `sum b thetadot` is not (and neither is the sum).
 
-mod support;
+use crate::support;
 
 use sea_dyn::sample::Lcg;
 use sea_dyn::{Data, ElasticParameters, Model};

@@ -11,7 +11,7 @@
 //!   (Newton-Euler of the whole robot: only gravity and the contact wrenches change H);
 //! - per elastic joint, eq:alpha, eq:tauMotors and eq:motors.
 
-mod support;
+use crate::support;
 
 use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 use sea_dyn::sample::Lcg;

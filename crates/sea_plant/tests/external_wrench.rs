@@ -4,7 +4,7 @@
 //! link's origin `p` changes the centroidal momentum at the rate
 //! `Hdot = A_G(q) nudot = [f; (p - p_com) x f + n]`, whatever the internal joint torques.
 
-mod support;
+use crate::support;
 
 use nalgebra::Vector3;
 use sea_dyn::centroidal::{centroidal_momentum_matrix, com};

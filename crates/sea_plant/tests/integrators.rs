@@ -9,7 +9,7 @@
 //!   rad/s; at `dt = 1 ms` RK4 is outside its stability region (`|dt lambda| < 2.79` on the
 //!   imaginary axis) and blows up, while the L-stable ROS2 stays bounded.
 
-mod support;
+use crate::support;
 
 use sea_dyn::sample::Lcg;
 use sea_dyn::Data;

@@ -53,8 +53,9 @@ fn run(
 /// planned, the CoM and its reference (x, y, z) and the soles' positions and pitch at every
 /// fifth record (50 ms at the scenario's 100 Hz; every fifth plant step under continuous
 /// sampling) from `STEP_FROM` [s] (0.95 unless set), with `STEP_JOINTS` set the knees' and
-/// ankles' pitch; `STEP_SET` holds `key=value` overrides separated by `;;` (values may hold
-/// commas).
+/// ankles' pitch, with `STEP_FORCES` set the feet's forces at every sample first
+/// ([`print_the_feet_forces`]); `STEP_SET` holds `key=value` overrides separated by `;;`
+/// (values may hold commas).
 #[test]
 #[ignore]
 fn print_a_push() {
@@ -88,6 +89,9 @@ fn print_a_push() {
         ["l_knee", "l_ankle_pitch", "r_knee", "r_ankle_pitch"]
             .map(|name| model.joint_names.iter().position(|n| n == name).unwrap())
     });
+    if std::env::var("STEP_FORCES").is_ok() {
+        print_the_feet_forces(&record, model, &frames);
+    }
     for (row, x) in record.state.chunks(nx).enumerate().step_by(5) {
         let t = record.time[row];
         if t < from {
@@ -112,6 +116,33 @@ fn print_a_push() {
                 knee_ankle[0], knee_ankle[1], knee_ankle[2], knee_ankle[3]
             );
         }
+    }
+}
+
+/// One line per recorded sample: `F t`, then for each contact the sum of its points' forces
+/// on the foot (world axes) and its sole's origin (world).
+fn print_the_feet_forces(record: &RunRecord, model: &sea_dyn::Model, frames: &[usize]) {
+    let nx = record.state.len() / record.time.len();
+    let n_points: usize = record.contact_points.iter().sum();
+    let mut data = sea_dyn::Data::new(model);
+    for (row, x) in record.state.chunks(nx).enumerate() {
+        sea_dyn::forward_kinematics(model, &mut data, &x[..model.nq()]);
+        let forces = &record.contact_point_forces[3 * n_points * row..3 * n_points * (row + 1)];
+        let mut line = format!("F {:.5}", record.time[row]);
+        let mut first_point = 0;
+        for (contact, &count) in record.contact_points.iter().enumerate() {
+            let points = &forces[3 * first_point..3 * (first_point + count)];
+            let sum = points
+                .chunks(3)
+                .fold([0.0; 3], |s, f| [s[0] + f[0], s[1] + f[1], s[2] + f[2]]);
+            first_point += count;
+            let sole = sea_dyn::frame_placement(model, &data, frames[contact]).translation;
+            line += &format!(
+                " {} {} {} {} {} {}",
+                sum[0], sum[1], sum[2], sole.x, sole.y, sole.z
+            );
+        }
+        println!("{line}");
     }
 }
 

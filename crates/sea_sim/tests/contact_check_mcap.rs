@@ -6,7 +6,7 @@
 //! so their normal force is zero), and pushed 20 N s (the feet tip onto their toes, then
 //! lift, before the robot falls).
 
-mod support;
+use crate::support;
 
 use foxglove::messages::Log;
 use foxglove::Decode;

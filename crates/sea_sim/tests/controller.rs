@@ -1,6 +1,6 @@
 //! Controller checks on the iCub: static consistency with the plant, QP constraints, Lemma 1.
 
-mod support;
+use crate::support;
 
 use sea_ctrl::qp::QpCounters;
 use sea_sim::closed_loop::build;

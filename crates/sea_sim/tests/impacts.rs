@@ -4,7 +4,7 @@
 //! `/contact_points` and the `contact_points` entity of `/scene` show the soles' points with
 //! their forces. A bilateral run has neither channel.
 
-mod support;
+use crate::support;
 
 use foxglove::messages::{Log, SceneUpdate};
 use foxglove::Decode;

@@ -1,7 +1,7 @@
 //! The margin scan around the scenario's own value: a stable island narrower than the grid's
 //! spacing is found, and a scan that saw one side only says so (issue 19).
 
-mod support;
+use crate::support;
 
 use sea_sim::analysis::{
     scenario_value, stability_margin_report, IslandEnd, MarginConclusion, MarginMethod,

@@ -3,7 +3,7 @@
 //! channels plus one `/robot` message, not one per sample. The robots come from the PyPI
 //! package `example-robot-data` (a test dependency) in the project's `.venv` or the active
 //! `$VIRTUAL_ENV`; without it the test says so and checks nothing.
-//! `cargo test --release -p sea_sim --test mcap_meshes -- --nocapture` prints the sizes.
+//! `cargo test --release -p sea_sim --test integration mcap_meshes:: -- --nocapture` prints the sizes.
 
 use sea_ctrl::qp::QpStatus;
 use sea_dyn::{LoadOptions, Model, StateLayout};

@@ -5,7 +5,7 @@
 //! diverge, and (its joint torques sensed through the stiffness estimate) a stiffness estimate
 //! off by x0.5 without identification.
 
-mod support;
+use crate::support;
 
 use nalgebra::DVector;
 use sea_ctrl::generalized_disturbance::{AppliedForces, GeneralizedDisturbanceObserver};

@@ -2,7 +2,7 @@
 //! torque loops at 1 kHz on the paper's tracking scenario, its period map's growth rate
 //! against simulation, and the scenario errors of its keys.
 
-mod support;
+use crate::support;
 
 use sea_sim::analysis::linearize::{closed_loop_system, LinearizeOptions};
 use sea_sim::analysis::system::{difference, difference_slots};

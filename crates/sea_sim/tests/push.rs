@@ -6,7 +6,7 @@
 //! push; the capture-point bound of the stance; the push window is applied over exactly its
 //! plant steps; bad `[[disturbances]]` input names its key.
 
-mod support;
+use crate::support;
 
 use nalgebra::{Vector2, Vector3, Vector6};
 use sea_plant::PlantData;

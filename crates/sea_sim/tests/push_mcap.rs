@@ -4,7 +4,7 @@
 //! (zero outside it), and the fall is a `foxglove.Log` warning on `/events` at its time plus the
 //! metadata record `run`.
 
-mod support;
+use crate::support;
 
 use foxglove::messages::SceneUpdate;
 use foxglove::Decode;

@@ -7,7 +7,7 @@
 //! normal force, low friction) make sure active constraints are exercised; and a property
 //! test compares the two on random well-posed wrench QPs of the controller's shape.
 
-mod support;
+use crate::support;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Vector3};
 use proptest::prelude::*;

@@ -3,7 +3,7 @@
 //! tracking against stiffness estimates off by x0.5 to x2, where the loop without it falls or
 //! diverges (docs/findings/robot_rate.md).
 
-mod support;
+use crate::support;
 
 use sea_ctrl::external_wrench::low_pass_blend;
 use sea_ctrl::stiffness_id::{IdentificationSettings, StiffnessIdentifier};

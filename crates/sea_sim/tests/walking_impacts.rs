@@ -3,11 +3,11 @@
 //! touchdown the foot's velocity jump, the largest joint torque change and joint velocity jump
 //! over the joints, the peak spring torque and motor velocity (elastic). Prints the table of
 //! docs/findings/walking_impacts.md:
-//! `cargo test --release -p sea_sim --test walking_impacts -- --ignored --nocapture`.
+//! `cargo test --release -p sea_sim --test integration walking_impacts:: -- --ignored --nocapture`.
 //! The test that runs by default checks that both actuations report the joint-side figures of
 //! every touchdown of a short walk.
 
-mod support;
+use crate::support;
 
 use sea_loop::impacts::SPEED_AFTER_S;
 use sea_sim::closed_loop::{run_with_sinks, ImpactKind, RecordSink, RunRecord, Summary};

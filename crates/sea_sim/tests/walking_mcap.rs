@@ -6,7 +6,7 @@
 //! measured lift-offs on `/events` beside the touchdowns. The plan compared with is the
 //! controller's own (`MomentumController::gait`). A run without `[walking]` draws none of it.
 
-mod support;
+use crate::support;
 
 use foxglove::messages::{Log, SceneEntity, SceneUpdate};
 use foxglove::Decode;
