@@ -33,6 +33,7 @@ mod sensing;
 mod stiffness_identification;
 mod summary_keys;
 mod sweep;
+mod test_layout;
 mod walk_push;
 mod walking_impacts;
 mod walking_mcap;
