@@ -120,7 +120,9 @@ fn print_a_push() {
 }
 
 /// One line per recorded sample: `F t`, then for each contact the sum of its points' forces
-/// on the foot (world axes) and its sole's origin (world).
+/// on the foot (world axes) and its sole's origin (world). The points' forces at the sample's
+/// state, each within its friction cone, rather than the record's `contact_wrenches` (what
+/// the sample's first plant step delivered): the friction ratio of the state.
 fn print_the_feet_forces(record: &RunRecord, model: &sea_dyn::Model, frames: &[usize]) {
     let nx = record.state.len() / record.time.len();
     let n_points: usize = record.contact_points.iter().sum();
