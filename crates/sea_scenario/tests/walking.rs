@@ -701,7 +701,10 @@ fn talos_walks_0_35_m_steps_with_the_stiffness_estimate_off_under_the_identifica
         for (name, parameters) in setup.elastic_names.iter().zip(truth) {
             if name.starts_with("leg_") {
                 let error = estimates[name] / parameters.stiffness - 1.0;
-                assert!(error.abs() < 0.05, "x{scale}, {name}: estimate off by {error}");
+                assert!(
+                    error.abs() < 0.05,
+                    "x{scale}, {name}: estimate off by {error}"
+                );
                 legs += 1;
             }
         }
