@@ -4,6 +4,7 @@ scenario's tables is the scenario's controller."""
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -276,3 +277,17 @@ def test_end_period_names_a_bad_reading() -> None:
     with pytest.raises(ValueError, match=r"mean_wrenches\[2\]"):
         controller.end_period(wrenches, torques, wrenches, torques, mean_wrenches=bad)
     assert controller.command.shape == (n,)
+
+
+def test_a_walking_command_the_step_limits_clip_warns_naming_the_key() -> None:
+    walk = ROOT / "scenarios" / "walking" / "walk_straight.toml"
+    fast = {"walking.command.forward_velocity": 1.0, "simulation.duration_s": 0.02}
+    pattern = r"walking\.command\.forward_velocity = 1 m/s .* walking\.max_step_length allows"
+    with pytest.warns(UserWarning, match=pattern):
+        sm.Scenario.load(walk, fast)
+    with pytest.warns(UserWarning, match=pattern):
+        result = sm.run_scenario(walk, fast)
+    assert result.summary.status == "completed"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sm.Scenario.load(walk, {"simulation.duration_s": 0.02})

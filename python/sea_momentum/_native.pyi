@@ -547,7 +547,8 @@ class Scenario:
 
     @staticmethod
     def load(path: str | PathLike[str], overrides: Mapping[str, object] | None = None) -> Scenario:
-        """Builds the scenario file ``path`` with ``overrides`` ({"controller.kind": "rigid"})."""
+        """Builds the scenario file ``path`` with ``overrides`` ({"controller.kind": "rigid"}).
+        A walking command the step limits clip is a ``UserWarning`` naming the keys."""
     @property
     def name(self) -> str:
         """The scenario's name."""

@@ -144,6 +144,9 @@ def run_scenario(
     (a :class:`~sea_momentum.results.RunSummary`). ``package_dirs`` are searched first for the
     URDF's ``package://`` meshes drawn in the log (as ``sea-sim run --package-dir``); a mesh
     the log cannot draw is a ``UserWarning`` naming the link and the URI (the log draws a box).
+    A walking command the step limits clip (``walking.command.forward_velocity`` beyond
+    ``walking.max_step_length`` per step, ...) is a ``UserWarning`` naming both keys and the
+    speed the walk goes at, issued before the run.
 
     Ctrl-C stops the run within a fraction of a second (the MCAP log is finished) and raises
     ``KeyboardInterrupt``; what was computed is its ``partial`` attribute, a

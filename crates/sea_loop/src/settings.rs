@@ -29,6 +29,9 @@ pub struct Setup {
     pub posture: PostureReference,
     /// Elastic joint names (order of theta).
     pub elastic_names: Vec<String>,
+    /// What the build let pass but the user should hear of (e.g. a walking command the step
+    /// limits clip), one message each naming its key; the run is unaffected.
+    pub warnings: Vec<String>,
 }
 
 /// The bounds that end a run as diverged.

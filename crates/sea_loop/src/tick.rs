@@ -372,6 +372,7 @@ impl<'a> Engine<'a> {
             com_reference,
             posture,
             elastic_names,
+            warnings: _,
         } = setup;
         let layout = plant.layout();
         let sensor = Sensor::new(&settings.sensing, &plant.model, layout, x0);

@@ -10,7 +10,7 @@
 //! `Plant.step` and `Controller.end_period` is the run of `run_scenario`.
 
 use crate::arrays::{matrix_rows_out, vector_arg, vector_out};
-use crate::errors::{argument_error, to_py};
+use crate::errors::{argument_error, to_py, warn_user};
 use crate::model::PyModel;
 use crate::overrides::toml_literal;
 use crate::plant::PyPlant;
@@ -519,7 +519,8 @@ pub struct PyScenario {
 #[pymethods]
 impl PyScenario {
     /// Builds the scenario file `path` with `overrides` ({"controller.kind": "rigid", ...}),
-    /// exactly as `run_scenario` does.
+    /// exactly as `run_scenario` does; the build's warnings (a walking command the step
+    /// limits clip) are Python `UserWarning`s.
     #[staticmethod]
     #[pyo3(signature = (path, overrides=None))]
     fn load(
@@ -531,6 +532,9 @@ impl PyScenario {
         let scenario = Scenario::from_file(&path, &pairs).map_err(to_py)?;
         let schedule = scenario.schedule();
         let setup = build(&scenario).map_err(to_py)?;
+        for warning in &setup.warnings {
+            warn_user(py, warning)?;
+        }
         let layout = setup.plant.layout();
         let controller = PyController::new_built(
             setup.controller,

@@ -228,3 +228,11 @@ pub fn to_py(error: impl ToPyErr) -> PyErr {
 pub fn argument_error(argument: &str, expected: &str, actual: impl ToString) -> PyErr {
     sea_dyn::Error::invalid(argument, expected, actual).to_py_err()
 }
+
+/// Issues `message` as a Python `UserWarning` (a NUL inside it is replaced).
+pub fn warn_user(py: Python<'_>, message: &str) -> PyResult<()> {
+    let message = std::ffi::CString::new(message.replace('\0', " "))
+        .unwrap_or_else(|_| c"sea_momentum: a warning could not be written".to_owned());
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    PyErr::warn(py, &category, &message, 1)
+}

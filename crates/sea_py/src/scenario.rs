@@ -1,12 +1,12 @@
 //! `run_scenario`: a closed-loop scenario run natively (GIL released), results as numpy arrays.
 
 use crate::arrays::{matrix_rows_out, table_out, vector_out};
-use crate::errors::to_py;
+use crate::errors::{to_py, warn_user};
 use crate::interrupt::run_interruptible;
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sea_sim::closed_loop::{run_with_sinks, RecordSink, RunRecord};
+use sea_sim::closed_loop::{build, run_setup_with_sinks, RecordSink, RunRecord};
 use sea_sim::mcap_log::McapSink;
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -38,6 +38,15 @@ pub fn run_scenario_native<'py>(
     let package_dirs = package_dirs.unwrap_or_default();
     let pairs = crate::overrides::override_pairs(overrides)?;
     let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
+    let (built, interrupt) = run_interruptible(py, |_| build(&scenario))?;
+    if let Some(error) = interrupt {
+        return Err(error);
+    }
+    let mut setup = built.map_err(to_py)?;
+    // What the build let pass (e.g. a walking command the step limits clip), before the run.
+    for warning in &setup.warnings {
+        warn_user(py, warning)?;
+    }
     let (outcome, interrupt) = run_interruptible(py, |cancel| {
         let mut record = RunRecord::default();
         let mut log = mcap
@@ -47,11 +56,12 @@ pub fn run_scenario_native<'py>(
         if let Some(log) = log.as_mut() {
             sinks.push(log);
         }
-        let summary = run_with_sinks(&scenario, &mut sinks, cancel, |t, total| {
-            if progress {
-                eprintln!("  {}: t = {t:5.2} / {total:.2} s", scenario.name);
-            }
-        });
+        let summary =
+            run_setup_with_sinks(&scenario, &mut setup, &mut sinks, cancel, |t, total| {
+                if progress {
+                    eprintln!("  {}: t = {t:5.2} / {total:.2} s", scenario.name);
+                }
+            });
         drop(sinks);
         let warnings = log.map(|log| log.warnings().to_vec()).unwrap_or_default();
         summary.map(|summary| (record, summary, warnings))
@@ -59,10 +69,7 @@ pub fn run_scenario_native<'py>(
     let (record, summary, warnings) = outcome.map_err(to_py)?;
     // The meshes the log could not draw, as Python warnings (the run and its log are kept).
     for warning in warnings {
-        let message = std::ffi::CString::new(format!("MCAP log: {warning}"))
-            .unwrap_or_else(|_| c"MCAP log: a mesh could not be drawn".to_owned());
-        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
-        PyErr::warn(py, &category, &message, 1)?;
+        warn_user(py, &format!("MCAP log: {warning}"))?;
     }
     let (nq, nv, ne) = record.layout;
     let nx = nq + nv + 2 * ne;

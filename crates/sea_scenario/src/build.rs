@@ -267,7 +267,7 @@ pub fn build(scenario: &Scenario) -> Result<Setup> {
     let settings = scenario.controller_settings(&model.joint_names)?;
     let controller_model = scenario.controller_model(&model)?;
     let mut controller = MomentumController::new(&controller_model, &actuation, settings, &q)?;
-    crate::walking::set_up(scenario, &model, &contacts, &q, &mut controller)?;
+    let warnings = crate::walking::set_up(scenario, &model, &contacts, &q, &mut controller)?;
     let com_reference = com_reference(scenario, &model, &q, contacts[0])?;
     let posture = posture_reference(scenario, &model, s0)?;
     let elastic_names = actuation
@@ -283,5 +283,6 @@ pub fn build(scenario: &Scenario) -> Result<Setup> {
         com_reference,
         posture,
         elastic_names,
+        warnings,
     })
 }

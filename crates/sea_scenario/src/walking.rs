@@ -99,15 +99,17 @@ pub fn walking_settings(
 
 /// With `[walking]`: checks `walking.max_step_length` of [`walking_settings`] against the
 /// legs' reach at `q` and makes `controller` walk the gait from `q` (its errors name the key).
+/// Returns the warnings: the command's axes the step limits clip (`sea_ctrl`'s
+/// `command_clips`), the walk then slower than commanded.
 pub fn set_up(
     scenario: &Scenario,
     model: &Model,
     soles: &[FrameId],
     q: &[f64],
     controller: &mut MomentumController,
-) -> Result<()> {
+) -> Result<Vec<String>> {
     let Some(walking) = walking_settings(scenario, model, q, soles)? else {
-        return Ok(());
+        return Ok(Vec::new());
     };
     let reach = legs_reach(model, q, soles);
     if walking.max_step_length > reach {
@@ -121,5 +123,6 @@ pub fn set_up(
         ));
     }
     controller.set_walking(&walking, q, scenario.schedule().period)?;
-    Ok(())
+    let clips = sea_ctrl::walking::command_clips(&walking);
+    Ok(clips.iter().map(ToString::to_string).collect())
 }

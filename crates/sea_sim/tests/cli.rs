@@ -840,3 +840,29 @@ fn push_reports_the_stepping_bound_on_a_stepping_scenario_and_the_gaits_pushing_
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(report["directions"][0].get("stepping_bound").is_none());
 }
+
+#[test]
+fn a_walking_command_the_step_limits_clip_is_a_warning_naming_the_key() {
+    let walk = format!("{REPO}/scenarios/walking/walk_straight.toml");
+    let short = ["--set", "simulation.duration_s=0.02", "--quiet"];
+    let run = |extra: &[&str]| sea_sim(&[&["run", &walk][..], &short[..], extra].concat());
+    let out = run(&["--set", "walking.command.forward_velocity=1.0"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stderr = text(&out.stderr);
+    let warning = stderr
+        .lines()
+        .find(|line| line.starts_with("warning: walking.command.forward_velocity = 1 m/s"))
+        .unwrap_or_else(|| panic!("no warning in {stderr}"));
+    assert!(
+        warning.contains("walking.max_step_length allows"),
+        "{warning}"
+    );
+    // The scenario's own command is within the limits: no warning.
+    let out = run(&[]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        !text(&out.stderr).contains("warning"),
+        "{}",
+        text(&out.stderr)
+    );
+}

@@ -111,17 +111,113 @@ pub fn stop_after(
 /// The walking frame's motion per step in its own axes: (dx, dy, dtheta), clipped to the
 /// step limits (module doc).
 fn frame_increment(settings: &WalkingSettings) -> (f64, f64, f64) {
+    let [dx, dy, dtheta] = command_increments(settings).map(|axis| axis.allowed);
+    (dx, dy, dtheta)
+}
+
+/// One axis of the command per step: what the velocity asks and what the step limit allows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CommandClip {
+    /// The command's key, e.g. `walking.command.forward_velocity`.
+    pub key: &'static str,
+    /// The velocity the command gives [m/s or rad/s].
+    pub velocity: f64,
+    /// The motion per step it asks, `velocity * step_duration` [m or rad].
+    pub asked: f64,
+    /// The motion per step the limit allows, `asked` clamped to +-`limit` [m or rad].
+    pub allowed: f64,
+    /// The settings that bound the axis, e.g. `walking.max_step_length`, or
+    /// `walking.max_step_width - walking.nominal_width` sideways.
+    pub limit_rule: &'static str,
+    /// The bound on the motion per step [m or rad].
+    pub limit: f64,
+    /// The step duration [s].
+    pub step_duration: f64,
+    /// The unit of the motion per step (`m` or `rad`).
+    pub unit: &'static str,
+}
+
+impl std::fmt::Display for CommandClip {
+    /// E.g. `walking.command.forward_velocity = 0.5 m/s asks 0.250 m per 0.5 s step;
+    /// walking.max_step_length allows 0.170 m: the walk goes at 0.340 m/s`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (unit, period) = (self.unit, self.step_duration);
+        write!(
+            f,
+            "{} = {} {unit}/s asks {:.3} {unit} per {period} s step; {} allows {:.3} {unit}: \
+             the walk goes at {:.3} {unit}/s",
+            self.key,
+            self.velocity,
+            self.asked,
+            self.limit_rule,
+            self.limit,
+            self.allowed / period,
+        )
+    }
+}
+
+/// The command's three axes per step (forward, sideways, turning), each with the limit
+/// that bounds it: `max_step_length`; the lateral room that keeps the feet
+/// `min_step_width`..`max_step_width` apart around `nominal_width`; `max_step_turn`.
+pub fn command_increments(settings: &WalkingSettings) -> [CommandClip; 3] {
     let period = settings.step_duration;
     let command = &settings.command;
-    let length = settings.max_step_length;
     let width = settings.nominal_width;
-    let lateral_room = (settings.max_step_width - width).min(width - settings.min_step_width);
-    let turn = settings.max_step_turn;
-    (
-        (command.forward_velocity * period).clamp(-length, length),
-        (command.sideways_velocity * period).clamp(-lateral_room, lateral_room),
-        (command.turning_velocity * period).clamp(-turn, turn),
-    )
+    let (to_max, to_min) = (
+        settings.max_step_width - width,
+        width - settings.min_step_width,
+    );
+    let (lateral_key, lateral_room) = if to_max <= to_min {
+        ("walking.max_step_width - walking.nominal_width", to_max)
+    } else {
+        ("walking.nominal_width - walking.min_step_width", to_min)
+    };
+    let axis = |key, velocity: f64, limit_rule, limit: f64, unit| CommandClip {
+        key,
+        velocity,
+        asked: velocity * period,
+        allowed: (velocity * period).clamp(-limit, limit),
+        limit_rule,
+        limit,
+        step_duration: period,
+        unit,
+    };
+    [
+        axis(
+            "walking.command.forward_velocity",
+            command.forward_velocity,
+            "walking.max_step_length",
+            settings.max_step_length,
+            "m",
+        ),
+        axis(
+            "walking.command.sideways_velocity",
+            command.sideways_velocity,
+            lateral_key,
+            lateral_room,
+            "m",
+        ),
+        axis(
+            "walking.command.turning_velocity",
+            command.turning_velocity,
+            "walking.max_step_turn",
+            settings.max_step_turn,
+            "rad",
+        ),
+    ]
+}
+
+/// The command's axes that the step limits clip ([`command_increments`] whose `allowed`
+/// differs from `asked`): the walk then goes slower than commanded. Empty when the robot
+/// walks a list of footsteps or stands stepping (no command is walked).
+pub fn command_clips(settings: &WalkingSettings) -> Vec<CommandClip> {
+    if settings.stepping || !settings.footsteps.is_empty() {
+        return Vec::new();
+    }
+    command_increments(settings)
+        .into_iter()
+        .filter(|axis| (axis.allowed - axis.asked).abs() > 1e-12)
+        .collect()
 }
 
 /// `frame` moved by `(dx, dy, dtheta)` given in its own axes.

@@ -50,7 +50,8 @@ pub use capture::{
     StepRequest,
 };
 pub use command::{
-    footsteps_from_command, footsteps_from_list, footsteps_from_settings, stop_after,
+    command_clips, command_increments, footsteps_from_command, footsteps_from_list,
+    footsteps_from_settings, stop_after, CommandClip,
 };
 pub use dcm::{DcmPlan, DcmSample, DcmStart};
 pub use footstep::{check_step, Foot, Footstep, FootstepPlan, SolePose, Stance};

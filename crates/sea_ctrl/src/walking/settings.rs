@@ -20,13 +20,15 @@ use nalgebra::Vector2;
 )]
 pub struct WalkCommand {
     /// Forward velocity along the walking frame's x axis [m/s]; the step's forward length
-    /// `forward_velocity * step_duration` is clipped to `max_step_length`.
+    /// `forward_velocity * step_duration` is clipped to `max_step_length` (a warning at the
+    /// run's start names both keys and the speed walked).
     pub forward_velocity: f64,
     /// Sideways velocity along the walking frame's y axis (left positive) [m/s]; the step's
-    /// lateral shift is clipped so that the feet stay `min_step_width`..`max_step_width` apart.
+    /// lateral shift is clipped so that the feet stay `min_step_width`..`max_step_width` apart
+    /// (with a warning, as `forward_velocity`).
     pub sideways_velocity: f64,
     /// Turning velocity about the vertical (counter-clockwise positive) [rad/s]; the turn per
-    /// step is clipped to `max_step_turn`.
+    /// step is clipped to `max_step_turn` (with a warning, as `forward_velocity`).
     pub turning_velocity: f64,
     /// The foot that takes the first step ("left" or "right").
     pub first_foot: Foot,

@@ -1,6 +1,8 @@
 //! Footsteps from a command (straight, sideways, turning in place, stop) and from a list.
 
-use super::super::command::{footsteps_from_command, footsteps_from_list, stop_after};
+use super::super::command::{
+    command_clips, footsteps_from_command, footsteps_from_list, stop_after,
+};
 use super::super::footstep::{check_step, wrap_angle, Foot, FootstepPlan, SolePose};
 use super::{assert_close, standing, walking};
 use nalgebra::Vector2;
@@ -51,6 +53,60 @@ fn forward_steps_are_clipped_to_the_reach() {
     let x = plan.final_stance().left.world_p_sole.x;
     assert!((x - 3.0 * settings.max_step_length).abs() < 1e-12, "{x}");
     assert_valid_and_stopped(&plan, &settings);
+}
+
+#[test]
+fn a_command_within_the_limits_is_not_clipped() {
+    let settings = walking(3, 0.25, 0.05, 0.3);
+    assert!(command_clips(&settings).is_empty());
+}
+
+#[test]
+fn clipped_axes_name_their_key_the_limit_and_the_speed_walked() {
+    // Forward 2 m/s: the reach clips it; sideways 1 m/s: the room to max_step_width;
+    // turning -5 rad/s: max_step_turn.
+    let settings = walking(3, 2.0, 1.0, -5.0);
+    let clips = command_clips(&settings);
+    let keys: Vec<_> = clips.iter().map(|c| c.key).collect();
+    assert_eq!(
+        keys,
+        [
+            "walking.command.forward_velocity",
+            "walking.command.sideways_velocity",
+            "walking.command.turning_velocity"
+        ]
+    );
+    let period = settings.step_duration;
+    let forward = clips[0];
+    assert_eq!(forward.limit_rule, "walking.max_step_length");
+    assert!((forward.allowed - settings.max_step_length).abs() < 1e-12);
+    let room = (settings.max_step_width - settings.nominal_width)
+        .min(settings.nominal_width - settings.min_step_width);
+    assert!((clips[1].allowed - room).abs() < 1e-12);
+    assert!((clips[2].allowed + settings.max_step_turn).abs() < 1e-12);
+    let message = forward.to_string();
+    let speed = format!("{:.3} m/s", settings.max_step_length / period);
+    assert!(
+        message.starts_with("walking.command.forward_velocity = 2 m/s"),
+        "{message}"
+    );
+    assert!(
+        message.contains("walking.max_step_length allows"),
+        "{message}"
+    );
+    assert!(message.ends_with(&speed), "{message}");
+    // The plan walks what the clip says: three steps of the allowed length.
+    let plan = footsteps_from_command(&walking(3, 2.0, 0.0, 0.0), standing(&settings)).unwrap();
+    let x = plan.final_stance().left.world_p_sole.x;
+    assert!((x - 3.0 * forward.allowed).abs() < 1e-12, "{x}");
+}
+
+#[test]
+fn a_list_of_footsteps_or_stepping_walks_no_command() {
+    let mut settings = walking(3, 2.0, 0.0, 0.0);
+    settings.stepping = true;
+    settings.command.steps = None;
+    assert!(command_clips(&settings).is_empty());
 }
 
 #[test]

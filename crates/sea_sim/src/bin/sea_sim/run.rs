@@ -4,7 +4,7 @@ use crate::common::{parse_key_value, print_out, say, Outcome};
 use crate::progress::Progress;
 use crate::signals::Interrupts;
 use clap::Args;
-use sea_sim::closed_loop::{run_with_sinks, RecordSink};
+use sea_sim::closed_loop::{build, run_setup_with_sinks, RecordSink};
 use sea_sim::mcap_log::McapSink;
 use sea_sim::output::{check_distinct, OutputFile};
 use sea_sim::scenario::Scenario;
@@ -123,8 +123,14 @@ pub(crate) fn run_scenario(args: &RunArgs, interrupts: &Interrupts) -> sea_sim::
         .map(|sink| sink as &mut dyn RecordSink)
         .chain(live.iter_mut().map(|sink| sink as &mut dyn RecordSink))
         .collect();
-    let result = run_with_sinks(&scenario, &mut sinks, &interrupts.stop, |t, total| {
-        progress.update(t, total);
+    let result = build(&scenario).and_then(|mut setup| {
+        for warning in &setup.warnings {
+            say(format_args!("warning: {warning}"));
+        }
+        let cancel = &interrupts.stop;
+        run_setup_with_sinks(&scenario, &mut setup, &mut sinks, cancel, |t, total| {
+            progress.update(t, total);
+        })
     });
     progress.finish();
     drop(sinks);
