@@ -71,6 +71,27 @@ pub fn run_scenario_native<'py>(
     for warning in warnings {
         warn_user(py, &format!("MCAP log: {warning}"))?;
     }
+    let dict = record_fields(py, &record, &scenario)?;
+    dict.set_item("summary", summary_fields(py, &summary)?)?;
+    match interrupt {
+        // Ctrl-C: what was computed (status "interrupted") rides on the exception.
+        Some(error) => {
+            error.value(py).setattr("partial", dict)?;
+            Err(error)
+        }
+        None => Ok(dict),
+    }
+}
+
+/// The record's arrays into a new dict: `time`, `x`, `thetadot_desired`, `com`,
+/// `com_reference`, `momentum`, `contact_wrenches` (rows, contacts, 6), `motor_torques`,
+/// `joint_error_norm`, `qp_solved`, `disturbance_wrench`, `external_wrench`, the layout
+/// (`nq`, `nv`, `ne`), the names and the contact points ([`contact_point_fields`]).
+fn record_fields<'py>(
+    py: Python<'py>,
+    record: &RunRecord,
+    scenario: &sea_sim::scenario::Scenario,
+) -> PyResult<Bound<'py, PyDict>> {
     let (nq, nv, ne) = record.layout;
     let nx = nq + nv + 2 * ne;
     let dict = PyDict::new(py);
@@ -113,16 +134,8 @@ pub fn run_scenario_native<'py>(
     dict.set_item("joint_names", record.joint_names.clone())?;
     dict.set_item("elastic_joints", record.elastic_joints.clone())?;
     dict.set_item("contacts", scenario.robot.contacts.clone())?;
-    contact_point_fields(py, &record, &scenario, &dict)?;
-    dict.set_item("summary", summary_fields(py, &summary)?)?;
-    match interrupt {
-        // Ctrl-C: what was computed (status "interrupted") rides on the exception.
-        Some(error) => {
-            error.value(py).setattr("partial", dict)?;
-            Err(error)
-        }
-        None => Ok(dict),
-    }
+    contact_point_fields(py, record, scenario, &dict)?;
+    Ok(dict)
 }
 
 /// The contact points of the run into `dict`: `contact_points` (the number of points of each

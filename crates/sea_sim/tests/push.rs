@@ -418,6 +418,65 @@ fn bad_disturbances_name_their_key() {
     sea_sim::closed_loop::run_with_sinks(&good, &mut [], &cancel, |_, _| {}).unwrap();
 }
 
+/// Sideways, what a recovery would need to capture 1.3 x the stance's capture-point bound
+/// (17.4 N s, issue 32): the far foot stepped in first (the shuffle), then the loaded foot
+/// out, with swings of 0.2 s, a reach of 0.3 m and transfers of 0.05 s; the bound falls the
+/// later the first lift-off, and the loaded foot first captures less than standing. Prints
+/// the table of docs/findings/stepping.md ("The sideways goal against the pendulum").
+#[test]
+fn sideways_the_far_foot_first_captures_most_and_less_the_later_it_lifts() {
+    use sea_sim::analysis::step_bound::{standing_step_of, FirstStep};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/walking/push_recovery_step.toml");
+    let lift_offs = [0.0, 0.05, 0.1, 0.15, 0.2, 0.3];
+    let settings = [
+        (0.3, 0.25, 0.1),
+        (0.2, 0.25, 0.05),
+        (0.2, 0.3, 0.1),
+        (0.2, 0.3, 0.05),
+    ];
+    println!(
+        "swing, reach, transfer: standing; far foot first | loaded foot first at {lift_offs:?} s"
+    );
+    let mut fastest = Vec::new();
+    for (swing, reach, transfer) in settings {
+        let overrides = [
+            ("walking.min_swing_duration", swing),
+            ("walking.max_step_width", reach),
+            ("walking.recovery_transfer_duration", transfer),
+        ]
+        .map(|(key, value)| (key.to_string(), value.to_string()));
+        let left = standing_step_of(&path, &overrides, PushDirection::Left, 0.1).unwrap();
+        // feet_m: left (loaded by a push to the left), right (the far foot).
+        let by_lift_off = |foot: usize| -> Vec<f64> {
+            lift_offs
+                .iter()
+                .map(|&lift_off_s| left.bound_of(Some(FirstStep { foot, lift_off_s })))
+                .collect()
+        };
+        let (far, loaded) = (by_lift_off(1), by_lift_off(0));
+        let standing = left.bound_without_steps();
+        let table = |row: &[f64]| row.iter().map(|b| format!("{b:.2}")).collect::<Vec<_>>();
+        println!(
+            "{swing} s, {reach} m, {transfer} s: {standing:.2}; {:?} | {:?}",
+            table(&far),
+            table(&loaded)
+        );
+        assert!(far.windows(2).all(|w| w[1] <= w[0] + 1e-6), "{far:?}");
+        assert!(
+            loaded.iter().all(|&b| b < standing),
+            "{loaded:?} vs {standing}"
+        );
+        assert!(
+            far.iter().all(|&b| b >= standing - 1e-6),
+            "{far:?} vs {standing}"
+        );
+        fastest = far;
+    }
+    // The fastest settings: 1.3 x (17.4 N s) only with the far foot off within 0.1 s.
+    assert!(fastest[2] > 17.4 && fastest[3] < 17.4, "{fastest:?}");
+}
+
 /// The stepping bound reads push_recovery_step.toml: the stance's mass, pendulum and CoM, the
 /// soles side by side, the QP's sole (`cop_margin` 0.1), the settings' step limits; forward a
 /// step at the push's start captures the most and more than standing, sideways no step of
