@@ -62,6 +62,6 @@ pub use polygon::SupportPolygon;
 pub use recovery::{recovery_gait, settle_from, MeasuredCom, RecoveryFrame};
 pub use settings::{
     CaptureMargin, FootstepSpec, RobotWalkingFigures, WalkCommand, WalkingSettings,
-    ICUB_LEG_LENGTH, STEP_LENGTH_PER_REACH,
+    ICUB_LEG_LENGTH, MAX_COMMAND_STEPS, STEP_LENGTH_PER_REACH,
 };
 pub use swing::{PlanarQuintic, SwingSample, SwingTrajectory};

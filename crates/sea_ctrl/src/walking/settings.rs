@@ -32,12 +32,12 @@ pub struct WalkCommand {
     pub turning_velocity: f64,
     /// The foot that takes the first step ("left" or "right").
     pub first_foot: Foot,
-    /// The number of steps of the command (>= 1), after which one more step brings the feet
-    /// side by side; set this or `duration`.
-    #[cfg_attr(feature = "serde", schemars(range(min = 1)))]
+    /// The number of steps of the command (1 to 100000, [`MAX_COMMAND_STEPS`]), after which
+    /// one more step brings the feet side by side; set this or `duration`.
+    #[cfg_attr(feature = "serde", schemars(range(min = 1, max = 100000)))]
     pub steps: Option<usize>,
-    /// How long to walk [s] (> 0): `floor(duration / step_duration)` steps (at least one),
-    /// then the stop step; set this or `steps`.
+    /// How long to walk [s] (> 0, below `MAX_COMMAND_STEPS` steps): `floor(duration /
+    /// step_duration)` steps (at least one), then the stop step; set this or `steps`.
     pub duration: Option<f64>,
 }
 
@@ -380,6 +380,11 @@ pub const ICUB_LEG_LENGTH: f64 = 0.5436;
 /// 0.6, not measured that way).
 pub const STEP_LENGTH_PER_REACH: f64 = 0.6;
 
+/// The most steps a walking command may ask for (`walking.command.steps`, or
+/// `walking.command.duration / walking.step_duration`): the plan holds every step, its
+/// swing and its DCM segments from the start (about 11 hours of 0.4 s steps).
+pub const MAX_COMMAND_STEPS: usize = 100_000;
+
 impl WalkingSettings {
     /// The defaults scaled to a robot of `figures` (the rule `sea-sim init` writes,
     /// docs/explanation/walking.md#settings): `com_height` the CoM's standing height,
@@ -583,19 +588,23 @@ impl WalkingSettings {
             }
         }
         if let Some(steps) = command.steps {
-            if steps == 0 {
+            if steps == 0 || steps > MAX_COMMAND_STEPS {
                 return Err(Error::invalid(
                     "walking.command.steps",
-                    "must be at least 1",
-                    0,
+                    format!("must be at least 1 and at most {MAX_COMMAND_STEPS}"),
+                    steps,
                 ));
             }
         }
         if let Some(duration) = command.duration {
-            if !(duration.is_finite() && duration > 0.0) {
+            let longest = MAX_COMMAND_STEPS as f64 * self.step_duration;
+            if !(duration.is_finite() && duration > 0.0 && duration < longest) {
                 return Err(Error::invalid(
                     "walking.command.duration",
-                    "must be positive and finite",
+                    format!(
+                        "must be positive and below {longest} s ({MAX_COMMAND_STEPS} steps of \
+                         walking.step_duration)"
+                    ),
                     duration,
                 ));
             }

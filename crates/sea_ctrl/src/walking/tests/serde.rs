@@ -126,3 +126,13 @@ fn the_schema_documents_each_key_with_its_unit() {
         assert!(text.contains(key), "{key} missing from the schema");
     }
 }
+
+#[test]
+fn the_schema_bounds_the_command_steps_as_the_check_does() {
+    let schema = serde_json::to_value(schemars::schema_for!(super::super::WalkCommand)).unwrap();
+    let steps = &schema["properties"]["steps"];
+    let maximum = steps["maximum"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{steps}"));
+    assert_eq!(maximum, super::super::MAX_COMMAND_STEPS as f64);
+}

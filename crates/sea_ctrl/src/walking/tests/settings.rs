@@ -83,6 +83,23 @@ fn steps_and_duration_are_exclusive() {
     );
 }
 
+#[test]
+fn a_command_longer_than_the_plan_can_hold_is_refused_naming_the_key() {
+    use super::super::settings::MAX_COMMAND_STEPS;
+    let mut settings = walking(MAX_COMMAND_STEPS, 0.2, 0.0, 0.0);
+    settings.validate(0.01).expect("the most steps");
+    settings.command.steps = Some(MAX_COMMAND_STEPS + 1);
+    let error = settings.validate(0.01).unwrap_err().to_string();
+    assert!(error.contains("walking.command.steps"), "{error}");
+    assert!(error.contains("100000"), "{error}");
+    settings.command.steps = None;
+    settings.command.duration = Some(1e12);
+    let error = settings.validate(0.01).unwrap_err();
+    assert_eq!(key_of(error), "walking.command.duration");
+    settings.command.duration = Some(0.9 * MAX_COMMAND_STEPS as f64 * settings.step_duration);
+    settings.validate(0.01).expect("below the longest");
+}
+
 /// A change that makes one setting invalid.
 type Spoil = fn(&mut super::WalkingSettings);
 
