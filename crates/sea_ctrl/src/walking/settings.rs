@@ -499,6 +499,7 @@ impl WalkingSettings {
             ("walking.com_height", self.com_height),
             ("walking.max_step_length", self.max_step_length),
             ("walking.min_step_width", self.min_step_width),
+            ("walking.max_step_width", self.max_step_width),
         ] {
             if !(value.is_finite() && value > 0.0) {
                 return Err(Error::invalid(key, "must be positive and finite", value));

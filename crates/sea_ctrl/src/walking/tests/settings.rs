@@ -105,8 +105,11 @@ type Spoil = fn(&mut super::WalkingSettings);
 
 #[test]
 fn other_bad_values_name_their_keys() {
-    let cases: [(&str, Spoil); 5] = [
+    let cases: [(&str, Spoil); 6] = [
         ("walking.swing_height", |s| s.swing_height = -0.01),
+        ("walking.max_step_width", |s| {
+            s.max_step_width = f64::INFINITY
+        }),
         ("walking.max_step_turn", |s| s.max_step_turn = 2.0),
         ("walking.min_swing_duration", |s| s.min_swing_duration = 0.0),
         ("walking.transfer_duration", |s| {
