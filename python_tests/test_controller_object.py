@@ -207,12 +207,15 @@ ROBUST = {
 }
 
 
-def robot_loop(scenario: sm.Scenario, *, end_periods: bool) -> np.ndarray:
+def robot_loop(
+    scenario: sm.Scenario, *, end_periods: bool, controller: sm.Controller | None = None
+) -> np.ndarray:
     """The robot's loop in Python: per period a whole-body ``tick``, ``inner_tick`` at 1 kHz,
     the plant's steps, and ``end_period`` with the plant's force readings over the period's
     first and last steps (what the feet's and joints' sensors read: the wrenches each step
-    delivered, ``Plant.step_outputs``; under bilateral contacts those at the steps' starts)."""
-    plant, controller = scenario.plant, scenario.controller
+    delivered, ``Plant.step_outputs``; under bilateral contacts those at the steps' starts).
+    ``controller``: another than the scenario's."""
+    plant, controller = scenario.plant, controller or scenario.controller
     inner, steps = scenario.steps_per_inner_tick, scenario.steps_per_tick
     x, states = scenario.initial_state, []
     for k in range(scenario.last_tick + 1):
@@ -259,6 +262,71 @@ def test_python_robot_stack_with_estimators_reproduces_run_scenario() -> None:
     assert idle.controller.stiffness_estimates == prior
 
 
+WALK = ROOT / "scenarios" / "walking" / "walk_straight.toml"
+
+
+def test_python_robot_loop_walks_as_the_native_run() -> None:
+    """A walking scenario's controller driven from Python (the plan, the contact phases, the
+    swings, the touchdowns taken from the feet's readings handed to ``end_period``) is the
+    native walk to round-off; without ``end_period`` no touchdown is sensed and the walk
+    differs."""
+    overrides = {"simulation.duration_s": 3.0, "simulation.record_every": 1}
+    run = sm.run_scenario(WALK, overrides)
+    assert run.status == "completed"
+    assert run.summary.steps_taken >= 3 and run.summary.touchdowns >= 6
+    x_run = np.hstack([run.q, run.theta, run.nu, run.thetadot])
+    scale = np.maximum(1.0, np.abs(x_run).max(axis=0))
+    walked = robot_loop(sm.Scenario.load(WALK, overrides), end_periods=True)
+    assert walked.shape == x_run.shape
+    assert np.max(np.abs(walked - x_run) / scale) < 1e-9
+    assert walked[-1, 0] - walked[0, 0] > 0.15  # the base went forward
+    unsensed = robot_loop(sm.Scenario.load(WALK, overrides), end_periods=False)
+    assert np.max(np.abs(unsensed - x_run) / scale) > 1e-3
+
+
+def test_a_controller_built_with_a_walking_table_walks_as_the_scenario() -> None:
+    """``Controller(model, feet, q0, walking=...)`` with walk_straight.toml's tables is the
+    scenario's walking controller: the Python loop with it is the native walk; the walking
+    table is checked as in a scenario file."""
+    overrides = {"simulation.duration_s": 2.0, "simulation.record_every": 1}
+    scenario = sm.Scenario.load(WALK, overrides)
+    q0 = scenario.initial_state[: scenario.model.nq]
+    feet = ["l_sole", "r_sole"]
+    tables = {
+        "actuators": {"kind": "elastic"},
+        "sampling": "multi_rate",
+        "kind": "rigid",
+        "reflected_inertia": False,
+        "postural_scale": 2.5,
+        "contact": {"min_normal_force": 0.0, "cop_margin": 0.3},
+    }
+    walking = {"command": {"forward_velocity": 0.1, "steps": 20}}
+    built = sm.Controller(scenario.model, feet, q0, walking=walking, **tables)
+    run = sm.run_scenario(WALK, overrides)
+    x_run = np.hstack([run.q, run.theta, run.nu, run.thetadot])
+    scale = np.maximum(1.0, np.abs(x_run).max(axis=0))
+    walked = robot_loop(scenario, end_periods=True, controller=built)
+    assert np.max(np.abs(walked - x_run) / scale) < 1e-9
+    assert run.summary.steps_taken >= 1
+    standing = robot_loop(
+        sm.Scenario.load(WALK, overrides),
+        end_periods=True,
+        controller=sm.Controller(
+            scenario.model, feet, q0, reference={"com_origin": "initial"}, **tables
+        ),
+    )
+    assert np.max(np.abs(standing - x_run) / scale) > 1e-3
+    with pytest.raises(sm.ScenarioError, match="walking.comand"):
+        sm.Controller(scenario.model, feet, q0, walking={"comand": {}}, **tables)
+    with pytest.raises(sm.ScenarioError, match="walking.command.steps"):
+        sm.Controller(scenario.model, feet, q0, walking={}, **tables)
+    with pytest.raises(sm.ScenarioError, match="two contacts"):
+        sm.Controller(scenario.model, feet[:1], q0, walking=walking, **tables)
+    with pytest.warns(UserWarning, match="walking.max_step_length allows"):
+        fast = {"command": {"forward_velocity": 1.0, "steps": 4}}
+        sm.Controller(scenario.model, feet, q0, walking=fast, **tables)
+
+
 def test_end_period_names_a_bad_reading() -> None:
     scenario = sm.Scenario.load(MULTI_RATE, ROBUST)
     controller, n = scenario.controller, scenario.model.n_joints
@@ -280,14 +348,13 @@ def test_end_period_names_a_bad_reading() -> None:
 
 
 def test_a_walking_command_the_step_limits_clip_warns_naming_the_key() -> None:
-    walk = ROOT / "scenarios" / "walking" / "walk_straight.toml"
     fast = {"walking.command.forward_velocity": 1.0, "simulation.duration_s": 0.02}
     pattern = r"walking\.command\.forward_velocity = 1 m/s .* walking\.max_step_length allows"
     with pytest.warns(UserWarning, match=pattern):
-        sm.Scenario.load(walk, fast)
+        sm.Scenario.load(WALK, fast)
     with pytest.warns(UserWarning, match=pattern):
-        result = sm.run_scenario(walk, fast)
+        result = sm.run_scenario(WALK, fast)
     assert result.summary.status == "completed"
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        sm.Scenario.load(walk, {"simulation.duration_s": 0.02})
+        sm.Scenario.load(WALK, {"simulation.duration_s": 0.02})

@@ -49,6 +49,8 @@ def test_a_bad_state_is_refused_naming_it_and_the_command_is_kept(scenario) -> N
         controller.inner_tick(bad)
     with pytest.raises(ValueError, match="t"):
         controller.tick(float("nan"), x)
+    with pytest.raises(ValueError, match="t: expected a finite time"):
+        controller.com_reference(float("nan"))
     assert np.array_equal(controller.command, command)
 
 

@@ -439,13 +439,18 @@ class Controller:
         *,
         actuators: Mapping[str, object] | None = None,
         reference: Mapping[str, object] | None = None,
+        walking: Mapping[str, object] | None = None,
         **settings: object,
     ) -> Controller:
         """A controller for ``model`` on ``contacts`` (stance foot first) held at their pose in
         ``q0`` (nq); postural reference ``q0``'s joints. ``settings``: the keys of a scenario's
         ``[controller]`` table; ``actuators``: the ``[actuators]`` table (default: the paper's
         SEA; ``{"kind": "rigid"}`` for torque control); ``reference``: the ``[reference]``
-        table. Checked as in a scenario file (ScenarioError names the key)."""
+        table; ``walking``: the ``[walking]`` table (two contacts, the feet; the gait planned
+        from their pose in ``q0``, defaults as in a scenario file without
+        ``robot.description``: the paper's iCub's, so another robot gives its own keys, e.g.
+        those ``sea-sim init`` writes; a command the step limits clip is a ``UserWarning``).
+        Checked as in a scenario file (ScenarioError names the key)."""
     @staticmethod
     def from_table(
         model: Model,
@@ -454,8 +459,10 @@ class Controller:
         contacts: Sequence[str],
         actuators: Mapping[str, object] | None = None,
         reference: Mapping[str, object] | None = None,
+        walking: Mapping[str, object] | None = None,
     ) -> Controller:
-        """``Controller(model, contacts, q0, actuators=..., reference=..., **table)``."""
+        """``Controller(model, contacts, q0, actuators=..., reference=..., walking=...,
+        **table)``."""
     def tick(self, t: float, x: ArrayLike) -> ControlOutput:
         """One whole-body tick at time ``t`` [s] and measured state ``x`` (nx). With
         ``multi_rate`` sampling the joint loops hold the tick's torques (and the
@@ -518,7 +525,8 @@ class Controller:
         ``ValueError`` for another shape or a non-finite value. With the scenario's observer
         (``controller.external_wrench = "generalized"``), ``end_period`` replaces it."""
     def com_reference(self, t: float) -> FloatArray:
-        """The CoM reference at ``t``, (3,) world [m]."""
+        """The CoM reference at ``t`` [s], (3,) world [m]; ``ValueError`` for a ``t`` not
+        finite."""
     @property
     def kind(self) -> str:
         """"sea" or "rigid"."""

@@ -90,13 +90,15 @@ impl PyController {
 
     /// A controller for `model` from scenario tables given as Python dicts: `settings` is the
     /// `[controller]` table, `actuators` the `[actuators]` table, `reference` the
-    /// `[reference]` table; the contacts are held at their pose in `q0` and the posture
-    /// reference is `q0`'s joints. The tables are checked exactly as in a scenario file.
+    /// `[reference]` table, `walking` the `[walking]` table (the gait planned from `q0`'s
+    /// feet; its warnings are `UserWarning`s); the contacts are held at their pose in `q0`
+    /// and the posture reference is `q0`'s joints. The tables are checked exactly as in a
+    /// scenario file.
     fn from_tables(
         model: &Model,
         contacts: Vec<String>,
         q0: &Bound<'_, PyAny>,
-        tables: [(&str, Option<&Bound<'_, PyDict>>); 3],
+        tables: [(&str, Option<&Bound<'_, PyDict>>); 4],
     ) -> PyResult<Self> {
         let mut q = Vec::new();
         vector_arg(q0, "q0", model.nq(), &mut q)?;
@@ -113,7 +115,14 @@ impl PyController {
         let settings = scenario
             .controller_settings(&model.joint_names)
             .map_err(to_py)?;
-        let controller = MomentumController::new(model, &actuation, settings, &q).map_err(to_py)?;
+        let mut controller =
+            MomentumController::new(model, &actuation, settings, &q).map_err(to_py)?;
+        let warnings =
+            sea_sim::scenario::walking::set_up(&scenario, model, &frames, &q, &mut controller)
+                .map_err(to_py)?;
+        for warning in &warnings {
+            warn_user(q0.py(), warning)?;
+        }
         let com_reference = build::com_reference(&scenario, model, &q, frames[0]).map_err(to_py)?;
         let posture = build::posture_reference(&scenario, model, q[7..].to_vec()).map_err(to_py)?;
         let layout = StateLayout::new(model, &actuation);
@@ -169,7 +178,7 @@ fn output_object<'py>(
 fn table_scenario(
     contacts: &[String],
     s0: &[f64],
-    tables: [(&str, Option<&Bound<'_, PyDict>>); 3],
+    tables: [(&str, Option<&Bound<'_, PyDict>>); 4],
 ) -> PyResult<Scenario> {
     let mut robot = toml::Table::new();
     // Never read: the model is given from Python (the scenario's build is not called).
@@ -178,17 +187,30 @@ fn table_scenario(
     robot.insert("initial_posture".into(), s0.to_vec().into());
     let mut root = toml::Table::new();
     root.insert("robot".into(), robot.into());
+    let walks = tables
+        .iter()
+        .any(|&(name, table)| name == "walking" && table.is_some());
+    if walks {
+        // The controller reads no plant key; a walk needs feet that can lift off the ground,
+        // which the caller's robot (or plant) has.
+        let mut plant = toml::Table::new();
+        plant.insert("contact_model".into(), "unilateral".into());
+        root.insert("plant".into(), plant.into());
+    }
     let mut pairs = Vec::new();
     for (name, table) in tables {
-        if let Some(table) = table {
-            flatten_table(name, table, &mut pairs)?;
+        match table {
+            // An empty dict is the table with its defaults (`walking={}`: a walk, no command).
+            Some(table) if table.is_empty() => pairs.push((name.to_string(), "{}".to_string())),
+            Some(table) => flatten_table(name, table, &mut pairs)?,
+            None => {}
         }
     }
     Scenario::from_toml(&root.to_string(), &pairs, std::path::Path::new(".")).map_err(to_py)
 }
 
 /// A dict's entries as `prefix.key=value` override pairs (TOML literals), nested dicts as
-/// dotted sub-keys.
+/// dotted sub-keys (an empty one as an empty table).
 fn flatten_table(
     prefix: &str,
     table: &Bound<'_, PyDict>,
@@ -200,6 +222,7 @@ fn flatten_table(
             .map_err(|_| argument_error(prefix, "a dict with str keys", &key))?;
         let dotted = format!("{prefix}.{key}");
         match value.cast::<PyDict>() {
+            Ok(sub) if sub.is_empty() => pairs.push((dotted, "{}".to_string())),
             Ok(sub) => flatten_table(&dotted, sub, pairs)?,
             Err(_) => pairs.push((dotted.clone(), toml_literal(&value, &dotted)?)),
         }
@@ -217,14 +240,19 @@ impl PyController {
     /// `actuators`: the `[actuators]` table (default: the paper's SEA on every joint; use
     /// {"kind": "rigid"} for a torque-controlled robot). `reference`: the `[reference]` table
     /// (CoM sinusoid, com_origin "stance_sole" (default) or "initial", postural step).
+    /// `walking`: the `[walking]` table (two contacts, the feet): the robot walks the gait
+    /// planned from the feet in `q0`, with the defaults of a scenario file without
+    /// `robot.description` (the paper's iCub's; another robot gives its own keys, e.g. those
+    /// `sea-sim init` writes); a command the step limits clip is a `UserWarning`.
     #[new]
-    #[pyo3(signature = (model, contacts, q0, *, actuators=None, reference=None, **settings))]
+    #[pyo3(signature = (model, contacts, q0, *, actuators=None, reference=None, walking=None, **settings))]
     fn new(
         model: PyRef<'_, PyModel>,
         contacts: Vec<String>,
         q0: &Bound<'_, PyAny>,
         actuators: Option<&Bound<'_, PyDict>>,
         reference: Option<&Bound<'_, PyDict>>,
+        walking: Option<&Bound<'_, PyDict>>,
         settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         Self::from_tables(
@@ -235,14 +263,15 @@ impl PyController {
                 ("controller", settings),
                 ("actuators", actuators),
                 ("reference", reference),
+                ("walking", walking),
             ],
         )
     }
 
-    /// The same as `Controller(model, contacts, q0, actuators=..., reference=..., **table)`
-    /// with the `[controller]` table as a dict.
+    /// The same as `Controller(model, contacts, q0, actuators=..., reference=...,
+    /// walking=..., **table)` with the `[controller]` table as a dict.
     #[staticmethod]
-    #[pyo3(signature = (model, table, q0, contacts, actuators=None, reference=None))]
+    #[pyo3(signature = (model, table, q0, contacts, actuators=None, reference=None, walking=None))]
     fn from_table(
         model: PyRef<'_, PyModel>,
         table: &Bound<'_, PyDict>,
@@ -250,6 +279,7 @@ impl PyController {
         contacts: Vec<String>,
         actuators: Option<&Bound<'_, PyDict>>,
         reference: Option<&Bound<'_, PyDict>>,
+        walking: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         Self::from_tables(
             model.model(),
@@ -259,6 +289,7 @@ impl PyController {
                 ("controller", Some(table)),
                 ("actuators", actuators),
                 ("reference", reference),
+                ("walking", walking),
             ],
         )
     }
@@ -458,17 +489,18 @@ impl PyController {
         Ok(())
     }
 
-    /// The CoM reference at `t` [s]: position (3,) in world [m].
-    fn com_reference<'py>(&self, py: Python<'py>, t: f64) -> Bound<'py, numpy::PyArray1<f64>> {
-        vector_out(
-            py,
-            self.robot
-                .law()
-                .com_reference()
-                .sample(t)
-                .position
-                .as_slice(),
-        )
+    /// The CoM reference at `t` [s]: position (3,) in world [m]; `ValueError` for a `t` not
+    /// finite.
+    fn com_reference<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+    ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        if !t.is_finite() {
+            return Err(argument_error("t", "a finite time [s]", t));
+        }
+        let reference = self.robot.law().com_reference().sample(t);
+        Ok(vector_out(py, reference.position.as_slice()))
     }
 
     /// "sea" or "rigid".

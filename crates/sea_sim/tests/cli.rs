@@ -764,6 +764,27 @@ fn push_refuses_a_zero_tolerance_or_duration_naming_the_flag() {
 }
 
 #[test]
+fn push_refuses_a_bad_start_or_direction_naming_the_flag() {
+    let scenario = format!("{REPO}/scenarios/robot_rate/push_two_feet.toml");
+    for value in ["-1", "inf", "nan"] {
+        let output = sea_sim(&["push", &scenario, &format!("--start={value}")]);
+        assert!(!output.status.success(), "--start {value} accepted");
+        let stderr = text(&output.stderr);
+        assert!(
+            stderr.contains("--start") && stderr.contains("finite, non-negative"),
+            "--start {value}: {stderr}"
+        );
+    }
+    let output = sea_sim(&["push", &scenario, "--directions", "forward,up"]);
+    assert!(!output.status.success(), "direction 'up' accepted");
+    let stderr = text(&output.stderr);
+    assert!(
+        stderr.contains("'up'") && stderr.contains("--directions") && stderr.contains("left"),
+        "{stderr}"
+    );
+}
+
+#[test]
 fn push_at_fixed_impulses_reports_each_outcome_and_refuses_a_negative_one() {
     let scenario = format!("{REPO}/scenarios/robot_rate/push_two_feet.toml");
     let refused = sea_sim(&["push", &scenario, "--impulses=1,-2"]);

@@ -223,7 +223,7 @@ pub struct StepRule(pub String, pub String);
 /// Whether `foot` may land at `landing` from the `stance` sole of the other foot: in the
 /// stance sole's frame, the forward distance within `max_step_length`, the lateral distance
 /// (positive on the swing foot's own side) in [`min_step_width`, `max_step_width`] (the feet
-/// do not cross) and the yaw within `max_step_turn`.
+/// do not cross) and the yaw within `max_step_turn`; a landing not finite is refused.
 pub fn check_step(
     settings: &WalkingSettings,
     stance: SolePose,
@@ -231,6 +231,15 @@ pub fn check_step(
     landing: SolePose,
 ) -> std::result::Result<(), StepRule> {
     const SLACK: f64 = 1e-9;
+    if !(landing.world_p_sole.iter().all(|v| v.is_finite()) && landing.world_yaw_sole.is_finite()) {
+        return Err(StepRule(
+            "the landing's x, y and yaw must be finite".to_string(),
+            format!(
+                "x = {} m, y = {} m, yaw = {} rad",
+                landing.world_p_sole.x, landing.world_p_sole.y, landing.world_yaw_sole
+            ),
+        ));
+    }
     let stance_p = stance.to_sole(landing.world_p_sole);
     let (forward, lateral) = (stance_p.x, foot.side() * stance_p.y);
     let turn = wrap_angle(landing.world_yaw_sole - stance.world_yaw_sole);

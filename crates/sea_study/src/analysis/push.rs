@@ -307,9 +307,10 @@ pub struct PushResult {
 /// The `[[disturbances]]` override of one push of `impulse` [N s] along `direction` (world).
 fn push_override(options: &PushOptions, direction: Vector2<f64>, impulse: f64) -> (String, String) {
     let force = direction * (impulse / options.duration_s);
+    let link = toml::Value::String(options.link.clone());
     let value = format!(
-        "[{{link = \"{}\", force = [{:e}, {:e}, 0.0], start_s = {:e}, duration_s = {:e}}}]",
-        options.link, force.x, force.y, options.start_s, options.duration_s
+        "[{{link = {link}, force = [{:e}, {:e}, 0.0], start_s = {:e}, duration_s = {:e}}}]",
+        force.x, force.y, options.start_s, options.duration_s
     );
     ("disturbances".to_string(), value)
 }

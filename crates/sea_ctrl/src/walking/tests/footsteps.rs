@@ -252,6 +252,20 @@ fn an_explicit_list_is_timed_and_checked() {
         message.contains("walking.footsteps[0]") && message.contains("max_step_turn"),
         "{message}"
     );
+
+    for bad in [
+        SolePose::new(Vector2::new(f64::NAN, 0.07), 0.0),
+        SolePose::new(Vector2::new(0.1, f64::NAN), 0.0),
+        SolePose::new(Vector2::new(0.1, 0.07), f64::NAN),
+    ] {
+        let message = footsteps_from_list(&settings, standing(&settings), &[(Foot::Left, bad)])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("walking.footsteps[0]") && message.contains("must be finite"),
+            "{message}"
+        );
+    }
 }
 
 #[test]

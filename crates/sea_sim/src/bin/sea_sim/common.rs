@@ -26,6 +26,17 @@ pub(crate) fn parse_positive(text: &str) -> Result<f64, String> {
     }
 }
 
+/// A finite, non-negative number (clap names the flag in its error).
+pub(crate) fn parse_non_negative(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(value) if value.is_finite() && value >= 0.0 => Ok(value),
+        Ok(value) => Err(format!(
+            "must be a finite, non-negative number, got {value}"
+        )),
+        Err(e) => Err(format!("expected a finite, non-negative number: {e}")),
+    }
+}
+
 /// `KEY=VALUE` of `--set`.
 pub(crate) fn parse_key_value(text: &str) -> Result<(String, String), String> {
     let (key, value) = text

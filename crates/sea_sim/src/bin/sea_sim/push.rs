@@ -2,7 +2,7 @@
 //! pushes of fixed impulses (`--impulses`), beside the bounds of the pendulum: the stance's
 //! capture point, and the gait's (`--phase`) or the stepping settings' (`walking.stepping`).
 
-use crate::common::{parse_key_value, parse_positive, print_out};
+use crate::common::{parse_key_value, parse_non_negative, parse_positive, print_out};
 use clap::Args;
 use sea_sim::analysis::gait_bound::gait_bounds;
 use sea_sim::analysis::push::{
@@ -22,14 +22,20 @@ pub(crate) struct PushArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "forward,backward,left,right"
+        default_value = "forward,backward,left,right",
+        value_parser = ["forward", "backward", "left", "right"]
     )]
     directions: Vec<String>,
     /// The pushed link.
     #[arg(long, default_value_t = PushOptions::default().link)]
     link: String,
-    /// Start of the push [s] (without `--phase`).
-    #[arg(long, default_value_t = PushOptions::default().start_s, conflicts_with = "phase")]
+    /// Start of the push [s] (without `--phase`; finite, non-negative).
+    #[arg(
+        long,
+        default_value_t = PushOptions::default().start_s,
+        conflicts_with = "phase",
+        value_parser = parse_non_negative
+    )]
     start: f64,
     /// Start the push at this fraction of a swing of the scenario's walk, in [0, 1] (0 the
     /// swing foot's lift-off, 1 its planned touchdown) instead of at `--start`; the swing is
