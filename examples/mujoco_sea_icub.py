@@ -23,12 +23,21 @@ recovery and the identified stiffnesses; writes a figure.
 ``--simulator ours`` runs the same loop on our plant (the scenario's, the push through
 ``Plant.step(..., external=...)``); ``--compare`` runs both and compares their CoM.
 
-Run: ``python examples/mujoco_sea_icub.py [--duration 10] [--push-impulse 5] [--figure out.png]``.
+``--walk SCENARIO`` runs a walking scenario's controller instead (e.g.
+``scenarios/walking/walk_fast.toml``: 50 steps at 0.3 m/s; the plan, the contact phases, the
+swings and the touchdowns sensed from MuJoCo's foot wrenches), with the MuJoCo foot boxes as
+its CoP rectangle and no push unless asked; ``--set KEY=VALUE`` overrides a scenario key
+(``--set controller.stiffness_estimate_scale=0.7 --set
+controller.stiffness_identification=true``).
+
+Run: ``python examples/mujoco_sea_icub.py [--duration 10] [--push-impulse 5] [--figure out.png]``,
+``python examples/mujoco_sea_icub.py --walk scenarios/walking/walk_fast.toml --duration 22``.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import pathlib
 import sys
 import time
@@ -55,6 +64,11 @@ OVERRIDES = {
     "reference.com_frequency": 0.2,
     "reference.com_direction": [0.0, 1.0, 0.0],
     "disturbances": [],
+}
+#: A walking scenario's keys in MuJoCo (``--walk``): the MuJoCo foot boxes as the CoP rectangle.
+WALK_OVERRIDES = {
+    "controller.contact.foot_x": list(FOOT_X),
+    "controller.contact.foot_y": list(FOOT_Y),
 }
 #: The push: on this link's origin, world axes, for PUSH_DURATION s.
 PUSH_LINK = "root_link"
@@ -148,11 +162,20 @@ SETTLE = 0.2
 MOTOR_VELOCITY_GAIN = 200.0
 
 
-def run(duration: float, push_impulse: float, push_start: float = 5.0, simulator: str = "mujoco") -> dict[str, np.ndarray]:
+def run(
+    duration: float,
+    push_impulse: float,
+    push_start: float = 5.0,
+    simulator: str = "mujoco",
+    scenario_path: pathlib.Path = SCENARIO,
+    overrides: dict | None = None,
+) -> dict[str, np.ndarray]:
     """The robot loop (module doc) for ``duration`` s with a push of ``push_impulse`` [N s]
     forward at ``push_start``, on MuJoCo's SEA iCub (``simulator="mujoco"``) or on our plant
-    (``"ours"``); the time series at every whole-body tick."""
-    scenario = sm.Scenario.load(SCENARIO, {**OVERRIDES, "simulation.duration_s": duration})
+    (``"ours"``), the controller of ``scenario_path`` with ``overrides`` (default: the
+    balancing design, ``OVERRIDES``); the time series at every whole-body tick."""
+    overrides = OVERRIDES if overrides is None else overrides
+    scenario = sm.Scenario.load(scenario_path, {**overrides, "simulation.duration_s": duration})
     controller = scenario.controller
     if simulator not in ("mujoco", "ours"):
         raise ValueError(f"simulator: expected 'mujoco' or 'ours', got {simulator!r}")
@@ -162,7 +185,7 @@ def run(duration: float, push_impulse: float, push_start: float = 5.0, simulator
     period, dt = scenario.control_period, scenario.plant_dt
     steps, inner = scenario.steps_per_tick, scenario.steps_per_inner_tick  # 100 Hz, 1 kHz
     force = np.array([push_impulse / PUSH_DURATION, 0.0, 0.0])
-    series: dict[str, list] = {k: [] for k in ("time", "com", "com_reference", "base_height", "stiffness_ratio", "qp_solved")}
+    series: dict[str, list] = {k: [] for k in ("time", "com", "com_reference", "base_height", "base_x", "stiffness_ratio", "qp_solved")}
     start_wall = time.perf_counter()
     for k in range(int(round(duration / period))):
         t = k * period
@@ -190,6 +213,7 @@ def run(duration: float, push_impulse: float, push_start: float = 5.0, simulator
             ("com", out.com),
             ("com_reference", out.com_reference),
             ("base_height", x[2]),
+            ("base_x", x[0]),
             ("stiffness_ratio", estimates / Sea().stiffness),
             ("qp_solved", out.qp_status == "solved"),
         ):
@@ -197,7 +221,10 @@ def run(duration: float, push_impulse: float, push_start: float = 5.0, simulator
     result = {key: np.array(values) for key, values in series.items()}
     result["wall_s"] = np.array(time.perf_counter() - start_wall)
     result["push_start"] = np.array(push_start)
+    result["push_impulse"] = np.array(push_impulse)
     result["duration"] = np.array(duration)
+    scale = float(overrides.get("controller.stiffness_estimate_scale", 1.0))
+    result["title"] = f"{scenario.name}, K_S estimate x{scale:g}"
     return result
 
 
@@ -227,19 +254,23 @@ def series_start_height(series: dict[str, list], x: np.ndarray) -> float:
 
 def summary(series: dict[str, np.ndarray]) -> dict[str, float]:
     """CoM error rms and max (before the push and over the run), the largest CoM excursion
-    after the push and the error at the end; whether the robot stands (base drop)."""
+    after the push and the error at the end; whether the robot stands (base drop), how far
+    its base went forward. Without a push the whole run counts as before it."""
     error = np.linalg.norm(series["com"] - series["com_reference"], axis=1)
-    before = series["time"] < series["push_start"]
+    pushed = float(series["push_impulse"]) > 0
+    before = series["time"] < series["push_start"] if pushed else np.full(len(error), True)
     drop = series["base_height"][0] - series["base_height"].min()
     fallen = series["time"][-1] < float(series["duration"]) - 0.015
     return {
         "com_error_rms_mm": 1e3 * float(np.sqrt(np.mean(error**2))),
         "com_error_rms_before_push_mm": 1e3 * float(np.sqrt(np.mean(error[before] ** 2))),
         "com_error_max_after_push_mm": 1e3 * float(error[~before].max()) if (~before).any() else 0.0,
+        "com_error_max_mm": 1e3 * float(error.max()),
         "com_error_final_mm": 1e3 * float(error[-1]),
         "base_drop_mm": 1e3 * float(drop),
         "standing": float(drop < FALL_DROP and not fallen),
         "simulated_s": float(series["time"][-1]),
+        "base_forward_m": float(series["base_x"][-1] - series["base_x"][0]),
         "stiffness_ratio_min": float(series["stiffness_ratio"][-1].min()),
         "stiffness_ratio_max": float(series["stiffness_ratio"][-1].max()),
         "qp_solved_fraction": float(series["qp_solved"].mean()),
@@ -260,7 +291,8 @@ def figure(series: dict[str, np.ndarray], path: pathlib.Path, push_impulse: floa
     for axis, label in ((1, "lateral y"), (0, "forward x")):
         axes[0].plot(t, 1e3 * (series["com"][:, axis] - series["com"][0, axis]), label=f"CoM {label}")
         axes[0].plot(t, 1e3 * (series["com_reference"][:, axis] - series["com"][0, axis]), "--", label=f"reference {label}")
-    axes[0].axvspan(float(series["push_start"]), float(series["push_start"]) + PUSH_DURATION, color="r", alpha=0.2, label=f"push {push_impulse:g} N s")
+    if push_impulse > 0:
+        axes[0].axvspan(float(series["push_start"]), float(series["push_start"]) + PUSH_DURATION, color="r", alpha=0.2, label=f"push {push_impulse:g} N s")
     axes[0].set_ylabel("CoM from start [mm]")
     axes[0].legend(fontsize=7, ncol=3)
     error = np.linalg.norm(series["com"] - series["com_reference"], axis=1)
@@ -271,7 +303,7 @@ def figure(series: dict[str, np.ndarray], path: pathlib.Path, push_impulse: floa
     axes[2].set_xlabel("time [s]")
     fig.suptitle(
         "iCub with SEAs in MuJoCo, the robot-rate design from Python\n"
-        "(100 Hz / 1 kHz, K_S estimate x0.7 identified online)",
+        f"(100 Hz / 1 kHz, {series['title']})",
         fontsize=10,
     )
     fig.tight_layout()
@@ -279,23 +311,42 @@ def figure(series: dict[str, np.ndarray], path: pathlib.Path, push_impulse: floa
     fig.savefig(path, dpi=120)
 
 
+def parse_override(text: str) -> tuple[str, object]:
+    """``KEY=VALUE`` of ``--set``: the value as JSON (numbers, true/false, lists), else the
+    text itself."""
+    key, separator, value = text.partition("=")
+    if not separator or not key.strip():
+        raise SystemExit(f"--set: expected KEY=VALUE, got {text!r}")
+    try:
+        return key.strip(), json.loads(value)
+    except json.JSONDecodeError:
+        return key.strip(), value.strip()
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=10.0, help="simulated time [s]")
-    parser.add_argument("--push-impulse", type=float, default=5.0, help="forward push on the pelvis [N s]")
+    parser.add_argument("--push-impulse", type=float, default=None, help="forward push on the pelvis [N s] (default 5, walking 0)")
     parser.add_argument("--push-start", type=float, default=5.0, help="when the push starts [s]")
     parser.add_argument("--figure", type=pathlib.Path, default=pathlib.Path("out/mujoco_sea_icub.png"))
     parser.add_argument("--simulator", choices=["mujoco", "ours"], default="mujoco", help="the robot: MuJoCo's, or our plant for comparison")
     parser.add_argument("--compare", action="store_true", help="run on both simulators and compare the CoM")
+    parser.add_argument("--walk", type=pathlib.Path, help="a walking scenario whose controller runs instead (no push unless --push-impulse)")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override a scenario key (a JSON value, else a string; repeatable)")
     args = parser.parse_args()
     if args.compare:
-        for key, value in compare_simulators(args.duration, args.push_impulse, args.push_start).items():
+        push_impulse = 5.0 if args.push_impulse is None else args.push_impulse
+        for key, value in compare_simulators(args.duration, push_impulse, args.push_start).items():
             print(f"{key}: {value:.4g}")
         return
-    series = run(args.duration, args.push_impulse, args.push_start, args.simulator)
+    walking = args.walk is not None
+    overrides = {**(WALK_OVERRIDES if walking else OVERRIDES), **dict(parse_override(text) for text in args.set)}
+    push_impulse = args.push_impulse if args.push_impulse is not None else (0.0 if walking else 5.0)
+    scenario_path = args.walk if walking else SCENARIO
+    series = run(args.duration, push_impulse, args.push_start, args.simulator, scenario_path, overrides)
     for key, value in summary(series).items():
         print(f"{key}: {value:.4g}")
-    figure(series, args.figure, args.push_impulse)
+    figure(series, args.figure, push_impulse)
     print(f"figure: {args.figure}")
 
 

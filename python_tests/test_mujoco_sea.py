@@ -91,3 +91,23 @@ def test_the_push_moves_the_robot(example) -> None:
     free = example.run(duration=0.8, push_impulse=0.0, push_start=0.3)
     forward = lambda s: np.max(s["com"][:, 0] - s["com"][0, 0])  # noqa: E731
     assert forward(pushed) > forward(free) + 2e-3
+
+
+def test_a_walking_scenarios_controller_walks_mujocos_sea_icub_as_our_plant(example) -> None:
+    """``--walk``: walk_straight.toml's controller (0.1 m/s; the plan, the contact phases, the
+    swings, the touchdowns sensed from MuJoCo's foot wrenches) walks MuJoCo's SEA iCub for
+    3 s (three steps), and our plant under the same loop: both bases go 0.22 m forward, the
+    CoM within 1.4 mm of its reference (rms) and the two CoM trajectories within 1.3 mm of
+    each other (measured), through lift-offs and touchdowns on two different contact models."""
+    walk = example.ROOT / "scenarios" / "walking" / "walk_straight.toml"
+    runs = {
+        simulator: example.run(3.0, 0.0, 5.0, simulator, walk, example.WALK_OVERRIDES)
+        for simulator in ("mujoco", "ours")
+    }
+    for simulator, series in runs.items():
+        summary = example.summary(series)
+        assert summary["standing"] == 1.0 and summary["simulated_s"] > 2.98, (simulator, summary)
+        assert summary["base_forward_m"] > 0.18, (simulator, summary)
+        assert summary["com_error_rms_mm"] < 3.0, (simulator, summary)
+    distance = np.linalg.norm(runs["mujoco"]["com"] - runs["ours"]["com"], axis=1)
+    assert distance.max() < 4e-3, distance.max()

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # The main job: installs sea-momentum and reproduces the paper's three experiments on the iCub
 # (figures, MCAP logs, outcome table beside the paper's), Talos balancing on two feet (a robot
-# set up by `sea-sim init`), then the dynamics check and the benchmarks. Everything goes under
-# out/ (or the directory given as $1). Installs sea-momentum with the extra `main` (matplotlib,
-# the robots' packages, Pinocchio: what this job uses) into the project virtual environment
-# .venv, created on the first run (see scripts/setup_env.sh).
+# set up by `sea-sim init`), the iCub walking (natively, and from Python in MuJoCo with SEAs),
+# then the dynamics check and the benchmarks. Everything goes under out/ (or the directory
+# given as $1). Installs sea-momentum with the extra `main` (matplotlib, the robots' packages,
+# Pinocchio, MuJoCo: what this job uses) into the project virtual environment .venv, created
+# on the first run (see scripts/setup_env.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-out}"
@@ -40,6 +41,12 @@ echo "== walking at the robot's rate: the iCub walks 50 steps at 0.3 m/s and tur
     --summary "$out/walk_fast_summary.json" --quiet > /dev/null
 "$sea_sim" run scenarios/walking/turn_in_place.toml --mcap "$out/turn_in_place.mcap" \
     --summary "$out/turn_in_place_summary.json" --quiet > /dev/null
+
+echo "== our controller from Python walking MuJoCo's SEA iCub: 50 steps at 0.3 m/s, the stiffness estimate x0.7 identified (examples/mujoco_sea_icub.py)"
+# 2 s standing before the first step (walking.transfer_duration) let the identification settle.
+python examples/mujoco_sea_icub.py --walk scenarios/walking/walk_fast.toml --duration 24 \
+    --set controller.stiffness_estimate_scale=0.7 --set controller.stiffness_identification=true \
+    --set walking.transfer_duration=2.0 --figure "$out/mujoco_sea_walk.png" | tee "$out/mujoco_sea_walk.txt"
 
 echo "== at the robot's rate: robustness maps and pushes of the 100 Hz / 1 kHz loop (scripts/robot_rate.py)"
 python scripts/robot_rate.py "$out/robot_rate" --sea-sim "$sea_sim" --outcomes "$out/outcomes.md"
