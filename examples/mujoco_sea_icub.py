@@ -228,15 +228,21 @@ def run(
     return result
 
 
-def compare_simulators(duration: float, push_impulse: float, push_start: float) -> dict[str, float]:
-    """The same controller loop on MuJoCo's SEA iCub and on our plant: the largest and rms
-    distance between the two CoM trajectories [mm], before the push and over the run, and
-    each one's largest forward CoM excursion [mm]."""
-    mujoco_run = run(duration, push_impulse, push_start, "mujoco")
-    ours_run = run(duration, push_impulse, push_start, "ours")
+def compare_simulators(
+    duration: float,
+    push_impulse: float,
+    push_start: float,
+    scenario_path: pathlib.Path = SCENARIO,
+    overrides: dict | None = None,
+) -> dict[str, float]:
+    """The same controller loop (``run``'s scenario and overrides) on MuJoCo's SEA iCub and on
+    our plant: the largest and rms distance between the two CoM trajectories [mm], before the
+    push and over the run, and each one's largest forward CoM excursion [mm]."""
+    mujoco_run = run(duration, push_impulse, push_start, "mujoco", scenario_path, overrides)
+    ours_run = run(duration, push_impulse, push_start, "ours", scenario_path, overrides)
     rows = min(len(mujoco_run["time"]), len(ours_run["time"]))
     distance = np.linalg.norm(mujoco_run["com"][:rows] - ours_run["com"][:rows], axis=1)
-    before = mujoco_run["time"][:rows] < push_start
+    before = mujoco_run["time"][:rows] < push_start if push_impulse > 0 else np.full(rows, True)
     forward = lambda s: 1e3 * float(np.max(s["com"][:, 0] - s["com"][0, 0]))  # noqa: E731
     return {
         "com_distance_max_mm": 1e3 * float(distance.max()),
@@ -334,15 +340,15 @@ def main() -> None:
     parser.add_argument("--walk", type=pathlib.Path, help="a walking scenario whose controller runs instead (no push unless --push-impulse)")
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override a scenario key (a JSON value, else a string; repeatable)")
     args = parser.parse_args()
-    if args.compare:
-        push_impulse = 5.0 if args.push_impulse is None else args.push_impulse
-        for key, value in compare_simulators(args.duration, push_impulse, args.push_start).items():
-            print(f"{key}: {value:.4g}")
-        return
     walking = args.walk is not None
     overrides = {**(WALK_OVERRIDES if walking else OVERRIDES), **dict(parse_override(text) for text in args.set)}
     push_impulse = args.push_impulse if args.push_impulse is not None else (0.0 if walking else 5.0)
     scenario_path = args.walk if walking else SCENARIO
+    if args.compare:
+        compared = compare_simulators(args.duration, push_impulse, args.push_start, scenario_path, overrides)
+        for key, value in compared.items():
+            print(f"{key}: {value:.4g}")
+        return
     series = run(args.duration, push_impulse, args.push_start, args.simulator, scenario_path, overrides)
     for key, value in summary(series).items():
         print(f"{key}: {value:.4g}")

@@ -19,21 +19,20 @@ pub(crate) fn parse_range(text: &str) -> Result<(f64, f64), String> {
 
 /// A finite, positive number (clap names the flag in its error).
 pub(crate) fn parse_positive(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(value) if value.is_finite() && value > 0.0 => Ok(value),
-        Ok(value) => Err(format!("must be a finite, positive number, got {value}")),
-        Err(e) => Err(format!("expected a finite, positive number: {e}")),
-    }
+    parse_finite(text, "finite, positive", |value| value > 0.0)
 }
 
 /// A finite, non-negative number (clap names the flag in its error).
 pub(crate) fn parse_non_negative(text: &str) -> Result<f64, String> {
+    parse_finite(text, "finite, non-negative", |value| value >= 0.0)
+}
+
+/// A finite number that `accepts`; `what` names the kind in the error ("finite, positive").
+fn parse_finite(text: &str, what: &str, accepts: impl Fn(f64) -> bool) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
-        Ok(value) if value.is_finite() && value >= 0.0 => Ok(value),
-        Ok(value) => Err(format!(
-            "must be a finite, non-negative number, got {value}"
-        )),
-        Err(e) => Err(format!("expected a finite, non-negative number: {e}")),
+        Ok(value) if value.is_finite() && accepts(value) => Ok(value),
+        Ok(value) => Err(format!("must be a {what} number, got {value}")),
+        Err(e) => Err(format!("expected a {what} number: {e}")),
     }
 }
 
