@@ -28,7 +28,10 @@ recovery and the identified stiffnesses; writes a figure.
 swings and the touchdowns sensed from MuJoCo's foot wrenches), with the MuJoCo foot boxes as
 its CoP rectangle and no push unless asked; ``--set KEY=VALUE`` overrides a scenario key
 (``--set controller.stiffness_estimate_scale=0.7 --set
-controller.stiffness_identification=true``).
+controller.stiffness_identification=true``). ``--push-direction`` pushes backward, left or
+right instead of forward; ``scripts/mujoco_walk_pushes.py`` runs grids of pushes while walking.
+A simulator that diverges (our plant's state past what its dynamics factorise, MuJoCo's bad
+accelerations) ends the run there, as a fall.
 
 Run: ``python examples/mujoco_sea_icub.py [--duration 10] [--push-impulse 5] [--figure out.png]``,
 ``python examples/mujoco_sea_icub.py --walk scenarios/walking/walk_fast.toml --duration 22``.
@@ -70,11 +73,24 @@ WALK_OVERRIDES = {
     "controller.contact.foot_x": list(FOOT_X),
     "controller.contact.foot_y": list(FOOT_Y),
 }
-#: The push: on this link's origin, world axes, for PUSH_DURATION s.
+#: The push: on this link's origin, world axes, for PUSH_DURATION s, in one of these
+#: directions (``--push-direction``; left is the world's +y, the robot's left at the start).
 PUSH_LINK = "root_link"
+PUSH_DIRECTIONS = {
+    "forward": (1.0, 0.0, 0.0),
+    "backward": (-1.0, 0.0, 0.0),
+    "left": (0.0, 1.0, 0.0),
+    "right": (0.0, -1.0, 0.0),
+}
 PUSH_DURATION = 0.1
 #: A run has fallen when the base drops this far below its start [m].
 FALL_DROP = 0.1
+
+
+class Diverged(RuntimeError):
+    """A simulator's state left the finite numbers or its dynamics failed (our plant's
+    ``SolverError``), or its accelerations did (MuJoCo's ``mjWARN_BADQACC``, after which
+    MuJoCo resets the state): the run ends there, as a fall."""
 
 
 def push_wrench(mj: mujoco.MjModel, data: mujoco.MjData, body: int, force: np.ndarray) -> np.ndarray:
@@ -122,6 +138,8 @@ class Robot:
         if push is not None:
             self.data.xfrc_applied[self.push_body] = push_wrench(self.mj, self.data, self.push_body, push)
         mujoco.mj_step(self.mj, self.data)
+        if self.data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
+            raise Diverged(f"MuJoCo: bad accelerations at {self.data.time:.4f} s")
         # mj_step's forward pass leaves the contacts and the tendons of the step's start.
         return foot_wrenches(self.mj, self.data, FEET), self.boards.joint_torques(self.mj, self.data)
 
@@ -148,7 +166,12 @@ class OurPlant:
         """One plant step; the wrenches the step delivered and the joint torques at its start
         (``Plant.step_outputs``)."""
         external = None if push is None else {PUSH_LINK: push}
-        self.x = self.plant.step(self.x, u, self.dt, self.method, external=external)
+        try:
+            self.x = self.plant.step(self.x, u, self.dt, self.method, external=external)
+        except sm.SolverError as error:  # a state so far off that the dynamics fail
+            raise Diverged(f"our plant: {error}") from error
+        if not np.isfinite(self.x).all():
+            raise Diverged("our plant: the state is not finite")
         out = self.plant.step_outputs()
         return out.step_contact_wrenches, out.joint_torques
 
@@ -169,12 +192,17 @@ def run(
     simulator: str = "mujoco",
     scenario_path: pathlib.Path = SCENARIO,
     overrides: dict | None = None,
+    *,
+    push_direction: str = "forward",
 ) -> dict[str, np.ndarray]:
     """The robot loop (module doc) for ``duration`` s with a push of ``push_impulse`` [N s]
-    forward at ``push_start``, on MuJoCo's SEA iCub (``simulator="mujoco"``) or on our plant
-    (``"ours"``), the controller of ``scenario_path`` with ``overrides`` (default: the
-    balancing design, ``OVERRIDES``); the time series at every whole-body tick."""
+    at ``push_start`` in ``push_direction`` (a key of ``PUSH_DIRECTIONS``), on MuJoCo's SEA
+    iCub (``simulator="mujoco"``) or on our plant (``"ours"``), the controller of
+    ``scenario_path`` with ``overrides`` (default: the balancing design, ``OVERRIDES``); the
+    time series at every whole-body tick."""
     overrides = OVERRIDES if overrides is None else overrides
+    if push_direction not in PUSH_DIRECTIONS:
+        raise ValueError(f"push_direction: expected one of {sorted(PUSH_DIRECTIONS)}, got {push_direction!r}")
     scenario = sm.Scenario.load(scenario_path, {**overrides, "simulation.duration_s": duration})
     controller = scenario.controller
     if simulator not in ("mujoco", "ours"):
@@ -182,9 +210,10 @@ def run(
     robot = Robot(scenario, Sea(), MOTOR_VELOCITY_GAIN) if simulator == "mujoco" else OurPlant(scenario)
     robot.settle(SETTLE)
     elastic = scenario.plant.elastic_joints
-    period, dt = scenario.control_period, scenario.plant_dt
+    period = scenario.control_period
     steps, inner = scenario.steps_per_tick, scenario.steps_per_inner_tick  # 100 Hz, 1 kHz
-    force = np.array([push_impulse / PUSH_DURATION, 0.0, 0.0])
+    dt = scenario.plant_dt
+    force = push_impulse / PUSH_DURATION * np.array(PUSH_DIRECTIONS[push_direction])
     series: dict[str, list] = {k: [] for k in ("time", "com", "com_reference", "base_height", "base_x", "stiffness_ratio", "qp_solved")}
     start_wall = time.perf_counter()
     for k in range(int(round(duration / period))):
@@ -193,19 +222,11 @@ def run(
         if x[2] < series_start_height(series, x) - FALL_DROP:
             break  # fallen: the rest would be MuJoCo's robot lying on the floor
         out = controller.tick(t, x)
-        u = out.input
-        mean_wrenches = 0.0
-        for j in range(steps):
-            if j > 0 and j % inner == 0:
-                u = controller.inner_tick(robot.state())
-            now = t + j * dt
-            pushing = push_impulse > 0 and push_start <= now < push_start + PUSH_DURATION - 1e-9
-            wrenches, torques = robot.step(u, force if pushing else None)
-            mean_wrenches = mean_wrenches + np.asarray(wrenches) / steps
-            if j == 0:
-                start = (wrenches, torques)
-            if j == steps - 1:
-                end = (wrenches, torques)
+        pushes = [force if push_impulse > 0 and push_start <= t + j * dt < push_start + PUSH_DURATION - 1e-9 else None for j in range(steps)]
+        try:
+            start, end, mean_wrenches = step_period(robot, controller, out.input, pushes, inner)
+        except Diverged:
+            break  # as a fall: the series ends before the run's duration
         controller.end_period(start[0], start[1], end[0], end[1], mean_wrenches=mean_wrenches)
         estimates = np.array([controller.stiffness_estimates[name] for name in elastic])
         for key, value in (
@@ -228,18 +249,37 @@ def run(
     return result
 
 
+def step_period(robot: Robot | OurPlant, controller: sm.Controller, u: np.ndarray, pushes: list, inner: int) -> tuple:
+    """One whole-body period of plant steps (one per entry of ``pushes``, each the push's force
+    or None) from the tick's motor command ``u``, the joint torque loops' ``inner_tick`` every
+    ``inner`` steps; the sensors ``end_period`` takes: ``(wrenches, torques)`` of the first and
+    the last step, and the feet's wrenches averaged over the period. Raises ``Diverged``."""
+    mean_wrenches = 0.0
+    for j, push in enumerate(pushes):
+        if j > 0 and j % inner == 0:
+            u = controller.inner_tick(robot.state())
+        wrenches, torques = robot.step(u, push)
+        mean_wrenches = mean_wrenches + np.asarray(wrenches) / len(pushes)
+        if j == 0:
+            start = (wrenches, torques)
+    return start, (wrenches, torques), mean_wrenches
+
+
 def compare_simulators(
     duration: float,
     push_impulse: float,
     push_start: float,
     scenario_path: pathlib.Path = SCENARIO,
     overrides: dict | None = None,
+    *,
+    push_direction: str = "forward",
 ) -> dict[str, float]:
-    """The same controller loop (``run``'s scenario and overrides) on MuJoCo's SEA iCub and on
-    our plant: the largest and rms distance between the two CoM trajectories [mm], before the
-    push and over the run, and each one's largest forward CoM excursion [mm]."""
-    mujoco_run = run(duration, push_impulse, push_start, "mujoco", scenario_path, overrides)
-    ours_run = run(duration, push_impulse, push_start, "ours", scenario_path, overrides)
+    """The same controller loop (``run``'s scenario, overrides and push) on MuJoCo's SEA iCub
+    and on our plant: the largest and rms distance between the two CoM trajectories [mm],
+    before the push and over the run, and each one's largest forward CoM excursion [mm]."""
+    pushed = dict(push_direction=push_direction)
+    mujoco_run = run(duration, push_impulse, push_start, "mujoco", scenario_path, overrides, **pushed)
+    ours_run = run(duration, push_impulse, push_start, "ours", scenario_path, overrides, **pushed)
     rows = min(len(mujoco_run["time"]), len(ours_run["time"]))
     distance = np.linalg.norm(mujoco_run["com"][:rows] - ours_run["com"][:rows], axis=1)
     before = mujoco_run["time"][:rows] < push_start if push_impulse > 0 else np.full(rows, True)
@@ -332,7 +372,8 @@ def parse_override(text: str) -> tuple[str, object]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=10.0, help="simulated time [s]")
-    parser.add_argument("--push-impulse", type=float, default=None, help="forward push on the pelvis [N s] (default 5, walking 0)")
+    parser.add_argument("--push-impulse", type=float, default=None, help="push on the pelvis [N s] (default 5, walking 0)")
+    parser.add_argument("--push-direction", choices=sorted(PUSH_DIRECTIONS), default="forward", help="the push's direction (world axes; left is +y)")
     parser.add_argument("--push-start", type=float, default=5.0, help="when the push starts [s]")
     parser.add_argument("--figure", type=pathlib.Path, default=pathlib.Path("out/mujoco_sea_icub.png"))
     parser.add_argument("--simulator", choices=["mujoco", "ours"], default="mujoco", help="the robot: MuJoCo's, or our plant for comparison")
@@ -345,11 +386,11 @@ def main() -> None:
     push_impulse = args.push_impulse if args.push_impulse is not None else (0.0 if walking else 5.0)
     scenario_path = args.walk if walking else SCENARIO
     if args.compare:
-        compared = compare_simulators(args.duration, push_impulse, args.push_start, scenario_path, overrides)
+        compared = compare_simulators(args.duration, push_impulse, args.push_start, scenario_path, overrides, push_direction=args.push_direction)
         for key, value in compared.items():
             print(f"{key}: {value:.4g}")
         return
-    series = run(args.duration, push_impulse, args.push_start, args.simulator, scenario_path, overrides)
+    series = run(args.duration, push_impulse, args.push_start, args.simulator, scenario_path, overrides, push_direction=args.push_direction)
     for key, value in summary(series).items():
         print(f"{key}: {value:.4g}")
     figure(series, args.figure, push_impulse)

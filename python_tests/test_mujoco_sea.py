@@ -111,3 +111,40 @@ def test_a_walking_scenarios_controller_walks_mujocos_sea_icub_as_our_plant(exam
         assert summary["com_error_rms_mm"] < 3.0, (simulator, summary)
     distance = np.linalg.norm(runs["mujoco"]["com"] - runs["ours"]["com"], axis=1)
     assert distance.max() < 4e-3, distance.max()
+
+
+def test_a_push_acts_in_its_direction_and_an_unknown_direction_is_refused(example) -> None:
+    """``push_direction``: a 3 N s push to the left moves the CoM to the left (+y) within 0.5 s
+    and not forward; a direction not in ``PUSH_DIRECTIONS`` is refused naming the argument."""
+    pushed = example.run(duration=0.8, push_impulse=3.0, push_start=0.3, push_direction="left")
+    free = example.run(duration=0.8, push_impulse=0.0, push_start=0.3)
+    moved = pushed["com"][:, :2] - free["com"][:, :2]
+    assert moved[:, 1].max() > 2e-3 and abs(moved[:, 0]).max() < 0.5 * moved[:, 1].max(), moved[-1]
+    with pytest.raises(ValueError, match="push_direction"):
+        example.run(duration=0.1, push_impulse=1.0, push_direction="up")
+
+
+def test_a_plant_state_that_diverges_ends_the_run_as_a_fall(example, monkeypatch) -> None:
+    """Our plant's step turns a state its dynamics cannot factorise (velocities of 1e150) into
+    ``Diverged``, and the loop ends the series there, read as a fall, instead of raising (a
+    walk pushed past what it recovers can drive the plant there: 9 N s forward at 50 % of
+    walk_push.toml's fourth swing, measured at 3.53 s)."""
+    scenario = example.sm.Scenario.load(example.SCENARIO, example.OVERRIDES)
+    plant = example.OurPlant(scenario)
+    plant.x = scenario.initial_state.copy()
+    plant.x[-60:] = 1e150
+    with pytest.raises(example.Diverged, match="our plant"):
+        plant.step(np.zeros(scenario.plant.nu_input), None)
+    step = example.OurPlant.step
+    steps = {"done": 0}
+
+    def diverging(self, u, push):
+        steps["done"] += 1
+        if steps["done"] > 2000:  # 0.3 s after the settling's 800 steps
+            raise example.Diverged("our plant: the state is not finite")
+        return step(self, u, push)
+
+    monkeypatch.setattr(example.OurPlant, "step", diverging)
+    series = example.run(duration=1.0, push_impulse=0.0, simulator="ours")
+    summary = example.summary(series)
+    assert summary["standing"] == 0.0 and 0.25 < summary["simulated_s"] < 0.35, summary

@@ -764,7 +764,7 @@ fn push_refuses_a_zero_tolerance_or_duration_naming_the_flag() {
 }
 
 #[test]
-fn push_refuses_a_bad_start_or_direction_naming_the_flag() {
+fn push_refuses_a_bad_start_link_or_direction_naming_the_flag() {
     let scenario = format!("{REPO}/scenarios/robot_rate/push_two_feet.toml");
     for value in ["-1", "inf", "nan"] {
         let output = sea_sim(&["push", &scenario, &format!("--start={value}")]);
@@ -775,6 +775,15 @@ fn push_refuses_a_bad_start_or_direction_naming_the_flag() {
             "--start {value}: {stderr}"
         );
     }
+    let output = sea_sim(&["push", &scenario, "--link", "no_such_link"]);
+    assert!(!output.status.success(), "--link no_such_link accepted");
+    let stderr = text(&output.stderr);
+    assert!(
+        stderr.contains("--link")
+            && stderr.contains("no_such_link")
+            && !stderr.contains("disturbances"),
+        "--link: {stderr}"
+    );
     let output = sea_sim(&["push", &scenario, "--directions", "forward,up"]);
     assert!(!output.status.success(), "direction 'up' accepted");
     let stderr = text(&output.stderr);
