@@ -45,8 +45,8 @@ pub use schema::{
 /// `[sensing]` (typed by the loop).
 pub use sea_loop::SensingConfig;
 pub use settings::{
-    ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationWrenches, Method,
-    QpSolver, Sampling, Setting,
+    ActuatorKind, ComOrigin, ControllerKind, ExternalWrench, IdentificationAcceleration,
+    IdentificationWrenches, Method, QpSolver, Sampling, Setting,
 };
 pub use std::sync::Arc;
 

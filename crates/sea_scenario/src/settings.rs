@@ -16,6 +16,7 @@
 //! | `controller.momentum_relaxation` | [`MomentumRelaxation`] | `sea_ctrl` |
 //! | `controller.external_wrench` | [`ExternalWrench`] | `sea_ctrl` |
 //! | `controller.identification_wrenches` | [`IdentificationWrenches`] | `sea_ctrl` |
+//! | `controller.identification_acceleration` | [`IdentificationAcceleration`] | `sea_ctrl` |
 //! | `reference.com_origin` | [`ComOrigin`]    | here       |
 
 use crate::error::{Error, Result};
@@ -24,6 +25,9 @@ pub use sea_ctrl::controller::{ControllerKind, MomentumRelaxation};
 /// `controller.external_wrench`: what the controller knows of an unmodelled external wrench.
 pub use sea_ctrl::external_wrench::ExternalWrench;
 pub use sea_ctrl::qp::QpSolver;
+/// `controller.identification_acceleration`: the finite difference that gives the stiffness
+/// identification's model torques their acceleration.
+pub use sea_ctrl::stiffness_id::IdentificationAcceleration;
 /// `controller.identification_wrenches`: the contact wrenches the stiffness identification
 /// takes.
 pub use sea_ctrl::stiffness_id::IdentificationWrenches;
@@ -105,6 +109,20 @@ impl Setting for Sampling {
 
     fn name(self) -> &'static str {
         Sampling::name(self)
+    }
+}
+
+impl Setting for IdentificationAcceleration {
+    const ALL: &'static [Self] = &[
+        IdentificationAcceleration::Backward,
+        IdentificationAcceleration::Central,
+    ];
+
+    fn name(self) -> &'static str {
+        match self {
+            IdentificationAcceleration::Backward => "backward",
+            IdentificationAcceleration::Central => "central",
+        }
     }
 }
 
@@ -228,6 +246,7 @@ mod tests {
         names_agree_with_serde::<MomentumRelaxation>();
         names_agree_with_serde::<ExternalWrench>();
         names_agree_with_serde::<IdentificationWrenches>();
+        names_agree_with_serde::<IdentificationAcceleration>();
         names_agree_with_serde::<ComOrigin>();
     }
 

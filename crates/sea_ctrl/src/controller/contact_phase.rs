@@ -92,6 +92,8 @@ pub(super) struct ContactPhases {
     pub(super) adjusting: Option<StepAdjusting>,
     /// `walking.identification_settle` [s].
     identification_settle: f64,
+    /// `walking.identification_single_support` [s].
+    identification_single_support: Option<f64>,
     /// The time of the last tick [s].
     last_tick_s: f64,
     /// The last tick at which a foot's task changed between ground and air (the run's start
@@ -367,6 +369,7 @@ impl MomentumController {
             adjusting,
             tasks: gait.foot_tasks(0.0),
             identification_settle: settings.identification_settle,
+            identification_single_support: settings.identification_single_support,
             last_tick_s: 0.0,
             last_loaded_s: [f64::NEG_INFINITY; 2],
             last_contact_change_s: 0.0,
@@ -403,7 +406,8 @@ impl MomentumController {
     }
 
     /// When walking: whether the stiffness identification may update from the last tick's
-    /// samples: both feet on the ground since at least `walking.identification_settle`
+    /// samples: both feet on the ground since at least `walking.identification_settle`, or
+    /// one foot alone since at least `walking.identification_single_support` when that is set
     /// (lift-offs, touchdowns and the run's start reopen the window); `None` when not
     /// walking (no contact changes: always).
     pub fn identification_settled(&self) -> Option<bool> {
@@ -411,9 +415,15 @@ impl MomentumController {
         let on_ground = walking
             .tasks
             .iter()
-            .all(|task| matches!(task, FootTask::Contact { .. }));
+            .filter(|task| matches!(task, FootTask::Contact { .. }))
+            .count();
+        let settle = match on_ground {
+            2 => Some(walking.identification_settle),
+            1 => walking.identification_single_support,
+            _ => None,
+        };
         let settled = walking.last_tick_s - walking.last_contact_change_s;
-        Some(on_ground && settled >= walking.identification_settle - 1e-9)
+        Some(settle.is_some_and(|settle| settled >= settle - 1e-9))
     }
 
     /// When walking: sets the contact phases of the tick at time `t` [s] and returns the
