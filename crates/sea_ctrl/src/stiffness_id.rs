@@ -76,9 +76,10 @@
 //! estimates within 2 %, with the backward one it loses the 0.3 m/s walk (the same findings,
 //! "Learning in single support").
 //!
-//! The acceleration ([`IdentificationAcceleration`]): the backward difference `nudot_k = (nu_k
-//! - nu_(k-1)) / T` is the mean acceleration of the last period, half a period behind the
-//! state `x_k` whose torques and deflections it is paired with; where the acceleration changes
+//! The acceleration ([`IdentificationAcceleration`]): the backward difference
+//! `nudot_k = (nu_k - nu_(k-1)) / T` is the mean acceleration of the last period, half a
+//! period behind the state `x_k` whose torques and deflections it is paired with; where the
+//! acceleration changes
 //! within a period (a stance leg's rocking sole, the springs' modes) that lag is a torque
 //! error. The central difference `(nu_(k+1) - nu_(k-1)) / 2T` is the acceleration at `x_k` to
 //! second order; each update then learns from the previous update's sample (state and
