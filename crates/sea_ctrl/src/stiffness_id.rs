@@ -79,9 +79,8 @@
 //! The acceleration ([`IdentificationAcceleration`]): the backward difference
 //! `nudot_k = (nu_k - nu_(k-1)) / T` is the mean acceleration of the last period, half a
 //! period behind the state `x_k` whose torques and deflections it is paired with; where the
-//! acceleration changes
-//! within a period (a stance leg's rocking sole, the springs' modes) that lag is a torque
-//! error. The central difference `(nu_(k+1) - nu_(k-1)) / 2T` is the acceleration at `x_k` to
+//! acceleration changes within a period (a stance leg's rocking sole, the springs' modes) that
+//! lag is a torque error. The central difference `(nu_(k+1) - nu_(k-1)) / 2T` is the acceleration at `x_k` to
 //! second order; each update then learns from the previous update's sample (state and
 //! wrenches kept), one period late, and a hold ([`StiffnessIdentifier::hold_sample`]) drops the
 //! pending sample, so no sample with a held neighbour is learnt from. Measured on the iCub's

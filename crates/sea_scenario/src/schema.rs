@@ -424,8 +424,9 @@ pub struct ControllerConfig {
     /// The identification's tuning, `sea_ctrl`'s settings read directly: the keys
     /// `identification_time_s`, `identification_deflection_noise_rad`, `identification_hold_s`,
     /// `identification_prior_deflection_rad`, `identification_filter_hz`,
-    /// `identification_range_factor` and `identification_acceleration` of this table ([`IdentificationSettings`]; the table is
-    /// split by its keys when read, [`super::split_tables::controller_table`]).
+    /// `identification_range_factor` and `identification_acceleration` of this table
+    /// ([`IdentificationSettings`]; the table is split by its keys when read,
+    /// [`super::split_tables::controller_table`]).
     #[serde(skip_serializing)]
     #[schemars(flatten)]
     pub identification: IdentificationSettings,
