@@ -371,9 +371,6 @@ pub struct StiffnessIdentifier {
     delayed_state: Vec<f64>,
     delayed_wrenches: DVector<f64>,
     has_delayed: bool,
-    /// The sample being learnt from (the buffers `delayed_*` swap with).
-    sample_state: Vec<f64>,
-    sample_wrenches: DVector<f64>,
     /// `nu` one period before the pending sample (nv), valid when `has_nu_before_delayed`.
     nu_before_delayed: Vec<f64>,
     has_nu_before_delayed: bool,
@@ -444,8 +441,6 @@ impl StiffnessIdentifier {
             delayed_state: Vec::new(),
             delayed_wrenches: DVector::zeros(k),
             has_delayed: false,
-            sample_state: Vec::new(),
-            sample_wrenches: DVector::zeros(k),
             nu_before_delayed: vec![0.0; nv],
             has_nu_before_delayed: false,
             generalized_force: DVector::zeros(nv),
@@ -541,31 +536,27 @@ impl StiffnessIdentifier {
         wrenches: &DVector<f64>,
         estimates: &mut [ElasticParameters],
     ) -> bool {
-        let ready = self.has_delayed && self.has_nu_before_delayed;
-        if ready {
+        let mut made = false;
+        if self.has_delayed && self.has_nu_before_delayed {
             let velocities = layout.nu(x).iter().zip(&self.nu_before_delayed);
             for (a, (after, before)) in self.nudot.iter_mut().zip(velocities) {
                 *a = (after - before) / (2.0 * period);
             }
+            // Taken out while `learn` borrows `self`, and put back (no allocation).
+            let sample = std::mem::take(&mut self.delayed_state);
+            let sample_wrenches = std::mem::replace(&mut self.delayed_wrenches, DVector::zeros(0));
+            made = self.learn(layout, &sample, period, &sample_wrenches, estimates);
+            (self.delayed_state, self.delayed_wrenches) = (sample, sample_wrenches);
         }
         if self.has_delayed {
             self.nu_before_delayed
                 .copy_from_slice(layout.nu(&self.delayed_state));
             self.has_nu_before_delayed = true;
         }
-        std::mem::swap(&mut self.delayed_state, &mut self.sample_state);
-        std::mem::swap(&mut self.delayed_wrenches, &mut self.sample_wrenches);
         self.delayed_state.clear();
         self.delayed_state.extend_from_slice(x);
         self.delayed_wrenches.copy_from(wrenches);
         self.has_delayed = true;
-        if !ready {
-            return false;
-        }
-        let sample = std::mem::take(&mut self.sample_state);
-        let sample_wrenches = std::mem::replace(&mut self.sample_wrenches, DVector::zeros(0));
-        let made = self.learn(layout, &sample, period, &sample_wrenches, estimates);
-        (self.sample_state, self.sample_wrenches) = (sample, sample_wrenches);
         made
     }
 
