@@ -356,6 +356,48 @@ fn with_the_push_observer_the_walk_completes() {
     );
 }
 
+/// The iCub at 0.4 m/s, the stretch: 0.148 m steps of 0.37 s, a 4 cm swing apex.
+const WALK_04: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/walking/walk_04.toml"
+);
+
+/// walk_04.toml's setup (a 4 cm swing apex, the CoM at 0.51 m) at 0.35 m/s in 0.39 s steps with
+/// 0.03 s double supports, a gait inside a block whose neighbours (0.38-0.40 s, 0.025-0.04 s,
+/// 0.505-0.515 m) complete too: its 50 steps complete with the true stiffness estimate and
+/// from x0.7 and x1.4 under the identification, the feet's mid-point travelling the planned
+/// distance within 5 %. (walk_04.toml as shipped, 0.4 m/s, is at an edge: its neighbours
+/// complete about a third of the time, docs/findings/walking.md, so no test holds it; the main
+/// job runs it and prints its outcome.)
+#[test]
+fn fifty_steps_at_0_35_m_s_complete_with_a_4_cm_swing_apex() {
+    for (scale, identified) in [("1.0", "false"), ("0.7", "true"), ("1.4", "true")] {
+        let keys = [
+            ("walking.command.forward_velocity", "0.35"),
+            ("walking.step_duration", "0.39"),
+            ("walking.double_support_duration", "0.03"),
+            ("controller.stiffness_identification", identified),
+            ("controller.stiffness_estimate_scale", scale),
+        ];
+        let (_, summary, setup) = walk(WALK_04, &keys);
+        assert_eq!(summary.status, "completed", "x{scale}: {}", summary.reason);
+        assert_eq!(summary.steps_taken, Some(51), "x{scale}");
+        let stances = &setup.controller.gait().unwrap().footsteps.stances;
+        let mid_feet =
+            |i: usize| (stances[i].left.world_p_sole + stances[i].right.world_p_sole) * 0.5;
+        let planned = (mid_feet(stances.len() - 1) - mid_feet(0)).norm();
+        assert!(
+            (planned - 50.0 * 0.35 * 0.39).abs() < 0.1,
+            "planned {planned} m"
+        );
+        let walked = summary.distance_walked_m.unwrap();
+        assert!(
+            (walked - planned).abs() < 0.05 * planned,
+            "x{scale}: walked {walked} m of {planned} m"
+        );
+    }
+}
+
 /// walk_fast.toml's 50 steps with step adjustment at a 5 mm threshold
 /// (`walking.step_adjustment_threshold`), below the unpushed walk's tracking errors: the
 /// landings are moved, each before `walking.step_adjustment_end_phase` (0.8) of its swing,
