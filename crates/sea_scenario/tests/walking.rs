@@ -214,6 +214,13 @@ fn eight_steps_of_walk_fast(overrides: &[(&str, &str)]) -> (sea_loop::Summary, s
     (summary, setup)
 }
 
+/// The planned walk's length: from the first stance's mid-feet point to the last's [m].
+fn planned_distance(gait: &sea_ctrl::walking::Gait) -> f64 {
+    let stances = &gait.footsteps.stances;
+    let [first, last] = [stances.first(), stances.last()].map(|s| s.unwrap().mid_frame());
+    (last.world_p_sole - first.world_p_sole).norm()
+}
+
 /// walk_fast.toml's gait (0.3 m/s, 0.12 m steps of 0.4 s, the CoM at 0.51 m) for 8 steps and
 /// the stop: the robot does not fall and the feet's mid-point travels the planned distance
 /// within 10 %.
@@ -225,11 +232,7 @@ fn eight_steps_at_0_3_m_s_walk_the_planned_distance() {
         gait.end_time() <= 5.0,
         "the walk ends standing within the run"
     );
-    let mid_feet = |i: usize| {
-        let stance = gait.footsteps.stances[i];
-        (stance.left.world_p_sole + stance.right.world_p_sole) * 0.5
-    };
-    let planned = (mid_feet(gait.footsteps.stances.len() - 1) - mid_feet(0)).norm();
+    let planned = planned_distance(gait);
     assert!((planned - 8.0 * 0.12).abs() < 0.07, "planned {planned} m");
     let walked = summary.distance_walked_m.unwrap();
     assert!(
@@ -382,10 +385,7 @@ fn fifty_steps_at_0_35_m_s_complete_with_a_4_cm_swing_apex() {
         let (_, summary, setup) = walk(WALK_04, &keys);
         assert_eq!(summary.status, "completed", "x{scale}: {}", summary.reason);
         assert_eq!(summary.steps_taken, Some(51), "x{scale}");
-        let stances = &setup.controller.gait().unwrap().footsteps.stances;
-        let mid_feet =
-            |i: usize| (stances[i].left.world_p_sole + stances[i].right.world_p_sole) * 0.5;
-        let planned = (mid_feet(stances.len() - 1) - mid_feet(0)).norm();
+        let planned = planned_distance(setup.controller.gait().unwrap());
         assert!(
             (planned - 50.0 * 0.35 * 0.39).abs() < 0.1,
             "planned {planned} m"
