@@ -398,6 +398,34 @@ fn fifty_steps_at_0_35_m_s_complete_with_a_4_cm_swing_apex() {
     }
 }
 
+/// The whole-body loop at 1 kHz: walk_fast.toml's command with 0.4 s steps, four gaits
+/// (double supports 0.06 / 0.08 s, CoM heights 0.505 / 0.51 m) complete their 50 steps with
+/// the touchdowns debounced (`walking.touchdown_debounce`, default 0.01 s); read one
+/// reading at a time (0) the feet's chattering forces toggle their tasks every millisecond
+/// and at most one of them completes (docs/findings/walking.md, "Touchdowns at a 1 kHz
+/// whole-body loop").
+#[test]
+fn at_a_1_khz_whole_body_loop_debounced_touchdowns_complete_walks_that_raw_readings_end() {
+    let completed = |debounce: &'static str| {
+        let mut count = 0;
+        for double_support in ["0.06", "0.08"] {
+            for com_height in ["0.505", "0.51"] {
+                let keys = [
+                    ("controller.rate_hz", "1000"),
+                    ("walking.double_support_duration", double_support),
+                    ("walking.com_height", com_height),
+                    ("walking.touchdown_debounce", debounce),
+                ];
+                let (_, summary, _) = walk(WALK_FAST, &keys);
+                count += usize::from(summary.status == "completed");
+            }
+        }
+        count
+    };
+    assert_eq!(completed("0.01"), 4);
+    assert!(completed("0") <= 1);
+}
+
 /// walk_fast.toml's 50 steps with step adjustment at a 5 mm threshold
 /// (`walking.step_adjustment_threshold`), below the unpushed walk's tracking errors: the
 /// landings are moved, each before `walking.step_adjustment_end_phase` (0.8) of its swing,

@@ -30,7 +30,10 @@
 //! since its mid-swing is late: through that double support it keeps descending from its
 //! landing pose at [`LATE_TOUCHDOWN_SPEED`], with no planned load, until the sensor sees it.
 //! Once seen loaded it has landed, and a normal force chattering about the threshold
-//! afterwards does not make it late again.
+//! afterwards does not make it late again. A foot counts as loaded (or unloaded) once its
+//! readings have said so for `walking.touchdown_debounce` ([`DebouncedLoad`]), each reading
+//! standing for the period before it: at 100 Hz every reading counts at once, at 1 kHz a
+//! touchdown's chattering force does not toggle the foot's task every millisecond.
 
 use super::step_adjustment::StepAdjusting;
 use super::stepping::Stepping;
@@ -78,6 +81,10 @@ pub(super) struct ContactPhases {
     pub(super) touchdown_force: f64,
     /// Whether the sensors move the touchdowns (`walking.sensed_touchdown`).
     sensed_touchdown: bool,
+    /// `walking.touchdown_debounce` [s].
+    touchdown_debounce: f64,
+    /// Each contact's loaded state from its sensor, debounced.
+    loads: [DebouncedLoad; 2],
     /// Touchdowns the sensors moved: early, late.
     pub(super) early_touchdowns: usize,
     pub(super) late_ticks: usize,
@@ -199,6 +206,37 @@ enum Touchdown {
     },
 }
 
+/// A foot's loaded state from its sensor's readings, debounced (`walking.touchdown_debounce`):
+/// it changes once the readings have disagreed with it for the debounce time, each reading
+/// standing for the period before it, so a debounce of at most one period lets every reading
+/// count at once.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DebouncedLoad {
+    /// The state the controller acts on (`false` before any reading).
+    pub loaded: bool,
+    /// The time of the first reading that disagreed with `loaded` since it last agreed [s]
+    /// (`None`: the last reading agreed).
+    disagreeing_since: Option<f64>,
+}
+
+impl DebouncedLoad {
+    /// Takes the reading at `t` [s] (`reading_loaded`: its normal force above the touchdown
+    /// force), `period` [s] after the last one, with the debounce time `debounce` [s];
+    /// returns the state.
+    pub fn update(&mut self, reading_loaded: bool, t: f64, period: f64, debounce: f64) -> bool {
+        if reading_loaded == self.loaded {
+            self.disagreeing_since = None;
+            return self.loaded;
+        }
+        let since = *self.disagreeing_since.get_or_insert(t);
+        if t - since + period >= debounce - 1e-9 {
+            self.loaded = reading_loaded;
+            self.disagreeing_since = None;
+        }
+        self.loaded
+    }
+}
+
 /// One foot's sensor reading at a tick.
 #[derive(Clone, Copy, Debug)]
 struct SensedFoot {
@@ -243,8 +281,10 @@ impl ContactPhases {
         };
         let mut tasks = planned;
         let phase = self.gait.footsteps.phase_at(t);
+        let period = t - self.last_tick_s;
         for c in 0..2 {
-            let loaded = forces[c] > self.touchdown_force;
+            let reading_loaded = forces[c] > self.touchdown_force;
+            let loaded = self.loads[c].update(reading_loaded, t, period, self.touchdown_debounce);
             if loaded {
                 self.last_loaded_s[c] = t;
             }
@@ -363,6 +403,8 @@ impl MomentumController {
             normal_forces: None,
             touchdown_force: TOUCHDOWN_FORCE_FRACTION * weight,
             sensed_touchdown: settings.sensed_touchdown,
+            touchdown_debounce: settings.touchdown_debounce,
+            loads: [DebouncedLoad::default(); 2],
             early_touchdowns: 0,
             late_ticks: 0,
             stepping,
@@ -729,5 +771,36 @@ mod tests {
         // Continuous at one half, decreasing in the share.
         assert!(share_penalty(0.4999) < 1e-3);
         assert!(share_penalty(0.1) > share_penalty(0.2));
+    }
+
+    /// The readings of `forces` every `period` from `period` on, through a debounce of
+    /// `debounce`: the states taken.
+    fn debounced(forces: &[bool], period: f64, debounce: f64) -> Vec<bool> {
+        let mut load = DebouncedLoad::default();
+        (0..forces.len())
+            .map(|k| load.update(forces[k], (k + 1) as f64 * period, period, debounce))
+            .collect()
+    }
+
+    #[test]
+    fn a_debounce_of_one_period_lets_every_reading_count_at_once() {
+        let readings = [true, false, true, true, false, false];
+        assert_eq!(debounced(&readings, 0.01, 0.01), readings);
+        assert_eq!(debounced(&readings, 0.001, 0.0), readings);
+    }
+
+    #[test]
+    fn a_chattering_reading_does_not_toggle_the_state_within_the_debounce() {
+        // 1 ms readings, 5 ms debounce: a landing whose force chatters for 4 ms is taken as
+        // loaded only after five loaded readings in a row, and one unloaded reading then
+        // does not lift it.
+        let readings = [
+            true, false, true, true, false, true, true, true, true, true, false, true,
+        ];
+        let states = debounced(&readings, 0.001, 0.005);
+        let expected = [
+            false, false, false, false, false, false, false, false, false, true, true, true,
+        ];
+        assert_eq!(states, expected);
     }
 }
