@@ -48,6 +48,7 @@ mod qp_solve;
 mod settings;
 mod step_adjustment;
 mod stepping;
+mod touchdown_debounce;
 mod tuning;
 
 pub use contact_phase::{

@@ -183,7 +183,7 @@ pub struct WalkingSettings {
     /// With `sensed_touchdown`: how long a foot's sensor must read it loaded (or unloaded)
     /// before the controller takes the foot as landed (or lifted) [s], >= 0 (default 0.01:
     /// one period of a 100 Hz whole-body loop, so there every reading counts at once); each
-    /// reading stands for the period before it (`controller::contact_phase`,
+    /// reading stands for the period before it (`controller::touchdown_debounce`,
     /// `DebouncedLoad`). At a 1 kHz whole-body loop the feet's forces chatter at every
     /// touchdown, and without it 14 of 72 gaits at 0.3 m/s complete against 45 with it
     /// (docs/findings/walking.md, "Touchdowns at a 1 kHz whole-body loop").
