@@ -47,7 +47,7 @@ pub struct PosturalTask<'a> {
 ///
 /// The caller fills the inputs [`Self::bias`], [`Self::diagonal`], [`Self::jacobian`] and
 /// [`Self::jdot_nu`], then calls [`Self::compute`] with `M`; the results are
-/// [`Self::tau_bias`] and [`Self::sigma`].
+/// [`Self::tau_bias`] and `Self::sigma`.
 pub struct TorqueMap {
     /// Input `h` (nv): bias forces of the controller's model, SEA terms included.
     pub bias: DVector<f64>,

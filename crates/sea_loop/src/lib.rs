@@ -7,7 +7,7 @@
 //! with its motor velocity loop; divergence detection; recording into sinks; online summary
 //! statistics; cancellation.
 //!
-//! - [`tick`]: one sample period (the stack's tick, the bounds, the plant's advance);
+//! - `tick`: one sample period (the stack's tick, the bounds, the plant's advance);
 //! - [`sampling`]: the sampling and the run's time grid ([`Schedule`]);
 //! - [`sensing`]: the measurement model (noise and delay of the controller's state);
 //! - [`disturbance_schedule`]: external wrenches on links over time windows;

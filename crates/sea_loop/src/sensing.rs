@@ -4,10 +4,10 @@
 //! the oldest, with independent Gaussian noise on `s`, `sdot`, `theta` and `thetadot` drawn
 //! from a seeded ChaCha stream (bitwise reproducible, the same on every platform). The
 //! floating base's pose and velocity are read exactly. Allocation-free after
-//! [`Sensor::new`].
+//! `Sensor::new`.
 //!
 //! The law evaluated at a measurement reports a measured CoM and measured errors; the run
-//! records the true ones ([`Sensor::observe_truth`]).
+//! records the true ones (`Sensor::observe_truth`).
 
 use super::tick::Law;
 use rand_chacha::rand_core::SeedableRng;

@@ -24,7 +24,7 @@
 //! - [`integrator`]: fixed-step integrators on the state manifold (ROS2 Rosenbrock-W,
 //!   linearly implicit Euler, RK4) with their own buffers ([`IntegratorCache`], the W-matrix
 //!   in `integrator/w_matrix.rs`), and [`PlantData`], what stepping one plant needs;
-//! - [`simulate`]: the native loop with a held input.
+//! - [`mod@simulate`]: the native loop with a held input.
 
 #![forbid(unsafe_code)]
 

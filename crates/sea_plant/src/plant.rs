@@ -239,7 +239,7 @@ impl Plant {
         Ok(())
     }
 
-    /// Checks a state: size nx, finite, unit quaternion within [`crate::model::QUATERNION_TOLERANCE`].
+    /// Checks a state: size nx, finite, unit quaternion within [`sea_dyn::model::QUATERNION_TOLERANCE`].
     pub fn check_state(&self, x: &[f64]) -> Result<()> {
         check_vector("x", x, self.layout().nx())?;
         self.model.check_configuration(&x[..self.model.nq()])

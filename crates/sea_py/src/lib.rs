@@ -1,6 +1,6 @@
 //! PyO3 bindings of sea-momentum: thin wrappers only, numpy in and out.
 //!
-//! Errors are mapped once, in [`errors`]: `SeaError` is the base; model problems raise
+//! Errors are mapped once, in `errors`: `SeaError` is the base; model problems raise
 //! `ModelError` and scenario problems `ScenarioError` (both also `ValueError`), numerical
 //! failures `SolverError` (also `RuntimeError`), file failures `SeaIOError` (an `OSError`); bad
 //! arguments raise `ValueError` naming the argument, the expected and the actual value.

@@ -170,7 +170,7 @@ impl TableError {
 
     /// The message of this error for the enclosing table, `prefix` naming this table in it
     /// ("" for the enclosing table itself, "overrides.NAME." for a sub-table): read back by
-    /// [`Self::of`] as the key `prefix + key`.
+    /// [`Self::at`] as the key `prefix + key`.
     pub fn within(&self, prefix: &str) -> String {
         let key = dotted(prefix.trim_end_matches('.'), &self.key);
         if key.is_empty() {

@@ -2,7 +2,7 @@
 //! (domain types where one exists: [`ElasticParameters`], [`ContactConstraints`] with its
 //! [`sea_dyn::ContactSurface`], the settings of [`super::settings`]). Every table rejects
 //! unknown keys and is `#[serde(default)]`: a missing key takes the table's default, built
-//! from the domain types' defaults and the robot description ([`super::robots::icub`]).
+//! from the domain types' defaults and the robot description ([`super::robots::icub()`]).
 
 use super::bounded::{AtLeastOne, Finite, NonNegative, Positive};
 use super::parse::{table_as, take, TableResult};
@@ -291,7 +291,7 @@ fn one_line(text: &str) -> String {
     words.join(" ").replace("[`", "`").replace("`]", "`")
 }
 
-/// [`json_schema`] as the text of `schemas/scenario.schema.json` (pretty, one final newline).
+/// [`json_schema()`] as the text of `schemas/scenario.schema.json` (pretty, one final newline).
 pub fn json_schema_text() -> String {
     let mut text = serde_json::to_string_pretty(&json_schema()).expect("a JSON value");
     text.push('\n');
@@ -426,7 +426,7 @@ pub struct ControllerConfig {
     /// `identification_prior_deflection_rad`, `identification_filter_hz`,
     /// `identification_range_factor` and `identification_acceleration` of this table
     /// ([`IdentificationSettings`]; the table is split by its keys when read,
-    /// [`super::split_tables::controller_table`]).
+    /// `split_tables::controller_table`).
     #[serde(skip_serializing)]
     #[schemars(flatten)]
     pub identification: IdentificationSettings,

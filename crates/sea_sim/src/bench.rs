@@ -239,7 +239,7 @@ pub struct TickBench {
 }
 
 impl TickBench {
-    /// The controller of `scenario` and [`STATES`] small random perturbations of its initial
+    /// The controller of `scenario` and `STATES` small random perturbations of its initial
     /// state. `None` when the scenario does not build.
     pub fn new(scenario: &crate::scenario::Scenario) -> Option<TickBench> {
         let setup = crate::closed_loop::build(scenario).ok()?;

@@ -354,7 +354,7 @@ impl McapLogger {
     }
 
     /// Records `impact` on `/events`: a `foxglove.Log` (level INFO, name `sea_sim.touchdown`
-    /// or `sea_sim.joint_stop`) at its time, its figures in the text ([`impact_event`]).
+    /// or `sea_sim.joint_stop`) at its time, its figures in the text (`impact_event`).
     ///
     /// Errors: [`Error::Log`] when the logger is finished or MCAP writing fails,
     /// [`Error::Io`] naming the file when the OS refuses a write.
@@ -366,7 +366,7 @@ impl McapLogger {
     /// Records a change of a foot's contact check (unilateral contacts) on `/events`: a
     /// `foxglove.Log` named `sea_sim.contact_check` at its time, level WARNING when the foot
     /// starts violating a constraint, INFO when it satisfies them again
-    /// ([`contact_check_event`]).
+    /// (`contact_check_event`).
     ///
     /// Errors: [`Error::Log`] when the logger is finished or MCAP writing fails,
     /// [`Error::Io`] naming the file when the OS refuses a write.
@@ -624,7 +624,7 @@ impl ThreadedMcapLogger {
         &self.path
     }
 
-    /// Queues a sample (waits only when the writer is [`QUEUE_SAMPLES`] behind).
+    /// Queues a sample (waits only when the writer is `QUEUE_SAMPLES` behind).
     pub fn log(&mut self, sample: &Sample<'_>) -> Result<()> {
         self.send(Queued::Sample(sample.to_owned()))
     }

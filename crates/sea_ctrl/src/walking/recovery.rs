@@ -66,7 +66,7 @@ pub struct RecoveryFrame {
 /// The gait of one recovery step of `swing_foot` from `frame.stance` at the `measured` state
 /// (module doc), its first double support from `start_s` [s] (the load hand-over's start)
 /// to the lift-off at `lift_off` [s] (`walking.recovery_transfer_duration` after the
-/// decision; kept when re-planned before it), and the step as [`recovery_step`] planned it.
+/// decision; kept when re-planned before it), and the step as [`super::capture::recovery_step`] planned it.
 pub fn recovery_gait(
     settings: &WalkingSettings,
     lip: &Lip,
@@ -175,7 +175,7 @@ fn settling_segments(
 }
 
 /// `gait` after its recovery step's touchdown, its DCM plan from the `measured` state on
-/// ([`settling_segments`] from the measured DCM to rest over the new mid-feet point by the
+/// (`settling_segments` from the measured DCM to rest over the new mid-feet point by the
 /// gait's end, or over `walking.transfer_duration` when past it): the CoM reference starts
 /// where the robot landed.
 pub fn settle_from(gait: &mut Gait, settings: &WalkingSettings, measured: MeasuredCom) {

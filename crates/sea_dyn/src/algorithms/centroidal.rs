@@ -2,7 +2,7 @@
 //! angular momentum about the CoM), its bias `Adot_G nu`, the CoM and its Jacobian.
 //!
 //! The spatial momentum at `O` is `h_O = sum_i I_i v_i = Ic_0 v_0 + sum_i F_i sdot_i`
-//! (composite inertias, see [`crate::crba`]), so the columns of `A_G` at `O` are `Ic_0` (base)
+//! (composite inertias, see [`crate::crba()`]), so the columns of `A_G` at `O` are `Ic_0` (base)
 //! and `F_i` (joints); moving the moment to the CoM `c` gives `L_com = L_O - c x P`.
 //! `J_com = A_G[0:3, :] / m`. The rate `Hdot = [Pdot; Ldot_O - c x Pdot]` (`cdot x P = 0`), with
 //! `[Pdot; Ldot_O] = sum_i (I_i a_i + v_i x* I_i v_i)`, the gravity-free RNEA base force; at

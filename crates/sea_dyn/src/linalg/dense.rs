@@ -225,7 +225,7 @@ fn dot4(a: &[f64], b: [&[f64]; 4]) -> [f64; 4] {
 }
 
 /// `c <- alpha a^T b + beta c` (`a` m x r, `b` m x k, `c` r x k, all column-major and
-/// contiguous) as dot products of columns, four columns of `b` per pass ([`dot4`]);
+/// contiguous) as dot products of columns, four columns of `b` per pass (`dot4`);
 /// `symmetric` (for `a == b`) computes the lower triangle's blocks only and mirrors them.
 /// nalgebra's `gemm_tr` sums each entry in one dependency chain.
 pub fn gemm_tn(

@@ -1,7 +1,7 @@
 //! Robot descriptions: the robot-specific data a scenario's defaults come from (URDF, joints,
 //! named postures, contacts, foot rectangle, actuators, joint groups, gains). Each is plain
 //! data ([`RobotDescription`]) read from TOML: the paper's iCub (`robots/icub_paper.toml`,
-//! built in, [`icub`]), a file, or a table inline in the scenario ([`source`]); a scenario
+//! built in, [`icub()`]), a file, or a table inline in the scenario ([`source`]); a scenario
 //! takes its defaults from the one it names ([`defaults`]). Contacts are frame names or
 //! `LINK:x,y,z` points of a link ([`contact`]).
 

@@ -46,11 +46,11 @@ use std::path::Path;
 /// Steps after the pushed swing's lift-off within which the push must be captured.
 pub const CAPTURE_STEPS: usize = 6;
 
-/// The largest impulse [N s] the bounds try ([`largest_captured`]): a push captured at this
+/// The largest impulse [N s] the bounds try (`largest_captured`): a push captured at this
 /// impulse is reported as this.
 pub const BOUND_CEILING_N_S: f64 = 1000.0;
 
-/// The resolution of the bounds' bisection ([`largest_captured`]) [N s].
+/// The resolution of the bounds' bisection (`largest_captured`) [N s].
 pub const BOUND_TOLERANCE_N_S: f64 = 1e-6;
 
 /// The side of a lateral push, seen from the pushed swing.
@@ -257,7 +257,7 @@ impl LateralGait {
     }
 
     /// The largest impulse [N s] [`Self::captured`] towards `side` at `phase` of the swing
-    /// with `landings` ([`largest_captured`]).
+    /// with `landings` (`largest_captured`).
     pub fn bound(&self, side: LateralSide, phase: f64, landings: Landings) -> f64 {
         largest_captured(|impulse| self.captured(impulse, side, phase, landings))
     }

@@ -1,7 +1,7 @@
 //! Stability analysis of the closed loop: its equilibrium with the references frozen, the
 //! linearisation on the state's tangent space in continuous time or over one control period
 //! (zero-order hold), eigenvalues, growth rates and the least stable mode
-//! ([`linearize`]), and the parameter values where stability changes ([`margin`]); push
+//! ([`mod@linearize`]), and the parameter values where stability changes ([`margin`]); push
 //! recovery ([`push`]) and the linear inverted pendulum's bounds on it, a walking gait's
 //! sideways ([`gait_bound`]) and a standing robot's with steps ([`step_bound`]).
 

@@ -178,7 +178,7 @@ impl StandingStep {
         false
     }
 
-    /// The largest impulse [N s] `first` captures ([`largest_captured`]): standing
+    /// The largest impulse [N s] `first` captures (`largest_captured`): standing
     /// (`None`), or the recovery whose first step is `first`.
     pub fn bound_of(&self, first: Option<FirstStep>) -> f64 {
         largest_captured(|impulse| self.captured(impulse, first))
