@@ -42,7 +42,7 @@ use super::MomentumController;
 use crate::error::{Error, Result};
 use crate::qp::{momentum_tracking_objective, Minimizer, QpCounters, QpStatus, WrenchQp};
 use crate::references::ComSample;
-use crate::walking::{FootTask, Gait, SwingSample, WalkingSettings};
+use crate::walking::{FootTask, Gait, SwingSample, ToeOff, WalkingSettings};
 use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Vector6};
 use sea_dyn::spatial::{heading, Pose};
 
@@ -342,7 +342,14 @@ impl MomentumController {
         }
         let world_p_com = sea_dyn::centroidal::com(&self.model, &mut self.data, q0);
         let gravity = self.model.gravity.norm();
-        let gait = Gait::new(settings, &self.contact_references, world_p_com, gravity)?;
+        let toe_off = ToeOff::of(settings, &self.settings.constraints.surface);
+        let gait = Gait::new(
+            settings,
+            &self.contact_references,
+            world_p_com,
+            gravity,
+            toe_off,
+        )?;
         let stepping = settings.stepping.then(|| {
             let world_z_ground = self
                 .contact_references
@@ -607,6 +614,7 @@ mod tests {
             world_yaw_sole: 0.3,
             world_omega_sole: Vector3::zeros(),
             world_omegadot_sole: Vector3::zeros(),
+            pitch: 0.0,
         }
     }
 

@@ -117,9 +117,9 @@ fn shift_footsteps(gait: &mut Gait, index: usize, world_shift: Vector2<f64>) {
         feet.set(step.foot, step.pose);
         plan.stances[next + 1] = feet;
     }
-    let height = gait.swings[index].height;
+    let shape = (gait.swings[index].height, gait.swings[index].toe_off);
     for later in index + 1..plan.steps.len() {
-        gait.swings[later] = SwingTrajectory::of_step(plan, later, height, gait.world_z_ground);
+        gait.swings[later] = SwingTrajectory::of_step(plan, later, shape, gait.world_z_ground);
     }
 }
 

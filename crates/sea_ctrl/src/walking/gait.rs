@@ -10,7 +10,7 @@ use super::dcm::DcmPlan;
 use super::footstep::{Foot, FootstepPlan, SolePose, Stance};
 use super::phase::Support;
 use super::settings::WalkingSettings;
-use super::swing::{SwingSample, SwingTrajectory};
+use super::swing::{SwingSample, SwingTrajectory, ToeOff};
 use crate::error::{Error, Result};
 use crate::references::ComSample;
 use nalgebra::{Vector2, Vector3};
@@ -62,6 +62,7 @@ impl Gait {
         world_h_soles: &[Pose],
         world_p_com: Vector3<f64>,
         gravity: f64,
+        toe_off: ToeOff,
     ) -> Result<Self> {
         let [first, second] = world_h_soles else {
             return Err(Error::config(
@@ -87,7 +88,10 @@ impl Gait {
         let world_p_com0 = Vector2::new(world_p_com.x, world_p_com.y);
         let dcm = DcmPlan::new(&footsteps, lip, world_p_com0, world_z_ground);
         let swings = (0..footsteps.steps.len())
-            .map(|i| SwingTrajectory::of_step(&footsteps, i, settings.swing_height, world_z_ground))
+            .map(|i| {
+                let shape = (settings.swing_height, toe_off);
+                SwingTrajectory::of_step(&footsteps, i, shape, world_z_ground)
+            })
             .collect();
         Ok(Self {
             footsteps,

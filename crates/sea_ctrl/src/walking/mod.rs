@@ -64,4 +64,4 @@ pub use settings::{
     CaptureMargin, FootstepSpec, RobotWalkingFigures, WalkCommand, WalkingSettings,
     ICUB_LEG_LENGTH, MAX_COMMAND_STEPS, STEP_LENGTH_PER_REACH,
 };
-pub use swing::{PlanarQuintic, SwingSample, SwingTrajectory};
+pub use swing::{PlanarQuintic, SwingSample, SwingTrajectory, ToeOff};

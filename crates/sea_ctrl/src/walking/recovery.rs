@@ -31,7 +31,7 @@ use super::lip::Lip;
 use super::polygon::SupportPolygon;
 use super::segment::{Cubic, DcmSegment};
 use super::settings::WalkingSettings;
-use super::swing::SwingTrajectory;
+use super::swing::{SwingTrajectory, ToeOff};
 use nalgebra::Vector2;
 use sea_dyn::ContactSurface;
 
@@ -136,7 +136,7 @@ pub fn recovery_gait(
     let swings = vec![SwingTrajectory::of_step(
         &footsteps,
         0,
-        settings.swing_height,
+        (settings.swing_height, ToeOff::of(settings, surface)),
         frame.world_z_ground,
     )];
     let gait = Gait {

@@ -3,12 +3,18 @@
 //! 6 u^5` of the normalised time `u` (zero velocity and acceleration at both ends), z the
 //! sextic `64 h u^3 (1 - u)^3` above the ground (zero height, velocity and acceleration at
 //! both ends, apex `h` at `u = 1/2`). The sole stays flat (roll and pitch zero), so its
-//! angular velocity and acceleration are along world z. A swing re-aimed in flight
-//! ([`SwingTrajectory::reaim`], step adjustment) follows, from then on, a quintic in x, y from
-//! its sample then (position, velocity, acceleration) to the new landing at rest.
+//! angular velocity and acceleration are along world z, unless the swing has a toe-off
+//! ([`ToeOff`]): then over the first part of the swing the sole pitches toe down about its toe
+//! and back flat, `theta(u) = theta_max 64 v^3 (1 - v)^3` with `v = u / u_end`, the toe
+//! following the flat sole's toe (the origin lifted by `x_toe sin theta` and moved forward by
+//! `x_toe (1 - cos theta)`). A swing re-aimed in flight ([`SwingTrajectory::reaim`], step
+//! adjustment) follows, from then on, a quintic in x, y from its flat sample then (position,
+//! velocity, acceleration) to the new landing at rest.
 
 use super::footstep::{wrap_angle, Footstep, FootstepPlan, SolePose};
+use super::settings::WalkingSettings;
 use nalgebra::{Rotation3, Vector2, Vector3};
+use sea_dyn::ContactSurface;
 
 /// The swing sole's pose, velocity and acceleration at one instant (world).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,12 +31,90 @@ pub struct SwingSample {
     pub world_omega_sole: Vector3<f64>,
     /// Angular acceleration of the sole [rad/s^2] (along z).
     pub world_omegadot_sole: Vector3<f64>,
+    /// Sole pitch about its own y axis after the yaw [rad] (positive: toe down; zero but
+    /// in a toe-off).
+    pub pitch: f64,
 }
 
 impl SwingSample {
-    /// The sole's orientation, world from sole.
+    /// The sole's orientation, world from sole: the yaw about world z, then the pitch.
     pub fn world_r_sole(&self) -> Rotation3<f64> {
         Rotation3::from_axis_angle(&Vector3::z_axis(), self.world_yaw_sole)
+            * Rotation3::from_axis_angle(&Vector3::y_axis(), self.pitch)
+    }
+
+    /// This flat sample pitched toe down by `theta` with its rate and acceleration
+    /// (`[theta, theta_dot, theta_ddot]`) about the toe at `sole_x_toe` on the sole's x axis,
+    /// the toe where the flat sole's is: the origin moved by `R_z(yaw) d`, `d = x_toe (1 -
+    /// cos theta, 0, sin theta)`, its velocity and acceleration with the yaw's rotation of `d`.
+    fn pitched_about_toe(mut self, [theta, rate, accel]: [f64; 3], sole_x_toe: f64) -> Self {
+        let (sin, cos) = theta.sin_cos();
+        let yaw_d = Vector3::new(1.0 - cos, 0.0, sin) * sole_x_toe;
+        let yaw_d_dot = Vector3::new(sin, 0.0, cos) * (sole_x_toe * rate);
+        let yaw_d_ddot = (Vector3::new(sin, 0.0, cos) * accel
+            + Vector3::new(cos, 0.0, -sin) * (rate * rate))
+            * sole_x_toe;
+        let world_r_yaw = Rotation3::from_axis_angle(&Vector3::z_axis(), self.world_yaw_sole);
+        let (z, yaw_rate, yaw_accel) = (
+            Vector3::z(),
+            self.world_omega_sole.z,
+            self.world_omegadot_sole.z,
+        );
+        let d = world_r_yaw * yaw_d;
+        let d_dot = world_r_yaw * yaw_d_dot;
+        self.world_p_sole += d;
+        self.world_v_sole += d_dot + z.cross(&d) * yaw_rate;
+        self.world_a_sole += world_r_yaw * yaw_d_ddot
+            + z.cross(&d_dot) * (2.0 * yaw_rate)
+            + z.cross(&d) * yaw_accel
+            + z.cross(&z.cross(&d)) * (yaw_rate * yaw_rate);
+        let world_y_sole = world_r_yaw * Vector3::y();
+        self.world_omega_sole += world_y_sole * rate;
+        self.world_omegadot_sole +=
+            world_y_sole * accel + z.cross(&world_y_sole) * (yaw_rate * rate);
+        self.pitch = theta;
+        self
+    }
+}
+
+/// A swing's toe-off (module doc): the sole pitched toe down about its toe over the first
+/// `end_phase` of the swing, most at half of it. It keeps the swinging ankle off its
+/// dorsiflexion stop as the knee folds in the swing's start (docs/findings/walking.md,
+/// "0.4 m/s: a toe-off").
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ToeOff {
+    /// The largest pitch, toe down [rad] (0: the sole stays flat).
+    pub pitch: f64,
+    /// The fraction of the swing by which the sole is flat again, in (0, 1].
+    pub end_phase: f64,
+    /// The pivot: the toe's x on the sole's x axis [m].
+    pub sole_x_toe: f64,
+}
+
+impl ToeOff {
+    /// The toe-off `settings` ask for (`walking.swing_toe_off_pitch`,
+    /// `walking.swing_toe_off_end`) about the front edge of the sole's contact rectangle.
+    pub fn of(settings: &WalkingSettings, surface: &ContactSurface) -> Self {
+        Self {
+            pitch: settings.swing_toe_off_pitch,
+            end_phase: settings.swing_toe_off_end,
+            sole_x_toe: surface.foot_x[1],
+        }
+    }
+
+    /// The pitch, its rate and acceleration at the swing's normalised time `u` with
+    /// `u_rate = du/dt` [1/s]; `None` when the sole is flat.
+    fn sample(&self, u: f64, u_rate: f64) -> Option<[f64; 3]> {
+        if self.pitch == 0.0 || u >= self.end_phase {
+            return None;
+        }
+        let v_rate = u_rate / self.end_phase;
+        let [b, db, ddb] = apex_profile(u / self.end_phase, 1.0);
+        Some([
+            self.pitch * b,
+            self.pitch * db * v_rate,
+            self.pitch * ddb * v_rate * v_rate,
+        ])
     }
 }
 
@@ -48,6 +132,8 @@ pub struct SwingTrajectory {
     pub duration: f64,
     /// Apex height above the ground [m].
     pub height: f64,
+    /// The sole's toe-off.
+    pub toe_off: ToeOff,
     /// Ground height in world [m].
     pub world_z_ground: f64,
     /// The x, y of the sole from a re-aim in flight on (`None`: the quintic from lift-off).
@@ -102,8 +188,14 @@ impl PlanarQuintic {
 }
 
 impl SwingTrajectory {
-    /// The swing of `plan.steps[index]` with apex `height` over ground at `world_z_ground`.
-    pub fn of_step(plan: &FootstepPlan, index: usize, height: f64, world_z_ground: f64) -> Self {
+    /// The swing of `plan.steps[index]` with apex `height` and `toe_off` over ground at
+    /// `world_z_ground`.
+    pub fn of_step(
+        plan: &FootstepPlan,
+        index: usize,
+        (height, toe_off): (f64, ToeOff),
+        world_z_ground: f64,
+    ) -> Self {
         let step: &Footstep = &plan.steps[index];
         Self {
             lift_off: plan.stances[index].get(step.foot),
@@ -111,6 +203,7 @@ impl SwingTrajectory {
             start: step.lift_off,
             duration: step.touchdown - step.lift_off,
             height,
+            toe_off,
             world_z_ground,
             reaimed: None,
         }
@@ -126,7 +219,7 @@ impl SwingTrajectory {
         if remaining <= 0.0 {
             return;
         }
-        let now = self.sample(t);
+        let now = self.flat_sample(t);
         let planar = [now.world_p_sole, now.world_v_sole, now.world_a_sole].map(|v| v.xy());
         self.reaimed = Some(PlanarQuintic::to_rest(
             t,
@@ -137,8 +230,18 @@ impl SwingTrajectory {
     }
 
     /// The sole at time `t` [s] (held at the lift-off pose before, at the touchdown pose
-    /// after).
+    /// after), with its toe-off.
     pub fn sample(&self, t: f64) -> SwingSample {
+        let flat = self.flat_sample(t);
+        let u = ((t - self.start) / self.duration).clamp(0.0, 1.0);
+        match self.toe_off.sample(u, 1.0 / self.duration) {
+            Some(theta) => flat.pitched_about_toe(theta, self.toe_off.sole_x_toe),
+            None => flat,
+        }
+    }
+
+    /// The sole at time `t` [s] without the toe-off.
+    fn flat_sample(&self, t: f64) -> SwingSample {
         let u = ((t - self.start) / self.duration).clamp(0.0, 1.0);
         let rate = 1.0 / self.duration;
         let [s, ds, dds] = minimum_jerk(u);
@@ -160,6 +263,7 @@ impl SwingTrajectory {
             world_yaw_sole: self.lift_off.world_yaw_sole + delta_yaw * s,
             world_omega_sole: Vector3::new(0.0, 0.0, delta_yaw * ds * rate),
             world_omegadot_sole: Vector3::new(0.0, 0.0, delta_yaw * dds * rate * rate),
+            pitch: 0.0,
         }
     }
 }

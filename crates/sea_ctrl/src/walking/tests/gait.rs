@@ -2,7 +2,7 @@
 //! the CoM reference going to the pendulum's height over the initial transfer.
 
 use super::walking;
-use crate::walking::{FootTask, Gait};
+use crate::walking::{FootTask, Gait, ToeOff};
 use nalgebra::{Matrix3, Vector3};
 use sea_dyn::spatial::Pose;
 
@@ -19,7 +19,7 @@ fn soles() -> [Pose; 2] {
 fn the_feet_are_named_by_their_side_and_follow_the_plan() {
     let settings = walking(2, 0.1, 0.0, 0.0);
     let com = Vector3::new(0.0, 0.0, 0.54);
-    let gait = Gait::new(&settings, &soles(), com, 9.81).unwrap();
+    let gait = Gait::new(&settings, &soles(), com, 9.81, ToeOff::default()).unwrap();
     // The contact further along +y is the left foot.
     assert_eq!(gait.contact_of, [1, 0]);
     // Standing at the start: both on the ground, half the load each.
@@ -54,7 +54,14 @@ fn the_feet_are_named_by_their_side_and_follow_the_plan() {
 #[test]
 fn a_gait_needs_two_feet() {
     let settings = walking(2, 0.1, 0.0, 0.0);
-    let error = Gait::new(&settings, &soles()[..1], Vector3::zeros(), 9.81).unwrap_err();
+    let error = Gait::new(
+        &settings,
+        &soles()[..1],
+        Vector3::zeros(),
+        9.81,
+        ToeOff::default(),
+    )
+    .unwrap_err();
     assert!(error.to_string().contains("controller.contacts"), "{error}");
 }
 
@@ -62,7 +69,7 @@ fn a_gait_needs_two_feet() {
 fn the_com_goes_to_the_pendulum_height_over_the_initial_transfer() {
     let settings = walking(2, 0.1, 0.0, 0.0);
     let com = Vector3::new(0.0, 0.0, 0.60);
-    let gait = Gait::new(&settings, &soles(), com, 9.81).unwrap();
+    let gait = Gait::new(&settings, &soles(), com, 9.81, ToeOff::default()).unwrap();
     let transfer = settings.transfer_duration;
     let target = 0.01 + settings.com_height;
     assert_eq!(gait.world_z_com, target);

@@ -236,3 +236,26 @@ fn step_adjustment_settings_out_of_range_or_with_stepping_are_refused_naming_the
         "walking.step_adjustment"
     );
 }
+
+#[test]
+fn a_toe_off_out_of_range_names_its_key() {
+    let mut settings = super::WalkingSettings::default();
+    settings.command.steps = Some(2);
+    settings.swing_toe_off_pitch = 0.1;
+    settings.validate(0.01).expect("a 0.1 rad toe-off");
+    for bad in [-0.1, 0.6, f64::NAN] {
+        settings.swing_toe_off_pitch = bad;
+        assert_eq!(
+            key_of(settings.validate(0.01).unwrap_err()),
+            "walking.swing_toe_off_pitch"
+        );
+    }
+    settings.swing_toe_off_pitch = 0.1;
+    for bad in [0.0, 1.2, f64::NAN] {
+        settings.swing_toe_off_end = bad;
+        assert_eq!(
+            key_of(settings.validate(0.01).unwrap_err()),
+            "walking.swing_toe_off_end"
+        );
+    }
+}

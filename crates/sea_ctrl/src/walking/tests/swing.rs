@@ -2,7 +2,7 @@
 
 use super::super::command::footsteps_from_command;
 use super::super::footstep::SolePose;
-use super::super::swing::SwingTrajectory;
+use super::super::swing::{SwingTrajectory, ToeOff};
 use super::{standing, walking};
 use nalgebra::{Vector2, Vector3};
 
@@ -14,9 +14,28 @@ fn swing() -> SwingTrajectory {
         start: 1.0,
         duration: 0.45,
         height: 0.04,
+        toe_off: ToeOff::default(),
         world_z_ground: 0.3,
         reaimed: None,
     }
+}
+
+/// The same swing with a 0.2 rad toe-off over its first half, about a toe 0.1 m ahead.
+fn swing_with_toe_off() -> SwingTrajectory {
+    SwingTrajectory {
+        toe_off: ToeOff {
+            pitch: 0.2,
+            end_phase: 0.5,
+            sole_x_toe: 0.1,
+        },
+        ..swing()
+    }
+}
+
+/// The world position of the point `sole_p` of the sole at `t`.
+fn point_of(swing: &SwingTrajectory, t: f64, sole_p: Vector3<f64>) -> Vector3<f64> {
+    let s = swing.sample(t);
+    s.world_p_sole + s.world_r_sole() * sole_p
 }
 
 #[track_caller]
@@ -97,7 +116,8 @@ fn a_planned_swing_goes_from_the_previous_pose_to_the_footstep() {
     let settings = walking(3, 0.2, 0.0, 0.2);
     let plan = footsteps_from_command(&settings, standing(&settings)).unwrap();
     for i in 0..plan.steps.len() {
-        let swing = SwingTrajectory::of_step(&plan, i, settings.swing_height, 0.0);
+        let swing =
+            SwingTrajectory::of_step(&plan, i, (settings.swing_height, ToeOff::default()), 0.0);
         let step = plan.steps[i];
         let start = swing.sample(step.lift_off);
         let before = plan.stances[i].get(step.foot);
@@ -148,4 +168,77 @@ fn a_swing_reaimed_in_flight_is_continuous_and_lands_at_rest_at_the_new_target()
         1e-4,
         "acceleration by differences",
     );
+}
+
+#[test]
+fn a_toe_off_pitches_the_sole_about_its_toe_and_is_flat_outside_its_phase() {
+    let (flat, toe_off) = (swing(), swing_with_toe_off());
+    let toe = Vector3::new(0.1, 0.0, 0.0);
+    for k in 0..=40 {
+        let t = flat.start + flat.duration * k as f64 / 40.0;
+        assert_small(
+            point_of(&toe_off, t, toe) - point_of(&flat, t, toe),
+            1e-12,
+            "the toe follows the flat sole's",
+        );
+        if k == 0 || k >= 20 {
+            assert_eq!(toe_off.sample(t), flat.sample(t), "flat at k = {k}");
+        }
+    }
+    let peak = toe_off.sample(toe_off.start + 0.25 * toe_off.duration);
+    assert!((peak.pitch - 0.2).abs() < 1e-12, "{}", peak.pitch);
+    let heel = Vector3::new(-0.05, 0.0, 0.0);
+    let (t, lifted) = (peak_time(&toe_off), 0.15 * 0.2_f64.sin());
+    let heel_rise = point_of(&toe_off, t, heel).z - point_of(&flat, t, heel).z;
+    assert!(
+        (heel_rise - lifted).abs() < 1e-12,
+        "toe down: the heel up {heel_rise}"
+    );
+}
+
+fn peak_time(swing: &SwingTrajectory) -> f64 {
+    swing.start + 0.5 * swing.toe_off.end_phase * swing.duration
+}
+
+#[test]
+fn a_toe_off_swing_derivatives_are_those_of_its_pose() {
+    let swing = swing_with_toe_off();
+    let h = 1e-6;
+    // Off the toe-off's end, where the jerk jumps (the acceleration is continuous there).
+    for k in 0..20 {
+        let t = swing.start + swing.duration * (k as f64 + 0.5) / 20.0;
+        let (before, now, after) = (swing.sample(t - h), swing.sample(t), swing.sample(t + h));
+        let d = |f: fn(&super::super::SwingSample) -> Vector3<f64>| {
+            (f(&after) - f(&before)) / (2.0 * h)
+        };
+        assert_small(d(|s| s.world_p_sole) - now.world_v_sole, 1e-6, "v");
+        assert_small(d(|s| s.world_v_sole) - now.world_a_sole, 1e-5, "a");
+        assert_small(
+            d(|s| s.world_omega_sole) - now.world_omegadot_sole,
+            1e-5,
+            "omegadot",
+        );
+        // The turn's skew part, `sin(angle) axis`: exact to the angle's cube.
+        let turn = (after.world_r_sole() * before.world_r_sole().inverse()).into_inner();
+        let skew = (turn - turn.transpose()) * 0.5;
+        let omega = Vector3::new(skew[(2, 1)], skew[(0, 2)], skew[(1, 0)]) / (2.0 * h);
+        assert_small(omega - now.world_omega_sole, 1e-6, "omega");
+    }
+}
+
+#[test]
+fn a_swing_reaimed_in_its_toe_off_has_no_jump() {
+    let original = swing_with_toe_off();
+    let mut reaimed = original;
+    let t = original.start + 0.2 * original.duration;
+    reaimed.reaim(t, Vector2::new(0.25, 0.02));
+    let (before, after) = (original.sample(t), reaimed.sample(t));
+    assert_small(after.world_p_sole - before.world_p_sole, 1e-12, "position");
+    assert_small(after.world_v_sole - before.world_v_sole, 1e-9, "velocity");
+    assert_small(
+        after.world_a_sole - before.world_a_sole,
+        1e-7,
+        "acceleration",
+    );
+    assert_eq!(after.pitch, before.pitch);
 }
