@@ -78,9 +78,10 @@ impl SwingSample {
 }
 
 /// A swing's toe-off (module doc): the sole pitched toe down about its toe over the first
-/// `end_phase` of the swing, most at half of it. It keeps the swinging ankle off its
-/// dorsiflexion stop as the knee folds in the swing's start (docs/findings/walking.md,
-/// "0.4 m/s: a toe-off").
+/// `end_phase` of the swing, most at half of it. As the knee folds in the swing's start a
+/// flat sole asks the ankle for more dorsiflexion than its stop allows; the toe-off asks
+/// less and lifts the heel (docs/findings/walking.md, "0.4 m/s: a toe-off", where which of
+/// the two carries the iCub's 0.4 m/s gaits is left open).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ToeOff {
     /// The largest pitch, toe down [rad] (0: the sole stays flat).

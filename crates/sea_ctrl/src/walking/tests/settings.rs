@@ -220,13 +220,12 @@ fn step_adjustment_settings_out_of_range_or_with_stepping_are_refused_naming_the
         "walking.step_adjustment_threshold"
     );
     settings.step_adjustment_threshold = 0.03;
-    for bad in [0.0, 1.5, f64::NAN] {
-        settings.step_adjustment_end_phase = bad;
-        assert_eq!(
-            key_of(settings.validate(0.01).unwrap_err()),
-            "walking.step_adjustment_end_phase"
-        );
-    }
+    refuses(
+        &mut settings,
+        |s, v| s.step_adjustment_end_phase = v,
+        [0.0, 1.5, f64::NAN],
+        "walking.step_adjustment_end_phase",
+    );
     settings.step_adjustment_end_phase = 1.0;
     settings.validate(0.01).expect("adjusting up to touchdown");
     settings.command.steps = None;
@@ -243,19 +242,31 @@ fn a_toe_off_out_of_range_names_its_key() {
     settings.command.steps = Some(2);
     settings.swing_toe_off_pitch = 0.1;
     settings.validate(0.01).expect("a 0.1 rad toe-off");
-    for bad in [-0.1, 0.6, f64::NAN] {
-        settings.swing_toe_off_pitch = bad;
-        assert_eq!(
-            key_of(settings.validate(0.01).unwrap_err()),
-            "walking.swing_toe_off_pitch"
-        );
-    }
+    refuses(
+        &mut settings,
+        |s, v| s.swing_toe_off_pitch = v,
+        [-0.1, 0.6, f64::NAN],
+        "walking.swing_toe_off_pitch",
+    );
     settings.swing_toe_off_pitch = 0.1;
-    for bad in [0.0, 1.2, f64::NAN] {
-        settings.swing_toe_off_end = bad;
-        assert_eq!(
-            key_of(settings.validate(0.01).unwrap_err()),
-            "walking.swing_toe_off_end"
-        );
+    refuses(
+        &mut settings,
+        |s, v| s.swing_toe_off_end = v,
+        [0.0, 1.2, f64::NAN],
+        "walking.swing_toe_off_end",
+    );
+}
+
+/// Each of `bad`, set by `set`, is refused naming `key`.
+#[track_caller]
+fn refuses(
+    settings: &mut super::WalkingSettings,
+    set: fn(&mut super::WalkingSettings, f64),
+    bad: [f64; 3],
+    key: &str,
+) {
+    for value in bad {
+        set(settings, value);
+        assert_eq!(key_of(settings.validate(0.01).unwrap_err()), key, "{value}");
     }
 }

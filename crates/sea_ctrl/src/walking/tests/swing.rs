@@ -38,6 +38,19 @@ fn point_of(swing: &SwingTrajectory, t: f64, sole_p: Vector3<f64>) -> Vector3<f6
     s.world_p_sole + s.world_r_sole() * sole_p
 }
 
+/// No jump at a re-aim at `t`: the same position, velocity and acceleration.
+#[track_caller]
+fn assert_no_jump(original: &SwingTrajectory, reaimed: &SwingTrajectory, t: f64) {
+    let (before, after) = (original.sample(t), reaimed.sample(t));
+    assert_small(after.world_p_sole - before.world_p_sole, 1e-12, "position");
+    assert_small(after.world_v_sole - before.world_v_sole, 1e-9, "velocity");
+    assert_small(
+        after.world_a_sole - before.world_a_sole,
+        1e-7,
+        "acceleration",
+    );
+}
+
 #[track_caller]
 fn assert_small(v: Vector3<f64>, tol: f64, what: &str) {
     assert!(v.norm() <= tol, "{what}: {v:?}");
@@ -135,15 +148,7 @@ fn a_swing_reaimed_in_flight_is_continuous_and_lands_at_rest_at_the_new_target()
     let t = original.start + 0.4 * original.duration;
     let target = Vector2::new(0.25, 0.02);
     reaimed.reaim(t, target);
-    // No jump at the re-aim: the same position, velocity and acceleration.
-    let (before, after) = (original.sample(t), reaimed.sample(t));
-    assert_small(after.world_p_sole - before.world_p_sole, 1e-12, "position");
-    assert_small(after.world_v_sole - before.world_v_sole, 1e-9, "velocity");
-    assert_small(
-        after.world_a_sole - before.world_a_sole,
-        1e-7,
-        "acceleration",
-    );
+    assert_no_jump(&original, &reaimed, t);
     // Before the re-aim, the original.
     let earlier = original.start + 0.1;
     assert_eq!(reaimed.sample(earlier), original.sample(earlier));
@@ -232,13 +237,6 @@ fn a_swing_reaimed_in_its_toe_off_has_no_jump() {
     let mut reaimed = original;
     let t = original.start + 0.2 * original.duration;
     reaimed.reaim(t, Vector2::new(0.25, 0.02));
-    let (before, after) = (original.sample(t), reaimed.sample(t));
-    assert_small(after.world_p_sole - before.world_p_sole, 1e-12, "position");
-    assert_small(after.world_v_sole - before.world_v_sole, 1e-9, "velocity");
-    assert_small(
-        after.world_a_sole - before.world_a_sole,
-        1e-7,
-        "acceleration",
-    );
-    assert_eq!(after.pitch, before.pitch);
+    assert_no_jump(&original, &reaimed, t);
+    assert_eq!(reaimed.sample(t).pitch, original.sample(t).pitch);
 }
