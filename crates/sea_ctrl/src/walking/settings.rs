@@ -130,9 +130,9 @@ pub struct WalkingSettings {
     /// of the sole's contact rectangle), reached at half of `swing_toe_off_end` and gone by
     /// it [rad], in [0, 0.5] (default 0: the sole swings flat; `walking::ToeOff`). On the
     /// iCub at 0.4 m/s, 0.1 rad completes 20 of 72 gaits under the true stiffness estimate
-    /// and x0.7 / x1.4 identified alike, against 4 flat; at 0.35 m/s it loses (44 of 72
-    /// against 69 under the true estimate), so walk_04.toml sets it and the default stays
-    /// flat (docs/findings/walking.md, "0.4 m/s: a toe-off").
+    /// and x0.7 / x1.4 identified alike, against 4 flat; at 0.35 m/s it loses (with the end
+    /// at 0.55, 44 of 72 against 69 under the true estimate), so walk_04.toml sets it and the
+    /// default stays flat (docs/findings/walking.md, "0.4 m/s: a toe-off").
     pub swing_toe_off_pitch: f64,
     /// The fraction of the swing by which a toe-off's sole is flat again, in (0, 1]
     /// (default 0.5).
