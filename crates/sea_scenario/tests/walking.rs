@@ -359,13 +359,13 @@ fn with_the_push_observer_the_walk_completes() {
     );
 }
 
-/// The iCub at 0.4 m/s, the stretch: 0.148 m steps of 0.37 s, a 4 cm swing apex.
+/// The iCub at 0.4 m/s, the stretch: 0.152 m steps of 0.38 s, a 4 cm swing apex.
 const WALK_04: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../../scenarios/walking/walk_04.toml"
 );
 
-/// walk_04.toml's setup (a 4 cm swing apex, the CoM at 0.51 m) with flat soles (its toe-off
+/// walk_04.toml's setup (a 4 cm swing apex) with the CoM at 0.51 m and flat soles (its toe-off
 /// loses at 0.35 m/s) at 0.35 m/s in 0.39 s steps with 0.03 s double supports, a gait inside
 /// a block whose neighbours (0.38-0.40 s, 0.025-0.04 s, 0.505-0.515 m) complete too: its 50
 /// steps complete with the true stiffness estimate and from x0.7 and x1.4 under the
@@ -378,6 +378,7 @@ fn fifty_steps_at_0_35_m_s_complete_with_a_4_cm_swing_apex() {
             ("walking.command.forward_velocity", "0.35"),
             ("walking.step_duration", "0.39"),
             ("walking.double_support_duration", "0.03"),
+            ("walking.com_height", "0.51"),
             ("walking.swing_toe_off_pitch", "0"),
             ("controller.stiffness_identification", identified),
             ("controller.stiffness_estimate_scale", scale),
