@@ -501,15 +501,7 @@ impl WalkingSettings {
                 pitch,
             ));
         }
-        let end = self.swing_toe_off_end;
-        if !(end > 0.0 && end <= 1.0) {
-            return Err(Error::invalid(
-                "walking.swing_toe_off_end",
-                "must be in (0, 1], a fraction of the swing",
-                end,
-            ));
-        }
-        Ok(())
+        fraction_of_swing("walking.swing_toe_off_end", self.swing_toe_off_end)
     }
 
     /// The durations: steps, double and single support, transfers, recovery swings.
@@ -614,14 +606,10 @@ impl WalkingSettings {
                 width,
             ));
         }
-        let end_phase = self.step_adjustment_end_phase;
-        if !(end_phase > 0.0 && end_phase <= 1.0) {
-            return Err(Error::invalid(
-                "walking.step_adjustment_end_phase",
-                "must be in (0, 1], a fraction of the swing",
-                end_phase,
-            ));
-        }
+        fraction_of_swing(
+            "walking.step_adjustment_end_phase",
+            self.step_adjustment_end_phase,
+        )?;
         let turn = self.max_step_turn;
         if !(turn > 0.0 && turn <= std::f64::consts::FRAC_PI_2) {
             return Err(Error::invalid(
@@ -724,4 +712,16 @@ impl WalkingSettings {
             (None, None) => None,
         }
     }
+}
+
+/// `value` of the setting `key` as a fraction of a swing: in (0, 1], or the error naming `key`.
+fn fraction_of_swing(key: &str, value: f64) -> Result<()> {
+    if value > 0.0 && value <= 1.0 {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        key,
+        "must be in (0, 1], a fraction of the swing",
+        value,
+    ))
 }
