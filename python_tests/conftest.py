@@ -5,6 +5,7 @@ The helpers are plain modules in this folder, imported by name from any test fil
 - ``pin_reference.py``: Pinocchio in sea_momentum's conventions (validated by
   ``test_pin_reference.py``), the reference of the dynamics comparisons;
 - ``urdf_gen.py``: random URDF trees for those comparisons (checked by ``test_urdf_gen.py``);
+- ``load_file.py``: a script, example or benchmark of the repository imported as a module;
 - ``bench_vs_pinocchio.py``: a script (the Python benchmark), not a test.
 
 pytest puts this folder on ``sys.path`` when it loads this conftest (in its default "prepend"

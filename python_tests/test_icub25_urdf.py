@@ -8,30 +8,19 @@ selection of links and joints, not just its self-consistency.
 
 from __future__ import annotations
 
-import importlib.util
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
+from load_file import load_file  # a helper beside the tests (see conftest.py)
 
 import icub_models  # noqa: E402  (a test dependency: missing means failed, not skipped)
 
 REPO = Path(__file__).resolve().parent.parent
 DERIVED = REPO / "urdf" / "icub25.urdf"
-SCRIPT = REPO / "scripts" / "make_icub25.py"
-
-
-def _load_script():
-    """Import scripts/make_icub25.py as a module (scripts/ is not a package)."""
-    spec = importlib.util.spec_from_file_location("make_icub25", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-make_icub25 = _load_script()
+make_icub25 = load_file("scripts/make_icub25.py")
 MOVABLE = list(make_icub25.MOVABLE_JOINTS)
 LOCKED = list(make_icub25.LOCKED_JOINTS)
 

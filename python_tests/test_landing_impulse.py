@@ -6,17 +6,15 @@ than with the law at 1 kHz.
 """
 from __future__ import annotations
 
-import importlib.util
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from load_file import load_file  # a helper beside the tests (see conftest.py)
 
 import sea_momentum as sm
 
 ROOT = Path(__file__).resolve().parents[1]
-SCRIPT = ROOT / "scripts" / "landing_impulse.py"
 WALK_FAST = str(ROOT / "scenarios" / "walking" / "walk_fast.toml")
 # walk_fast's momentum gains as the robot description gives them, the height's (the third)
 # to be changed below.
@@ -24,15 +22,7 @@ INTEGRAL = [40.0, 45.0, 40.0, 1.0, 5.0, 1.0]
 PROPORTIONAL = [12.649, 13.416, 12.649, 2.0, 4.472, 2.0]
 
 
-def _load():
-    spec = importlib.util.spec_from_file_location("landing_impulse", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-landing = _load()
+landing = load_file("scripts/landing_impulse.py")
 
 
 def _gains(height_integral: float) -> dict[str, list[float]]:

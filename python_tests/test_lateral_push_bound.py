@@ -5,29 +5,15 @@ integrated by ``solve_ivp`` with the best CoP and landings written out by hand f
 """
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
-from pathlib import Path
 
 import pytest
+from load_file import load_file  # a helper beside the tests (see conftest.py)
 
 scipy_integrate = pytest.importorskip("scipy.integrate")
 scipy_optimize = pytest.importorskip("scipy.optimize")
 
-SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "lateral_push_bound.py"
-
-
-def _load():
-    spec = importlib.util.spec_from_file_location("lateral_push_bound", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    # dataclasses look their module up in sys.modules while the class is made.
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-bound_script = _load()
+bound_script = load_file("scripts/lateral_push_bound.py")
 TOL = dict(method="Radau", rtol=1e-11, atol=1e-13)
 
 

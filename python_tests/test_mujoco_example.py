@@ -3,25 +3,17 @@ for its first second, and MuJoCo's contact forces carry the weight the QP asked 
 
 from __future__ import annotations
 
-import importlib.util
-import pathlib
-import sys
-
 import numpy as np
 import pytest
+from load_file import load_file  # a helper beside the tests (see conftest.py)
 
 # An optional dependency (the `examples` extra): without it there is nothing to test.
 pytest.importorskip("mujoco", reason="pip install mujoco (the sea-momentum[examples] extra)")
 
-EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "mujoco_balance.py"
-
 
 def load_example():
-    spec = importlib.util.spec_from_file_location("mujoco_balance", EXAMPLE)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
+    """examples/mujoco_balance.py as a module."""
+    return load_file("examples/mujoco_balance.py")
 
 
 def test_first_second_without_falling() -> None:

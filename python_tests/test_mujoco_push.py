@@ -4,25 +4,16 @@ finds a threshold to its tolerance."""
 
 from __future__ import annotations
 
-import importlib.util
-import pathlib
-import sys
-
 import pytest
+from load_file import load_file  # a helper beside the tests (see conftest.py)
 
 # An optional dependency (the `examples` extra): without it there is nothing to test.
 pytest.importorskip("mujoco", reason="pip install mujoco (the sea-momentum[examples] extra)")
 
-BENCHMARK = pathlib.Path(__file__).resolve().parents[1] / "benchmarks" / "mujoco_push.py"
-
 
 def load_benchmark():
     """benchmarks/mujoco_push.py as a module."""
-    spec = importlib.util.spec_from_file_location("mujoco_push", BENCHMARK)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
+    return load_file("benchmarks/mujoco_push.py")
 
 
 @pytest.fixture(scope="module")
