@@ -16,8 +16,8 @@ import sea_momentum as sm
 
 ROOT = Path(__file__).resolve().parents[1]
 WALK_FAST = str(ROOT / "scenarios" / "walking" / "walk_fast.toml")
-# walk_fast's momentum gains as the robot description gives them, the height's (the third)
-# to be changed below.
+# The iCub description's momentum gains to four digits (walk_fast with them set measures as
+# without: 6.08 against 6.06 mm), given explicitly so that the height's (the third) can change.
 INTEGRAL = [40.0, 45.0, 40.0, 1.0, 5.0, 1.0]
 PROPORTIONAL = [12.649, 13.416, 12.649, 2.0, 4.472, 2.0]
 
