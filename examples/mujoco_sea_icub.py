@@ -12,9 +12,10 @@ The controller: the robot-rate design of ``scenarios/robot_rate/push_two_feet.to
 (started from an estimate x0.7 of the springs' 350 N m/rad) and the push observer, updated
 after each period (``end_period``) from the feet's force/torque sensors (the first and last
 steps' and their mean over the period) and the joint torque sensors, read from MuJoCo
-(``mj_contactForce``, the springs' tendons). It reads only what a robot measures: the joint
-and motor encoders, the base's pose and velocity, the feet's wrenches, the joint torques; it
-writes the motor boards' desired motor velocities.
+(``mj_contactForce``, the springs' tendons). Each period is ``sea_momentum.run_period`` (the
+robot's loop, ``sea_momentum.robot_loop``) with MuJoCo's robot as its ``Robot``. It reads only
+what a robot measures: the joint and motor encoders, the base's pose and velocity, the feet's
+wrenches, the joint torques; it writes the motor boards' desired motor velocities.
 
 The run: 10 s of the 1 cm lateral CoM sinusoid at 0.2 Hz, and a push on the pelvis (5 N s
 forward: 50 N for 0.1 s at 5 s, as the shipped scenario's). Prints the CoM error, the push's
@@ -44,6 +45,7 @@ import json
 import pathlib
 import sys
 import time
+from typing import Callable
 
 import mujoco
 import numpy as np
@@ -87,6 +89,22 @@ PUSH_DURATION = 0.1
 FALL_DROP = 0.1
 
 
+#: A push schedule: the force [N] (3, world) on the pelvis over the step starting at ``t`` [s]
+#: after the controller's start, or None.
+Push = Callable[[float], "np.ndarray | None"]
+
+
+def push_schedule(impulse: float, start: float, direction: str) -> Push | None:
+    """A push of ``impulse`` [N s] over ``PUSH_DURATION`` from ``start`` [s] in ``direction``
+    (a key of ``PUSH_DIRECTIONS``); None for no push (``impulse`` 0)."""
+    if direction not in PUSH_DIRECTIONS:
+        raise ValueError(f"push_direction: expected one of {sorted(PUSH_DIRECTIONS)}, got {direction!r}")
+    if impulse <= 0:
+        return None
+    force = impulse / PUSH_DURATION * np.array(PUSH_DIRECTIONS[direction])
+    return lambda t: force if start - 1e-9 <= t < start + PUSH_DURATION - 1e-9 else None
+
+
 class Diverged(RuntimeError):
     """A simulator's state left the finite numbers or its dynamics failed (our plant's
     ``SolverError``), or its accelerations did (MuJoCo's ``mjWARN_BADQACC``, after which
@@ -103,8 +121,9 @@ def push_wrench(mj: mujoco.MjModel, data: mujoco.MjData, body: int, force: np.nd
 class Robot:
     """MuJoCo's SEA iCub seen as a robot: sensors in, motor commands out."""
 
-    def __init__(self, scenario: sm.Scenario, sea: Sea, gain: float) -> None:
+    def __init__(self, scenario: sm.Scenario, sea: Sea, gain: float, push: Push | None = None) -> None:
         self.joints = scenario.model.joint_names
+        self.push, self.steps_taken = push, 0
         # MuJoCo steps at the scenario's plant step (0.25 ms: resolves the SEA modes).
         options = SeaModelOptions(motor_velocity_gain=gain, joint_armature=JOINT_ARMATURE, timestep=scenario.plant_dt)
         self.mj = sea_model(URDF, self.joints, sea, options)
@@ -121,59 +140,62 @@ class Robot:
         take the weight (they start at zero penetration, and their first milliseconds' forces,
         up to the whole weight on one foot, would be the identification's first readings);
         then the clock restarts at 0."""
-        hold = np.zeros(len(self.joints))
+        hold, push, self.push = np.zeros(len(self.joints)), self.push, None
         for _ in range(int(round(duration / self.mj.opt.timestep))):
-            self.step(hold, None)
-        self.data.time = 0.0
+            self.step(hold)
+        self.push, self.steps_taken, self.data.time = push, 0, 0.0
 
     def state(self) -> np.ndarray:
         """The encoders and the base estimate: our state ``[q, theta, nu, thetadot]``."""
         return self.states.to_ours(self.data)
 
-    def step(self, u: np.ndarray, push: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
-        """One MuJoCo step with the motor boards tracking ``u`` and ``push`` (a force, world)
+    def step(self, u: np.ndarray) -> sm.StepReadings:
+        """One MuJoCo step with the motor boards tracking ``u`` and the push (a force, world)
         on the pelvis; returns what the feet's and the joints' torque sensors read over it."""
         self.boards.command(self.mj, self.data, u)
         self.data.xfrc_applied[self.push_body] = 0.0
-        if push is not None:
-            self.data.xfrc_applied[self.push_body] = push_wrench(self.mj, self.data, self.push_body, push)
+        force = self.push(self.steps_taken * self.mj.opt.timestep) if self.push else None
+        if force is not None:
+            self.data.xfrc_applied[self.push_body] = push_wrench(self.mj, self.data, self.push_body, force)
         mujoco.mj_step(self.mj, self.data)
+        self.steps_taken += 1
         if self.data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
             raise Diverged(f"MuJoCo: bad accelerations at {self.data.time:.4f} s")
         # mj_step's forward pass leaves the contacts and the tendons of the step's start.
-        return foot_wrenches(self.mj, self.data, FEET), self.boards.joint_torques(self.mj, self.data)
+        return sm.StepReadings(foot_wrenches(self.mj, self.data, FEET), self.boards.joint_torques(self.mj, self.data))
 
 
-class OurPlant:
-    """Our SEA plant (the scenario's: unilateral contacts, the motor velocity loops) behind the
-    same interface as ``Robot``, the push through ``Plant.step(..., external=...)``: the same
-    controller loop on the other simulator."""
+class OurPlant(sm.PlantRobot):
+    """Our SEA plant (the scenario's: unilateral contacts, the motor velocity loops) as the
+    same kind of robot as ``Robot`` (``sm.PlantRobot``), the push through ``Plant.step(...,
+    external=...)``: the same controller loop on the other simulator."""
 
-    def __init__(self, scenario: sm.Scenario) -> None:
-        self.plant, self.x = scenario.plant, scenario.initial_state
-        self.dt, self.method = scenario.plant_dt, scenario.method
+    def __init__(self, scenario: sm.Scenario, push: Push | None = None) -> None:
+        super().__init__(scenario, external=self.pushes)
+        self.push = push
+
+    def pushes(self, t: float) -> dict[str, np.ndarray] | None:
+        """``Plant.step``'s ``external`` at time ``t``: the push on the pelvis, if any."""
+        force = self.push(t) if self.push else None
+        return None if force is None else {PUSH_LINK: force}
 
     def settle(self, duration: float) -> None:
         """The motors held still for ``duration`` s, as ``Robot.settle``."""
-        hold = np.zeros(self.plant.nu_input)
+        hold, push, self.push = np.zeros(self.plant.nu_input), self.push, None
         for _ in range(int(round(duration / self.dt))):
-            self.step(hold, None)
+            self.step(hold)
+        self.push, self.steps_taken = push, 0
 
-    def state(self) -> np.ndarray:
-        return self.x
-
-    def step(self, u: np.ndarray, push: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
-        """One plant step; the wrenches the step delivered and the joint torques at its start
-        (``Plant.step_outputs``)."""
-        external = None if push is None else {PUSH_LINK: push}
+    def step(self, u: np.ndarray) -> sm.StepReadings:
+        """One plant step (``sm.PlantRobot.step``); a failed or non-finite one raises
+        ``Diverged``."""
         try:
-            self.x = self.plant.step(self.x, u, self.dt, self.method, external=external)
+            readings = super().step(u)
         except sm.SolverError as error:  # a state so far off that the dynamics fail
             raise Diverged(f"our plant: {error}") from error
         if not np.isfinite(self.x).all():
             raise Diverged("our plant: the state is not finite")
-        out = self.plant.step_outputs()
-        return out.step_contact_wrenches, out.joint_torques
+        return readings
 
 
 #: The link joints' armature: the iCub plant's joint_inertia_regularization (the same robot
@@ -201,19 +223,16 @@ def run(
     ``scenario_path`` with ``overrides`` (default: the balancing design, ``OVERRIDES``); the
     time series at every whole-body tick."""
     overrides = OVERRIDES if overrides is None else overrides
-    if push_direction not in PUSH_DIRECTIONS:
-        raise ValueError(f"push_direction: expected one of {sorted(PUSH_DIRECTIONS)}, got {push_direction!r}")
+    push = push_schedule(push_impulse, push_start, push_direction)
     scenario = sm.Scenario.load(scenario_path, {**overrides, "simulation.duration_s": duration})
     controller = scenario.controller
     if simulator not in ("mujoco", "ours"):
         raise ValueError(f"simulator: expected 'mujoco' or 'ours', got {simulator!r}")
-    robot = Robot(scenario, Sea(), MOTOR_VELOCITY_GAIN) if simulator == "mujoco" else OurPlant(scenario)
+    robot = Robot(scenario, Sea(), MOTOR_VELOCITY_GAIN, push) if simulator == "mujoco" else OurPlant(scenario, push)
     robot.settle(SETTLE)
     elastic = scenario.plant.elastic_joints
     period = scenario.control_period
     steps, inner = scenario.steps_per_tick, scenario.steps_per_inner_tick  # 100 Hz, 1 kHz
-    dt = scenario.plant_dt
-    force = push_impulse / PUSH_DURATION * np.array(PUSH_DIRECTIONS[push_direction])
     series: dict[str, list] = {k: [] for k in ("time", "com", "com_reference", "base_height", "base_x", "stiffness_ratio", "qp_solved")}
     start_wall = time.perf_counter()
     for k in range(int(round(duration / period))):
@@ -222,12 +241,11 @@ def run(
         if x[2] < series_start_height(series, x) - FALL_DROP:
             break  # fallen: the rest would be MuJoCo's robot lying on the floor
         out = controller.tick(t, x)
-        pushes = [force if push_impulse > 0 and push_start <= t + j * dt < push_start + PUSH_DURATION - 1e-9 else None for j in range(steps)]
         try:
-            start, end, mean_wrenches = step_period(robot, controller, out.input, pushes, inner)
+            readings = sm.run_period(controller, robot, out.input, steps, inner)
         except Diverged:
             break  # as a fall: the series ends before the run's duration
-        controller.end_period(start[0], start[1], end[0], end[1], mean_wrenches=mean_wrenches)
+        readings.hand_to(controller)
         estimates = np.array([controller.stiffness_estimates[name] for name in elastic])
         for key, value in (
             ("time", t),
@@ -247,22 +265,6 @@ def run(
     scale = float(overrides.get("controller.stiffness_estimate_scale", 1.0))
     result["title"] = f"{scenario.name}, K_S estimate x{scale:g}"
     return result
-
-
-def step_period(robot: Robot | OurPlant, controller: sm.Controller, u: np.ndarray, pushes: list, inner: int) -> tuple:
-    """One whole-body period of plant steps (one per entry of ``pushes``, each the push's force
-    or None) from the tick's motor command ``u``, the joint torque loops' ``inner_tick`` every
-    ``inner`` steps; the sensors ``end_period`` takes: ``(wrenches, torques)`` of the first and
-    the last step, and the feet's wrenches averaged over the period. Raises ``Diverged``."""
-    mean_wrenches = 0.0
-    for j, push in enumerate(pushes):
-        if j > 0 and j % inner == 0:
-            u = controller.inner_tick(robot.state())
-        wrenches, torques = robot.step(u, push)
-        mean_wrenches = mean_wrenches + np.asarray(wrenches) / len(pushes)
-        if j == 0:
-            start = (wrenches, torques)
-    return start, (wrenches, torques), mean_wrenches
 
 
 def compare_simulators(

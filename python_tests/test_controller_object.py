@@ -207,40 +207,6 @@ ROBUST = {
 }
 
 
-def robot_loop(
-    scenario: sm.Scenario, *, end_periods: bool, controller: sm.Controller | None = None
-) -> np.ndarray:
-    """The robot's loop in Python: per period a whole-body ``tick``, ``inner_tick`` at 1 kHz,
-    the plant's steps, and ``end_period`` with the plant's force readings over the period's
-    first and last steps (what the feet's and joints' sensors read: the wrenches each step
-    delivered, ``Plant.step_outputs``; under bilateral contacts those at the steps' starts).
-    ``controller``: another than the scenario's."""
-    plant, controller = scenario.plant, controller or scenario.controller
-    inner, steps = scenario.steps_per_inner_tick, scenario.steps_per_tick
-    x, states = scenario.initial_state, []
-    for k in range(scenario.last_tick + 1):
-        u = controller.tick(k * scenario.control_period, x).input
-        states.append(x)
-        if k == scenario.last_tick:
-            break
-        for j in range(steps):
-            if j > 0 and j % inner == 0:
-                u = controller.inner_tick(x)
-            x = plant.step(x, u, scenario.plant_dt, scenario.method)
-            if j == 0:
-                start = plant.step_outputs()
-            if j == steps - 1:
-                end = plant.step_outputs()
-        if end_periods:
-            controller.end_period(
-                start.step_contact_wrenches,
-                start.joint_torques,
-                end.step_contact_wrenches,
-                end.joint_torques,
-            )
-    return np.array(states)
-
-
 def test_python_robot_stack_with_estimators_reproduces_run_scenario() -> None:
     """The whole robot-rate stack (identification, excitation, generalized observer) driven from
     Python is the native run to round-off; without ``end_period`` the estimators stand still
@@ -251,13 +217,13 @@ def test_python_robot_stack_with_estimators_reproduces_run_scenario() -> None:
     scale = np.maximum(1.0, np.abs(x_run).max(axis=0))
     scenario = sm.Scenario.load(MULTI_RATE, ROBUST)
     prior = scenario.controller.stiffness_estimates
-    assert np.max(np.abs(robot_loop(scenario, end_periods=True) - x_run) / scale) < 1e-9
+    assert np.max(np.abs(sm.robot_loop.run(scenario) - x_run) / scale) < 1e-9
     identified = scenario.controller.stiffness_estimates
     assert identified == pytest.approx(run.summary.stiffness_estimates_nm_per_rad, rel=1e-9)
     assert identified["torso_roll"] != pytest.approx(prior["torso_roll"], rel=1e-3)
     # x0.5 without the identification falls within about 0.12 s: compare the first 0.1 s.
     idle = sm.Scenario.load(MULTI_RATE, {**ROBUST, "simulation.duration_s": 0.1})
-    x_idle = robot_loop(idle, end_periods=False)
+    x_idle = sm.robot_loop.run(idle, sensors=False)
     assert np.max(np.abs(x_idle - x_run[: len(x_idle)]) / scale) > 1e-6
     assert idle.controller.stiffness_estimates == prior
 
@@ -276,11 +242,11 @@ def test_python_robot_loop_walks_as_the_native_run() -> None:
     assert run.summary.steps_taken >= 3 and run.summary.touchdowns >= 6
     x_run = np.hstack([run.q, run.theta, run.nu, run.thetadot])
     scale = np.maximum(1.0, np.abs(x_run).max(axis=0))
-    walked = robot_loop(sm.Scenario.load(WALK, overrides), end_periods=True)
+    walked = sm.robot_loop.run(sm.Scenario.load(WALK, overrides))
     assert walked.shape == x_run.shape
     assert np.max(np.abs(walked - x_run) / scale) < 1e-9
     assert walked[-1, 0] - walked[0, 0] > 0.15  # the base went forward
-    unsensed = robot_loop(sm.Scenario.load(WALK, overrides), end_periods=False)
+    unsensed = sm.robot_loop.run(sm.Scenario.load(WALK, overrides), sensors=False)
     assert np.max(np.abs(unsensed - x_run) / scale) > 1e-3
 
 
@@ -305,12 +271,11 @@ def test_a_controller_built_with_a_walking_table_walks_as_the_scenario() -> None
     run = sm.run_scenario(WALK, overrides)
     x_run = np.hstack([run.q, run.theta, run.nu, run.thetadot])
     scale = np.maximum(1.0, np.abs(x_run).max(axis=0))
-    walked = robot_loop(scenario, end_periods=True, controller=built)
+    walked = sm.robot_loop.run(scenario, controller=built)
     assert np.max(np.abs(walked - x_run) / scale) < 1e-9
     assert run.summary.steps_taken >= 1
-    standing = robot_loop(
+    standing = sm.robot_loop.run(
         sm.Scenario.load(WALK, overrides),
-        end_periods=True,
         controller=sm.Controller(
             scenario.model, feet, q0, reference={"com_origin": "initial"}, **tables
         ),

@@ -134,15 +134,15 @@ def test_a_plant_state_that_diverges_ends_the_run_as_a_fall(example, monkeypatch
     plant.x = scenario.initial_state.copy()
     plant.x[-60:] = 1e150
     with pytest.raises(example.Diverged, match="our plant"):
-        plant.step(np.zeros(scenario.plant.nu_input), None)
+        plant.step(np.zeros(scenario.plant.nu_input))
     step = example.OurPlant.step
     steps = {"done": 0}
 
-    def diverging(self, u, push):
+    def diverging(self, u):
         steps["done"] += 1
         if steps["done"] > 2000:  # 0.3 s after the settling's 800 steps
             raise example.Diverged("our plant: the state is not finite")
-        return step(self, u, push)
+        return step(self, u)
 
     monkeypatch.setattr(example.OurPlant, "step", diverging)
     series = example.run(duration=1.0, push_impulse=0.0, simulator="ours")

@@ -36,39 +36,12 @@ def pushes_at(time: float, dt: float) -> dict[str, np.ndarray]:
 
 
 def robot_loop(scenario: sm.Scenario, *, push: bool) -> np.ndarray:
-    """The robot's loop in Python (``tick``, ``inner_tick`` at 1 kHz, ``end_period`` with the
-    sensors over the period: its first and last steps, and the feet's wrenches averaged over
-    its steps, which the push observer takes), pushing through ``Plant.step``; the state at
-    every tick."""
-    plant, controller = scenario.plant, scenario.controller
-    inner, steps, dt = scenario.steps_per_inner_tick, scenario.steps_per_tick, scenario.plant_dt
-    x, states = scenario.initial_state, []
-    for k in range(scenario.last_tick + 1):
-        u = controller.tick(k * scenario.control_period, x).input
-        states.append(x)
-        if k == scenario.last_tick:
-            break
-        mean = 0.0
-        for j in range(steps):
-            if j > 0 and j % inner == 0:
-                u = controller.inner_tick(x)
-            time = k * scenario.control_period + j * dt
-            external = pushes_at(time, dt) if push else None
-            x = plant.step(x, u, dt, scenario.method, external=external)
-            outputs = plant.step_outputs()
-            mean = mean + outputs.step_contact_wrenches / steps
-            if j == 0:
-                start = outputs
-            if j == steps - 1:
-                end = outputs
-        controller.end_period(
-            start.step_contact_wrenches,
-            start.joint_torques,
-            end.step_contact_wrenches,
-            end.joint_torques,
-            mean_wrenches=mean,
-        )
-    return np.array(states)
+    """The robot's loop in Python (``sm.robot_loop.run``: ``end_period`` with the feet's
+    wrenches averaged over the period, which the push observer takes), pushing through
+    ``Plant.step``; the state at every tick."""
+    dt = scenario.plant_dt
+    robot = sm.PlantRobot(scenario, external=(lambda t: pushes_at(t, dt)) if push else None)
+    return sm.robot_loop.run(scenario, robot)
 
 
 def test_a_push_through_plant_step_is_the_native_disturbance() -> None:

@@ -47,59 +47,56 @@ class LandingImpulse:
     com: np.ndarray  #: (m, 3) CoM at each tick [m]
 
 
-def _loop(scenario: sm.Scenario, counts: list[int], com_error_bound: float) -> dict[str, Any]:
-    """The robot's loop (``python_tests/test_controller_object.py``'s ``robot_loop``), with
-    per period the planned and delivered vertical force, and per plant step each contact's
-    delivered normal force and its sole's lowest point. Stops as "diverged" when the CoM is
-    farther than ``com_error_bound`` [m] from its reference or the plant's step fails."""
-    plant, controller = scenario.plant, scenario.controller
-    inner, steps, dt = scenario.steps_per_inner_tick, scenario.steps_per_tick, scenario.plant_dt
-    x, status = scenario.initial_state, "completed"
-    planned, delivered, height_error, com, step_fz, step_low = [], [], [], [], [], []
-    points = np.concatenate([[0], np.cumsum(counts)])
+class _WatchedPlant(sm.PlantRobot):
+    """The scenario's plant, recording per step each contact's delivered normal force and its
+    sole's lowest point."""
+
+    def __init__(self, scenario: sm.Scenario) -> None:
+        super().__init__(scenario)
+        counts = self.plant.contact_point_counts
+        if not counts:
+            raise ValueError('needs plant.contact_model = "unilateral"')
+        self.points = np.concatenate([[0], np.cumsum(counts)])
+        self.step_fz: list[np.ndarray] = []
+        self.step_low: list[list[float]] = []
+
+    def step(self, u: np.ndarray) -> sm.StepReadings:
+        readings = super().step(u)
+        assert self.outputs is not None  # set by the step
+        z, p = self.outputs.contact_point_positions[:, 2], self.points
+        self.step_low.append([z[p[c]:p[c + 1]].min() for c in range(len(p) - 1)])
+        self.step_fz.append(readings.contact_wrenches[:, 2])
+        return readings
+
+
+def _loop(scenario: sm.Scenario, com_error_bound: float) -> dict[str, Any]:
+    """The robot's loop (``sm.robot_loop``), with per period the planned and delivered
+    vertical force, and per plant step each contact's delivered normal force and its sole's
+    lowest point. Stops as "diverged" when the CoM is farther than ``com_error_bound`` [m] from
+    its reference or the plant's step fails."""
+    controller, robot = scenario.controller, _WatchedPlant(scenario)
+    status = "completed"
+    planned, delivered, height_error, com = [], [], [], []
     for k in range(scenario.last_tick):
-        out = controller.tick(k * scenario.control_period, x)
+        out = controller.tick(k * scenario.control_period, robot.state())
         com.append(out.com)
         if np.linalg.norm(out.com - out.com_reference) > com_error_bound:
             status = "diverged"
             break
+        try:
+            readings = sm.run_period(controller, robot, out.input, scenario.steps_per_tick,
+                                     scenario.steps_per_inner_tick)
+        except (sm.SolverError, ValueError):
+            status = "diverged"
+            break
         height_error.append(out.com[2] - out.com_reference[2])
         planned.append(out.wrenches[:, 2].sum())
-        u, total = out.input, np.zeros_like(out.wrenches)
-        for j in range(steps):
-            if j > 0 and j % inner == 0:
-                u = controller.inner_tick(x)
-            try:
-                x = plant.step(x, u, dt, scenario.method)
-            except (sm.SolverError, ValueError):
-                status = "diverged"
-                break
-            outputs = plant.step_outputs()
-            total += outputs.step_contact_wrenches
-            z = outputs.contact_point_positions[:, 2]
-            step_low.append([z[points[c]:points[c + 1]].min() for c in range(len(points) - 1)])
-            step_fz.append(outputs.step_contact_wrenches[:, 2])
-            if j == 0:
-                start = outputs
-        if status != "completed":
-            planned.pop()
-            height_error.pop()
-            break
-        delivered.append(total[:, 2].sum() / steps)
-        controller.end_period(start.step_contact_wrenches, start.joint_torques,
-                              outputs.step_contact_wrenches, outputs.joint_torques,
-                              mean_wrenches=total / steps)
+        delivered.append(readings.mean_contact_wrenches[:, 2].sum())
+        readings.hand_to(controller)
+    steps = len(delivered) * scenario.steps_per_tick
     return dict(status=status, planned=planned, delivered=delivered,
-                height_error=height_error, com=com, step_fz=step_fz, step_low=step_low)
-
-
-def _points_per_contact(path: str, overrides: dict[str, Any], period: float) -> list[int]:
-    """The number of contact points of each contact (unilateral contacts), from a run of one
-    period (the plant does not expose them)."""
-    counts = sm.run_scenario(path, {**overrides, "simulation.duration_s": period}).contact_points
-    if not counts:
-        raise ValueError('needs plant.contact_model = "unilateral"')
-    return list(counts)
+                height_error=height_error, com=com, step_fz=robot.step_fz[:steps],
+                step_low=robot.step_low[:steps])
 
 
 def _first_contacts(step_fz: np.ndarray, dt: float, threshold: float) -> list[tuple[int, int]]:
@@ -128,8 +125,7 @@ def measure(path: str, overrides: dict[str, Any] | None = None, start_s: float =
     if scenario.sampling == "continuous":
         raise ValueError("controller.sampling = \"continuous\" evaluates the "
                          "law at every integrator stage, which a loop of ticks does not")
-    counts = _points_per_contact(path, overrides, scenario.control_period)
-    run = _loop(scenario, counts, com_error_bound)
+    run = _loop(scenario, com_error_bound)
     period, dt = scenario.control_period, scenario.plant_dt
     steps = scenario.steps_per_tick
     unplanned = np.array(run["delivered"]) - np.array(run["planned"])

@@ -30,7 +30,9 @@ from ._native import (
 from .analysis import Linearization, linearize, stability_margin
 from .closed_loop_rhs import closed_loop_rhs
 from .controller import ControlOutput
+from . import robot_loop
 from .results import PlantOutputs, RunSummary, SimulationResult
+from .robot_loop import PeriodReadings, PlantRobot, Robot, StepReadings, run_period
 from .scenario import ScenarioResult, run_scenario
 from .sweep import SweepResult, sweep
 
@@ -41,10 +43,13 @@ __all__ = [
     "ControlOutput",
     "Controller",
     "Linearization",
+    "PeriodReadings",
     "Model",
     "ModelError",
     "Plant",
     "PlantOutputs",
+    "PlantRobot",
+    "Robot",
     "Scenario",
     "RunSummary",
     "ScenarioError",
@@ -53,9 +58,12 @@ __all__ = [
     "SeaIOError",
     "SimulationResult",
     "SolverError",
+    "StepReadings",
     "SweepResult",
     "closed_loop_rhs",
     "linearize",
+    "robot_loop",
+    "run_period",
     "run_scenario",
     "stability_margin",
     "sweep",

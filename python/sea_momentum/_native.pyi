@@ -214,6 +214,11 @@ class Plant:
     @property
     def contact_frames(self) -> list[str]:
         """Contact frame names."""
+    @property
+    def contact_point_counts(self) -> list[int]:
+        """The number of points of each contact, in ``contact_frames``' order: the rows of the
+        outputs' ``contact_point_*`` arrays, contact by contact. Empty under bilateral
+        contacts."""
     def make_state(
         self,
         q: ArrayLike,

@@ -392,9 +392,7 @@ impl<'a> Engine<'a> {
         let law = FeedbackLaw::new(controller, com_reference.clone(), posture.clone(), layout);
         let robot = RobotController::new(law, parts, schedule.period);
         let impacts = ImpactDetector::new(plant, &settings.scene.contacts, schedule.step);
-        let contact_points = plant.unilateral().map_or_else(Vec::new, |unilateral| {
-            unilateral.points.iter().map(Vec::len).collect()
-        });
+        let contact_points = plant.contact_point_counts();
         Ok(Engine {
             contact_points,
             disturbance_links: settings.disturbance_links(),

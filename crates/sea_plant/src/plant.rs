@@ -116,6 +116,14 @@ impl Plant {
         self.unilateral().map_or(0, UnilateralContacts::n_points)
     }
 
+    /// The number of points of each contact, in the contacts' order (empty under bilateral
+    /// contacts).
+    pub fn contact_point_counts(&self) -> Vec<usize> {
+        self.unilateral().map_or_else(Vec::new, |unilateral| {
+            unilateral.points.iter().map(Vec::len).collect()
+        })
+    }
+
     /// Makes the contacts unilateral: `points` per contact of [`Plant::contacts`] (contact
     /// frame). Errors name the bad part.
     pub fn set_unilateral_contacts(

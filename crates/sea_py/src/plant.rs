@@ -407,6 +407,13 @@ impl PyPlant {
         self.plant.contacts.iter().map(|c| c.name.clone()).collect()
     }
 
+    /// The number of points of each contact, in `contact_frames`' order: the rows of the
+    /// outputs' `contact_point_*` arrays, contact by contact. Empty under bilateral contacts.
+    #[getter]
+    fn contact_point_counts(&self) -> Vec<usize> {
+        self.plant.contact_point_counts()
+    }
+
     /// A state from its parts: theta defaults to s / Gamma (springs at rest), velocities to 0.
     #[pyo3(signature = (q, nu=None, theta=None, thetadot=None, joint_torques=None))]
     fn make_state<'py>(

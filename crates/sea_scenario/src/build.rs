@@ -19,7 +19,7 @@ pub use sea_loop::Setup;
 
 /// The robot model: the URDF reduced to `robot.joints` (default: the robot description's),
 /// with a frame for each `LINK:x,y,z` contact.
-fn load_model(scenario: &Scenario) -> Result<Model> {
+pub fn load_model(scenario: &Scenario) -> Result<Model> {
     let urdf = scenario.urdf_path();
     let joints = scenario
         .robot

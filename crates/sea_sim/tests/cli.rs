@@ -784,6 +784,14 @@ fn push_refuses_a_bad_start_link_or_direction_naming_the_flag() {
             && !stderr.contains("disturbances"),
         "--link: {stderr}"
     );
+    // Also while walking, where the swing's timing takes a run first: the flag comes first.
+    let walk = format!("{REPO}/scenarios/walking/walk_push.toml");
+    let output = sea_sim(&["push", &walk, "--phase", "0.5", "--link", "no_such_link"]);
+    let stderr = text(&output.stderr);
+    assert!(
+        !output.status.success() && stderr.contains("--link") && stderr.contains("no_such_link"),
+        "--link while walking: {stderr}"
+    );
     let output = sea_sim(&["push", &scenario, "--directions", "forward,up"]);
     assert!(!output.status.success(), "direction 'up' accepted");
     let stderr = text(&output.stderr);

@@ -180,12 +180,13 @@ fn bounds_by_direction(
         .collect())
 }
 
-/// `--link` names a link of the scenario's robot: checked before any run, naming the flag
-/// (each run would name the `disturbances[0].link` it becomes).
+/// `--link` names a link of the scenario's robot: checked before any run (it loads the
+/// robot's model only), naming the flag (each run would name the `disturbances[0].link` it
+/// becomes).
 fn check_pushed_link(args: &PushArgs) -> sea_sim::Result<()> {
     let scenario = sea_sim::scenario::Scenario::from_file(&args.scenario, &args.overrides)?;
-    let setup = sea_sim::scenario::build(&scenario)?;
-    match setup.model.frame_id(&args.link) {
+    let model = sea_sim::scenario::build::load_model(&scenario)?;
+    match model.frame_id(&args.link) {
         Ok(_) => Ok(()),
         Err(_) => {
             let expected = "a link of the scenario's robot";
@@ -197,6 +198,7 @@ fn check_pushed_link(args: &PushArgs) -> sea_sim::Result<()> {
 /// `sea-sim push`: the push table as JSON on stdout.
 pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
     use sea_sim::analysis::push::swing_push_start;
+    check_pushed_link(args)?;
     let directions = args
         .directions
         .iter()
@@ -218,7 +220,6 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
         duration_s: args.duration,
         tolerance_n_s: args.tolerance,
     };
-    check_pushed_link(args)?;
     // The bounds first: cheap, and their errors come before the runs, not after.
     let bounds = bounds_by_direction(args, swing.map(|(at, _)| at), &directions)?;
     let mut rows = match &args.impulses {
