@@ -22,20 +22,12 @@ OVERRIDES = {**SAMPLED_1KHZ, "simulation.duration_s": 2.0, "simulation.record_ev
 
 
 def python_loop(scenario: sm.Scenario) -> tuple[np.ndarray, list[sm.ControlOutput]]:
-    """The closed loop in Python: zero-order hold, ``steps_per_tick`` plant steps per tick.
-    Returns the state at every tick (rows) and the outputs of every tick."""
-    plant, controller = scenario.plant, scenario.controller
-    x = scenario.initial_state
-    states, outputs = [], []
-    for k in range(scenario.last_tick + 1):
-        out = controller.tick(k * scenario.control_period, x)
-        states.append(x)
-        outputs.append(out)
-        if k == scenario.last_tick:
-            break
-        for _ in range(scenario.steps_per_tick):
-            x = plant.step(x, out.input, scenario.plant_dt, scenario.method)
-    return np.array(states), outputs
+    """The closed loop in Python (``sm.robot_loop.run``): zero-order hold, ``steps_per_tick``
+    plant steps per tick. Returns the state at every tick (rows) and the outputs of every
+    tick."""
+    outputs: list[sm.ControlOutput] = []
+    states = sm.robot_loop.run(scenario, on_tick=lambda _, out: outputs.append(out))
+    return states, outputs
 
 
 def test_python_loop_reproduces_run_scenario() -> None:

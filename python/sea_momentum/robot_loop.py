@@ -29,6 +29,7 @@ from numpy.typing import ArrayLike
 
 from ._native import Controller, Scenario
 from .arrays import FloatArray
+from .controller import ControlOutput
 from .results import PlantOutputs
 
 #: A push schedule: the external wrenches acting over the plant step that starts at time ``t``
@@ -133,14 +134,16 @@ def run_period(controller: Controller, robot: Robot, u: FloatArray, steps_per_ti
 
 
 def run(scenario: Scenario, robot: Robot | None = None, controller: Controller | None = None,
-        *, sensors: bool = True) -> FloatArray:
+        *, sensors: bool = True,
+        on_tick: Callable[[int, ControlOutput], None] | None = None) -> FloatArray:
     """The robot's loop over the scenario's duration: per tick ``k`` (``0..last_tick``)
     ``controller.tick(k T, x)``, then (but after the last) :func:`run_period` and, with
     ``sensors``, ``end_period`` (without, the identification, the observers and the
     touchdown detection stand still). ``robot``: by default the scenario's plant
-    (:class:`PlantRobot`); ``controller``: by default the scenario's. The state at every tick,
-    (last_tick + 1, nx). Under ``sampling = "continuous"`` (the law at every integrator
-    stage, not a loop of ticks) raises ``ValueError``."""
+    (:class:`PlantRobot`); ``controller``: by default the scenario's; ``on_tick(k, out)``: called
+    with each tick's output, e.g. to record it. The state at every tick, (last_tick + 1, nx).
+    Under ``sampling = "continuous"`` (the law at every integrator stage, not a loop of ticks)
+    raises ``ValueError``."""
     if scenario.sampling == "continuous":
         raise ValueError('sampling = "continuous" evaluates the law at every integrator stage, '
                          "which a loop of ticks does not; use zero_order_hold or multi_rate")
@@ -151,7 +154,10 @@ def run(scenario: Scenario, robot: Robot | None = None, controller: Controller |
     for k in range(scenario.last_tick + 1):
         x = robot.state()
         states.append(np.array(x))
-        u = controller.tick(k * scenario.control_period, x).input
+        out = controller.tick(k * scenario.control_period, x)
+        if on_tick is not None:
+            on_tick(k, out)
+        u = out.input
         if k == scenario.last_tick:
             break
         readings = run_period(controller, robot, u, steps, inner)
