@@ -14,8 +14,8 @@ Per period ``T`` (``Scenario.control_period``):
 
 :func:`run_period` is steps 2 and 3's readings for any :class:`Robot`: our plant
 (:class:`PlantRobot`), another simulator (``examples/mujoco_sea_icub.py`` drives MuJoCo), a
-robot. :func:`run` is the whole loop on our plant; it is ``run_scenario``'s run to round-off
-(``python_tests/test_controller_object.py``). A push is the robot's business, not the loop's:
+robot. :func:`run` is the whole loop, by default on the scenario's plant, where it is
+``run_scenario``'s run to round-off (``python_tests/test_controller_object.py``). A push is the robot's business, not the loop's:
 :class:`PlantRobot` takes one as ``external``.
 """
 
