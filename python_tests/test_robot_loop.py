@@ -63,6 +63,73 @@ def test_a_period_ticks_the_joint_loops_and_reads_first_last_and_mean() -> None:
         sm.run_period(controller, robot, np.zeros(2), 0, 10)  # type: ignore[arg-type]
 
 
+class ReusingRobot(ScriptedRobot):
+    """Returns its readings in one buffer it overwrites at every step, as sensor drivers do."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.buffer = np.zeros((2, 6))
+
+    def step(self, u: np.ndarray) -> sm.StepReadings:
+        self.steps += 1
+        self.buffer[:] = float(self.steps)
+        return sm.StepReadings(self.buffer, np.array(u))
+
+
+def test_the_readings_are_copies_of_what_the_robot_returns() -> None:
+    readings = sm.run_period(CountingController(), ReusingRobot(), np.zeros(2), 4, 4)  # type: ignore[arg-type]
+    assert np.all(readings.start.contact_wrenches == 1.0)
+    assert np.all(readings.end.contact_wrenches == 4.0)
+    np.testing.assert_allclose(readings.mean_contact_wrenches, np.full((2, 6), 2.5), rtol=1e-15)
+
+
+class BadRobot(ScriptedRobot):
+    """Returns ``reading(step)`` instead of its readings."""
+
+    def __init__(self, reading) -> None:
+        super().__init__()
+        self.reading = reading
+
+    def step(self, u: np.ndarray):  # type: ignore[override]
+        self.steps += 1
+        return self.reading(self.steps)
+
+
+@pytest.mark.parametrize(
+    "steps, inner, error, shown",
+    [
+        (40.0, 10, TypeError, "steps_per_tick: expected an integer, got 40.0"),
+        (True, 10, TypeError, "steps_per_tick: expected an integer, got True"),
+        (40, 2.5, TypeError, "steps_per_inner_tick: expected an integer, got 2.5"),
+        (40, -1, ValueError, "steps_per_inner_tick: expected at least 1, got -1"),
+    ],
+)
+def test_a_bad_step_count_is_refused_naming_it(steps, inner, error, shown) -> None:
+    robot = ScriptedRobot()
+    with pytest.raises(error) as info:
+        sm.run_period(CountingController(), robot, np.zeros(2), steps, inner)  # type: ignore[arg-type]
+    assert shown in str(info.value)
+    assert robot.steps == 0  # refused before any step
+
+
+@pytest.mark.parametrize(
+    "reading, error, shown",
+    [
+        (lambda n: (np.zeros((2, 6)), np.zeros(2)), TypeError, "step 0 of the period): expected StepReadings, got tuple"),
+        (lambda n: sm.StepReadings(np.zeros((6, 2)), np.zeros(2)), ValueError, "expected shape (n_contacts, 6), got shape [6, 2]"),
+        (
+            lambda n: sm.StepReadings(np.zeros((2, 6)) if n == 1 else np.zeros(6), np.zeros(2)),
+            ValueError,
+            "step 1 of the period): contact_wrenches: expected shape (2, 6), as the first step's, got shape [6]",
+        ),
+    ],
+)
+def test_readings_of_another_kind_or_shape_are_refused_naming_the_step(reading, error, shown) -> None:
+    with pytest.raises(error) as info:
+        sm.run_period(CountingController(), BadRobot(reading), np.zeros(2), 4, 4)  # type: ignore[arg-type]
+    assert shown in str(info.value)
+
+
 def test_the_loop_under_a_zero_order_hold_is_the_native_run() -> None:
     overrides = {
         "controller.sampling": "zero_order_hold",
@@ -88,7 +155,13 @@ def test_the_plant_robot_pushes_by_the_step_start_time() -> None:
         times.append(t)
         return None
 
+    with pytest.raises(ValueError, match=r"x: expected shape \(113,\), got shape \[3\]"):
+        sm.PlantRobot(scenario, x=np.zeros(3))
+    with pytest.raises(TypeError, match="external: expected a function"):
+        sm.PlantRobot(scenario, external=3)  # type: ignore[arg-type]
     robot = sm.PlantRobot(scenario, external=pushes)
+    robot.state()[0] += 1.0  # a copy: the robot's state stays
+    np.testing.assert_array_equal(robot.state(), scenario.initial_state)
     u = scenario.controller.tick(0.0, robot.state()).input
     readings = sm.run_period(scenario.controller, robot, u, scenario.steps_per_tick, scenario.steps_per_inner_tick)
     np.testing.assert_allclose(times, np.arange(scenario.steps_per_tick) * scenario.plant_dt, rtol=0, atol=1e-15)

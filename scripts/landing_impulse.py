@@ -47,6 +47,10 @@ class LandingImpulse:
     com: np.ndarray  #: (m, 3) CoM at each tick [m]
 
 
+class _Diverged(RuntimeError):
+    """The plant's step failed: the run ends there as "diverged"."""
+
+
 class _WatchedPlant(sm.PlantRobot):
     """The scenario's plant, recording per step each contact's delivered normal force and its
     sole's lowest point."""
@@ -61,7 +65,10 @@ class _WatchedPlant(sm.PlantRobot):
         self.step_low: list[list[float]] = []
 
     def step(self, u: np.ndarray) -> sm.StepReadings:
-        readings = super().step(u)
+        try:
+            readings = super().step(u)
+        except (sm.SolverError, ValueError) as error:  # the state past what the plant solves
+            raise _Diverged(str(error)) from error
         assert self.outputs is not None  # set by the step
         z, p = self.outputs.contact_point_positions[:, 2], self.points
         self.step_low.append([z[p[c]:p[c + 1]].min() for c in range(len(p) - 1)])
@@ -86,7 +93,7 @@ def _loop(scenario: sm.Scenario, com_error_bound: float) -> dict[str, Any]:
         try:
             readings = sm.run_period(controller, robot, out.input, scenario.steps_per_tick,
                                      scenario.steps_per_inner_tick)
-        except (sm.SolverError, ValueError):
+        except _Diverged:
             status = "diverged"
             break
         height_error.append(out.com[2] - out.com_reference[2])

@@ -22,6 +22,7 @@ robot. :func:`run` is the whole loop, by default on the scenario's plant, where 
 from __future__ import annotations
 
 import dataclasses
+import operator
 from typing import Callable, Mapping, Optional, Protocol
 
 import numpy as np
@@ -88,6 +89,10 @@ class PlantRobot:
         self.plant = scenario.plant
         self.dt, self.method = scenario.plant_dt, scenario.method
         self.x: FloatArray = np.array(scenario.initial_state if x is None else x, dtype=float)
+        if self.x.shape != (self.plant.nx,):
+            raise ValueError(f"x: expected shape ({self.plant.nx},), got shape {list(self.x.shape)}")
+        if external is not None and not callable(external):
+            raise TypeError(f"external: expected a function of the time or None, got {external!r}")
         self.external = external
         self.steps_taken = 0  #: plant steps since construction
         self.outputs: PlantOutputs | None = None  #: the last step's ``Plant.step_outputs()``
@@ -98,8 +103,8 @@ class PlantRobot:
         return self.steps_taken * self.dt
 
     def state(self) -> FloatArray:
-        """The plant's state."""
-        return self.x
+        """The plant's state (a copy)."""
+        return self.x.copy()
 
     def step(self, u: FloatArray) -> StepReadings:
         """One plant step; the wrenches it delivered and the joint torques at its start
@@ -111,26 +116,56 @@ class PlantRobot:
         return StepReadings(self.outputs.step_contact_wrenches, self.outputs.joint_torques)
 
 
+def _count(value: object, name: str) -> int:
+    """``value`` as a step count of at least 1; ``ValueError`` / ``TypeError`` naming ``name``."""
+    if isinstance(value, bool):
+        raise TypeError(f"{name}: expected an integer, got {value!r}")
+    try:
+        count = operator.index(value)  # type: ignore[arg-type]
+    except TypeError:
+        raise TypeError(f"{name}: expected an integer, got {value!r}") from None
+    if count < 1:
+        raise ValueError(f"{name}: expected at least 1, got {count}")
+    return count
+
+
+def _checked(readings: object, step: int, shape: tuple[int, ...] | None) -> StepReadings:
+    """A robot's readings of plant step ``step`` of the period, copied (a robot may reuse its
+    buffers), their wrenches of ``shape`` (the first step's) or ``(n_contacts, 6)``."""
+    if not isinstance(readings, StepReadings):
+        raise TypeError(f"robot.step (step {step} of the period): expected StepReadings, "
+                        f"got {type(readings).__name__}")
+    wrenches = np.array(readings.contact_wrenches, dtype=float)
+    if wrenches.ndim != 2 or wrenches.shape[1] != 6 or (shape is not None and wrenches.shape != shape):
+        expected = f"({shape[0]}, 6), as the first step's" if shape else "(n_contacts, 6)"
+        raise ValueError(f"robot.step (step {step} of the period): contact_wrenches: expected "
+                         f"shape {expected}, got shape {list(wrenches.shape)}")
+    return StepReadings(wrenches, np.array(readings.joint_torques, dtype=float))
+
+
 def run_period(controller: Controller, robot: Robot, u: FloatArray, steps_per_tick: int,
                steps_per_inner_tick: int) -> PeriodReadings:
     """One whole-body period from the tick's input ``u``: ``steps_per_tick`` steps of
-    ``robot``, ``controller.inner_tick`` before every ``steps_per_inner_tick``-th step but
-    the first (pass ``steps_per_tick`` to hold ``u``, as ``zero_order_hold`` does); the
-    period's readings. A robot's error ends the period and propagates."""
-    if steps_per_tick < 1 or steps_per_inner_tick < 1:
-        raise ValueError(f"steps_per_tick ({steps_per_tick}) and steps_per_inner_tick "
-                         f"({steps_per_inner_tick}) must be at least 1")
-    total: FloatArray | None = None
-    for j in range(steps_per_tick):
-        if j > 0 and j % steps_per_inner_tick == 0:
+    ``robot``, with ``controller.inner_tick`` after every ``steps_per_inner_tick`` of them
+    (before steps ``j = steps_per_inner_tick, 2 steps_per_inner_tick, ...``, counted from 0;
+    pass ``steps_per_tick`` to hold ``u``, as ``zero_order_hold`` does); the period's readings
+    (copies). A robot's error ends the period and propagates; readings that are not
+    :class:`StepReadings` with ``(n_contacts, 6)`` wrenches, the same at every step, raise
+    naming the step."""
+    steps = _count(steps_per_tick, "steps_per_tick")
+    inner = _count(steps_per_inner_tick, "steps_per_inner_tick")
+    start: StepReadings | None = None
+    total = np.zeros(0)
+    for j in range(steps):
+        if j > 0 and j % inner == 0:
             u = controller.inner_tick(robot.state())
-        readings = robot.step(u)
-        wrenches = np.asarray(readings.contact_wrenches, dtype=float)
-        total = wrenches.copy() if total is None else total + wrenches
-        if j == 0:
-            start = readings
-    assert total is not None
-    return PeriodReadings(start, readings, total / steps_per_tick)
+        readings = _checked(robot.step(u), j, None if start is None else start.contact_wrenches.shape)
+        if start is None:
+            start, total = readings, readings.contact_wrenches.copy()
+        else:
+            total += readings.contact_wrenches
+    assert start is not None
+    return PeriodReadings(start, readings, total / steps)
 
 
 def run(scenario: Scenario, robot: Robot | None = None, controller: Controller | None = None,
@@ -142,8 +177,9 @@ def run(scenario: Scenario, robot: Robot | None = None, controller: Controller |
     touchdown detection stand still). ``robot``: by default the scenario's plant
     (:class:`PlantRobot`); ``controller``: by default the scenario's; ``on_tick(k, out)``: called
     with each tick's output, e.g. to record it. The state at every tick, (last_tick + 1, nx).
-    Under ``sampling = "continuous"`` (the law at every integrator stage, not a loop of ticks)
-    raises ``ValueError``."""
+    A scenario's controller and plant are one object each that keeps its state from run to
+    run: load the scenario again for a second run. Under ``sampling = "continuous"`` (the law
+    at every integrator stage, not a loop of ticks) raises ``ValueError``."""
     if scenario.sampling == "continuous":
         raise ValueError('sampling = "continuous" evaluates the law at every integrator stage, '
                          "which a loop of ticks does not; use zero_order_hold or multi_rate")
