@@ -133,17 +133,12 @@ class Robot:
         self.states.set_from_ours(self.data, scenario.initial_state)
         mujoco.mj_forward(self.mj, self.data)
         self.push_body = self.mj.body(PUSH_LINK).id
+        self.dt = self.mj.opt.timestep  #: the MuJoCo step [s]
+        self.n_inputs = len(self.joints)  #: one desired motor velocity per joint
 
-    def settle(self, duration: float) -> None:
-        """The robot powered on before the controller starts: the motor boards hold the
-        motors still (desired motor velocity 0) for ``duration`` s while MuJoCo's soft contacts
-        take the weight (they start at zero penetration, and their first milliseconds' forces,
-        up to the whole weight on one foot, would be the identification's first readings);
-        then the clock restarts at 0."""
-        hold, push, self.push = np.zeros(len(self.joints)), self.push, None
-        for _ in range(int(round(duration / self.mj.opt.timestep))):
-            self.step(hold)
-        self.push, self.steps_taken, self.data.time = push, 0, 0.0
+    def restart_clock(self) -> None:
+        """The push schedule's and MuJoCo's clocks back at 0 (``settle``)."""
+        self.steps_taken, self.data.time = 0, 0.0
 
     def state(self) -> np.ndarray:
         """The encoders and the base estimate: our state ``[q, theta, nu, thetadot]``."""
@@ -154,7 +149,7 @@ class Robot:
         on the pelvis; returns what the feet's and the joints' torque sensors read over it."""
         self.boards.command(self.mj, self.data, u)
         self.data.xfrc_applied[self.push_body] = 0.0
-        force = self.push(self.steps_taken * self.mj.opt.timestep) if self.push else None
+        force = self.push(self.steps_taken * self.dt) if self.push else None
         if force is not None:
             self.data.xfrc_applied[self.push_body] = push_wrench(self.mj, self.data, self.push_body, force)
         mujoco.mj_step(self.mj, self.data)
@@ -173,18 +168,16 @@ class OurPlant(sm.PlantRobot):
     def __init__(self, scenario: sm.Scenario, push: Push | None = None) -> None:
         super().__init__(scenario, external=self.pushes)
         self.push = push
+        self.n_inputs = self.plant.nu_input  #: the plant's input size
 
     def pushes(self, t: float) -> dict[str, np.ndarray] | None:
         """``Plant.step``'s ``external`` at time ``t``: the push on the pelvis, if any."""
         force = self.push(t) if self.push else None
         return None if force is None else {PUSH_LINK: force}
 
-    def settle(self, duration: float) -> None:
-        """The motors held still for ``duration`` s, as ``Robot.settle``."""
-        hold, push, self.push = np.zeros(self.plant.nu_input), self.push, None
-        for _ in range(int(round(duration / self.dt))):
-            self.step(hold)
-        self.push, self.steps_taken = push, 0
+    def restart_clock(self) -> None:
+        """The push schedule's clock back at 0 (``settle``)."""
+        self.steps_taken = 0
 
     def step(self, u: np.ndarray) -> sm.StepReadings:
         """One plant step (``sm.PlantRobot.step``); a failed or non-finite one raises
@@ -196,6 +189,19 @@ class OurPlant(sm.PlantRobot):
         if not np.isfinite(self.x).all():
             raise Diverged("our plant: the state is not finite")
         return readings
+
+
+def settle(robot: Robot | OurPlant, duration: float) -> None:
+    """The robot powered on before the controller starts: the motors held still (desired
+    motor velocity 0) for ``duration`` s with the push set aside, while the contacts take the
+    weight (MuJoCo's soft contacts start at zero penetration, and their first milliseconds'
+    forces, up to the whole weight on one foot, would be the identification's first
+    readings); then the robot's clock restarts at 0."""
+    hold, push, robot.push = np.zeros(robot.n_inputs), robot.push, None
+    for _ in range(int(round(duration / robot.dt))):
+        robot.step(hold)
+    robot.push = push
+    robot.restart_clock()
 
 
 #: The link joints' armature: the iCub plant's joint_inertia_regularization (the same robot
@@ -229,7 +235,7 @@ def run(
     if simulator not in ("mujoco", "ours"):
         raise ValueError(f"simulator: expected 'mujoco' or 'ours', got {simulator!r}")
     robot = Robot(scenario, Sea(), MOTOR_VELOCITY_GAIN, push) if simulator == "mujoco" else OurPlant(scenario, push)
-    robot.settle(SETTLE)
+    settle(robot, SETTLE)
     elastic = scenario.plant.elastic_joints
     period = scenario.control_period
     steps, inner = scenario.steps_per_tick, scenario.steps_per_inner_tick  # 100 Hz, 1 kHz
