@@ -1,7 +1,9 @@
 """Ctrl-C in Python (issue 10, item 1): a real SIGINT sent to a real interpreter running
 ``run_scenario`` or ``Plant.simulate`` raises ``KeyboardInterrupt`` within a fraction of a
 second, the MCAP log is finished (readable, with its summary section) and what was computed is
-the exception's ``partial`` attribute, with status "interrupted"."""
+the exception's ``partial`` attribute, with status "interrupted". SIGTERM (a scheduler's stop)
+does the same with ``SystemExit(143)`` while the native work runs, and the interpreter's own
+disposition of SIGTERM is back afterwards."""
 
 from __future__ import annotations
 
@@ -63,9 +65,25 @@ except KeyboardInterrupt as interrupt:
 """
 
 
-def interrupt_child(body: str, *args: str, run_for_s: float = 2.0) -> tuple[dict, float]:
-    """Runs ``body`` in a fresh interpreter, sends SIGINT ``run_for_s`` after it reports it
-    started, and returns its last report and the time of the signal (time.monotonic)."""
+RUN_SCENARIO_TERMINATED = """
+import signal
+report(event="started")
+try:
+    sm.run_scenario(sys.argv[1], {"simulation.duration_s": 600.0}, mcap=sys.argv[2])
+    report(event="returned")
+except SystemExit as stop:
+    report(event="terminated", code=stop.code, status=stop.partial.status,
+           default_back=signal.getsignal(signal.SIGTERM) == signal.SIG_DFL)
+    raise
+"""
+
+
+def interrupt_child(
+    body: str, *args: str, run_for_s: float = 2.0, sig: int = signal.SIGINT, status: int = 0
+) -> tuple[dict, float]:
+    """Runs ``body`` in a fresh interpreter, sends ``sig`` ``run_for_s`` after it reports it
+    started, checks that it exits with ``status`` and returns its last report and the time of
+    the signal (time.monotonic)."""
     child = subprocess.Popen(
         [sys.executable, "-c", textwrap.dedent(PRELUDE + body), *args],
         stdout=subprocess.PIPE,
@@ -79,8 +97,9 @@ def interrupt_child(body: str, *args: str, run_for_s: float = 2.0) -> tuple[dict
         time.sleep(run_for_s)
         assert child.poll() is None, "the child ended before the signal"
         sent = time.monotonic()
-        child.send_signal(signal.SIGINT)
+        child.send_signal(sig)
         out, err = child.communicate(timeout=30)
+        assert child.returncode == status, (child.returncode, err)
     finally:
         if child.poll() is None:
             child.kill()
@@ -115,3 +134,29 @@ def test_ctrl_c_stops_plant_simulate_with_its_partial_result():
     # The initial state and the state reached at the interrupt.
     assert report["rows"] >= 2 and report["last_time"] > 0.0
     assert report["shape"][0] == report["rows"]
+
+
+def test_sigterm_stops_run_scenario_as_an_exit_and_finishes_the_log(tmp_path):
+    mcap_path = tmp_path / "run.mcap"
+    report, _ = interrupt_child(
+        RUN_SCENARIO_TERMINATED, str(TRACKING), str(mcap_path), sig=signal.SIGTERM, status=143
+    )
+    assert report == {"event": "terminated", "code": 143, "status": "interrupted", "default_back": True}
+    mcap = pytest.importorskip("mcap.reader")
+    with open(mcap_path, "rb") as stream:
+        summary = mcap.make_reader(stream).get_summary()
+    assert summary is not None and summary.statistics.message_count > 0
+
+
+def test_a_sigterm_handler_of_the_program_is_left_alone():
+    code = PRELUDE + textwrap.dedent("""
+        import signal
+        def mine(signum, frame):
+            pass
+        signal.signal(signal.SIGTERM, mine)
+        sm.run_scenario(sys.argv[1], {"simulation.duration_s": 0.05})
+        report(kept=signal.getsignal(signal.SIGTERM) is mine)
+    """)
+    out = subprocess.run([sys.executable, "-c", code, str(TRACKING)], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout.splitlines()[-1]) == {"kept": True}

@@ -180,3 +180,19 @@ def test_contact_point_counts_are_the_rows_of_the_point_outputs() -> None:
     assert rows == sum(counts)
     bilateral = sm.Scenario.load(TRACKING, {"simulation.duration_s": 0.01}).plant
     assert bilateral.contact_point_counts == []
+
+
+@pytest.mark.parametrize("call", [
+    lambda: sm.PlantRobot(None),
+    lambda: sm.robot_loop.run(None),
+    lambda: sm.robot_loop.run("scenarios/walking/walk_straight.toml"),
+])
+def test_a_scenario_of_another_kind_is_refused_naming_it(call) -> None:
+    with pytest.raises(TypeError, match="scenario: expected a sea_momentum.Scenario"):
+        call()
+
+
+def test_sensors_must_be_a_bool() -> None:
+    scenario = sm.Scenario.load(ROOT / "scenarios" / "walking" / "walk_straight.toml")
+    with pytest.raises(TypeError, match="sensors: expected True or False, got 'no'"):
+        sm.robot_loop.run(scenario, sensors="no")

@@ -86,6 +86,7 @@ class PlantRobot:
 
     def __init__(self, scenario: Scenario, x: ArrayLike | None = None,
                  external: Pushes | None = None) -> None:
+        _check_scenario(scenario)
         self.plant = scenario.plant
         self.dt, self.method = scenario.plant_dt, scenario.method
         self.x: FloatArray = np.array(scenario.initial_state if x is None else x, dtype=float)
@@ -114,6 +115,12 @@ class PlantRobot:
         self.steps_taken += 1
         self.outputs = self.plant.step_outputs()
         return StepReadings(self.outputs.step_contact_wrenches, self.outputs.joint_torques)
+
+
+def _check_scenario(scenario: object) -> None:
+    """Refuses an argument ``scenario`` that is not a loaded :class:`Scenario`."""
+    if not isinstance(scenario, Scenario):
+        raise TypeError(f"scenario: expected a sea_momentum.Scenario (Scenario.load(path)), got {scenario!r}")
 
 
 def _count(value: object, name: str) -> int:
@@ -180,6 +187,9 @@ def run(scenario: Scenario, robot: Robot | None = None, controller: Controller |
     A scenario's controller and plant are one object each that keeps its state from run to
     run: load the scenario again for a second run. Under ``sampling = "continuous"`` (the law
     at every integrator stage, not a loop of ticks) raises ``ValueError``."""
+    _check_scenario(scenario)
+    if not isinstance(sensors, bool):
+        raise TypeError(f"sensors: expected True or False, got {sensors!r}")
     if scenario.sampling == "continuous":
         raise ValueError('sampling = "continuous" evaluates the law at every integrator stage, '
                          "which a loop of ticks does not; use zero_order_hold or multi_rate")

@@ -156,6 +156,11 @@ def run_scenario(
             result = run_scenario(path)
         except KeyboardInterrupt as interrupt:
             result = interrupt.partial
+
+    SIGTERM (``kill``, a batch scheduler's stop), when the program leaves it at Python's
+    default, does the same during the run and raises ``SystemExit(143)`` with the same
+    ``partial``; the program then exits with the status SIGTERM would have given, its log
+    finished.
     """
     try:
         raw = run_scenario_native(
@@ -165,7 +170,7 @@ def run_scenario(
             progress,
             [os.fspath(d) for d in package_dirs],
         )
-    except KeyboardInterrupt as interrupt:
+    except (KeyboardInterrupt, SystemExit) as interrupt:
         partial = getattr(interrupt, "partial", None)
         if isinstance(partial, dict):
             interrupt.partial = ScenarioResult.from_native(partial)  # type: ignore[attr-defined]

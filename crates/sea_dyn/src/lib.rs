@@ -32,6 +32,7 @@ pub mod algorithms;
 #[cfg(feature = "serde")]
 pub mod bounded;
 pub mod error;
+pub mod files;
 pub mod gains;
 pub mod linalg;
 pub mod model;

@@ -750,3 +750,30 @@ fn visuals_around_the_inertial_load_as_the_sorted_file() {
     );
     assert_eq!(robot.links[0].collision.len(), 2);
 }
+
+#[test]
+fn hostile_files_are_refused_quickly_and_named() {
+    // Nested tens of thousands deep: refused before urdf-rs's recursive parser sees it.
+    let deep = format!(
+        "<robot name=\"r\">{}{}</robot>",
+        "<a>".repeat(20_000),
+        "</a>".repeat(20_000)
+    );
+    let error = Model::from_urdf_str(&deep, &LoadOptions::default()).unwrap_err();
+    assert!(error.to_string().contains("nest 20001 deep"), "{error}");
+    // A device, not a file: refused before a byte is read.
+    let error = Model::from_urdf_file("/dev/zero", &LoadOptions::default()).unwrap_err();
+    assert!(error.to_string().contains("not a regular file"), "{error}");
+    // A number that is not one: its element, attribute and link named.
+    let parts = replace(
+        &valid_parts(),
+        "<link name=\"shin\"",
+        link_with("shin", "abc", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0"),
+    );
+    let error = Model::from_urdf_str(&robot(&parts), &LoadOptions::default()).unwrap_err();
+    let message = error.to_string();
+    assert!(
+        message.contains("link 'shin' <mass value=\"abc\">: 'abc' is not a number"),
+        "{message}"
+    );
+}

@@ -165,7 +165,7 @@ impl Scenario {
 
     /// Reads a scenario file with overrides.
     pub fn from_file(path: &Path, overrides: &[(String, String)]) -> Result<Scenario> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::io(path, source))?;
+        let text = sea_dyn::files::read_text(path).map_err(|source| Error::io(path, source))?;
         let base = path.parent().unwrap_or(Path::new("."));
         Self::from_toml(&text, overrides, base).map_err(|e| e.in_file(path))
     }

@@ -904,3 +904,47 @@ fn a_walking_command_the_step_limits_clip_is_a_warning_naming_the_key() {
         text(&out.stderr)
     );
 }
+
+#[test]
+fn unbounded_study_sizes_are_refused_naming_the_flag() {
+    let ws = Workspace::new("bounds");
+    let margin = |flag: &str, value: &str| {
+        sea_sim(&[
+            "margin",
+            &ws.scenario(),
+            "--param",
+            "actuators.damping",
+            "--range",
+            "0.01:1",
+            flag,
+            value,
+        ])
+    };
+    for (flag, value) in [
+        ("--tolerance", "0"),
+        ("--tolerance", "nan"),
+        ("--points", "4000000000"),
+    ] {
+        let out = margin(flag, value);
+        assert_ne!(out.status.code(), Some(0), "{flag} {value}");
+        assert!(text(&out.stderr).contains(flag), "{}", text(&out.stderr));
+    }
+    let csv = ws.path("rows.csv");
+    let out = sea_sim(&[
+        "sweep",
+        &ws.scenario(),
+        "--grid",
+        "actuators.damping=0.1:1:1000000000",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("COUNT"), "{}", text(&out.stderr));
+    let out = sea_sim(&["run", &ws.scenario(), "--set", "robot.urdf=\"/dev/zero\""]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("/dev/zero: not a regular file"),
+        "{}",
+        text(&out.stderr)
+    );
+}

@@ -104,11 +104,11 @@ fn parse_range(key: &str, text: &str) -> Result<Vec<f64>> {
     let start = parse_number(key, "START", parts[0])?;
     let stop = parse_number(key, "STOP", parts[1])?;
     let count = match parts[2].parse::<usize>() {
-        Ok(count) if count >= 1 => count,
+        Ok(count) if (1..=MAX_GRID_POINTS).contains(&count) => count,
         _ => {
             return Err(Error::invalid(
                 key,
-                "COUNT must be a whole number, at least 1",
+                format!("COUNT must be a whole number from 1 to {MAX_GRID_POINTS}"),
                 format!("'{}'", parts[2]),
             ))
         }
@@ -169,7 +169,7 @@ impl ScenarioSource {
     ///
     /// Errors: [`Error::Io`] naming the file.
     pub fn read(path: &Path) -> Result<ScenarioSource> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::io(path, source))?;
+        let text = sea_dyn::files::read_text(path).map_err(|source| Error::io(path, source))?;
         Ok(ScenarioSource {
             path: path.to_path_buf(),
             text,
@@ -204,6 +204,9 @@ fn overrides_with(
     all
 }
 
+/// The most points a grid may have (each is a whole simulation).
+pub const MAX_GRID_POINTS: usize = 1_000_000;
+
 /// The cartesian product of axes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Grid {
@@ -224,7 +227,8 @@ impl Grid {
 
     /// The grid of `axes`.
     ///
-    /// Errors: [`Error::Scenario`] for no axis, an axis without values or a key given twice.
+    /// Errors: [`Error::Scenario`] for no axis, an axis without values, a key given twice or
+    /// more than [`MAX_GRID_POINTS`] points.
     pub fn new(axes: Vec<Axis>) -> Result<Grid> {
         if axes.is_empty() {
             return Err(Error::config("grid", "at least one KEY=... is needed"));
@@ -236,6 +240,18 @@ impl Grid {
             if axes[..k].iter().any(|other| other.key == axis.key) {
                 return Err(Error::config(&axis.key, "given twice in the grid"));
             }
+        }
+        let points = axes
+            .iter()
+            .try_fold(1usize, |product, axis| {
+                product.checked_mul(axis.values.len())
+            })
+            .filter(|&points| points <= MAX_GRID_POINTS);
+        if points.is_none() {
+            return Err(Error::config(
+                "grid",
+                format!("more than {MAX_GRID_POINTS} points (each a simulation)"),
+            ));
         }
         Ok(Grid { axes })
     }

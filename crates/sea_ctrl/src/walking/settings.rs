@@ -239,9 +239,10 @@ pub struct WalkingSettings {
     /// or two periods to get there, and walk_fast.toml adjusted there falls (with
     /// `step_adjustment_threshold` 0.01; docs/findings/stepping.md).
     pub step_adjustment_end_phase: f64,
-    /// The walking command, used when `footsteps` is empty.
+    /// The walking command, used when `footsteps` is empty (refused with `footsteps`).
     pub command: WalkCommand,
-    /// Explicit footsteps, in order (empty: footsteps from `command`).
+    /// Explicit footsteps, in order (empty: footsteps from `command`; refused with a
+    /// `command` that sets a velocity, `steps` or `duration`).
     pub footsteps: Vec<FootstepSpec>,
 }
 
@@ -674,6 +675,22 @@ impl WalkingSettings {
         }
         if self.stepping {
             return self.validate_stepping();
+        }
+        let command_given = command.steps.is_some()
+            || command.duration.is_some()
+            || [
+                command.forward_velocity,
+                command.sideways_velocity,
+                command.turning_velocity,
+            ]
+            .iter()
+            .any(|&velocity| velocity != 0.0);
+        if !self.footsteps.is_empty() && command_given {
+            return Err(Error::config(
+                "walking.command",
+                "is not used when walking.footsteps is given (the walk follows the list): \
+                 remove one of them",
+            ));
         }
         if self.footsteps.is_empty() && command.steps.is_some() == command.duration.is_some() {
             return Err(Error::config(

@@ -16,6 +16,7 @@ pub(crate) mod inertia_check;
 pub mod resources;
 pub mod state;
 pub mod urdf;
+mod urdf_numbers;
 
 use crate::error::{Error, Result, Warning};
 use crate::spatial::{BodyInertia, Pose};

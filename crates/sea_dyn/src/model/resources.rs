@@ -116,14 +116,15 @@ impl PackageDirs {
         } else {
             urdf_dir.join(path)
         };
-        if path.is_file() {
-            Ok(path)
-        } else {
-            Err(Error::model(
-                format!("file '{uri}'"),
-                format!("no such file: {}", path.display()),
-            ))
-        }
+        let problem = match std::fs::metadata(&path) {
+            Ok(metadata) if metadata.is_file() => return Ok(path),
+            Ok(_) => "not a regular file",
+            Err(_) => "no such file",
+        };
+        Err(Error::model(
+            format!("file '{uri}'"),
+            format!("{problem}: {}", path.display()),
+        ))
     }
 
     /// `package://NAME/PATH` (`rest` = `NAME/PATH`).

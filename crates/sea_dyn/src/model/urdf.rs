@@ -12,6 +12,7 @@
 
 use crate::error::{Error, Result, Warning};
 use crate::model::inertia_check::{check_link_inertia, massless_subtree_warnings};
+use crate::model::urdf_numbers::first_bad_number;
 use crate::model::{joint_motion, Frame, Joint, JointKind, Model};
 use crate::spatial::{BodyInertia, Pose};
 use nalgebra::{Matrix3, Vector3};
@@ -36,7 +37,7 @@ impl Model {
     /// Loads a URDF file; see [`Model::from_urdf_str`].
     pub fn from_urdf_file(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Model> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::files::read_text(path).map_err(|e| Error::io(path, e))?;
         Self::from_urdf_str(&text, options).map_err(|e| e.in_file(path))
     }
 
@@ -49,11 +50,22 @@ impl Model {
 /// The URDF text parsed by `urdf-rs`, as the model reads it (empty `<texture>` elements
 /// tolerated, see `without_empty_textures`); for readers of the URDF's other parts (visuals).
 ///
-/// Errors: [`Error::Parse`] when the text is not a URDF.
+/// Errors: [`Error::Parse`] when the text is not a URDF, or its elements nest deeper than
+/// [`crate::files::MAX_XML_DEPTH`] (checked before `urdf-rs`, whose recursive parser would
+/// overflow the stack).
 pub fn parse_urdf(text: &str) -> Result<urdf_rs::Robot> {
+    let depth = crate::files::xml_depth(text);
+    if depth > crate::files::MAX_XML_DEPTH {
+        return Err(Error::parse(format!(
+            "cannot parse URDF: its elements nest {depth} deep, more than {}",
+            crate::files::MAX_XML_DEPTH
+        )));
+    }
     let text = without_empty_textures(text);
-    urdf_rs::read_from_string(&inertial_before_visuals(&text))
-        .map_err(|e| Error::parse(format!("cannot parse URDF: {e}")))
+    urdf_rs::read_from_string(&inertial_before_visuals(&text)).map_err(|e| {
+        let message = first_bad_number(&text).unwrap_or_else(|| e.to_string());
+        Error::parse(format!("cannot parse URDF: {message}"))
+    })
 }
 
 /// The text with, in every `<link>` where an `<inertial>` follows a `<visual>`, that

@@ -56,7 +56,7 @@ fn from_file(path: &str, scenario_dir: &Path) -> Result<DescriptionSource> {
     } else {
         PathBuf::from(path)
     };
-    let text = std::fs::read_to_string(&file).map_err(|e| {
+    let text = sea_dyn::files::read_text(&file).map_err(|e| {
         Error::invalid(
             DESCRIPTION_KEY,
             format!("cannot read the robot description ({e}); built in: \"{ICUB_PAPER}\""),

@@ -110,7 +110,7 @@ pub fn check_foot(rectangle: &FootRectangle) -> Result<FootRectangle> {
 pub fn init(options: &InitOptions) -> Result<InitReport> {
     let dirs = PackageDirs::from_environment(options.package_dirs.iter().cloned());
     let urdf_file = resolve_urdf(&options.urdf, &dirs)?;
-    let text = std::fs::read_to_string(&urdf_file).map_err(|e| Error::io(&urdf_file, e))?;
+    let text = sea_dyn::files::read_text(&urdf_file).map_err(|e| Error::io(&urdf_file, e))?;
     let mut model = Model::from_urdf_str(&text, &LoadOptions::default())
         .map_err(|e| Error::from(e.in_file(&urdf_file)))?;
     for contact in &options.contacts {

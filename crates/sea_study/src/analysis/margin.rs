@@ -52,16 +52,23 @@ impl MarginMethod {
     }
 }
 
+/// The most points of the initial scan ([`MarginOptions::grid_points`]).
+pub const MAX_SCAN_POINTS: usize = 10_000;
+
+/// The smallest [`MarginOptions::relative_tolerance`]: about 40 bisections.
+pub const MIN_RELATIVE_TOLERANCE: f64 = 1e-12;
+
 /// Options of [`stability_margin_report`].
 #[derive(Clone, Debug)]
 pub struct MarginOptions {
     /// How stability is judged.
     pub method: MarginMethod,
-    /// Points of the initial scan (at least 2), ends included.
+    /// Points of the initial scan (2 to [`MAX_SCAN_POINTS`]), ends included.
     pub grid_points: usize,
     /// Space the scan logarithmically (both ends must be positive).
     pub log_grid: bool,
-    /// Bisection stops when the bracket is narrower than this fraction of `upper - lower`.
+    /// Bisection stops when the bracket is narrower than this fraction of `upper - lower`
+    /// ([`MIN_RELATIVE_TOLERANCE`] to below 1).
     pub relative_tolerance: f64,
     /// Linearisation options (method `Eigen`; its time and sampling are used).
     pub linearize: LinearizeOptions,
@@ -277,10 +284,17 @@ fn check_range(lower: f64, upper: f64, options: &MarginOptions) -> Result<()> {
             format!("a logarithmic grid needs positive bounds, got lower {lower}"),
         ));
     }
-    if options.grid_points < 2 {
+    if !(2..=MAX_SCAN_POINTS).contains(&options.grid_points) {
         return Err(Error::config(
             "grid_points",
-            format!("at least 2, got {}", options.grid_points),
+            format!("from 2 to {MAX_SCAN_POINTS}, got {}", options.grid_points),
+        ));
+    }
+    let tolerance = options.relative_tolerance;
+    if !(MIN_RELATIVE_TOLERANCE..1.0).contains(&tolerance) {
+        return Err(Error::config(
+            "relative_tolerance",
+            format!("from {MIN_RELATIVE_TOLERANCE:e} to below 1, got {tolerance}"),
         ));
     }
     Ok(())

@@ -141,10 +141,11 @@ impl StaticScene {
         contacts: &[String],
     ) -> Result<Self> {
         let path = &source.urdf;
-        let urdf_text = std::fs::read(path).map_err(|source| Error::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let urdf_text = sea_dyn::files::read_bounded(path, sea_dyn::files::MAX_TEXT_BYTES)
+            .map_err(|source| Error::Io {
+                path: path.display().to_string(),
+                source,
+            })?;
         let robot = sea_dyn::urdf::parse_urdf(&String::from_utf8_lossy(&urdf_text))
             .map_err(|e| Error::Log(format!("{}: {e}", path.display())))?;
         let frames: HashSet<&str> = link_frames.iter().map(String::as_str).collect();

@@ -138,10 +138,13 @@ pub fn read_mesh(path: &Path) -> Result<TriangleMesh, MeshError> {
     let extension = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
-        path: path.display().to_string(),
-        source,
-    })?;
+    let bytes =
+        sea_dyn::files::read_bounded(path, sea_dyn::files::MAX_MESH_BYTES).map_err(|source| {
+            MeshError::Io {
+                path: path.display().to_string(),
+                source,
+            }
+        })?;
     let format_error = |message: String| MeshError::Format {
         path: path.display().to_string(),
         message,

@@ -5,8 +5,18 @@ use super::TriangleMesh;
 
 /// The mesh of the STL file `bytes`.
 ///
-/// Errors: the reader's message when the bytes are not STL.
+/// Errors: the reader's message when the bytes are not STL; bytes that are neither a binary
+/// STL (84 bytes of header and count, then at least 50 per triangle) nor text starting with `solid` are
+/// refused before `stl_io` sees them (its ASCII probe reads a file without line breaks as one
+/// line, all into memory).
 pub fn read(bytes: &[u8]) -> Result<TriangleMesh, String> {
+    if !is_binary_stl(bytes) && !bytes.trim_ascii_start().starts_with(b"solid") {
+        return Err(
+            "neither binary STL (its size does not match its triangle count) nor ASCII STL \
+             (it does not start with `solid`)"
+                .into(),
+        );
+    }
     let mesh = stl_io::read_stl(&mut std::io::Cursor::new(bytes)).map_err(|e| e.to_string())?;
     let index = |i: usize| u32::try_from(i).map_err(|_| "more than 2^32 vertices".to_string());
     let triangles = mesh
@@ -22,6 +32,16 @@ pub fn read(bytes: &[u8]) -> Result<TriangleMesh, String> {
         triangles,
         normals: None,
     })
+}
+
+/// Whether `bytes` hold a binary STL of the triangle count in its header (trailing bytes
+/// allowed, as `stl_io` reads them).
+fn is_binary_stl(bytes: &[u8]) -> bool {
+    let Some(count) = bytes.get(80..84) else {
+        return false;
+    };
+    let count = u32::from_le_bytes([count[0], count[1], count[2], count[3]]) as u64;
+    bytes.len() as u64 >= 84 + 50 * count
 }
 
 #[cfg(test)]
@@ -79,5 +99,7 @@ endsolid two
     #[test]
     fn garbage_is_an_error() {
         assert!(read(b"solid x\nfacet oops\n").is_err());
+        let error = read(&[b'x'; 200]).unwrap_err();
+        assert!(error.contains("neither binary STL"), "{error}");
     }
 }

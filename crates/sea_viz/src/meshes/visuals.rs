@@ -266,7 +266,7 @@ pub fn urdf_file_visuals(
     user_dirs: &[PathBuf],
     triangle_budget: usize,
 ) -> crate::Result<RobotVisuals> {
-    let text = std::fs::read_to_string(urdf).map_err(|source| crate::Error::Io {
+    let text = sea_dyn::files::read_text(urdf).map_err(|source| crate::Error::Io {
         path: urdf.display().to_string(),
         source,
     })?;

@@ -41,6 +41,19 @@ fn explicit_footsteps_read_as_a_table_array() {
 }
 
 #[test]
+fn explicit_footsteps_and_a_command_together_are_refused() {
+    let steps = "[[walking.footsteps]]\nfoot = \"left\"\nx = 0.1\ny = 0.07\nyaw = 0.0\n";
+    for command in ["steps = 10", "duration = 2.0", "forward_velocity = 0.2"] {
+        let settings = walking_table(&format!("[walking.command]\n{command}\n{steps}")).unwrap();
+        let error = settings.validate(0.01).unwrap_err().to_string();
+        assert!(
+            error.contains("walking.command") && error.contains("walking.footsteps"),
+            "{command}: {error}"
+        );
+    }
+}
+
+#[test]
 fn the_capture_margin_reads_as_a_number_or_a_table() {
     let uniform = walking_table("[walking]\ncapture_margin = 0.02\n").unwrap();
     assert_eq!(uniform.capture_margin, CaptureMargin::uniform(0.02));

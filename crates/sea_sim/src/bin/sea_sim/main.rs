@@ -83,30 +83,50 @@ fn main() -> ExitCode {
             return ExitCode::from(if e.use_stderr() { EXIT_ERROR } else { 0 });
         }
     };
-    let outcome = match &cli.command {
-        Command::Bench(args) => bench::run_bench(args).map(|()| Outcome::Completed),
-        Command::Margin(args) => margin::run_margin(args).map(|()| Outcome::Completed),
-        Command::Init(args) => init::run_init(args).map(|()| Outcome::Completed),
-        Command::Push(args) => push::run_push(args).map(|()| Outcome::Completed),
-        Command::Schema(args) => {
+    // Installed before the scenario is read, so that a signal while it loads ends the run
+    // with the signal's status.
+    let interrupts = match &cli.command {
+        Command::Run(_) | Command::Sweep(_) => match Interrupts::install() {
+            Ok(interrupts) => Some(interrupts),
+            Err(e) => {
+                say(format_args!("sea-sim: cannot handle signals: {e}"));
+                return ExitCode::from(EXIT_ERROR);
+            }
+        },
+        _ => None,
+    };
+    let outcome = match (&cli.command, &interrupts) {
+        (Command::Bench(args), _) => bench::run_bench(args).map(|()| Outcome::Completed),
+        (Command::Margin(args), _) => margin::run_margin(args).map(|()| Outcome::Completed),
+        (Command::Init(args), _) => init::run_init(args).map(|()| Outcome::Completed),
+        (Command::Push(args), _) => push::run_push(args).map(|()| Outcome::Completed),
+        (Command::Schema(args), _) => {
             schema::print_schema(args);
             Ok(Outcome::Completed)
         }
-        Command::Sweep(args) => match Interrupts::install() {
-            Ok(interrupts) => sweep::run_sweep_command(args, &interrupts),
-            Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),
-        },
-        Command::Run(args) => match Interrupts::install() {
-            Ok(interrupts) => run::run_scenario(args, &interrupts),
-            Err(e) => Err(sea_sim::Error::Log(format!("cannot handle signals: {e}"))),
-        },
+        (Command::Sweep(args), Some(interrupts)) => sweep::run_sweep_command(args, interrupts),
+        (Command::Run(args), Some(interrupts)) => run::run_scenario(args, interrupts),
+        (Command::Sweep(_) | Command::Run(_), None) => unreachable!("installed above"),
     };
+    let stopped_by = interrupts.as_ref().and_then(Interrupts::received);
     match outcome {
         Ok(Outcome::Completed) => ExitCode::SUCCESS,
         Ok(Outcome::Diverged) => ExitCode::from(EXIT_DIVERGED),
         Ok(Outcome::Interrupted(sig)) => {
+            let finished = match cli.command {
+                Command::Sweep(_) => "the rows of the runs done written",
+                _ => "log and summary finished",
+            };
             say(format_args!(
-                "sea-sim: stopped by {}; log and summary finished",
+                "sea-sim: stopped by {}; {finished}",
+                signal_name(sig)
+            ));
+            ExitCode::from(128 + sig as u8)
+        }
+        Err(e) if stopped_by.is_some() => {
+            let sig = stopped_by.unwrap_or_default();
+            say(format_args!(
+                "sea-sim: stopped by {} ({e})",
                 signal_name(sig)
             ));
             ExitCode::from(128 + sig as u8)

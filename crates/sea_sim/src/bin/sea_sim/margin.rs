@@ -2,7 +2,7 @@
 
 use crate::common::{parse_key_value, parse_range, print_out};
 use clap::Args;
-use sea_sim::analysis::margin::MarginOptions;
+use sea_sim::analysis::margin::{MarginOptions, MAX_SCAN_POINTS, MIN_RELATIVE_TOLERANCE};
 use sea_sim::output::{check_distinct, OutputFile};
 use std::path::PathBuf;
 
@@ -24,13 +24,14 @@ pub(crate) struct MarginArgs {
     method: String,
     /// Points of the initial scan, ends included.
     #[arg(long, value_name = "N", default_value_t = MarginOptions::default().grid_points as u32,
-          value_parser = clap::value_parser!(u32).range(2..))]
+          value_parser = clap::value_parser!(u32).range(2..=MAX_SCAN_POINTS as i64))]
     points: u32,
     /// Space the scan logarithmically (both ends positive).
     #[arg(long)]
     log: bool,
-    /// Bisection stops below this fraction of `UPPER - LOWER`.
-    #[arg(long, value_name = "F", default_value_t = MarginOptions::default().relative_tolerance)]
+    /// Bisection stops below this fraction of `UPPER - LOWER` (1e-12 to below 1).
+    #[arg(long, value_name = "F", default_value_t = MarginOptions::default().relative_tolerance,
+          value_parser = parse_tolerance)]
     tolerance: f64,
     /// Override a scenario value, e.g. `--set simulation.duration_s=2` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
@@ -166,4 +167,15 @@ pub(crate) fn margin_table(report: &sea_sim::analysis::margin::MarginReport) -> 
         table += &format!("\n  {:14.6}  {verdict:<8}{growth}", sample.value);
     }
     table
+}
+
+/// `--tolerance`: a number from [`MIN_RELATIVE_TOLERANCE`] to below 1 (clap names the flag in
+/// its error).
+fn parse_tolerance(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(value) if (MIN_RELATIVE_TOLERANCE..1.0).contains(&value) => Ok(value),
+        _ => Err(format!(
+            "expected a number from {MIN_RELATIVE_TOLERANCE:e} to below 1, got '{text}'"
+        )),
+    }
 }
