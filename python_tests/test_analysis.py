@@ -68,8 +68,10 @@ def test_margin_errors_name_the_key_or_the_range():
         sm.stability_margin(TRACKING, "controller.no_such_key", 0.5, 1.0)
     with pytest.raises(sm.ScenarioError, match="controller.kind"):
         sm.stability_margin(TRACKING, "controller.kind", 0.5, 1.0)
-    with pytest.raises(sm.ScenarioError, match="inverted"):
+    with pytest.raises(ValueError, match="inverted") as inverted:
         sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 2.0, 1.0)
+    assert inverted.value.argument == "lower, upper"
+    assert not isinstance(inverted.value, sm.ScenarioError)
     with pytest.raises(sm.ScenarioError, match="method"):
         sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 0.5, 1.0, method="x")
     with pytest.raises(ValueError, match="sampling"):

@@ -164,17 +164,19 @@ ONE_LEG_URDF = """<robot name="one_leg">
 
 
 @pytest.mark.parametrize(
-    "urdf, contacts, foot, named",
+    "urdf, contacts, foot, named, argument",
     [
-        ("icub", ("l_sloe", "r_sole"), None, "unknown frame 'l_sloe'"),
-        ("icub", ("nolink:0,0,0", "r_sole"), None, "unknown link 'nolink'"),
-        ("icub", ICUB_SOLES, (0.1, 0.0, -0.02, 0.02), "x0 < x1"),
-        ("one_leg", ("toe_a", "toe_b"), (-0.05, 0.1, -0.02, 0.02), "cannot stand"),
-        ("package://no_such_robot/robots/robot.urdf", ICUB_SOLES, None, "no_such_robot"),
-        ("icub", ("l_sole", "r_ankle_2:0,0,1e"), None, "'1e' is not a finite number"),
+        ("icub", ("l_sloe", "r_sole"), None, "unknown frame 'l_sloe'", None),
+        ("icub", ("nolink:0,0,0", "r_sole"), None, "unknown link 'nolink'", None),
+        ("icub", ICUB_SOLES, (0.1, 0.0, -0.02, 0.02), "x0 < x1", "foot"),
+        ("one_leg", ("toe_a", "toe_b"), (-0.05, 0.1, -0.02, 0.02), "cannot stand", None),
+        ("package://no_such_robot/robots/robot.urdf", ICUB_SOLES, None, "no_such_robot", "urdf"),
+        ("icub", ("l_sole", "r_ankle_2:0,0,1e"), None, "'1e' is not a finite number", None),
     ],
 )
-def test_init_refuses_bad_input_naming_the_element(tmp_path, urdf, contacts, foot, named):
+def test_init_refuses_bad_input_naming_the_element(tmp_path, urdf, contacts, foot, named, argument):
+    """A bad argument (the foot, the URDF's path) is a ValueError naming it; what the robot's
+    contacts cannot do is the written scenario's key's ScenarioError."""
     if urdf == "icub":
         urdf = str(ROOT / "urdf" / "icub25.urdf")
     elif urdf == "one_leg":
@@ -182,8 +184,13 @@ def test_init_refuses_bad_input_naming_the_element(tmp_path, urdf, contacts, foo
         urdf = str(tmp_path / "one_leg.urdf")
     out = tmp_path / "out" / "scenario.toml"
     out.parent.mkdir()
-    with pytest.raises(sm.ScenarioError, match=named.replace("(", r"\(")):
+    with pytest.raises(ValueError, match=named.replace("(", r"\(")) as refused:
         sm.init_scenario(urdf, contacts, out, foot=foot)
+    if argument is None:
+        assert isinstance(refused.value, sm.ScenarioError), refused.value
+    else:
+        assert not isinstance(refused.value, sm.ScenarioError), refused.value
+        assert refused.value.argument == argument
     assert list(out.parent.iterdir()) == []
 
 

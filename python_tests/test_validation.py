@@ -128,6 +128,15 @@ def test_huge_step_counts_raise_before_allocating(n_steps):
         assert "GiB" in str(info.value), "says the memory it would need"
 
 
+@pytest.mark.parametrize(("argument", "value"), [("n_steps", -1), ("record_every", 0), ("record_every", -5)])
+def test_negative_counts_are_named(argument, value):
+    model, plant, x0 = pendulum_plant()
+    counts = {"n_steps": 10, "record_every": 1, argument: value}
+    with pytest.raises(ValueError, match=argument) as info:
+        plant.simulate(x0, np.zeros(model.n_joints), 1e-3, **counts)
+    assert info.value.argument == argument
+
+
 def test_step_count_beyond_64_bits_raises():
     model, plant, x0 = pendulum_plant()
     with pytest.raises((ValueError, OverflowError)):

@@ -280,8 +280,8 @@ class Plant:
         ``contact_wrenches`` (m, n_contacts, 6), ``motor_torques`` (m, n_e), ``drift_position``
         (m,), ``drift_rotation`` (m,); ``status`` ("completed" | "diverged" | "fell" | "interrupted"),
         ``diverged_at`` (float or None), ``message``. Data up to a divergence is kept.
-        ``n_steps`` and the record's size are checked first (``ValueError`` giving the memory
-        it would need). Ctrl-C raises ``KeyboardInterrupt`` within a fraction of a second; its
+        ``n_steps`` (>= 0), ``record_every`` (>= 1) and the record's size are checked first
+        (``ValueError`` naming the argument, and giving the memory it would need). Ctrl-C raises ``KeyboardInterrupt`` within a fraction of a second; its
         ``partial`` attribute is the result so far (status "interrupted")."""
 
 def run_scenario_native(
@@ -331,8 +331,9 @@ def init_scenario(
     ``foot_x``, ``foot_y``, ``measured``, ``lowering_m``, ``residual``, ``feet_rank`` (the
     rank of the two feet's 12 contact constraints: 12 with legs of 6 joints, fewer with
     shorter legs, whose scenario then gets a larger ``controller.pinv_damping``),
-    ``warnings``. Bad input raises ``ScenarioError`` naming the element (nothing is
-    written)."""
+    ``warnings``. A bad ``foot`` or a ``urdf`` that cannot be found or read raises
+    ``ValueError`` with ``argument`` naming it; contacts the robot cannot stand on, or that
+    name no frame or link, ``ScenarioError`` naming the element (nothing is written)."""
 
 # --- The robot's meshes (sea_momentum.pictures) ---
 

@@ -126,8 +126,9 @@ def stability_margin(
     bisected to 1e-3 of the range; a key that takes whole numbers (e.g.
     ``sensing.delay_inner_periods``) is scanned at whole numbers, each boundary halfway between
     the two neighbours it separates (8.5: one verdict at 8, the other at 9). ``method``: ``"eigen"`` (growth rate of the linearisation
-    about the equilibrium at t = 0) or ``"simulate"`` (the scenario run completes). Errors name
-    an unknown or non-numeric key, or an empty or inverted range.
+    about the equilibrium at t = 0) or ``"simulate"`` (the scenario run completes). An unknown or
+    non-numeric key raises ``ScenarioError`` naming it; an empty or inverted range a
+    ``ValueError`` whose ``argument`` is ``"lower, upper"``, a bad ``grid_points`` one naming it.
     """
     report = stability_margin_native(
         os.fspath(scenario),

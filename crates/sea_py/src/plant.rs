@@ -572,8 +572,9 @@ impl PyPlant {
     /// `sea_momentum.results.SimulationResult` (m recorded rows): time (m,), x (m, nx),
     /// contact_wrenches (m, n_contacts, 6), motor_torques (m, n_e), drift_position (m,),
     /// drift_rotation (m,) as float64 arrays; status ("completed" or "diverged"), diverged_at
-    /// (float or None), message. Data up to a divergence is kept. n_steps and the record's
-    /// size are checked before anything is allocated (`ValueError` giving the memory needed).
+    /// (float or None), message. Data up to a divergence is kept. n_steps (>= 0),
+    /// record_every (>= 1) and the record's size are checked before anything is allocated
+    /// (`ValueError` naming the argument, and giving the memory needed).
     /// Ctrl-C stops the loop within a fraction of a second and raises `KeyboardInterrupt`
     /// whose `partial` attribute is the result so far (status "interrupted").
     #[pyo3(signature = (x0, u, dt, n_steps, method="ros2", record_every=1))]
@@ -584,11 +585,13 @@ impl PyPlant {
         x0: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         dt: f64,
-        n_steps: usize,
+        n_steps: i128,
         method: &str,
-        record_every: usize,
+        record_every: i128,
     ) -> PyResult<Bound<'py, PyAny>> {
         let method = method_arg(method)?;
+        let n_steps = count_arg("n_steps", n_steps, 0)?;
+        let record_every = count_arg("record_every", record_every, 1)?;
         check_record_size(&self.plant, n_steps, record_every)?;
         self.load(x0, u)?;
         let (plant, data, x, u) = (&self.plant, &mut self.data, &self.x, &self.u);
@@ -639,6 +642,18 @@ const MAX_RECORD_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 
 /// Checks `n_steps` and the record it needs before anything is allocated: a `ValueError`
 /// naming the argument and, for the record, the memory it would need.
+/// A whole-number argument `value` of at least `min`, named `argument` when it is not.
+fn count_arg(argument: &str, value: i128, min: i128) -> PyResult<usize> {
+    match usize::try_from(value) {
+        Ok(count) if value >= min => Ok(count),
+        _ => Err(argument_error(
+            argument,
+            &format!("an integer >= {min}"),
+            value,
+        )),
+    }
+}
+
 fn check_record_size(plant: &Plant, n_steps: usize, record_every: usize) -> PyResult<()> {
     if n_steps as f64 > MAX_SIMULATE_STEPS {
         return Err(argument_error(

@@ -10,6 +10,7 @@ use nalgebra::Vector3;
 use sea_ctrl::controller::MomentumController;
 use sea_ctrl::references::{ComTrajectory, PostureReference};
 use sea_dyn::spatial::quaternion_from_rotation;
+use sea_dyn::urdf::UNKNOWN_LISTED_JOINT;
 use sea_dyn::{Actuation, Data, FrameId, LoadOptions, Model};
 use sea_plant::{MotorInput, Plant};
 use std::collections::HashMap;
@@ -21,18 +22,24 @@ pub use sea_loop::Setup;
 /// with a frame for each `LINK:x,y,z` contact.
 pub fn load_model(scenario: &Scenario) -> Result<Model> {
     let urdf = scenario.urdf_path();
-    let joints = scenario
-        .robot
-        .joints
-        .clone()
-        .unwrap_or_else(|| scenario.description.joints.clone());
-    let mut model = Model::from_urdf_file(
-        &urdf,
-        &LoadOptions {
-            joints: Some(joints),
-            ..Default::default()
-        },
-    )?;
+    let (joints, key) = match &scenario.robot.joints {
+        Some(joints) => (joints.clone(), "robot.joints"),
+        None => (
+            scenario.description.joints.clone(),
+            "robot.description.joints",
+        ),
+    };
+    let options = LoadOptions {
+        joints: Some(joints),
+        ..Default::default()
+    };
+    let mut model = Model::from_urdf_file(&urdf, &options).map_err(|e| match e {
+        sea_dyn::Error::Model { element, message } if message == UNKNOWN_LISTED_JOINT => {
+            let rule = format!("names a joint that {} does not have", urdf.display());
+            Error::invalid(key, rule, element)
+        }
+        other => other.into(),
+    })?;
     crate::robots::add_contact_frames(&mut model, &scenario.robot.contacts)?;
     Ok(model)
 }

@@ -10,6 +10,14 @@ use sea_loop::{Error, Result};
 use sea_plant::{CompliantContact, Ground, JointStops, Plant, UnilateralContacts};
 use serde::{Deserialize, Serialize};
 
+sea_dyn::number_bound!(
+    /// [`GroundConfig::incline_rad`]: an angle in `[0, pi/2)` rad.
+    Incline,
+    "must be an angle in [0, pi/2) [rad]",
+    |v| (0.0..std::f64::consts::FRAC_PI_2).contains(&v),
+    { "type": "number", "minimum": 0.0, "exclusiveMaximum": std::f64::consts::FRAC_PI_2 }
+);
+
 /// `plant.contact_model`: how the contacts of `robot.contacts` touch the world.
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema,
@@ -38,8 +46,8 @@ pub struct GroundConfig {
     #[schemars(with = "NonNegative")]
     pub friction: f64,
     /// Incline of the plane [rad], in [0, pi/2) (default 0: flat).
-    #[serde(deserialize_with = "Finite::read")]
-    #[schemars(with = "Finite")]
+    #[serde(deserialize_with = "Incline::read")]
+    #[schemars(with = "Incline")]
     pub incline_rad: f64,
     /// Horizontal direction the inclined plane rises along [rad] (0: +x, pi/2: +y).
     #[serde(deserialize_with = "Finite::read")]

@@ -75,4 +75,45 @@ fn bad_grounds_are_refused_naming_the_key() {
         let message = refused(overrides);
         assert!(message.contains(key), "{overrides:?}: {message}");
     }
+    // The incline is a scenario key's error when the file is read, whatever the contacts
+    // (bilateral contacts build no ground).
+    for incline in ["2.0", "-0.1"] {
+        let bilateral = ("plant.contact_model", "\"bilateral\"");
+        match scenario(&[("ground.incline_rad", incline), bilateral]) {
+            Err(sea_loop::Error::Scenario { key, .. }) => assert_eq!(key, "ground.incline_rad"),
+            other => panic!("incline {incline}: {other:?}"),
+        }
+    }
+}
+
+/// A joint list naming a joint the URDF lacks is the list's key's error, in the scenario
+/// (`robot.joints`) or in the robot description (`robot.description.joints`).
+#[test]
+fn a_listed_joint_the_urdf_lacks_names_the_list() {
+    let joints = ("robot.joints", "[\"torso_pitch\", \"l_kneee\"]");
+    let message = refused(&[joints]);
+    assert!(
+        message.starts_with("scenario key 'robot.joints'") && message.contains("'l_kneee'"),
+        "{message}"
+    );
+    let dir = std::env::temp_dir().join(format!("sea_joint_list_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let robots = concat!(env!("CARGO_MANIFEST_DIR"), "/../../robots/icub_paper.toml");
+    let text = std::fs::read_to_string(robots).unwrap();
+    let urdf = concat!(env!("CARGO_MANIFEST_DIR"), "/../../urdf/icub25.urdf");
+    let text = text.replace("\"l_knee\"", "\"l_kneee\"");
+    let description = dir.join("robot.toml");
+    std::fs::write(&description, text).unwrap();
+    let overrides = [
+        ("robot.description", format!("{description:?}")),
+        ("robot.urdf", format!("{urdf:?}")),
+    ];
+    let pairs: Vec<(&str, &str)> = overrides.iter().map(|(k, v)| (*k, v.as_str())).collect();
+    let message = refused(&pairs);
+    assert!(
+        message.starts_with("scenario key 'robot.description.joints'")
+            && message.contains("'l_kneee'"),
+        "{message}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
 }

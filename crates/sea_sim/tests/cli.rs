@@ -109,8 +109,13 @@ struct Running {
 impl Running {
     /// Starts `sea-sim run SCENARIO ARGS` (progress as plain lines: stderr is a pipe).
     fn start(scenario: &str, args: &[&str]) -> Self {
+        Self::start_command("run", scenario, args)
+    }
+
+    /// Starts `sea-sim COMMAND SCENARIO ARGS`.
+    fn start_command(command: &str, scenario: &str, args: &[&str]) -> Self {
         let mut child = Command::new(BIN)
-            .arg("run")
+            .arg(command)
             .arg(scenario)
             .args(args)
             .stdin(Stdio::null())
@@ -136,20 +141,25 @@ impl Running {
 
     /// Waits for the first progress line (the closed loop is running).
     fn wait_for_progress(&mut self) {
+        self.wait_for_line("t = ");
+    }
+
+    /// Waits for the first line of stderr that contains `text`.
+    fn wait_for_line(&mut self, text: &str) {
         let deadline = Instant::now() + TIMEOUT;
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
             match self.lines.recv_timeout(left) {
                 Ok(line) => {
-                    let progress = line.contains("t = ");
+                    let found = line.contains(text);
                     self.seen.push(line);
-                    if progress {
+                    if found {
                         return;
                     }
                 }
                 Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => {
                     let _ = self.child.kill();
-                    panic!("no progress line; stderr: {:?}", self.seen);
+                    panic!("no line with '{text}'; stderr: {:?}", self.seen);
                 }
             }
         }
@@ -323,6 +333,37 @@ fn completed_and_diverged_runs_exit_0_and_3_with_their_outputs() {
     assert_eq!(out.status.code(), Some(3), "{}", text(&out.stderr));
     let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("stdout JSON");
     assert_eq!(printed["status"], "diverged");
+}
+
+/// A sweep stopped by a signal writes the rows done, counts the run it stopped as not done
+/// and exits with the signal's status.
+#[test]
+fn a_signal_stops_a_sweep_with_the_rows_done_written() {
+    let ws = Workspace::new("sweep_signal");
+    let csv = ws.path("rows.csv");
+    let mut sweep = Running::start_command(
+        "sweep",
+        &ws.scenario(),
+        &[
+            "--grid",
+            "simulation.duration_s=0.2,300,300",
+            "--jobs",
+            "1",
+            "--out",
+            csv.to_str().unwrap(),
+        ],
+    );
+    sweep.wait_for_line("sweep 1/3");
+    sweep.signal("INT");
+    let (status, stderr) = sweep.wait();
+    assert_eq!(status, Some(130), "{stderr}");
+    assert!(
+        stderr.contains("1 of 3 runs done, 1 completed, 1 stopped part-way"),
+        "{stderr}"
+    );
+    let rows = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(rows.lines().count(), 3, "a header and two rows: {rows}");
+    assert!(rows.contains("interrupted"), "{rows}");
 }
 
 #[test]
@@ -908,27 +949,69 @@ fn a_walking_command_the_step_limits_clip_is_a_warning_naming_the_key() {
 #[test]
 fn unbounded_study_sizes_are_refused_naming_the_flag() {
     let ws = Workspace::new("bounds");
-    let margin = |flag: &str, value: &str| {
-        sea_sim(&[
-            "margin",
-            &ws.scenario(),
-            "--param",
-            "actuators.damping",
-            "--range",
-            "0.01:1",
-            flag,
-            value,
-        ])
+    let margin = |range: &str, flag: &str, value: &str| {
+        let scenario = ws.scenario();
+        let param = ["--param", "actuators.damping"];
+        sea_sim(
+            &[
+                &["margin", &scenario],
+                &param[..],
+                &["--range", range, flag, value],
+            ]
+            .concat(),
+        )
     };
     for (flag, value) in [
         ("--tolerance", "0"),
         ("--tolerance", "nan"),
         ("--points", "4000000000"),
     ] {
-        let out = margin(flag, value);
+        let out = margin("0.01:1", flag, value);
         assert_ne!(out.status.code(), Some(0), "{flag} {value}");
         assert!(text(&out.stderr).contains(flag), "{}", text(&out.stderr));
     }
+    for range in ["1:0.5", "-1:-2"] {
+        let out = margin(range, "--points", "3");
+        let message = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{message}");
+        assert!(
+            message.contains("--range:") && !message.contains("scenario key"),
+            "{message}"
+        );
+    }
+    let urdf = format!("{REPO}/urdf/icub25.urdf");
+    let out_file = ws.path("init.toml");
+    let init = |urdf: &str, foot: &str| {
+        let out_file = out_file.to_str().unwrap();
+        let contacts = ["--contacts", "l_sole", "r_sole"];
+        sea_sim(
+            &[
+                &["init", urdf],
+                &contacts[..],
+                &["--foot", foot, "--out", out_file],
+            ]
+            .concat(),
+        )
+    };
+    for (urdf, foot, named) in [
+        (
+            urdf.as_str(),
+            "0.1,0.1,-0.05,0.05",
+            "--foot: expected x0 < x1",
+        ),
+        (urdf.as_str(), "1,2,3", "--foot: expected four"),
+        (
+            "no_such.urdf",
+            "-0.05,0.1,-0.03,0.03",
+            "URDF: expected a URDF that can be found",
+        ),
+    ] {
+        let out = init(urdf, foot);
+        let message = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{message}");
+        assert!(message.contains(named), "{message}");
+    }
+    assert!(!out_file.exists());
     let csv = ws.path("rows.csv");
     let out = sea_sim(&[
         "sweep",

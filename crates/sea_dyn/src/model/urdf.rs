@@ -20,6 +20,10 @@ use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
 
+/// The message of an [`Error::Model`] for a name of [`LoadOptions::joints`] that is not a
+/// joint of the URDF (callers that took the list from a file name their key with it).
+pub const UNKNOWN_LISTED_JOINT: &str = "unknown joint in the joint list";
+
 /// Which joints move, in which order, and where the others are locked.
 #[derive(Clone, Debug, Default)]
 pub struct LoadOptions {
@@ -356,9 +360,9 @@ fn resolve_actuation(
     match &options.joints {
         Some(list) => {
             for (k, name) in list.iter().enumerate() {
-                let j = *joint_index.get(name.as_str()).ok_or_else(|| {
-                    Error::model(format!("joint '{name}'"), "unknown joint in the joint list")
-                })?;
+                let j = *joint_index
+                    .get(name.as_str())
+                    .ok_or_else(|| Error::model(format!("joint '{name}'"), UNKNOWN_LISTED_JOINT))?;
                 if kinds[j].is_none() {
                     return Err(Error::model(
                         format!("joint '{name}'"),

@@ -324,8 +324,9 @@ fn run_length(scenario: &Scenario) -> Result<()> {
     Err(Error::invalid(
         key.0,
         format!(
-            "with simulation.duration_s = {duration} the run would take {:.3e} steps, more \
+            "with simulation.duration_s = {} the run would take {:.3e} steps, more \
              than {MAX_RUN_STEPS:e}",
+            shown(duration),
             plant_steps.max(samples)
         ),
         shown(key.1),

@@ -4,7 +4,8 @@
 //! robot is drawn without it), but a robot being set up should be complete: the error names
 //! the link, the URI and why.
 
-use crate::error::{Error, Result};
+use super::bad_argument;
+use crate::error::Result;
 use sea_dyn::PackageDirs;
 use std::path::Path;
 
@@ -13,8 +14,13 @@ use std::path::Path;
 /// Checks every mesh of the URDF `urdf_text` (file in `urdf_dir`) against `dirs`; the first
 /// missing or unresolvable one is an error naming its link and URI.
 pub fn check_mesh_files(urdf_text: &str, urdf_dir: &Path, dirs: &PackageDirs) -> Result<()> {
-    let robot = sea_dyn::urdf::parse_urdf(urdf_text)
-        .map_err(|e| Error::invalid("urdf", e.to_string(), urdf_dir.display()))?;
+    let robot = sea_dyn::urdf::parse_urdf(urdf_text).map_err(|e| {
+        bad_argument(
+            "urdf",
+            "a URDF urdf-rs reads",
+            format!("{e} (in {})", urdf_dir.display()),
+        )
+    })?;
     for link in &robot.links {
         let visuals = link.visual.iter().map(|v| (&v.geometry, "visual"));
         let collisions = link.collision.iter().map(|c| (&c.geometry, "collision"));
@@ -22,9 +28,10 @@ pub fn check_mesh_files(urdf_text: &str, urdf_dir: &Path, dirs: &PackageDirs) ->
             let urdf_rs::Geometry::Mesh { filename, .. } = geometry else {
                 continue;
             };
-            let key = format!("urdf: link '{}' {kind} mesh", link.name);
-            dirs.resolve(filename, urdf_dir)
-                .map_err(|e| Error::invalid(&key, e.to_string(), filename))?;
+            dirs.resolve(filename, urdf_dir).map_err(|e| {
+                let mesh = format!("link '{}' {kind} mesh '{filename}': {e}", link.name);
+                bad_argument("urdf", "meshes that can be found", mesh)
+            })?;
         }
     }
     Ok(())

@@ -76,14 +76,20 @@ pub struct InitReport {
 
 /// Reads `FOOT` as `X0,X1,Y0,Y1` (metres, contact frame) with `x0 < x1` and `y0 < y1`.
 pub fn parse_foot(text: &str) -> Result<FootRectangle> {
-    let bad = |rule: &str| Error::invalid("foot", rule, format!("'{text}'"));
+    let bad = || {
+        bad_argument(
+            "foot",
+            "four finite numbers X0,X1,Y0,Y1 [m]",
+            format!("'{text}'"),
+        )
+    };
     let values: Vec<f64> = text
         .split(',')
         .map(|part| part.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
         .collect::<Option<_>>()
-        .ok_or_else(|| bad("must be four finite numbers X0,X1,Y0,Y1 [m]"))?;
+        .ok_or_else(bad)?;
     let [x0, x1, y0, y1] = values[..] else {
-        return Err(bad("must be four finite numbers X0,X1,Y0,Y1 [m]"));
+        return Err(bad());
     };
     check_foot(&FootRectangle {
         x: [x0, x1],
@@ -91,14 +97,20 @@ pub fn parse_foot(text: &str) -> Result<FootRectangle> {
     })
 }
 
+/// A bad argument of [`init`] (`urdf`, `foot`; not a scenario key): `sea_dyn`'s
+/// `InvalidArgument`, which `sea-sim init` names by its flag and Python as a `ValueError`.
+pub(crate) fn bad_argument(argument: &str, expected: &str, actual: impl ToString) -> Error {
+    sea_dyn::Error::invalid(argument, expected, actual).into()
+}
+
 /// `rectangle` when its minima are below its maxima.
 pub fn check_foot(rectangle: &FootRectangle) -> Result<FootRectangle> {
     for (axis, [min, max]) in [("x", rectangle.x), ("y", rectangle.y)] {
         // NaN compares to nothing: refused too.
         if min.partial_cmp(&max) != Some(std::cmp::Ordering::Less) {
-            return Err(Error::invalid(
+            return Err(bad_argument(
                 "foot",
-                format!("must have {axis}0 < {axis}1 (contact frame) [m]"),
+                &format!("{axis}0 < {axis}1 (contact frame) [m]"),
                 format!("{axis}0 = {min}, {axis}1 = {max}"),
             ));
         }
@@ -194,8 +206,13 @@ pub fn two_feet_rank(model: &Model, feet: [FrameId; 2], standing: &posture::Stan
 
 /// The URDF file of `urdf` (a path or a URI); an error names the argument.
 fn resolve_urdf(urdf: &str, dirs: &PackageDirs) -> Result<PathBuf> {
-    dirs.resolve(urdf, Path::new("."))
-        .map_err(|e| Error::invalid("urdf", format!("cannot find the URDF: {e}"), urdf))
+    dirs.resolve(urdf, Path::new(".")).map_err(|e| {
+        bad_argument(
+            "urdf",
+            "a URDF that can be found",
+            format!("'{urdf}' ({e})"),
+        )
+    })
 }
 
 /// Two contacts on two different legs: the first bodies below the base on their support paths

@@ -129,11 +129,11 @@ fn common_rectangle(rectangles: [FootRectangle; 2]) -> Result<FootRectangle> {
         y: both(left.y, right.y),
     };
     super::check_foot(&common).map_err(|_| {
-        Error::invalid(
+        super::bad_argument(
             "foot",
-            "the two measured foot rectangles do not overlap in their contact frames; give \
-             one with --foot X0,X1,Y0,Y1",
-            format!("{left:?}, {right:?}"),
+            "a rectangle given (X0,X1,Y0,Y1): the two measured ones do not overlap in their \
+             contact frames",
+            format!("none, measured {left:?}, {right:?}"),
         )
     })
 }

@@ -264,38 +264,39 @@ fn scenario_number(
     Ok(value.cloned())
 }
 
-/// Checks the range: finite, `lower < upper`, positive for a log grid.
+/// The name the range's errors give it: the arguments of [`stability_margin_report`].
+pub const RANGE_ARGUMENT: &str = "lower, upper";
+
+/// A bad argument of the margin's functions (not a scenario key): `sea_dyn`'s
+/// `InvalidArgument`, a `ValueError` naming the argument in Python.
+fn bad_argument(argument: &str, expected: &str, actual: impl ToString) -> Error {
+    sea_dyn::Error::invalid(argument, expected, actual).into()
+}
+
+/// Checks the range: finite, `lower < upper`, positive for a log grid; the scan's points and
+/// the bisection's tolerance within their bounds. Errors name the arguments
+/// ([`RANGE_ARGUMENT`], `grid_points`, `relative_tolerance`).
 fn check_range(lower: f64, upper: f64, options: &MarginOptions) -> Result<()> {
+    let range = format!("[{lower}, {upper}]");
     if !(lower.is_finite() && upper.is_finite()) {
-        return Err(Error::config(
-            "range",
-            format!("bounds must be finite, got [{lower}, {upper}]"),
-        ));
+        return Err(bad_argument(RANGE_ARGUMENT, "finite bounds", range));
     }
     if lower >= upper {
-        return Err(Error::config(
-            "range",
-            format!("empty or inverted range: lower {lower} must be below upper {upper}"),
-        ));
+        let rule = "lower below upper (an empty or inverted range)";
+        return Err(bad_argument(RANGE_ARGUMENT, rule, range));
     }
     if options.log_grid && lower <= 0.0 {
-        return Err(Error::config(
-            "range",
-            format!("a logarithmic grid needs positive bounds, got lower {lower}"),
-        ));
+        let rule = "positive bounds for a logarithmic grid";
+        return Err(bad_argument(RANGE_ARGUMENT, rule, range));
     }
     if !(2..=MAX_SCAN_POINTS).contains(&options.grid_points) {
-        return Err(Error::config(
-            "grid_points",
-            format!("from 2 to {MAX_SCAN_POINTS}, got {}", options.grid_points),
-        ));
+        let rule = format!("from 2 to {MAX_SCAN_POINTS}");
+        return Err(bad_argument("grid_points", &rule, options.grid_points));
     }
     let tolerance = options.relative_tolerance;
     if !(MIN_RELATIVE_TOLERANCE..1.0).contains(&tolerance) {
-        return Err(Error::config(
-            "relative_tolerance",
-            format!("from {MIN_RELATIVE_TOLERANCE:e} to below 1, got {tolerance}"),
-        ));
+        let rule = format!("from {MIN_RELATIVE_TOLERANCE:e} to below 1");
+        return Err(bad_argument("relative_tolerance", &rule, tolerance));
     }
     Ok(())
 }
@@ -417,9 +418,11 @@ pub fn stability_margin_report(
         Some(toml::Value::Integer(_))
     );
     if integer && lower.ceil() >= upper.floor() {
-        return Err(Error::config(
-            "range",
-            format!("{parameter} takes whole numbers: [{lower}, {upper}] must hold at least two"),
+        let rule = format!("a range that holds two whole numbers ({parameter} takes them)");
+        return Err(bad_argument(
+            RANGE_ARGUMENT,
+            &rule,
+            format!("[{lower}, {upper}]"),
         ));
     }
     let mut judge = Judge {

@@ -1,6 +1,6 @@
 //! `sea-sim init`: a scenario for a new humanoid from its URDF.
 
-use crate::common::say;
+use crate::common::{named_as_flag, say};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -34,7 +34,14 @@ pub(crate) struct InitArgs {
 pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
     use sea_sim::init::{init, parse_foot, InitOptions};
     let started = Instant::now();
-    let foot = args.foot.as_deref().map(parse_foot).transpose()?;
+    let flags = [("foot", "--foot"), ("urdf", "URDF")];
+    let as_flag = |e| named_as_flag(e, &flags);
+    let foot = args
+        .foot
+        .as_deref()
+        .map(parse_foot)
+        .transpose()
+        .map_err(as_flag)?;
     let stem = Path::new(&args.urdf)
         .file_stem()
         .map_or("robot".into(), |s| s.to_string_lossy().to_string());
@@ -50,7 +57,7 @@ pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
         name: None,
         walking: args.walking,
     };
-    let report = init(&options)?;
+    let report = init(&options).map_err(as_flag)?;
     let (name, mass, joints) = &report.robot;
     for warning in &report.warnings {
         say(format_args!("sea-sim: warning: {warning}"));

@@ -58,16 +58,19 @@ enum Command {
     /// Find the values of one numeric scenario key where the closed loop's stability changes
     /// (grid scan, then bisection); prints a JSON report.
     Margin(margin::MarginArgs),
-    /// Write a two-feet balancing scenario for a new robot from its URDF and two contacts
-    /// (SEA on every joint, a standing posture, the foot rectangle and gains, all scaled to
-    /// the robot); `sea-sim run` balances it with no edit.
+    /// Write a scenario for a new robot from its URDF and two contacts.
+    ///
+    /// A two-feet balancing scenario (or with `--walking` a walk): SEA on every joint, a
+    /// standing posture, the foot rectangle and gains, all scaled to the robot; `sea-sim run`
+    /// runs it with no edit.
     Init(init::InitArgs),
-    /// Find, per direction, the largest impulse of a short push on a link that the closed loop
-    /// recovers from (bisection on full runs, directions in parallel), with the stance's
-    /// capture-point bound (with `--phase`, pushing a walk: also the gait's bound on a
-    /// sideways push, `gait_bound_impulse_n_s`, and with the landings the step adjustment
-    /// moves, `adjustment_bound_impulse_n_s`; on a scenario with `walking.stepping`, the
-    /// stepping settings' bound, `stepping_bound`); prints a JSON report.
+    /// Find, per direction, the largest push the closed loop recovers from; prints a JSON report.
+    ///
+    /// The impulse of a short push on a link is bisected on full runs, directions in parallel,
+    /// and reported beside the stance's capture-point bound; with `--phase`, pushing a walk,
+    /// also the gait's bound on a sideways push (`gait_bound_impulse_n_s`) and the bound with
+    /// only the landings the step adjustment moves (`adjustment_bound_impulse_n_s`); on a
+    /// scenario with `walking.stepping`, the stepping settings' bound (`stepping_bound`).
     Push(push::PushArgs),
     /// Print the JSON Schema of scenario files (derived from the types that read them; the
     /// shipped copy is schemas/scenario.schema.json).
@@ -83,55 +86,67 @@ fn main() -> ExitCode {
             return ExitCode::from(if e.use_stderr() { EXIT_ERROR } else { 0 });
         }
     };
-    // Installed before the scenario is read, so that a signal while it loads ends the run
-    // with the signal's status.
-    let interrupts = match &cli.command {
-        Command::Run(_) | Command::Sweep(_) => match Interrupts::install() {
-            Ok(interrupts) => Some(interrupts),
-            Err(e) => {
-                say(format_args!("sea-sim: cannot handle signals: {e}"));
-                return ExitCode::from(EXIT_ERROR);
-            }
-        },
-        _ => None,
-    };
-    let outcome = match (&cli.command, &interrupts) {
-        (Command::Bench(args), _) => bench::run_bench(args).map(|()| Outcome::Completed),
-        (Command::Margin(args), _) => margin::run_margin(args).map(|()| Outcome::Completed),
-        (Command::Init(args), _) => init::run_init(args).map(|()| Outcome::Completed),
-        (Command::Push(args), _) => push::run_push(args).map(|()| Outcome::Completed),
-        (Command::Schema(args), _) => {
-            schema::print_schema(args);
-            Ok(Outcome::Completed)
+    let (outcome, stopped_by) = match &cli.command {
+        Command::Run(args) => with_interrupts(|interrupts| run::run_scenario(args, interrupts)),
+        Command::Sweep(args) => {
+            with_interrupts(|interrupts| sweep::run_sweep_command(args, interrupts))
         }
-        (Command::Sweep(args), Some(interrupts)) => sweep::run_sweep_command(args, interrupts),
-        (Command::Run(args), Some(interrupts)) => run::run_scenario(args, interrupts),
-        (Command::Sweep(_) | Command::Run(_), None) => unreachable!("installed above"),
+        Command::Bench(args) => (bench::run_bench(args).map(|()| Outcome::Completed), None),
+        Command::Margin(args) => (margin::run_margin(args).map(|()| Outcome::Completed), None),
+        Command::Init(args) => (init::run_init(args).map(|()| Outcome::Completed), None),
+        Command::Push(args) => (push::run_push(args).map(|()| Outcome::Completed), None),
+        Command::Schema(args) => {
+            schema::print_schema(args);
+            (Ok(Outcome::Completed), None)
+        }
     };
-    let stopped_by = interrupts.as_ref().and_then(Interrupts::received);
-    match outcome {
-        Ok(Outcome::Completed) => ExitCode::SUCCESS,
-        Ok(Outcome::Diverged) => ExitCode::from(EXIT_DIVERGED),
-        Ok(Outcome::Interrupted(sig)) => {
-            let finished = match cli.command {
-                Command::Sweep(_) => "the rows of the runs done written",
-                _ => "log and summary finished",
-            };
+    let finished = match cli.command {
+        Command::Sweep(_) => "the rows of the runs done written",
+        _ => "log and summary finished",
+    };
+    exit_code(outcome, stopped_by, finished)
+}
+
+/// Runs `work` with the stop signals handled ([`Interrupts`]), installed before the scenario
+/// is read so that a signal while it loads ends the run with the signal's status; returns
+/// its outcome and the signal that stopped it, if any.
+fn with_interrupts(
+    work: impl FnOnce(&Interrupts) -> sea_sim::Result<Outcome>,
+) -> (sea_sim::Result<Outcome>, Option<i32>) {
+    match Interrupts::install() {
+        Ok(interrupts) => (work(&interrupts), interrupts.received()),
+        Err(source) => {
+            let path = "the stop signals' handlers".to_string();
+            (Err(sea_sim::Error::Io { path, source }), None)
+        }
+    }
+}
+
+/// The exit status of an `outcome` (module doc), saying why on stderr; an error after a stop
+/// signal (`stopped_by`) is the signal's status.
+fn exit_code(
+    outcome: sea_sim::Result<Outcome>,
+    stopped_by: Option<i32>,
+    finished: &str,
+) -> ExitCode {
+    match (outcome, stopped_by) {
+        (Ok(Outcome::Completed), _) => ExitCode::SUCCESS,
+        (Ok(Outcome::Diverged), _) => ExitCode::from(EXIT_DIVERGED),
+        (Ok(Outcome::Interrupted(sig)), _) => {
             say(format_args!(
                 "sea-sim: stopped by {}; {finished}",
                 signal_name(sig)
             ));
             ExitCode::from(128 + sig as u8)
         }
-        Err(e) if stopped_by.is_some() => {
-            let sig = stopped_by.unwrap_or_default();
+        (Err(e), Some(sig)) => {
             say(format_args!(
                 "sea-sim: stopped by {} ({e})",
                 signal_name(sig)
             ));
             ExitCode::from(128 + sig as u8)
         }
-        Err(e) => {
+        (Err(e), None) => {
             say(format_args!("sea-sim: {e}"));
             ExitCode::from(EXIT_ERROR)
         }

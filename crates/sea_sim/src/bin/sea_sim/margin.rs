@@ -1,6 +1,6 @@
 //! `sea-sim margin`: where the closed loop's stability changes along one key.
 
-use crate::common::{parse_key_value, parse_range, print_out};
+use crate::common::{named_as_flag, parse_key_value, parse_range, print_out};
 use clap::Args;
 use sea_sim::analysis::margin::{MarginOptions, MAX_SCAN_POINTS, MIN_RELATIVE_TOLERANCE};
 use sea_sim::output::{check_distinct, OutputFile};
@@ -15,7 +15,7 @@ pub(crate) struct MarginArgs {
     #[arg(long, value_name = "KEY")]
     param: String,
     /// The range searched, `LOWER:UPPER`.
-    #[arg(long, value_name = "LOWER:UPPER", value_parser = parse_range)]
+    #[arg(long, value_name = "LOWER:UPPER", value_parser = parse_range, allow_hyphen_values = true)]
     range: (f64, f64),
     /// How stability is judged: `eigen` (growth rate of the linearisation) or `simulate`
     /// (the run completes).
@@ -72,7 +72,15 @@ pub(crate) fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
         lower,
         upper,
         &options,
-    )?;
+    )
+    .map_err(|e| {
+        let flags = [
+            (sea_sim::analysis::margin::RANGE_ARGUMENT, "--range"),
+            ("grid_points", "--points"),
+            ("relative_tolerance", "--tolerance"),
+        ];
+        named_as_flag(e, &flags)
+    })?;
     let samples: Vec<serde_json::Value> = report
         .samples
         .iter()

@@ -101,11 +101,16 @@ pub(crate) fn run_sweep_command(
     write_csv(&mut csv, &args.out, &keys, &rows)?;
     out.write_all(&csv)?;
     out.commit()?;
-    let completed = rows.iter().filter(|r| r.status == "completed").count();
+    let count = |status: &str| rows.iter().filter(|r| r.status == status).count();
+    let (completed, interrupted) = (count("completed"), count("interrupted"));
     if !quiet {
+        let cut = match interrupted {
+            0 => String::new(),
+            n => format!(", {n} stopped part-way (their rows say \"interrupted\")"),
+        };
         say(format_args!(
-            "sea-sim: {} of {} runs done, {completed} completed; wrote {}",
-            rows.len(),
+            "sea-sim: {} of {} runs done, {completed} completed{cut}; wrote {}",
+            rows.len() - interrupted,
             grid.len(),
             args.out.display()
         ));
