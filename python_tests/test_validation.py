@@ -111,6 +111,14 @@ def test_numpy_scalars_are_accepted_as_overrides():
     assert len(result.time) >= 2
 
 
+@pytest.mark.parametrize("unordered", [{"l_sole", "r_sole"}, frozenset({"l_sole", "r_sole"})])
+def test_a_set_is_refused_as_an_override_array(unordered):
+    """An array's order matters (robot.contacts is left, right); a set has none."""
+    with pytest.raises(ValueError, match="a set has no order") as refused:
+        sm.run_scenario(TRACKING, {"robot.contacts": unordered, "simulation.duration_s": 0.002})
+    assert refused.value.argument == "overrides['robot.contacts']"
+
+
 def pendulum_plant(actuator="elastic"):
     model = sm.Model.from_urdf(PENDULUM)
     plant = sm.Plant(model, actuator=actuator)

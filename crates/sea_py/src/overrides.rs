@@ -3,7 +3,7 @@
 
 use crate::errors::argument_error;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyFrozenSet, PySet};
 use std::collections::HashMap;
 
 /// `overrides` ({key: value}) as `key=value` pairs of TOML literals.
@@ -58,6 +58,14 @@ pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<Stri
             })
             .collect::<PyResult<Vec<_>>>()?;
         return Ok(format!("{{{}}}", parts.join(", ")));
+    }
+    // A set has no order, and an array's order matters (`robot.contacts`: left, right).
+    if value.is_instance_of::<PySet>() || value.is_instance_of::<PyFrozenSet>() {
+        return Err(argument_error(
+            &format!("overrides['{key}']"),
+            "a list or tuple (a set has no order)",
+            value.repr()?,
+        ));
     }
     if let Ok(items) = value.try_iter() {
         let parts = items

@@ -640,8 +640,6 @@ const MAX_SIMULATE_STEPS: f64 = sea_sim::scenario::validate::MAX_RUN_STEPS;
 /// Largest record `Plant.simulate` allocates [bytes]; the numpy copy doubles it at the end.
 const MAX_RECORD_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 
-/// Checks `n_steps` and the record it needs before anything is allocated: a `ValueError`
-/// naming the argument and, for the record, the memory it would need.
 /// A whole-number argument `value` of at least `min`, named `argument` when it is not.
 fn count_arg(argument: &str, value: i128, min: i128) -> PyResult<usize> {
     match usize::try_from(value) {
@@ -654,6 +652,8 @@ fn count_arg(argument: &str, value: i128, min: i128) -> PyResult<usize> {
     }
 }
 
+/// Checks `n_steps` and the record it needs before anything is allocated: a `ValueError`
+/// naming the argument and, for the record, the memory it would need.
 fn check_record_size(plant: &Plant, n_steps: usize, record_every: usize) -> PyResult<()> {
     if n_steps as f64 > MAX_SIMULATE_STEPS {
         return Err(argument_error(

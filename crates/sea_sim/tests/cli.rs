@@ -870,6 +870,28 @@ fn push_at_fixed_impulses_reports_each_outcome_and_refuses_a_negative_one() {
     assert_eq!(pushes[0]["status"], "completed");
     assert_ne!(pushes[1]["status"], "completed");
     assert!(pushes[1]["end_s"].as_f64().unwrap() < 2.0, "{row}");
+    // One progress line per run as it ends (in either order), none with --quiet.
+    let stderr = text(&out.stderr);
+    let lines: Vec<&str> = stderr.lines().filter(|l| l.contains(": push ")).collect();
+    assert_eq!(lines.len(), 2, "{stderr}");
+    assert!(
+        lines.contains(&"sea-sim: push backward 0 N s: completed"),
+        "{stderr}"
+    );
+    let failed = lines
+        .iter()
+        .find(|l| l.contains("backward 60 N s"))
+        .unwrap();
+    assert!(
+        failed.contains(" at ") && !failed.contains("completed"),
+        "{stderr}"
+    );
+    let quiet = sea_sim(&[&args[..], &["--set", "simulation.duration_s=0.01", "-q"]].concat());
+    assert!(
+        quiet.status.success() && quiet.stderr.is_empty(),
+        "{}",
+        text(&quiet.stderr)
+    );
 }
 
 #[test]

@@ -329,8 +329,23 @@ pub fn push_run(
     run_with_sinks(&scenario, &mut [], &AtomicBool::new(false), |_, _| {})
 }
 
+/// One push run done, as the progress callbacks of [`push_table`] and [`fixed_push_table`]
+/// see it (called from the worker threads, in the order the runs end).
+pub struct PushProgress<'a> {
+    /// The direction pushed.
+    pub direction: PushDirection,
+    /// The impulse [N s].
+    pub impulse_n_s: f64,
+    /// The run's summary (`status`: "completed" is recovered).
+    pub summary: &'a Summary,
+}
+
+/// A progress callback of the push studies: told of every run as it ends.
+pub type OnPushRun<'a> = &'a (dyn Fn(&PushProgress<'_>) + Sync);
+
 /// Largest recovered impulse along `direction` by bisection between 0 (must be recovered) and
-/// twice the capture-point bound (doubled while still recovered, up to 8 times the bound).
+/// twice the capture-point bound (doubled while still recovered, up to 8 times the bound);
+/// `on_run` is told of every run as it ends.
 ///
 /// Errors: the options' ([`PushOptions::check`]), the scenario's and the runs'.
 pub fn recoverable_impulse(
@@ -338,12 +353,21 @@ pub fn recoverable_impulse(
     overrides: &[(String, String)],
     options: &PushOptions,
     direction: PushDirection,
+    on_run: OnPushRun<'_>,
 ) -> Result<PushResult> {
     options.check()?;
     let stance = Stance::of(&Scenario::from_file(path, overrides)?)?;
     let bound = stance.capture_point_impulse(direction);
     let d = stance.direction(direction);
-    let run = |impulse: f64| push_run(path, overrides, options, d, impulse);
+    let run = |impulse_n_s: f64| {
+        let summary = push_run(path, overrides, options, d, impulse_n_s)?;
+        on_run(&PushProgress {
+            direction,
+            impulse_n_s,
+            summary: &summary,
+        });
+        Ok::<_, Error>(summary)
+    };
     let mut runs = 0;
     let mut result = PushResult {
         direction,
@@ -383,7 +407,8 @@ pub fn recoverable_impulse(
     Ok(result)
 }
 
-/// [`recoverable_impulse`] for each of `directions`, in parallel (rayon's pool).
+/// [`recoverable_impulse`] for each of `directions`, in parallel (rayon's pool); `on_run` is
+/// told of every run as it ends.
 ///
 /// Errors: as [`recoverable_impulse`]; the options are checked before any run.
 pub fn push_table(
@@ -391,11 +416,12 @@ pub fn push_table(
     overrides: &[(String, String)],
     options: &PushOptions,
     directions: &[PushDirection],
+    on_run: OnPushRun<'_>,
 ) -> Result<Vec<PushResult>> {
     options.check()?;
     directions
         .par_iter()
-        .map(|&direction| recoverable_impulse(path, overrides, options, direction))
+        .map(|&direction| recoverable_impulse(path, overrides, options, direction, on_run))
         .collect()
 }
 
@@ -462,7 +488,7 @@ pub fn check_impulses(impulses: &[f64]) -> Result<()> {
 /// The push of each of `impulses` [N s] along each of `directions`, one run each (all in
 /// parallel, rayon's pool), instead of a bisection: the outcomes over a range show where
 /// recovery has islands, which a bisection, assuming one boundary, does not
-/// (docs/findings/stepping.md).
+/// (docs/findings/stepping.md). `on_run` is told of every run as it ends.
 ///
 /// Errors: the options' ([`PushOptions::check`]; the tolerance is not used), the impulses'
 /// ([`check_impulses`]), the scenario's and the runs'.
@@ -472,6 +498,7 @@ pub fn fixed_push_table(
     options: &PushOptions,
     directions: &[PushDirection],
     impulses: &[f64],
+    on_run: OnPushRun<'_>,
 ) -> Result<Vec<FixedPushRow>> {
     options.check()?;
     check_impulses(impulses)?;
@@ -482,14 +509,15 @@ pub fn fixed_push_table(
         .collect();
     let summaries = pairs
         .par_iter()
-        .map(|&(direction, impulse)| {
-            push_run(
-                path,
-                overrides,
-                options,
-                stance.direction(direction),
-                impulse,
-            )
+        .map(|&(direction, impulse_n_s)| {
+            let d = stance.direction(direction);
+            let summary = push_run(path, overrides, options, d, impulse_n_s)?;
+            on_run(&PushProgress {
+                direction,
+                impulse_n_s,
+                summary: &summary,
+            });
+            Ok(summary)
         })
         .collect::<Result<Vec<Summary>>>()?;
     let mut summaries = summaries.into_iter();

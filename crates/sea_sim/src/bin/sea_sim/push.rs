@@ -2,11 +2,11 @@
 //! pushes of fixed impulses (`--impulses`), beside the bounds of the pendulum: the stance's
 //! capture point, and the gait's (`--phase`) or the stepping settings' (`walking.stepping`).
 
-use crate::common::{parse_key_value, parse_non_negative, parse_positive, print_out};
+use crate::common::{parse_key_value, parse_non_negative, parse_positive, print_out, say};
 use clap::Args;
 use sea_sim::analysis::gait_bound::gait_bounds;
 use sea_sim::analysis::push::{
-    fixed_push_table, push_table, PushDirection, PushOptions, SwingPhase,
+    fixed_push_table, push_table, PushDirection, PushOptions, PushProgress, SwingPhase,
 };
 use sea_sim::analysis::step_bound::stepping_bounds_json;
 use std::path::PathBuf;
@@ -66,6 +66,34 @@ pub(crate) struct PushArgs {
     /// Override a scenario value, e.g. `--set controller.kind=rigid` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
     overrides: Vec<(String, String)>,
+    /// No progress lines on stderr (one per run as it ends).
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+/// The progress line of a push run that ended: direction, impulse and outcome.
+fn push_progress_line(progress: &PushProgress<'_>) -> String {
+    let summary = progress.summary;
+    let end = if summary.completed() {
+        String::new()
+    } else {
+        format!(" at {:.2} s", summary.duration_s)
+    };
+    format!(
+        "sea-sim: push {} {} N s: {}{end}",
+        progress.direction.name(),
+        progress.impulse_n_s,
+        summary.status
+    )
+}
+
+/// Says each run's outcome on stderr unless `--quiet`.
+fn on_run(args: &PushArgs) -> impl Fn(&PushProgress<'_>) + Sync + '_ {
+    move |progress| {
+        if !args.quiet {
+            say(push_progress_line(progress));
+        }
+    }
 }
 
 /// The bisection's rows of the JSON report, one per direction.
@@ -74,7 +102,14 @@ fn bisected_rows(
     options: &PushOptions,
     directions: &[PushDirection],
 ) -> sea_sim::Result<Vec<serde_json::Value>> {
-    let table = push_table(&args.scenario, &args.overrides, options, directions)?;
+    let progress = on_run(args);
+    let table = push_table(
+        &args.scenario,
+        &args.overrides,
+        options,
+        directions,
+        &progress,
+    )?;
     Ok(table
         .iter()
         .map(|row| {
@@ -107,6 +142,7 @@ fn fixed_rows(
         options,
         directions,
         impulses,
+        &on_run(args),
     )?;
     Ok(table
         .iter()
