@@ -75,6 +75,17 @@ impl Error {
         }
     }
 
+    /// A bad argument of a function, not a scenario key (a margin's range, `init`'s foot):
+    /// `sea_dyn`'s `InvalidArgument` naming the `argument`, what it must be and what it was,
+    /// a `ValueError` with `argument` in Python.
+    pub fn argument(
+        argument: impl Into<String>,
+        expected: impl Into<String>,
+        actual: impl ToString,
+    ) -> Self {
+        Error::Dynamics(sea_dyn::Error::invalid(argument, expected, actual))
+    }
+
     /// An I/O failure on `path`.
     pub fn io(path: impl AsRef<std::path::Path>, source: std::io::Error) -> Self {
         Error::Io {

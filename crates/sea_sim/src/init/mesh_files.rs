@@ -4,8 +4,7 @@
 //! robot is drawn without it), but a robot being set up should be complete: the error names
 //! the link, the URI and why.
 
-use super::bad_argument;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use sea_dyn::PackageDirs;
 use std::path::Path;
 
@@ -15,7 +14,7 @@ use std::path::Path;
 /// missing or unresolvable one is an error naming its link and URI.
 pub fn check_mesh_files(urdf_text: &str, urdf_dir: &Path, dirs: &PackageDirs) -> Result<()> {
     let robot = sea_dyn::urdf::parse_urdf(urdf_text).map_err(|e| {
-        bad_argument(
+        Error::argument(
             "urdf",
             "a URDF urdf-rs reads",
             format!("{e} (in {})", urdf_dir.display()),
@@ -30,7 +29,7 @@ pub fn check_mesh_files(urdf_text: &str, urdf_dir: &Path, dirs: &PackageDirs) ->
             };
             dirs.resolve(filename, urdf_dir).map_err(|e| {
                 let mesh = format!("link '{}' {kind} mesh '{filename}': {e}", link.name);
-                bad_argument("urdf", "meshes that can be found", mesh)
+                Error::argument("urdf", "meshes that can be found", mesh)
             })?;
         }
     }

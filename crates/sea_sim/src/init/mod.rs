@@ -77,7 +77,7 @@ pub struct InitReport {
 /// Reads `FOOT` as `X0,X1,Y0,Y1` (metres, contact frame) with `x0 < x1` and `y0 < y1`.
 pub fn parse_foot(text: &str) -> Result<FootRectangle> {
     let bad = || {
-        bad_argument(
+        Error::argument(
             "foot",
             "four finite numbers X0,X1,Y0,Y1 [m]",
             format!("'{text}'"),
@@ -97,20 +97,14 @@ pub fn parse_foot(text: &str) -> Result<FootRectangle> {
     })
 }
 
-/// A bad argument of [`init`] (`urdf`, `foot`; not a scenario key): `sea_dyn`'s
-/// `InvalidArgument`, which `sea-sim init` names by its flag and Python as a `ValueError`.
-pub(crate) fn bad_argument(argument: &str, expected: &str, actual: impl ToString) -> Error {
-    sea_dyn::Error::invalid(argument, expected, actual).into()
-}
-
 /// `rectangle` when its minima are below its maxima.
 pub fn check_foot(rectangle: &FootRectangle) -> Result<FootRectangle> {
     for (axis, [min, max]) in [("x", rectangle.x), ("y", rectangle.y)] {
         // NaN compares to nothing: refused too.
         if min.partial_cmp(&max) != Some(std::cmp::Ordering::Less) {
-            return Err(bad_argument(
+            return Err(Error::argument(
                 "foot",
-                &format!("{axis}0 < {axis}1 (contact frame) [m]"),
+                format!("{axis}0 < {axis}1 (contact frame) [m]"),
                 format!("{axis}0 = {min}, {axis}1 = {max}"),
             ));
         }
@@ -207,7 +201,7 @@ pub fn two_feet_rank(model: &Model, feet: [FrameId; 2], standing: &posture::Stan
 /// The URDF file of `urdf` (a path or a URI); an error names the argument.
 fn resolve_urdf(urdf: &str, dirs: &PackageDirs) -> Result<PathBuf> {
     dirs.resolve(urdf, Path::new(".")).map_err(|e| {
-        bad_argument(
+        Error::argument(
             "urdf",
             "a URDF that can be found",
             format!("'{urdf}' ({e})"),

@@ -129,7 +129,7 @@ fn common_rectangle(rectangles: [FootRectangle; 2]) -> Result<FootRectangle> {
         y: both(left.y, right.y),
     };
     super::check_foot(&common).map_err(|_| {
-        super::bad_argument(
+        Error::argument(
             "foot",
             "a rectangle given (X0,X1,Y0,Y1): the two measured ones do not overlap in their \
              contact frames",

@@ -267,36 +267,30 @@ fn scenario_number(
 /// The name the range's errors give it: the arguments of [`stability_margin_report`].
 pub const RANGE_ARGUMENT: &str = "lower, upper";
 
-/// A bad argument of the margin's functions (not a scenario key): `sea_dyn`'s
-/// `InvalidArgument`, a `ValueError` naming the argument in Python.
-fn bad_argument(argument: &str, expected: &str, actual: impl ToString) -> Error {
-    sea_dyn::Error::invalid(argument, expected, actual).into()
-}
-
 /// Checks the range: finite, `lower < upper`, positive for a log grid; the scan's points and
 /// the bisection's tolerance within their bounds. Errors name the arguments
 /// ([`RANGE_ARGUMENT`], `grid_points`, `relative_tolerance`).
 fn check_range(lower: f64, upper: f64, options: &MarginOptions) -> Result<()> {
     let range = format!("[{lower}, {upper}]");
     if !(lower.is_finite() && upper.is_finite()) {
-        return Err(bad_argument(RANGE_ARGUMENT, "finite bounds", range));
+        return Err(Error::argument(RANGE_ARGUMENT, "finite bounds", range));
     }
     if lower >= upper {
         let rule = "lower below upper (an empty or inverted range)";
-        return Err(bad_argument(RANGE_ARGUMENT, rule, range));
+        return Err(Error::argument(RANGE_ARGUMENT, rule, range));
     }
     if options.log_grid && lower <= 0.0 {
         let rule = "positive bounds for a logarithmic grid";
-        return Err(bad_argument(RANGE_ARGUMENT, rule, range));
+        return Err(Error::argument(RANGE_ARGUMENT, rule, range));
     }
     if !(2..=MAX_SCAN_POINTS).contains(&options.grid_points) {
         let rule = format!("from 2 to {MAX_SCAN_POINTS}");
-        return Err(bad_argument("grid_points", &rule, options.grid_points));
+        return Err(Error::argument("grid_points", rule, options.grid_points));
     }
     let tolerance = options.relative_tolerance;
     if !(MIN_RELATIVE_TOLERANCE..1.0).contains(&tolerance) {
         let rule = format!("from {MIN_RELATIVE_TOLERANCE:e} to below 1");
-        return Err(bad_argument("relative_tolerance", &rule, tolerance));
+        return Err(Error::argument("relative_tolerance", rule, tolerance));
     }
     Ok(())
 }
@@ -419,9 +413,9 @@ pub fn stability_margin_report(
     );
     if integer && lower.ceil() >= upper.floor() {
         let rule = format!("a range that holds two whole numbers ({parameter} takes them)");
-        return Err(bad_argument(
+        return Err(Error::argument(
             RANGE_ARGUMENT,
-            &rule,
+            rule,
             format!("[{lower}, {upper}]"),
         ));
     }
