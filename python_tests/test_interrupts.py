@@ -160,3 +160,21 @@ def test_a_sigterm_handler_of_the_program_is_left_alone():
     out = subprocess.run([sys.executable, "-c", code, str(TRACKING)], capture_output=True, text=True, cwd=ROOT, timeout=120)
     assert out.returncode == 0, out.stderr
     assert json.loads(out.stdout.splitlines()[-1]) == {"kept": True}
+
+
+STABILITY_MARGIN = """
+report(event="started")
+try:
+    # The scanned key is the run's length: the 600 s run is stopped part-way.
+    sm.stability_margin(sys.argv[1], "simulation.duration_s", 0.2, 600.0, method="simulate",
+                        grid_points=2, overrides={"simulation.duration_s": 0.3})
+    report(event="returned")
+except KeyboardInterrupt:
+    report(event="interrupted", caught=time.monotonic())
+"""
+
+
+def test_ctrl_c_stops_a_simulated_stability_margin():
+    report, sent = interrupt_child(STABILITY_MARGIN, str(TRACKING), run_for_s=2.0)
+    assert report["event"] == "interrupted", report
+    assert report["caught"] - sent < REACTION_LIMIT_S, report["caught"] - sent

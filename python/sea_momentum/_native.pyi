@@ -387,7 +387,8 @@ def stability_margin_native(
     ``conclusion`` ("boundaries" | "stable_over_range" | "unstable_over_range"), ``own_value``
     (the scenario's value, or None), ``own_value_stable``, ``stable_island`` ((low, high)
     containing the own value, or None), ``method``, ``evaluations`` and ``samples`` (list of
-    (value, stable, growth_rate or None))."""
+    (value, stable, growth_rate or None)). Ctrl-C stops the scan and raises
+    ``KeyboardInterrupt``."""
 
 # --- Sweeps (sea_momentum.sweep, sea_momentum.ray_backend) ---
 

@@ -129,6 +129,8 @@ def stability_margin(
     about the equilibrium at t = 0) or ``"simulate"`` (the scenario run completes). An unknown or
     non-numeric key raises ``ScenarioError`` naming it; an empty or inverted range a
     ``ValueError`` whose ``argument`` is ``"lower, upper"``, a bad ``grid_points`` one naming it.
+    Ctrl-C stops the scan (a simulation under way at its next sample) and raises
+    ``KeyboardInterrupt``.
     """
     report = stability_margin_native(
         os.fspath(scenario),

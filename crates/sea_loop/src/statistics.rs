@@ -365,6 +365,12 @@ impl Summary {
         self.status == RunEnd::Completed.status()
     }
 
+    /// Whether the run was stopped by its cancellation flag ([`RunEnd::Interrupted`]): it
+    /// says nothing about the closed loop.
+    pub fn interrupted(&self) -> bool {
+        self.status == RunEnd::Interrupted.status()
+    }
+
     /// The summary of a run that ended with `end`.
     pub fn new(
         end: &RunEnd,

@@ -3,12 +3,13 @@
 
 use crate::arrays::{matrix_out, vector_out};
 use crate::errors::{argument_error, to_py};
+use crate::interrupt::run_interruptible;
 use crate::overrides::override_pairs;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_sim::analysis::{
     linearize_with, stability_margin_report, ControlTiming, Linearization, LinearizeOptions,
-    MarginMethod, MarginOptions,
+    MarginMethod, MarginOptions, MarginWatch,
 };
 use sea_sim::scenario::{Sampling, Setting};
 use std::collections::HashMap;
@@ -105,7 +106,8 @@ pub fn linearize_native<'py>(
 /// "stable_over_range" or "unstable_over_range"), `own_value` (the scenario's value, or None),
 /// `own_value_stable` (None unless evaluated), `stable_island` ((low, high) containing the
 /// own value, or None), `method`, `evaluations`, `samples` (a list of (value, stable,
-/// growth_rate or None)).
+/// growth_rate or None)). Ctrl-C (or SIGTERM) stops the scan, a simulation under way at its
+/// next sample, and raises.
 #[pyfunction]
 #[pyo3(signature = (path, parameter, lower, upper, overrides=None, method="eigen", sampling=None, grid_points=9, log_grid=false))]
 #[allow(clippy::too_many_arguments)] // the Python signature, keyword arguments with defaults
@@ -131,9 +133,14 @@ pub fn stability_margin_native<'py>(
         ..Default::default()
     };
     options.linearize.sampling = sampling_arg(sampling, &scenario)?;
-    let report = py
-        .detach(|| stability_margin_report(&path, &pairs, parameter, lower, upper, &options))
-        .map_err(to_py)?;
+    let (report, raised) = run_interruptible(py, |cancel| {
+        let watch = MarginWatch::cancel_only(cancel);
+        stability_margin_report(&path, &pairs, parameter, lower, upper, &options, watch)
+    })?;
+    if let Some(interrupt) = raised {
+        return Err(interrupt);
+    }
+    let report = report.map_err(to_py)?;
     let d = PyDict::new(py);
     d.set_item("parameter", &report.parameter)?;
     d.set_item("boundaries", report.boundaries.clone())?;

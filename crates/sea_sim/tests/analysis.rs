@@ -3,10 +3,11 @@
 use sea_sim::analysis::system::difference;
 use sea_sim::analysis::{
     linearize, linearize_with, stability_margin, stability_margin_report, ControlTiming,
-    Linearization, LinearizeOptions, MarginMethod, MarginOptions,
+    Linearization, LinearizeOptions, MarginMethod, MarginOptions, MarginWatch,
 };
 use sea_sim::scenario::Scenario;
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 
 fn tracking() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/paper/tracking.toml")
@@ -218,6 +219,7 @@ fn simulated_margin_agrees_with_the_eigen_margin() {
             0.35,
             0.6,
             &options(method),
+            MarginWatch::cancel_only(&AtomicBool::new(false)),
         )
         .unwrap()
     };

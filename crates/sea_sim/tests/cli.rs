@@ -100,7 +100,7 @@ fn signal(pid: u32, name: &str) {
 }
 
 /// A run in the background whose stderr lines arrive on a channel.
-struct Running {
+pub(super) struct Running {
     child: Child,
     lines: Receiver<String>,
     seen: Vec<String>,
@@ -109,17 +109,21 @@ struct Running {
 impl Running {
     /// Starts `sea-sim run SCENARIO ARGS` (progress as plain lines: stderr is a pipe).
     fn start(scenario: &str, args: &[&str]) -> Self {
-        Self::start_command("run", scenario, args)
+        Self::start_command(("run", scenario), args, Stdio::null())
     }
 
-    /// Starts `sea-sim COMMAND SCENARIO ARGS`.
-    fn start_command(command: &str, scenario: &str, args: &[&str]) -> Self {
+    /// Starts `sea-sim COMMAND SCENARIO ARGS` with its stdout to `stdout`.
+    pub(super) fn start_command(
+        (command, scenario): (&str, &str),
+        args: &[&str],
+        stdout: Stdio,
+    ) -> Self {
         let mut child = Command::new(BIN)
             .arg(command)
             .arg(scenario)
             .args(args)
             .stdin(Stdio::null())
-            .stdout(Stdio::null())
+            .stdout(stdout)
             .stderr(Stdio::piped())
             .spawn()
             .expect("sea-sim starts");
@@ -145,7 +149,7 @@ impl Running {
     }
 
     /// Waits for the first line of stderr that contains `text`.
-    fn wait_for_line(&mut self, text: &str) {
+    pub(super) fn wait_for_line(&mut self, text: &str) {
         let deadline = Instant::now() + TIMEOUT;
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
@@ -165,12 +169,12 @@ impl Running {
         }
     }
 
-    fn signal(&self, name: &str) {
+    pub(super) fn signal(&self, name: &str) {
         signal(self.child.id(), name);
     }
 
     /// Waits for the exit; returns the code (None when killed by a signal) and stderr.
-    fn wait(mut self) -> (Option<i32>, String) {
+    pub(super) fn wait(mut self) -> (Option<i32>, String) {
         let deadline = Instant::now() + TIMEOUT;
         let status = loop {
             if let Some(status) = self.child.try_wait().unwrap() {
@@ -341,9 +345,9 @@ fn completed_and_diverged_runs_exit_0_and_3_with_their_outputs() {
 fn a_signal_stops_a_sweep_with_the_rows_done_written() {
     let ws = Workspace::new("sweep_signal");
     let csv = ws.path("rows.csv");
+    let scenario = ws.scenario();
     let mut sweep = Running::start_command(
-        "sweep",
-        &ws.scenario(),
+        ("sweep", &scenario),
         &[
             "--grid",
             "simulation.duration_s=0.2,300,300",
@@ -352,6 +356,7 @@ fn a_signal_stops_a_sweep_with_the_rows_done_written() {
             "--out",
             csv.to_str().unwrap(),
         ],
+        Stdio::null(),
     );
     sweep.wait_for_line("sweep 1/3");
     sweep.signal("INT");
@@ -699,6 +704,17 @@ fn margin_reports_the_damping_boundary_as_json() {
     assert_eq!(printed, summary(&out_path), "--out holds what was printed");
     let samples = printed["samples"].as_array().unwrap();
     assert_eq!(printed["evaluations"].as_u64(), Some(samples.len() as u64));
+    // A progress line per evaluation.
+    let stderr = text(&out.stderr);
+    let progress = stderr
+        .lines()
+        .filter(|l| l.starts_with("sea-sim: margin actuators.damping = "));
+    assert_eq!(progress.count(), samples.len(), "{stderr}");
+    assert!(
+        stderr.contains("actuators.damping = 0.01: unstable (growth "),
+        "{stderr}"
+    );
+    assert_eq!(printed["interrupted"], false);
     // Unstable at the low end of the scan, stable at the high end: one boundary between.
     assert_eq!(samples[0]["stable"], false);
     assert_eq!(samples[2]["stable"], true);

@@ -11,6 +11,7 @@ mod support;
 
 mod analysis;
 mod cli;
+mod cli_docs;
 mod closed_loop;
 mod contact_check_mcap;
 mod controller;
@@ -31,6 +32,7 @@ mod qp_agreement;
 mod schema;
 mod sensing;
 mod stiffness_identification;
+mod study_signals;
 mod summary_keys;
 mod sweep;
 mod test_layout;

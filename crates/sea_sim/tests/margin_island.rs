@@ -5,9 +5,10 @@ use crate::support;
 
 use sea_sim::analysis::{
     scenario_value, stability_margin_report, IslandEnd, MarginConclusion, MarginMethod,
-    MarginOptions,
+    MarginOptions, MarginWatch,
 };
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 
 fn tracking() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/paper/tracking.toml")
@@ -24,7 +25,18 @@ fn report(overrides: &[(&str, &str)], lower: f64, upper: f64) -> sea_sim::analys
         method: MarginMethod::Eigen,
         ..Default::default()
     };
-    stability_margin_report(&tracking(), &overrides, STIFFNESS, lower, upper, &options).unwrap()
+    let never = AtomicBool::new(false);
+    let watch = MarginWatch::cancel_only(&never);
+    stability_margin_report(
+        &tracking(),
+        &overrides,
+        STIFFNESS,
+        lower,
+        upper,
+        &options,
+        watch,
+    )
+    .unwrap()
 }
 
 #[test]
@@ -102,9 +114,11 @@ fn a_whole_number_key_is_scanned_at_whole_numbers() {
         "controller.stiffness_identification".to_string(),
         "false".to_string(),
     )];
+    let never = AtomicBool::new(false);
+    let watch = MarginWatch::cancel_only(&never);
+    let welded = support::welded(&fixed);
     let report =
-        stability_margin_report(&path, &support::welded(&fixed), DELAY, 0.0, 10.0, &options)
-            .unwrap();
+        stability_margin_report(&path, &welded, DELAY, 0.0, 10.0, &options, watch).unwrap();
     assert!(report.integer);
     assert!(report.samples.iter().all(|s| s.value.fract() == 0.0));
     assert_eq!(report.boundaries, vec![8.5]);
@@ -114,8 +128,25 @@ fn a_whole_number_key_is_scanned_at_whole_numbers() {
         report.island(),
         Some([IslandEnd::RangeEnd(0.0), IslandEnd::Boundary(8.5)])
     );
-    let message = stability_margin_report(&path, &fixed, DELAY, 0.2, 0.8, &options)
+    let message = stability_margin_report(&path, &fixed, DELAY, 0.2, 0.8, &options, watch)
         .unwrap_err()
         .to_string();
     assert!(message.contains("whole numbers"), "{message}");
+}
+
+#[test]
+fn a_raised_cancellation_flag_ends_the_scan_before_any_evaluation() {
+    let cancel = AtomicBool::new(true);
+    let options = MarginOptions::default();
+    let watch = MarginWatch::cancel_only(&cancel);
+    let report =
+        stability_margin_report(&tracking(), &[], STIFFNESS, 0.5, 2.0, &options, watch).unwrap();
+    assert!(report.interrupted);
+    assert_eq!(report.evaluations(), 0);
+    assert_eq!(report.conclusion(), MarginConclusion::Interrupted);
+    assert_eq!(
+        (report.own_value, report.own_value_stable()),
+        (Some(1.0), None)
+    );
+    assert_eq!(report.island(), None);
 }

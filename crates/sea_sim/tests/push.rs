@@ -4,13 +4,16 @@
 //! its compliant CoM gains keep a recovery inside the joint limits; the observed push is
 //! recovered where the unobserved one tips a sole, and the observer's estimate of a steady
 //! push; the capture-point bound of the stance; the push window is applied over exactly its
-//! plant steps; bad `[[disturbances]]` input names its key.
+//! plant steps; bad `[[disturbances]]` input names its key; a raised cancellation flag starts
+//! no run.
 
 use crate::support;
 
 use nalgebra::{Vector2, Vector3, Vector6};
 use sea_plant::PlantData;
-use sea_sim::analysis::push::{push_run, PushDirection, PushOptions, Stance};
+use sea_sim::analysis::push::{
+    fixed_push_table, push_run, push_table, PushDirection, PushOptions, PushProgress, Stance,
+};
 use sea_sim::closed_loop::{RunRecord, Summary};
 use sea_sim::scenario::{build, DisturbanceSchedule, Scenario};
 use std::path::{Path, PathBuf};
@@ -524,4 +527,40 @@ fn the_stepping_bound_reads_the_scenario_and_steps_only_along_the_soles() {
         .unwrap_err()
         .to_string();
     assert!(message.contains("walking.stepping"), "{message}");
+}
+
+#[test]
+fn a_raised_cancellation_flag_starts_no_push() {
+    let cancel = std::sync::atomic::AtomicBool::new(true);
+    let options = PushOptions::default();
+    let told = std::sync::atomic::AtomicUsize::new(0);
+    let on_run = |_: &PushProgress<'_>| {
+        told.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    };
+    let directions = [PushDirection::Forward, PushDirection::Left];
+    let path = push_two_feet();
+    let fixed = fixed_push_table(
+        &path,
+        &[],
+        &options,
+        &directions,
+        &[0.0, 5.0],
+        &on_run,
+        &cancel,
+    )
+    .unwrap();
+    for row in &fixed {
+        assert!(row.interrupted());
+        assert!(row.outcomes.iter().all(|(_, summary)| summary.is_none()));
+        assert_eq!((row.recovered_count(), row.recovered_up_to()), (0, 0.0));
+    }
+    let bisected = push_table(&path, &[], &options, &directions, &on_run, &cancel).unwrap();
+    for row in &bisected {
+        assert!(row.interrupted);
+        assert_eq!(
+            (row.runs, row.recovered_impulse, row.failed_impulse),
+            (0, 0.0, None)
+        );
+    }
+    assert_eq!(told.into_inner(), 0, "no run was told of");
 }

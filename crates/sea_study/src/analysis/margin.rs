@@ -18,8 +18,10 @@
 
 use super::linearize::{linearize_with, LinearizeOptions};
 use crate::error::{Error, Result};
+use sea_scenario::run::run_with_sinks;
 use sea_scenario::Scenario;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// How stability is judged.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -89,6 +91,25 @@ impl Default for MarginOptions {
     }
 }
 
+/// How a caller follows and stops a [`stability_margin_report`].
+#[derive(Clone, Copy)]
+pub struct MarginWatch<'a> {
+    /// Once raised no evaluation starts and a simulation under way stops at its next sample.
+    pub cancel: &'a AtomicBool,
+    /// Told of every evaluation as it ends.
+    pub on_sample: &'a dyn Fn(&MarginSample),
+}
+
+impl<'a> MarginWatch<'a> {
+    /// Stopped by `cancel` alone, telling no one of the evaluations.
+    pub fn cancel_only(cancel: &'a AtomicBool) -> Self {
+        Self {
+            cancel,
+            on_sample: &|_| {},
+        }
+    }
+}
+
 /// One evaluation of the judge.
 #[derive(Clone, Copy, Debug)]
 pub struct MarginSample {
@@ -118,6 +139,9 @@ pub struct MarginReport {
     pub integer: bool,
     /// Every evaluation, in the order done.
     pub samples: Vec<MarginSample>,
+    /// Whether the cancellation flag stopped the scan before its end: the samples and
+    /// boundaries are those found so far, and more may lie in the range.
+    pub interrupted: bool,
 }
 
 /// What the scan saw over its whole range.
@@ -130,6 +154,9 @@ pub enum MarginConclusion {
     UnstableOverRange,
     /// Stability changes inside the range ([`MarginReport::boundaries`]).
     Boundaries,
+    /// The scan was stopped before its end ([`MarginReport::interrupted`]): the boundaries
+    /// found so far are boundaries, and nothing is said of the rest of the range.
+    Interrupted,
 }
 
 impl MarginConclusion {
@@ -139,6 +166,7 @@ impl MarginConclusion {
             MarginConclusion::StableOverRange => "stable_over_range",
             MarginConclusion::UnstableOverRange => "unstable_over_range",
             MarginConclusion::Boundaries => "boundaries",
+            MarginConclusion::Interrupted => "interrupted",
         }
     }
 }
@@ -168,9 +196,12 @@ impl MarginReport {
         self.samples.len()
     }
 
-    /// Whether every evaluation was stable, every one unstable, or stability changes.
+    /// Whether every evaluation was stable, every one unstable, or stability changes; or that
+    /// the scan was stopped before its end.
     pub fn conclusion(&self) -> MarginConclusion {
-        if !self.boundaries.is_empty() {
+        if self.interrupted {
+            MarginConclusion::Interrupted
+        } else if !self.boundaries.is_empty() {
             MarginConclusion::Boundaries
         } else if self.samples.iter().all(|s| s.stable) {
             MarginConclusion::StableOverRange
@@ -191,9 +222,10 @@ impl MarginReport {
 
     /// The stable interval that contains the scenario's own value: its ends are the nearest
     /// boundaries on either side, or the range's ends. `None` when the own value is unstable
-    /// or was not evaluated.
+    /// or was not evaluated, or the scan was stopped before its end (a boundary nearer the own
+    /// value may lie where it did not look).
     pub fn island(&self) -> Option<[IslandEnd; 2]> {
-        if self.own_value_stable() != Some(true) {
+        if self.interrupted || self.own_value_stable() != Some(true) {
             return None;
         }
         let own = self.own_value?;
@@ -333,11 +365,17 @@ struct Judge<'a> {
     /// Whether the key takes whole numbers (the values are then integral).
     integer: bool,
     samples: Vec<MarginSample>,
+    /// The cancellation flag and the progress callback.
+    watch: MarginWatch<'a>,
 }
 
 impl Judge<'_> {
-    /// Evaluates stability at `value`; returns a signed indicator (negative = stable).
-    fn indicator(&mut self, value: f64) -> Result<f64> {
+    /// Evaluates stability at `value`; returns a signed indicator (negative = stable), or
+    /// `None` when the cancellation flag kept the evaluation from its end.
+    fn indicator(&mut self, value: f64) -> Result<Option<f64>> {
+        if self.watch.cancel.load(Ordering::Relaxed) {
+            return Ok(None);
+        }
         let literal = if self.integer {
             toml::Value::Integer(value as i64)
         } else {
@@ -350,16 +388,21 @@ impl Judge<'_> {
                 (lin.stable, Some(lin.growth_rate))
             }
             MarginMethod::Simulate => {
-                let (_, summary) = sea_scenario::run::run(&scenario, |_, _| {})?;
+                let summary = run_with_sinks(&scenario, &mut [], self.watch.cancel, |_, _| {})?;
+                if summary.interrupted() {
+                    return Ok(None);
+                }
                 (summary.completed(), None)
             }
         };
-        self.samples.push(MarginSample {
+        let sample = MarginSample {
             value,
             stable,
             growth_rate,
-        });
-        Ok(growth_rate.unwrap_or(if stable { -1.0 } else { 1.0 }))
+        };
+        (self.watch.on_sample)(&sample);
+        self.samples.push(sample);
+        Ok(Some(growth_rate.unwrap_or(if stable { -1.0 } else { 1.0 })))
     }
 }
 
@@ -397,7 +440,9 @@ fn bracket_closed(a: f64, b: f64, width: f64, integer: bool) -> bool {
 }
 
 /// The values of `parameter` in `[lower, upper]` where stability changes, with every
-/// evaluation (see the module doc).
+/// evaluation (see the module doc), each told to `watch` as it ends. Once `watch.cancel` is
+/// raised no evaluation starts, a simulation under way stops at its next sample, and the
+/// report holds what was found so far ([`MarginReport::interrupted`]).
 pub fn stability_margin_report(
     path: &Path,
     overrides: &[(String, String)],
@@ -405,6 +450,7 @@ pub fn stability_margin_report(
     lower: f64,
     upper: f64,
     options: &MarginOptions,
+    watch: MarginWatch<'_>,
 ) -> Result<MarginReport> {
     check_range(lower, upper, options)?;
     let integer = matches!(
@@ -426,6 +472,7 @@ pub fn stability_margin_report(
         options,
         integer,
         samples: Vec::new(),
+        watch,
     };
     let own_value = scenario_value(path, overrides, parameter)?;
     let mut values = grid(lower, upper, options, integer);
@@ -435,31 +482,9 @@ pub fn stability_margin_report(
             values.sort_by(f64::total_cmp);
         }
     }
-    let mut signs = Vec::with_capacity(values.len());
-    for &value in &values {
-        signs.push(judge.indicator(value)? >= 0.0);
-    }
     let width = options.relative_tolerance * (upper - lower);
     let mut boundaries = Vec::new();
-    for k in 1..values.len() {
-        if signs[k] == signs[k - 1] {
-            continue;
-        }
-        let (mut a, mut b) = (values[k - 1], values[k]);
-        while !bracket_closed(a, b, width, integer) {
-            let middle = if integer {
-                (0.5 * (a + b)).floor()
-            } else {
-                0.5 * (a + b)
-            };
-            if (judge.indicator(middle)? >= 0.0) == signs[k - 1] {
-                a = middle;
-            } else {
-                b = middle;
-            }
-        }
-        boundaries.push(0.5 * (a + b));
-    }
+    let done = find_boundaries(&mut judge, &values, width, &mut boundaries)?;
     Ok(MarginReport {
         parameter: parameter.to_string(),
         method: options.method,
@@ -468,7 +493,49 @@ pub fn stability_margin_report(
         boundaries,
         integer,
         samples: judge.samples,
+        interrupted: !done,
     })
+}
+
+/// Scans `values` (ascending) with `judge` and bisects every change of stability down to
+/// `width`, each boundary found pushed onto `boundaries`; `Ok(false)` when the judge was
+/// cancelled before the end.
+fn find_boundaries(
+    judge: &mut Judge<'_>,
+    values: &[f64],
+    width: f64,
+    boundaries: &mut Vec<f64>,
+) -> Result<bool> {
+    let mut signs = Vec::with_capacity(values.len());
+    for &value in values {
+        let Some(indicator) = judge.indicator(value)? else {
+            return Ok(false);
+        };
+        signs.push(indicator >= 0.0);
+    }
+    for k in 1..values.len() {
+        if signs[k] == signs[k - 1] {
+            continue;
+        }
+        let (mut a, mut b) = (values[k - 1], values[k]);
+        while !bracket_closed(a, b, width, judge.integer) {
+            let middle = if judge.integer {
+                (0.5 * (a + b)).floor()
+            } else {
+                0.5 * (a + b)
+            };
+            let Some(indicator) = judge.indicator(middle)? else {
+                return Ok(false);
+            };
+            if (indicator >= 0.0) == signs[k - 1] {
+                a = middle;
+            } else {
+                b = middle;
+            }
+        }
+        boundaries.push(0.5 * (a + b));
+    }
+    Ok(true)
 }
 
 /// The values of `parameter` in `[lower, upper]` where stability changes (ascending; empty
@@ -485,5 +552,9 @@ pub fn stability_margin(
         method,
         ..Default::default()
     };
-    Ok(stability_margin_report(path, overrides, parameter, lower, upper, &options)?.boundaries)
+    let never = AtomicBool::new(false);
+    let watch = MarginWatch::cancel_only(&never);
+    let report =
+        stability_margin_report(path, overrides, parameter, lower, upper, &options, watch)?;
+    Ok(report.boundaries)
 }

@@ -18,6 +18,6 @@ pub use linearize::{
 };
 pub use margin::{
     scenario_value, stability_margin, stability_margin_report, IslandEnd, MarginConclusion,
-    MarginMethod, MarginOptions, MarginReport, MarginSample,
+    MarginMethod, MarginOptions, MarginReport, MarginSample, MarginWatch,
 };
 pub use system::{ClosedLoopSystem, ControlTiming};

@@ -19,7 +19,7 @@ use sea_loop::Summary;
 use sea_scenario::run::run_with_sinks;
 use sea_scenario::{build, Scenario};
 use std::path::Path;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A push direction in the ground plane, relative to the first contact's sole frame (its x
 /// axis forward, y to the left).
@@ -300,8 +300,11 @@ pub struct PushResult {
     pub failed_impulse: Option<f64>,
     /// The summary of the run at `failed_impulse` (its fall: foot, constraint).
     pub failed_summary: Option<Summary>,
-    /// Runs done.
+    /// Runs done (ended completed, diverged or fallen; a run stopped by `cancel` is not one).
     pub runs: usize,
+    /// Whether `cancel` stopped the bisection before its tolerance: the impulses above are
+    /// the bracket as far as it got.
+    pub interrupted: bool,
 }
 
 /// The `[[disturbances]]` override of one push of `impulse` [N s] along `direction` (world).
@@ -323,10 +326,23 @@ pub fn push_run(
     direction: Vector2<f64>,
     impulse: f64,
 ) -> Result<Summary> {
+    let never = AtomicBool::new(false);
+    push_run_until(path, overrides, options, (direction, impulse), &never)
+}
+
+/// [`push_run`] of the push `(direction, impulse)`, stopped at its next sample once `cancel`
+/// is raised (its summary's status then "interrupted").
+fn push_run_until(
+    path: &Path,
+    overrides: &[(String, String)],
+    options: &PushOptions,
+    (direction, impulse): (Vector2<f64>, f64),
+    cancel: &AtomicBool,
+) -> Result<Summary> {
     let mut all = overrides.to_vec();
     all.push(push_override(options, direction, impulse));
     let scenario = Scenario::from_file(path, &all)?;
-    run_with_sinks(&scenario, &mut [], &AtomicBool::new(false), |_, _| {})
+    run_with_sinks(&scenario, &mut [], cancel, |_, _| {})
 }
 
 /// One push run done, as the progress callbacks of [`push_table`] and [`fixed_push_table`]
@@ -345,7 +361,9 @@ pub type OnPushRun<'a> = &'a (dyn Fn(&PushProgress<'_>) + Sync);
 
 /// Largest recovered impulse along `direction` by bisection between 0 (must be recovered) and
 /// twice the capture-point bound (doubled while still recovered, up to 8 times the bound);
-/// `on_run` is told of every run as it ends.
+/// `on_run` is told of every run as it ends. Once `cancel` is raised no run starts, the run
+/// under way stops at its next sample, and the result is the bracket so far
+/// ([`PushResult::interrupted`]).
 ///
 /// Errors: the options' ([`PushOptions::check`]), the scenario's and the runs'.
 pub fn recoverable_impulse(
@@ -354,21 +372,22 @@ pub fn recoverable_impulse(
     options: &PushOptions,
     direction: PushDirection,
     on_run: OnPushRun<'_>,
+    cancel: &AtomicBool,
 ) -> Result<PushResult> {
     options.check()?;
     let stance = Stance::of(&Scenario::from_file(path, overrides)?)?;
     let bound = stance.capture_point_impulse(direction);
     let d = stance.direction(direction);
     let run = |impulse_n_s: f64| {
-        let summary = push_run(path, overrides, options, d, impulse_n_s)?;
-        on_run(&PushProgress {
-            direction,
-            impulse_n_s,
-            summary: &summary,
-        });
-        Ok::<_, Error>(summary)
+        stoppable_push(
+            path,
+            overrides,
+            options,
+            (direction, d, impulse_n_s),
+            on_run,
+            cancel,
+        )
     };
-    let mut runs = 0;
     let mut result = PushResult {
         direction,
         capture_point_impulse: bound,
@@ -376,11 +395,15 @@ pub fn recoverable_impulse(
         failed_impulse: None,
         failed_summary: None,
         runs: 0,
+        interrupted: false,
     };
     let mut high = 2.0 * bound;
     while high <= 8.0 * bound {
-        let summary = run(high)?;
-        runs += 1;
+        let Some(summary) = run(high)? else {
+            result.interrupted = true;
+            return Ok(result);
+        };
+        result.runs += 1;
         if !summary.completed() {
             result.failed_impulse = Some(high);
             result.failed_summary = Some(summary);
@@ -394,8 +417,11 @@ pub fn recoverable_impulse(
             break;
         }
         let middle = 0.5 * (result.recovered_impulse + failed);
-        let summary = run(middle)?;
-        runs += 1;
+        let Some(summary) = run(middle)? else {
+            result.interrupted = true;
+            break;
+        };
+        result.runs += 1;
         if summary.completed() {
             result.recovered_impulse = middle;
         } else {
@@ -403,12 +429,35 @@ pub fn recoverable_impulse(
             result.failed_summary = Some(summary);
         }
     }
-    result.runs = runs;
     Ok(result)
 }
 
+/// One push of the study, `(direction, world direction, impulse)`, told to `on_run` as it
+/// ends: its summary, or `None` when `cancel` was raised before it started or stopped it
+/// part-way (told to `on_run` all the same).
+fn stoppable_push(
+    path: &Path,
+    overrides: &[(String, String)],
+    options: &PushOptions,
+    (direction, world_direction, impulse_n_s): (PushDirection, Vector2<f64>, f64),
+    on_run: OnPushRun<'_>,
+    cancel: &AtomicBool,
+) -> Result<Option<Summary>> {
+    if cancel.load(Ordering::Relaxed) {
+        return Ok(None);
+    }
+    let push = (world_direction, impulse_n_s);
+    let summary = push_run_until(path, overrides, options, push, cancel)?;
+    on_run(&PushProgress {
+        direction,
+        impulse_n_s,
+        summary: &summary,
+    });
+    Ok((!summary.interrupted()).then_some(summary))
+}
+
 /// [`recoverable_impulse`] for each of `directions`, in parallel (rayon's pool); `on_run` is
-/// told of every run as it ends.
+/// told of every run as it ends; `cancel` stops every direction's bisection as it stops one.
 ///
 /// Errors: as [`recoverable_impulse`]; the options are checked before any run.
 pub fn push_table(
@@ -417,11 +466,12 @@ pub fn push_table(
     options: &PushOptions,
     directions: &[PushDirection],
     on_run: OnPushRun<'_>,
+    cancel: &AtomicBool,
 ) -> Result<Vec<PushResult>> {
     options.check()?;
     directions
         .par_iter()
-        .map(|&direction| recoverable_impulse(path, overrides, options, direction, on_run))
+        .map(|&direction| recoverable_impulse(path, overrides, options, direction, on_run, cancel))
         .collect()
 }
 
@@ -432,8 +482,9 @@ pub struct FixedPushRow {
     pub direction: PushDirection,
     /// The capture-point bound [N s].
     pub capture_point_impulse: f64,
-    /// Each impulse [N s], in the order given, with its run's summary.
-    pub outcomes: Vec<(f64, Summary)>,
+    /// Each impulse [N s], in the order given, with its run's summary: `None` when `cancel`
+    /// stopped the run part-way or before it started.
+    pub outcomes: Vec<(f64, Option<Summary>)>,
 }
 
 impl FixedPushRow {
@@ -441,19 +492,25 @@ impl FixedPushRow {
     pub fn recovered_count(&self) -> usize {
         self.outcomes
             .iter()
-            .filter(|(_, summary)| summary.completed())
+            .filter(|(_, summary)| summary.as_ref().is_some_and(Summary::completed))
             .count()
     }
 
     /// The largest impulse [N s] at and below which every given impulse was recovered (0 when
     /// the smallest was not): what a bisection would take for the boundary when the outcomes
-    /// have one, and below the islands of recovery when they have several.
+    /// have one, and below the islands of recovery when they have several. A push not run to
+    /// its end counts as not recovered.
     pub fn recovered_up_to(&self) -> f64 {
         recovered_up_to(
-            self.outcomes
-                .iter()
-                .map(|(impulse, summary)| (*impulse, summary.completed())),
+            self.outcomes.iter().map(|(impulse, summary)| {
+                (*impulse, summary.as_ref().is_some_and(Summary::completed))
+            }),
         )
+    }
+
+    /// Whether `cancel` stopped a push of the row part-way or before it started.
+    pub fn interrupted(&self) -> bool {
+        self.outcomes.iter().any(|(_, summary)| summary.is_none())
     }
 }
 
@@ -488,7 +545,9 @@ pub fn check_impulses(impulses: &[f64]) -> Result<()> {
 /// The push of each of `impulses` [N s] along each of `directions`, one run each (all in
 /// parallel, rayon's pool), instead of a bisection: the outcomes over a range show where
 /// recovery has islands, which a bisection, assuming one boundary, does not
-/// (docs/findings/stepping.md). `on_run` is told of every run as it ends.
+/// (docs/findings/stepping.md). `on_run` is told of every run as it ends. Once `cancel` is
+/// raised no run starts and the runs under way stop at their next sample
+/// ([`FixedPushRow::outcomes`]).
 ///
 /// Errors: the options' ([`PushOptions::check`]; the tolerance is not used), the impulses'
 /// ([`check_impulses`]), the scenario's and the runs'.
@@ -499,6 +558,7 @@ pub fn fixed_push_table(
     directions: &[PushDirection],
     impulses: &[f64],
     on_run: OnPushRun<'_>,
+    cancel: &AtomicBool,
 ) -> Result<Vec<FixedPushRow>> {
     options.check()?;
     check_impulses(impulses)?;
@@ -509,17 +569,11 @@ pub fn fixed_push_table(
         .collect();
     let summaries = pairs
         .par_iter()
-        .map(|&(direction, impulse_n_s)| {
-            let d = stance.direction(direction);
-            let summary = push_run(path, overrides, options, d, impulse_n_s)?;
-            on_run(&PushProgress {
-                direction,
-                impulse_n_s,
-                summary: &summary,
-            });
-            Ok(summary)
+        .map(|&(direction, impulse)| {
+            let push = (direction, stance.direction(direction), impulse);
+            stoppable_push(path, overrides, options, push, on_run, cancel)
         })
-        .collect::<Result<Vec<Summary>>>()?;
+        .collect::<Result<Vec<Option<Summary>>>>()?;
     let mut summaries = summaries.into_iter();
     Ok(directions
         .iter()

@@ -57,6 +57,9 @@ enum Command {
     Sweep(sweep::SweepArgs),
     /// Find the values of one numeric scenario key where the closed loop's stability changes
     /// (grid scan, then bisection); prints a JSON report.
+    ///
+    /// Exit status: 0 done, 1 error, 130/143/129 stopped by a signal (the evaluations done
+    /// reported, conclusion "interrupted").
     Margin(margin::MarginArgs),
     /// Write a scenario for a new robot from its URDF and two contacts.
     ///
@@ -71,6 +74,9 @@ enum Command {
     /// also the gait's bound on a sideways push (`gait_bound_impulse_n_s`) and the bound with
     /// only the landings the step adjustment moves (`adjustment_bound_impulse_n_s`); on a
     /// scenario with `walking.stepping`, the stepping settings' bound (`stepping_bound`).
+    ///
+    /// Exit status: 0 done (whatever the pushes' outcomes), 1 error, 130/143/129 stopped by
+    /// a signal (the pushes done reported, `"interrupted": true`).
     Push(push::PushArgs),
     /// Print the JSON Schema of scenario files (derived from the types that read them; the
     /// shipped copy is schemas/scenario.schema.json).
@@ -92,9 +98,9 @@ fn main() -> ExitCode {
             with_interrupts(|interrupts| sweep::run_sweep_command(args, interrupts))
         }
         Command::Bench(args) => (bench::run_bench(args).map(|()| Outcome::Completed), None),
-        Command::Margin(args) => (margin::run_margin(args).map(|()| Outcome::Completed), None),
+        Command::Margin(args) => with_interrupts(|interrupts| margin::run_margin(args, interrupts)),
         Command::Init(args) => (init::run_init(args).map(|()| Outcome::Completed), None),
-        Command::Push(args) => (push::run_push(args).map(|()| Outcome::Completed), None),
+        Command::Push(args) => with_interrupts(|interrupts| push::run_push(args, interrupts)),
         Command::Schema(args) => {
             schema::print_schema(args);
             (Ok(Outcome::Completed), None)
@@ -102,6 +108,8 @@ fn main() -> ExitCode {
     };
     let finished = match cli.command {
         Command::Sweep(_) => "the rows of the runs done written",
+        Command::Push(_) => "the pushes done reported",
+        Command::Margin(_) => "the evaluations done reported",
         _ => "log and summary finished",
     };
     exit_code(outcome, stopped_by, finished)

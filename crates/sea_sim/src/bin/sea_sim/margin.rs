@@ -1,8 +1,11 @@
 //! `sea-sim margin`: where the closed loop's stability changes along one key.
 
-use crate::common::{named_as_flag, parse_key_value, parse_range, print_out};
+use crate::common::{named_as_flag, parse_key_value, parse_range, print_out, say, Outcome};
+use crate::signals::Interrupts;
 use clap::Args;
-use sea_sim::analysis::margin::{MarginOptions, MAX_SCAN_POINTS, MIN_RELATIVE_TOLERANCE};
+use sea_sim::analysis::margin::{
+    MarginOptions, MarginSample, MarginWatch, MAX_SCAN_POINTS, MIN_RELATIVE_TOLERANCE,
+};
 use sea_sim::output::{check_distinct, OutputFile};
 use std::path::PathBuf;
 
@@ -42,10 +45,27 @@ pub(crate) struct MarginArgs {
     /// Print the JSON report on stdout instead of a table.
     #[arg(long)]
     json: bool,
+    /// No progress lines on stderr (one per evaluation as it ends).
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+/// The progress line of an evaluation that ended: the value and its verdict.
+fn sample_line(parameter: &str, sample: &MarginSample) -> String {
+    let verdict = if sample.stable { "stable" } else { "unstable" };
+    let growth = sample
+        .growth_rate
+        .map_or(String::new(), |g| format!(" (growth {g:.4} 1/s)"));
+    format!(
+        "sea-sim: margin {parameter} = {}: {verdict}{growth}",
+        sample.value
+    )
 }
 
 /// `sea-sim margin`: the report as a table or (`--json`) JSON on stdout; JSON in `--out`.
-pub(crate) fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
+/// After a stop signal no evaluation starts, a simulation under way stops at its next sample,
+/// and the report of what was found so far is written (conclusion "interrupted").
+pub(crate) fn run_margin(args: &MarginArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
     use sea_sim::analysis::margin::{stability_margin_report, MarginMethod};
     let out = match &args.out {
         Some(path) => {
@@ -72,6 +92,14 @@ pub(crate) fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
         lower,
         upper,
         &options,
+        MarginWatch {
+            cancel: &interrupts.stop,
+            on_sample: &|sample| {
+                if !args.quiet {
+                    say(sample_line(&args.param, sample));
+                }
+            },
+        },
     )
     .map_err(|e| {
         let flags = [
@@ -98,6 +126,7 @@ pub(crate) fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
         "stable_island": report.island().map(|ends| ends.map(|end| end.value())),
         "evaluations": report.evaluations(),
         "samples": samples,
+        "interrupted": report.interrupted,
     });
     let text = serde_json::to_string_pretty(&json)
         .map_err(|e| sea_sim::Error::Log(format!("margin JSON: {e}")))?;
@@ -111,7 +140,9 @@ pub(crate) fn run_margin(args: &MarginArgs) -> sea_sim::Result<()> {
     } else {
         margin_table(&report)
     });
-    Ok(())
+    Ok(interrupts
+        .received()
+        .map_or(Outcome::Completed, Outcome::Interrupted))
 }
 
 /// What the margin scan found, in words: the boundaries or the range's one verdict, then the
@@ -137,6 +168,14 @@ pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -
         MarginConclusion::UnstableOverRange => {
             format!("unstable over the whole scanned range [{lower}, {upper}]")
         }
+        MarginConclusion::Interrupted => {
+            let boundaries: Vec<String> =
+                report.boundaries.iter().map(|b| format!("{b}")).collect();
+            format!(
+                "stopped before the scan's end; stability changes at [{}] so far",
+                boundaries.join(", ")
+            )
+        }
     };
     let end = |end: IslandEnd| match end {
         IslandEnd::Boundary(value) => format!("{value}"),
@@ -150,6 +189,10 @@ pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -
             end(high)
         ),
         (Some(own), Some(false), _) => format!("; the scenario's own value {own} is unstable"),
+        (Some(own), Some(true), _) => format!("; the scenario's own value {own} is stable"),
+        (Some(own), None, _) if report.interrupted && (lower..=upper).contains(&own) => {
+            format!("; the scenario's own value {own} was not evaluated")
+        }
         (Some(own), _, _) => format!("; the scenario's own value {own} is outside the range"),
         (None, _, _) => "; the scenario's own value is not a readable number".to_string(),
     };

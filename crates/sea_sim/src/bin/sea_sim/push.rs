@@ -2,7 +2,8 @@
 //! pushes of fixed impulses (`--impulses`), beside the bounds of the pendulum: the stance's
 //! capture point, and the gait's (`--phase`) or the stepping settings' (`walking.stepping`).
 
-use crate::common::{parse_key_value, parse_non_negative, parse_positive, print_out, say};
+use crate::common::{parse_key_value, parse_non_negative, parse_positive, print_out, say, Outcome};
+use crate::signals::Interrupts;
 use clap::Args;
 use sea_sim::analysis::gait_bound::gait_bounds;
 use sea_sim::analysis::push::{
@@ -87,6 +88,18 @@ fn push_progress_line(progress: &PushProgress<'_>) -> String {
     )
 }
 
+/// The line said as the runs start: how many, on how many threads.
+fn start_line(args: &PushArgs, directions: usize) -> String {
+    let threads = rayon::current_num_threads();
+    match &args.impulses {
+        Some(impulses) => format!(
+            "sea-sim: push: {} runs at fixed impulses on {threads} threads",
+            impulses.len() * directions
+        ),
+        None => format!("sea-sim: push: bisecting {directions} directions on {threads} threads"),
+    }
+}
+
 /// Says each run's outcome on stderr unless `--quiet`.
 fn on_run(args: &PushArgs) -> impl Fn(&PushProgress<'_>) + Sync + '_ {
     move |progress| {
@@ -96,11 +109,13 @@ fn on_run(args: &PushArgs) -> impl Fn(&PushProgress<'_>) + Sync + '_ {
     }
 }
 
-/// The bisection's rows of the JSON report, one per direction.
+/// The bisection's rows of the JSON report, one per direction (`interrupted`: a stop signal
+/// ended its bisection before the tolerance, the bracket as far as it got).
 fn bisected_rows(
     args: &PushArgs,
     options: &PushOptions,
     directions: &[PushDirection],
+    interrupts: &Interrupts,
 ) -> sea_sim::Result<Vec<serde_json::Value>> {
     let progress = on_run(args);
     let table = push_table(
@@ -109,6 +124,7 @@ fn bisected_rows(
         options,
         directions,
         &progress,
+        &interrupts.stop,
     )?;
     Ok(table
         .iter()
@@ -122,19 +138,21 @@ fn bisected_rows(
                 "failed_status": fall.as_ref().map(|j| j["status"].clone()),
                 "failed_reason": fall.as_ref().map(|j| j["reason"].clone()),
                 "runs": row.runs,
+                "interrupted": row.interrupted,
             })
         })
         .collect())
 }
 
 /// `--impulses`: the rows of the JSON report, one per direction, with every push's outcome
-/// (its status, reason and end time) and `outcomes`, one character per impulse in the order
-/// given (`o` recovered, `x` not).
+/// (its status, reason and end time; status "interrupted" and the rest `null` for a push a
+/// stop signal kept from its end) and `outcomes`, one character per impulse in the order
+/// given (`o` recovered, `x` not, `-` not run to its end).
 fn fixed_rows(
     args: &PushArgs,
     options: &PushOptions,
-    directions: &[PushDirection],
-    impulses: &[f64],
+    (directions, impulses): (&[PushDirection], &[f64]),
+    interrupts: &Interrupts,
 ) -> sea_sim::Result<Vec<serde_json::Value>> {
     let table = fixed_push_table(
         &args.scenario,
@@ -143,6 +161,7 @@ fn fixed_rows(
         directions,
         impulses,
         &on_run(args),
+        &interrupts.stop,
     )?;
     Ok(table
         .iter()
@@ -150,19 +169,29 @@ fn fixed_rows(
             let pushes: Vec<serde_json::Value> = row
                 .outcomes
                 .iter()
-                .map(|(impulse, summary)| {
-                    serde_json::json!({
+                .map(|(impulse, summary)| match summary {
+                    Some(summary) => serde_json::json!({
                         "impulse_n_s": impulse,
                         "status": summary.status,
                         "reason": summary.reason,
                         "end_s": summary.duration_s,
-                    })
+                    }),
+                    None => serde_json::json!({
+                        "impulse_n_s": impulse,
+                        "status": "interrupted",
+                        "reason": null,
+                        "end_s": null,
+                    }),
                 })
                 .collect();
             let outcomes: String = row
                 .outcomes
                 .iter()
-                .map(|(_, s)| if s.completed() { 'o' } else { 'x' })
+                .map(|(_, summary)| match summary {
+                    Some(summary) if summary.completed() => 'o',
+                    Some(_) => 'x',
+                    None => '-',
+                })
                 .collect();
             serde_json::json!({
                 "direction": row.direction.name(),
@@ -171,6 +200,7 @@ fn fixed_rows(
                 "recovered_up_to_n_s": row.recovered_up_to(),
                 "outcomes": outcomes,
                 "pushes": pushes,
+                "interrupted": row.interrupted(),
             })
         })
         .collect())
@@ -231,8 +261,10 @@ fn check_pushed_link(args: &PushArgs) -> sea_sim::Result<()> {
     }
 }
 
-/// `sea-sim push`: the push table as JSON on stdout.
-pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
+/// `sea-sim push`: the push table as JSON on stdout. After a stop signal no run starts, the
+/// runs under way stop at their next sample, and the table of the runs done is printed
+/// (`"interrupted": true`).
+pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
     use sea_sim::analysis::push::swing_push_start;
     check_pushed_link(args)?;
     let directions = args
@@ -258,9 +290,12 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
     };
     // The bounds first: cheap, and their errors come before the runs, not after.
     let bounds = bounds_by_direction(args, swing.map(|(at, _)| at), &directions)?;
+    if !args.quiet {
+        say(start_line(args, directions.len()));
+    }
     let mut rows = match &args.impulses {
-        Some(impulses) => fixed_rows(args, &options, &directions, impulses)?,
-        None => bisected_rows(args, &options, &directions)?,
+        Some(impulses) => fixed_rows(args, &options, (&directions, impulses), interrupts)?,
+        None => bisected_rows(args, &options, &directions, interrupts)?,
     };
     for (row, bounds) in rows.iter_mut().zip(bounds) {
         for (key, bound) in bounds {
@@ -274,6 +309,7 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
         "start_s": options.start_s,
         "duration_s": options.duration_s,
         "directions": rows,
+        "interrupted": interrupts.received().is_some(),
     });
     if let Some((at, (_, [lift_off, touchdown]))) = swing {
         json["swing"] = serde_json::json!({
@@ -286,5 +322,7 @@ pub(crate) fn run_push(args: &PushArgs) -> sea_sim::Result<()> {
     let text = serde_json::to_string_pretty(&json)
         .map_err(|e| sea_sim::Error::Log(format!("push JSON: {e}")))?;
     print_out(text);
-    Ok(())
+    Ok(interrupts
+        .received()
+        .map_or(Outcome::Completed, Outcome::Interrupted))
 }
