@@ -15,10 +15,10 @@ const TIMEOUT: Duration = Duration::from_secs(60);
 
 /// A fresh folder in the temporary directory, removed on drop, holding a copy of the paper's
 /// tracking scenario (URDF path made absolute), so no test can touch the repository's files.
-struct Workspace(PathBuf);
+pub(super) struct Workspace(PathBuf);
 
 impl Workspace {
-    fn new(tag: &str) -> Self {
+    pub(super) fn new(tag: &str) -> Self {
         let nanos = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .unwrap()
@@ -47,7 +47,7 @@ impl Workspace {
         Self(dir)
     }
 
-    fn path(&self, name: &str) -> PathBuf {
+    pub(super) fn path(&self, name: &str) -> PathBuf {
         self.0.join(name)
     }
 
@@ -148,17 +148,17 @@ impl Running {
         self.wait_for_line("t = ");
     }
 
-    /// Waits for the first line of stderr that contains `text`.
-    pub(super) fn wait_for_line(&mut self, text: &str) {
+    /// Waits for the first line of stderr that contains `text`; returns it.
+    pub(super) fn wait_for_line(&mut self, text: &str) -> String {
         let deadline = Instant::now() + TIMEOUT;
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
             match self.lines.recv_timeout(left) {
                 Ok(line) => {
                     let found = line.contains(text);
-                    self.seen.push(line);
+                    self.seen.push(line.clone());
                     if found {
-                        return;
+                        return line;
                     }
                 }
                 Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => {

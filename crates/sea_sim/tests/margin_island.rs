@@ -150,3 +150,31 @@ fn a_raised_cancellation_flag_ends_the_scan_before_any_evaluation() {
     );
     assert_eq!(report.island(), None);
 }
+
+#[test]
+fn a_scan_stopped_during_a_bisection_reports_the_evaluations_done_and_no_island() {
+    // The island's scan (above: the grid and the scenario's own value 1.0, then two
+    // bisections), stopped as the grid ends: its samples show the change, no bisection ended.
+    let cancel = AtomicBool::new(false);
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let options = MarginOptions::default();
+    let scanned = options.grid_points + 1;
+    let on_sample = |_: &sea_sim::analysis::MarginSample| {
+        if done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1 == scanned {
+            cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+    };
+    let watch = MarginWatch {
+        cancel: &cancel,
+        on_sample: &on_sample,
+    };
+    let report =
+        stability_margin_report(&tracking(), &[], STIFFNESS, 0.5, 2.0, &options, watch).unwrap();
+    assert!(report.interrupted);
+    assert_eq!(report.evaluations(), scanned);
+    assert!(report.boundaries.is_empty(), "{:?}", report.boundaries);
+    assert_eq!(report.own_value_stable(), Some(true));
+    assert!(report.samples.iter().any(|s| !s.stable));
+    assert_eq!(report.conclusion(), MarginConclusion::Interrupted);
+    assert_eq!(report.island(), None);
+}

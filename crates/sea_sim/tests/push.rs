@@ -552,7 +552,7 @@ fn a_raised_cancellation_flag_starts_no_push() {
     for row in &fixed {
         assert!(row.interrupted());
         assert!(row.outcomes.iter().all(|(_, summary)| summary.is_none()));
-        assert_eq!((row.recovered_count(), row.recovered_up_to()), (0, 0.0));
+        assert_eq!((row.recovered_count(), row.recovered_up_to()), (0, None));
     }
     let bisected = push_table(&path, &[], &options, &directions, &on_run, &cancel).unwrap();
     for row in &bisected {

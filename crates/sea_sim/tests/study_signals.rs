@@ -2,7 +2,8 @@
 //! stop at their next sample, what was done is reported with `"interrupted": true`, and the
 //! exit status is the signal's.
 
-use super::cli::Running;
+use super::cli::{Running, Workspace};
+use std::path::{Path, PathBuf};
 use std::process::Stdio;
 
 const REPO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
@@ -10,22 +11,24 @@ const REPO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 /// A run that takes far longer than the test: a push it recovers goes on for 300 s.
 const LONG_RUN: &str = "simulation.duration_s=300";
 
-/// Starts `sea-sim push` on the standing scenario with `args`, its report to a file; returns
-/// the run and the report's path (in the temporary directory, unique to `tag`).
-fn start_push(tag: &str, args: &[&str]) -> (Running, std::path::PathBuf) {
-    let scenario = format!("{REPO}/scenarios/robot_rate/push_two_feet.toml");
-    let report = std::env::temp_dir().join(format!("sea_push_{tag}_{}.json", std::process::id()));
+/// Starts `sea-sim COMMAND` on the scenario `scenario` (in the repository) with `args`, its
+/// stdout to a file of `ws`; returns the run and the file's path.
+fn start(ws: &Workspace, (command, scenario): (&str, &str), args: &[&str]) -> (Running, PathBuf) {
+    let scenario = format!("{REPO}/scenarios/{scenario}");
+    let report = ws.path("report.json");
     let file = std::fs::File::create(&report).unwrap();
-    let run = Running::start_command(("push", &scenario), args, Stdio::from(file));
+    let run = Running::start_command((command, &scenario), args, Stdio::from(file));
     (run, report)
 }
 
-/// The JSON report at `path` (removed once read).
-fn report(path: &std::path::Path) -> serde_json::Value {
+/// The JSON report at `path`.
+fn report(path: &Path) -> serde_json::Value {
     let text = std::fs::read_to_string(path).unwrap();
-    let _ = std::fs::remove_file(path);
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}"))
 }
+
+/// The standing push scenario.
+const STANDING: &str = "robot_rate/push_two_feet.toml";
 
 #[test]
 fn a_signal_stops_fixed_pushes_with_the_ones_done_reported() {
@@ -39,7 +42,8 @@ fn a_signal_stops_fixed_pushes_with_the_ones_done_reported() {
         "--set",
         LONG_RUN,
     ];
-    let (mut push, path) = start_push("fixed", &args);
+    let ws = Workspace::new("push_fixed_signal");
+    let (mut push, path) = start(&ws, ("push", STANDING), &args);
     push.wait_for_line("push forward 40 N s:");
     push.signal("TERM");
     let (status, stderr) = push.wait();
@@ -62,8 +66,16 @@ fn a_signal_stops_fixed_pushes_with_the_ones_done_reported() {
 fn a_signal_stops_a_bisection_with_the_bracket_so_far() {
     // Twice and once the bound fall at once; half the bound is recovered, after 300 s.
     let args = ["--directions", "forward", "--set", LONG_RUN];
-    let (mut push, path) = start_push("bisection", &args);
-    push.wait_for_line("push forward 13.");
+    let ws = Workspace::new("push_bisection_signal");
+    let (mut push, path) = start(&ws, ("push", STANDING), &args);
+    let first = push.wait_for_line("push forward ");
+    let twice: f64 = first
+        .trim_start_matches("sea-sim: push forward ")
+        .split(' ')
+        .next()
+        .and_then(|impulse| impulse.parse().ok())
+        .unwrap_or_else(|| panic!("an impulse in '{first}'"));
+    push.wait_for_line(&format!("push forward {} N s:", 0.5 * twice));
     push.signal("INT");
     let (status, stderr) = push.wait();
     assert_eq!(status, Some(130), "{stderr}");
@@ -80,9 +92,7 @@ fn a_signal_stops_a_bisection_with_the_bracket_so_far() {
 fn a_signal_stops_a_margin_scan_with_the_evaluations_done_reported() {
     // The scanned key is the run's length: 0.2 and the scenario's own 0.3 s end at once, 300 s
     // does not.
-    let scenario = format!("{REPO}/scenarios/paper/tracking.toml");
-    let path = std::env::temp_dir().join(format!("sea_margin_signal_{}.json", std::process::id()));
-    let file = std::fs::File::create(&path).unwrap();
+    let ws = Workspace::new("margin_signal");
     let args = [
         "--param",
         "simulation.duration_s",
@@ -96,7 +106,7 @@ fn a_signal_stops_a_margin_scan_with_the_evaluations_done_reported() {
         "simulation.duration_s=0.3",
         "--json",
     ];
-    let mut margin = Running::start_command(("margin", &scenario), &args, Stdio::from(file));
+    let (mut margin, path) = start(&ws, ("margin", "paper/tracking.toml"), &args);
     margin.wait_for_line("simulation.duration_s = 0.3: stable");
     margin.signal("TERM");
     let (status, stderr) = margin.wait();

@@ -346,7 +346,8 @@ fn push_run_until(
 }
 
 /// One push run done, as the progress callbacks of [`push_table`] and [`fixed_push_table`]
-/// see it (called from the worker threads, in the order the runs end).
+/// see it (called from the worker threads, in the order the runs end; a run the cancellation
+/// flag stopped part-way is told too, its status "interrupted").
 pub struct PushProgress<'a> {
     /// The direction pushed.
     pub direction: PushDirection,
@@ -397,20 +398,9 @@ pub fn recoverable_impulse(
         runs: 0,
         interrupted: false,
     };
-    let mut high = 2.0 * bound;
-    while high <= 8.0 * bound {
-        let Some(summary) = run(high)? else {
-            result.interrupted = true;
-            return Ok(result);
-        };
-        result.runs += 1;
-        if !summary.completed() {
-            result.failed_impulse = Some(high);
-            result.failed_summary = Some(summary);
-            break;
-        }
-        result.recovered_impulse = high;
-        high *= 2.0;
+    if !bracket_by_doubling(&mut result, &run)? {
+        result.interrupted = true;
+        return Ok(result);
     }
     while let Some(failed) = result.failed_impulse {
         if failed - result.recovered_impulse <= options.tolerance_n_s {
@@ -430,6 +420,31 @@ pub fn recoverable_impulse(
         }
     }
     Ok(result)
+}
+
+/// The first bracket of [`recoverable_impulse`] in `result`: `run` at twice the capture-point
+/// bound, doubled while recovered, up to 8 times the bound (`result.failed_impulse` stays
+/// `None` when every run recovered). `Ok(false)` when a run did not reach its end (`cancel`).
+fn bracket_by_doubling(
+    result: &mut PushResult,
+    run: &dyn Fn(f64) -> Result<Option<Summary>>,
+) -> Result<bool> {
+    let bound = result.capture_point_impulse;
+    let mut high = 2.0 * bound;
+    while high <= 8.0 * bound {
+        let Some(summary) = run(high)? else {
+            return Ok(false);
+        };
+        result.runs += 1;
+        if !summary.completed() {
+            result.failed_impulse = Some(high);
+            result.failed_summary = Some(summary);
+            break;
+        }
+        result.recovered_impulse = high;
+        high *= 2.0;
+    }
+    Ok(true)
 }
 
 /// One push of the study, `(direction, world direction, impulse)`, told to `on_run` as it
@@ -498,13 +513,14 @@ impl FixedPushRow {
 
     /// The largest impulse [N s] at and below which every given impulse was recovered (0 when
     /// the smallest was not): what a bisection would take for the boundary when the outcomes
-    /// have one, and below the islands of recovery when they have several. A push not run to
-    /// its end counts as not recovered.
-    pub fn recovered_up_to(&self) -> f64 {
+    /// have one, and below the islands of recovery when they have several. `None` when a push
+    /// not run to its end lies at or below the first one not recovered: the figure is not
+    /// known.
+    pub fn recovered_up_to(&self) -> Option<f64> {
         recovered_up_to(
-            self.outcomes.iter().map(|(impulse, summary)| {
-                (*impulse, summary.as_ref().is_some_and(Summary::completed))
-            }),
+            self.outcomes
+                .iter()
+                .map(|(impulse, summary)| (*impulse, summary.as_ref().map(Summary::completed))),
         )
     }
 
@@ -514,15 +530,19 @@ impl FixedPushRow {
     }
 }
 
-/// [`FixedPushRow::recovered_up_to`] of `(impulse, recovered)` pairs in any order.
-fn recovered_up_to(outcomes: impl Iterator<Item = (f64, bool)>) -> f64 {
-    let mut sorted: Vec<(f64, bool)> = outcomes.collect();
+/// [`FixedPushRow::recovered_up_to`] of `(impulse, recovered)` pairs in any order
+/// (`recovered` `None`: not run to its end).
+fn recovered_up_to(outcomes: impl Iterator<Item = (f64, Option<bool>)>) -> Option<f64> {
+    let mut sorted: Vec<(f64, Option<bool>)> = outcomes.collect();
     sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
-    sorted
-        .iter()
-        .take_while(|(_, recovered)| *recovered)
-        .last()
-        .map_or(0.0, |(impulse, _)| *impulse)
+    let mut up_to = 0.0;
+    for (impulse, recovered) in sorted {
+        if !recovered? {
+            break;
+        }
+        up_to = impulse;
+    }
+    Some(up_to)
 }
 
 /// Checks fixed impulses: at least one, each finite and non-negative [N s]; the error names
@@ -684,8 +704,18 @@ mod tests {
     fn the_impulse_recovered_up_to_stops_at_the_first_failure_in_order() {
         // Given out of order, with an island of recovery above the first failure.
         let islands = [(3.0, false), (1.0, true), (4.0, true), (2.0, true)];
-        assert_eq!(recovered_up_to(islands.into_iter()), 2.0);
-        assert_eq!(recovered_up_to([(1.0, false)].into_iter()), 0.0);
-        assert_eq!(recovered_up_to([(1.0, true)].into_iter()), 1.0);
+        let known = |pairs: &[(f64, bool)]| pairs.iter().map(|&(i, r)| (i, Some(r))).collect();
+        let up_to = |pairs: Vec<(f64, Option<bool>)>| recovered_up_to(pairs.into_iter());
+        assert_eq!(up_to(known(&islands)), Some(2.0));
+        assert_eq!(up_to(known(&[(1.0, false)])), Some(0.0));
+        assert_eq!(up_to(known(&[(1.0, true)])), Some(1.0));
+        // A push not run to its end: unknown below the first failure, irrelevant above it.
+        assert_eq!(
+            up_to(vec![(1.0, Some(true)), (2.0, None), (3.0, Some(false))]),
+            None
+        );
+        assert_eq!(up_to(vec![(1.0, None), (2.0, Some(false))]), None);
+        let after = vec![(1.0, Some(true)), (2.0, Some(false)), (3.0, None)];
+        assert_eq!(up_to(after), Some(1.0));
     }
 }

@@ -4,7 +4,7 @@ use crate::common::{named_as_flag, parse_key_value, parse_range, print_out, say,
 use crate::signals::Interrupts;
 use clap::Args;
 use sea_sim::analysis::margin::{
-    MarginOptions, MarginSample, MarginWatch, MAX_SCAN_POINTS, MIN_RELATIVE_TOLERANCE,
+    MarginOptions, MarginReport, MarginSample, MarginWatch, MAX_SCAN_POINTS, MIN_RELATIVE_TOLERANCE,
 };
 use sea_sim::output::{check_distinct, OutputFile};
 use std::path::PathBuf;
@@ -109,26 +109,7 @@ pub(crate) fn run_margin(args: &MarginArgs, interrupts: &Interrupts) -> sea_sim:
         ];
         named_as_flag(e, &flags)
     })?;
-    let samples: Vec<serde_json::Value> = report
-        .samples
-        .iter()
-        .map(|s| serde_json::json!({"value": s.value, "stable": s.stable, "growth_rate": s.growth_rate}))
-        .collect();
-    let json = serde_json::json!({
-        "parameter": report.parameter,
-        "method": report.method.name(),
-        "range": [lower, upper],
-        "boundaries": report.boundaries,
-        "integer": report.integer,
-        "conclusion": report.conclusion().name(),
-        "own_value": report.own_value,
-        "own_value_stable": report.own_value_stable(),
-        "stable_island": report.island().map(|ends| ends.map(|end| end.value())),
-        "evaluations": report.evaluations(),
-        "samples": samples,
-        "interrupted": report.interrupted,
-    });
-    let text = serde_json::to_string_pretty(&json)
+    let text = serde_json::to_string_pretty(&margin_json(&report))
         .map_err(|e| sea_sim::Error::Log(format!("margin JSON: {e}")))?;
     if let Some(mut out) = out {
         out.write_all(text.as_bytes())?;
@@ -140,9 +121,34 @@ pub(crate) fn run_margin(args: &MarginArgs, interrupts: &Interrupts) -> sea_sim:
     } else {
         margin_table(&report)
     });
-    Ok(interrupts
-        .received()
-        .map_or(Outcome::Completed, Outcome::Interrupted))
+    // A signal that came as the last evaluation ended stopped nothing: the scan is whole.
+    Ok(match interrupts.received() {
+        Some(sig) if report.interrupted => Outcome::Interrupted(sig),
+        _ => Outcome::Completed,
+    })
+}
+
+/// The JSON report of `sea-sim margin`.
+fn margin_json(report: &MarginReport) -> serde_json::Value {
+    let samples: Vec<serde_json::Value> = report
+        .samples
+        .iter()
+        .map(|s| serde_json::json!({"value": s.value, "stable": s.stable, "growth_rate": s.growth_rate}))
+        .collect();
+    serde_json::json!({
+        "parameter": report.parameter,
+        "method": report.method.name(),
+        "range": report.range,
+        "boundaries": report.boundaries,
+        "integer": report.integer,
+        "conclusion": report.conclusion().name(),
+        "own_value": report.own_value,
+        "own_value_stable": report.own_value_stable(),
+        "stable_island": report.island().map(|ends| ends.map(|end| end.value())),
+        "evaluations": report.evaluations(),
+        "samples": samples,
+        "interrupted": report.interrupted,
+    })
 }
 
 /// What the margin scan found, in words: the boundaries or the range's one verdict, then the
@@ -168,11 +174,14 @@ pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -
         MarginConclusion::UnstableOverRange => {
             format!("unstable over the whole scanned range [{lower}, {upper}]")
         }
+        MarginConclusion::Interrupted if report.boundaries.is_empty() => {
+            "stopped before the scan's end, no boundary bisected yet".to_string()
+        }
         MarginConclusion::Interrupted => {
             let boundaries: Vec<String> =
                 report.boundaries.iter().map(|b| format!("{b}")).collect();
             format!(
-                "stopped before the scan's end; stability changes at [{}] so far",
+                "stopped before the scan's end; stability changes at [{}] and maybe elsewhere",
                 boundaries.join(", ")
             )
         }

@@ -67,7 +67,7 @@ pub(crate) struct PushArgs {
     /// Override a scenario value, e.g. `--set controller.kind=rigid` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
     overrides: Vec<(String, String)>,
-    /// No progress lines on stderr (one per run as it ends).
+    /// No progress lines on stderr (one as the runs start, then one per run as it ends).
     #[arg(short, long)]
     quiet: bool,
 }
@@ -96,7 +96,7 @@ fn start_line(args: &PushArgs, directions: usize) -> String {
             "sea-sim: push: {} runs at fixed impulses on {threads} threads",
             impulses.len() * directions
         ),
-        None => format!("sea-sim: push: bisecting {directions} directions on {threads} threads"),
+        None => format!("sea-sim: push: bisecting {directions} direction(s) on {threads} threads"),
     }
 }
 
@@ -179,7 +179,7 @@ fn fixed_rows(
                     None => serde_json::json!({
                         "impulse_n_s": impulse,
                         "status": "interrupted",
-                        "reason": null,
+                        "reason": "interrupted",
                         "end_s": null,
                     }),
                 })
@@ -261,19 +261,14 @@ fn check_pushed_link(args: &PushArgs) -> sea_sim::Result<()> {
     }
 }
 
-/// `sea-sim push`: the push table as JSON on stdout. After a stop signal no run starts, the
-/// runs under way stop at their next sample, and the table of the runs done is printed
-/// (`"interrupted": true`).
-pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
+/// With `--phase`: the pushed swing, its push's start and its lift-off and touchdown [s].
+type PushedSwing = (SwingPhase, (f64, [f64; 2]));
+
+/// The swing `--phase` and `--step` push, found in the scenario's walking plan; `None`
+/// without `--phase`.
+fn pushed_swing(args: &PushArgs) -> sea_sim::Result<Option<PushedSwing>> {
     use sea_sim::analysis::push::swing_push_start;
-    check_pushed_link(args)?;
-    let directions = args
-        .directions
-        .iter()
-        .map(|name| PushDirection::parse(name))
-        .collect::<sea_sim::Result<Vec<_>>>()?;
-    let swing = args
-        .phase
+    args.phase
         .map(|phase| {
             let at = SwingPhase {
                 step: args.step,
@@ -281,7 +276,20 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
             };
             swing_push_start(&args.scenario, &args.overrides, at).map(|found| (at, found))
         })
-        .transpose()?;
+        .transpose()
+}
+
+/// `sea-sim push`: the push table as JSON on stdout. After a stop signal no run starts, the
+/// runs under way stop at their next sample, and the table of the runs done is printed
+/// (`"interrupted": true`).
+pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
+    check_pushed_link(args)?;
+    let directions = args
+        .directions
+        .iter()
+        .map(|name| PushDirection::parse(name))
+        .collect::<sea_sim::Result<Vec<_>>>()?;
+    let swing = pushed_swing(args)?;
     let options = PushOptions {
         link: args.link.clone(),
         start_s: swing.map_or(args.start, |(_, (start_s, _))| start_s),
@@ -302,6 +310,7 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
             row[key] = bound;
         }
     }
+    let interrupted = rows.iter().any(|row| row["interrupted"] == true);
     let mut json = serde_json::json!({
         "scenario": args.scenario,
         "overrides": args.overrides.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>(),
@@ -309,7 +318,7 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
         "start_s": options.start_s,
         "duration_s": options.duration_s,
         "directions": rows,
-        "interrupted": interrupts.received().is_some(),
+        "interrupted": interrupted,
     });
     if let Some((at, (_, [lift_off, touchdown]))) = swing {
         json["swing"] = serde_json::json!({
@@ -322,7 +331,9 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
     let text = serde_json::to_string_pretty(&json)
         .map_err(|e| sea_sim::Error::Log(format!("push JSON: {e}")))?;
     print_out(text);
-    Ok(interrupts
-        .received()
-        .map_or(Outcome::Completed, Outcome::Interrupted))
+    // A signal that came as the last run ended stopped nothing: the table is whole.
+    Ok(match interrupts.received() {
+        Some(sig) if interrupted => Outcome::Interrupted(sig),
+        _ => Outcome::Completed,
+    })
 }
