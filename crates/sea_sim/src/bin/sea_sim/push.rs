@@ -145,9 +145,9 @@ fn bisected_rows(
 }
 
 /// `--impulses`: the rows of the JSON report, one per direction, with every push's outcome
-/// (its status, reason and end time; status "interrupted" and the rest `null` for a push a
-/// stop signal kept from its end) and `outcomes`, one character per impulse in the order
-/// given (`o` recovered, `x` not, `-` not run to its end).
+/// (its status, reason and end time; status and reason "interrupted" and the end `null` for
+/// a push a stop signal kept from its end) and `outcomes`, one character per impulse in the
+/// order given (`o` recovered, `x` not, `-` not run to its end).
 fn fixed_rows(
     args: &PushArgs,
     options: &PushOptions,
