@@ -145,10 +145,19 @@ def test_negative_counts_are_named(argument, value):
     assert info.value.argument == argument
 
 
-def test_step_count_beyond_64_bits_raises():
+@pytest.mark.parametrize("n_steps", [2**64, 2**200, np.int64(-3)])
+def test_a_step_count_out_of_range_is_named(n_steps):
     model, plant, x0 = pendulum_plant()
-    with pytest.raises((ValueError, OverflowError)):
-        plant.simulate(x0, np.zeros(model.n_joints), 1e-3, 2**64)
+    with pytest.raises(ValueError, match="n_steps: expected an integer from 0 to") as info:
+        plant.simulate(x0, np.zeros(model.n_joints), 1e-3, n_steps)
+    assert info.value.argument == "n_steps"
+
+
+@pytest.mark.parametrize("n_steps", [1.5, "10", None])
+def test_a_step_count_not_an_integer_is_a_type_error(n_steps):
+    model, plant, x0 = pendulum_plant()
+    with pytest.raises(TypeError):
+        plant.simulate(x0, np.zeros(model.n_joints), 1e-3, n_steps)
 
 
 def _object_array_with_a_complex_entry(x):

@@ -585,13 +585,14 @@ impl PyPlant {
         x0: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         dt: f64,
-        n_steps: i128,
+        n_steps: &Bound<'py, PyAny>,
         method: &str,
         record_every: i128,
     ) -> PyResult<Bound<'py, PyAny>> {
         let method = method_arg(method)?;
         let n_steps = count_arg("n_steps", n_steps, 0)?;
-        let record_every = count_arg("record_every", record_every, 1)?;
+        let record_every = record_every.into_pyobject(py)?.into_any();
+        let record_every = count_arg("record_every", &record_every, 1)?;
         check_record_size(&self.plant, n_steps, record_every)?;
         self.load(x0, u)?;
         let (plant, data, x, u) = (&self.plant, &mut self.data, &self.x, &self.u);
@@ -640,15 +641,21 @@ const MAX_SIMULATE_STEPS: f64 = sea_sim::scenario::validate::MAX_RUN_STEPS;
 /// Largest record `Plant.simulate` allocates [bytes]; the numpy copy doubles it at the end.
 const MAX_RECORD_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 
-/// A whole-number argument `value` of at least `min`, named `argument` when it is not.
-fn count_arg(argument: &str, value: i128, min: i128) -> PyResult<usize> {
-    match usize::try_from(value) {
-        Ok(count) if value >= min => Ok(count),
-        _ => Err(argument_error(
-            argument,
-            &format!("an integer >= {min}"),
-            value,
-        )),
+/// A whole-number argument `value` from `min` to `usize::MAX`, named `argument` in the
+/// `ValueError` when it is an integer out of that range (of any size); not an integer: the
+/// `TypeError` of its conversion.
+fn count_arg(argument: &str, value: &Bound<'_, PyAny>, min: usize) -> PyResult<usize> {
+    let out_of_range = || {
+        let expected = format!("an integer from {min} to {}", usize::MAX);
+        argument_error(argument, &expected, value)
+    };
+    match value.extract::<usize>() {
+        Ok(count) if count >= min => Ok(count),
+        Ok(_) => Err(out_of_range()),
+        Err(error) if error.is_instance_of::<pyo3::exceptions::PyOverflowError>(value.py()) => {
+            Err(out_of_range())
+        }
+        Err(error) => Err(error),
     }
 }
 
