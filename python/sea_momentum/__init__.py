@@ -28,6 +28,7 @@ from ._native import (
     init_scenario,
 )
 from .analysis import Linearization, linearize, stability_margin
+from .push import PushRow, PushTable, push_table
 from .closed_loop_rhs import closed_loop_rhs
 from .controller import ControlOutput
 from . import robot_loop
@@ -38,6 +39,9 @@ from .sweep import SweepResult, sweep
 
 __all__ = [
     "init_scenario",
+    "PushRow",
+    "PushTable",
+    "push_table",
     "ICUB25_JOINTS",
     "NATIVE_MODULE",
     "ControlOutput",

@@ -33,6 +33,7 @@ __all__ = [
     "scenario_urdf",
     "linearize_native",
     "stability_margin_native",
+    "push_table_native",
     "sweep_grid",
     "sweep",
     "sweep_batch",
@@ -389,6 +390,21 @@ def stability_margin_native(
     containing the own value, or None), ``method``, ``evaluations`` and ``samples`` (list of
     (value, stable, growth_rate or None)). Ctrl-C stops the scan and raises
     ``KeyboardInterrupt``."""
+
+def push_table_native(
+    path: str,
+    directions: list[str],
+    overrides: Mapping[str, object] | None = None,
+    impulses: list[float] | None = None,
+    link: str = "root_link",
+    start_s: float = 1.0,
+    duration_s: float = 0.1,
+    tolerance_n_s: float = 0.1,
+) -> dict[str, object]:
+    """The push study (GIL released); use ``sea_momentum.push_table``. Returns ``rows`` (one
+    dict per direction: ``direction``, ``capture_point_impulse_n_s``,
+    ``recovered_impulse_n_s``, ``failed_impulse_n_s``, ``pushes`` (list of (impulse, status)),
+    ``interrupted``) and ``interrupted``. Ctrl-C returns the rows done."""
 
 # --- Sweeps (sea_momentum.sweep, sea_momentum.ray_backend) ---
 

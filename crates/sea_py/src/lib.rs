@@ -17,6 +17,7 @@ mod interrupt;
 mod model;
 mod overrides;
 mod plant;
+mod push;
 mod scenario;
 mod sweep;
 mod visuals;
@@ -98,6 +99,7 @@ fn add_module_contents(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenario::scenario_urdf, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::linearize_native, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::stability_margin_native, m)?)?;
+    m.add_function(wrap_pyfunction!(push::push_table_native, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_grid, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_batch, m)?)?;

@@ -1,0 +1,176 @@
+//! `push_table_native`: the push study of `sea-sim push` (`sea_study::analysis::push`) from
+//! Python, the GIL released and the directions in parallel. Ctrl-C stops it as it stops a sweep
+//! (no run starts, the runs under way stop at their next sample) and the rows done are
+//! returned with `interrupted = True`.
+
+use crate::errors::{argument_error, to_py};
+use crate::interrupt::run_interruptible;
+use crate::overrides::override_pairs;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use sea_sim::analysis::push::{
+    fixed_push_table, push_table, FixedPushRow, PushDirection, PushOptions, PushProgress,
+    PushResult,
+};
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+/// The study's runs as they ended, per direction: `(impulse, status)`.
+type RunsSeen = Mutex<Vec<(PushDirection, f64, String)>>;
+
+/// The rows of the push study of the scenario file `path`: per direction of `directions`
+/// ("forward", "backward", "left", "right": the first contact's sole axes), the bisected
+/// largest recovered impulse of a push of `duration_s` on `link` at `start_s` (to
+/// `tolerance_n_s`), or with `impulses` one run per impulse. Returns a dict: `rows` (one dict
+/// per direction: `direction`, `capture_point_impulse_n_s`, `recovered_impulse_n_s`,
+/// `failed_impulse_n_s`, `pushes` (a list of (impulse, status) in the order given, or the
+/// bisection's in the order run), `interrupted`) and `interrupted`.
+#[pyfunction]
+#[pyo3(signature = (path, directions, overrides=None, impulses=None, link="root_link", start_s=1.0, duration_s=0.1, tolerance_n_s=0.1))]
+#[allow(clippy::too_many_arguments)] // the Python signature, keyword arguments with defaults
+pub fn push_table_native<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    directions: Vec<String>,
+    overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
+    impulses: Option<Vec<f64>>,
+    link: &str,
+    start_s: f64,
+    duration_s: f64,
+    tolerance_n_s: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let pairs = override_pairs(overrides)?;
+    let directions = directions
+        .iter()
+        .map(|name| PushDirection::parse(name))
+        .collect::<sea_sim::Result<Vec<_>>>()
+        .map_err(to_py)?;
+    let options = PushOptions {
+        link: link.to_string(),
+        start_s,
+        duration_s,
+        tolerance_n_s,
+    };
+    check_options(&options)?;
+    let seen = RunsSeen::default();
+    let on_run = |run: &PushProgress<'_>| {
+        let mut seen = seen.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        seen.push((run.direction, run.impulse_n_s, run.summary.status.clone()));
+    };
+    let rows = PyList::empty(py);
+    let (table, _) = run_interruptible(py, |cancel| match &impulses {
+        Some(impulses) => fixed_push_table(
+            &path,
+            &pairs,
+            &options,
+            &directions,
+            impulses,
+            &on_run,
+            cancel,
+        )
+        .map(Table::Fixed),
+        None => {
+            push_table(&path, &pairs, &options, &directions, &on_run, cancel).map(Table::Bisected)
+        }
+    })?;
+    let interrupted = match table.map_err(to_py)? {
+        Table::Fixed(table) => fixed_rows(py, &table, &rows)?,
+        Table::Bisected(table) => {
+            let seen = seen
+                .into_inner()
+                .unwrap_or_else(|poisoned| poisoned.into_inner());
+            bisected_rows(py, &table, &seen, &rows)?
+        }
+    };
+    let dict = PyDict::new(py);
+    dict.set_item("rows", rows)?;
+    dict.set_item("interrupted", interrupted)?;
+    Ok(dict)
+}
+
+/// The two kinds of study.
+enum Table {
+    Fixed(Vec<FixedPushRow>),
+    Bisected(Vec<PushResult>),
+}
+
+/// The options checked before any run, a bad one a `ValueError` naming the Python argument.
+fn check_options(options: &PushOptions) -> PyResult<()> {
+    let positive = |value: f64| value.is_finite() && value > 0.0;
+    if !positive(options.duration_s) {
+        return Err(argument_error(
+            "duration_s",
+            "a finite, positive number",
+            options.duration_s,
+        ));
+    }
+    if !positive(options.tolerance_n_s) {
+        let expected = "a finite, positive number";
+        return Err(argument_error(
+            "tolerance_n_s",
+            expected,
+            options.tolerance_n_s,
+        ));
+    }
+    if !(options.start_s.is_finite() && options.start_s >= 0.0) {
+        let expected = "a finite, non-negative number";
+        return Err(argument_error("start_s", expected, options.start_s));
+    }
+    Ok(())
+}
+
+/// The fixed impulses' rows appended to `rows`; whether a push was stopped.
+fn fixed_rows(py: Python<'_>, table: &[FixedPushRow], rows: &Bound<'_, PyList>) -> PyResult<bool> {
+    for row in table {
+        let pushes: Vec<(f64, String)> = row
+            .outcomes
+            .iter()
+            .map(|(impulse, summary)| {
+                let status = summary.as_ref().map_or("interrupted", |s| &s.status);
+                (*impulse, status.to_string())
+            })
+            .collect();
+        let failed = row
+            .outcomes
+            .iter()
+            .filter(|(_, summary)| summary.as_ref().is_some_and(|s| !s.completed()))
+            .map(|(impulse, _)| *impulse)
+            .reduce(f64::min);
+        let dict = PyDict::new(py);
+        dict.set_item("direction", row.direction.name())?;
+        dict.set_item("capture_point_impulse_n_s", row.capture_point_impulse)?;
+        dict.set_item("recovered_impulse_n_s", row.recovered_up_to())?;
+        dict.set_item("failed_impulse_n_s", failed)?;
+        dict.set_item("pushes", pushes)?;
+        dict.set_item("interrupted", row.interrupted())?;
+        rows.append(dict)?;
+    }
+    Ok(table.iter().any(FixedPushRow::interrupted))
+}
+
+/// The bisection's rows appended to `rows`, each with the runs `seen` in its direction;
+/// whether a bisection was stopped.
+fn bisected_rows(
+    py: Python<'_>,
+    table: &[PushResult],
+    seen: &[(PushDirection, f64, String)],
+    rows: &Bound<'_, PyList>,
+) -> PyResult<bool> {
+    for row in table {
+        let pushes: Vec<(f64, &str)> = seen
+            .iter()
+            .filter(|(direction, _, _)| *direction == row.direction)
+            .map(|(_, impulse, status)| (*impulse, status.as_str()))
+            .collect();
+        let dict = PyDict::new(py);
+        dict.set_item("direction", row.direction.name())?;
+        dict.set_item("capture_point_impulse_n_s", row.capture_point_impulse)?;
+        dict.set_item("recovered_impulse_n_s", row.recovered_impulse)?;
+        dict.set_item("failed_impulse_n_s", row.failed_impulse)?;
+        dict.set_item("pushes", pushes)?;
+        dict.set_item("interrupted", row.interrupted)?;
+        rows.append(dict)?;
+    }
+    Ok(table.iter().any(|row| row.interrupted))
+}

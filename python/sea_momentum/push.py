@@ -1,0 +1,123 @@
+"""Push recovery studies: the largest push a scenario's closed loop recovers from, per
+direction, bisected on full runs (as ``sea-sim push``), or the outcome of each of given
+impulses, beside the stance's capture-point bound (the linear inverted pendulum's: a push of
+impulse ``I`` gives the CoM ``I / m``, and the instantaneous capture point stays in the support
+polygon while ``I <= m d omega0``).
+
+Ctrl-C stops a study as it stops a sweep: no run starts, the runs under way stop at their
+next sample, and the rows done are returned with ``interrupted`` true (and a
+``RuntimeWarning``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import warnings
+from collections.abc import Mapping, Sequence
+from typing import Any, Optional, cast
+
+from ._native import push_table_native
+
+__all__ = ["PushRow", "PushTable", "push_table"]
+
+#: The push directions, along the first contact's sole axes.
+DIRECTIONS = ("forward", "backward", "left", "right")
+
+
+@dataclasses.dataclass(frozen=True)
+class PushRow:
+    """One direction of a push study.
+
+    - ``direction``: "forward", "backward", "left" or "right";
+    - ``capture_point_impulse_n_s``: the stance's capture-point bound [N s];
+    - ``recovered_impulse_n_s``: bisected, the largest impulse seen recovered (0 when none);
+      with given impulses, the largest at and below which every given one was recovered, or
+      None when a push not run to its end lies at or below the first one lost;
+    - ``failed_impulse_n_s``: the smallest impulse seen not recovered, or None;
+    - ``pushes``: every run as ``(impulse [N s], status)``: the given impulses in their order,
+      or the bisection's runs in the order they ran; status "completed" (recovered),
+      "diverged", "fell" or "interrupted";
+    - ``interrupted``: Ctrl-C stopped this direction's study before its end.
+    """
+
+    direction: str
+    capture_point_impulse_n_s: float
+    recovered_impulse_n_s: Optional[float]
+    failed_impulse_n_s: Optional[float]
+    pushes: list[tuple[float, str]]
+    interrupted: bool
+
+    @property
+    def ratio(self) -> Optional[float]:
+        """``recovered_impulse_n_s`` over the capture-point bound (None when not known)."""
+        if self.recovered_impulse_n_s is None:
+            return None
+        return self.recovered_impulse_n_s / self.capture_point_impulse_n_s
+
+
+@dataclasses.dataclass(frozen=True)
+class PushTable:
+    """The rows of a push study, one per direction in the order asked; ``interrupted``: Ctrl-C
+    stopped it (the rows hold the runs done)."""
+
+    rows: list[PushRow]
+    interrupted: bool
+
+    def row(self, direction: str) -> PushRow:
+        """The row of ``direction``; ``KeyError`` naming it when the study has none."""
+        for row in self.rows:
+            if row.direction == direction:
+                return row
+        raise KeyError(f"direction: not in this study, got {direction!r}")
+
+
+def push_table(
+    scenario: str | os.PathLike[str],
+    directions: Sequence[str] = DIRECTIONS,
+    impulses: Optional[Sequence[float]] = None,
+    overrides: Optional[Mapping[str, Any]] = None,
+    link: str = "root_link",
+    start_s: float = 1.0,
+    duration_s: float = 0.1,
+    tolerance_n_s: float = 0.1,
+) -> PushTable:
+    """The push study of the scenario file ``scenario`` (its own ``disturbances`` replaced by
+    the push), directions in parallel, the GIL released; returns a :class:`PushTable`.
+
+    A push of ``duration_s`` [s] on ``link`` from ``start_s`` [s], along each of
+    ``directions``. Without ``impulses``, each direction's largest recovered impulse is
+    bisected to ``tolerance_n_s`` [N s] between 0 and twice the capture-point bound (doubled
+    while recovered, up to 8 times); with ``impulses`` [N s], one run each (islands of recovery
+    above a failure show). A run recovers when it completes (no fall, no divergence).
+
+    Raises ScenarioError for a bad scenario, override or direction (naming it), ValueError
+    naming ``duration_s``, ``tolerance_n_s``, ``start_s`` or ``impulses`` for a bad value.
+    """
+    if isinstance(directions, str):
+        directions = [directions]
+    native = push_table_native(
+        os.fspath(scenario),
+        list(directions),
+        dict(overrides or {}),
+        None if impulses is None else [float(i) for i in impulses],
+        link,
+        float(start_s),
+        float(duration_s),
+        float(tolerance_n_s),
+    )
+    rows = [
+        PushRow(
+            direction=str(row["direction"]),
+            capture_point_impulse_n_s=float(row["capture_point_impulse_n_s"]),
+            recovered_impulse_n_s=row["recovered_impulse_n_s"],
+            failed_impulse_n_s=row["failed_impulse_n_s"],
+            pushes=[(float(i), str(s)) for i, s in row["pushes"]],
+            interrupted=bool(row["interrupted"]),
+        )
+        for row in cast("list[dict[str, Any]]", native["rows"])
+    ]
+    table = PushTable(rows=rows, interrupted=bool(native["interrupted"]))
+    if table.interrupted:
+        warnings.warn("push study interrupted: the rows hold the runs done", RuntimeWarning, stacklevel=2)
+    return table

@@ -1,0 +1,101 @@
+"""``sm.push_table``: the push study of ``sea-sim push`` from Python. Fixed impulses report
+each run; the bisection brackets the boundary between a recovered and a lost push and agrees
+with the fixed runs; bad arguments name themselves; Ctrl-C returns the rows done."""
+
+from __future__ import annotations
+
+import json
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+
+import sea_momentum as sm
+
+ROOT = Path(__file__).resolve().parents[1]
+STANDING = ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml"
+
+
+def test_fixed_impulses_report_each_run_in_the_order_given():
+    # No push, and three times the forward capture-point bound (13.4 N s).
+    table = sm.push_table(STANDING, ["forward"], impulses=[40.0, 0.0])
+    row = table.row("forward")
+    assert not table.interrupted and not row.interrupted
+    assert [impulse for impulse, _ in row.pushes] == [40.0, 0.0]
+    assert row.pushes[0][1] in ("diverged", "fell") and row.pushes[1][1] == "completed"
+    assert row.recovered_impulse_n_s == 0.0 and row.failed_impulse_n_s == 40.0
+    assert 13.0 < row.capture_point_impulse_n_s < 14.0
+    with pytest.raises(KeyError, match="left"):
+        table.row("left")
+
+
+def test_the_bisection_brackets_the_boundary_and_agrees_with_single_runs():
+    table = sm.push_table(STANDING, "left", tolerance_n_s=1.0)
+    row = table.row("left")
+    recovered, failed = row.recovered_impulse_n_s, row.failed_impulse_n_s
+    assert recovered is not None and failed is not None
+    assert 0.0 < recovered < failed <= recovered + 1.0
+    assert len(row.pushes) >= 3 and row.ratio == pytest.approx(recovered / row.capture_point_impulse_n_s)
+    # The bracket's two ends, run again one by one: the same outcomes.
+    again = sm.push_table(STANDING, "left", impulses=[recovered, failed]).row("left")
+    assert again.pushes[0][1] == "completed" and again.pushes[1][1] != "completed"
+
+
+@pytest.mark.parametrize(
+    ("argument", "value"),
+    [("duration_s", 0.0), ("tolerance_n_s", -1.0), ("start_s", float("nan"))],
+)
+def test_bad_options_name_themselves(argument, value):
+    with pytest.raises(ValueError, match=argument) as info:
+        sm.push_table(STANDING, "forward", **{argument: value})
+    assert info.value.argument == argument
+
+
+def test_bad_impulses_and_directions_name_themselves():
+    with pytest.raises(ValueError, match="impulses"):
+        sm.push_table(STANDING, "forward", impulses=[1.0, -2.0])
+    with pytest.raises(sm.ScenarioError, match="up"):
+        sm.push_table(STANDING, ["forward", "up"])
+
+
+INTERRUPTED = """
+import json, sys, time, warnings
+import sea_momentum as sm
+print(json.dumps({"event": "started"}), flush=True)
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    table = sm.push_table(sys.argv[1], "forward", impulses=[40.0, 0.0],
+                          overrides={"simulation.duration_s": 600.0})
+row = table.row("forward")
+print(json.dumps({"event": "returned", "caught": time.monotonic(), "interrupted": table.interrupted,
+                  "pushes": row.pushes, "warned": [str(w.message) for w in caught]}), flush=True)
+"""
+
+
+def test_ctrl_c_returns_the_rows_done():
+    child = subprocess.Popen(
+        [sys.executable, "-c", textwrap.dedent(INTERRUPTED), str(STANDING)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT,
+    )
+    try:
+        assert json.loads(child.stdout.readline() or "{}").get("event") == "started", child.stderr.read()
+        time.sleep(3.0)
+        sent = time.monotonic()
+        child.send_signal(signal.SIGINT)
+        out, err = child.communicate(timeout=60)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()
+    assert child.returncode == 0, err
+    report = json.loads(out.splitlines()[-1])
+    assert report["caught"] - sent < 2.0
+    assert report["interrupted"] is True
+    # 40 N s fell within 2 s of simulated time; the 600 s run was stopped.
+    assert report["pushes"][0][1] in ("diverged", "fell")
+    assert report["pushes"][1][1] == "interrupted"
+    assert any("interrupted" in message for message in report["warned"])
