@@ -4,7 +4,9 @@
 contacts), the robot-rate design, pushed on the pelvis (``root_link``) for 0.1 s at 1 s. Each
 direction's largest recovered force is bisected by running the scenario with its
 ``disturbances`` replaced (an override of the whole array of tables); a run recovers when it
-completes (no fall, no divergence). ``sea-sim push`` does the same from the command line.
+completes (no fall, no divergence). ``sea-sim push`` does the same from the command line, and
+``sm.push_table`` natively from Python (directions in parallel); this example shows the
+bisection written out over ``run_scenario``.
 Prints the table (force, impulse) and draws it.
 
 Run: ``python examples/push_table.py`` (``--quick``: a coarser bisection).
