@@ -29,8 +29,9 @@ def test_fixed_impulses_report_each_run_in_the_order_given():
     assert row.pushes[0][1] in ("diverged", "fell") and row.pushes[1][1] == "completed"
     assert row.recovered_impulse_n_s == 0.0 and row.failed_impulse_n_s == 40.0
     assert 13.0 < row.capture_point_impulse_n_s < 14.0
-    with pytest.raises(KeyError, match="left"):
+    with pytest.raises(KeyError, match="'left' is not in this study \\(forward\\)"):
         table.row("left")
+    assert table["rows"][0]["direction"] == "forward" and table.to_dict()["interrupted"] is False
 
 
 def test_the_bisection_brackets_the_boundary_and_agrees_with_single_runs():
@@ -55,11 +56,30 @@ def test_bad_options_name_themselves(argument, value):
     assert info.value.argument == argument
 
 
-def test_bad_impulses_and_directions_name_themselves():
-    with pytest.raises(ValueError, match="impulses"):
-        sm.push_table(STANDING, "forward", impulses=[1.0, -2.0])
+@pytest.mark.parametrize(
+    ("argument", "kwargs"),
+    [
+        ("impulses", {"impulses": [1.0, -2.0]}),
+        ("impulses", {"impulses": []}),
+        ("directions", {"directions": []}),
+        ("directions", {"directions": ["left", "left"]}),
+        # The push would come after the 3 s run's end: "recovered" at any size.
+        ("start_s", {"start_s": 10.0}),
+        ("link", {"link": "no_such_link"}),
+    ],
+)
+def test_bad_arguments_name_themselves(argument, kwargs):
+    kwargs.setdefault("directions", "forward")
+    with pytest.raises(ValueError, match=argument) as info:
+        sm.push_table(STANDING, **kwargs)
+    assert info.value.argument == argument
+
+
+def test_a_bad_direction_name_or_impulses_as_text_are_refused():
     with pytest.raises(sm.ScenarioError, match="up"):
         sm.push_table(STANDING, ["forward", "up"])
+    with pytest.raises(TypeError, match="impulses"):
+        sm.push_table(STANDING, "forward", impulses="12")
 
 
 INTERRUPTED = """

@@ -153,6 +153,13 @@ def test_a_step_count_out_of_range_is_named(n_steps):
     assert info.value.argument == "n_steps"
 
 
+def test_a_record_interval_beyond_64_bits_is_named():
+    model, plant, x0 = pendulum_plant()
+    with pytest.raises(ValueError, match="record_every: expected an integer from 1 to") as info:
+        plant.simulate(x0, np.zeros(model.n_joints), 1e-3, 10, record_every=2**70)
+    assert info.value.argument == "record_every"
+
+
 @pytest.mark.parametrize("n_steps", [1.5, "10", None])
 def test_a_step_count_not_an_integer_is_a_type_error(n_steps):
     model, plant, x0 = pendulum_plant()

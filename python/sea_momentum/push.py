@@ -18,6 +18,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any, Optional, cast
 
 from ._native import push_table_native
+from .results import Result
 
 __all__ = ["PushRow", "PushTable", "push_table"]
 
@@ -26,12 +27,13 @@ DIRECTIONS = ("forward", "backward", "left", "right")
 
 
 @dataclasses.dataclass(frozen=True)
-class PushRow:
-    """One direction of a push study.
+class PushRow(Result):
+    """One direction of a push study (a :class:`~sea_momentum.results.Result`).
 
     - ``direction``: "forward", "backward", "left" or "right";
     - ``capture_point_impulse_n_s``: the stance's capture-point bound [N s];
-    - ``recovered_impulse_n_s``: bisected, the largest impulse seen recovered (0 when none);
+    - ``recovered_impulse_n_s``: bisected, the largest impulse seen recovered (0 when none,
+      also when Ctrl-C stopped the bisection before a run ended);
       with given impulses, the largest at and below which every given one was recovered, or
       None when a push not run to its end lies at or below the first one lost;
     - ``failed_impulse_n_s``: the smallest impulse seen not recovered, or None;
@@ -50,26 +52,29 @@ class PushRow:
 
     @property
     def ratio(self) -> Optional[float]:
-        """``recovered_impulse_n_s`` over the capture-point bound (None when not known)."""
-        if self.recovered_impulse_n_s is None:
+        """``recovered_impulse_n_s`` over the capture-point bound (None when either is not known
+        or the bound is 0)."""
+        if self.recovered_impulse_n_s is None or self.capture_point_impulse_n_s <= 0.0:
             return None
         return self.recovered_impulse_n_s / self.capture_point_impulse_n_s
 
 
 @dataclasses.dataclass(frozen=True)
-class PushTable:
+class PushTable(Result):
     """The rows of a push study, one per direction in the order asked; ``interrupted``: Ctrl-C
-    stopped it (the rows hold the runs done)."""
+    stopped it (the rows hold the runs done). A :class:`~sea_momentum.results.Result`."""
 
     rows: list[PushRow]
     interrupted: bool
 
     def row(self, direction: str) -> PushRow:
-        """The row of ``direction``; ``KeyError`` naming it when the study has none."""
+        """The row of ``direction``; ``KeyError`` naming it and the study's directions when the
+        study has none."""
         for row in self.rows:
             if row.direction == direction:
                 return row
-        raise KeyError(f"direction: not in this study, got {direction!r}")
+        studied = ", ".join(row.direction for row in self.rows)
+        raise KeyError(f"direction {direction!r} is not in this study ({studied})")
 
 
 def push_table(
@@ -91,14 +96,20 @@ def push_table(
     while recovered, up to 8 times); with ``impulses`` [N s], one run each (islands of recovery
     above a failure show). A run recovers when it completes (no fall, no divergence).
 
-    Raises ScenarioError for a bad scenario, override or direction (naming it), ValueError
-    naming ``duration_s``, ``tolerance_n_s``, ``start_s`` or ``impulses`` for a bad value.
+    Raises ScenarioError for a bad scenario, override or direction name (naming it), SeaIOError
+    for a scenario file that cannot be read, ValueError naming ``directions`` (none, or one
+    twice), ``duration_s``, ``tolerance_n_s``, ``start_s`` (a push that does not end within
+    the run), ``link`` (not a link of the robot) or ``impulses`` (none, or one not finite and
+    non-negative), and TypeError for ``impulses`` given as a string.
     """
     if isinstance(directions, str):
         directions = [directions]
+    directions = list(directions)
+    if isinstance(impulses, (str, bytes)):
+        raise TypeError(f"impulses: expected a sequence of numbers [N s], got {impulses!r}")
     native = push_table_native(
         os.fspath(scenario),
-        list(directions),
+        directions,
         dict(overrides or {}),
         None if impulses is None else [float(i) for i in impulses],
         link,

@@ -13,7 +13,8 @@ use sea_sim::analysis::push::{
     PushResult,
 };
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 
 /// The study's runs as they ended, per direction: `(impulse, status)`.
@@ -41,11 +42,17 @@ pub fn push_table_native<'py>(
     tolerance_n_s: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let pairs = override_pairs(overrides)?;
-    let directions = directions
+    let names = directions;
+    let directions = names
         .iter()
         .map(|name| PushDirection::parse(name))
         .collect::<sea_sim::Result<Vec<_>>>()
         .map_err(to_py)?;
+    let distinct = (0..directions.len()).all(|k| !directions[..k].contains(&directions[k]));
+    if directions.is_empty() || !distinct {
+        let expected = "distinct directions, at least one";
+        return Err(argument_error("directions", expected, format!("{names:?}")));
+    }
     let options = PushOptions {
         link: link.to_string(),
         start_s,
@@ -54,27 +61,18 @@ pub fn push_table_native<'py>(
     };
     check_options(&options)?;
     let seen = RunsSeen::default();
-    let on_run = |run: &PushProgress<'_>| {
-        let mut seen = seen.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        seen.push((run.direction, run.impulse_n_s, run.summary.status.clone()));
-    };
-    let rows = PyList::empty(py);
-    let (table, _) = run_interruptible(py, |cancel| match &impulses {
-        Some(impulses) => fixed_push_table(
-            &path,
-            &pairs,
-            &options,
-            &directions,
-            impulses,
-            &on_run,
-            cancel,
-        )
-        .map(Table::Fixed),
-        None => {
-            push_table(&path, &pairs, &options, &directions, &on_run, cancel).map(Table::Bisected)
-        }
+    // Ctrl-C is consumed (the rows done are returned, marked interrupted), as in a sweep.
+    let (table, raised) = run_interruptible(py, |cancel| {
+        let study = Study {
+            path: &path,
+            overrides: &pairs,
+            options: &options,
+            directions: &directions,
+        };
+        study.run(impulses.as_deref(), &seen, cancel)
     })?;
-    let interrupted = match table.map_err(to_py)? {
+    let rows = PyList::empty(py);
+    let stopped = match table.map_err(python_names)? {
         Table::Fixed(table) => fixed_rows(py, &table, &rows)?,
         Table::Bisected(table) => {
             let seen = seen
@@ -85,8 +83,62 @@ pub fn push_table_native<'py>(
     };
     let dict = PyDict::new(py);
     dict.set_item("rows", rows)?;
-    dict.set_item("interrupted", interrupted)?;
+    dict.set_item("interrupted", stopped || raised.is_some())?;
     Ok(dict)
+}
+
+/// A push study's inputs.
+struct Study<'a> {
+    path: &'a Path,
+    overrides: &'a [(String, String)],
+    options: &'a PushOptions,
+    directions: &'a [PushDirection],
+}
+
+impl Study<'_> {
+    /// The bisection, or with `impulses` the fixed pushes; every run that ends is added to
+    /// `seen`; stopped by `cancel`.
+    fn run(
+        &self,
+        impulses: Option<&[f64]>,
+        seen: &RunsSeen,
+        cancel: &AtomicBool,
+    ) -> sea_sim::Result<Table> {
+        let on_run = |run: &PushProgress<'_>| {
+            let mut seen = seen.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+            seen.push((run.direction, run.impulse_n_s, run.summary.status.clone()));
+        };
+        let (path, overrides, options) = (self.path, self.overrides, self.options);
+        let directions = self.directions;
+        match impulses {
+            Some(impulses) => fixed_push_table(
+                path, overrides, options, directions, impulses, &on_run, cancel,
+            )
+            .map(Table::Fixed),
+            None => push_table(path, overrides, options, directions, &on_run, cancel)
+                .map(Table::Bisected),
+        }
+    }
+}
+
+/// `error` with the library's `PushOptions.NAME` given as the Python argument `NAME`.
+fn python_names(error: sea_sim::Error) -> PyErr {
+    use sea_dyn::Error::InvalidArgument;
+    match error {
+        sea_sim::Error::Dynamics(InvalidArgument {
+            argument,
+            expected,
+            actual,
+        }) => {
+            let argument = argument.strip_prefix("PushOptions.").unwrap_or(&argument);
+            to_py(sea_sim::Error::from(InvalidArgument {
+                argument: argument.to_string(),
+                expected,
+                actual,
+            }))
+        }
+        other => to_py(other),
+    }
 }
 
 /// The two kinds of study.

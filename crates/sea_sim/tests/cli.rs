@@ -832,6 +832,13 @@ fn push_refuses_a_bad_start_link_or_direction_naming_the_flag() {
             "--start {value}: {stderr}"
         );
     }
+    // A push after the run's end would be recovered at any size.
+    let output = sea_sim(&["push", &scenario, "--start", "10"]);
+    let stderr = text(&output.stderr);
+    assert!(
+        !output.status.success() && stderr.contains("--start") && stderr.contains("within the run"),
+        "--start 10 on a 3 s run: {stderr}"
+    );
     let output = sea_sim(&["push", &scenario, "--link", "no_such_link"]);
     assert!(!output.status.success(), "--link no_such_link accepted");
     let stderr = text(&output.stderr);
@@ -902,7 +909,15 @@ fn push_at_fixed_impulses_reports_each_outcome_and_refuses_a_negative_one() {
         failed.contains(" at ") && !failed.contains("completed"),
         "{stderr}"
     );
-    let quiet = sea_sim(&[&args[..], &["--set", "simulation.duration_s=0.01", "-q"]].concat());
+    let short = [
+        "--set",
+        "simulation.duration_s=0.01",
+        "--start",
+        "0",
+        "--duration",
+        "0.005",
+    ];
+    let quiet = sea_sim(&[&args[..], &short[..], &["-q"]].concat());
     assert!(
         quiet.status.success() && quiet.stderr.is_empty(),
         "{}",
@@ -912,7 +927,9 @@ fn push_at_fixed_impulses_reports_each_outcome_and_refuses_a_negative_one() {
 
 #[test]
 fn push_reports_the_stepping_bound_on_a_stepping_scenario_and_the_gaits_pushing_a_walk() {
-    let short = ["--impulses", "0", "--set", "simulation.duration_s=0.05"];
+    // The bounds need no run: unpushed runs that end soon after the push (the walk's at 20 %
+    // of the fourth swing, 1.9 s).
+    let short = ["--impulses", "0", "--set", "simulation.duration_s=2.1"];
     let stepping = format!("{REPO}/scenarios/walking/push_recovery_step.toml");
     let args = ["push", &stepping, "--directions", "forward,left"];
     let out = sea_sim(&[&args[..], &short[..]].concat());

@@ -277,6 +277,36 @@ impl PushOptions {
         }
         Ok(())
     }
+
+    /// Checks the options against the scenario they push: `link` names a link of its robot,
+    /// and the push ends within the run (`start_s + duration_s` at most
+    /// `simulation.duration_s`; a push after the run's end would be "recovered" at any size).
+    ///
+    /// Errors: [`sea_dyn::Error::InvalidArgument`] naming `PushOptions.link` or
+    /// `PushOptions.start_s`, and the scenario's.
+    pub fn check_against(&self, scenario: &Scenario) -> Result<()> {
+        check_pushed_link(scenario, &self.link)?;
+        let run = scenario.simulation.duration_s;
+        if self.start_s + self.duration_s > run {
+            let expected = format!("a push that ends within the run's {run} s (start + duration)");
+            return Err(
+                sea_dyn::Error::invalid("PushOptions.start_s", expected, self.start_s).into(),
+            );
+        }
+        Ok(())
+    }
+}
+
+/// `link` names a link of the `scenario`'s robot (its model loaded, nothing run).
+///
+/// Errors: [`sea_dyn::Error::InvalidArgument`] naming `PushOptions.link`, and the scenario's.
+pub fn check_pushed_link(scenario: &Scenario, link: &str) -> Result<()> {
+    let model = build::load_model(scenario)?;
+    if model.frame_id(link).is_err() {
+        let expected = "a link of the scenario's robot";
+        return Err(sea_dyn::Error::invalid("PushOptions.link", expected, link).into());
+    }
+    Ok(())
 }
 
 /// `Ok` when `value` is finite and positive, else an invalid-argument error naming `argument`.
@@ -366,7 +396,8 @@ pub type OnPushRun<'a> = &'a (dyn Fn(&PushProgress<'_>) + Sync);
 /// under way stops at its next sample, and the result is the bracket so far
 /// ([`PushResult::interrupted`]).
 ///
-/// Errors: the options' ([`PushOptions::check`]), the scenario's and the runs'.
+/// Errors: the options' ([`PushOptions::check`], [`PushOptions::check_against`]), the
+/// scenario's and the runs'.
 pub fn recoverable_impulse(
     path: &Path,
     overrides: &[(String, String)],
@@ -376,7 +407,9 @@ pub fn recoverable_impulse(
     cancel: &AtomicBool,
 ) -> Result<PushResult> {
     options.check()?;
-    let stance = Stance::of(&Scenario::from_file(path, overrides)?)?;
+    let scenario = Scenario::from_file(path, overrides)?;
+    options.check_against(&scenario)?;
+    let stance = Stance::of(&scenario)?;
     let bound = stance.capture_point_impulse(direction);
     let d = stance.direction(direction);
     let run = |impulse_n_s: f64| {
@@ -549,7 +582,9 @@ fn recovered_up_to(outcomes: impl Iterator<Item = (f64, Option<bool>)>) -> Optio
 /// `impulses` and the value.
 pub fn check_impulses(impulses: &[f64]) -> Result<()> {
     if impulses.is_empty() {
-        return Err(Error::config("impulses", "give at least one impulse [N s]"));
+        return Err(
+            sea_dyn::Error::invalid("impulses", "at least one impulse [N s]", "none").into(),
+        );
     }
     match impulses.iter().find(|i| !(i.is_finite() && **i >= 0.0)) {
         Some(bad) => {
@@ -569,8 +604,9 @@ pub fn check_impulses(impulses: &[f64]) -> Result<()> {
 /// raised no run starts and the runs under way stop at their next sample
 /// ([`FixedPushRow::outcomes`]).
 ///
-/// Errors: the options' ([`PushOptions::check`]; the tolerance is not used), the impulses'
-/// ([`check_impulses`]), the scenario's and the runs'.
+/// Errors: the options' ([`PushOptions::check`], the tolerance not used;
+/// [`PushOptions::check_against`]), the impulses' ([`check_impulses`]), the scenario's and the
+/// runs'.
 pub fn fixed_push_table(
     path: &Path,
     overrides: &[(String, String)],
@@ -582,7 +618,9 @@ pub fn fixed_push_table(
 ) -> Result<Vec<FixedPushRow>> {
     options.check()?;
     check_impulses(impulses)?;
-    let stance = Stance::of(&Scenario::from_file(path, overrides)?)?;
+    let scenario = Scenario::from_file(path, overrides)?;
+    options.check_against(&scenario)?;
+    let stance = Stance::of(&scenario)?;
     let pairs: Vec<(PushDirection, f64)> = directions
         .iter()
         .flat_map(|&direction| impulses.iter().map(move |&impulse| (direction, impulse)))

@@ -2,7 +2,9 @@
 //! pushes of fixed impulses (`--impulses`), beside the bounds of the pendulum: the stance's
 //! capture point, and the gait's (`--phase`) or the stepping settings' (`walking.stepping`).
 
-use crate::common::{parse_key_value, parse_non_negative, parse_positive, print_out, say, Outcome};
+use crate::common::{
+    named_as_flag, parse_key_value, parse_non_negative, parse_positive, print_out, say, Outcome,
+};
 use crate::signals::Interrupts;
 use clap::Args;
 use sea_sim::analysis::gait_bound::gait_bounds;
@@ -246,19 +248,17 @@ fn bounds_by_direction(
         .collect())
 }
 
-/// `--link` names a link of the scenario's robot: checked before any run (it loads the
-/// robot's model only), naming the flag (each run would name the `disturbances[0].link` it
-/// becomes).
-fn check_pushed_link(args: &PushArgs) -> sea_sim::Result<()> {
-    let scenario = sea_sim::scenario::Scenario::from_file(&args.scenario, &args.overrides)?;
-    let model = sea_sim::scenario::build::load_model(&scenario)?;
-    match model.frame_id(&args.link) {
-        Ok(_) => Ok(()),
-        Err(_) => {
-            let expected = "a link of the scenario's robot";
-            Err(sea_dyn::Error::invalid("--link", expected, &args.link).into())
-        }
-    }
+/// The library's push arguments as the command line's flags.
+fn flags(args: &PushArgs) -> [(&'static str, &'static str); 2] {
+    let start = if args.phase.is_some() {
+        "--phase"
+    } else {
+        "--start"
+    };
+    [
+        ("PushOptions.link", "--link"),
+        ("PushOptions.start_s", start),
+    ]
 }
 
 /// With `--phase`: the pushed swing, its push's start and its lift-off and touchdown [s].
@@ -283,7 +283,11 @@ fn pushed_swing(args: &PushArgs) -> sea_sim::Result<Option<PushedSwing>> {
 /// runs under way stop at their next sample, and the table of the runs done is printed
 /// (`"interrupted": true`).
 pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
-    check_pushed_link(args)?;
+    use sea_sim::analysis::push::check_pushed_link;
+    let as_flag = |e| named_as_flag(e, &flags(args));
+    // The link first: the swing's timing takes a run; a bad flag is said before it.
+    let scenario = sea_sim::scenario::Scenario::from_file(&args.scenario, &args.overrides)?;
+    check_pushed_link(&scenario, &args.link).map_err(as_flag)?;
     let directions = args
         .directions
         .iter()
@@ -296,6 +300,7 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
         duration_s: args.duration,
         tolerance_n_s: args.tolerance,
     };
+    options.check_against(&scenario).map_err(as_flag)?;
     // The bounds first: cheap, and their errors come before the runs, not after.
     let bounds = bounds_by_direction(args, swing.map(|(at, _)| at), &directions)?;
     if !args.quiet {
