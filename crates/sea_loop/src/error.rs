@@ -86,6 +86,28 @@ impl Error {
         Error::Dynamics(sea_dyn::Error::invalid(argument, expected, actual))
     }
 
+    /// The same error with the argument of a bad argument ([`Error::argument`]) renamed by
+    /// `names`, pairs `(library name, caller's name)`: how the caller spelt it (a command
+    /// line's flag, a Python argument). Other errors, and arguments not listed, pass through
+    /// unchanged.
+    pub fn argument_named(self, names: &[(&str, &str)]) -> Self {
+        match self {
+            Error::Dynamics(sea_dyn::Error::InvalidArgument {
+                argument,
+                expected,
+                actual,
+            }) => {
+                let named = names.iter().find(|(name, _)| *name == argument);
+                Error::Dynamics(sea_dyn::Error::InvalidArgument {
+                    argument: named.map_or(argument, |(_, caller)| caller.to_string()),
+                    expected,
+                    actual,
+                })
+            }
+            other => other,
+        }
+    }
+
     /// An I/O failure on `path`.
     pub fn io(path: impl AsRef<std::path::Path>, source: std::io::Error) -> Self {
         Error::Io {

@@ -123,22 +123,12 @@ impl Study<'_> {
 
 /// `error` with the library's `PushOptions.NAME` given as the Python argument `NAME`.
 fn python_names(error: sea_sim::Error) -> PyErr {
-    use sea_dyn::Error::InvalidArgument;
-    match error {
-        sea_sim::Error::Dynamics(InvalidArgument {
-            argument,
-            expected,
-            actual,
-        }) => {
-            let argument = argument.strip_prefix("PushOptions.").unwrap_or(&argument);
-            to_py(sea_sim::Error::from(InvalidArgument {
-                argument: argument.to_string(),
-                expected,
-                actual,
-            }))
-        }
-        other => to_py(other),
-    }
+    to_py(error.argument_named(&[
+        ("PushOptions.link", "link"),
+        ("PushOptions.start_s", "start_s"),
+        ("PushOptions.duration_s", "duration_s"),
+        ("PushOptions.tolerance_n_s", "tolerance_n_s"),
+    ]))
 }
 
 /// The two kinds of study.

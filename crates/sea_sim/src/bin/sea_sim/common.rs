@@ -36,28 +36,6 @@ fn parse_finite(text: &str, what: &str, accepts: impl Fn(f64) -> bool) -> Result
     }
 }
 
-/// `error` with the library argument it names (`InvalidArgument`) given as the command line's
-/// flag: `flags` pairs each argument with its flag, e.g. `("grid_points", "--points")`.
-pub(crate) fn named_as_flag(error: sea_sim::Error, flags: &[(&str, &str)]) -> sea_sim::Error {
-    use sea_dyn::Error::InvalidArgument;
-    match error {
-        sea_sim::Error::Dynamics(InvalidArgument {
-            argument,
-            expected,
-            actual,
-        }) => {
-            let flag = flags.iter().find(|(name, _)| *name == argument);
-            InvalidArgument {
-                argument: flag.map_or(argument, |(_, flag)| flag.to_string()),
-                expected,
-                actual,
-            }
-            .into()
-        }
-        other => other,
-    }
-}
-
 /// `KEY=VALUE` of `--set`.
 pub(crate) fn parse_key_value(text: &str) -> Result<(String, String), String> {
     let (key, value) = text

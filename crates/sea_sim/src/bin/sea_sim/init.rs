@@ -1,6 +1,6 @@
 //! `sea-sim init`: a scenario for a new humanoid from its URDF.
 
-use crate::common::{named_as_flag, say};
+use crate::common::say;
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -35,7 +35,7 @@ pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
     use sea_sim::init::{init, parse_foot, InitOptions};
     let started = Instant::now();
     let flags = [("foot", "--foot"), ("urdf", "URDF")];
-    let as_flag = |e| named_as_flag(e, &flags);
+    let as_flag = |e: sea_sim::Error| e.argument_named(&flags);
     let foot = args
         .foot
         .as_deref()

@@ -1,6 +1,6 @@
 //! `sea-sim margin`: where the closed loop's stability changes along one key.
 
-use crate::common::{named_as_flag, parse_key_value, parse_range, print_out, say, Outcome};
+use crate::common::{parse_key_value, parse_range, print_out, say, Outcome};
 use crate::signals::Interrupts;
 use clap::Args;
 use sea_sim::analysis::margin::{
@@ -107,7 +107,7 @@ pub(crate) fn run_margin(args: &MarginArgs, interrupts: &Interrupts) -> sea_sim:
             ("grid_points", "--points"),
             ("relative_tolerance", "--tolerance"),
         ];
-        named_as_flag(e, &flags)
+        e.argument_named(&flags)
     })?;
     let text = serde_json::to_string_pretty(&margin_json(&report))
         .map_err(|e| sea_sim::Error::Log(format!("margin JSON: {e}")))?;

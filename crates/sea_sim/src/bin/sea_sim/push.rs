@@ -2,9 +2,7 @@
 //! pushes of fixed impulses (`--impulses`), beside the bounds of the pendulum: the stance's
 //! capture point, and the gait's (`--phase`) or the stepping settings' (`walking.stepping`).
 
-use crate::common::{
-    named_as_flag, parse_key_value, parse_non_negative, parse_positive, print_out, say, Outcome,
-};
+use crate::common::{parse_key_value, parse_non_negative, parse_positive, print_out, say, Outcome};
 use crate::signals::Interrupts;
 use clap::Args;
 use sea_sim::analysis::gait_bound::gait_bounds;
@@ -284,7 +282,7 @@ fn pushed_swing(args: &PushArgs) -> sea_sim::Result<Option<PushedSwing>> {
 /// (`"interrupted": true`).
 pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
     use sea_sim::analysis::push::check_pushed_link;
-    let as_flag = |e| named_as_flag(e, &flags(args));
+    let as_flag = |e: sea_sim::Error| e.argument_named(&flags(args));
     // The link first: the swing's timing takes a run; a bad flag is said before it.
     let scenario = sea_sim::scenario::Scenario::from_file(&args.scenario, &args.overrides)?;
     check_pushed_link(&scenario, &args.link).map_err(as_flag)?;
