@@ -59,7 +59,7 @@ pub fn push_table_native<'py>(
         duration_s,
         tolerance_n_s,
     };
-    check_options(&options)?;
+    options.check().map_err(python_names)?;
     let seen = RunsSeen::default();
     // Ctrl-C is consumed (the rows done are returned, marked interrupted), as in a sweep.
     let (table, raised) = run_interruptible(py, |cancel| {
@@ -135,31 +135,6 @@ fn python_names(error: sea_sim::Error) -> PyErr {
 enum Table {
     Fixed(Vec<FixedPushRow>),
     Bisected(Vec<PushResult>),
-}
-
-/// The options checked before any run, a bad one a `ValueError` naming the Python argument.
-fn check_options(options: &PushOptions) -> PyResult<()> {
-    let positive = |value: f64| value.is_finite() && value > 0.0;
-    if !positive(options.duration_s) {
-        return Err(argument_error(
-            "duration_s",
-            "a finite, positive number",
-            options.duration_s,
-        ));
-    }
-    if !positive(options.tolerance_n_s) {
-        let expected = "a finite, positive number";
-        return Err(argument_error(
-            "tolerance_n_s",
-            expected,
-            options.tolerance_n_s,
-        ));
-    }
-    if !(options.start_s.is_finite() && options.start_s >= 0.0) {
-        let expected = "a finite, non-negative number";
-        return Err(argument_error("start_s", expected, options.start_s));
-    }
-    Ok(())
 }
 
 /// The fixed impulses' rows appended to `rows`; whether a push was stopped.
