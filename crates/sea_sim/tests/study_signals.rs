@@ -27,6 +27,16 @@ fn report(path: &Path) -> serde_json::Value {
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}"))
 }
 
+/// Sends `signal` to `run` and waits: the exit status is `status` and stderr says the signal
+/// stopped it with `finished` (e.g. "the pushes done reported").
+fn stop(run: Running, signal: &str, status: i32, finished: &str) {
+    run.signal(signal);
+    let (code, stderr) = run.wait();
+    assert_eq!(code, Some(status), "{stderr}");
+    let said = format!("stopped by SIG{signal}; {finished}");
+    assert!(stderr.contains(&said), "{stderr}");
+}
+
 /// The standing push scenario.
 const STANDING: &str = "robot_rate/push_two_feet.toml";
 
@@ -45,13 +55,7 @@ fn a_signal_stops_fixed_pushes_with_the_ones_done_reported() {
     let ws = Workspace::new("push_fixed_signal");
     let (mut push, path) = start(&ws, ("push", STANDING), &args);
     push.wait_for_line("push forward 40 N s:");
-    push.signal("TERM");
-    let (status, stderr) = push.wait();
-    assert_eq!(status, Some(143), "{stderr}");
-    assert!(
-        stderr.contains("stopped by SIGTERM; the pushes done reported"),
-        "{stderr}"
-    );
+    stop(push, "TERM", 143, "the pushes done reported");
     let json = report(&path);
     assert_eq!(json["interrupted"], true, "{json}");
     let row = &json["directions"][0];
@@ -76,9 +80,7 @@ fn a_signal_stops_a_bisection_with_the_bracket_so_far() {
         .and_then(|impulse| impulse.parse().ok())
         .unwrap_or_else(|| panic!("an impulse in '{first}'"));
     push.wait_for_line(&format!("push forward {} N s:", 0.5 * twice));
-    push.signal("INT");
-    let (status, stderr) = push.wait();
-    assert_eq!(status, Some(130), "{stderr}");
+    stop(push, "INT", 130, "the pushes done reported");
     let json = report(&path);
     let row = &json["directions"][0];
     assert_eq!(row["interrupted"], true, "{row}");
@@ -108,13 +110,7 @@ fn a_signal_stops_a_margin_scan_with_the_evaluations_done_reported() {
     ];
     let (mut margin, path) = start(&ws, ("margin", "paper/tracking.toml"), &args);
     margin.wait_for_line("simulation.duration_s = 0.3: stable");
-    margin.signal("TERM");
-    let (status, stderr) = margin.wait();
-    assert_eq!(status, Some(143), "{stderr}");
-    assert!(
-        stderr.contains("stopped by SIGTERM; the evaluations done reported"),
-        "{stderr}"
-    );
+    stop(margin, "TERM", 143, "the evaluations done reported");
     let json = report(&path);
     assert_eq!(json["interrupted"], true, "{json}");
     assert_eq!(json["conclusion"], "interrupted", "{json}");

@@ -286,6 +286,14 @@ impl PushOptions {
     /// `PushOptions.start_s`, and the scenario's.
     pub fn check_against(&self, scenario: &Scenario) -> Result<()> {
         check_pushed_link(scenario, &self.link)?;
+        self.check_within_run(scenario)
+    }
+
+    /// The push ends within the `scenario`'s run (the half of [`Self::check_against`] that
+    /// loads nothing).
+    ///
+    /// Errors: [`sea_dyn::Error::InvalidArgument`] naming `PushOptions.start_s`.
+    pub fn check_within_run(&self, scenario: &Scenario) -> Result<()> {
         let run = scenario.simulation.duration_s;
         if self.start_s + self.duration_s > run {
             let expected = format!("a push that ends within the run's {run} s (start + duration)");

@@ -298,7 +298,7 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
         duration_s: args.duration,
         tolerance_n_s: args.tolerance,
     };
-    options.check_against(&scenario).map_err(as_flag)?;
+    options.check_within_run(&scenario).map_err(as_flag)?;
     // The bounds first: cheap, and their errors come before the runs, not after.
     let bounds = bounds_by_direction(args, swing.map(|(at, _)| at), &directions)?;
     if !args.quiet {
