@@ -28,7 +28,7 @@ from ._native import (
     init_scenario,
 )
 from .analysis import Linearization, linearize, stability_margin
-from .push import PushRow, PushTable, push_table
+from .push import PushRow, PushTable, TemplateRow, push_table, template_push_table
 from .closed_loop_rhs import closed_loop_rhs
 from .controller import ControlOutput
 from . import robot_loop
@@ -42,6 +42,8 @@ __all__ = [
     "PushRow",
     "PushTable",
     "push_table",
+    "template_push_table",
+    "TemplateRow",
     "ICUB25_JOINTS",
     "NATIVE_MODULE",
     "ControlOutput",

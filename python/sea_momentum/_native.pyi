@@ -34,6 +34,7 @@ __all__ = [
     "linearize_native",
     "stability_margin_native",
     "push_table_native",
+    "template_push_native",
     "sweep_grid",
     "sweep",
     "sweep_batch",
@@ -405,6 +406,21 @@ def push_table_native(
     dict per direction: ``direction``, ``capture_point_impulse_n_s``,
     ``recovered_impulse_n_s``, ``failed_impulse_n_s``, ``pushes`` (list of (impulse, status)),
     ``interrupted``) and ``interrupted``. Ctrl-C returns the rows done."""
+
+def template_push_native(
+    path: str,
+    directions: list[str],
+    phase: float,
+    step: int = 3,
+    overrides: Mapping[str, object] | None = None,
+    impulses: list[float] | None = None,
+    duration_s: float = 0.1,
+    tolerance_n_s: float = 0.01,
+) -> dict[str, object]:
+    """Pushes on a walk's template (GIL released); use ``sea_momentum.template_push_table``.
+    Returns ``start_s`` and ``rows`` (one dict per direction: ``direction``,
+    ``recovered_impulse_n_s``, ``pushes`` (list of (impulse, recovered); empty when
+    bisected))."""
 
 # --- Sweeps (sea_momentum.sweep, sea_momentum.ray_backend) ---
 

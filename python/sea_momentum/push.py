@@ -7,6 +7,10 @@ polygon while ``I <= m d omega0``).
 Ctrl-C stops a study as it stops a sweep: no run starts, the runs under way stop at their
 next sample, and the rows done are returned with ``interrupted`` true (and a
 ``RuntimeWarning``).
+
+:func:`template_push_table` pushes a walk's template instead: the controller's own planner and
+momentum law on the linear inverted pendulum, the robot left out (milliseconds a run), to tell
+the planner's share of a shortfall from the robot's.
 """
 
 from __future__ import annotations
@@ -17,10 +21,10 @@ import warnings
 from collections.abc import Mapping, Sequence
 from typing import Any, Optional, cast
 
-from ._native import push_table_native
+from ._native import push_table_native, template_push_native
 from .results import Result
 
-__all__ = ["PushRow", "PushTable", "push_table"]
+__all__ = ["PushRow", "PushTable", "TemplateRow", "push_table", "template_push_table"]
 
 #: The push directions, along the first contact's sole axes.
 DIRECTIONS = ("forward", "backward", "left", "right")
@@ -132,3 +136,72 @@ def push_table(
     if table.interrupted:
         warnings.warn("push study interrupted: the rows hold the runs done", RuntimeWarning, stacklevel=2)
     return table
+
+
+@dataclasses.dataclass(frozen=True)
+class TemplateRow(Result):
+    """One direction of pushes on a walk's template (a :class:`~sea_momentum.results.Result`).
+
+    - ``direction``: "forward", "backward", "left" or "right";
+    - ``recovered_impulse_n_s``: bisected, the largest impulse recovered; with given impulses,
+      the largest at and below which every given one was recovered (0 when the smallest was
+      lost);
+    - ``pushes``: with given impulses, each as ``(impulse [N s], recovered)`` in their order;
+      empty when bisected.
+    """
+
+    direction: str
+    recovered_impulse_n_s: float
+    pushes: list[tuple[float, bool]]
+
+
+def template_push_table(
+    scenario: str | os.PathLike[str],
+    phase: float,
+    directions: Sequence[str] = DIRECTIONS,
+    impulses: Optional[Sequence[float]] = None,
+    overrides: Optional[Mapping[str, Any]] = None,
+    step: int = 3,
+    duration_s: float = 0.1,
+    tolerance_n_s: float = 0.01,
+) -> list[TemplateRow]:
+    """Pushes on the template of the walking scenario file ``scenario``, one
+    :class:`TemplateRow` per direction, as ``sea-sim push --phase`` reports them beside the
+    robot's (``template_impulse_n_s``).
+
+    The template is the controller's own walking planner (with its step adjustment) and the
+    momentum task's linear rows on the linear inverted pendulum, the centre of pressure held in
+    the plan's support over each whole-body period; feet land where and when planned, no
+    angular momentum, no joints (``docs/findings/walking_template.md``). A push of
+    ``duration_s`` [s] on the CoM starts at fraction ``phase`` of the swing of step ``step``
+    (0-based) of the scenario's walk. Without ``impulses`` each direction's largest recovered
+    impulse is bisected to ``tolerance_n_s`` [N s]; with ``impulses`` [N s], one run each.
+
+    Raises ScenarioError for a bad scenario, override or direction name (naming it),
+    SeaIOError for a file that cannot be read, ValueError naming ``phase`` (outside [0, 1], or
+    a scenario that does not walk), ``step`` (beyond the plan), ``directions`` (none, or one
+    twice), ``duration_s``, ``tolerance_n_s`` or ``impulses`` (none, or one not finite and
+    non-negative), and TypeError for ``impulses`` given as a string.
+    """
+    if isinstance(directions, str):
+        directions = [directions]
+    if isinstance(impulses, (str, bytes)):
+        raise TypeError(f"impulses: expected a sequence of numbers [N s], got {impulses!r}")
+    native = template_push_native(
+        os.fspath(scenario),
+        list(directions),
+        float(phase),
+        int(step),
+        dict(overrides or {}),
+        None if impulses is None else [float(i) for i in impulses],
+        float(duration_s),
+        float(tolerance_n_s),
+    )
+    return [
+        TemplateRow(
+            direction=str(row["direction"]),
+            recovered_impulse_n_s=float(row["recovered_impulse_n_s"]),
+            pushes=[(float(i), bool(o)) for i, o in row["pushes"]],
+        )
+        for row in cast("list[dict[str, Any]]", native["rows"])
+    ]

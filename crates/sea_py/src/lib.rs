@@ -20,6 +20,7 @@ mod plant;
 mod push;
 mod scenario;
 mod sweep;
+mod template;
 mod visuals;
 
 /// The native module `sea_momentum._native`, exported by every build (the baseline module of
@@ -100,6 +101,7 @@ fn add_module_contents(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis::linearize_native, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::stability_margin_native, m)?)?;
     m.add_function(wrap_pyfunction!(push::push_table_native, m)?)?;
+    m.add_function(wrap_pyfunction!(template::template_push_native, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_grid, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_batch, m)?)?;

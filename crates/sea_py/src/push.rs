@@ -42,17 +42,7 @@ pub fn push_table_native<'py>(
     tolerance_n_s: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let pairs = override_pairs(overrides)?;
-    let names = directions;
-    let directions = names
-        .iter()
-        .map(|name| PushDirection::parse(name))
-        .collect::<sea_sim::Result<Vec<_>>>()
-        .map_err(to_py)?;
-    let distinct = (0..directions.len()).all(|k| !directions[..k].contains(&directions[k]));
-    if directions.is_empty() || !distinct {
-        let expected = "distinct directions, at least one";
-        return Err(argument_error("directions", expected, format!("{names:?}")));
-    }
+    let directions = parse_directions(&directions)?;
     let options = PushOptions {
         link: link.to_string(),
         start_s,
@@ -85,6 +75,22 @@ pub fn push_table_native<'py>(
     dict.set_item("rows", rows)?;
     dict.set_item("interrupted", stopped || raised.is_some())?;
     Ok(dict)
+}
+
+/// The push directions named `names`: refused (naming `directions`) when none, one is given
+/// twice, or a name is not a direction.
+pub(crate) fn parse_directions(names: &[String]) -> PyResult<Vec<PushDirection>> {
+    let directions = names
+        .iter()
+        .map(|name| PushDirection::parse(name))
+        .collect::<sea_sim::Result<Vec<_>>>()
+        .map_err(to_py)?;
+    let distinct = (0..directions.len()).all(|k| !directions[..k].contains(&directions[k]));
+    if directions.is_empty() || !distinct {
+        let expected = "distinct directions, at least one";
+        return Err(argument_error("directions", expected, format!("{names:?}")));
+    }
+    Ok(directions)
 }
 
 /// A push study's inputs.

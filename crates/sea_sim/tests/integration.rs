@@ -35,6 +35,7 @@ mod stiffness_identification;
 mod study_signals;
 mod summary_keys;
 mod sweep;
+mod template_walk;
 mod test_layout;
 mod walk_push;
 mod walking_impacts;

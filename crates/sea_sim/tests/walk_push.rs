@@ -221,6 +221,9 @@ fn print_a_push_while_walking() {
             step.foot, step.pose.world_p_sole.x, step.pose.world_p_sole.y, step.touchdown
         );
     }
+    if std::env::var("WALK_SOLES").is_ok() {
+        print_the_landed_soles(&record, steps);
+    }
     if std::env::var("WALK_FEET").is_ok() {
         let from = std::env::var("WALK_FEET_FROM").map_or(v[3], |t| t.parse().unwrap());
         print_the_feet(&record, from);
@@ -402,4 +405,35 @@ fn an_unpushed_walk_is_adjusted_by_little_and_not_at_all_above_its_errors() {
     assert!(setup.controller.step_adjustments().is_empty());
     let (without_record, _, _) = run(&[]);
     assert_eq!(above_record.com, without_record.com);
+}
+
+/// `print_a_push_while_walking` with `WALK_SOLES` set: for each step, 0.05 s after its
+/// planned touchdown, where the landed sole is (the mean of its four corners less the sole
+/// frame's 0.025 m to their middle along its yaw, the iCub's `foot_x` [-0.05, 0.10]) and its
+/// yaw, against the plan's landing.
+fn print_the_landed_soles(record: &RunRecord, steps: &[sea_ctrl::walking::Footstep]) {
+    let points = record.contact_point_active.len() / record.time.len();
+    for (i, step) in steps.iter().enumerate() {
+        let at = step.touchdown + 0.05;
+        let Some(row) = record.time.iter().position(|t| *t >= at) else {
+            continue;
+        };
+        let first = match step.foot {
+            sea_ctrl::walking::Foot::Left => 0,
+            sea_ctrl::walking::Foot::Right => points / 2,
+        };
+        let corner =
+            |k: usize| &record.contact_point_positions[3 * (row * points + first + k)..][..2];
+        let mean = (0..4).fold([0.0, 0.0], |m, k| {
+            [m[0] + corner(k)[0] / 4.0, m[1] + corner(k)[1] / 4.0]
+        });
+        let yaw = yaws(record, row)[if first == 0 { 1 } else { 2 }];
+        let origin = [mean[0] - 0.025 * yaw.cos(), mean[1] - 0.025 * yaw.sin()];
+        let plan = step.pose.world_p_sole;
+        println!(
+            "sole {i} {:?} at {at:.2}: ({:.3} {:.3}) yaw {yaw:+.3}, planned ({:.3} {:.3}) yaw {:+.3}, off ({:+.3} {:+.3})",
+            step.foot, origin[0], origin[1], plan.x, plan.y, step.pose.world_yaw_sole,
+            origin[0] - plan.x, origin[1] - plan.y
+        );
+    }
 }

@@ -39,7 +39,7 @@ use nalgebra::Vector2;
 use sea_ctrl::walking::WalkingSettings;
 use sea_scenario::build::contact_frames;
 use sea_scenario::walking::walking_settings;
-use sea_scenario::{build, Scenario};
+use sea_scenario::{build, Scenario, Setup};
 use std::f64::consts::FRAC_1_SQRT_2;
 use std::path::Path;
 
@@ -267,13 +267,22 @@ impl LateralGait {
 /// [`BOUND_CEILING_N_S`] (the ceiling when it holds there); `captured` must hold for every
 /// impulse below one it holds for (the pendulum's DCM grows with the impulse).
 pub(crate) fn largest_captured(captured: impl Fn(f64) -> bool) -> f64 {
-    let (mut low, mut high) = (0.0, BOUND_CEILING_N_S);
-    if captured(high) {
-        return high;
+    if captured(BOUND_CEILING_N_S) {
+        return BOUND_CEILING_N_S;
     }
-    while high - low > BOUND_TOLERANCE_N_S {
+    bisect_holding(captured, (0.0, BOUND_CEILING_N_S), BOUND_TOLERANCE_N_S)
+}
+
+/// The bracket `(low, high)` (`holds` true at `low`, false at `high`) bisected until narrower
+/// than `tolerance`; its lower end.
+pub(crate) fn bisect_holding(
+    holds: impl Fn(f64) -> bool,
+    (mut low, mut high): (f64, f64),
+    tolerance: f64,
+) -> f64 {
+    while high - low > tolerance {
         let middle = 0.5 * (low + high);
-        if captured(middle) {
+        if holds(middle) {
             low = middle;
         } else {
             high = middle;
@@ -294,6 +303,21 @@ pub struct WalkLateral {
     pub landings: Landings,
 }
 
+/// The scenario at `path` with `overrides`, built, with its walking settings (`None` when it
+/// does not walk).
+pub(crate) fn built_walk(
+    path: &Path,
+    overrides: &[(String, String)],
+) -> Result<(Scenario, Setup, Option<WalkingSettings>)> {
+    let scenario = Scenario::from_file(path, overrides)?;
+    let setup = build(&scenario)?;
+    let model = &setup.model;
+    let q = &setup.x0[..model.nq()];
+    let soles = contact_frames(&scenario, model)?;
+    let settings = walking_settings(&scenario, model, q, &soles)?;
+    Ok((scenario, setup, settings))
+}
+
 /// A walk's lateral figures at the lift-off of step `step` of its plan
 /// ([`LateralGait`]), the world (x, y) unit vector of its axis (from the swing foot
 /// towards the stance foot, the stance sole's lateral axis) and the landings its controller
@@ -311,12 +335,8 @@ pub fn lateral_gait_of_walk(
     step: usize,
     push_duration_s: f64,
 ) -> Result<WalkLateral> {
-    let scenario = Scenario::from_file(path, overrides)?;
-    let setup = build(&scenario)?;
+    let (_, setup, settings) = built_walk(path, overrides)?;
     let model = &setup.model;
-    let q = &setup.x0[..model.nq()];
-    let soles = contact_frames(&scenario, model)?;
-    let settings = walking_settings(&scenario, model, q, &soles)?;
     let (Some(gait), Some(settings)) = (setup.controller.gait(), settings) else {
         let expected = "a scenario that walks ([walking] with a command or footsteps)";
         return Err(sea_dyn::Error::invalid("--step", expected, path.display()).into());

@@ -12,6 +12,7 @@ pub mod margin;
 pub mod push;
 pub mod step_bound;
 pub mod system;
+pub mod template_walk;
 
 pub use linearize::{
     linearize, linearize_with, Equilibrium, Linearization, LinearizeOptions, StepCheck,

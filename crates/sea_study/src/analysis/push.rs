@@ -558,7 +558,7 @@ impl FixedPushRow {
     /// not run to its end lies at or below the first one not recovered: the figure is not
     /// known.
     pub fn recovered_up_to(&self) -> Option<f64> {
-        recovered_up_to(
+        impulses_recovered_up_to(
             self.outcomes
                 .iter()
                 .map(|(impulse, summary)| (*impulse, summary.as_ref().map(Summary::completed))),
@@ -572,8 +572,12 @@ impl FixedPushRow {
 }
 
 /// [`FixedPushRow::recovered_up_to`] of `(impulse, recovered)` pairs in any order
-/// (`recovered` `None`: not run to its end).
-fn recovered_up_to(outcomes: impl Iterator<Item = (f64, Option<bool>)>) -> Option<f64> {
+/// (`recovered` `None`: not run to its end): the largest impulse at and below which every
+/// push was recovered (0 when the smallest was lost; `None` when a push not run to its end
+/// lies at or below the first one lost).
+pub fn impulses_recovered_up_to(
+    outcomes: impl Iterator<Item = (f64, Option<bool>)>,
+) -> Option<f64> {
     let mut sorted: Vec<(f64, Option<bool>)> = outcomes.collect();
     sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut up_to = 0.0;
@@ -751,7 +755,7 @@ mod tests {
         // Given out of order, with an island of recovery above the first failure.
         let islands = [(3.0, false), (1.0, true), (4.0, true), (2.0, true)];
         let known = |pairs: &[(f64, bool)]| pairs.iter().map(|&(i, r)| (i, Some(r))).collect();
-        let up_to = |pairs: Vec<(f64, Option<bool>)>| recovered_up_to(pairs.into_iter());
+        let up_to = |pairs: Vec<(f64, Option<bool>)>| impulses_recovered_up_to(pairs.into_iter());
         assert_eq!(up_to(known(&islands)), Some(2.0));
         assert_eq!(up_to(known(&[(1.0, false)])), Some(0.0));
         assert_eq!(up_to(known(&[(1.0, true)])), Some(1.0));

@@ -7,9 +7,11 @@ use crate::signals::Interrupts;
 use clap::Args;
 use sea_sim::analysis::gait_bound::gait_bounds;
 use sea_sim::analysis::push::{
-    fixed_push_table, push_table, PushDirection, PushOptions, PushProgress, SwingPhase,
+    fixed_push_table, impulses_recovered_up_to, push_table, PushDirection, PushOptions,
+    PushProgress, SwingPhase,
 };
 use sea_sim::analysis::step_bound::stepping_bounds_json;
+use sea_sim::analysis::template_walk::{template_bisection, template_pushes};
 use std::path::PathBuf;
 
 /// Options of `sea-sim push`.
@@ -48,6 +50,11 @@ pub(crate) struct PushArgs {
     /// adjustment moves (`walking.step_adjustment`: the swing in flight when the push starts
     /// before `walking.step_adjustment_end_phase`, and the later ones; without it, none);
     /// `null` forward and backward. `capture_point_impulse_n_s` stays the initial stance's.
+    /// Every row also gives the same push on the walk's template, the controller's planner
+    /// and momentum law on the pendulum with the robot left out
+    /// (`sea_study::analysis::template_walk`): `template_impulse_n_s` bisected, or with
+    /// `--impulses` `template_outcomes` (`o` recovered, `x` not) and
+    /// `template_recovered_up_to_n_s`.
     #[arg(long)]
     phase: Option<f64>,
     /// With `--phase`: the step whose swing is pushed, counted from 0 in the plan's order.
@@ -246,6 +253,42 @@ fn bounds_by_direction(
         .collect())
 }
 
+/// With `--phase`, per direction, the template's figures the report adds to its row
+/// (`sea_study::analysis::template_walk`): with `--impulses` each push's outcome
+/// (`template_outcomes`, `template_recovered_up_to_n_s`), else the bisected
+/// `template_impulse_n_s`; none without `--phase`.
+fn template_by_direction(
+    args: &PushArgs,
+    options: &PushOptions,
+    directions: &[PushDirection],
+) -> sea_sim::Result<Vec<Vec<(&'static str, serde_json::Value)>>> {
+    let (path, overrides) = (&args.scenario, &args.overrides);
+    let window = (options.start_s, options.duration_s);
+    let Some(impulses) = &args.impulses else {
+        let found = template_bisection(path, overrides, window, directions, args.tolerance)?;
+        return Ok(found
+            .into_iter()
+            .map(|impulse| vec![("template_impulse_n_s", serde_json::json!(impulse))])
+            .collect());
+    };
+    let table = template_pushes(path, overrides, window, directions, impulses)?;
+    Ok(table
+        .into_iter()
+        .map(|recovered| {
+            let outcomes: String = recovered
+                .iter()
+                .map(|&o| if o { 'o' } else { 'x' })
+                .collect();
+            let pairs = impulses.iter().zip(&recovered);
+            let up_to = impulses_recovered_up_to(pairs.map(|(&i, &o)| (i, Some(o))));
+            vec![
+                ("template_outcomes", serde_json::json!(outcomes)),
+                ("template_recovered_up_to_n_s", serde_json::json!(up_to)),
+            ]
+        })
+        .collect())
+}
+
 /// The library's push arguments as the command line's flags.
 fn flags(args: &PushArgs) -> [(&'static str, &'static str); 2] {
     let start = if args.phase.is_some() {
@@ -300,7 +343,13 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
     };
     options.check_within_run(&scenario).map_err(as_flag)?;
     // The bounds first: cheap, and their errors come before the runs, not after.
-    let bounds = bounds_by_direction(args, swing.map(|(at, _)| at), &directions)?;
+    let mut bounds = bounds_by_direction(args, swing.map(|(at, _)| at), &directions)?;
+    if swing.is_some() {
+        let template = template_by_direction(args, &options, &directions)?;
+        for (row, figures) in bounds.iter_mut().zip(template) {
+            row.extend(figures);
+        }
+    }
     if !args.quiet {
         say(start_line(args, directions.len()));
     }
