@@ -153,11 +153,20 @@ def test_a_step_count_out_of_range_is_named(n_steps):
     assert info.value.argument == "n_steps"
 
 
-def test_a_record_interval_beyond_64_bits_is_named():
+@pytest.mark.parametrize("record_every", [2**70, 2**200, np.int64(0)])
+def test_a_record_interval_out_of_range_is_named(record_every):
     model, plant, x0 = pendulum_plant()
     with pytest.raises(ValueError, match="record_every: expected an integer from 1 to") as info:
-        plant.simulate(x0, np.zeros(model.n_joints), 1e-3, 10, record_every=2**70)
+        plant.simulate(x0, np.zeros(model.n_joints), 1e-3, 10, record_every=record_every)
     assert info.value.argument == "record_every"
+
+
+def test_record_every_none_records_every_step_and_a_float_is_a_type_error():
+    model, plant, x0 = pendulum_plant()
+    result = plant.simulate(x0, np.zeros(model.n_joints), 1e-3, 5, record_every=None)
+    assert len(result.time) == 6
+    with pytest.raises(TypeError):
+        plant.simulate(x0, np.zeros(model.n_joints), 1e-3, 5, record_every=2.0)
 
 
 @pytest.mark.parametrize("n_steps", [1.5, "10", None])

@@ -275,15 +275,16 @@ class Plant:
         dt: float,
         n_steps: int,
         method: str = "ros2",
-        record_every: int = 1,
+        record_every: int | None = None,
     ) -> SimulationResult:
         """Native loop with ``u`` held (GIL released), ``m`` recorded rows (the initial state,
         every ``record_every``-th step, the last one), float64: ``time`` (m,), ``x`` (m, nx),
         ``contact_wrenches`` (m, n_contacts, 6), ``motor_torques`` (m, n_e), ``drift_position``
         (m,), ``drift_rotation`` (m,); ``status`` ("completed" | "diverged" | "fell" | "interrupted"),
         ``diverged_at`` (float or None), ``message``. Data up to a divergence is kept.
-        ``n_steps`` (>= 0), ``record_every`` (>= 1) and the record's size are checked first
-        (``ValueError`` naming the argument, and giving the memory it would need). Ctrl-C raises ``KeyboardInterrupt`` within a fraction of a second; its
+        ``n_steps`` (>= 0), ``record_every`` (>= 1; None: every step) and the record's size are
+        checked first (``ValueError`` naming the argument, of any size, and giving the memory
+        it would need). Ctrl-C raises ``KeyboardInterrupt`` within a fraction of a second; its
         ``partial`` attribute is the result so far (status "interrupted")."""
 
 def run_scenario_native(

@@ -573,11 +573,12 @@ impl PyPlant {
     /// contact_wrenches (m, n_contacts, 6), motor_torques (m, n_e), drift_position (m,),
     /// drift_rotation (m,) as float64 arrays; status ("completed" or "diverged"), diverged_at
     /// (float or None), message. Data up to a divergence is kept. n_steps (>= 0),
-    /// record_every (>= 1) and the record's size are checked before anything is allocated
-    /// (`ValueError` naming the argument, and giving the memory needed).
+    /// record_every (>= 1; None: every step) and the record's size are checked before
+    /// anything is allocated (`ValueError` naming the argument, and giving the memory needed;
+    /// an integer of any size).
     /// Ctrl-C stops the loop within a fraction of a second and raises `KeyboardInterrupt`
     /// whose `partial` attribute is the result so far (status "interrupted").
-    #[pyo3(signature = (x0, u, dt, n_steps, method="ros2", record_every=1))]
+    #[pyo3(signature = (x0, u, dt, n_steps, method="ros2", record_every=None))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(
         &mut self,
@@ -587,12 +588,14 @@ impl PyPlant {
         dt: f64,
         n_steps: &Bound<'py, PyAny>,
         method: &str,
-        record_every: i128,
+        record_every: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let method = method_arg(method)?;
         let n_steps = count_arg("n_steps", n_steps, 0)?;
-        let record_every = record_every.into_pyobject(py)?.into_any();
-        let record_every = count_arg("record_every", &record_every, 1)?;
+        let record_every = match record_every {
+            Some(value) => count_arg("record_every", value, 1)?,
+            None => 1,
+        };
         check_record_size(&self.plant, n_steps, record_every)?;
         self.load(x0, u)?;
         let (plant, data, x, u) = (&self.plant, &mut self.data, &self.x, &self.u);

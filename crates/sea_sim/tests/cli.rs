@@ -169,6 +169,11 @@ impl Running {
         }
     }
 
+    /// The process id.
+    pub(super) fn id(&self) -> u32 {
+        self.child.id()
+    }
+
     pub(super) fn signal(&self, name: &str) {
         signal(self.child.id(), name);
     }

@@ -1,6 +1,6 @@
 //! `sea-sim push` and `sea-sim margin` stopped by a signal: no run starts, the runs under way
 //! stop at their next sample, what was done is reported with `"interrupted": true`, and the
-//! exit status is the signal's.
+//! exit status is the signal's. `sea-sim init` stopped while the robot loads writes nothing.
 
 use super::cli::{Running, Workspace};
 use std::path::{Path, PathBuf};
@@ -118,4 +118,54 @@ fn a_signal_stops_a_margin_scan_with_the_evaluations_done_reported() {
     assert_eq!(json["own_value_stable"], true, "{json}");
     // The scan did not reach 300 s: no island is claimed.
     assert!(json["stable_island"].is_null(), "{json}");
+}
+
+/// Waits until the process `pid` catches SIGTERM (its handlers installed): `SigCgt` of
+/// /proc/PID/status has bit 15 - 1.
+fn wait_until_catching_sigterm(pid: u32) {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    loop {
+        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+        let caught = status
+            .lines()
+            .find_map(|line| line.strip_prefix("SigCgt:"))
+            .and_then(|mask| u64::from_str_radix(mask.trim(), 16).ok())
+            .is_some_and(|mask| (mask >> 14) & 1 == 1);
+        if caught {
+            return;
+        }
+        assert!(std::time::Instant::now() < deadline, "SIGTERM never caught");
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+}
+
+#[test]
+fn a_signal_while_init_loads_the_robot_writes_nothing() {
+    // The iCub with a 30 MB comment: its load takes a large part of a second, and the signal
+    // comes as soon as the handlers are in place, before anything is written.
+    let ws = Workspace::new("init_signal");
+    let text = std::fs::read_to_string(format!("{REPO}/urdf/icub25.urdf")).unwrap();
+    let at = text.find("<robot").unwrap();
+    let at = at + text[at..].find('>').unwrap() + 1;
+    let padding = format!("<!-- {} -->", "x".repeat(30_000_000));
+    let urdf = ws.path("big_icub.urdf");
+    std::fs::write(&urdf, format!("{}{padding}{}", &text[..at], &text[at..])).unwrap();
+    let out = ws.path("big_icub_two_feet.toml");
+    let args = [
+        "--contacts",
+        "l_sole",
+        "r_sole",
+        "--foot=-0.05,0.10,-0.025,0.025",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let init = Running::start_command(("init", urdf.to_str().unwrap()), &args, Stdio::null());
+    wait_until_catching_sigterm(init.id());
+    stop(init, "TERM", 143, "nothing written");
+    let written: Vec<_> = std::fs::read_dir(out.parent().unwrap())
+        .unwrap()
+        .map(|entry| entry.unwrap().file_name().to_string_lossy().to_string())
+        .filter(|name| name.contains("two_feet"))
+        .collect();
+    assert!(written.is_empty(), "{written:?}");
 }

@@ -114,6 +114,16 @@ pub fn check_foot(rectangle: &FootRectangle) -> Result<FootRectangle> {
 
 /// Writes the scenario of `options` and says what it found.
 pub fn init(options: &InitOptions) -> Result<InitReport> {
+    let never = std::sync::atomic::AtomicBool::new(false);
+    Ok(init_unless_stopped(options, &never)?.expect("never stopped"))
+}
+
+/// [`init`], unless `stop` is raised before the scenario is written: then nothing is written
+/// and the result is `None` (a stop signal while a large robot loads).
+pub fn init_unless_stopped(
+    options: &InitOptions,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<Option<InitReport>> {
     let dirs = PackageDirs::from_environment(options.package_dirs.iter().cloned());
     let urdf_file = resolve_urdf(&options.urdf, &dirs)?;
     let text = sea_dyn::files::read_text(&urdf_file).map_err(|e| Error::io(&urdf_file, e))?;
@@ -160,8 +170,11 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
         feet_rank,
         walking: settings.as_ref(),
     };
+    if stop.load(std::sync::atomic::Ordering::SeqCst) {
+        return Ok(None);
+    }
     let written = write::write_scenario(options, &model, feet, &body)?;
-    Ok(InitReport {
+    Ok(Some(InitReport {
         out: written,
         robot: (model.name.clone(), model.total_mass(), model.n_joints()),
         feet: rectangles,
@@ -171,7 +184,7 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
         feet_rank,
         warnings: model.warnings.iter().map(|w| w.to_string()).collect(),
         walking_figures,
-    })
+    }))
 }
 
 /// The rank of the two feet's stacked 12 x nv contact Jacobian at the standing posture. A leg

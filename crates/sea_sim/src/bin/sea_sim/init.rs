@@ -1,6 +1,7 @@
 //! `sea-sim init`: a scenario for a new humanoid from its URDF.
 
-use crate::common::say;
+use crate::common::{say, Outcome};
+use crate::signals::Interrupts;
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -30,9 +31,11 @@ pub(crate) struct InitArgs {
     walking: bool,
 }
 
-/// `sea-sim init`: writes the scenario, says what it found on stderr.
-pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
-    use sea_sim::init::{init, parse_foot, InitOptions};
+/// `sea-sim init`: writes the scenario, says what it found on stderr. A stop signal before
+/// the scenario is written (a large robot loading) writes nothing; one during the write lets
+/// it finish (the file is written whole, through a temporary file).
+pub(crate) fn run_init(args: &InitArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
+    use sea_sim::init::{init_unless_stopped, parse_foot, InitOptions};
     let started = Instant::now();
     let flags = [("foot", "--foot"), ("urdf", "URDF")];
     let as_flag = |e: sea_sim::Error| e.argument_named(&flags);
@@ -57,7 +60,12 @@ pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
         name: None,
         walking: args.walking,
     };
-    let report = init(&options).map_err(as_flag)?;
+    let Some(report) = init_unless_stopped(&options, &interrupts.stop).map_err(as_flag)? else {
+        let sig = interrupts
+            .received()
+            .unwrap_or(signal_hook::consts::SIGTERM);
+        return Ok(Outcome::Interrupted(sig));
+    };
     let (name, mass, joints) = &report.robot;
     for warning in &report.warnings {
         say(format_args!("sea-sim: warning: {warning}"));
@@ -91,5 +99,5 @@ pub(crate) fn run_init(args: &InitArgs) -> sea_sim::Result<()> {
         report.residual,
         started.elapsed().as_secs_f64()
     ));
-    Ok(())
+    Ok(Outcome::Completed)
 }

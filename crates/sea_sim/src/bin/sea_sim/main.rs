@@ -99,7 +99,7 @@ fn main() -> ExitCode {
         }
         Command::Bench(args) => (bench::run_bench(args).map(|()| Outcome::Completed), None),
         Command::Margin(args) => with_interrupts(|interrupts| margin::run_margin(args, interrupts)),
-        Command::Init(args) => (init::run_init(args).map(|()| Outcome::Completed), None),
+        Command::Init(args) => with_interrupts(|interrupts| init::run_init(args, interrupts)),
         Command::Push(args) => with_interrupts(|interrupts| push::run_push(args, interrupts)),
         Command::Schema(args) => {
             schema::print_schema(args);
@@ -110,6 +110,7 @@ fn main() -> ExitCode {
         Command::Sweep(_) => "the rows of the runs done written",
         Command::Push(_) => "the pushes done reported",
         Command::Margin(_) => "the evaluations done reported",
+        Command::Init(_) => "nothing written",
         _ => "log and summary finished",
     };
     exit_code(outcome, stopped_by, finished)
