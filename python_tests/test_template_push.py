@@ -33,6 +33,9 @@ def test_fixed_pushes_report_each_outcome_and_the_bisection_agrees():
     [
         ({"phase": 1.5}, "phase"),
         ({"phase": 0.5, "step": 99}, "step"),
+        ({"phase": 0.5, "step": -1}, "step"),
+        ({"phase": 0.5, "step": 2**70}, "step"),
+        ({"phase": 0.5, "duration_s": 100.0}, "duration_s"),
         ({"phase": 0.5, "directions": []}, "directions"),
         ({"phase": 0.5, "directions": ["left", "left"]}, "directions"),
         ({"phase": 0.5, "duration_s": 0.0}, "duration_s"),
@@ -41,13 +44,17 @@ def test_fixed_pushes_report_each_outcome_and_the_bisection_agrees():
     ],
 )
 def test_bad_arguments_name_themselves(kwargs, named):
-    with pytest.raises(ValueError, match=named):
+    with pytest.raises(ValueError, match=named) as info:
         sm.template_push_table(WALK, **kwargs)
+    assert info.value.argument == named
 
 
 def test_a_scenario_that_does_not_walk_is_refused_naming_phase():
     standing = ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml"
-    with pytest.raises(ValueError, match="phase"):
+    with pytest.raises(ValueError, match="phase") as info:
         sm.template_push_table(standing, 0.5, "left")
+    assert info.value.argument == "phase"
     with pytest.raises(TypeError, match="impulses"):
         sm.template_push_table(WALK, 0.5, "left", impulses="1,2")
+    with pytest.raises(TypeError):
+        sm.template_push_table(WALK, 0.5, "left", step=3.0)

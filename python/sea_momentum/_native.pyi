@@ -412,14 +412,14 @@ def template_push_native(
     path: str,
     directions: list[str],
     phase: float,
-    step: int = 3,
+    step: int | None = None,
     overrides: Mapping[str, object] | None = None,
     impulses: list[float] | None = None,
     duration_s: float = 0.1,
     tolerance_n_s: float = 0.01,
 ) -> dict[str, object]:
-    """Pushes on a walk's template (GIL released); use ``sea_momentum.template_push_table``.
-    Returns ``start_s`` and ``rows`` (one dict per direction: ``direction``,
+    """Pushes on a walk's template (GIL released); use ``sea_momentum.template_push_table``
+    (``step`` None: the fourth, 3). Returns ``start_s`` and ``rows`` (one dict per direction: ``direction``,
     ``recovered_impulse_n_s``, ``pushes`` (list of (impulse, recovered); empty when
     bisected))."""
 

@@ -166,22 +166,25 @@ def template_push_table(
     tolerance_n_s: float = 0.01,
 ) -> list[TemplateRow]:
     """Pushes on the template of the walking scenario file ``scenario``, one
-    :class:`TemplateRow` per direction, as ``sea-sim push --phase`` reports them beside the
-    robot's (``template_impulse_n_s``).
+    :class:`TemplateRow` per direction: the figures ``sea-sim push --phase`` reports beside
+    the robot's (``template_impulse_n_s``, there bisected to ``--tolerance``, 0.1 N s by
+    default).
 
     The template is the controller's own walking planner (with its step adjustment) and the
     momentum task's linear rows on the linear inverted pendulum, the centre of pressure held in
     the plan's support over each whole-body period; feet land where and when planned, no
-    angular momentum, no joints (``docs/findings/walking_template.md``). A push of
-    ``duration_s`` [s] on the CoM starts at fraction ``phase`` of the swing of step ``step``
-    (0-based) of the scenario's walk. Without ``impulses`` each direction's largest recovered
+    angular momentum, no joints, the push unknown to the law
+    (``docs/findings/walking_template.md``). A push of ``duration_s`` [s] on the CoM starts at
+    fraction ``phase`` of the swing of step ``step`` (0-based) of the scenario's walk, and must
+    end within the run (``simulation.duration_s``). Without ``impulses`` each direction's largest recovered
     impulse is bisected to ``tolerance_n_s`` [N s]; with ``impulses`` [N s], one run each.
 
     Raises ScenarioError for a bad scenario, override or direction name (naming it),
     SeaIOError for a file that cannot be read, ValueError naming ``phase`` (outside [0, 1], or
-    a scenario that does not walk), ``step`` (beyond the plan), ``directions`` (none, or one
-    twice), ``duration_s``, ``tolerance_n_s`` or ``impulses`` (none, or one not finite and
-    non-negative), and TypeError for ``impulses`` given as a string.
+    a scenario that does not walk), ``step`` (negative or beyond the plan), ``directions``
+    (none, or one twice), ``duration_s`` (not positive, or a push that ends after the run),
+    ``tolerance_n_s`` or ``impulses`` (none, or one not finite and non-negative), and
+    TypeError for ``impulses`` given as a string or ``step`` not an integer.
     """
     if isinstance(directions, str):
         directions = [directions]
@@ -191,7 +194,7 @@ def template_push_table(
         os.fspath(scenario),
         list(directions),
         float(phase),
-        int(step),
+        step,
         dict(overrides or {}),
         None if impulses is None else [float(i) for i in impulses],
         float(duration_s),

@@ -647,7 +647,7 @@ const MAX_RECORD_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 /// A whole-number argument `value` from `min` to `usize::MAX`, named `argument` in the
 /// `ValueError` when it is an integer out of that range (of any size); not an integer: the
 /// `TypeError` of its conversion.
-fn count_arg(argument: &str, value: &Bound<'_, PyAny>, min: usize) -> PyResult<usize> {
+pub(crate) fn count_arg(argument: &str, value: &Bound<'_, PyAny>, min: usize) -> PyResult<usize> {
     let out_of_range = || {
         let expected = format!("an integer from {min} to {}", usize::MAX);
         argument_error(argument, &expected, value)

@@ -4,6 +4,7 @@
 
 use crate::errors::to_py;
 use crate::overrides::override_pairs;
+use crate::plant::count_arg;
 use crate::push::parse_directions;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -14,20 +15,23 @@ use sea_sim::analysis::template_walk::{template_bisection, template_pushes};
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-/// Pushes of `duration_s` at fraction `phase` of the swing of step `step` of the walk of the
-/// scenario file `path`, on its template, along each of `directions`: bisected to
+/// The step pushed by default: the fourth (0-based 3), as `sea-sim push --phase`.
+const DEFAULT_PUSHED_STEP: usize = 3;
+
+/// Pushes of `duration_s` at fraction `phase` of the swing of step `step` (default 3) of the
+/// walk of the scenario file `path`, on its template, along each of `directions`: bisected to
 /// `tolerance_n_s`, or with `impulses` one run each. Returns a dict: `start_s` (the push's
 /// start), `rows` (one dict per direction: `direction`, `recovered_impulse_n_s`, `pushes` (a
 /// list of (impulse, recovered) in the order given; empty when bisected)).
 #[pyfunction]
-#[pyo3(signature = (path, directions, phase, step=3, overrides=None, impulses=None, duration_s=0.1, tolerance_n_s=0.01))]
+#[pyo3(signature = (path, directions, phase, step=None, overrides=None, impulses=None, duration_s=0.1, tolerance_n_s=0.01))]
 #[allow(clippy::too_many_arguments)] // the Python signature, keyword arguments with defaults
 pub fn template_push_native<'py>(
     py: Python<'py>,
     path: PathBuf,
     directions: Vec<String>,
     phase: f64,
-    step: usize,
+    step: Option<&Bound<'py, PyAny>>,
     overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
     impulses: Option<Vec<f64>>,
     duration_s: f64,
@@ -35,6 +39,10 @@ pub fn template_push_native<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let pairs = override_pairs(overrides)?;
     let directions = parse_directions(&directions)?;
+    let step = match step {
+        Some(step) => count_arg("step", step, 0)?,
+        None => DEFAULT_PUSHED_STEP,
+    };
     for (name, value) in [("duration_s", duration_s), ("tolerance_n_s", tolerance_n_s)] {
         if !(value.is_finite() && value > 0.0) {
             return Err(crate::errors::argument_error(name, "finite and > 0", value));
@@ -43,8 +51,14 @@ pub fn template_push_native<'py>(
     if let Some(impulses) = &impulses {
         check_impulses(impulses).map_err(to_py)?;
     }
-    let python_names =
-        |e: sea_sim::Error| to_py(e.argument_named(&[("--phase", "phase"), ("--step", "step")]));
+    let python_names = |e: sea_sim::Error| {
+        let names = [
+            ("--phase", "phase"),
+            ("--step", "step"),
+            ("window", "duration_s"),
+        ];
+        to_py(e.argument_named(&names))
+    };
     let at = SwingPhase { step, phase };
     let (start_s, _) = swing_push_start(&path, &pairs, at).map_err(python_names)?;
     let window = (start_s, duration_s);
@@ -53,7 +67,7 @@ pub fn template_push_native<'py>(
         Some(impulses) => {
             let table = py
                 .detach(|| template_pushes(&path, &pairs, window, &directions, &impulses))
-                .map_err(to_py)?;
+                .map_err(python_names)?;
             for (direction, recovered) in directions.iter().zip(table) {
                 let pushes: Vec<(f64, bool)> = impulses
                     .iter()
@@ -67,7 +81,7 @@ pub fn template_push_native<'py>(
         None => {
             let found = py
                 .detach(|| template_bisection(&path, &pairs, window, &directions, tolerance_n_s))
-                .map_err(to_py)?;
+                .map_err(python_names)?;
             for (direction, impulse) in directions.iter().zip(found) {
                 rows.append(row(py, direction.name(), Some(impulse), Vec::new())?)?;
             }

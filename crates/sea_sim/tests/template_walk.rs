@@ -203,7 +203,9 @@ fn the_cli_reports_the_template_beside_the_robot() {
     let span = window(&overrides, 0.2);
     let directions = [PushDirection::Left, PushDirection::Forward];
     let library = template_pushes(&walk_push(), &overrides, span, &directions, &impulses).unwrap();
-    for (row, recovered) in report["directions"].as_array().unwrap().iter().zip(library) {
+    let rows = report["directions"].as_array().unwrap();
+    assert_eq!(rows.len(), library.len(), "{report}");
+    for (row, recovered) in rows.iter().zip(library) {
         let outcomes: String = recovered
             .iter()
             .map(|&o| if o { 'o' } else { 'x' })
@@ -219,4 +221,21 @@ fn the_cli_reports_the_template_beside_the_robot() {
     }
     // Within the 2.1 s run the left pushes have not ended the walk: none is lost yet.
     assert_eq!(report["directions"][0]["template_outcomes"], "oooo");
+}
+
+#[test]
+fn a_push_that_ends_after_the_run_is_refused_naming_the_window() {
+    let mut overrides = adjusted(false);
+    overrides.push(("simulation.duration_s".into(), "2.0".into()));
+    let directions = [PushDirection::Left];
+    for window in [(1.95, 0.1), (1.0, 0.0), (-0.1, 0.1)] {
+        let error = template_pushes(&walk_push(), &overrides, window, &directions, &[1.0])
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("window") && error.contains("2 s"), "{error}");
+        let error = template_bisection(&walk_push(), &overrides, window, &directions, 0.1)
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("window"), "{error}");
+    }
 }

@@ -118,17 +118,25 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
     Ok(init_unless_stopped(options, &never)?.expect("never stopped"))
 }
 
-/// [`init`], unless `stop` is raised before the scenario is written: then nothing is written
-/// and the result is `None` (a stop signal while a large robot loads).
+/// [`init`], unless `stop` is raised before the scenario is written (checked after reading
+/// the URDF, after building the model, before the standing posture and before writing): then
+/// nothing is written and the result is `None` (a stop signal while a large robot loads).
 pub fn init_unless_stopped(
     options: &InitOptions,
     stop: &std::sync::atomic::AtomicBool,
 ) -> Result<Option<InitReport>> {
+    let stopped = || stop.load(std::sync::atomic::Ordering::SeqCst);
     let dirs = PackageDirs::from_environment(options.package_dirs.iter().cloned());
     let urdf_file = resolve_urdf(&options.urdf, &dirs)?;
     let text = sea_dyn::files::read_text(&urdf_file).map_err(|e| Error::io(&urdf_file, e))?;
+    if stopped() {
+        return Ok(None);
+    }
     let mut model = Model::from_urdf_str(&text, &LoadOptions::default())
         .map_err(|e| Error::from(e.in_file(&urdf_file)))?;
+    if stopped() {
+        return Ok(None);
+    }
     for contact in &options.contacts {
         ContactSpec::parse(contact)?;
     }
@@ -157,6 +165,9 @@ pub fn init_unless_stopped(
             ([measure(0)?, measure(1)?], true)
         }
     };
+    if stopped() {
+        return Ok(None);
+    }
     let standing = posture::standing_posture(&model, feet, rectangles)?;
     let feet_rank = two_feet_rank(&model, feet, &standing);
     let walking_figures = walking::walking_figures(&model, feet, &standing);
@@ -170,7 +181,7 @@ pub fn init_unless_stopped(
         feet_rank,
         walking: settings.as_ref(),
     };
-    if stop.load(std::sync::atomic::Ordering::SeqCst) {
+    if stopped() {
         return Ok(None);
     }
     let written = write::write_scenario(options, &model, feet, &body)?;

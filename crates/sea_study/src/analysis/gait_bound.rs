@@ -274,7 +274,7 @@ pub(crate) fn largest_captured(captured: impl Fn(f64) -> bool) -> f64 {
 }
 
 /// The bracket `(low, high)` (`holds` true at `low`, false at `high`) bisected until narrower
-/// than `tolerance`; its lower end.
+/// than `tolerance`, or until no number lies between its ends; its lower end.
 pub(crate) fn bisect_holding(
     holds: impl Fn(f64) -> bool,
     (mut low, mut high): (f64, f64),
@@ -282,6 +282,9 @@ pub(crate) fn bisect_holding(
 ) -> f64 {
     while high - low > tolerance {
         let middle = 0.5 * (low + high);
+        if !(low < middle && middle < high) {
+            break;
+        }
         if holds(middle) {
             low = middle;
         } else {

@@ -26,10 +26,12 @@
 //! of the support the plan has at that tick (the QP's soles, shrunk by `controller.contact.
 //! cop_margin`; their convex hull in double support) and held over the tick. Feet land where
 //! and when the plan says, at once, and carry any share of the load; there is no angular
-//! momentum (no hip strategy), no joint, no swing dynamics. The walk is lost when the CoM
-//! leaves its reference by more than `simulation.divergence_com_error_m` within the run
-//! (`simulation.duration_s`), or when it has ended by then with the DCM outside the final
-//! stance.
+//! momentum (no hip strategy), no joint, no swing dynamics; a push acts at the CoM (the
+//! robot's on a link, which turns it too), and the observer of external wrenches
+//! (`controller.external_wrench`) is not modelled: the law knows no push. The walk is lost
+//! when the CoM leaves its reference by more than `simulation.divergence_com_error_m` within
+//! the run (`simulation.duration_s`), or when it has ended by then with the DCM outside the
+//! final stance.
 
 use super::gait_bound::{bisect_holding, built_walk};
 use super::push::{PushDirection, Stance};
@@ -302,7 +304,8 @@ impl TemplateWalk {
 /// contact's sole axes, [`Stance::direction`]), of each of `impulses` [N s]; per direction,
 /// whether each was recovered.
 ///
-/// Errors: as [`TemplateWalk::of_scenario`].
+/// Errors: a push `window` that does not end within the run (naming `window`), as
+/// [`TemplateWalk::of_scenario`].
 pub fn template_pushes(
     path: &Path,
     overrides: &[(String, String)],
@@ -310,7 +313,7 @@ pub fn template_pushes(
     directions: &[PushDirection],
     impulses: &[f64],
 ) -> Result<Vec<Vec<bool>>> {
-    per_direction(path, overrides, directions, |walk, along| {
+    per_direction(path, overrides, (directions, window), |walk, along| {
         impulses
             .iter()
             .map(|&impulse| walk.recovers(impulse, along, window))
@@ -321,10 +324,12 @@ pub fn template_pushes(
 /// The largest push [N s] the template of the scenario at `path` with `overrides` recovers
 /// along each of `directions`, pushed over `window` (start, length) [s]: the impulse doubled
 /// from 1 N s until a push is lost (at most [`TEMPLATE_CEILING_N_S`], reported as such when
-/// recovered there), then bisected to `tolerance_n_s`. A bisection: a recovered island above
-/// the first loss found is not seen (`--impulses` shows every outcome).
+/// recovered there), then bisected to `tolerance_n_s` (about 0 when even a small push is
+/// lost). A bisection: a recovered island above the first loss found is not seen
+/// (`--impulses` shows every outcome).
 ///
-/// Errors: as [`TemplateWalk::of_scenario`].
+/// Errors: a push `window` that does not end within the run (naming `window`), as
+/// [`TemplateWalk::of_scenario`].
 pub fn template_bisection(
     path: &Path,
     overrides: &[(String, String)],
@@ -332,7 +337,7 @@ pub fn template_bisection(
     directions: &[PushDirection],
     tolerance_n_s: f64,
 ) -> Result<Vec<f64>> {
-    per_direction(path, overrides, directions, |walk, along| {
+    per_direction(path, overrides, (directions, window), |walk, along| {
         let recovered = |impulse| walk.recovers(impulse, along, window);
         let mut high = 1.0;
         while recovered(high) {
@@ -346,14 +351,27 @@ pub fn template_bisection(
 }
 
 /// `study` of the template of the scenario at `path` with `overrides` along each of
-/// `directions` (its world (x, y) unit vector, [`Stance::direction`]).
+/// `directions` (its world (x, y) unit vector, [`Stance::direction`]). Errors: a push
+/// `window` (start, length) [s] that does not end within the run (naming `window`), as
+/// [`TemplateWalk::of_scenario`].
 fn per_direction<T>(
     path: &Path,
     overrides: &[(String, String)],
-    directions: &[PushDirection],
+    (directions, window): (&[PushDirection], (f64, f64)),
     study: impl Fn(&TemplateWalk, Vector2<f64>) -> T,
 ) -> Result<Vec<T>> {
     let walk = TemplateWalk::of_scenario(path, overrides)?;
+    let (start_s, duration_s) = window;
+    let end = start_s + duration_s;
+    if !(start_s >= 0.0 && duration_s > 0.0 && end <= walk.duration_s) {
+        let expected = format!(
+            "a push from 0 s on, of positive length, ending within the run's {} s \
+             (simulation.duration_s)",
+            walk.duration_s
+        );
+        let actual = format!("from {start_s} s for {duration_s} s");
+        return Err(sea_dyn::Error::invalid("window", expected, actual).into());
+    }
     let stance = Stance::of(&Scenario::from_file(path, overrides)?)?;
     Ok(directions
         .iter()

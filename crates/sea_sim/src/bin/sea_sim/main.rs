@@ -66,6 +66,9 @@ enum Command {
     /// A two-feet balancing scenario (or with `--walking` a walk): SEA on every joint, a
     /// standing posture, the foot rectangle and gains, all scaled to the robot; `sea-sim run`
     /// runs it with no edit.
+    ///
+    /// Exit status: 0 written, 1 error, 130/143/129 stopped by a signal before the scenario was
+    /// written (nothing written; a signal during the write lets it finish, status 0).
     Init(init::InitArgs),
     /// Find, per direction, the largest push the closed loop recovers from; prints a JSON report.
     ///

@@ -50,8 +50,8 @@ pub(crate) struct PushArgs {
     /// adjustment moves (`walking.step_adjustment`: the swing in flight when the push starts
     /// before `walking.step_adjustment_end_phase`, and the later ones; without it, none);
     /// `null` forward and backward. `capture_point_impulse_n_s` stays the initial stance's.
-    /// Every row also gives the same push on the walk's template, the controller's planner
-    /// and momentum law on the pendulum with the robot left out
+    /// Every row also gives the same push, at the CoM, on the walk's template, the
+    /// controller's planner and momentum law on the pendulum with the robot left out
     /// (`sea_study::analysis::template_walk`): `template_impulse_n_s` bisected, or with
     /// `--impulses` `template_outcomes` (`o` recovered, `x` not) and
     /// `template_recovered_up_to_n_s`.
@@ -219,20 +219,24 @@ const DEFAULT_PUSHED_STEP: usize = 3;
 /// Per direction, the bounds the report adds to its row, with their keys: pushing a walk
 /// (`at`), the gait's bounds on a sideways push (`gait_bound_impulse_n_s` with every landing
 /// within the step widths, `adjustment_bound_impulse_n_s` with those the controller's step
-/// adjustment moves; `null` along the walk); on a scenario that steps, the stepping
-/// settings' bound (`stepping_bound`); none otherwise.
+/// adjustment moves; `null` along the walk) and the template's figures of the push
+/// (`options`, [`template_by_direction`]); on a scenario that steps, the stepping settings'
+/// bound (`stepping_bound`); none otherwise.
 fn bounds_by_direction(
     args: &PushArgs,
     at: Option<SwingPhase>,
+    options: &PushOptions,
     directions: &[PushDirection],
 ) -> sea_sim::Result<Vec<Vec<(&'static str, serde_json::Value)>>> {
     let (path, overrides, duration) = (&args.scenario, &args.overrides, args.duration);
     if let Some(at) = at {
         let bounds = gait_bounds(path, overrides, at, duration, directions)?;
+        let template = template_by_direction(args, options, directions)?;
         return Ok(bounds
             .into_iter()
-            .map(|bounds| {
-                vec![
+            .zip(template)
+            .map(|(bounds, template)| {
+                let mut row = vec![
                     (
                         "gait_bound_impulse_n_s",
                         serde_json::json!(bounds.map(|b| b.within_limits)),
@@ -241,7 +245,9 @@ fn bounds_by_direction(
                         "adjustment_bound_impulse_n_s",
                         serde_json::json!(bounds.map(|b| b.adjusted)),
                     ),
-                ]
+                ];
+                row.extend(template);
+                row
             })
             .collect());
     }
@@ -253,10 +259,10 @@ fn bounds_by_direction(
         .collect())
 }
 
-/// With `--phase`, per direction, the template's figures the report adds to its row
+/// Pushing a walk, per direction, the template's figures the report adds to its row
 /// (`sea_study::analysis::template_walk`): with `--impulses` each push's outcome
 /// (`template_outcomes`, `template_recovered_up_to_n_s`), else the bisected
-/// `template_impulse_n_s`; none without `--phase`.
+/// `template_impulse_n_s`.
 fn template_by_direction(
     args: &PushArgs,
     options: &PushOptions,
@@ -343,13 +349,7 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
     };
     options.check_within_run(&scenario).map_err(as_flag)?;
     // The bounds first: cheap, and their errors come before the runs, not after.
-    let mut bounds = bounds_by_direction(args, swing.map(|(at, _)| at), &directions)?;
-    if swing.is_some() {
-        let template = template_by_direction(args, &options, &directions)?;
-        for (row, figures) in bounds.iter_mut().zip(template) {
-            row.extend(figures);
-        }
-    }
+    let bounds = bounds_by_direction(args, swing.map(|(at, _)| at), &options, &directions)?;
     if !args.quiet {
         say(start_line(args, directions.len()));
     }
