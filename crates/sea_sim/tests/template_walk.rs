@@ -239,3 +239,32 @@ fn a_push_that_ends_after_the_run_is_refused_naming_the_window() {
         assert!(error.contains("window"), "{error}");
     }
 }
+
+#[test]
+fn the_step_timing_lifts_the_planner_limited_cells_past_the_goal_on_the_template() {
+    // The goal: 0.25 m/s of velocity change, 8.3 N s on the iCub; left at 20 % and right at
+    // 80 % of the swing are the cells the plan's timing leaves under it.
+    let fixed = adjusted(false);
+    let mut retimed = fixed.clone();
+    retimed.push(("walking.step_timing".into(), "sideways".into()));
+    retimed.push(("walking.min_adjusted_swing_duration".into(), "0.15".into()));
+    for (direction, phase) in [(PushDirection::Left, 0.2), (PushDirection::Right, 0.8)] {
+        let span = window(&fixed, phase);
+        let outcomes = |overrides: &[(String, String)]| {
+            template_pushes(&walk_push(), overrides, span, &[direction], &[8.3]).unwrap()
+        };
+        assert_eq!(outcomes(&fixed), vec![vec![false]], "{direction:?} {phase}");
+        assert_eq!(
+            outcomes(&retimed),
+            vec![vec![true]],
+            "{direction:?} {phase}"
+        );
+    }
+    // Unpushed, nothing is clipped: the same walk.
+    let unpushed = |overrides: &[(String, String)]| {
+        TemplateWalk::of_scenario(&walk_push(), overrides)
+            .unwrap()
+            .run(None)
+    };
+    assert_eq!(unpushed(&fixed), unpushed(&retimed));
+}

@@ -16,6 +16,11 @@
 //! ankle strategy); when it has to be moved, the plan's DCM now differs from the measured one
 //! and the next step is adjusted in its turn.
 //!
+//! With `walking.step_timing` the touchdown may also come earlier, when the landing wished
+//! for lies beyond the step limits ([`super::step_timing`]): the later steps' times move with
+//! it, the swing is retimed in flight ([`Gait::retime_step`]) and the DCM plan made again over
+//! the new times.
+//!
 //! Only until `step_adjustment_end_phase` of the swing (0.8 by default): as the foot meets
 //! the ground the measured DCM error jumps (impacts), and a landing moved in the last
 //! periods asks the swing foot for accelerations it cannot follow.
@@ -30,6 +35,7 @@ use super::polygon::SupportPolygon;
 use super::recovery::MeasuredCom;
 use super::segment::DcmSegment;
 use super::settings::WalkingSettings;
+use super::step_timing::{remaining_swing, SwingInFlight, TIMING_GRID_S};
 use super::swing::SwingTrajectory;
 use nalgebra::Vector2;
 use sea_dyn::ContactSurface;
@@ -47,6 +53,9 @@ pub struct StepAdjustment {
     pub world_shift: Vector2<f64>,
     /// Whether the move was clipped to the step limits.
     pub clipped: bool,
+    /// The step's touchdown after the adjustment [s]: earlier than planned when the timing
+    /// moved (`walking.step_timing`, [`super::step_timing`]).
+    pub touchdown: f64,
 }
 
 /// Adjusts `gait` during the swing of its step `index` at the `measured` state (module doc):
@@ -73,9 +82,25 @@ pub fn adjust_step(
         return None;
     }
     let stance = gait.footsteps.stance_sole(index);
-    let growth = (lip.omega * remaining).exp();
-    let wished = step.pose.world_p_sole + world_dcm_error * growth;
-    let landing = clip_landing(settings, stance, step.foot.side(), wished);
+    let side = step.foot.side();
+    let clip = |world_p| clip_landing(settings, stance, side, world_p);
+    let swing = SwingInFlight {
+        remaining,
+        earliest: earliest_touchdown(settings, step.lift_off, t),
+        omega: lip.omega,
+        world_xi,
+        world_xi_plan: [t, step.touchdown].map(|time| gait.dcm.sample(time).world_xi.xy()),
+        world_p_landing: step.pose.world_p_sole,
+        stance,
+    };
+    let tau = remaining_swing(&swing, settings.step_timing, clip);
+    let wished = if tau < remaining {
+        gait.retime_step(index, t, t + tau);
+        swing.wished_landing(tau)
+    } else {
+        step.pose.world_p_sole + world_dcm_error * (lip.omega * remaining).exp()
+    };
+    let landing = clip(wished);
     let world_shift = landing - step.pose.world_p_sole;
     shift_footsteps(gait, index, world_shift);
     replan_in_swing(gait, surface, index, measured, world_xi);
@@ -86,7 +111,19 @@ pub fn adjust_step(
         world_dcm_error,
         world_shift,
         clipped: (landing - wished).norm() > 1e-12,
+        touchdown: gait.footsteps.steps[index].touchdown,
     })
+}
+
+/// The earliest time from `t` [s] to the touchdown of a swing that lifted off at `lift_off`
+/// [s] that the timing adaptation may choose (`walking.step_timing`): the end of the shortest
+/// swing, `walking.min_adjusted_swing_duration` from the lift-off, but no sooner than the
+/// last part of that swing the adjustment leaves alone, `1 - step_adjustment_end_phase` of it,
+/// nor sooner than one step of the timing's grid.
+fn earliest_touchdown(settings: &WalkingSettings, lift_off: f64, t: f64) -> f64 {
+    let shortest = settings.min_adjusted_swing_duration;
+    let settling = (1.0 - settings.step_adjustment_end_phase) * shortest;
+    (lift_off + shortest - t).max(settling).max(TIMING_GRID_S)
 }
 
 /// `world_p` moved, in the `stance` sole's frame, into the reach and onto the swing foot's

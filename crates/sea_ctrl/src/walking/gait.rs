@@ -161,6 +161,23 @@ impl Gait {
             .count()
     }
 
+    /// Moves the touchdown of step `index`, in flight at `t` [s], to `touchdown` [s] (after
+    /// `t`), and every later lift-off and touchdown by as much: the swing is retimed in flight
+    /// ([`SwingTrajectory::retime`]), the later swings move with their steps. The DCM plan is
+    /// the caller's to make again over the new times ([`super::adjust_step`]).
+    pub fn retime_step(&mut self, index: usize, t: f64, touchdown: f64) {
+        let shift = touchdown - self.footsteps.steps[index].touchdown;
+        self.footsteps.steps[index].touchdown = touchdown;
+        for later in &mut self.footsteps.steps[index + 1..] {
+            later.lift_off += shift;
+            later.touchdown += shift;
+        }
+        self.swings[index].retime(t, touchdown);
+        for later in &mut self.swings[index + 1..] {
+            later.start += shift;
+        }
+    }
+
     /// The time the walk ends standing [s].
     pub fn end_time(&self) -> f64 {
         self.footsteps.end_time()

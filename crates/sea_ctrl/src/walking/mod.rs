@@ -39,6 +39,7 @@ pub mod polygon;
 pub mod recovery;
 mod segment;
 pub mod settings;
+pub mod step_timing;
 pub mod swing;
 
 #[cfg(test)]
@@ -64,4 +65,5 @@ pub use settings::{
     CaptureMargin, FootstepSpec, RobotWalkingFigures, WalkCommand, WalkingSettings,
     ICUB_LEG_LENGTH, MAX_COMMAND_STEPS, STEP_LENGTH_PER_REACH,
 };
-pub use swing::{PlanarQuintic, SwingSample, SwingTrajectory, ToeOff};
+pub use step_timing::StepTiming;
+pub use swing::{PlanarQuintic, Quintic, SwingSample, SwingTrajectory, ToeOff};

@@ -9,11 +9,13 @@
 //! following the flat sole's toe (the origin lifted by `x_toe sin theta` and moved forward by
 //! `x_toe (1 - cos theta)`). A swing re-aimed in flight ([`SwingTrajectory::reaim`], step
 //! adjustment) follows, from then on, a quintic in x, y from its flat sample then (position,
-//! velocity, acceleration) to the new landing at rest.
+//! velocity, acceleration) to the new landing at rest; one retimed in flight
+//! ([`SwingTrajectory::retime`], step timing adaptation) follows quintics in x, y, height and
+//! yaw to its landing at rest at the earlier touchdown.
 
 use super::footstep::{wrap_angle, Footstep, FootstepPlan, SolePose};
 use super::settings::WalkingSettings;
-use nalgebra::{Rotation3, Vector2, Vector3};
+use nalgebra::{Rotation3, SVector, Vector2, Vector3};
 use sea_dyn::ContactSurface;
 
 /// The swing sole's pose, velocity and acceleration at one instant (world).
@@ -129,7 +131,8 @@ pub struct SwingTrajectory {
     pub touchdown: SolePose,
     /// Lift-off time [s].
     pub start: f64,
-    /// Swing duration [s], > 0.
+    /// Swing duration as planned at lift-off [s], > 0: the shape's (height, toe-off) time
+    /// scale; a retimed swing lands earlier ([`Self::touchdown_time`]).
     pub duration: f64,
     /// Apex height above the ground [m].
     pub height: f64,
@@ -139,28 +142,34 @@ pub struct SwingTrajectory {
     pub world_z_ground: f64,
     /// The x, y of the sole from a re-aim in flight on (`None`: the quintic from lift-off).
     pub reaimed: Option<PlanarQuintic>,
+    /// The height above the ground and the yaw of the sole from a retiming in flight on
+    /// ([`Self::retime`]; `None`: the sextic and the quintic from lift-off).
+    pub retimed: Option<Quintic<2>>,
 }
 
-/// A quintic in the plane over `[start, start + duration]`: `sum c_k tau^k`, `tau` the time
-/// from `start` (held at its end value after, at its start value before).
+/// A quintic in `D` dimensions over `[start, start + duration]`: `sum c_k tau^k`, `tau` the
+/// time from `start` (held at its end value after, at its start value before).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PlanarQuintic {
+pub struct Quintic<const D: usize> {
     /// Start time [s].
     pub start: f64,
     /// Duration [s], > 0.
     pub duration: f64,
     /// Coefficients `c_0..c_5`.
-    pub coefficients: [Vector2<f64>; 6],
+    pub coefficients: [SVector<f64, D>; 6],
 }
 
-impl PlanarQuintic {
+/// A quintic in the plane: a re-aimed swing's x, y.
+pub type PlanarQuintic = Quintic<2>;
+
+impl<const D: usize> Quintic<D> {
     /// The quintic from position `p0`, velocity `v0`, acceleration `a0` at `start` to `p1`
     /// at rest (zero velocity and acceleration) at `start + duration`.
     pub fn to_rest(
         start: f64,
         duration: f64,
-        [p0, v0, a0]: [Vector2<f64>; 3],
-        p1: Vector2<f64>,
+        [p0, v0, a0]: [SVector<f64, D>; 3],
+        p1: SVector<f64, D>,
     ) -> Self {
         let t = duration;
         let d = p1 - p0;
@@ -175,10 +184,10 @@ impl PlanarQuintic {
     }
 
     /// Position, velocity and acceleration at time `t` [s].
-    pub fn sample(&self, t: f64) -> [Vector2<f64>; 3] {
+    pub fn sample(&self, t: f64) -> [SVector<f64, D>; 3] {
         let tau = (t - self.start).clamp(0.0, self.duration);
         let c = &self.coefficients;
-        let mut out = [Vector2::zeros(); 3];
+        let mut out = [SVector::<f64, D>::zeros(); 3];
         for k in (0..6).rev() {
             out[2] = out[2] * tau + out[1] * 2.0;
             out[1] = out[1] * tau + out[0];
@@ -207,16 +216,17 @@ impl SwingTrajectory {
             toe_off,
             world_z_ground,
             reaimed: None,
+            retimed: None,
         }
     }
 
     /// Re-aims the swing in flight at time `t` [s] (before its touchdown) to land at
     /// `world_p_landing` (x, y; the yaw kept): from `t` on x and y follow a
     /// [`PlanarQuintic`] from this swing's sample at `t` to the landing at rest at the
-    /// touchdown time, so the sole's reference has no jump in position, velocity or
+    /// touchdown time ([`Self::touchdown_time`]), so the sole's reference has no jump in position, velocity or
     /// acceleration; the height is unchanged.
     pub fn reaim(&mut self, t: f64, world_p_landing: Vector2<f64>) {
-        let remaining = self.start + self.duration - t;
+        let remaining = self.touchdown_time() - t;
         if remaining <= 0.0 {
             return;
         }
@@ -228,6 +238,47 @@ impl SwingTrajectory {
             planar,
             world_p_landing,
         ));
+    }
+
+    /// Moves the touchdown in flight at time `t` [s] to `touchdown` [s] (after `t`): from
+    /// `t` on x, y follow a [`PlanarQuintic`] and the height and yaw a [`Quintic`] from the
+    /// swing's sample at `t` to the landing at rest at the new touchdown, so the sole's
+    /// reference has no jump in position, velocity or acceleration; a toe-off keeps its
+    /// timing (the swing's `duration` stays the planned one, [`Self::touchdown_time`] is the
+    /// new). Nothing is done at or after the touchdown.
+    pub fn retime(&mut self, t: f64, touchdown: f64) {
+        let remaining = touchdown - t;
+        if remaining <= 0.0 || t >= self.touchdown_time() {
+            return;
+        }
+        let now = self.flat_sample(t);
+        let landing = self.landing_xy();
+        let planar = [now.world_p_sole, now.world_v_sole, now.world_a_sole].map(|v| v.xy());
+        let vertical = [
+            Vector2::new(now.world_p_sole.z - self.world_z_ground, now.world_yaw_sole),
+            Vector2::new(now.world_v_sole.z, now.world_omega_sole.z),
+            Vector2::new(now.world_a_sole.z, now.world_omegadot_sole.z),
+        ];
+        let yaw_landing = self.lift_off.world_yaw_sole
+            + wrap_angle(self.touchdown.world_yaw_sole - self.lift_off.world_yaw_sole);
+        self.reaimed = Some(PlanarQuintic::to_rest(t, remaining, planar, landing));
+        let rest = Vector2::new(0.0, yaw_landing);
+        self.retimed = Some(Quintic::to_rest(t, remaining, vertical, rest));
+    }
+
+    /// The time the sole lands [s]: the end of a retiming ([`Self::retime`]), or the planned
+    /// `start + duration`.
+    pub fn touchdown_time(&self) -> f64 {
+        self.retimed
+            .map_or(self.start + self.duration, |q| q.start + q.duration)
+    }
+
+    /// Where the sole lands (x, y): the re-aimed quintic's end, or the planned touchdown.
+    fn landing_xy(&self) -> Vector2<f64> {
+        match &self.reaimed {
+            Some(planar) => planar.sample(planar.start + planar.duration)[0],
+            None => self.touchdown.world_p_sole,
+        }
     }
 
     /// The sole at time `t` [s] (held at the lift-off pose before, at the touchdown pose
@@ -257,13 +308,27 @@ impl SwingTrajectory {
                 delta_p * (dds * rate * rate),
             ],
         };
+        let [z, dz, ddz, yaw, dyaw, ddyaw] = match &self.retimed {
+            Some(vertical) if t >= vertical.start => {
+                let [q, dq, ddq] = vertical.sample(t);
+                [q.x, dq.x, ddq.x, q.y, dq.y, ddq.y]
+            }
+            _ => [
+                z,
+                dz * rate,
+                ddz * rate * rate,
+                self.lift_off.world_yaw_sole + delta_yaw * s,
+                delta_yaw * ds * rate,
+                delta_yaw * dds * rate * rate,
+            ],
+        };
         SwingSample {
             world_p_sole: Vector3::new(p.x, p.y, self.world_z_ground + z),
-            world_v_sole: Vector3::new(v.x, v.y, dz * rate),
-            world_a_sole: Vector3::new(a.x, a.y, ddz * rate * rate),
-            world_yaw_sole: self.lift_off.world_yaw_sole + delta_yaw * s,
-            world_omega_sole: Vector3::new(0.0, 0.0, delta_yaw * ds * rate),
-            world_omegadot_sole: Vector3::new(0.0, 0.0, delta_yaw * dds * rate * rate),
+            world_v_sole: Vector3::new(v.x, v.y, dz),
+            world_a_sole: Vector3::new(a.x, a.y, ddz),
+            world_yaw_sole: yaw,
+            world_omega_sole: Vector3::new(0.0, 0.0, dyaw),
+            world_omegadot_sole: Vector3::new(0.0, 0.0, ddyaw),
             pitch: 0.0,
         }
     }

@@ -75,6 +75,7 @@ pub fn walking_settings(figures: &RobotWalkingFigures) -> Result<WalkingSettings
         &mut settings.min_step_width,
         &mut settings.max_step_width,
         &mut settings.min_swing_duration,
+        &mut settings.min_adjusted_swing_duration,
         &mut settings.capture_margin.forward,
         &mut settings.capture_margin.backward,
         &mut settings.capture_margin.sideways,

@@ -110,7 +110,9 @@ impl WalkingScene {
                 (0..SWING_POINTS)
                     .map(|k| {
                         let u = k as f64 / (SWING_POINTS - 1) as f64;
-                        let p = swing.sample(swing.start + u * swing.duration).world_p_sole;
+                        let p = swing
+                            .sample(swing.start + u * (swing.touchdown_time() - swing.start))
+                            .world_p_sole;
                         point(p.x, p.y, p.z + ABOVE_GROUND_M)
                     })
                     .collect()

@@ -10,6 +10,7 @@ mod phase;
 #[cfg(feature = "serde")]
 mod serde;
 mod settings;
+mod step_timing;
 mod swing;
 
 use super::footstep::Stance;

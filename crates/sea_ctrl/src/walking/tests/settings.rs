@@ -160,6 +160,10 @@ fn the_scaled_settings_follow_the_rule_and_are_valid() {
         scaled.min_swing_duration,
         2.0 * icub.min_swing_duration
     ));
+    assert!(close(
+        scaled.min_adjusted_swing_duration,
+        2.0 * icub.min_adjusted_swing_duration
+    ));
     assert_eq!(scaled.max_step_turn, icub.max_step_turn);
     let mut walking = scaled.clone();
     walking.command.steps = Some(2);
@@ -269,4 +273,31 @@ fn refuses(
         set(settings, value);
         assert_eq!(key_of(settings.validate(0.01).unwrap_err()), key, "{value}");
     }
+}
+
+#[test]
+fn a_shortest_adjusted_swing_beyond_the_swing_is_refused_when_the_timing_moves() {
+    use super::super::StepTiming;
+    let mut settings = walking(4, 0.2, 0.0, 0.0);
+    settings.step_adjustment = true;
+    // 0.45 s single supports by default.
+    settings.min_adjusted_swing_duration = 0.5;
+    settings
+        .validate(0.01)
+        .expect("the plan's timing: the key is not used");
+    for timing in [StepTiming::Sideways, StepTiming::Any] {
+        settings.step_timing = timing;
+        let message = settings.validate(0.01).unwrap_err().to_string();
+        assert!(
+            message.contains("walking.min_adjusted_swing_duration")
+                && message.contains("0.45")
+                && message.contains("0.5"),
+            "{message}"
+        );
+    }
+    settings.min_adjusted_swing_duration = 0.005;
+    let key = key_of(settings.validate(0.01).unwrap_err());
+    assert_eq!(key, "walking.min_adjusted_swing_duration");
+    settings.min_adjusted_swing_duration = 0.2;
+    settings.validate(0.01).expect("valid");
 }

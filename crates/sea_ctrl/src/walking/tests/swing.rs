@@ -1,7 +1,7 @@
 //! Swing soles: endpoints, apex, derivatives.
 
 use super::super::command::footsteps_from_command;
-use super::super::footstep::SolePose;
+use super::super::footstep::{wrap_angle, SolePose};
 use super::super::swing::{SwingTrajectory, ToeOff};
 use super::{standing, walking};
 use nalgebra::{Vector2, Vector3};
@@ -17,6 +17,7 @@ fn swing() -> SwingTrajectory {
         toe_off: ToeOff::default(),
         world_z_ground: 0.3,
         reaimed: None,
+        retimed: None,
     }
 }
 
@@ -239,4 +240,42 @@ fn a_swing_reaimed_in_its_toe_off_has_no_jump() {
     reaimed.reaim(t, Vector2::new(0.25, 0.02));
     assert_no_jump(&original, &reaimed, t);
     assert_eq!(reaimed.sample(t).pitch, original.sample(t).pitch);
+}
+
+#[test]
+fn a_swing_retimed_in_flight_is_continuous_and_lands_at_rest_at_the_new_touchdown() {
+    for original in [swing(), swing_with_toe_off()] {
+        let mut retimed = original;
+        let t = original.start + 0.3 * original.duration;
+        let touchdown = original.start + 0.6 * original.duration;
+        retimed.retime(t, touchdown);
+        assert_no_jump(&original, &retimed, t);
+        let (before, after) = (original.sample(t), retimed.sample(t));
+        assert!((after.world_yaw_sole - before.world_yaw_sole).abs() < 1e-12);
+        assert!((after.world_omega_sole - before.world_omega_sole).norm() < 1e-9);
+        assert_eq!(retimed.touchdown_time(), touchdown);
+        // Lands where it was aimed, flat on the ground, at rest, at the new touchdown.
+        let end = retimed.sample(touchdown);
+        let landing = original.sample(original.start + original.duration);
+        assert_small(end.world_p_sole - landing.world_p_sole, 1e-12, "landing");
+        assert_small(end.world_v_sole, 1e-9, "landing velocity");
+        assert_small(end.world_a_sole, 1e-7, "landing acceleration");
+        assert!((end.world_yaw_sole - (3.0 + wrap_angle(-6.0))).abs() < 1e-12);
+        assert!(end.world_omega_sole.norm() < 1e-9 && end.pitch == 0.0);
+        // A re-aim after the retiming keeps the new touchdown.
+        let mut reaimed = retimed;
+        let later = t + 0.05;
+        reaimed.reaim(later, Vector2::new(0.25, 0.02));
+        assert_no_jump(&retimed, &reaimed, later);
+        let end = reaimed.sample(touchdown);
+        assert_small(
+            end.world_p_sole - Vector3::new(0.25, 0.02, 0.3),
+            1e-12,
+            "re-aimed",
+        );
+        // At or after the touchdown, nothing moves.
+        let mut late = original;
+        late.retime(original.start + original.duration, touchdown);
+        assert_eq!(late, original);
+    }
 }

@@ -1,0 +1,167 @@
+//! Step timing adaptation: the landing wished for at each touchdown time, the choice of the
+//! remaining swing, and the step adjustment moving a touchdown with every later time.
+
+use super::walking;
+use crate::walking::step_timing::{remaining_swing, SwingInFlight};
+use crate::walking::{adjust_step, Gait, MeasuredCom, StepTiming, ToeOff, WalkingSettings};
+use nalgebra::{Matrix3, Vector2, Vector3};
+use sea_dyn::spatial::Pose;
+use sea_dyn::ContactSurface;
+
+/// A walk of eight 0.1 m steps from soles 0.14 m apart (left first), step adjustment on.
+fn gait(timing: StepTiming) -> (Gait, WalkingSettings) {
+    let mut settings = walking(8, 0.25, 0.0, 0.0);
+    settings.step_duration = 0.4;
+    settings.double_support_duration = 0.1;
+    settings.step_adjustment = true;
+    settings.step_timing = timing;
+    let sole = |y: f64| Pose {
+        rotation: Matrix3::identity(),
+        translation: Vector3::new(0.0, y, 0.0),
+    };
+    let com = Vector3::new(0.0, 0.0, 0.53);
+    let soles = [sole(0.07), sole(-0.07)];
+    (
+        Gait::new(&settings, &soles, com, 9.81, ToeOff::default()).unwrap(),
+        settings,
+    )
+}
+
+/// Step `index`'s swing at `fraction` of it, the measured DCM the plan's plus `error`.
+fn in_flight(
+    gait: &Gait,
+    settings: &WalkingSettings,
+    index: usize,
+    fraction: f64,
+    error: Vector2<f64>,
+) -> (SwingInFlight, f64) {
+    let step = gait.footsteps.steps[index];
+    let t = step.lift_off + fraction * (step.touchdown - step.lift_off);
+    let plan = [t, step.touchdown].map(|time| gait.dcm.sample(time).world_xi.xy());
+    let swing = SwingInFlight {
+        remaining: step.touchdown - t,
+        earliest: step.lift_off + settings.min_adjusted_swing_duration - t,
+        omega: gait.dcm.lip().omega,
+        world_xi: plan[0] + error,
+        world_xi_plan: plan,
+        world_p_landing: step.pose.world_p_sole,
+        stance: gait.footsteps.stance_sole(index),
+    };
+    (swing, t)
+}
+
+/// The step limits of `settings` around step `index`'s stance, as the adjustment clips.
+fn clip(
+    gait: &Gait,
+    settings: &WalkingSettings,
+    index: usize,
+) -> impl Fn(Vector2<f64>) -> Vector2<f64> {
+    let stance = gait.footsteps.stance_sole(index);
+    let side = gait.footsteps.steps[index].foot.side();
+    let (reach, widths) = (
+        settings.max_step_length,
+        (settings.min_step_width, settings.max_step_width),
+    );
+    move |world_p| {
+        let aim = stance.to_sole(world_p);
+        let lateral = (side * aim.y).clamp(widths.0, widths.1);
+        stance.to_world(Vector2::new(aim.x.clamp(-reach, reach), side * lateral))
+    }
+}
+
+#[test]
+fn at_the_planned_time_the_wished_landing_is_the_step_adjustments() {
+    let (gait, settings) = gait(StepTiming::Sideways);
+    let error = Vector2::new(0.012, -0.02);
+    let (swing, _) = in_flight(&gait, &settings, 3, 0.3, error);
+    let growth = (swing.omega * swing.remaining).exp();
+    let expected = swing.world_p_landing + error * growth;
+    assert!((swing.wished_landing(swing.remaining) - expected).norm() < 1e-12);
+    // Sooner, the error has grown less: the landing moves less.
+    let sooner = swing.wished_landing(0.5 * swing.remaining) - swing.world_p_landing;
+    assert!(sooner.norm() < (expected - swing.world_p_landing).norm());
+}
+
+#[test]
+fn a_landing_clipped_sideways_lands_earlier_and_an_unclipped_one_keeps_its_time() {
+    let (gait, settings) = gait(StepTiming::Sideways);
+    // Step 3 is the right foot's, standing on the left: pushed left, its landing is clipped
+    // to the smallest width.
+    assert!(gait.footsteps.steps[3].foot.side() < 0.0);
+    let clip = clip(&gait, &settings, 3);
+    let (left, _) = in_flight(&gait, &settings, 3, 0.2, Vector2::new(0.0, 0.04));
+    let (small, _) = in_flight(&gait, &settings, 3, 0.2, Vector2::new(0.0, -0.005));
+    let (forward, _) = in_flight(&gait, &settings, 3, 0.2, Vector2::new(0.05, 0.0));
+    let clipped = |swing: &SwingInFlight, tau: f64| {
+        let wished = swing.wished_landing(tau);
+        (clip(wished) - wished).norm()
+    };
+    assert!(clipped(&left, left.remaining) > 0.01);
+    let tau = remaining_swing(&left, StepTiming::Sideways, &clip);
+    assert!(
+        tau < left.remaining - 0.05 && tau >= left.earliest,
+        "{tau} of {}",
+        left.remaining
+    );
+    assert!(clipped(&left, tau) < clipped(&left, left.remaining));
+    assert_eq!(
+        remaining_swing(&left, StepTiming::Fixed, &clip),
+        left.remaining
+    );
+    // Unclipped: the plan's time.
+    assert!(clipped(&small, small.remaining) < 1e-12);
+    assert_eq!(
+        remaining_swing(&small, StepTiming::Any, &clip),
+        small.remaining
+    );
+    // Clipped by the reach: only `Any` lands earlier.
+    assert!(clipped(&forward, forward.remaining) > 0.01);
+    assert_eq!(
+        remaining_swing(&forward, StepTiming::Sideways, &clip),
+        forward.remaining
+    );
+    assert!(remaining_swing(&forward, StepTiming::Any, &clip) < forward.remaining);
+}
+
+#[test]
+fn an_earlier_touchdown_moves_every_later_time_with_it_and_the_plan_from_the_measured_dcm() {
+    for timing in [StepTiming::Fixed, StepTiming::Sideways] {
+        let (mut gait, settings) = gait(timing);
+        let before = gait.footsteps.steps.clone();
+        let (swing, t) = in_flight(&gait, &settings, 3, 0.2, Vector2::new(0.0, 0.04));
+        let lip = gait.dcm.lip();
+        let world_v_com = (swing.world_xi - gait.dcm.sample(t).com.position.xy()) * lip.omega;
+        let measured = MeasuredCom {
+            time: t,
+            world_p_com: gait.dcm.sample(t).com.position.xy(),
+            world_v_com,
+            world_z_com: 0.53,
+        };
+        let surface = ContactSurface::default();
+        let made = adjust_step(&mut gait, &settings, &surface, 3, measured).expect("adjusted");
+        let after = &gait.footsteps.steps;
+        let shift = made.touchdown - before[3].touchdown;
+        match timing {
+            StepTiming::Fixed => assert_eq!(shift, 0.0),
+            _ => assert!(shift < -0.05, "{made:?}"),
+        }
+        assert_eq!(after[3].lift_off, before[3].lift_off);
+        assert_eq!(after[3].touchdown, made.touchdown);
+        assert_eq!(gait.swings[3].touchdown_time(), made.touchdown);
+        for (new, old) in after[4..].iter().zip(&before[4..]) {
+            assert!((new.lift_off - old.lift_off - shift).abs() < 1e-12);
+            assert!((new.touchdown - old.touchdown - shift).abs() < 1e-12);
+        }
+        // The plan is made again over the new times: from the measured CoM, its DCM
+        // continuous through the new touchdown and the next step's lift-off and touchdown.
+        let com = gait.dcm.sample(t).com.position.xy();
+        assert!((com - measured.world_p_com).norm() < 1e-12);
+        for time in [made.touchdown, after[4].lift_off, after[4].touchdown] {
+            let [early, late] = [time - 1e-7, time + 1e-7].map(|s| gait.dcm.sample(s).world_xi);
+            assert!(
+                (late - early).norm() < 1e-6,
+                "{time}: {early} against {late}"
+            );
+        }
+    }
+}
