@@ -260,11 +260,15 @@ fn the_step_timing_lifts_the_planner_limited_cells_past_the_goal_on_the_template
             "{direction:?} {phase}"
         );
     }
-    // Unpushed, nothing is clipped: the same walk.
+    // Unpushed, adjusted at every tick (no threshold), nothing is clipped: the same walk.
     let unpushed = |overrides: &[(String, String)]| {
-        TemplateWalk::of_scenario(&walk_push(), overrides)
+        let mut every_tick = overrides.to_vec();
+        every_tick.push(("walking.step_adjustment_threshold".into(), "0".into()));
+        TemplateWalk::of_scenario(&walk_push(), &every_tick)
             .unwrap()
             .run(None)
     };
-    assert_eq!(unpushed(&fixed), unpushed(&retimed));
+    let (walked, retimed_walk) = (unpushed(&fixed), unpushed(&retimed));
+    assert!(walked.recovered, "{walked:?}");
+    assert_eq!(walked, retimed_walk);
 }

@@ -29,7 +29,7 @@
 //! step's does, `walking::recovery`).
 
 use super::dcm::{backward_recursion, DcmPlan};
-use super::footstep::SolePose;
+use super::footstep::{Footstep, SolePose};
 use super::gait::Gait;
 use super::polygon::SupportPolygon;
 use super::recovery::MeasuredCom;
@@ -86,7 +86,7 @@ pub fn adjust_step(
     let clip = |world_p| clip_landing(settings, stance, side, world_p);
     let swing = SwingInFlight {
         remaining,
-        earliest: earliest_touchdown(settings, step.lift_off, t),
+        earliest: earliest_touchdown(settings, &step, t),
         omega: lip.omega,
         world_xi,
         world_xi_plan: [t, step.touchdown].map(|time| gait.dcm.sample(time).world_xi.xy()),
@@ -115,15 +115,19 @@ pub fn adjust_step(
     })
 }
 
-/// The earliest time from `t` [s] to the touchdown of a swing that lifted off at `lift_off`
-/// [s] that the timing adaptation may choose (`walking.step_timing`): the end of the shortest
-/// swing, `walking.min_adjusted_swing_duration` from the lift-off, but no sooner than the
-/// last part of that swing the adjustment leaves alone, `1 - step_adjustment_end_phase` of it,
-/// nor sooner than one step of the timing's grid.
-fn earliest_touchdown(settings: &WalkingSettings, lift_off: f64, t: f64) -> f64 {
+/// The earliest time from `t` [s] to the touchdown of `step`, in flight, that the timing
+/// adaptation may choose (`walking.step_timing`): the swing lasts at least
+/// `walking.min_adjusted_swing_duration` from its lift-off, and the rest of it goes at most
+/// `swing / min_adjusted_swing_duration` times faster than now (`swing` its duration as now
+/// timed), so a foot late in its swing is not brought down from its apex in a few periods;
+/// never sooner than one step of the timing's grid.
+fn earliest_touchdown(settings: &WalkingSettings, step: &Footstep, t: f64) -> f64 {
     let shortest = settings.min_adjusted_swing_duration;
-    let settling = (1.0 - settings.step_adjustment_end_phase) * shortest;
-    (lift_off + shortest - t).max(settling).max(TIMING_GRID_S)
+    let remaining = step.touchdown - t;
+    let pace = shortest / (step.touchdown - step.lift_off);
+    (step.lift_off + shortest - t)
+        .max(remaining * pace)
+        .max(TIMING_GRID_S)
 }
 
 /// `world_p` moved, in the `stance` sole's frame, into the reach and onto the swing foot's

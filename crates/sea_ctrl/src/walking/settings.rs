@@ -245,13 +245,14 @@ pub struct WalkingSettings {
     /// the plan's timing), `"sideways"` (a landing clipped to
     /// `min_step_width`..`max_step_width`) or `"any"` (clipped in any direction, the reach
     /// too). On walk_push.toml's template `"sideways"` with 0.15 s swings clears 8.3 N s in
-    /// every sideways push cell; on the iCub the ideal controller then recovers 82 of 108
+    /// every sideways push cell; on the iCub the ideal controller then recovers 84 of 108
     /// pushes against 73, the design 75, and `"any"` loses forward pushes
     /// (docs/findings/walking_template.md).
     pub step_timing: StepTiming,
     /// Step timing: the shortest swing a timing adaptation makes [s], at least one whole-body
-    /// period and, with `step_timing` other than `"fixed"`, at most the single support
-    /// (default 0.2).
+    /// period and, with `step_timing` other than `"fixed"`, at most the single support and,
+    /// with a toe-off, at least its end (`swing_toe_off_end` of the single support) (default
+    /// 0.2).
     pub min_adjusted_swing_duration: f64,
     /// The walking command, used when `footsteps` is empty (refused with `footsteps`).
     pub command: WalkCommand,
@@ -566,6 +567,18 @@ impl WalkingSettings {
                     "must be at most the single support, walking.step_duration - \
                      walking.double_support_duration = {:.4} s",
                     self.single_support_duration()
+                ),
+                self.min_adjusted_swing_duration,
+            ));
+        }
+        let toe_off_end = self.swing_toe_off_end * self.single_support_duration();
+        let toe_off = self.swing_toe_off_pitch > 0.0;
+        if retimed && toe_off && self.min_adjusted_swing_duration < toe_off_end {
+            return Err(Error::invalid(
+                "walking.min_adjusted_swing_duration",
+                format!(
+                    "must be at least the toe-off's end, walking.swing_toe_off_end times the \
+                     single support = {toe_off_end:.4} s, so that a retimed foot lands flat"
                 ),
                 self.min_adjusted_swing_duration,
             ));

@@ -17,9 +17,10 @@
 //! Where the step limits clip `wished(tau)`, the clipped part is what the stance's centre of
 //! pressure has to take, and the sooner the foot lands the less the DCM has run. The remaining
 //! swing chosen, [`remaining_swing`], is the latest on a grid of [`TIMING_GRID_S`] from the
-//! planned one down to the shortest swing (`walking.min_adjusted_swing_duration` from the
-//! lift-off) whose clipped part ([`StepTiming`] says which part counts) is within
-//! [`TIMING_TOLERANCE_M`] of the least on the grid: unclipped steps keep their timing.
+//! planned one down to the earliest allowed ([`SwingInFlight::earliest`], set by the step
+//! adjustment from `walking.min_adjusted_swing_duration`) whose clipped part ([`StepTiming`]
+//! says which part counts) is within [`TIMING_TOLERANCE_M`] of the least on the grid:
+//! unclipped steps keep their timing.
 
 use super::footstep::SolePose;
 use nalgebra::Vector2;
@@ -54,7 +55,8 @@ pub const TIMING_TOLERANCE_M: f64 = 0.001;
 pub struct SwingInFlight {
     /// The planned time to the touchdown [s], > 0.
     pub remaining: f64,
-    /// The earliest time to the touchdown allowed [s] (the shortest swing's end, from now).
+    /// The earliest time to the touchdown allowed [s], > 0 (`walking::adjust`: the shortest
+    /// swing's end, and the rest of the swing at most the shortest swing's pace faster).
     pub earliest: f64,
     /// The pendulum's `omega` [1/s].
     pub omega: f64,

@@ -300,4 +300,13 @@ fn a_shortest_adjusted_swing_beyond_the_swing_is_refused_when_the_timing_moves()
     assert_eq!(key, "walking.min_adjusted_swing_duration");
     settings.min_adjusted_swing_duration = 0.2;
     settings.validate(0.01).expect("valid");
+    // A toe-off over half the 0.45 s swing: a retimed foot may not land before its end.
+    settings.swing_toe_off_pitch = 0.2;
+    let message = settings.validate(0.01).unwrap_err().to_string();
+    assert!(
+        message.contains("walking.min_adjusted_swing_duration") && message.contains("0.225"),
+        "{message}"
+    );
+    settings.min_adjusted_swing_duration = 0.23;
+    settings.validate(0.01).expect("landing after the toe-off");
 }

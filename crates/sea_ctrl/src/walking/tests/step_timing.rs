@@ -152,6 +152,9 @@ fn an_earlier_touchdown_moves_every_later_time_with_it_and_the_plan_from_the_mea
             assert!((new.lift_off - old.lift_off - shift).abs() < 1e-12);
             assert!((new.touchdown - old.touchdown - shift).abs() < 1e-12);
         }
+        // The swing lasts at least the shortest swing.
+        let swing_duration = made.touchdown - after[3].lift_off;
+        assert!(swing_duration >= settings.min_adjusted_swing_duration - 1e-12);
         // The plan is made again over the new times: from the measured CoM, its DCM
         // continuous through the new touchdown and the next step's lift-off and touchdown.
         let com = gait.dcm.sample(t).com.position.xy();
@@ -164,4 +167,49 @@ fn an_earlier_touchdown_moves_every_later_time_with_it_and_the_plan_from_the_mea
             );
         }
     }
+}
+
+#[test]
+fn late_in_a_swing_the_rest_goes_at_most_the_shortest_swings_pace_faster() {
+    let (mut gait, settings) = gait(StepTiming::Sideways);
+    let step = gait.footsteps.steps[3];
+    let swing_duration = step.touchdown - step.lift_off;
+    // At 70 % of the swing, pushed hard to the left: the landing is clipped at any time.
+    let (swing, t) = in_flight(&gait, &settings, 3, 0.7, Vector2::new(0.0, 0.08));
+    let world_p_com = gait.dcm.sample(t).com.position.xy();
+    let omega = gait.dcm.lip().omega;
+    let measured = MeasuredCom {
+        time: t,
+        world_p_com,
+        world_v_com: (swing.world_xi - world_p_com) * omega,
+        world_z_com: 0.53,
+    };
+    let surface = ContactSurface::default();
+    let made = adjust_step(&mut gait, &settings, &surface, 3, measured).expect("adjusted");
+    let pace = settings.min_adjusted_swing_duration / swing_duration;
+    let earliest = (step.touchdown - t) * pace;
+    assert!(made.touchdown < step.touchdown - 0.01, "{made:?}");
+    assert!(
+        made.touchdown - t >= earliest - 1e-12,
+        "{made:?}: {earliest}"
+    );
+    // The retimed swing's height asks for no more than the planned swing's peak vertical
+    // acceleration, scaled by the square of the pace.
+    let planned = |s: f64| gait.swings[4].sample(s);
+    let peak = |sample: &dyn Fn(f64) -> f64, from: f64, to: f64| {
+        (0..=200)
+            .map(|k| sample(from + (to - from) * k as f64 / 200.0).abs())
+            .fold(0.0, f64::max)
+    };
+    let [start, end] = [gait.swings[4].start, gait.swings[4].touchdown_time()];
+    let planned_peak = peak(&|s| planned(s).world_a_sole.z, start, end);
+    let retimed_peak = peak(
+        &|s| gait.swings[3].sample(s).world_a_sole.z,
+        t,
+        made.touchdown,
+    );
+    assert!(
+        retimed_peak <= planned_peak / (pace * pace),
+        "{retimed_peak} against {planned_peak}"
+    );
 }

@@ -274,8 +274,12 @@ fn a_swing_retimed_in_flight_is_continuous_and_lands_at_rest_at_the_new_touchdow
             "re-aimed",
         );
         // At or after the touchdown, nothing moves.
+        let end = original.start + original.duration;
         let mut late = original;
-        late.retime(original.start + original.duration, touchdown);
+        late.retime(end, end + 0.1);
         assert_eq!(late, original);
+        let mut landed = retimed;
+        landed.retime(touchdown + 0.01, touchdown + 0.1);
+        assert_eq!(landed, retimed);
     }
 }
