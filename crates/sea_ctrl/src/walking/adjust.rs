@@ -132,7 +132,7 @@ fn earliest_touchdown(settings: &WalkingSettings, step: &Footstep, t: f64) -> f6
 
 /// `world_p` moved, in the `stance` sole's frame, into the reach and onto the swing foot's
 /// own side (`side` +1 left, -1 right) `min_step_width`..`max_step_width` from it.
-fn clip_landing(
+pub(super) fn clip_landing(
     settings: &WalkingSettings,
     stance: SolePose,
     side: f64,

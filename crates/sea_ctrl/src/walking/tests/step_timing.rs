@@ -2,6 +2,7 @@
 //! remaining swing, and the step adjustment moving a touchdown with every later time.
 
 use super::walking;
+use crate::walking::adjust::clip_landing;
 use crate::walking::step_timing::{remaining_swing, SwingInFlight};
 use crate::walking::{adjust_step, Gait, MeasuredCom, StepTiming, ToeOff, WalkingSettings};
 use nalgebra::{Matrix3, Vector2, Vector3};
@@ -51,22 +52,14 @@ fn in_flight(
 }
 
 /// The step limits of `settings` around step `index`'s stance, as the adjustment clips.
-fn clip(
+fn clip<'a>(
     gait: &Gait,
-    settings: &WalkingSettings,
+    settings: &'a WalkingSettings,
     index: usize,
-) -> impl Fn(Vector2<f64>) -> Vector2<f64> {
+) -> impl Fn(Vector2<f64>) -> Vector2<f64> + 'a {
     let stance = gait.footsteps.stance_sole(index);
     let side = gait.footsteps.steps[index].foot.side();
-    let (reach, widths) = (
-        settings.max_step_length,
-        (settings.min_step_width, settings.max_step_width),
-    );
-    move |world_p| {
-        let aim = stance.to_sole(world_p);
-        let lateral = (side * aim.y).clamp(widths.0, widths.1);
-        stance.to_world(Vector2::new(aim.x.clamp(-reach, reach), side * lateral))
-    }
+    move |world_p| clip_landing(settings, stance, side, world_p)
 }
 
 #[test]
