@@ -223,8 +223,8 @@ impl SwingTrajectory {
     /// Re-aims the swing in flight at time `t` [s] (before its touchdown) to land at
     /// `world_p_landing` (x, y; the yaw kept): from `t` on x and y follow a
     /// [`PlanarQuintic`] from this swing's sample at `t` to the landing at rest at the
-    /// touchdown time ([`Self::touchdown_time`]), so the sole's reference has no jump in position, velocity or
-    /// acceleration; the height is unchanged.
+    /// touchdown time ([`Self::touchdown_time`]), so the sole's reference has no jump in
+    /// position, velocity or acceleration; the height is unchanged.
     pub fn reaim(&mut self, t: f64, world_p_landing: Vector2<f64>) {
         let remaining = self.touchdown_time() - t;
         if remaining <= 0.0 {
@@ -252,17 +252,16 @@ impl SwingTrajectory {
             return;
         }
         let now = self.flat_sample(t);
-        let landing = self.landing_xy();
+        let landing = self.flat_sample(self.touchdown_time());
         let planar = [now.world_p_sole, now.world_v_sole, now.world_a_sole].map(|v| v.xy());
         let vertical = [
             Vector2::new(now.world_p_sole.z - self.world_z_ground, now.world_yaw_sole),
             Vector2::new(now.world_v_sole.z, now.world_omega_sole.z),
             Vector2::new(now.world_a_sole.z, now.world_omegadot_sole.z),
         ];
-        let yaw_landing = self.lift_off.world_yaw_sole
-            + wrap_angle(self.touchdown.world_yaw_sole - self.lift_off.world_yaw_sole);
-        self.reaimed = Some(PlanarQuintic::to_rest(t, remaining, planar, landing));
-        let rest = Vector2::new(0.0, yaw_landing);
+        let aim = landing.world_p_sole.xy();
+        self.reaimed = Some(PlanarQuintic::to_rest(t, remaining, planar, aim));
+        let rest = Vector2::new(0.0, landing.world_yaw_sole);
         self.retimed = Some(Quintic::to_rest(t, remaining, vertical, rest));
     }
 
@@ -271,14 +270,6 @@ impl SwingTrajectory {
     pub fn touchdown_time(&self) -> f64 {
         self.retimed
             .map_or(self.start + self.duration, |q| q.start + q.duration)
-    }
-
-    /// Where the sole lands (x, y): the re-aimed quintic's end, or the planned touchdown.
-    fn landing_xy(&self) -> Vector2<f64> {
-        match &self.reaimed {
-            Some(planar) => planar.sample(planar.start + planar.duration)[0],
-            None => self.touchdown.world_p_sole,
-        }
     }
 
     /// The sole at time `t` [s] (held at the lift-off pose before, at the touchdown pose
