@@ -145,6 +145,26 @@ fn deliver_impacts(engine: &mut Engine<'_>, sinks: &mut [&mut dyn RecordSink]) -
     Ok(())
 }
 
+/// Hands the controller's walk to every sink when it changed since `revision` (which it
+/// updates; [`sea_ctrl::MomentumController::gait_revision`]).
+fn deliver_walking(
+    engine: &Engine<'_>,
+    sinks: &mut [&mut dyn RecordSink],
+    revision: &mut Option<u64>,
+) -> Result<()> {
+    let now = engine.gait_revision();
+    if now == *revision {
+        return Ok(());
+    }
+    *revision = now;
+    if let Some(gait) = engine.gait() {
+        for sink in sinks.iter_mut() {
+            sink.walking(gait)?;
+        }
+    }
+    Ok(())
+}
+
 /// Hands the contact check's verdict changes since the last call to every sink.
 fn deliver_contact_checks(
     engine: &mut Engine<'_>,
@@ -171,6 +191,7 @@ fn drive(
     let record_every = engine.record_every();
     let duration = engine.duration();
     let mut last_progress = 0.0;
+    let mut gait_revision = engine.gait_revision();
     for index in 0..=engine.schedule.last_sample {
         let time = engine.schedule.time(index);
         let period = match engine.period(index, cancel.load(Ordering::Relaxed)) {
@@ -188,6 +209,7 @@ fn drive(
             thetadot,
         );
         if index % record_every == 0 || period.end.is_some() {
+            deliver_walking(engine, sinks, &mut gait_revision)?;
             let sample = engine.sample();
             for sink in sinks.iter_mut() {
                 sink.record(&sample)?;

@@ -104,6 +104,13 @@ pub trait RecordSink {
     /// Takes one sample (in time order).
     fn record(&mut self, sample: &Sample<'_>) -> Result<()>;
 
+    /// `[walking]`: takes the walk as the controller changed it (a step adjusted or
+    /// retimed, a recovery step planned), before the first sample recorded after the change;
+    /// [`RunInfo::walking`] was the walk before any.
+    fn walking(&mut self, _gait: &Gait) -> Result<()> {
+        Ok(())
+    }
+
     /// Takes one impact (a touchdown or a joint reaching its stop) once its window after is
     /// complete, i.e. up to [`crate::impacts::PEAK_WINDOW_S`] after its time (after the
     /// samples up to then; impacts in the order their windows closed).

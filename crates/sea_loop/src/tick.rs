@@ -18,6 +18,7 @@ use nalgebra::DVector;
 use sea_ctrl::feedback::{FeedbackLaw, Observation};
 use sea_ctrl::robot::{ForceReadings, PeriodSensors, RobotController, StackParts};
 use sea_ctrl::walking::footstep::wrap_angle;
+use sea_ctrl::walking::Gait;
 use sea_ctrl::MomentumController;
 use sea_dyn::{Data, Model};
 use sea_plant::integrator::step_with_feedback;
@@ -446,6 +447,17 @@ impl<'a> Engine<'a> {
             contact_points: &self.contact_points,
             walking: self.robot.controller().gait(),
         }
+    }
+
+    /// `[walking]`: the walk the controller follows now; `None` when the robot does not walk.
+    pub fn gait(&self) -> Option<&Gait> {
+        self.robot.controller().gait()
+    }
+
+    /// `[walking]`: how many times the controller's walk changed
+    /// ([`sea_ctrl::MomentumController::gait_revision`]); `None` when the robot does not walk.
+    pub fn gait_revision(&self) -> Option<u64> {
+        self.robot.controller().gait_revision()
     }
 
     /// The impacts complete since the last call (each handed out once).

@@ -294,8 +294,8 @@ fn printed_joints(record: &RunRecord, row: usize) -> String {
 /// `simulation.record_every=1`; `WALK_FEET_FROM=t` starts at `t` [s] instead of the push's
 /// start): from 0.05 s before `start` [s] for 0.7 s,
 /// each recorded sample's CoM and reference (lateral), each sole corner's height [mm] and
-/// normal force [N] (left sole's four corners, then the right's) and the yaws of the base and
-/// the soles [rad]; with `WALK_JOINTS` set, the joints of [`printed_joints`] before each line.
+/// normal force [N] (left sole's four corners, then the right's), the yaws of the base and
+/// the soles [rad] and the centroidal angular momentum [N m s]; with `WALK_JOINTS` set, the joints of [`printed_joints`] before each line.
 fn print_the_feet(record: &RunRecord, start: f64) {
     let points = record.contact_point_active.len() / record.time.len();
     for (row, t) in record.time.iter().enumerate() {
@@ -322,12 +322,16 @@ fn print_the_feet(record: &RunRecord, start: f64) {
         if std::env::var("WALK_JOINTS").is_ok() {
             println!("{t:.4} joints {}", printed_joints(record, row));
         }
+        let l_com = &record.momentum[6 * row + 3..6 * row + 6];
         println!(
-            "{t:.4} comy {:+.3} refy {:+.3} z {} N {} yaw {base:+.3} {left:+.3} {right:+.3}",
+            "{t:.4} comy {:+.3} refy {:+.3} z {} N {} yaw {base:+.3} {left:+.3} {right:+.3} L ({:+.3} {:+.3} {:+.3})",
             record.com[3 * row + 1],
             record.com_reference[3 * row + 1],
             heights.join(" "),
-            forces.join(" ")
+            forces.join(" "),
+            l_com[0],
+            l_com[1],
+            l_com[2]
         );
     }
 }

@@ -4,7 +4,9 @@
 //! way and the next one in their own colours), the swing path, the planned and measured DCM,
 //! the planned VRP and CoM in `/scene`, and puts the planned lift-offs and touchdowns and the
 //! measured lift-offs on `/events` beside the touchdowns. The plan compared with is the
-//! controller's own (`MomentumController::gait`). A run without `[walking]` draws none of it.
+//! controller's own (`MomentumController::gait`). A walk the controller changes (a step
+//! adjusted after a push, a recovery step planned) is drawn as changed from the change on. A
+//! run without `[walking]` draws none of it.
 
 use crate::support;
 
@@ -240,4 +242,150 @@ fn a_run_without_walking_draws_no_walk() {
             .all(|e| !e.id.starts_with("walking/")));
     }
     assert!(events.iter().all(|e| !e.name.contains("lift_off")));
+}
+
+/// The centre of each footstep rectangle of `update`, `[x, y]`.
+fn footstep_centres(update: &SceneUpdate) -> Vec<[f64; 2]> {
+    let footsteps = entity(update, "walking/footsteps");
+    let centre = |points: &[foxglove::messages::Point3]| {
+        let n = points.len() as f64;
+        points
+            .iter()
+            .fold([0.0; 2], |c, p| [c[0] + p.x / n, c[1] + p.y / n])
+    };
+    footsteps.lines.iter().map(|l| centre(&l.points)).collect()
+}
+
+/// The centre of the foot rectangle at each footstep of `gait`, `[x, y]`.
+fn landing_centres(gait: &sea_ctrl::walking::Gait, foot: ([f64; 2], [f64; 2])) -> Vec<[f64; 2]> {
+    let middle =
+        nalgebra::Vector2::new(0.5 * (foot.0[0] + foot.0[1]), 0.5 * (foot.1[0] + foot.1[1]));
+    gait.footsteps
+        .steps
+        .iter()
+        .map(|step| {
+            let p = step.pose.to_world(middle);
+            [p.x, p.y]
+        })
+        .collect()
+}
+
+/// Whether the footsteps `a` and `b` are the same within 1e-9 m.
+fn same_landings(a: &[[f64; 2]], b: &[[f64; 2]]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(p, q)| (p[0] - q[0]).abs() < 1e-9 && (p[1] - q[1]).abs() < 1e-9)
+}
+
+/// A sideways push in a swing with the step adjustment on: the log draws the walk as planned
+/// until the controller first moves a landing, and from the sample after each change the
+/// walk as changed (the landings, the swing path to the moved landing, the DCM path from the
+/// re-plan on); the planned touchdown of the adjusted step names its moved landing.
+#[test]
+fn an_adjusted_walk_is_drawn_as_the_controller_changed_it() {
+    let overrides = [
+        ("walking.command", "{ forward_velocity = 0.1, steps = 3 }"),
+        ("walking.step_adjustment", "true"),
+        ("simulation.duration_s", "3.0"),
+        ("simulation.record_every", "1"),
+    ];
+    let planned = build(&walk_straight(&overrides)).unwrap();
+    let planned = planned.controller.gait().unwrap().clone();
+    let step = planned.footsteps.steps[1];
+    let start_s = step.lift_off + 0.3 * (step.touchdown - step.lift_off);
+    let push = format!(
+        "[{{link = \"root_link\", force = [0.0, 30.0, 0.0], start_s = {start_s}, duration_s = 0.1}}]"
+    );
+    let mut pushed = overrides.to_vec();
+    pushed.push(("disturbances", &push));
+    let walk = walk_straight(&pushed);
+    let file = TempFile::new("walking_mcap", "adjusted");
+    let (summary, setup) = run(&walk, &file.0);
+    assert_eq!(summary.status, "completed", "{summary:?}");
+    let adjustments = setup.controller.step_adjustments();
+    let first_change = adjustments.first().expect("an adjustment").time;
+    let gait = setup.controller.gait().unwrap();
+    let foot = walk_foot(&walk);
+    let (before, after) = (landing_centres(&planned, foot), landing_centres(gait, foot));
+    assert!(!same_landings(&before, &after), "the push moved no landing");
+
+    let (scenes, events) = read(&file.0);
+    let (t0, first) = scene_at(&scenes, 0.0);
+    assert!(
+        same_landings(&footstep_centres(first), &before),
+        "at {t0} s"
+    );
+    for (t, update) in scenes.iter().filter(|(t, _)| *t < first_change - 1e-9) {
+        assert!(
+            same_landings(&footstep_centres(update), &before),
+            "at {t} s"
+        );
+    }
+    let (t_end, last) = scenes.last().unwrap();
+    assert!(
+        same_landings(&footstep_centres(last), &after),
+        "at {t_end} s"
+    );
+    // The swing path shown in the adjusted step's swing ends on its moved landing.
+    let adjusted = adjustments.last().unwrap().step;
+    let landing = gait.footsteps.steps[adjusted].pose.world_p_sole;
+    let late = gait.footsteps.steps[adjusted].touchdown - 0.02;
+    let (_, update) = scene_at(&scenes, late);
+    let swing = &entity(update, "walking/swing").lines[0].points;
+    let end = swing.last().expect("a swing path");
+    assert!((end.x - landing.x).abs() < 1e-9 && (end.y - landing.y).abs() < 1e-9);
+    // The DCM path starts where the last re-plan's DCM plan starts.
+    let path = &entity(last, "walking/dcm_path").lines[0].points;
+    let xi = gait.dcm.sample(gait.dcm.start_time()).world_xi;
+    assert!((path[0].x - xi.x).abs() < 1e-9 && (path[0].y - xi.y).abs() < 1e-9);
+    assert!(gait.dcm.start_time() > 0.0);
+    // One planned touchdown per step, the adjusted one's at its moved landing.
+    let touchdowns: Vec<&Log> = events
+        .iter()
+        .filter(|e| e.name == "sea_sim.planned_touchdown")
+        .collect();
+    assert_eq!(
+        touchdowns.len(),
+        gait.footsteps.steps.len(),
+        "{touchdowns:?}"
+    );
+    let text = &touchdowns[adjusted].message;
+    assert!(text.contains(&format!("step {adjusted}:")), "{text}");
+    assert!(
+        text.contains(&format!("x = {:.4} m, y = {:.4} m", landing.x, landing.y)),
+        "{text}"
+    );
+}
+
+/// Standing, a push past the stepping threshold (push_recovery_step.toml's 12 N s forward):
+/// the log draws no footsteps before the push and, once the controller plans its recovery,
+/// the recovery's footsteps as the controller ends with them.
+#[test]
+fn a_recovery_step_is_drawn_once_planned() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/walking/push_recovery_step.toml");
+    let pairs = [("simulation.duration_s", "2.0")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let scenario = Scenario::from_file(&path, &pairs).unwrap();
+    let file = TempFile::new("walking_mcap", "recovery");
+    let (summary, setup) = run(&scenario, &file.0);
+    assert_eq!(summary.status, "completed", "{summary:?}");
+    assert!(
+        !setup.controller.recovery_steps().is_empty(),
+        "no recovery step"
+    );
+    let gait = setup.controller.gait().unwrap();
+    let foot = walk_foot(&scenario);
+    let (scenes, _) = read(&file.0);
+    let before = scenes.iter().filter(|(t, _)| *t < 1.0);
+    for (t, update) in before {
+        assert!(footstep_centres(update).is_empty(), "footsteps at {t} s");
+    }
+    let (t_end, last) = scenes.last().unwrap();
+    let after = landing_centres(gait, foot);
+    assert!(!after.is_empty());
+    assert!(
+        same_landings(&footstep_centres(last), &after),
+        "at {t_end} s"
+    );
 }

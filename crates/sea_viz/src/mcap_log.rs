@@ -319,6 +319,12 @@ impl McapLogger {
         self.encoder.set_walking(gait, foot);
     }
 
+    /// `[walking]`: draws `gait`, the walk as the controller changed it, from the next sample
+    /// on ([`SampleEncoder::set_gait`]; its planned events after the last sample's time).
+    pub fn set_gait(&mut self, gait: &sea_ctrl::walking::Gait) {
+        self.encoder.set_gait(gait);
+    }
+
     /// Unilateral contacts: `counts[c]` points on contact `c` (the samples' contact points):
     /// registers `/contact_points` and draws the points in `/scene` from the next sample on.
     /// Empty counts (bilateral contacts) change nothing.
@@ -581,6 +587,8 @@ enum Queued {
     Impact(Impact),
     /// A change of a foot's contact check.
     ContactCheck(ContactCheckEvent),
+    /// The walk as the controller changed it.
+    Walking(Box<sea_ctrl::walking::Gait>),
     /// How the run ended.
     End(RunEnd),
 }
@@ -603,6 +611,7 @@ impl ThreadedMcapLogger {
                     }
                     Queued::Impact(impact) => logger.impact(&impact)?,
                     Queued::ContactCheck(event) => logger.contact_check(&event)?,
+                    Queued::Walking(gait) => logger.set_gait(&gait),
                     Queued::End(end) => logger.end(&end, last_time)?,
                 }
                 if last_flush.elapsed() >= FLUSH_INTERVAL {
@@ -632,6 +641,11 @@ impl ThreadedMcapLogger {
     /// Queues an impact ([`McapLogger::impact`]).
     pub fn impact(&mut self, impact: &Impact) -> Result<()> {
         self.send(Queued::Impact(impact.clone()))
+    }
+
+    /// Queues the walk as the controller changed it ([`McapLogger::set_gait`]).
+    pub fn set_gait(&mut self, gait: &sea_ctrl::walking::Gait) -> Result<()> {
+        self.send(Queued::Walking(Box::new(gait.clone())))
     }
 
     /// Queues a change of a foot's contact check ([`McapLogger::contact_check`]).
@@ -755,6 +769,13 @@ impl RecordSink for McapSink {
     fn record(&mut self, sample: &Sample<'_>) -> Result<()> {
         match self.logger.as_mut() {
             Some(logger) => logger.log(sample),
+            None => Ok(()),
+        }
+    }
+
+    fn walking(&mut self, gait: &sea_ctrl::walking::Gait) -> Result<()> {
+        match self.logger.as_mut() {
+            Some(logger) => logger.set_gait(gait),
             None => Ok(()),
         }
     }

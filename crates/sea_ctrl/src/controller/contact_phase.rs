@@ -58,6 +58,9 @@ pub const LATE_TOUCHDOWN_SPEED: f64 = 0.1;
 pub(super) struct ContactPhases {
     /// The planned walk.
     pub(super) gait: Gait,
+    /// How many times `gait` changed after the start: a step adjusted (and retimed), a
+    /// recovery step planned, a stance settled ([`MomentumController::gait_revision`]).
+    pub(super) gait_revision: u64,
     /// Position gain of the swing sole's PD [1/s^2].
     position_gain: f64,
     /// Velocity gain of the swing sole's PD [1/s].
@@ -393,6 +396,7 @@ impl MomentumController {
             last_loaded_s: [f64::NEG_INFINITY; 2],
             last_contact_change_s: 0.0,
             gait,
+            gait_revision: 0,
             position_gain: settings.swing_position_gain,
             velocity_gain: settings.swing_velocity_gain,
             settle_gains: (settings.settle_position_gain > 0.0
@@ -416,6 +420,13 @@ impl MomentumController {
     /// The gait the controller walks, if any.
     pub fn gait(&self) -> Option<&Gait> {
         self.walking.as_ref().map(|walking| &walking.gait)
+    }
+
+    /// How many times [`Self::gait`] changed since walking began (a step adjusted or
+    /// retimed, a recovery step planned, a stance settled before one): a reader that kept a
+    /// copy of the gait takes a new one when this moves. `None` when not walking.
+    pub fn gait_revision(&self) -> Option<u64> {
+        self.walking.as_ref().map(|walking| walking.gait_revision)
     }
 
     /// The foot tasks of the last [`Self::walking_reference`], in the order of the contacts

@@ -44,6 +44,7 @@ impl MomentumController {
         let (settings, surface) = (&adjusting.settings, &adjusting.surface);
         if let Some(made) = adjust_step(&mut walking.gait, settings, surface, index, measured) {
             adjusting.made.push(made);
+            walking.gait_revision += 1;
         }
     }
 

@@ -149,6 +149,7 @@ impl MomentumController {
         let stepping = walking.stepping.as_mut().expect("stepping");
         if let (Decision::Watch { .. }, false) = (decision, stepping.settled) {
             settle_from(&mut walking.gait, &stepping.settings, measured);
+            walking.gait_revision += 1;
             stepping.settled = true;
         }
         let gait = &walking.gait;
@@ -205,6 +206,7 @@ impl MomentumController {
         stepping.planned.push((t, step));
         stepping.settled = false;
         walking.gait = recovery;
+        walking.gait_revision += 1;
     }
 
     /// What stepping does at `t` [s] (`None`: nothing, the controller does not step or a

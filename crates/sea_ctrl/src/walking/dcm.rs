@@ -143,6 +143,12 @@ impl DcmPlan {
         self.segments.iter().map(|segment| segment.start).collect()
     }
 
+    /// The time the plan starts [s]: the walk's start, or the time of the measured state a
+    /// re-plan started from (a step adjusted, a recovery planned).
+    pub fn start_time(&self) -> f64 {
+        self.segments[0].start
+    }
+
     /// The time from which the DCM is at rest over the final mid-feet point [s].
     pub fn end_time(&self) -> f64 {
         self.segments.last().map_or(0.0, |segment| segment.start)

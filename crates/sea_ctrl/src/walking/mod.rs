@@ -41,6 +41,7 @@ mod segment;
 pub mod settings;
 pub mod step_timing;
 pub mod swing;
+mod validation;
 
 #[cfg(test)]
 mod tests;

@@ -381,6 +381,15 @@ impl SampleEncoder {
         self.walking = Some(WalkingScene::new(gait, mass, foot, contacts));
     }
 
+    /// `[walking]`: draws `gait`, the walk as the controller changed it, from the next sample
+    /// on (its footsteps, swing paths, DCM path and the planned events still to come); nothing
+    /// when no walk was set.
+    pub fn set_gait(&mut self, gait: &Gait) {
+        if let Some(walking) = self.walking.as_mut() {
+            walking.set_gait(gait);
+        }
+    }
+
     /// `[walking]`: the `/events` messages due at `sample` (time [ns], encoded `foxglove.Log`):
     /// the planned lift-offs and touchdowns up to its time, and the feet that stopped
     /// carrying force since the last sample; none when not walking.

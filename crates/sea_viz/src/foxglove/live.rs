@@ -240,6 +240,13 @@ impl RecordSink for LiveSink {
         Ok(())
     }
 
+    fn walking(&mut self, gait: &sea_ctrl::walking::Gait) -> Result<()> {
+        if let Some(encoder) = self.encoder.as_mut() {
+            encoder.set_gait(gait);
+        }
+        Ok(())
+    }
+
     fn contact_check(&mut self, event: &ContactCheckEvent) -> Result<()> {
         let (time, message) = contact_check_event(event)?;
         let meta = PartialMetadata::with_log_time(time);

@@ -11,7 +11,8 @@
 //!   measured one `x + xdot / omega` (`xdot` = the linear momentum over the mass), as discs on
 //!   the ground; `walking/vrp_planned`, `walking/com_planned`: the planned VRP (the centre of
 //!   pressure the plan asks for) and the planned CoM's ground projection;
-//! - `walking/dcm_path`: the planned DCM over the whole walk (a line strip, static).
+//! - `walking/dcm_path`: the planned DCM from the plan's start to the walk's end (a line
+//!   strip).
 //!
 //! `/events` (`foxglove.Log`, level INFO): `sea_sim.planned_lift_off` and
 //! `sea_sim.planned_touchdown` at each step's planned times, and `sea_sim.lift_off` when a
@@ -19,7 +20,11 @@
 //! at the recording's resolution; the touchdowns are the impacts' `sea_sim.touchdown`, at
 //! plant-step resolution).
 //!
-//! The walk is the one planned at the run's start ([`sea_loop::RunInfo::walking`]).
+//! The walk is the one planned at the run's start ([`sea_loop::RunInfo::walking`]) until the
+//! controller changes it ([`sea_loop::RecordSink::walking`]: a step adjusted or retimed, a
+//! recovery step planned); from then on the footsteps, the swing paths, the DCM path and the
+//! planned events still to come are the changed walk's (a re-planned DCM path starts at the
+//! re-plan).
 
 use super::scene::{color, encode_to_vec, identity_pose, pose_at, vector, world_entity};
 use super::FootRectangle;
@@ -71,9 +76,11 @@ pub(crate) struct WalkingScene {
     mass: f64,
     /// The ground's height [m].
     world_z_ground: f64,
+    /// The soles, when known (the footsteps' rectangles).
+    foot: Option<FootRectangle>,
     /// The swing path of each step (its sole origin over its swing).
     swing_paths: Vec<Vec<Point3>>,
-    /// The static `walking/dcm_path`, encoded.
+    /// `walking/dcm_path`, encoded (sent with every sample; made again when the walk changes).
     static_encoded: Vec<u8>,
     /// The moving entities: footsteps (when the sole is known), swing, the point markers.
     update: SceneUpdate,
@@ -82,6 +89,8 @@ pub(crate) struct WalkingScene {
     /// The planned events (time [s], name, text) in time order, and how many were emitted.
     planned_events: Vec<(f64, &'static str, String)>,
     planned_emitted: usize,
+    /// The time of the last sample whose events were given [s] (`-inf` before any).
+    events_given_to_s: f64,
     /// Per contact, its points' range in the samples' contact points (unilateral contacts).
     contact_points: Vec<(usize, usize)>,
     /// The contact names (the events' feet).
@@ -103,21 +112,7 @@ impl WalkingScene {
         let lip = gait.dcm.lip();
         let world_z_ground = gait.dcm.sample(0.0).world_xi.z - lip.com_height;
         let z = world_z_ground + ABOVE_GROUND_M;
-        let swing_paths = gait
-            .swings
-            .iter()
-            .map(|swing| {
-                (0..SWING_POINTS)
-                    .map(|k| {
-                        let u = k as f64 / (SWING_POINTS - 1) as f64;
-                        let p = swing
-                            .sample(swing.start + u * (swing.touchdown_time() - swing.start))
-                            .world_p_sole;
-                        point(p.x, p.y, p.z + ABOVE_GROUND_M)
-                    })
-                    .collect()
-            })
-            .collect();
+        let swing_paths = swing_paths(gait);
         let mut entities = Vec::new();
         if let Some(foot) = foot {
             entities.push(footsteps_entity(gait, foot, z));
@@ -143,13 +138,11 @@ impl WalkingScene {
             })
             .collect();
         Self {
-            static_encoded: encode_to_vec(&SceneUpdate {
-                deletions: Vec::new(),
-                entities: vec![dcm_path_entity(gait, z)],
-            }),
+            static_encoded: encoded_dcm_path(gait, z),
             omega: lip.omega,
             mass,
             world_z_ground,
+            foot,
             swing_paths,
             update: SceneUpdate {
                 deletions: Vec::new(),
@@ -158,11 +151,30 @@ impl WalkingScene {
             has_footsteps: foot.is_some(),
             planned_events: planned_events(gait),
             planned_emitted: 0,
+            events_given_to_s: f64::NEG_INFINITY,
             contact_points,
             contact_names: contact_names.to_vec(),
             loaded: vec![false; counts.len()],
             gait: gait.clone(),
         }
+    }
+
+    /// Draws `gait`, the walk as the controller changed it, from the next sample on (module
+    /// doc): its footsteps, swing paths and DCM path, and its planned lift-offs and
+    /// touchdowns after the last sample's time.
+    pub fn set_gait(&mut self, gait: &Gait) {
+        let z = self.world_z_ground + ABOVE_GROUND_M;
+        if let (true, Some(foot)) = (self.has_footsteps, self.foot) {
+            self.update.entities[0] = footsteps_entity(gait, foot, z);
+        }
+        self.swing_paths = swing_paths(gait);
+        self.static_encoded = encoded_dcm_path(gait, z);
+        let given_to = self.events_given_to_s;
+        self.planned_events = planned_events(gait);
+        self.planned_events
+            .retain(|(time_s, _, _)| *time_s > given_to);
+        self.planned_emitted = 0;
+        self.gait = gait.clone();
     }
 
     /// Sets the markers of `sample` and appends the encoded `walking/*` entities (the static
@@ -227,6 +239,7 @@ impl WalkingScene {
     /// Errors: [`Error::Log`] when a message does not encode.
     pub fn events(&mut self, sample: &Sample<'_>) -> Result<Vec<(u64, Vec<u8>)>> {
         let mut events = Vec::new();
+        self.events_given_to_s = sample.time_s;
         while let Some((time_s, name, text)) = self.planned_events.get(self.planned_emitted) {
             if *time_s > sample.time_s {
                 break;
@@ -338,16 +351,41 @@ fn set_footstep_colors(entity: &mut SceneEntity, gait: &Gait, t: f64) {
     }
 }
 
-/// `walking/dcm_path`: the planned DCM from the start to the walk's end, at height `z`.
+/// The swing path of each step of `gait`: its sole origin from its lift-off to its
+/// touchdown (a retimed swing's included).
+fn swing_paths(gait: &Gait) -> Vec<Vec<Point3>> {
+    gait.swings
+        .iter()
+        .map(|swing| {
+            (0..SWING_POINTS)
+                .map(|k| {
+                    let u = k as f64 / (SWING_POINTS - 1) as f64;
+                    let p = swing
+                        .sample(swing.start + u * (swing.touchdown_time() - swing.start))
+                        .world_p_sole;
+                    point(p.x, p.y, p.z + ABOVE_GROUND_M)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The encoded update of `walking/dcm_path` at height `z`.
+fn encoded_dcm_path(gait: &Gait, z: f64) -> Vec<u8> {
+    encode_to_vec(&SceneUpdate {
+        deletions: Vec::new(),
+        entities: vec![dcm_path_entity(gait, z)],
+    })
+}
+
+/// `walking/dcm_path`: the planned DCM from the plan's start to the walk's end, at height `z`.
 fn dcm_path_entity(gait: &Gait, z: f64) -> SceneEntity {
-    let end = gait.end_time();
-    let count = (end / DCM_PATH_STEP_S).ceil() as usize + 1;
+    let (start, end) = (gait.dcm.start_time(), gait.end_time());
+    let count = ((end - start).max(0.0) / DCM_PATH_STEP_S).ceil() as usize + 1;
     let points = (0..count)
         .map(|k| {
-            let xi = gait
-                .dcm
-                .sample((k as f64 * DCM_PATH_STEP_S).min(end))
-                .world_xi;
+            let t = (start + k as f64 * DCM_PATH_STEP_S).min(end);
+            let xi = gait.dcm.sample(t).world_xi;
             point(xi.x, xi.y, z)
         })
         .collect();
