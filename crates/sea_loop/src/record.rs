@@ -30,8 +30,9 @@ pub struct RunInfo<'a> {
     /// Unilateral contacts: the number of points of each contact (the order of the samples'
     /// contact points); empty under bilateral contacts.
     pub contact_points: &'a [usize],
-    /// `[walking]`: the walk the controller follows (footsteps, DCM plan, swings; times from
-    /// the run's start), which the logs draw; `None` when the robot does not walk.
+    /// `[walking]`: the walk the controller follows at the start (footsteps, DCM plan, swings;
+    /// times from the run's start), which the logs draw until the controller changes it
+    /// ([`RecordSink::walking`]); `None` when the robot does not walk.
     pub walking: Option<&'a Gait>,
 }
 
@@ -105,7 +106,10 @@ pub trait RecordSink {
     fn record(&mut self, sample: &Sample<'_>) -> Result<()>;
 
     /// `[walking]`: takes the walk as the controller changed it (a step adjusted or
-    /// retimed, a recovery step planned), before the first sample recorded after the change;
+    /// retimed, a recovery step planned, the settling after a recovery step's touchdown
+    /// planned from the measured state), before the first sample recorded after the change (under
+    /// `controller.sampling = "continuous"`, where the law runs within plant steps, the
+    /// change may be up to one plant step older than that sample's time);
     /// [`RunInfo::walking`] was the walk before any.
     fn walking(&mut self, _gait: &Gait) -> Result<()> {
         Ok(())

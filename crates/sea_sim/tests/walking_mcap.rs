@@ -358,14 +358,15 @@ fn an_adjusted_walk_is_drawn_as_the_controller_changed_it() {
     );
 }
 
-/// Standing, a push past the stepping threshold (push_recovery_step.toml's 12 N s forward):
+/// Standing, a push past the stepping threshold (push_recovery_step.toml's 12 N s forward,
+/// recorded every 10 whole-body ticks):
 /// the log draws no footsteps before the push and, once the controller plans its recovery,
 /// the recovery's footsteps as the controller ends with them.
 #[test]
 fn a_recovery_step_is_drawn_once_planned() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenarios/walking/push_recovery_step.toml");
-    let pairs = [("simulation.duration_s", "2.0")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let pairs = [("simulation.record_every", "10")].map(|(k, v)| (k.to_string(), v.to_string()));
     let scenario = Scenario::from_file(&path, &pairs).unwrap();
     let file = TempFile::new("walking_mcap", "recovery");
     let (summary, setup) = run(&scenario, &file.0);
@@ -376,7 +377,7 @@ fn a_recovery_step_is_drawn_once_planned() {
     );
     let gait = setup.controller.gait().unwrap();
     let foot = walk_foot(&scenario);
-    let (scenes, _) = read(&file.0);
+    let (scenes, events) = read(&file.0);
     let before = scenes.iter().filter(|(t, _)| *t < 1.0);
     for (t, update) in before {
         assert!(footstep_centres(update).is_empty(), "footsteps at {t} s");
@@ -388,4 +389,17 @@ fn a_recovery_step_is_drawn_once_planned() {
         same_landings(&footstep_centres(last), &after),
         "at {t_end} s"
     );
+    // One planned touchdown per recovery step, each at its landing, though the step is
+    // planned again at every tick before its lift-off and the samples are 10 ticks apart.
+    let recovery = setup.controller.recovery_steps();
+    let touchdowns: Vec<&Log> = events
+        .iter()
+        .filter(|e| e.name == "sea_sim.planned_touchdown")
+        .collect();
+    assert_eq!(touchdowns.len(), recovery.len(), "{touchdowns:?}");
+    for (log, (_, step)) in touchdowns.iter().zip(recovery) {
+        let p = step.pose.world_p_sole;
+        let at = format!("x = {:.4} m, y = {:.4} m", p.x, p.y);
+        assert!(log.message.contains(&at), "{} against {at}", log.message);
+    }
 }

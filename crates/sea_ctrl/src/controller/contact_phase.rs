@@ -59,7 +59,8 @@ pub(super) struct ContactPhases {
     /// The planned walk.
     pub(super) gait: Gait,
     /// How many times `gait` changed after the start: a step adjusted (and retimed), a
-    /// recovery step planned, a stance settled ([`MomentumController::gait_revision`]).
+    /// recovery step planned, the settling after a recovery step's touchdown planned from the
+    /// measured state ([`MomentumController::gait_revision`]).
     pub(super) gait_revision: u64,
     /// Position gain of the swing sole's PD [1/s^2].
     position_gain: f64,
@@ -423,7 +424,8 @@ impl MomentumController {
     }
 
     /// How many times [`Self::gait`] changed since walking began (a step adjusted or
-    /// retimed, a recovery step planned, a stance settled before one): a reader that kept a
+    /// retimed, a recovery step planned, the settling after a recovery step's touchdown
+    /// planned from the measured state): a reader that kept a
     /// copy of the gait takes a new one when this moves. `None` when not walking.
     pub fn gait_revision(&self) -> Option<u64> {
         self.walking.as_ref().map(|walking| walking.gait_revision)

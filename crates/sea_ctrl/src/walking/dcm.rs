@@ -137,14 +137,16 @@ impl DcmPlan {
         self.lip
     }
 
-    /// The times at which the VRP's motion changes (the start of each segment, 0 first) [s]:
-    /// lift-offs, touchdowns, the end of the initial transfer, the start of standing.
+    /// The times at which the VRP's motion changes (the start of each segment, the plan's
+    /// start first: 0, or a re-plan's time) [s]: lift-offs, touchdowns, the end of the initial
+    /// transfer, the start of standing.
     pub fn switch_times(&self) -> Vec<f64> {
         self.segments.iter().map(|segment| segment.start).collect()
     }
 
     /// The time the plan starts [s]: the walk's start, or the time of the measured state a
-    /// re-plan started from (a step adjusted, a recovery planned).
+    /// re-plan started from (a step adjusted, a recovery planned, the settling after a
+    /// recovery step's touchdown).
     pub fn start_time(&self) -> f64 {
         self.segments[0].start
     }

@@ -81,13 +81,13 @@ pub(crate) struct WalkingScene {
     /// The swing path of each step (its sole origin over its swing).
     swing_paths: Vec<Vec<Point3>>,
     /// `walking/dcm_path`, encoded (sent with every sample; made again when the walk changes).
-    static_encoded: Vec<u8>,
+    dcm_path_encoded: Vec<u8>,
     /// The moving entities: footsteps (when the sole is known), swing, the point markers.
     update: SceneUpdate,
     /// Whether `update`'s first entity is `walking/footsteps`.
     has_footsteps: bool,
     /// The planned events (time [s], name, text) in time order, and how many were emitted.
-    planned_events: Vec<(f64, &'static str, String)>,
+    planned_events: Vec<PlannedEvent>,
     planned_emitted: usize,
     /// The time of the last sample whose events were given [s] (`-inf` before any).
     events_given_to_s: f64,
@@ -138,7 +138,7 @@ impl WalkingScene {
             })
             .collect();
         Self {
-            static_encoded: encoded_dcm_path(gait, z),
+            dcm_path_encoded: encoded_dcm_path(gait, z),
             omega: lip.omega,
             mass,
             world_z_ground,
@@ -160,24 +160,28 @@ impl WalkingScene {
     }
 
     /// Draws `gait`, the walk as the controller changed it, from the next sample on (module
-    /// doc): its footsteps, swing paths and DCM path, and its planned lift-offs and
-    /// touchdowns after the last sample's time.
+    /// doc): its footsteps, swing paths and DCM path. The planned events not given yet are
+    /// the former walk's up to the change (the time `gait`'s DCM plan starts from), then
+    /// `gait`'s after it.
     pub fn set_gait(&mut self, gait: &Gait) {
         let z = self.world_z_ground + ABOVE_GROUND_M;
         if let (true, Some(foot)) = (self.has_footsteps, self.foot) {
             self.update.entities[0] = footsteps_entity(gait, foot, z);
         }
         self.swing_paths = swing_paths(gait);
-        self.static_encoded = encoded_dcm_path(gait, z);
-        let given_to = self.events_given_to_s;
-        self.planned_events = planned_events(gait);
-        self.planned_events
-            .retain(|(time_s, _, _)| *time_s > given_to);
+        self.dcm_path_encoded = encoded_dcm_path(gait, z);
+        let unsent = self.planned_events.split_off(self.planned_emitted);
+        self.planned_events = events_after_change(
+            unsent,
+            planned_events(gait),
+            gait.dcm.start_time(),
+            self.events_given_to_s,
+        );
         self.planned_emitted = 0;
         self.gait = gait.clone();
     }
 
-    /// Sets the markers of `sample` and appends the encoded `walking/*` entities (the static
+    /// Sets the markers of `sample` and appends the encoded `walking/*` entities (the DCM
     /// path, then the moving ones) to `buffer`; `false`, appending nothing, when a value is not
     /// finite.
     pub fn encode(&mut self, stamp: Timestamp, sample: &Sample<'_>, buffer: &mut Vec<u8>) -> bool {
@@ -214,7 +218,7 @@ impl WalkingScene {
         for entity in &mut self.update.entities {
             entity.timestamp = Some(stamp);
         }
-        buffer.extend_from_slice(&self.static_encoded);
+        buffer.extend_from_slice(&self.dcm_path_encoded);
         Encode::encode(&self.update, buffer).is_ok()
     }
 
@@ -278,7 +282,7 @@ impl WalkingScene {
 }
 
 /// Each step's planned lift-off and touchdown as (time [s], event name, text), in time order.
-fn planned_events(gait: &Gait) -> Vec<(f64, &'static str, String)> {
+fn planned_events(gait: &Gait) -> Vec<PlannedEvent> {
     let mut events = Vec::with_capacity(2 * gait.footsteps.steps.len());
     for (k, step) in gait.footsteps.steps.iter().enumerate() {
         let foot = match step.foot {
@@ -304,6 +308,29 @@ fn planned_events(gait: &Gait) -> Vec<(f64, &'static str, String)> {
             ),
         ));
     }
+    events.sort_by(|a, b| a.0.total_cmp(&b.0));
+    events
+}
+
+/// A planned event: time [s], event name, text.
+type PlannedEvent = (f64, &'static str, String);
+
+/// The planned events still to give after the walk changed at `changed_at` [s], the last
+/// sample's events given up to `given_to` [s]: the former walk's `unsent` up to the change
+/// (they happened), then the changed walk's `planned` after the change and after
+/// `given_to`, in time order.
+fn events_after_change(
+    unsent: Vec<PlannedEvent>,
+    planned: Vec<PlannedEvent>,
+    changed_at: f64,
+    given_to: f64,
+) -> Vec<PlannedEvent> {
+    let after = changed_at.max(given_to);
+    let mut events: Vec<PlannedEvent> = unsent
+        .into_iter()
+        .filter(|(time_s, _, _)| *time_s <= changed_at)
+        .chain(planned.into_iter().filter(|(time_s, _, _)| *time_s > after))
+        .collect();
     events.sort_by(|a, b| a.0.total_cmp(&b.0));
     events
 }
@@ -418,4 +445,39 @@ fn line(kind: line_primitive::Type, points: Vec<Point3>, rgba: [f64; 4]) -> Line
 /// A Foxglove point.
 fn point(x: f64, y: f64, z: f64) -> Point3 {
     Point3 { x, y, z }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn event(time_s: f64, text: &str) -> PlannedEvent {
+        (time_s, "sea_sim.planned_touchdown", text.to_string())
+    }
+
+    /// A recovery walk that replaces the former between two samples: the former's touchdown
+    /// that happened before the change is kept, its later events are dropped, and the new
+    /// walk's events before the last sample or the change are not given again.
+    #[test]
+    fn a_change_keeps_the_former_walks_events_up_to_it_and_the_new_ones_after() {
+        let unsent = vec![event(1.32, "old touchdown"), event(1.60, "old later")];
+        let planned = vec![
+            event(1.00, "new, before the last sample"),
+            event(1.33, "new, before the change"),
+            event(1.50, "new lift-off"),
+            event(1.80, "new touchdown"),
+        ];
+        let events = events_after_change(unsent, planned, 1.34, 1.30);
+        let texts: Vec<&str> = events.iter().map(|e| e.2.as_str()).collect();
+        assert_eq!(texts, ["old touchdown", "new lift-off", "new touchdown"]);
+    }
+
+    /// A change before any sample's events keeps only the new walk's after the change.
+    #[test]
+    fn a_change_at_the_start_gives_the_new_walk_after_it() {
+        let planned = vec![event(0.5, "a"), event(1.0, "b")];
+        let events = events_after_change(Vec::new(), planned, 0.6, f64::NEG_INFINITY);
+        assert_eq!(events.len(), 1);
+        assert_eq!(events[0].2, "b");
+    }
 }
