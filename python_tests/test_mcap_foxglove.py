@@ -23,7 +23,10 @@ URDF = ROOT / "urdf" / "icub25.urdf"
 PROTOBUF_TOPICS = {"/tf": "foxglove.FrameTransforms", "/scene": "foxglove.SceneUpdate", "/robot": "foxglove.SceneUpdate"}
 #: Written once, with the first sample: the robot's bodies (frame-locked, lifetime 0).
 ONCE_TOPICS = {"/robot"}
-JSON_TOPICS = {"/com", "/momentum", "/joints", "/motors", "/contact_wrenches", "/qp", "/base", "/disturbances"}
+JSON_TOPICS = {
+    "/com", "/momentum", "/joints", "/motors", "/contact_wrenches", "/qp", "/base", "/disturbances",
+    "/planned_wrenches",
+}
 
 
 @pytest.fixture(scope="module")

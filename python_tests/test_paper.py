@@ -186,6 +186,7 @@ def test_run_summary_and_arrays_are_typed():
         "com": (m, 3),
         "momentum": (m, 6),
         "contact_wrenches": (m, n_contacts, 6),
+        "planned_wrenches": (m, n_contacts, 6),
         "qp_solved": (m,),
         "disturbance_wrench": (m, 6),
     }

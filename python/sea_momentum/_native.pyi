@@ -299,7 +299,8 @@ def run_scenario_native(
 
     Returns float64 arrays (m recorded ticks): ``time`` (m,), ``x`` (m, nx),
     ``thetadot_desired`` (m, n_e), ``com`` (m, 3), ``com_reference`` (m, 3), ``momentum``
-    (m, 6), ``contact_wrenches`` (m, n_contacts, 6), ``motor_torques`` (m, n_e),
+    (m, 6), ``contact_wrenches`` (m, n_contacts, 6), ``planned_wrenches`` (m, n_contacts, 6:
+    the QP's wrenches at each tick, as ``contact_wrenches``), ``motor_torques`` (m, n_e),
     ``joint_error_norm`` (m,), ``qp_solved`` (m,), ``disturbance_wrench`` (m, 6: the
     ``[[disturbances]]`` acting from each sample on, summed, ``[force; torque]`` world axes,
     each torque about its link's origin), ``external_wrench`` (m, 6: the external wrench the

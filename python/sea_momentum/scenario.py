@@ -36,6 +36,11 @@ class ScenarioResult(Result):
     #: those delivered over each sample's first plant step (what moves the robot, what the
     #: feet's sensors read)
     contact_wrenches: FloatArray
+    #: (m, n_contacts, 6) float64, the wrenches the controller's QP planned for the contacts
+    #: at each tick, as ``contact_wrenches`` (at the frame origins, world axes): what the law
+    #: asked each contact to carry (a swinging foot's are zero), to hold against what it
+    #: delivered
+    planned_wrenches: FloatArray
     motor_torques: FloatArray  #: (m, n_e) float64, applied motor torques [N m]
     joint_error_norm: FloatArray  #: (m,) float64, |s - s_d| [rad]
     qp_solved: FloatArray  #: (m,) float64, 1 solved (the relaxed momentum task included), 0 fallback
@@ -111,6 +116,7 @@ class ScenarioResult(Result):
             com_reference=fields["com_reference"],
             momentum=fields["momentum"],
             contact_wrenches=fields["contact_wrenches"],
+            planned_wrenches=fields["planned_wrenches"],
             motor_torques=fields["motor_torques"],
             joint_error_norm=fields["joint_error_norm"],
             qp_solved=fields["qp_solved"],

@@ -63,6 +63,11 @@ pub struct Sample<'a> {
     /// unilateral contacts those delivered over the sample's first plant step (what moves the
     /// robot and what the feet's sensors read), at a run's last sample those at its state.
     pub contact_wrenches: &'a [f64],
+    /// The wrenches the controller's QP planned for the contacts at this tick (6 per contact,
+    /// `[force; moment]` at the frame origins, world axes, as `contact_wrenches`): what the
+    /// law asked each contact to carry, to hold against what it delivered; a swinging foot's
+    /// are zero.
+    pub planned_wrenches: &'a [f64],
     /// Unilateral contacts: each contact point's position [m], 3 per point (contacts in
     /// order, [`RunInfo::contact_points`] each); empty under bilateral contacts.
     pub contact_point_positions: &'a [f64],
@@ -160,6 +165,9 @@ pub struct RunRecord {
     pub external_wrench: Vec<f64>,
     /// Simulated contact wrenches (rows x 6 n_contacts), as [`Sample::contact_wrenches`].
     pub contact_wrenches: Vec<f64>,
+    /// The QP's planned contact wrenches (rows x 6 n_contacts), as
+    /// [`Sample::planned_wrenches`].
+    pub planned_wrenches: Vec<f64>,
     /// Motor torques applied by the plant (rows x n_e).
     pub motor_torques: Vec<f64>,
     /// Joint error norm |s - s_d| (rows) [rad].
@@ -217,6 +225,8 @@ impl RecordSink for RunRecord {
             .extend_from_slice(&sample.external_wrench);
         self.contact_wrenches
             .extend_from_slice(sample.contact_wrenches);
+        self.planned_wrenches
+            .extend_from_slice(sample.planned_wrenches);
         self.contact_point_positions
             .extend_from_slice(sample.contact_point_positions);
         self.contact_point_forces
@@ -273,9 +283,10 @@ impl<'a> Sample<'a> {
             self.disturbance_wrenches,
             self.contact_point_positions,
             self.contact_point_forces,
+            self.planned_wrenches,
         ];
         let mut values = Vec::with_capacity(parts.iter().map(|p| p.len()).sum());
-        let mut ends = [0; 8];
+        let mut ends = [0; 9];
         for (end, part) in ends.iter_mut().zip(parts) {
             values.extend_from_slice(part);
             *end = values.len();
@@ -295,6 +306,7 @@ impl<'a> Sample<'a> {
                 disturbance_wrenches: &[],
                 contact_point_positions: &[],
                 contact_point_forces: &[],
+                planned_wrenches: &[],
                 contact_point_active: &[],
                 contact_checks: &[],
                 qp_status: &NO_STATUS,
@@ -313,9 +325,9 @@ static NO_STATUS: QpStatus = QpStatus::Solved;
 pub struct OwnedSample {
     /// `state`, `thetadot_desired`, `contact_wrenches`, `motor_torques`, `joint_torques`,
     /// `disturbance_wrenches`, `contact_point_positions`, `contact_point_forces`,
-    /// concatenated; `ends` marks where each stops.
+    /// `planned_wrenches`, concatenated; `ends` marks where each stops.
     values: Vec<f64>,
-    ends: [usize; 8],
+    ends: [usize; 9],
     /// `contact_point_active`.
     active: Vec<bool>,
     /// `contact_checks`.
@@ -341,6 +353,7 @@ impl OwnedSample {
             disturbance_wrenches: part(5),
             contact_point_positions: part(6),
             contact_point_forces: part(7),
+            planned_wrenches: part(8),
             contact_point_active: &self.active,
             contact_checks: &self.checks,
             qp_status: &self.qp_status,

@@ -777,6 +777,7 @@ impl<'a> Engine<'a> {
             momentum: [m[0], m[1], m[2], m[3], m[4], m[5]],
             external_wrench: output.external_wrench.into(),
             contact_wrenches: outputs.step_contact_wrench.as_slice(),
+            planned_wrenches: output.wrenches.as_slice(),
             contact_point_positions: outputs.contact_point_position.as_slice(),
             contact_point_forces: outputs.contact_point_force.as_slice(),
             contact_point_active: &outputs.contact_point_active,

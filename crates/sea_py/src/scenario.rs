@@ -84,7 +84,8 @@ pub fn run_scenario_native<'py>(
 }
 
 /// The record's arrays into a new dict: `time`, `x`, `thetadot_desired`, `com`,
-/// `com_reference`, `momentum`, `contact_wrenches` (rows, contacts, 6), `motor_torques`,
+/// `com_reference`, `momentum`, `contact_wrenches` and `planned_wrenches` (rows, contacts,
+/// 6), `motor_torques`,
 /// `joint_error_norm`, `qp_solved`, `disturbance_wrench`, `external_wrench`, the layout
 /// (`nq`, `nv`, `ne`), the names and the contact points ([`contact_point_fields`]).
 fn record_fields<'py>(
@@ -113,6 +114,11 @@ fn record_fields<'py>(
     dict.set_item(
         "contact_wrenches",
         wrenches.call_method1("reshape", ((rows, n_contacts, 6),))?,
+    )?;
+    let planned = matrix_rows_out(py, &record.planned_wrenches, 6 * n_contacts);
+    dict.set_item(
+        "planned_wrenches",
+        planned.call_method1("reshape", ((rows, n_contacts, 6),))?,
     )?;
     dict.set_item(
         "motor_torques",

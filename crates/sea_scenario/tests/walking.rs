@@ -193,6 +193,51 @@ fn the_planned_wrenches_do_not_jump_at_a_switch() {
     }
 }
 
+/// The record's planned wrenches are the QP's, not the plant's: a foot the plan swings is
+/// planned no load (at most the hundredths of a newton of a held early touchdown), while
+/// the plant's soles strike the ground before their planned touchdowns; over the run the
+/// planned feet carry the weight, as the delivered ones do (mean vertical forces within 2 %).
+#[test]
+fn the_record_holds_the_planned_wrenches_beside_the_delivered() {
+    let (record, summary, setup) = walk(STEPS, &[("simulation.record_every", "1")]);
+    assert_eq!(summary.status, "completed");
+    let gait = setup.controller.gait().unwrap();
+    let weight = setup.controller.mass() * setup.controller.model().gravity.norm();
+    let rows = record.time.len();
+    assert_eq!(record.planned_wrenches.len(), 12 * rows);
+    let (mut swinging, mut struck) = (0, 0);
+    let (mut planned_fz, mut delivered_fz) = (0.0, 0.0);
+    for (row, t) in record.time.iter().enumerate() {
+        let planned = &record.planned_wrenches[12 * row..12 * row + 12];
+        let delivered = &record.contact_wrenches[12 * row..12 * row + 12];
+        planned_fz += planned[2] + planned[8];
+        delivered_fz += delivered[2] + delivered[8];
+        for (c, task) in gait.foot_tasks(*t).iter().enumerate() {
+            if let FootTask::Swing(_) = task {
+                swinging += 1;
+                let force = planned[6 * c..6 * c + 3].iter().map(|f| f * f).sum::<f64>();
+                assert!(
+                    force.sqrt() < 1.0,
+                    "at {t} s the swinging foot {c} is planned {planned:?}"
+                );
+                struck += usize::from(delivered[6 * c + 2] > 0.05 * weight);
+            }
+        }
+    }
+    println!("{swinging} swinging samples, {struck} with the plant's sole loaded");
+    assert!(swinging > rows / 4, "{swinging} of {rows}");
+    assert!(struck > 0);
+    let (planned_fz, delivered_fz) = (planned_fz / rows as f64, delivered_fz / rows as f64);
+    assert!(
+        (planned_fz - weight).abs() < 0.02 * weight,
+        "{planned_fz} N, weight {weight} N"
+    );
+    assert!(
+        (planned_fz - delivered_fz).abs() < 0.02 * weight,
+        "{planned_fz} against {delivered_fz} N"
+    );
+}
+
 /// The iCub walking 50 steps at 0.3 m/s.
 const WALK_FAST: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 const URDF: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../urdf/mini_biped.urdf");
 
 /// Topics and schema names; the first two are protobuf, the others JSON.
-const TOPICS: [(&str, &str); 10] = [
+const TOPICS: [(&str, &str); 11] = [
     ("/tf", "foxglove.FrameTransforms"),
     ("/scene", "foxglove.SceneUpdate"),
     ("/com", "sea_momentum.Com"),
@@ -26,6 +26,7 @@ const TOPICS: [(&str, &str); 10] = [
     ("/qp", "sea_momentum.QpStatus"),
     ("/base", "sea_momentum.BasePose"),
     ("/disturbances", "sea_momentum.Disturbances"),
+    ("/planned_wrenches", "sea_momentum.ContactWrenches"),
 ];
 
 fn model() -> Model {
@@ -105,6 +106,7 @@ fn for_each_sample(model: &Model, count: usize, mut f: impl FnMut(&Sample)) {
         state.extend(std::iter::repeat_n(0.1, n));
         let thetadot_desired = vec![0.2; n];
         let wrenches: Vec<f64> = (0..12).map(|i| i as f64 + k as f64).collect();
+        let planned: Vec<f64> = wrenches.iter().map(|w| -w).collect();
         let motor_torques = vec![1.0; n];
         let joint_torques = vec![2.0; n];
         let sample = Sample {
@@ -116,6 +118,7 @@ fn for_each_sample(model: &Model, count: usize, mut f: impl FnMut(&Sample)) {
             com_reference: [0.01, 0.0, 0.5],
             momentum: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
             contact_wrenches: &wrenches,
+            planned_wrenches: &planned,
             contact_point_positions: &[],
             contact_point_forces: &[],
             contact_point_active: &[],
@@ -251,12 +254,24 @@ fn check_file(model: &Model, bytes: &[u8], count: usize) {
                     );
                 }
             }
-            "/contact_wrenches" => {
+            "/contact_wrenches" | "/planned_wrenches" => {
                 let contacts = json["contacts"].as_array().unwrap();
                 assert_eq!(contacts.len(), 2);
                 assert_eq!(contacts[0]["frame"], "l_sole");
                 assert_eq!(contacts[1]["frame"], "r_sole");
                 assert_eq!(contacts[1]["moment"].as_array().unwrap().len(), 3);
+                // The samples' planned wrenches are the delivered ones negated.
+                let sign = if topic == "/planned_wrenches" {
+                    -1.0
+                } else {
+                    1.0
+                };
+                let fz = contacts[0]["force"][2].as_f64().unwrap();
+                let k = (sign * fz - 2.0).round();
+                assert_eq!(
+                    contacts[1]["moment"][2].as_f64().unwrap(),
+                    sign * (11.0 + k)
+                );
             }
             "/qp" => {
                 assert!(json["status"].is_string());
@@ -288,8 +303,8 @@ fn writes_a_readable_file_with_every_channel() {
     // The summary section is present and counts the messages.
     let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
     let stats = summary.stats.expect("statistics");
-    assert_eq!(stats.message_count, 50 * 10);
-    assert_eq!(stats.channel_count, 10);
+    assert_eq!(stats.message_count, 50 * 11);
+    assert_eq!(stats.channel_count, 11);
     assert_eq!(stats.schema_count, 10);
     assert_eq!(stats.message_start_time, 0);
     assert_eq!(stats.message_end_time, 490_000_000);
@@ -307,7 +322,7 @@ fn threaded_logger_writes_the_same_file_and_reports_writer_errors() {
     let bytes = std::fs::read(&file.0).unwrap();
     check_file(&model, &bytes, 40);
     let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
-    assert_eq!(summary.stats.unwrap().message_count, 40 * 10);
+    assert_eq!(summary.stats.unwrap().message_count, 40 * 11);
 
     // A bad sample stops the writer; its error comes back from a later call.
     let bad_file = TempFile::new("threaded_bad");
@@ -338,7 +353,7 @@ fn dropped_logger_still_leaves_a_readable_file() {
     let bytes = std::fs::read(&file.0).unwrap();
     check_file(&model, &bytes, 37);
     let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
-    assert_eq!(summary.stats.unwrap().message_count, 37 * 10);
+    assert_eq!(summary.stats.unwrap().message_count, 37 * 11);
 }
 
 #[test]
@@ -360,6 +375,7 @@ fn bad_sizes_are_errors_and_unwritable_path_is_io_error() {
         com_reference: [0.0; 3],
         momentum: [0.0; 6],
         contact_wrenches: &[],
+        planned_wrenches: &[],
         contact_point_positions: &[],
         contact_point_forces: &[],
         contact_point_active: &[],
@@ -381,6 +397,13 @@ fn bad_sizes_are_errors_and_unwritable_path_is_io_error() {
     sample.contact_wrenches = &[0.0; 7];
     assert!(matches!(logger.log(&sample), Err(sea_sim::Error::Log(_))));
     sample.contact_wrenches = &[0.0; 6];
+    sample.planned_wrenches = &[0.0; 5];
+    let refused = logger.log(&sample);
+    assert!(
+        matches!(&refused, Err(sea_sim::Error::Log(m)) if m.contains("planned_wrenches")),
+        "{refused:?}"
+    );
+    sample.planned_wrenches = &[0.0; 6];
     logger.log(&sample).unwrap();
     logger.finish().unwrap();
 
@@ -403,7 +426,7 @@ fn flushed_chunks_are_readable_before_the_log_is_finished() {
         .expect("header")
         .map_while(Result::ok)
         .count();
-    assert_eq!(recovered, 12 * 10);
+    assert_eq!(recovered, 12 * 11);
     assert!(mcap::Summary::read(&bytes).is_err() || mcap::Summary::read(&bytes).unwrap().is_none());
     logger.finish().expect("finish");
 }

@@ -79,6 +79,7 @@ fn log_size(model: &Model, urdf: Option<&Path>, file: &Path) -> u64 {
             com_reference: [0.0, 0.0, 0.9],
             momentum: [0.0; 6],
             contact_wrenches: &[],
+            planned_wrenches: &[],
             contact_point_positions: &[],
             contact_point_forces: &[],
             contact_point_active: &[],

@@ -321,7 +321,7 @@ impl McapLogger {
 
     /// `[walking]`: draws `gait`, the walk as the controller changed it, from the next sample
     /// on ([`SampleEncoder::set_gait`]; its planned events after the last sample's time).
-    pub fn set_gait(&mut self, gait: &sea_ctrl::walking::Gait) {
+    pub fn set_gait(&mut self, gait: sea_ctrl::walking::Gait) {
         self.encoder.set_gait(gait);
     }
 

@@ -148,23 +148,7 @@ pub fn init_unless_stopped(
     one_contact_per_leg(&model, feet, &options.contacts)?;
     let urdf_dir = urdf_file.parent().unwrap_or(Path::new("."));
     mesh_files::check_mesh_files(&text, urdf_dir, &dirs)?;
-    let (rectangles, measured) = match &options.foot {
-        Some(foot) => ([check_foot(foot)?; 2], false),
-        None => {
-            let measure = |k: usize| {
-                foot::foot_rectangle(
-                    &model,
-                    feet[k],
-                    &text,
-                    urdf_dir,
-                    &dirs,
-                    &options.contacts[k],
-                )
-                .map(|(rectangle, _)| rectangle)
-            };
-            ([measure(0)?, measure(1)?], true)
-        }
-    };
+    let (rectangles, measured) = feet_rectangles(options, &model, feet, &text, urdf_dir, &dirs)?;
     if stopped() {
         return Ok(None);
     }
@@ -196,6 +180,34 @@ pub fn init_unless_stopped(
         warnings: model.warnings.iter().map(|w| w.to_string()).collect(),
         walking_figures,
     }))
+}
+
+/// The two soles' rectangles, in the order of `options.contacts`, and whether they were
+/// measured: `--foot` for both when given, else each measured from its foot's collision
+/// geometry (`foot::foot_rectangle`).
+fn feet_rectangles(
+    options: &InitOptions,
+    model: &Model,
+    feet: [FrameId; 2],
+    urdf_text: &str,
+    urdf_dir: &Path,
+    dirs: &PackageDirs,
+) -> Result<([FootRectangle; 2], bool)> {
+    if let Some(foot) = &options.foot {
+        return Ok(([check_foot(foot)?; 2], false));
+    }
+    let measure = |k: usize| {
+        foot::foot_rectangle(
+            model,
+            feet[k],
+            urdf_text,
+            urdf_dir,
+            dirs,
+            &options.contacts[k],
+        )
+        .map(|(rectangle, _)| rectangle)
+    };
+    Ok(([measure(0)?, measure(1)?], true))
 }
 
 /// The rank of the two feet's stacked 12 x nv contact Jacobian at the standing posture. A leg

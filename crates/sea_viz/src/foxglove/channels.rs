@@ -45,6 +45,8 @@ pub enum Topic {
     Base,
     /// `/disturbances`: `sea_momentum.Disturbances`.
     Disturbances,
+    /// `/planned_wrenches`: `sea_momentum.ContactWrenches`, the QP's planned wrenches.
+    PlannedWrenches,
     /// `/contact_points`: `sea_momentum.ContactPoints`, only under unilateral contacts (not
     /// in [`Topic::ALL`]; see [`SampleEncoder::set_contact_points`]).
     ContactPoints,
@@ -59,7 +61,7 @@ const JSON: (&str, &str) = ("json", "jsonschema");
 
 impl Topic {
     /// Every channel of every run, in the order they are registered.
-    pub const ALL: [Topic; 10] = [
+    pub const ALL: [Topic; 11] = [
         Topic::Tf,
         Topic::Scene,
         Topic::Com,
@@ -70,6 +72,7 @@ impl Topic {
         Topic::Qp,
         Topic::Base,
         Topic::Disturbances,
+        Topic::PlannedWrenches,
     ];
 
     /// Position in [`Self::ALL`].
@@ -90,6 +93,7 @@ impl Topic {
             Topic::Qp => "/qp",
             Topic::Base => "/base",
             Topic::Disturbances => "/disturbances",
+            Topic::PlannedWrenches => "/planned_wrenches",
             Topic::ContactPoints => "/contact_points",
             Topic::ContactCheck => "/contact_check",
         }
@@ -114,7 +118,9 @@ impl Topic {
             Topic::Momentum => json("sea_momentum.Momentum", MOMENTUM_SCHEMA),
             Topic::Joints => json("sea_momentum.JointState", JOINT_STATE_SCHEMA),
             Topic::Motors => json("sea_momentum.MotorState", MOTOR_STATE_SCHEMA),
-            Topic::ContactWrenches => json("sea_momentum.ContactWrenches", CONTACT_WRENCHES_SCHEMA),
+            Topic::ContactWrenches | Topic::PlannedWrenches => {
+                json("sea_momentum.ContactWrenches", CONTACT_WRENCHES_SCHEMA)
+            }
             Topic::Qp => json("sea_momentum.QpStatus", QP_STATUS_SCHEMA),
             Topic::Base => json("sea_momentum.BasePose", BASE_POSE_SCHEMA),
             Topic::Disturbances => json("sea_momentum.Disturbances", DISTURBANCES_SCHEMA),
@@ -384,7 +390,7 @@ impl SampleEncoder {
     /// `[walking]`: draws `gait`, the walk as the controller changed it, from the next sample
     /// on (its footsteps, swing paths, DCM path and the planned events still to come); nothing
     /// when no walk was set.
-    pub fn set_gait(&mut self, gait: &Gait) {
+    pub fn set_gait(&mut self, gait: Gait) {
         if let Some(walking) = self.walking.as_mut() {
             walking.set_gait(gait);
         }
@@ -441,11 +447,16 @@ impl SampleEncoder {
                 sample.nu().len()
             )));
         }
-        if sample.contact_wrenches.len() % 6 != 0 {
-            return Err(Error::Log(format!(
-                "contact_wrenches has {} entries, not a multiple of 6",
-                sample.contact_wrenches.len()
-            )));
+        for (name, wrenches) in [
+            ("contact_wrenches", sample.contact_wrenches),
+            ("planned_wrenches", sample.planned_wrenches),
+        ] {
+            if wrenches.len() % 6 != 0 {
+                return Err(Error::Log(format!(
+                    "{name} has {} entries, not a multiple of 6",
+                    wrenches.len()
+                )));
+            }
         }
         Ok(())
     }
@@ -599,13 +610,16 @@ impl SampleEncoder {
                     torque: sample.motor_torques,
                 },
             ),
-            Topic::ContactWrenches => {
-                while self.contact_labels.len() < sample.contact_wrenches.len() / 6 {
+            Topic::ContactWrenches | Topic::PlannedWrenches => {
+                let wrenches = match topic {
+                    Topic::ContactWrenches => sample.contact_wrenches,
+                    _ => sample.planned_wrenches,
+                };
+                while self.contact_labels.len() < wrenches.len() / 6 {
                     let k = self.contact_labels.len();
                     self.contact_labels.push(format!("contact_{k}"));
                 }
-                let contacts = sample
-                    .contact_wrenches
+                let contacts = wrenches
                     .chunks_exact(6)
                     .zip(&self.contact_labels)
                     .map(|(w, frame)| ContactMsg {

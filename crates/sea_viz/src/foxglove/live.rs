@@ -242,7 +242,7 @@ impl RecordSink for LiveSink {
 
     fn walking(&mut self, gait: &sea_ctrl::walking::Gait) -> Result<()> {
         if let Some(encoder) = self.encoder.as_mut() {
-            encoder.set_gait(gait);
+            encoder.set_gait(gait.clone());
         }
         Ok(())
     }

@@ -14,6 +14,7 @@
 //! | `/qp`               | json     | `sea_momentum.QpStatus`         | QP status and failure count                     |
 //! | `/base`             | json     | `sea_momentum.BasePose`         | base position, quaternion, velocities           |
 //! | `/disturbances`     | json     | `sea_momentum.Disturbances`     | each `[[disturbances]]` push: link, force, torque |
+//! | `/planned_wrenches` | json     | `sea_momentum.ContactWrenches`  | the wrench the controller's QP planned for each contact |
 //! | `/contact_points`   | json     | `sea_momentum.ContactPoints`    | unilateral contacts only: each point's contact, position, force, activity |
 //! | `/contact_check`    | json     | `sea_momentum.ContactCheck`     | unilateral contacts only: each foot's contact check of its delivered wrench (constraint, value, bounds, verdict) |
 //! | `/events`           | protobuf | `foxglove.Log`                  | a fall (time, foot, constraint, value, bound); each impact ([`sea_loop::impacts`]); unilateral contacts: each change of a foot's contact check; `[walking]`: planned lift-offs and touchdowns, measured lift-offs |

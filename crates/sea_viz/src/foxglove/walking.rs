@@ -84,8 +84,6 @@ pub(crate) struct WalkingScene {
     dcm_path_encoded: Vec<u8>,
     /// The moving entities: footsteps (when the sole is known), swing, the point markers.
     update: SceneUpdate,
-    /// Whether `update`'s first entity is `walking/footsteps`.
-    has_footsteps: bool,
     /// The planned events (time [s], name, text) in time order, and how many were emitted.
     planned_events: Vec<PlannedEvent>,
     planned_emitted: usize,
@@ -148,7 +146,6 @@ impl WalkingScene {
                 deletions: Vec::new(),
                 entities,
             },
-            has_footsteps: foot.is_some(),
             planned_events: planned_events(gait),
             planned_emitted: 0,
             events_given_to_s: f64::NEG_INFINITY,
@@ -163,22 +160,22 @@ impl WalkingScene {
     /// doc): its footsteps, swing paths and DCM path. The planned events not given yet are
     /// the former walk's up to the change (the time `gait`'s DCM plan starts from), then
     /// `gait`'s after it.
-    pub fn set_gait(&mut self, gait: &Gait) {
+    pub fn set_gait(&mut self, gait: Gait) {
         let z = self.world_z_ground + ABOVE_GROUND_M;
-        if let (true, Some(foot)) = (self.has_footsteps, self.foot) {
-            self.update.entities[0] = footsteps_entity(gait, foot, z);
+        if let Some(foot) = self.foot {
+            self.update.entities[0] = footsteps_entity(&gait, foot, z);
         }
-        self.swing_paths = swing_paths(gait);
-        self.dcm_path_encoded = encoded_dcm_path(gait, z);
+        self.swing_paths = swing_paths(&gait);
+        self.dcm_path_encoded = encoded_dcm_path(&gait, z);
         let unsent = self.planned_events.split_off(self.planned_emitted);
         self.planned_events = events_after_change(
             unsent,
-            planned_events(gait),
+            planned_events(&gait),
             gait.dcm.start_time(),
             self.events_given_to_s,
         );
         self.planned_emitted = 0;
-        self.gait = gait.clone();
+        self.gait = gait;
     }
 
     /// Sets the markers of `sample` and appends the encoded `walking/*` entities (the DCM
@@ -201,9 +198,10 @@ impl WalkingScene {
             return false;
         }
         let step = self.step_shown(t);
-        let first_point = usize::from(self.has_footsteps) + 1;
+        let has_footsteps = self.foot.is_some();
+        let first_point = usize::from(has_footsteps) + 1;
         let (lines, points) = self.update.entities.split_at_mut(first_point);
-        if self.has_footsteps {
+        if has_footsteps {
             set_footstep_colors(&mut lines[0], &self.gait, t);
         }
         let swing = &mut lines[first_point - 1];

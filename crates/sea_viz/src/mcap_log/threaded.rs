@@ -60,7 +60,7 @@ impl ThreadedMcapLogger {
                     }
                     Queued::Impact(impact) => logger.impact(&impact)?,
                     Queued::ContactCheck(event) => logger.contact_check(&event)?,
-                    Queued::Walking(gait) => logger.set_gait(&gait),
+                    Queued::Walking(gait) => logger.set_gait(*gait),
                     Queued::End(end) => logger.end(&end, last_time)?,
                 }
                 if last_flush.elapsed() >= FLUSH_INTERVAL {
