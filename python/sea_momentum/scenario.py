@@ -38,8 +38,8 @@ class ScenarioResult(Result):
     contact_wrenches: FloatArray
     #: (m, n_contacts, 6) float64, the wrenches the controller's QP planned for the contacts
     #: at each tick, as ``contact_wrenches`` (at the frame origins, world axes): what the law
-    #: asked each contact to carry (a swinging foot's are zero), to hold against what it
-    #: delivered
+    #: asked each contact to carry, to compare with ``contact_wrenches`` (a swinging foot's
+    #: are zero, or hundredths of a newton while an early touchdown holds it)
     planned_wrenches: FloatArray
     motor_torques: FloatArray  #: (m, n_e) float64, applied motor torques [N m]
     joint_error_norm: FloatArray  #: (m,) float64, |s - s_d| [rad]
@@ -54,7 +54,7 @@ class ScenarioResult(Result):
     external_wrench: FloatArray
     joint_names: list[str]  #: joint names in coordinate order
     elastic_joints: list[str]  #: elastic joint names, the columns of the motor arrays
-    contacts: list[str]  #: contact frame names, the second axis of ``contact_wrenches``
+    contacts: list[str]  #: contact frame names, the second axis of ``contact_wrenches`` and ``planned_wrenches``
     #: Unilateral contacts (``plant.contact_model = "unilateral"``): the number of points of
     #: each contact, in the order of ``contacts``; the ``n_points`` points are the contacts'
     #: points in that order. Empty under bilateral contacts (``n_points = 0``).

@@ -65,8 +65,8 @@ pub struct Sample<'a> {
     pub contact_wrenches: &'a [f64],
     /// The wrenches the controller's QP planned for the contacts at this tick (6 per contact,
     /// `[force; moment]` at the frame origins, world axes, as `contact_wrenches`): what the
-    /// law asked each contact to carry, to hold against what it delivered; a swinging foot's
-    /// are zero.
+    /// law asked each contact to carry, to compare with `contact_wrenches`. A swinging foot's
+    /// are zero (hundredths of a newton while an early touchdown holds it).
     pub planned_wrenches: &'a [f64],
     /// Unilateral contacts: each contact point's position [m], 3 per point (contacts in
     /// order, [`RunInfo::contact_points`] each); empty under bilateral contacts.

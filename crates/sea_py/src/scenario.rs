@@ -85,9 +85,9 @@ pub fn run_scenario_native<'py>(
 
 /// The record's arrays into a new dict: `time`, `x`, `thetadot_desired`, `com`,
 /// `com_reference`, `momentum`, `contact_wrenches` and `planned_wrenches` (rows, contacts,
-/// 6), `motor_torques`,
-/// `joint_error_norm`, `qp_solved`, `disturbance_wrench`, `external_wrench`, the layout
-/// (`nq`, `nv`, `ne`), the names and the contact points ([`contact_point_fields`]).
+/// 6), `motor_torques`, `joint_error_norm`, `qp_solved`, `disturbance_wrench`,
+/// `external_wrench`, the layout (`nq`, `nv`, `ne`), the names and the contact points
+/// ([`contact_point_fields`]).
 fn record_fields<'py>(
     py: Python<'py>,
     record: &RunRecord,

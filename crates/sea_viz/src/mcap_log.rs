@@ -277,9 +277,9 @@ impl McapLogger {
     /// Writes one sample on every channel (log_time = publish_time = time_s in ns).
     ///
     /// Errors: [`Error::Log`] when the state does not have its layout's size, when `q` or `nu`
-    /// do not have the model's sizes, when
-    /// `contact_wrenches` is not a multiple of 6 long, when the logger is finished or when
-    /// MCAP writing fails; [`Error::Io`] naming the file when the OS refuses a write.
+    /// do not have the model's sizes, when `contact_wrenches` or `planned_wrenches` is not a
+    /// multiple of 6 long, when the logger is finished or when MCAP writing fails;
+    /// [`Error::Io`] naming the file when the OS refuses a write.
     pub fn log(&mut self, sample: &Sample<'_>) -> Result<()> {
         if self.out.writer.is_none() {
             return Err(Error::Log("the log is already finished".into()));

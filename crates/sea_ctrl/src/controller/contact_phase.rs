@@ -30,10 +30,14 @@
 //! since its mid-swing is late: through that double support it keeps descending from its
 //! landing pose at [`LATE_TOUCHDOWN_SPEED`], with no planned load, until the sensor sees it.
 //! Once seen loaded it has landed, and a normal force chattering about the threshold
-//! afterwards does not make it late again. A foot counts as loaded (or unloaded) once its
-//! readings have said so for `walking.touchdown_debounce` ([`DebouncedLoad`]), each reading
-//! standing for the period before it: at 100 Hz every reading counts at once, at 1 kHz a
-//! touchdown's chattering force does not toggle the foot's task every millisecond.
+//! afterwards does not make it late again. So a sole that struck the ground before its
+//! planned touchdown and bounced off follows its swing to the landing pose and is then held
+//! where it is, the double support handing it its share while it may still be in the air
+//! (docs/findings/stepping.md, "The planned and the delivered wrenches at each touchdown").
+//! A foot counts as loaded (or unloaded) once its readings have said so for
+//! `walking.touchdown_debounce` ([`DebouncedLoad`]), each reading standing for the period
+//! before it: at 100 Hz every reading counts at once, at 1 kHz a touchdown's chattering force
+//! does not toggle the foot's task every millisecond.
 
 use super::step_adjustment::StepAdjusting;
 use super::stepping::Stepping;

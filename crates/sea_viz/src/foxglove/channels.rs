@@ -748,4 +748,11 @@ mod tests {
         assert_eq!(nanoseconds(0.001), 1_000_000);
         assert_eq!(time_stamp(1_500_000_000), Timestamp::new(1, 500_000_000));
     }
+
+    #[test]
+    fn each_topics_index_is_its_place_in_all() {
+        for (place, topic) in Topic::ALL.iter().enumerate() {
+            assert_eq!(topic.index(), place, "{}", topic.name());
+        }
+    }
 }
