@@ -292,10 +292,11 @@ fn printed_joints(record: &RunRecord, row: usize) -> String {
 
 /// `print_a_push_while_walking` with `WALK_FEET` set (and `WALK_SET` with
 /// `simulation.record_every=1`; `WALK_FEET_FROM=t` starts at `t` [s] instead of the push's
-/// start): from 0.05 s before `start` [s] for 0.7 s,
-/// each recorded sample's CoM and reference (lateral), each sole corner's height [mm] and
-/// normal force [N] (left sole's four corners, then the right's), the yaws of the base and
-/// the soles [rad] and the centroidal angular momentum [N m s]; with `WALK_JOINTS` set, the joints of [`printed_joints`] before each line.
+/// start): from 0.05 s before `start` [s] for 0.7 s, each recorded sample's CoM and
+/// reference (lateral), each sole corner's height [mm] and normal force [N] (left sole's four
+/// corners, then the right's), the yaws of the base and the soles [rad] and the centroidal
+/// angular momentum [N m s]; with `WALK_JOINTS` set, the joints of [`printed_joints`] before
+/// each line.
 fn print_the_feet(record: &RunRecord, start: f64) {
     let points = record.contact_point_active.len() / record.time.len();
     for (row, t) in record.time.iter().enumerate() {
