@@ -6,6 +6,7 @@ from the URDF (on `/robot`, once), and the URDF is attached."""
 from __future__ import annotations
 
 import json
+import re
 import xml.etree.ElementTree as ElementTree
 from collections import Counter
 from pathlib import Path
@@ -34,6 +35,12 @@ def log(tmp_path_factory):
     """A short tracking run with its MCAP log: (result, decoded messages, attachments)."""
     path = tmp_path_factory.mktemp("foxglove") / "tracking.mcap"
     result = sm.run_scenario(TRACKING, {"simulation.duration_s": 0.3}, mcap=path)
+    return (result, *_read(path))
+
+
+def _read(path):
+    """The MCAP log at `path` decoded, each JSON message validated against its schema:
+    (messages as (topic, schema name, log time, decoded), attachments)."""
     protobuf = DecoderFactory()
     decoders = {}
     messages = []
@@ -55,7 +62,7 @@ def log(tmp_path_factory):
                 validator.validate(decoded)
             messages.append((channel.topic, schema.name, message.log_time, decoded))
         attachments = list(reader.iter_attachments())
-    return result, messages, attachments
+    return messages, attachments
 
 
 def test_every_channel_decodes_once_per_recorded_sample(log):
@@ -127,20 +134,43 @@ def test_urdf_is_attached(log):
     assert urdf[0].data == URDF.read_bytes()
 
 
-def test_layout_plots_fields_the_log_has(log):
-    """foxglove/layout.json: every plotted path names a topic of the log and a field it has."""
+def _leaf(decoded, field):
+    """The value at `field` (dotted keys with indices: `contacts[1].force[2]`) of the decoded
+    message `decoded`, `None` when it has no such field or index."""
+    value = decoded
+    for part in field.split("."):
+        name, *indices = re.split(r"[\[\]]+", part.rstrip("]"))
+        if not isinstance(value, dict) or name not in value:
+            return None
+        value = value[name]
+        for index in indices:
+            if not isinstance(value, list) or int(index) >= len(value):
+                return None
+            value = value[int(index)]
+    return value
+
+
+def test_layout_plots_fields_the_log_has(log, tmp_path):
+    """foxglove/layout.json: every plotted path names a topic of the log and a leaf value of
+    its messages, in the tracking run (one foot, the paper's motor velocity loop) or in a short
+    walk (two feet)."""
     _, messages, _ = log
-    last = {topic: decoded for topic, _, _, decoded in messages if topic in JSON_TOPICS}
+    path = tmp_path / "two_feet.mcap"
+    overrides = {"simulation.duration_s": 0.02}
+    sm.run_scenario(ROOT / "scenarios" / "walking" / "walk_push.toml", overrides, mcap=path)
+    two_feet, _ = _read(path)
+    logs = [
+        {topic: decoded for topic, _, _, decoded in run if topic in JSON_TOPICS}
+        for run in (messages, two_feet)
+    ]
     layout = json.loads((ROOT / "foxglove" / "layout.json").read_text())
     paths = [p["value"] for config in layout["configById"].values() for p in config.get("paths", [])]
     assert paths
     for path in paths:
         topic, _, field = path.partition(".")
-        name, _, index = field.partition("[")
-        assert topic in last, path
-        value = last[topic][name]
-        if index:
-            assert int(index.rstrip("]")) < len(value), path
+        assert all(topic in last for last in logs), path
+        leaves = [_leaf(last[topic], field) for last in logs]
+        assert any(v is not None and not isinstance(v, (dict, list)) for v in leaves), path
     three_d = next(c for key, c in layout["configById"].items() if key.startswith("3D!"))
     assert "/scene" in three_d["topics"]
     assert three_d["topics"]["/robot"]["visible"]

@@ -358,6 +358,58 @@ fn an_adjusted_walk_is_drawn_as_the_controller_changed_it() {
     );
 }
 
+/// The centre of the foot rectangle `foot` at each recovery step of `recovery`, `[x, y]`.
+fn recovery_centres(
+    recovery: &[(f64, sea_ctrl::walking::RecoveryStep)],
+    foot: ([f64; 2], [f64; 2]),
+) -> Vec<[f64; 2]> {
+    let middle =
+        nalgebra::Vector2::new(0.5 * (foot.0[0] + foot.0[1]), 0.5 * (foot.1[0] + foot.1[1]));
+    recovery
+        .iter()
+        .map(|(_, step)| {
+            let p = step.pose.to_world(middle);
+            [p.x, p.y]
+        })
+        .collect()
+}
+
+/// Standing, a push beyond what one step recovers (17.5 N s forward on
+/// push_recovery_step.toml; the robot takes a second step and falls): each recovery walk
+/// holds its own step only, and the log still draws the first step's landing beside the
+/// second's once the second is planned.
+#[test]
+fn a_second_recovery_step_keeps_the_first_drawn() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/walking/push_recovery_step.toml");
+    let push =
+        "[{link = \"root_link\", force = [175.0, 0.0, 0.0], start_s = 1.0, duration_s = 0.1}]";
+    let pairs = [("simulation.record_every", "10"), ("disturbances", push)]
+        .map(|(k, v)| (k.to_string(), v.to_string()));
+    let scenario = Scenario::from_file(&path, &pairs).unwrap();
+    let file = TempFile::new("walking_mcap", "two_recovery_steps");
+    let (_, setup) = run(&scenario, &file.0);
+    let recovery = setup.controller.recovery_steps();
+    assert!(recovery.len() >= 2, "one recovery step: {recovery:?}");
+    let gait = setup.controller.gait().unwrap();
+    let foot = walk_foot(&scenario);
+    let own = landing_centres(gait, foot);
+    let all = recovery_centres(recovery, foot);
+    assert!(
+        own.len() == 1 && same_landings(&own, &all[all.len() - 1..]),
+        "the last recovery walk holds {own:?}, the steps are {all:?}"
+    );
+    let (scenes, _) = read(&file.0);
+    let (t_end, last) = scenes.last().unwrap();
+    let mut drawn = footstep_centres(last);
+    // The current walk's footstep first, then the landed ones of the former walks.
+    drawn.rotate_left(1);
+    assert!(
+        same_landings(&drawn, &all),
+        "at {t_end} s: {drawn:?} against {all:?}"
+    );
+}
+
 /// Standing, a push past the stepping threshold (push_recovery_step.toml's 12 N s forward,
 /// recorded every 10 whole-body ticks):
 /// the log draws no footsteps before the push and, once the controller plans its recovery,

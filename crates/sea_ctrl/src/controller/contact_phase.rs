@@ -251,6 +251,53 @@ fn touchdown(
 }
 
 impl ContactPhases {
+    /// The phases of walking `gait` under `settings` for a robot of `weight` [N] standing at
+    /// the start, with the single-support QP (one contact) and the two-feet QP of the double
+    /// support's least squares (`[single, least_squares]`), without stepping or step
+    /// adjustment.
+    fn new(
+        settings: &WalkingSettings,
+        gait: Gait,
+        weight: f64,
+        [single_qp, least_squares_qp]: [WrenchQp; 2],
+    ) -> Self {
+        let settle = settings.settle_position_gain > 0.0 || settings.settle_velocity_gain > 0.0;
+        Self {
+            normal_forces: None,
+            touchdown_force: TOUCHDOWN_FORCE_FRACTION * weight,
+            sensed_touchdown: settings.sensed_touchdown,
+            touchdown_debounce: settings.touchdown_debounce,
+            loads: [DebouncedLoad::default(); 2],
+            early_touchdowns: 0,
+            late_ticks: 0,
+            stepping: None,
+            adjusting: None,
+            tasks: gait.foot_tasks(0.0),
+            identification_settle: settings.identification_settle,
+            identification_single_support: settings.identification_single_support,
+            last_tick_s: 0.0,
+            last_loaded_s: [f64::NEG_INFINITY; 2],
+            last_contact_change_s: 0.0,
+            gait,
+            gait_revision: 0,
+            position_gain: settings.swing_position_gain,
+            velocity_gain: settings.swing_velocity_gain,
+            settle_gains: settle
+                .then_some((settings.settle_position_gain, settings.settle_velocity_gain)),
+            double_support_momentum_weight: settings.double_support_momentum_weight,
+            least_squares_qp,
+            single: SingleSupportQp {
+                qp: single_qp,
+                minimizer: Minimizer::new(6, 0),
+                momentum_map: DMatrix::zeros(6, 6),
+                hessian: DMatrix::zeros(6, 6),
+                gradient: DVector::zeros(6),
+                unconstrained: DVector::zeros(6),
+                wrench: DVector::zeros(6),
+            },
+        }
+    }
+
     /// The `planned` tasks at `t` corrected by the measured normal forces (module doc): an
     /// early touchdown holds the foot, a late one keeps it descending.
     fn sensed_tasks(&mut self, t: f64, planned: [FootTask; 2]) -> [FootTask; 2] {
@@ -350,7 +397,8 @@ impl MomentumController {
         }
         let world_p_com = sea_dyn::centroidal::com(&self.model, &mut self.data, q0);
         let gravity = self.model.gravity.norm();
-        let toe_off = ToeOff::of(settings, &self.settings.constraints.surface);
+        let surface = self.settings.constraints.surface;
+        let toe_off = ToeOff::of(settings, &surface);
         let gait = Gait::new(
             settings,
             &self.contact_references,
@@ -359,66 +407,30 @@ impl MomentumController {
             toe_off,
         )?;
         let stepping = settings.stepping.then(|| {
-            let world_z_ground = self
-                .contact_references
-                .iter()
-                .map(|h| h.translation.z)
-                .sum::<f64>()
-                / self.contact_references.len() as f64;
-            let lip = gait.dcm.lip();
+            let stance = gait.footsteps.stances[0];
             Stepping::new(
                 settings,
-                lip,
-                self.settings.constraints.surface,
-                gait.footsteps.stances[0],
-                world_z_ground,
+                gait.dcm.lip(),
+                surface,
+                stance,
+                gait.world_z_ground,
             )
         });
         let adjusting = settings
             .step_adjustment
-            .then(|| StepAdjusting::new(settings, self.settings.constraints.surface));
-        let mut single_qp = WrenchQp::new(1, 0, &self.settings.constraints);
-        single_qp.unconstrained_first = self.settings.tuning.qp_unconstrained_first;
-        single_qp.solver = self.settings.tuning.qp_solver;
-        let mut least_squares_qp = WrenchQp::new(2, 0, &self.settings.constraints);
-        least_squares_qp.solver = self.settings.tuning.qp_solver;
+            .then(|| StepAdjusting::new(settings, surface));
+        let (tuning, constraints) = (&self.settings.tuning, &self.settings.constraints);
+        let mut single_qp = WrenchQp::new(1, 0, constraints);
+        single_qp.unconstrained_first = tuning.qp_unconstrained_first;
+        single_qp.solver = tuning.qp_solver;
+        let mut least_squares_qp = WrenchQp::new(2, 0, constraints);
+        least_squares_qp.solver = tuning.qp_solver;
         self.torque_map.desired_acceleration = Some(DVector::zeros(12));
-        let weight = self.mass * gravity;
-        self.walking = Some(ContactPhases {
-            normal_forces: None,
-            touchdown_force: TOUCHDOWN_FORCE_FRACTION * weight,
-            sensed_touchdown: settings.sensed_touchdown,
-            touchdown_debounce: settings.touchdown_debounce,
-            loads: [DebouncedLoad::default(); 2],
-            early_touchdowns: 0,
-            late_ticks: 0,
-            stepping,
-            adjusting,
-            tasks: gait.foot_tasks(0.0),
-            identification_settle: settings.identification_settle,
-            identification_single_support: settings.identification_single_support,
-            last_tick_s: 0.0,
-            last_loaded_s: [f64::NEG_INFINITY; 2],
-            last_contact_change_s: 0.0,
-            gait,
-            gait_revision: 0,
-            position_gain: settings.swing_position_gain,
-            velocity_gain: settings.swing_velocity_gain,
-            settle_gains: (settings.settle_position_gain > 0.0
-                || settings.settle_velocity_gain > 0.0)
-                .then_some((settings.settle_position_gain, settings.settle_velocity_gain)),
-            double_support_momentum_weight: settings.double_support_momentum_weight,
-            least_squares_qp,
-            single: SingleSupportQp {
-                qp: single_qp,
-                minimizer: Minimizer::new(6, 0),
-                momentum_map: DMatrix::zeros(6, 6),
-                hessian: DMatrix::zeros(6, 6),
-                gradient: DVector::zeros(6),
-                unconstrained: DVector::zeros(6),
-                wrench: DVector::zeros(6),
-            },
-        });
+        let qps = [single_qp, least_squares_qp];
+        let mut phases = ContactPhases::new(settings, gait, self.mass * gravity, qps);
+        phases.stepping = stepping;
+        phases.adjusting = adjusting;
+        self.walking = Some(phases);
         Ok(())
     }
 

@@ -24,7 +24,10 @@
 //! controller changes it ([`sea_loop::RecordSink::walking`]: a step adjusted or retimed, a
 //! recovery step planned); from then on the footsteps, the swing paths, the DCM path and the
 //! planned events still to come are the changed walk's (a re-planned DCM path starts at the
-//! re-plan).
+//! re-plan). What happened before a change stays drawn: the footsteps that had landed by
+//! then and are not in the changed walk (a recovery walk holds only its own steps) stay as
+//! landed footsteps, and a swing re-aimed in flight is drawn as the controller followed it,
+//! each part up to the next re-aim, so a swing re-aimed several times has no jump.
 
 use super::scene::{color, encode_to_vec, identity_pose, pose_at, vector, world_entity};
 use super::FootRectangle;
@@ -35,7 +38,7 @@ use ::foxglove::messages::{
 };
 use ::foxglove::Encode;
 use nalgebra::{Vector2, Vector3};
-use sea_ctrl::walking::{Foot, Gait, Support};
+use sea_ctrl::walking::{Foot, Footstep, Gait, Support, SwingTrajectory};
 use sea_loop::Sample;
 
 /// Colour of a landed footstep.
@@ -58,6 +61,9 @@ const SWING_POINTS: usize = 25;
 const DCM_PATH_STEP_S: f64 = 0.02;
 /// Height of the drawn points above the ground, so that they are not hidden by it [m].
 const ABOVE_GROUND_M: f64 = 0.001;
+/// Two walks' steps (or swings) within this of each other in pose [m, rad] and time [s] are
+/// the same step.
+const SAME_STEP_TOLERANCE: f64 = 1e-9;
 
 /// The point markers: entity id, disc diameter [m], colour.
 const POINT_MARKERS: [(&str, f64, [f64; 4]); 4] = [
@@ -79,7 +85,10 @@ pub(crate) struct WalkingScene {
     /// The soles, when known (the footsteps' rectangles).
     foot: Option<FootRectangle>,
     /// The swing path of each step (its sole origin over its swing).
-    swing_paths: Vec<Vec<Point3>>,
+    swing_paths: Vec<SwingPath>,
+    /// The footsteps of former walks that had landed when the walk changed and are not in
+    /// the current one (drawn after the current walk's, as landed).
+    former_landings: Vec<LinePrimitive>,
     /// `walking/dcm_path`, encoded (sent with every sample; made again when the walk changes).
     dcm_path_encoded: Vec<u8>,
     /// The moving entities: footsteps (when the sole is known), swing, the point markers.
@@ -113,7 +122,7 @@ impl WalkingScene {
         let swing_paths = swing_paths(gait);
         let mut entities = Vec::new();
         if let Some(foot) = foot {
-            entities.push(footsteps_entity(gait, foot, z));
+            entities.push(footsteps_entity(&gait.footsteps.steps, foot, z));
         }
         entities.push(line_entity("walking/swing", Vec::new(), SWING_COLOR));
         entities.extend(POINT_MARKERS.iter().map(|(id, diameter, rgba)| {
@@ -142,6 +151,7 @@ impl WalkingScene {
             world_z_ground,
             foot,
             swing_paths,
+            former_landings: Vec::new(),
             update: SceneUpdate {
                 deletions: Vec::new(),
                 entities,
@@ -157,21 +167,32 @@ impl WalkingScene {
     }
 
     /// Draws `gait`, the walk as the controller changed it, from the next sample on (module
-    /// doc): its footsteps, swing paths and DCM path. The planned events not given yet are
-    /// the former walk's up to the change (the time `gait`'s DCM plan starts from), then
-    /// `gait`'s after it.
+    /// doc): its footsteps, then the former walks' footsteps landed by the change (the time
+    /// `gait`'s DCM plan starts from) that `gait` does not hold; its swing paths, a swing
+    /// re-aimed in flight drawn as drawn up to the re-aim; its DCM path. The planned events
+    /// not given yet are the former walk's up to the change, then `gait`'s after it.
     pub fn set_gait(&mut self, gait: Gait) {
         let z = self.world_z_ground + ABOVE_GROUND_M;
+        let changed_at = gait.dcm.start_time();
         if let Some(foot) = self.foot {
-            self.update.entities[0] = footsteps_entity(&gait, foot, z);
+            let left_behind = landed_steps_left_behind(&self.gait, &gait, changed_at);
+            let former = footsteps_entity(&left_behind, foot, z).lines;
+            self.former_landings
+                .extend(former.into_iter().map(|mut line| {
+                    line.color = Some(color(LANDED_COLOR));
+                    line
+                }));
+            let mut footsteps = footsteps_entity(&gait.footsteps.steps, foot, z);
+            footsteps.lines.extend(self.former_landings.iter().cloned());
+            self.update.entities[0] = footsteps;
         }
-        self.swing_paths = swing_paths(&gait);
+        self.swing_paths = spliced_swing_paths(&self.swing_paths, &self.gait, &gait);
         self.dcm_path_encoded = encoded_dcm_path(&gait, z);
         let unsent = self.planned_events.split_off(self.planned_emitted);
         self.planned_events = events_after_change(
             unsent,
             planned_events(&gait),
-            gait.dcm.start_time(),
+            changed_at,
             self.events_given_to_s,
         );
         self.planned_emitted = 0;
@@ -207,7 +228,7 @@ impl WalkingScene {
         let swing = &mut lines[first_point - 1];
         swing.lines[0].points.clear();
         if let Some(path) = step.and_then(|k| self.swing_paths.get(k)) {
-            swing.lines[0].points.extend_from_slice(path);
+            swing.lines[0].points.extend_from_slice(&path.points);
         }
         let z = self.world_z_ground + ABOVE_GROUND_M;
         for (entity, p) in points.iter_mut().zip(positions) {
@@ -333,9 +354,9 @@ fn events_after_change(
     events
 }
 
-/// `walking/footsteps`: one closed line per planned landing, at height `z` (colours set per
-/// sample).
-fn footsteps_entity(gait: &Gait, foot: FootRectangle, z: f64) -> SceneEntity {
+/// `walking/footsteps`: one closed line per landing of `steps`, at height `z` (colours set
+/// per sample).
+fn footsteps_entity(steps: &[Footstep], foot: FootRectangle, z: f64) -> SceneEntity {
     let mut entity = world_entity("walking/footsteps".to_string());
     let corners = [
         [foot.x[0], foot.y[0]],
@@ -343,7 +364,7 @@ fn footsteps_entity(gait: &Gait, foot: FootRectangle, z: f64) -> SceneEntity {
         [foot.x[1], foot.y[1]],
         [foot.x[0], foot.y[1]],
     ];
-    for step in &gait.footsteps.steps {
+    for step in steps {
         let points = corners
             .iter()
             .map(|&[x, y]| {
@@ -356,6 +377,25 @@ fn footsteps_entity(gait: &Gait, foot: FootRectangle, z: f64) -> SceneEntity {
             .push(line(line_primitive::Type::LineLoop, points, PLANNED_COLOR));
     }
     entity
+}
+
+/// The steps of `former` that had landed by `changed_at` [s] and that `current` does not
+/// hold (the same foot, landing pose and touchdown within [`SAME_STEP_TOLERANCE`]).
+fn landed_steps_left_behind(former: &Gait, current: &Gait, changed_at: f64) -> Vec<Footstep> {
+    let same = |a: &Footstep, b: &Footstep| {
+        a.foot == b.foot
+            && (a.pose.world_p_sole - b.pose.world_p_sole).norm() <= SAME_STEP_TOLERANCE
+            && (a.pose.world_yaw_sole - b.pose.world_yaw_sole).abs() <= SAME_STEP_TOLERANCE
+            && (a.touchdown - b.touchdown).abs() <= SAME_STEP_TOLERANCE
+    };
+    former
+        .footsteps
+        .steps
+        .iter()
+        .filter(|step| step.touchdown <= changed_at)
+        .filter(|step| !current.footsteps.steps.iter().any(|kept| same(step, kept)))
+        .copied()
+        .collect()
 }
 
 /// Colours the footsteps of `entity` by their state at `t` (module doc).
@@ -376,21 +416,76 @@ fn set_footstep_colors(entity: &mut SceneEntity, gait: &Gait, t: f64) {
     }
 }
 
+/// A drawn swing path: the sole origin's points and their times [s].
+#[derive(Clone, Debug, Default, PartialEq)]
+struct SwingPath {
+    /// The time of each point [s], increasing.
+    times: Vec<f64>,
+    /// The points, above the ground by [`ABOVE_GROUND_M`].
+    points: Vec<Point3>,
+}
+
+impl SwingPath {
+    /// `swing`'s sole origin at [`SWING_POINTS`] times from `from` [s] to its touchdown,
+    /// appended.
+    fn extend_from(&mut self, swing: &SwingTrajectory, from: f64) {
+        let end = swing.touchdown_time();
+        for k in 0..SWING_POINTS {
+            let t = from + (end - from) * k as f64 / (SWING_POINTS - 1) as f64;
+            let p = swing.sample(t).world_p_sole;
+            self.times.push(t);
+            self.points.push(point(p.x, p.y, p.z + ABOVE_GROUND_M));
+        }
+    }
+}
+
 /// The swing path of each step of `gait`: its sole origin from its lift-off to its
 /// touchdown (a retimed swing's included).
-fn swing_paths(gait: &Gait) -> Vec<Vec<Point3>> {
+fn swing_paths(gait: &Gait) -> Vec<SwingPath> {
     gait.swings
         .iter()
         .map(|swing| {
-            (0..SWING_POINTS)
-                .map(|k| {
-                    let u = k as f64 / (SWING_POINTS - 1) as f64;
-                    let p = swing
-                        .sample(swing.start + u * (swing.touchdown_time() - swing.start))
-                        .world_p_sole;
-                    point(p.x, p.y, p.z + ABOVE_GROUND_M)
-                })
-                .collect()
+            let mut path = SwingPath::default();
+            path.extend_from(swing, swing.start);
+            path
+        })
+        .collect()
+}
+
+/// The swing paths of `current`, the walk that replaced `former` (drawn as `drawn`): a swing
+/// of both walks (the same lift-off time and pose) re-aimed in flight is the drawn path up to
+/// the re-aim, then the current swing from it; every other swing is drawn whole.
+fn spliced_swing_paths(drawn: &[SwingPath], former: &Gait, current: &Gait) -> Vec<SwingPath> {
+    let same_lift_off = |a: &SwingTrajectory, b: &SwingTrajectory| {
+        (a.start - b.start).abs() <= SAME_STEP_TOLERANCE
+            && (a.lift_off.world_p_sole - b.lift_off.world_p_sole).norm() <= SAME_STEP_TOLERANCE
+    };
+    current
+        .swings
+        .iter()
+        .map(|swing| {
+            let reaimed_at = swing.reaimed.map(|q| q.start).filter(|&t| t > swing.start);
+            let before = former
+                .swings
+                .iter()
+                .position(|old| same_lift_off(old, swing))
+                .and_then(|j| drawn.get(j));
+            match (reaimed_at, before) {
+                (Some(t), Some(before)) => {
+                    let kept = before.times.partition_point(|&time| time < t);
+                    let mut path = SwingPath {
+                        times: before.times[..kept].to_vec(),
+                        points: before.points[..kept].to_vec(),
+                    };
+                    path.extend_from(swing, t);
+                    path
+                }
+                _ => {
+                    let mut path = SwingPath::default();
+                    path.extend_from(swing, swing.start);
+                    path
+                }
+            }
         })
         .collect()
 }
@@ -448,6 +543,99 @@ fn point(x: f64, y: f64, z: f64) -> Point3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::Matrix3;
+    use sea_ctrl::walking::{ToeOff, WalkingSettings};
+    use sea_dyn::spatial::Pose;
+
+    /// Four 0.1 m steps forward from soles 0.14 m apart (the left first), default settings.
+    fn gait() -> Gait {
+        let mut settings = WalkingSettings::default();
+        settings.command.steps = Some(4);
+        settings.command.forward_velocity = 0.25;
+        let sole = |y: f64| Pose {
+            rotation: Matrix3::identity(),
+            translation: Vector3::new(0.0, y, 0.0),
+        };
+        let com = Vector3::new(0.0, 0.0, 0.53);
+        Gait::new(
+            &settings,
+            &[sole(0.07), sole(-0.07)],
+            com,
+            9.81,
+            ToeOff::default(),
+        )
+        .unwrap()
+    }
+
+    /// The iCub's sole rectangle (about).
+    const FOOT: FootRectangle = FootRectangle {
+        x: [-0.04, 0.1],
+        y: [-0.03, 0.03],
+    };
+
+    /// A swing re-aimed twice in flight is drawn as followed: the plan from lift-off up to the
+    /// first re-aim, the first re-aim's up to the second, then the second's to the landing.
+    /// The swing as last changed differs from the first re-aim between the two, so drawing it
+    /// whole (the path redrawn from the last walk only) fails this.
+    #[test]
+    fn a_swing_reaimed_twice_is_drawn_as_followed() {
+        let planned = gait();
+        let mut scene = WalkingScene::new(&planned, 33.0, Some(FOOT), (&[], &[]));
+        let swing = planned.swings[1];
+        let at = |u: f64| swing.start + u * swing.duration;
+        let landing = planned.footsteps.steps[1].pose.world_p_sole;
+        let mut first = planned.clone();
+        first.swings[1].reaim(at(0.3), landing + Vector2::new(0.0, -0.04));
+        scene.set_gait(first.clone());
+        let mut second = first.clone();
+        second.swings[1].reaim(at(0.6), landing + Vector2::new(0.03, 0.02));
+        scene.set_gait(second.clone());
+
+        let path = &scene.swing_paths[1];
+        assert!(path.times.len() >= SWING_POINTS);
+        let mut apart_most: f64 = 0.0;
+        for (&t, p) in path.times.iter().zip(&path.points) {
+            let followed = if t < at(0.3) {
+                &planned
+            } else if t < at(0.6) {
+                let apart = second.swings[1].sample(t).world_p_sole
+                    - first.swings[1].sample(t).world_p_sole;
+                apart_most = apart_most.max(apart.norm());
+                &first
+            } else {
+                &second
+            };
+            let expected = followed.swings[1].sample(t).world_p_sole;
+            let drawn = Vector3::new(p.x, p.y, p.z - ABOVE_GROUND_M);
+            assert!((drawn - expected).norm() < 1e-12, "at {t} s: {drawn:?}");
+        }
+        assert!(apart_most > 5e-3, "the two walks agree between the re-aims");
+        let end = path.points.last().unwrap();
+        let aimed = landing + Vector2::new(0.03, 0.02);
+        assert!((end.x - aimed.x).abs() < 1e-12 && (end.y - aimed.y).abs() < 1e-12);
+        // The other swings are drawn whole, from their lift-off.
+        assert_eq!(scene.swing_paths[2], swing_paths(&planned)[2]);
+    }
+
+    /// The footsteps of a former walk that had landed by the change and are not in the new
+    /// walk are kept; those the new walk holds, or that had not landed, are not.
+    #[test]
+    fn the_landed_footsteps_a_new_walk_drops_are_kept() {
+        let former = gait();
+        let steps = &former.footsteps.steps;
+        let after_second = 0.5 * (steps[1].touchdown + steps[2].touchdown);
+        let mut other = former.clone();
+        for step in &mut other.footsteps.steps {
+            step.pose.world_p_sole.y += 0.05;
+        }
+        let kept = landed_steps_left_behind(&former, &other, after_second);
+        assert_eq!(kept, steps[..2].to_vec());
+        assert!(landed_steps_left_behind(&former, &former, after_second).is_empty());
+        let mut adjusted = former.clone();
+        adjusted.footsteps.steps[2].pose.world_p_sole.y += 0.05;
+        assert!(landed_steps_left_behind(&former, &adjusted, after_second).is_empty());
+        assert!(landed_steps_left_behind(&former, &other, 0.0).is_empty());
+    }
 
     fn event(time_s: f64, text: &str) -> PlannedEvent {
         (time_s, "sea_sim.planned_touchdown", text.to_string())
