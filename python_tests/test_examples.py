@@ -19,6 +19,7 @@ FIGURES = {
     "push_table.py": ["push_table.png"],
     "multi_rate_identification.py": ["multi_rate_identification.png"],
     "foxglove_log.py": ["foxglove_contacts.png", "push_two_feet.mcap"],
+    "walk_and_push.py": ["walk_and_push.png"],
 }
 
 

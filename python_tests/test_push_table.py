@@ -1,6 +1,7 @@
 """``sm.push_table``: the push study of ``sea-sim push`` from Python. Fixed impulses report
 each run; the bisection brackets the boundary between a recovered and a lost push and agrees
-with the fixed runs; bad arguments name themselves; Ctrl-C returns the rows done."""
+with the fixed runs; a push at a phase of a walk's swing starts where ``sea-sim push --phase``
+starts it; bad arguments name themselves; Ctrl-C returns the rows done."""
 
 from __future__ import annotations
 
@@ -18,6 +19,9 @@ import sea_momentum as sm
 
 ROOT = Path(__file__).resolve().parents[1]
 STANDING = ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml"
+WALK = ROOT / "scenarios" / "walking" / "walk_push.toml"
+#: walk_push.toml cut after its fifth step's swing (the push must end within the run).
+SHORT_WALK = {"simulation.duration_s": 2.7}
 
 
 def test_fixed_impulses_report_each_run_in_the_order_given():
@@ -44,6 +48,46 @@ def test_the_bisection_brackets_the_boundary_and_agrees_with_single_runs():
     # The bracket's two ends, run again one by one: the same outcomes.
     again = sm.push_table(STANDING, "left", impulses=[recovered, failed]).row("left")
     assert again.pushes[0][1] == "completed" and again.pushes[1][1] != "completed"
+
+
+def _start(phase, step=None, impulses=(0.0,)):
+    table = sm.push_table(WALK, "left", impulses=list(impulses), overrides=SHORT_WALK, phase=phase, step=step)
+    return table
+
+
+def test_a_push_at_a_phase_of_a_swing_starts_there():
+    # walk_push.toml: steps of 0.4 s, each a 0.3 s swing and a 0.1 s double support; the
+    # fourth step (3, the default) from lift-off to touchdown, then the fifth's lift-off.
+    lift_off, middle, touchdown = (_start(phase).start_s for phase in (0.0, 0.5, 1.0))
+    assert touchdown - lift_off == pytest.approx(0.3, abs=1e-9)
+    assert middle == pytest.approx(lift_off + 0.15, abs=1e-9)
+    assert _start(0.0, step=4).start_s == pytest.approx(lift_off + 0.4, abs=1e-9)
+    # The time sea-sim push --phase reports for this walk (the plan's, on a plant step).
+    assert middle == pytest.approx(1.95, abs=1e-9)
+    # The push at the phase is the push at that time.
+    by_phase = _start(0.5, impulses=(3.0, 12.0))
+    by_time = sm.push_table(WALK, "left", impulses=[3.0, 12.0], overrides=SHORT_WALK, start_s=middle)
+    assert by_phase.row("left").pushes == by_time.row("left").pushes
+    assert sm.push_table(STANDING, "left", impulses=[0.0]).start_s == 1.0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "named"),
+    [
+        ({"phase": 1.5}, "phase"),
+        ({"phase": 0.5, "start_s": 1.0}, "start_s"),
+        ({"step": 3}, "step"),
+        ({"phase": 0.5, "step": 99}, "step"),
+        ({"phase": 0.5, "step": -1}, "step"),
+    ],
+)
+def test_a_bad_phase_or_step_names_itself(kwargs, named):
+    with pytest.raises(ValueError, match=named) as info:
+        sm.push_table(WALK, "left", impulses=[0.0], **kwargs)
+    assert info.value.argument == named
+    with pytest.raises(ValueError, match="phase") as info:
+        sm.push_table(STANDING, "left", impulses=[0.0], phase=0.5)
+    assert info.value.argument == "phase"
 
 
 @pytest.mark.parametrize(

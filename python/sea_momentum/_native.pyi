@@ -400,11 +400,15 @@ def push_table_native(
     overrides: Mapping[str, object] | None = None,
     impulses: list[float] | None = None,
     link: str = "root_link",
-    start_s: float = 1.0,
+    start_s: float | None = None,
     duration_s: float = 0.1,
     tolerance_n_s: float = 0.1,
+    phase: float | None = None,
+    step: int | None = None,
 ) -> dict[str, object]:
-    """The push study (GIL released); use ``sea_momentum.push_table``. Returns ``rows`` (one
+    """The push study (GIL released); use ``sea_momentum.push_table``. Returns ``start_s``
+    (the push's start: ``start_s``, 1.0 by default, or the time at ``phase`` of step ``step``'s
+    swing, 3 by default), ``rows`` (one
     dict per direction: ``direction``, ``capture_point_impulse_n_s``,
     ``recovered_impulse_n_s``, ``failed_impulse_n_s``, ``pushes`` (list of (impulse, status)),
     ``interrupted``) and ``interrupted``. Ctrl-C returns the rows done."""

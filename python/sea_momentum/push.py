@@ -66,10 +66,12 @@ class PushRow(Result):
 @dataclasses.dataclass(frozen=True)
 class PushTable(Result):
     """The rows of a push study, one per direction in the order asked; ``interrupted``: Ctrl-C
-    stopped it (the rows hold the runs done). A :class:`~sea_momentum.results.Result`."""
+    stopped it (the rows hold the runs done); ``start_s``: the push's start [s] (given, or
+    found at a phase of a swing). A :class:`~sea_momentum.results.Result`."""
 
     rows: list[PushRow]
     interrupted: bool
+    start_s: float
 
     def row(self, direction: str) -> PushRow:
         """The row of ``direction``; ``KeyError`` naming it and the study's directions when the
@@ -87,15 +89,20 @@ def push_table(
     impulses: Optional[Sequence[float]] = None,
     overrides: Optional[Mapping[str, Any]] = None,
     link: str = "root_link",
-    start_s: float = 1.0,
+    start_s: Optional[float] = None,
     duration_s: float = 0.1,
     tolerance_n_s: float = 0.1,
+    phase: Optional[float] = None,
+    step: Optional[int] = None,
 ) -> PushTable:
     """The push study of the scenario file ``scenario`` (its own ``disturbances`` replaced by
     the push), directions in parallel, the GIL released; returns a :class:`PushTable`.
 
-    A push of ``duration_s`` [s] on ``link`` from ``start_s`` [s], along each of
-    ``directions``. Without ``impulses``, each direction's largest recovered impulse is
+    A push of ``duration_s`` [s] on ``link`` from ``start_s`` [s] (1.0 by default), along each
+    of ``directions``. On a walking scenario, ``phase`` starts it instead at that fraction of
+    the swing of step ``step`` (0-based, the fourth by default) of the scenario's walk, as
+    ``sea-sim push --phase``: 0 the swing foot's lift-off, 1 its planned touchdown, the time
+    rounded to a plant step (``PushTable.start_s``). Without ``impulses``, each direction's largest recovered impulse is
     bisected to ``tolerance_n_s`` [N s] between 0 and twice the capture-point bound (doubled
     while recovered, up to 8 times); with ``impulses`` [N s], one run each (islands of recovery
     above a failure show). A run recovers when it completes (no fall, no divergence).
@@ -103,8 +110,10 @@ def push_table(
     Raises ScenarioError for a bad scenario, override or direction name (naming it), SeaIOError
     for a scenario file that cannot be read, ValueError naming ``directions`` (none, or one
     twice), ``duration_s``, ``tolerance_n_s``, ``start_s`` (a push that does not end within
-    the run), ``link`` (not a link of the robot) or ``impulses`` (none, or one not finite and
-    non-negative), and TypeError for ``impulses`` given as a string.
+    the run, or given with ``phase``), ``phase`` (outside [0, 1], or a scenario that does not
+    walk), ``step`` (beyond the walk's steps, negative, or given without ``phase``), ``link``
+    (not a link of the robot) or ``impulses`` (none, or one not finite and non-negative), and
+    TypeError for ``impulses`` given as a string or ``step`` not an integer.
     """
     if isinstance(directions, str):
         directions = [directions]
@@ -117,9 +126,11 @@ def push_table(
         dict(overrides or {}),
         None if impulses is None else [float(i) for i in impulses],
         link,
-        float(start_s),
+        None if start_s is None else float(start_s),
         float(duration_s),
         float(tolerance_n_s),
+        None if phase is None else float(phase),
+        step,
     )
     rows = [
         PushRow(
@@ -132,7 +143,11 @@ def push_table(
         )
         for row in cast("list[dict[str, Any]]", native["rows"])
     ]
-    table = PushTable(rows=rows, interrupted=bool(native["interrupted"]))
+    table = PushTable(
+        rows=rows,
+        interrupted=bool(native["interrupted"]),
+        start_s=float(cast(float, native["start_s"])),
+    )
     if table.interrupted:
         warnings.warn("push study interrupted: the rows hold the runs done", RuntimeWarning, stacklevel=2)
     return table

@@ -6,11 +6,12 @@
 use crate::errors::{argument_error, to_py};
 use crate::interrupt::run_interruptible;
 use crate::overrides::override_pairs;
+use crate::plant::count_arg;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_sim::analysis::push::{
-    fixed_push_table, push_table, FixedPushRow, PushDirection, PushOptions, PushProgress,
-    PushResult,
+    fixed_push_table, push_table, swing_push_start, FixedPushRow, PushDirection, PushOptions,
+    PushProgress, PushResult, SwingPhase, DEFAULT_PUSHED_STEP,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -22,13 +23,15 @@ type RunsSeen = Mutex<Vec<(PushDirection, f64, String)>>;
 
 /// The rows of the push study of the scenario file `path`: per direction of `directions`
 /// ("forward", "backward", "left", "right": the first contact's sole axes), the bisected
-/// largest recovered impulse of a push of `duration_s` on `link` at `start_s` (to
-/// `tolerance_n_s`), or with `impulses` one run per impulse. Returns a dict: `rows` (one dict
-/// per direction: `direction`, `capture_point_impulse_n_s`, `recovered_impulse_n_s`,
-/// `failed_impulse_n_s`, `pushes` (a list of (impulse, status) in the order given, or the
-/// bisection's in the order run), `interrupted`) and `interrupted`.
+/// largest recovered impulse of a push of `duration_s` on `link` at `start_s` (default 1 s),
+/// or at fraction `phase` of the swing of step `step` (default 3) of the scenario's walk
+/// (to `tolerance_n_s`), or with `impulses` one run per impulse. Returns a dict: `start_s`
+/// (the push's start), `rows` (one dict per direction: `direction`,
+/// `capture_point_impulse_n_s`, `recovered_impulse_n_s`, `failed_impulse_n_s`, `pushes` (a
+/// list of (impulse, status) in the order given, or the bisection's in the order run),
+/// `interrupted`) and `interrupted`.
 #[pyfunction]
-#[pyo3(signature = (path, directions, overrides=None, impulses=None, link="root_link", start_s=1.0, duration_s=0.1, tolerance_n_s=0.1))]
+#[pyo3(signature = (path, directions, overrides=None, impulses=None, link="root_link", start_s=None, duration_s=0.1, tolerance_n_s=0.1, phase=None, step=None))]
 #[allow(clippy::too_many_arguments)] // the Python signature, keyword arguments with defaults
 pub fn push_table_native<'py>(
     py: Python<'py>,
@@ -37,12 +40,15 @@ pub fn push_table_native<'py>(
     overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
     impulses: Option<Vec<f64>>,
     link: &str,
-    start_s: f64,
+    start_s: Option<f64>,
     duration_s: f64,
     tolerance_n_s: f64,
+    phase: Option<f64>,
+    step: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let pairs = override_pairs(overrides)?;
     let directions = parse_directions(&directions)?;
+    let start_s = push_start(&path, &pairs, start_s, phase, step)?;
     let options = PushOptions {
         link: link.to_string(),
         start_s,
@@ -72,6 +78,7 @@ pub fn push_table_native<'py>(
         }
     };
     let dict = PyDict::new(py);
+    dict.set_item("start_s", start_s)?;
     dict.set_item("rows", rows)?;
     dict.set_item("interrupted", stopped || raised.is_some())?;
     Ok(dict)
@@ -135,6 +142,39 @@ fn python_names(error: sea_sim::Error) -> PyErr {
         ("PushOptions.duration_s", "duration_s"),
         ("PushOptions.tolerance_n_s", "tolerance_n_s"),
     ]))
+}
+
+/// The push's start [s]: `start_s` (default [`PushOptions`]'s), or with `phase` the time
+/// at that fraction of the swing of step `step` (default [`DEFAULT_PUSHED_STEP`]) of the
+/// walk of the scenario at `path` with `overrides` (`swing_push_start`). Refused, naming the
+/// argument: `phase` with `start_s`, `step` without `phase`, and `swing_push_start`'s errors.
+fn push_start(
+    path: &Path,
+    overrides: &[(String, String)],
+    start_s: Option<f64>,
+    phase: Option<f64>,
+    step: Option<&Bound<'_, PyAny>>,
+) -> PyResult<f64> {
+    let Some(phase) = phase else {
+        if let Some(step) = step {
+            let expected = "no step without phase (the step whose swing phase pushes)";
+            return Err(argument_error("step", expected, step.to_string()));
+        }
+        return Ok(start_s.unwrap_or(PushOptions::default().start_s));
+    };
+    if let Some(start_s) = start_s {
+        let expected = "no start_s with phase (the push starts at the phase)";
+        return Err(argument_error("start_s", expected, start_s));
+    }
+    let step = match step {
+        Some(step) => count_arg("step", step, 0)?,
+        None => DEFAULT_PUSHED_STEP,
+    };
+    let at = SwingPhase { step, phase };
+    let names = [("--phase", "phase"), ("--step", "step")];
+    let (start, _) =
+        swing_push_start(path, overrides, at).map_err(|e| to_py(e.argument_named(&names)))?;
+    Ok(start)
 }
 
 /// The two kinds of study.

@@ -9,14 +9,11 @@ use crate::push::parse_directions;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_sim::analysis::push::{
-    check_impulses, impulses_recovered_up_to, swing_push_start, SwingPhase,
+    check_impulses, impulses_recovered_up_to, swing_push_start, SwingPhase, DEFAULT_PUSHED_STEP,
 };
 use sea_sim::analysis::template_walk::{template_bisection, template_pushes};
 use std::collections::HashMap;
 use std::path::PathBuf;
-
-/// The step pushed by default: the fourth (0-based 3), as `sea-sim push --phase`.
-const DEFAULT_PUSHED_STEP: usize = 3;
 
 /// Pushes of `duration_s` at fraction `phase` of the swing of step `step` (default 3) of the
 /// walk of the scenario file `path`, on its template, along each of `directions`: bisected to

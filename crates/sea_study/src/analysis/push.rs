@@ -187,6 +187,11 @@ fn convex_hull(mut points: Vec<Vector2<f64>>) -> Vec<Vector2<f64>> {
     hull
 }
 
+/// The step a push at a phase of a swing pushes by default (`sea-sim push --phase`, Python's
+/// `push_table(phase=...)` and `template_push_table`): the fourth (0-based 3), the walk under
+/// way.
+pub const DEFAULT_PUSHED_STEP: usize = 3;
+
 /// A time in a walk: fraction `phase` of the swing (single support) of step `step` of the
 /// scenario's walking plan (0 the first step).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -8,7 +8,7 @@ use clap::Args;
 use sea_sim::analysis::gait_bound::gait_bounds;
 use sea_sim::analysis::push::{
     fixed_push_table, impulses_recovered_up_to, push_table, PushDirection, PushOptions,
-    PushProgress, SwingPhase,
+    PushProgress, SwingPhase, DEFAULT_PUSHED_STEP,
 };
 use sea_sim::analysis::step_bound::stepping_bounds_json;
 use sea_sim::analysis::template_walk::{template_bisection, template_pushes};
@@ -212,9 +212,6 @@ fn fixed_rows(
         })
         .collect())
 }
-
-/// The step `--phase` pushes by default: the fourth (0-based 3), the walk under way.
-const DEFAULT_PUSHED_STEP: usize = 3;
 
 /// Per direction, the bounds the report adds to its row, with their keys: pushing a walk
 /// (`at`), the gait's bounds on a sideways push (`gait_bound_impulse_n_s` with every landing
