@@ -51,8 +51,8 @@ def test_the_bisection_brackets_the_boundary_and_agrees_with_single_runs():
 
 
 def _start(phase, step=None, impulses=(0.0,)):
-    table = sm.push_table(WALK, "left", impulses=list(impulses), overrides=SHORT_WALK, phase=phase, step=step)
-    return table
+    """The push table of left pushes of ``impulses`` at ``phase`` of step ``step``'s swing."""
+    return sm.push_table(WALK, "left", impulses=list(impulses), overrides=SHORT_WALK, phase=phase, step=step)
 
 
 def test_a_push_at_a_phase_of_a_swing_starts_there():
@@ -79,12 +79,18 @@ def test_a_push_at_a_phase_of_a_swing_starts_there():
         ({"step": 3}, "step"),
         ({"phase": 0.5, "step": 99}, "step"),
         ({"phase": 0.5, "step": -1}, "step"),
+        # The fifth step's touchdown is at 2.5 s: a push from it ends after the 2.55 s run.
+        ({"phase": 1.0, "step": 4, "overrides": {"simulation.duration_s": 2.55}}, "phase"),
     ],
 )
 def test_a_bad_phase_or_step_names_itself(kwargs, named):
+    kwargs.setdefault("overrides", SHORT_WALK)
     with pytest.raises(ValueError, match=named) as info:
         sm.push_table(WALK, "left", impulses=[0.0], **kwargs)
     assert info.value.argument == named
+
+
+def test_a_phase_on_a_scenario_that_does_not_walk_names_phase():
     with pytest.raises(ValueError, match="phase") as info:
         sm.push_table(STANDING, "left", impulses=[0.0], phase=0.5)
     assert info.value.argument == "phase"

@@ -102,16 +102,16 @@ def push_table(
     of ``directions``. On a walking scenario, ``phase`` starts it instead at that fraction of
     the swing of step ``step`` (0-based, the fourth by default) of the scenario's walk, as
     ``sea-sim push --phase``: 0 the swing foot's lift-off, 1 its planned touchdown, the time
-    rounded to a plant step (``PushTable.start_s``). Without ``impulses``, each direction's largest recovered impulse is
-    bisected to ``tolerance_n_s`` [N s] between 0 and twice the capture-point bound (doubled
-    while recovered, up to 8 times); with ``impulses`` [N s], one run each (islands of recovery
-    above a failure show). A run recovers when it completes (no fall, no divergence).
+    rounded to a plant step (``PushTable.start_s``). Without ``impulses``, each direction's
+    largest recovered impulse is bisected to ``tolerance_n_s`` [N s] between 0 and twice the
+    capture-point bound (doubled while recovered, up to 8 times); with ``impulses`` [N s], one
+    run each (islands of recovery above a failure show). A run recovers when it completes (no fall, no divergence).
 
     Raises ScenarioError for a bad scenario, override or direction name (naming it), SeaIOError
     for a scenario file that cannot be read, ValueError naming ``directions`` (none, or one
     twice), ``duration_s``, ``tolerance_n_s``, ``start_s`` (a push that does not end within
-    the run, or given with ``phase``), ``phase`` (outside [0, 1], or a scenario that does not
-    walk), ``step`` (beyond the walk's steps, negative, or given without ``phase``), ``link``
+    the run, or given with ``phase``), ``phase`` (outside [0, 1], a scenario that does not
+    walk, or a push at the phase that does not end within the run), ``step`` (beyond the walk's steps, negative, or given without ``phase``), ``link``
     (not a link of the robot) or ``impulses`` (none, or one not finite and non-negative), and
     TypeError for ``impulses`` given as a string or ``step`` not an integer.
     """
@@ -176,7 +176,7 @@ def template_push_table(
     directions: Sequence[str] = DIRECTIONS,
     impulses: Optional[Sequence[float]] = None,
     overrides: Optional[Mapping[str, Any]] = None,
-    step: int = 3,
+    step: Optional[int] = None,
     duration_s: float = 0.1,
     tolerance_n_s: float = 0.01,
 ) -> list[TemplateRow]:
@@ -190,7 +190,8 @@ def template_push_table(
     the plan's support over each whole-body period; feet land where and when planned, no
     angular momentum, no joints, the push unknown to the law
     (``docs/findings/walking_template.md``). A push of ``duration_s`` [s] on the CoM starts at
-    fraction ``phase`` of the swing of step ``step`` (0-based) of the scenario's walk, and must
+    fraction ``phase`` of the swing of step ``step`` (0-based, the fourth by default) of the
+    scenario's walk, and must
     end within the run (``simulation.duration_s``). Without ``impulses`` each direction's largest recovered
     impulse is bisected to ``tolerance_n_s`` [N s]; with ``impulses`` [N s], one run each.
 

@@ -208,8 +208,10 @@ fn drive(
             observation.joint_error,
             thetadot,
         );
+        // Every change of the walk, not only the last before a sample: a drawing that splices
+        // a swing re-aimed at each tick needs each re-aim.
+        deliver_walking(engine, sinks, &mut gait_revision)?;
         if index % record_every == 0 || period.end.is_some() {
-            deliver_walking(engine, sinks, &mut gait_revision)?;
             let sample = engine.sample();
             for sink in sinks.iter_mut() {
                 sink.record(&sample)?;

@@ -112,10 +112,11 @@ pub trait RecordSink {
 
     /// `[walking]`: takes the walk as the controller changed it (a step adjusted or
     /// retimed, a recovery step planned, the settling after a recovery step's touchdown
-    /// planned from the measured state), before the first sample recorded after the change (under
-    /// `controller.sampling = "continuous"`, where the law runs within plant steps, the
-    /// change may be up to one plant step older than that sample's time);
-    /// [`RunInfo::walking`] was the walk before any.
+    /// planned from the measured state), at the end of the whole-body period of the change, so
+    /// each change, also several between two recorded samples, and before the first sample
+    /// recorded after it (under `controller.sampling = "continuous"`, where the law runs
+    /// within plant steps, the change may be up to one plant step older than the period's
+    /// end); [`RunInfo::walking`] was the walk before any.
     fn walking(&mut self, _gait: &Gait) -> Result<()> {
         Ok(())
     }

@@ -49,6 +49,8 @@ pub fn push_table_native<'py>(
     let pairs = override_pairs(overrides)?;
     let directions = parse_directions(&directions)?;
     let start_s = push_start(&path, &pairs, start_s, phase, step)?;
+    let start = if phase.is_some() { "phase" } else { "start_s" };
+    let python_names = |error| python_names(error, start);
     let options = PushOptions {
         link: link.to_string(),
         start_s,
@@ -134,11 +136,12 @@ impl Study<'_> {
     }
 }
 
-/// `error` with the library's `PushOptions.NAME` given as the Python argument `NAME`.
-fn python_names(error: sea_sim::Error) -> PyErr {
+/// `error` with the library's `PushOptions.NAME` given as the Python argument `NAME`, the
+/// start as `start` (`start_s`, or `phase` when the push starts at a phase of a swing).
+fn python_names(error: sea_sim::Error, start: &str) -> PyErr {
     to_py(error.argument_named(&[
         ("PushOptions.link", "link"),
-        ("PushOptions.start_s", "start_s"),
+        ("PushOptions.start_s", start),
         ("PushOptions.duration_s", "duration_s"),
         ("PushOptions.tolerance_n_s", "tolerance_n_s"),
     ]))

@@ -358,6 +358,53 @@ fn an_adjusted_walk_is_drawn_as_the_controller_changed_it() {
     );
 }
 
+/// The pushed walk of [`an_adjusted_walk_is_drawn_as_the_controller_changed_it`] recorded
+/// every whole-body tick and every tenth: at each sample of the second, the swing path and the
+/// footsteps drawn are those of the first. The pushed swing is re-aimed at several ticks
+/// between two samples; each re-aim reaches the drawing, whatever the recording's resolution.
+#[test]
+fn the_walk_drawn_does_not_depend_on_the_recording_resolution() {
+    let base = [
+        ("walking.command", "{ forward_velocity = 0.1, steps = 3 }"),
+        ("walking.step_adjustment", "true"),
+        ("simulation.duration_s", "3.0"),
+    ];
+    let planned = build(&walk_straight(&base)).unwrap();
+    let step = planned.controller.gait().unwrap().footsteps.steps[1];
+    let start_s = step.lift_off + 0.3 * (step.touchdown - step.lift_off);
+    let push = format!(
+        "[{{link = \"root_link\", force = [0.0, 30.0, 0.0], start_s = {start_s}, duration_s = 0.1}}]"
+    );
+    let drawn = |every: &str| {
+        let mut overrides = base.to_vec();
+        overrides.push(("disturbances", &push));
+        overrides.push(("simulation.record_every", every));
+        let file = TempFile::new("walking_mcap", &format!("every_{every}"));
+        let (summary, setup) = run(&walk_straight(&overrides), &file.0);
+        assert_eq!(summary.status, "completed", "{summary:?}");
+        (read(&file.0).0, setup.controller.step_adjustments().len())
+    };
+    let ((fine, adjustments), (coarse, _)) = (drawn("1"), drawn("10"));
+    assert!(adjustments >= 2, "{adjustments} adjustments");
+    let mut compared = 0;
+    for (t, update) in &coarse {
+        let (t_fine, same_time) = scene_at(&fine, *t);
+        assert!(
+            (t_fine - t).abs() < 1e-9,
+            "no sample at {t} s in the fine log"
+        );
+        let swing = |u: &SceneUpdate| entity(u, "walking/swing").lines[0].points.clone();
+        assert_eq!(swing(update), swing(same_time), "the swing at {t} s");
+        assert_eq!(
+            footstep_centres(update),
+            footstep_centres(same_time),
+            "at {t} s"
+        );
+        compared += usize::from(!swing(update).is_empty());
+    }
+    assert!(compared > 10, "{compared} samples with a swing drawn");
+}
+
 /// The centre of the foot rectangle `foot` at each recovery step of `recovery`, `[x, y]`.
 fn recovery_centres(
     recovery: &[(f64, sea_ctrl::walking::RecoveryStep)],

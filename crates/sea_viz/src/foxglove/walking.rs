@@ -176,9 +176,9 @@ impl WalkingScene {
         let changed_at = gait.dcm.start_time();
         if let Some(foot) = self.foot {
             let left_behind = landed_steps_left_behind(&self.gait, &gait, changed_at);
-            let former = footsteps_entity(&left_behind, foot, z).lines;
+            let former_lines = footsteps_entity(&left_behind, foot, z).lines;
             self.former_landings
-                .extend(former.into_iter().map(|mut line| {
+                .extend(former_lines.into_iter().map(|mut line| {
                     line.color = Some(color(LANDED_COLOR));
                     line
                 }));
@@ -547,7 +547,8 @@ mod tests {
     use sea_ctrl::walking::{ToeOff, WalkingSettings};
     use sea_dyn::spatial::Pose;
 
-    /// Four 0.1 m steps forward from soles 0.14 m apart (the left first), default settings.
+    /// Four steps forward at 0.25 m/s from soles 0.14 m apart (the left first), the default
+    /// settings otherwise.
     fn gait() -> Gait {
         let mut settings = WalkingSettings::default();
         settings.command.steps = Some(4);
