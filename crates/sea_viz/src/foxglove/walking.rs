@@ -388,14 +388,25 @@ fn landed_steps_left_behind(former: &Gait, current: &Gait, changed_at: f64) -> V
             && (a.pose.world_yaw_sole - b.pose.world_yaw_sole).abs() <= SAME_STEP_TOLERANCE
             && (a.touchdown - b.touchdown).abs() <= SAME_STEP_TOLERANCE
     };
+    let kept = &current.footsteps.steps;
     former
         .footsteps
         .steps
         .iter()
-        .filter(|step| step.touchdown <= changed_at)
-        .filter(|step| !current.footsteps.steps.iter().any(|kept| same(step, kept)))
-        .copied()
+        .enumerate()
+        .filter(|(_, step)| step.touchdown <= changed_at)
+        .filter(|&(k, step)| find_from(kept, k, |other| same(step, other)).is_none())
+        .map(|(_, step)| *step)
         .collect()
+}
+
+/// The index of an item of `items` that `matches`: `hint` first (the same step's index in two
+/// walks, in the common case), then the others in order; `None` when none matches.
+fn find_from<T>(items: &[T], hint: usize, matches: impl Fn(&T) -> bool) -> Option<usize> {
+    if items.get(hint).is_some_and(&matches) {
+        return Some(hint);
+    }
+    items.iter().position(matches)
 }
 
 /// Colours the footsteps of `entity` by their state at `t` (module doc).
@@ -463,12 +474,11 @@ fn spliced_swing_paths(drawn: &[SwingPath], former: &Gait, current: &Gait) -> Ve
     current
         .swings
         .iter()
-        .map(|swing| {
+        .enumerate()
+        .map(|(k, swing)| {
             let reaimed_at = swing.reaimed.map(|q| q.start).filter(|&t| t > swing.start);
-            let before = former
-                .swings
-                .iter()
-                .position(|old| same_lift_off(old, swing))
+            let before = reaimed_at
+                .and_then(|_| find_from(&former.swings, k, |old| same_lift_off(old, swing)))
                 .and_then(|j| drawn.get(j));
             match (reaimed_at, before) {
                 (Some(t), Some(before)) => {
@@ -616,6 +626,16 @@ mod tests {
         assert!((end.x - aimed.x).abs() < 1e-12 && (end.y - aimed.y).abs() < 1e-12);
         // The other swings are drawn whole, from their lift-off.
         assert_eq!(scene.swing_paths[2], swing_paths(&planned)[2]);
+    }
+
+    /// The hint is tried first, then every item in order.
+    #[test]
+    fn find_from_tries_the_hint_then_the_others() {
+        let items = [3, 5, 3];
+        assert_eq!(find_from(&items, 2, |&v| v == 3), Some(2));
+        assert_eq!(find_from(&items, 1, |&v| v == 3), Some(0));
+        assert_eq!(find_from(&items, 9, |&v| v == 5), Some(1));
+        assert_eq!(find_from(&items, 0, |&v| v == 4), None);
     }
 
     /// The footsteps of a former walk that had landed by the change and are not in the new
