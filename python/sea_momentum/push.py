@@ -105,15 +105,17 @@ def push_table(
     rounded to a plant step (``PushTable.start_s``). Without ``impulses``, each direction's
     largest recovered impulse is bisected to ``tolerance_n_s`` [N s] between 0 and twice the
     capture-point bound (doubled while recovered, up to 8 times); with ``impulses`` [N s], one
-    run each (islands of recovery above a failure show). A run recovers when it completes (no fall, no divergence).
+    run each (islands of recovery above a failure show). A run recovers when it completes (no
+    fall, no divergence).
 
     Raises ScenarioError for a bad scenario, override or direction name (naming it), SeaIOError
     for a scenario file that cannot be read, ValueError naming ``directions`` (none, or one
     twice), ``duration_s``, ``tolerance_n_s``, ``start_s`` (a push that does not end within
     the run, or given with ``phase``), ``phase`` (outside [0, 1], a scenario that does not
-    walk, or a push at the phase that does not end within the run), ``step`` (beyond the walk's steps, negative, or given without ``phase``), ``link``
-    (not a link of the robot) or ``impulses`` (none, or one not finite and non-negative), and
-    TypeError for ``impulses`` given as a string or ``step`` not an integer.
+    walk, or a push at the phase that does not end within the run), ``step`` (beyond the
+    walk's steps, negative, or given without ``phase``), ``link`` (not a link of the robot) or
+    ``impulses`` (none, or one not finite and non-negative), and TypeError for ``impulses``
+    given as a string or ``step`` not an integer.
     """
     if isinstance(directions, str):
         directions = [directions]
