@@ -315,3 +315,22 @@ def test_a_walking_command_the_step_limits_clip_warns_naming_the_key() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         sm.Scenario.load(WALK, {"simulation.duration_s": 0.02})
+
+
+def test_the_scenario_model_places_a_recorded_q_where_the_run_had_its_feet() -> None:
+    # The iCub scenarios order the joints as the robot description does (torso, arms, legs),
+    # not as the URDF: only the run's model reads a recorded q right (ScenarioResult's doc).
+    path = ROOT / "scenarios" / "walking" / "walk_push.toml"
+    overrides = {"simulation.duration_s": 0.02}
+    run = sm.run_scenario(path, overrides)
+    model = sm.Scenario.load(path, overrides).model
+    urdf_model = sm.Model.from_urdf(ROOT / "urdf" / "icub25.urdf")
+    assert model.joint_names == run.joint_names
+    assert urdf_model.joint_names != run.joint_names
+    for contact in run.contacts:
+        points = run.contact_point_positions[0, run.contact_point_slice(contact)]
+        origin = np.asarray(model.frame_pose(run.q[0], contact))[:3, 3]
+        # The sole's origin lies within its contact rectangle, on the ground.
+        assert np.all(origin[:2] >= points[:, :2].min(axis=0) - 1e-9), contact
+        assert np.all(origin[:2] <= points[:, :2].max(axis=0) + 1e-9), contact
+        assert abs(origin[2]) < 1e-3, contact
