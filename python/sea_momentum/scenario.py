@@ -23,9 +23,10 @@ class ScenarioResult(Result):
     :class:`~sea_momentum.results.Result`: ``result["com"]`` and ``result.to_dict()`` work too.
 
     The joints of ``q`` and ``nu`` are in the scenario's order (``joint_names``: its
-    ``robot.joints``, by default the robot description's), which need not be the URDF's:
-    for the kinematics of a recorded ``q`` use the run's model, ``Scenario.load(path).model``
-    (or ``Model.from_urdf(urdf, joints=result.joint_names)``), not ``Model.from_urdf(urdf)``.
+    ``robot.joints``, by default the robot description's), which need not be the URDF's.
+    For the kinematics of a recorded ``q`` use the run's model,
+    ``Scenario.load(path, overrides).model`` (or
+    ``Model.from_urdf(urdf, joints=result.joint_names)``), not ``Model.from_urdf(urdf)``.
     """
 
     time: FloatArray  #: (m,) float64, time [s]
