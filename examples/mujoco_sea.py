@@ -28,7 +28,10 @@ actuator of the paper (eq:motors, eq:alpha: ``I_m thetaddot = tau_m - Gamma tau`
   ``kv = I_m K_m``; its control is ``thetadot_d``), which MuJoCo's ``implicitfast`` integrator
   treats implicitly, plus the feed-forward ``Gamma tau`` through ``<joint>_motor``, set by the
   caller at every MuJoCo step from the spring's torque (``MotorBoards.feed_forward``): the
-  torque sensor's reading, sampled at the MuJoCo step.
+  torque sensor's reading, sampled at the MuJoCo step;
+- optionally (``torque_limits``) the motor torque limit ``|tau_m| <= L``: the rotor hinge's
+  ``actfrcrange`` (``joint/@actuatorfrcrange``, which clamps the sum of the actuators' forces
+  on the joint), ``+-L / Gamma``, the limit seen through the gear.
 
 Our state ``x = [q, theta, nu, thetadot]`` maps to MuJoCo's: the link joints' ``qpos``/``qvel``
 are ``s``, ``sdot``; the rotors' are ``Gamma theta``, ``Gamma thetadot``; the free joint as in
@@ -45,9 +48,11 @@ from __future__ import annotations
 import dataclasses
 import pathlib
 import sys
+from typing import Mapping
 
 import mujoco
 import numpy as np
+import sea_momentum as sm
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 from mujoco_icub import (  # noqa: E402  (the rigid model's pieces, shared)
@@ -68,9 +73,9 @@ ROTOR_INERTIA = 1e-12
 @dataclasses.dataclass(frozen=True)
 class Sea:
     """One series elastic actuator's parameters (the paper's iCub SEA by default, as
-    ``sea_dyn::ElasticParameters::paper_icub``, the scenarios' ``[actuators]`` default; the
-    bindings do not expose them, and ``mujoco_sea_check.py``'s welded check, equal to 2e-8 rad,
-    fails if these differ from our plant's)."""
+    ``sea_dyn::ElasticParameters::paper_icub``, the scenarios' ``[actuators]`` default;
+    ``motor_torque_limits`` checks a scenario's against them, and ``mujoco_sea_check.py``'s
+    welded check, equal to 2e-8 rad, fails if these differ from our plant's)."""
 
     ratio: float = 0.01  #: Gamma (joint angle per motor angle)
     motor_inertia: float = 1e-5  #: I_m [kg m^2, motor side]
@@ -96,6 +101,9 @@ class SeaModelOptions:
     #: ``None``: a free base on a floor with the foot boxes; a pose ``[x y z qw qx qy qz]``:
     #: the base welded there (no free joint, no floor), the contact-free check.
     fixed_base: np.ndarray | None = None
+    #: Motor torque limits ``L`` [N m, motor side] by joint name (the scenario's
+    #: ``torque_limit``s, ``motor_torque_limits``); a joint not named is unlimited.
+    torque_limits: Mapping[str, float] = dataclasses.field(default_factory=dict)
     #: MuJoCo's step [s] and integrator.
     timestep: float = 2.5e-4
     integrator: int = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
@@ -121,6 +129,11 @@ def add_rotor(spec: mujoco.MjSpec, name: str, sea: Sea, options: SeaModelOptions
         armature=sea.reflected_inertia,
         limited=mujoco.mjtLimited.mjLIMITED_FALSE,
     )
+    limit = options.torque_limits.get(name)
+    if limit is not None:
+        hinge = spec.joint(f"{name}_rotor")
+        hinge.actfrclimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        hinge.actfrcrange = [-limit / sea.ratio, limit / sea.ratio]
     spring = spec.add_tendon(name=f"{name}_spring")
     spring.stiffness = [sea.stiffness, 0.0, 0.0]
     spring.damping = [sea.damping, 0.0, 0.0]
@@ -139,6 +152,19 @@ def add_rotor(spec: mujoco.MjSpec, name: str, sea: Sea, options: SeaModelOptions
         velocity.gainprm[0] = kv  # force = kv (ctrl - thetadot): ctrl is thetadot_d
         velocity.biastype = mujoco.mjtBias.mjBIAS_AFFINE
         velocity.biasprm[2] = -kv
+
+
+def motor_torque_limits(plant: sm.Plant, sea: Sea) -> dict[str, float]:
+    """The motor torque limits of ``plant``'s elastic joints by name (those with one), after
+    checking that its other SEA parameters are ``sea``'s (the model has one ``Sea``)."""
+    limits = {}
+    for name, parameters in zip(plant.elastic_joints, plant.elastic_parameters):
+        for key in ("ratio", "motor_inertia", "stiffness", "damping"):
+            if parameters[key] != getattr(sea, key):
+                raise ValueError(f"{name}: the scenario's {key} {parameters[key]} is not the MuJoCo model's {getattr(sea, key)}")
+        if parameters["torque_limit"] is not None:
+            limits[name] = parameters["torque_limit"]
+    return limits
 
 
 def sea_model(urdf: pathlib.Path, joints: list[str], sea: Sea, options: SeaModelOptions) -> mujoco.MjModel:

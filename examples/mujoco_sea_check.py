@@ -49,6 +49,8 @@ MOTOR_VELOCITY_GAIN = 200.0
 STEP = 2.5e-4
 #: The frame our plant holds to weld the base.
 BASE = "root_link"
+#: Both models' link joint armature [kg m^2]: the iCub's plant.joint_inertia_regularization.
+REGULARIZATION = 0.1
 
 
 def scenario(contacts: list[str]) -> sm.Scenario:
@@ -125,30 +127,62 @@ def split(x: np.ndarray, n: int) -> dict[str, np.ndarray]:
     }
 
 
-def compare(setting: str, duration: float = 1.0) -> dict[str, float]:
+def torque_limits(joints: list[str], hold: np.ndarray, sea: Sea, fraction: float | None) -> dict[str, float]:
+    """Motor torque limits [N m, motor side] that clip the peaks of ``torque_sequence``: the
+    hold torque's size plus ``fraction`` of the sinusoid's amplitude, ``Gamma (|tau_hold| +
+    fraction A)``, so every motor saturates near its peaks while the joints stay near the
+    start posture (none: no limits)."""
+    if fraction is None:
+        return {}
+    limits = sea.ratio * (np.abs(hold) + fraction * AMPLITUDE)
+    return {name: float(limit) for name, limit in zip(joints, limits)}
+
+
+def fixed_plant(model: sm.Model, q0: np.ndarray, limits: dict[str, float]) -> sm.Plant:
+    """Our plant with the base welded at ``q0`` and the motors limited by ``limits``."""
+    actuators = {name: {"kind": "elastic", "torque_limit": limit} for name, limit in limits.items()}
+    return sm.Plant(
+        model,
+        actuator="elastic",
+        actuators=actuators,
+        contacts=[BASE],
+        contact_q=q0,
+        joint_inertia_regularization=REGULARIZATION,
+    )
+
+
+def compare(setting: str, duration: float = 1.0, limit_fraction: float | None = None) -> dict[str, float]:
     """Runs ``setting`` ("fixed" or "ground") in both simulators; the largest differences:
     joint angle [rad], motor angle (joint side) [rad], joint velocity [rad/s], base position
-    [m], and the largest joint excursion [rad] for scale; wall times [s]."""
-    sea = Sea()
-    sc = scenario(FEET)
+    [m], and the largest joint excursion [rad] for scale; wall times [s].
+
+    With ``limit_fraction`` ("fixed" only) each motor's torque is limited to its hold torque
+    plus that fraction of the sinusoid's amplitude (``torque_limits``): ours through the
+    actuators' ``torque_limit``, MuJoCo's through the rotor hinges' ``actfrcrange``. Then
+    also ``saturated_share``, the share of the commands over their limit, and
+    ``limit_effect``, the largest joint angle difference the limits make to our run [rad]."""
+    sea, sc = Sea(), scenario(FEET)
     model, x0 = sc.model, sc.initial_state
-    n = model.n_joints
-    q0 = x0[: model.nq]
-    regularization = 0.1  # the iCub's plant.joint_inertia_regularization
+    n, q0 = model.n_joints, x0[: model.nq]
+    limits: dict[str, float] = {}
     if setting == "fixed":
-        plant = sm.Plant(
-            model, actuator="elastic", contacts=[BASE], contact_q=q0, joint_inertia_regularization=regularization
-        )
         hold = model.gravity_forces(q0)[6:]
+        torques = torque_sequence(hold, sea, duration)
+        limits = torque_limits(model.joint_names, hold, sea, limit_fraction)
+        plant = fixed_plant(model, q0, limits)
         x0 = plant.make_state(q0, joint_torques=hold)
         options = SeaModelOptions(
-            joint_armature=regularization, fixed_base=q0[:7].copy(), integrator=mujoco.mjtIntegrator.mjINT_RK4
+            joint_armature=REGULARIZATION,
+            fixed_base=q0[:7].copy(),
+            integrator=mujoco.mjtIntegrator.mjINT_RK4,
+            torque_limits=limits,
         )
         method, base = "rk4", q0[:7].copy()
-        torques = torque_sequence(hold, sea, duration)
+    elif limit_fraction is not None:
+        raise ValueError(f"limit_fraction: only the fixed setting takes one, not {setting!r}")
     else:
         plant = sc.plant  # the motor velocity loop, K_m = 200 1/s
-        options = SeaModelOptions(joint_armature=regularization, motor_velocity_gain=MOTOR_VELOCITY_GAIN)
+        options = SeaModelOptions(joint_armature=REGULARIZATION, motor_velocity_gain=MOTOR_VELOCITY_GAIN)
         method, base = sc.method, None
         torques = velocity_sequence(model.joint_names, sea, duration)
     start = time.perf_counter()
@@ -160,16 +194,21 @@ def compare(setting: str, duration: float = 1.0) -> dict[str, float]:
     theirs_x = theirs(mj, states, x0, torques, model.joint_names, sea, base)
     theirs_wall = time.perf_counter() - start
     a, b = split(ours_x, n), split(theirs_x, n)
-    s0 = x0[7 : 7 + n]
-    return {
+    d = {
         "joint_angle": float(np.abs(a["s"] - b["s"]).max()),
         "motor_angle": float(sea.ratio * np.abs(a["theta"] - b["theta"]).max()),
         "joint_velocity": float(np.abs(a["sdot"] - b["sdot"]).max()),
         "base_position": float(np.abs(a["base_position"] - b["base_position"]).max()),
-        "excursion": float(np.abs(a["s"] - s0).max()),
+        "excursion": float(np.abs(a["s"] - x0[7 : 7 + n]).max()),
         "ours_wall_s": ours_wall,
         "mujoco_wall_s": theirs_wall,
     }
+    if limits:
+        bounds = np.array([limits[name] for name in model.joint_names])
+        free = split(ours(fixed_plant(model, q0, {}), x0, torques, method), n)
+        d["saturated_share"] = float(np.mean(np.abs(torques) > bounds))
+        d["limit_effect"] = float(np.abs(free["s"] - a["s"]).max())
+    return d
 
 
 def main() -> None:

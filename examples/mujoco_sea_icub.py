@@ -54,7 +54,7 @@ import sea_momentum as sm
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 from mujoco_icub import FEET, FOOT_X, FOOT_Y, URDF, foot_wrenches  # noqa: E402
-from mujoco_sea import MotorBoards, Sea, SeaModelOptions, SeaStateMap, sea_model  # noqa: E402
+from mujoco_sea import MotorBoards, Sea, SeaModelOptions, SeaStateMap, motor_torque_limits, sea_model  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SCENARIO = ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml"
@@ -125,7 +125,12 @@ class Robot:
         self.joints = scenario.model.joint_names
         self.push, self.steps_taken = push, 0
         # MuJoCo steps at the scenario's plant step (0.25 ms: resolves the SEA modes).
-        options = SeaModelOptions(motor_velocity_gain=gain, joint_armature=JOINT_ARMATURE, timestep=scenario.plant_dt)
+        options = SeaModelOptions(
+            motor_velocity_gain=gain,
+            joint_armature=JOINT_ARMATURE,
+            torque_limits=motor_torque_limits(scenario.plant, sea),
+            timestep=scenario.plant_dt,
+        )
         self.mj = sea_model(URDF, self.joints, sea, options)
         self.data = mujoco.MjData(self.mj)
         self.states = SeaStateMap.of(self.mj, self.joints, sea.ratio)

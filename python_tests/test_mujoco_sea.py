@@ -40,6 +40,42 @@ def test_fixed_base_sea_plant_is_mujocos_to_the_integrators_error(check) -> None
     assert d["joint_velocity"] < 1e-5, d
 
 
+def test_motor_torque_limits_clip_the_motion_as_mujocos_actuator_force_range(check) -> None:
+    """The fixed setting with every motor limited to its hold torque plus half the
+    sinusoid's amplitude (ours: ``torque_limit``; MuJoCo: the rotor hinge's ``actfrcrange``,
+    the limit through the gear): a third of the commands are over their limit and the limits
+    move the joints by 0.03 rad (measured 0.029), yet the two simulators agree as without
+    limits (measured 2.4e-8 rad). A limit off by the gear would differ by the limits' effect."""
+    d = check.compare("fixed", duration=1.0, limit_fraction=0.5)
+    assert d["saturated_share"] > 0.2, d
+    assert d["limit_effect"] > 0.01, d
+    assert d["joint_angle"] < 1e-6, d
+    assert d["motor_angle"] < 1e-6, d
+
+
+def test_a_scenarios_motor_torque_limits_reach_the_mujoco_model(example) -> None:
+    """``actuators.torque_limit_from_urdf``: the plant's elastic parameters carry the URDF's
+    effort limits through the ratio (urdf/icub25.urdf: the knees 37 N m, the hip pitches
+    55.5), and the MuJoCo robot built from the scenario clamps the rotor hinges there; a
+    scenario whose springs are not the MuJoCo model's is refused naming the joint and key."""
+    import sea_momentum as sm
+    from mujoco_sea import Sea, motor_torque_limits
+
+    walk = example.ROOT / "scenarios" / "walking" / "walk_straight.toml"
+    scenario = sm.Scenario.load(walk, {"actuators.torque_limit_from_urdf": True})
+    limits = motor_torque_limits(scenario.plant, Sea())
+    assert limits["l_knee"] == pytest.approx(0.37) and limits["r_hip_pitch"] == pytest.approx(0.555)
+    robot = example.Robot(scenario, Sea(), example.MOTOR_VELOCITY_GAIN)
+    hinge = robot.mj.joint("l_knee_rotor").id
+    assert robot.mj.jnt_actfrclimited[hinge]
+    assert robot.mj.jnt_actfrcrange[hinge] == pytest.approx([-37.0, 37.0])
+    free = sm.Scenario.load(walk)
+    assert motor_torque_limits(free.plant, Sea()) == {}
+    soft = sm.Scenario.load(walk, {"actuators.overrides.l_knee.stiffness": 300.0})
+    with pytest.raises(ValueError, match="l_knee.*stiffness"):
+        motor_torque_limits(soft.plant, Sea())
+
+
 def test_on_the_ground_the_motion_agrees_to_the_contact_models(check) -> None:
     """On two feet, 1 s of the same desired motor velocities through the motor velocity
     loops (the torso, arms and neck move by 0.1 rad at the motors): the joint angles agree

@@ -214,6 +214,11 @@ class Plant:
     def elastic_joints(self) -> list[str]:
         """Elastic joint names, in the order of theta."""
     @property
+    def elastic_parameters(self) -> list[dict[str, float | None]]:
+        """The parameters of each elastic joint, in the order of theta: dicts with the keys of
+        an actuator table (``ratio``, ``motor_inertia``, ``stiffness``, ``damping``,
+        ``torque_limit``, None for no limit), as the scenario resolved them."""
+    @property
     def contact_frames(self) -> list[str]:
         """Contact frame names."""
     @property

@@ -401,6 +401,14 @@ impl PyPlant {
             .collect()
     }
 
+    /// The parameters of each elastic joint, in the order of theta: dicts with the keys of an
+    /// actuator table (`ratio`, `motor_inertia`, `stiffness`, `damping`, `torque_limit`, None
+    /// for no limit), as the scenario resolved them.
+    #[getter]
+    fn elastic_parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        pythonize::pythonize(py, &self.plant.actuation.elastic).map_err(PyErr::from)
+    }
+
     /// Contact frame names.
     #[getter]
     fn contact_frames(&self) -> Vec<String> {

@@ -2,6 +2,7 @@
 //! and references of one run.
 
 use crate::error::{Error, Result};
+use crate::schema::{ActuatorsConfig, TORQUE_LIMIT_FROM_URDF};
 use crate::{
     expand_joint_groups, ComOrigin, ControllerKind, InitialSprings, RobotDescription, Sampling,
     Scenario,
@@ -11,7 +12,7 @@ use sea_ctrl::controller::MomentumController;
 use sea_ctrl::references::{ComTrajectory, PostureReference};
 use sea_dyn::spatial::quaternion_from_rotation;
 use sea_dyn::urdf::UNKNOWN_LISTED_JOINT;
-use sea_dyn::{Actuation, Data, FrameId, LoadOptions, Model};
+use sea_dyn::{Actuation, Actuator, Data, FrameId, LoadOptions, Model};
 use sea_plant::{MotorInput, Plant};
 use std::collections::HashMap;
 
@@ -56,8 +57,39 @@ pub fn actuation(scenario: &Scenario, model: &Model) -> Result<Actuation> {
         }
         overrides.insert(name.clone(), config.actuator());
     }
+    if actuators.torque_limit_from_urdf {
+        limit_torques_from_urdf(actuators, model, default, &mut overrides)?;
+    }
     Actuation::new(model, default, &overrides)
         .map_err(|e| Error::config("actuators", e.to_string()))
+}
+
+/// `actuators.torque_limit_from_urdf`: every elastic joint without a `torque_limit` of its
+/// own gets `ratio` times its URDF effort limit (motor side), where the URDF gives one.
+fn limit_torques_from_urdf(
+    actuators: &ActuatorsConfig,
+    model: &Model,
+    default: Actuator,
+    overrides: &mut HashMap<String, Actuator>,
+) -> Result<()> {
+    if actuators.default.parameters.torque_limit.is_some() {
+        return Err(Error::config(
+            format!("actuators.{TORQUE_LIMIT_FROM_URDF}"),
+            "takes each joint's limit from the URDF; `actuators.torque_limit` sets every \
+             joint's: set one of them (a joint's own limit goes in `actuators.overrides`)",
+        ));
+    }
+    for (coordinate, name) in model.joint_names.iter().enumerate() {
+        let joint = &model.joints[model.body_of_coordinate[coordinate] - 1];
+        let actuator = overrides.get(name).copied().unwrap_or(default);
+        if let Actuator::Elastic(mut p) = actuator {
+            if p.torque_limit.is_none() && joint.effort_limit.is_finite() {
+                p.torque_limit = Some(p.ratio * joint.effort_limit);
+                overrides.insert(name.clone(), Actuator::Elastic(p));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The initial joint positions `s0` (n) of `robot.initial_posture`: a posture of the robot

@@ -109,6 +109,9 @@ impl ActuatorConfig {
     }
 }
 
+/// The key of [`ActuatorsConfig::torque_limit_from_urdf`].
+pub const TORQUE_LIMIT_FROM_URDF: &str = "torque_limit_from_urdf";
+
 /// `[actuators]`: the default actuator of every joint (the keys of [`ActuatorConfig`]) plus
 /// per-joint overrides (`[actuators.overrides.NAME]`, any subset of the same keys).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -117,6 +120,10 @@ pub struct ActuatorsConfig {
     pub default: ActuatorConfig,
     /// Per-joint actuators by joint name, each `[actuators]` with its override's keys replaced.
     pub overrides: BTreeMap<String, ActuatorConfig>,
+    /// `torque_limit_from_urdf`: each elastic joint's motor torque limit is `ratio` times the
+    /// effort limit of its URDF `<limit>` (joint side), where the URDF gives one and the
+    /// joint's override sets no `torque_limit`.
+    pub torque_limit_from_urdf: bool,
 }
 
 impl<'de> Deserialize<'de> for ActuatorsConfig {
@@ -127,6 +134,9 @@ impl<'de> Deserialize<'de> for ActuatorsConfig {
         D: Deserializer<'de>,
     {
         let mut table = toml::Table::deserialize(deserializer)?;
+        let torque_limit_from_urdf = take(&mut table, TORQUE_LIMIT_FROM_URDF)
+            .map_err(|e| D::Error::custom(e.within("")))?
+            .unwrap_or(false);
         let overrides = match table.remove("overrides") {
             None => toml::Table::new(),
             Some(toml::Value::Table(overrides)) => overrides,
@@ -156,6 +166,7 @@ impl<'de> Deserialize<'de> for ActuatorsConfig {
         Ok(Self {
             default,
             overrides: resolved,
+            torque_limit_from_urdf,
         })
     }
 }
@@ -200,6 +211,15 @@ impl JsonSchema for ActuatorsConfig {
             "additionalProperties": one,
         });
         insert_property(&mut schema, "overrides", overrides);
+        let from_urdf = json_schema!({
+            "type": "boolean",
+            "default": false,
+            "description": "Whether each elastic joint's `torque_limit` (motor side) is `ratio` \
+                times the effort of its URDF `<limit>` (joint side), where the URDF gives a \
+                positive one and the joint's override sets no `torque_limit`; rigid joints \
+                stay unlimited. Exclusive with `torque_limit` in `[actuators]`.",
+        });
+        insert_property(&mut schema, TORQUE_LIMIT_FROM_URDF, from_urdf);
         schema.insert(
             "description".into(),
             "The actuator of every joint, with per-joint overrides.".into(),

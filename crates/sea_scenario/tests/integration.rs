@@ -5,6 +5,7 @@
 //! file's tests with its module path as the filter,
 //! e.g. `cargo test --release -p sea_scenario --test integration walking::`.
 
+mod actuators;
 mod fast_walks;
 mod ground;
 mod messages;

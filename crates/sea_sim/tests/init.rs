@@ -321,3 +321,56 @@ fn walking_keys_left_out_take_the_defaults_scaled_to_the_robot() {
     assert!((gait.swings[0].height - scaled.swing_height).abs() < 1e-12);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// The motors of a robot set up by init are limited by its URDF's efforts
+/// (`actuators.torque_limit_from_urdf`): the iCub's knee 37 Nm through the ratio 0.01, in the
+/// scenario and in the walking scenario. With a knee effort below the torque the knee holds
+/// standing, the report warns naming the joint and both figures.
+#[test]
+fn the_written_motors_are_limited_by_the_urdf_efforts_and_a_weak_joint_is_named() {
+    let dir = folder("icub_limits");
+    for walking in [false, true] {
+        let options = InitOptions {
+            walking,
+            out: dir.join(format!("icub_{walking}.toml")),
+            ..icub_options(&dir)
+        };
+        let report = init(&options).unwrap();
+        assert!(report.warnings.iter().all(|w| !w.contains("effort")));
+        let setup = build(&Scenario::from_file(&options.out, &[]).unwrap()).unwrap();
+        let actuation = &setup.plant.actuation;
+        let knee = setup.model.joint_index("l_knee").unwrap();
+        let k = actuation.elastic_joints.iter().position(|&j| j == knee);
+        let limit = actuation.elastic[k.unwrap()].torque_limit.unwrap();
+        assert!((limit - 0.37).abs() < 1e-12, "{limit}");
+    }
+    let urdf = dir.join("weak_knee.urdf");
+    let text = std::fs::read_to_string(icub_urdf()).unwrap();
+    let knee_limit = "<limit effort=\"37.0\" lower=\"-2.1642082724729685\"";
+    assert_eq!(text.matches(knee_limit).count(), 2, "both knees' limits");
+    let (head, tail) = text.split_at(text.find("<joint name=\"l_knee\"").unwrap());
+    let weak = tail.replacen(
+        knee_limit,
+        "<limit effort=\"0.5\" lower=\"-2.1642082724729685\"",
+        1,
+    );
+    std::fs::write(&urdf, format!("{head}{weak}")).unwrap();
+    let options = InitOptions {
+        urdf: urdf.display().to_string(),
+        out: dir.join("weak.toml"),
+        ..icub_options(&dir)
+    };
+    let report = init(&options).unwrap();
+    let named: Vec<_> = report
+        .warnings
+        .iter()
+        .filter(|w| w.contains("effort"))
+        .collect();
+    assert_eq!(named.len(), 1, "{:?}", report.warnings);
+    assert!(
+        named[0].contains("'l_knee'") && named[0].contains("0.5 Nm"),
+        "{}",
+        named[0]
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -4,9 +4,12 @@
 //! [`TORQUE_FLOOR`] of the largest static torque are sized for that floor); the motor inertia
 //! so that the spring-motor mode (joint held, `sqrt(K_S Gamma^2 / I_m)`) keeps the paper's
 //! frequency; the damping so that the spring's time constant `K_D / K_S` keeps the paper's;
-//! the paper's transmission ratio and no torque limit.
+//! the paper's transmission ratio. The motor torque limit is the URDF's effort through that
+//! ratio: the scenario sets `actuators.torque_limit_from_urdf`, and [`effort_warnings`] names
+//! the joints whose effort is below what standing needs.
 
-use sea_dyn::ElasticParameters;
+use super::posture::Standing;
+use sea_dyn::{ElasticParameters, FrameId, Model};
 
 /// Static spring deflection under gravity in the standing posture [rad].
 pub const STATIC_DEFLECTION: f64 = 0.05;
@@ -30,6 +33,36 @@ pub fn scaled_actuators(torques: &[f64]) -> Vec<ElasticParameters> {
                 damping: stiffness * time_constant,
                 ..paper
             }
+        })
+        .collect()
+}
+
+/// The joint torques [Nm] (n) that hold the robot `standing` on its two `feet` at rest
+/// (`sea_plant::equilibrium::static_torques`), which the springs are sized for.
+pub fn standing_torques(model: &Model, feet: [FrameId; 2], standing: &Standing) -> Vec<f64> {
+    let mut q = model.neutral();
+    q[7..].copy_from_slice(&standing.joints);
+    sea_plant::equilibrium::static_torques(model, &q, &feet)
+}
+
+/// A warning per joint whose URDF effort limit is below the torque `torques` (coordinate
+/// order) it holds standing: under `actuators.torque_limit_from_urdf` its motor saturates
+/// before the robot stands.
+pub fn effort_warnings(model: &Model, torques: &[f64]) -> Vec<String> {
+    model
+        .joint_names
+        .iter()
+        .zip(torques)
+        .enumerate()
+        .filter_map(|(coordinate, (name, torque))| {
+            let effort = model.joints[model.body_of_coordinate[coordinate] - 1].effort_limit;
+            (torque.abs() > effort).then(|| {
+                format!(
+                    "joint '{name}' holds {:.3} Nm standing, above its URDF effort limit \
+                     {effort} Nm: its motor saturates (actuators.torque_limit_from_urdf)",
+                    torque.abs()
+                )
+            })
         })
         .collect()
 }

@@ -68,7 +68,8 @@ pub struct InitReport {
     /// The rank of the two feet's 12 constraints at the standing posture (12 with legs of 6
     /// joints; 11 with legs of 5, whose contact set is redundant: [`two_feet_rank`]).
     pub feet_rank: usize,
-    /// The model's warnings (doubtful inertias, fused massless links).
+    /// The model's warnings (doubtful inertias, fused massless links), then the joints whose
+    /// URDF effort is below the torque they hold standing ([`actuators::effort_warnings`]).
     pub warnings: Vec<String>,
     /// The robot's figures the walking settings scale with ([`walking::walking_figures`]).
     pub walking_figures: sea_ctrl::walking::RobotWalkingFigures,
@@ -153,6 +154,7 @@ pub fn init_unless_stopped(
         return Ok(None);
     }
     let standing = posture::standing_posture(&model, feet, rectangles)?;
+    let standing_torques = actuators::standing_torques(&model, feet, &standing);
     let feet_rank = two_feet_rank(&model, feet, &standing);
     let walking_figures = walking::walking_figures(&model, feet, &standing);
     let settings = options
@@ -162,13 +164,14 @@ pub fn init_unless_stopped(
     let body = write::Body {
         rectangles,
         standing: &standing,
+        standing_torques: &standing_torques,
         feet_rank,
         walking: settings.as_ref(),
     };
     if stopped() {
         return Ok(None);
     }
-    let written = write::write_scenario(options, &model, feet, &body)?;
+    let written = write::write_scenario(options, &model, &body)?;
     Ok(Some(InitReport {
         out: written,
         robot: (model.name.clone(), model.total_mass(), model.n_joints()),
@@ -177,7 +180,9 @@ pub fn init_unless_stopped(
         lowering_m: standing.lowering_m,
         residual: standing.residual,
         feet_rank,
-        warnings: model.warnings.iter().map(|w| w.to_string()).collect(),
+        warnings: (model.warnings.iter().map(|w| w.to_string()))
+            .chain(actuators::effort_warnings(&model, &standing_torques))
+            .collect(),
         walking_figures,
     }))
 }

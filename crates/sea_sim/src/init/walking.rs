@@ -30,6 +30,7 @@ dt = 0.00025
 
 [actuators]
 kind = \"elastic\"
+torque_limit_from_urdf = true
 
 [controller]
 sampling = \"multi_rate\"

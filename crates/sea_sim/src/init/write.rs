@@ -10,8 +10,9 @@ use crate::scenario::robots::AngleUnit;
 use crate::scenario::robots::{
     icub, FootRectangle, MomentumIntegral, PosturalStiffness, Posture, RobotDescription,
 };
+use crate::scenario::schema::TORQUE_LIMIT_FROM_URDF;
 use sea_ctrl::walking::WalkingSettings;
-use sea_dyn::{FrameId, Model};
+use sea_dyn::Model;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -31,6 +32,8 @@ pub struct Body<'a> {
     pub rectangles: [FootRectangle; 2],
     /// The standing posture.
     pub standing: &'a Standing,
+    /// The joint torques holding it [Nm] (n, [`actuators::standing_torques`]).
+    pub standing_torques: &'a [f64],
     /// The rank of the two feet's constraints (12, or fewer when redundant: then
     /// [`REDUNDANT_PINV_DAMPING`]).
     pub feet_rank: usize,
@@ -39,13 +42,8 @@ pub struct Body<'a> {
 }
 
 /// Writes the scenario of `body`; returns the path written.
-pub fn write_scenario(
-    options: &InitOptions,
-    model: &Model,
-    feet: [FrameId; 2],
-    body: &Body<'_>,
-) -> Result<PathBuf> {
-    let mut description = describe(options, model, feet, body.rectangles, body.standing)?;
+pub fn write_scenario(options: &InitOptions, model: &Model, body: &Body<'_>) -> Result<PathBuf> {
+    let mut description = describe(options, model, body)?;
     if body.feet_rank < 12 {
         description.pinv_damping = REDUNDANT_PINV_DAMPING;
     }
@@ -69,17 +67,11 @@ pub fn write_scenario(
 }
 
 /// The robot description of the new robot.
-fn describe(
-    options: &InitOptions,
-    model: &Model,
-    feet: [FrameId; 2],
-    rectangles: [FootRectangle; 2],
-    standing: &Standing,
-) -> Result<RobotDescription> {
+fn describe(options: &InitOptions, model: &Model, body: &Body<'_>) -> Result<RobotDescription> {
+    let (standing, rectangles) = (body.standing, body.rectangles);
     let mut q = model.neutral();
     q[7..].copy_from_slice(&standing.joints);
-    let torques = sea_plant::equilibrium::static_torques(model, &q, &feet);
-    let elastic = actuators::scaled_actuators(&torques);
+    let elastic = actuators::scaled_actuators(body.standing_torques);
     let regularization = gains::joint_inertia_regularization(model.total_mass());
     let stiffness = gains::postural_stiffness(model, &q, regularization);
     let paper = icub();
@@ -174,6 +166,9 @@ fn scenario_text(options: &InitOptions, name: &str, robot: &RobotDescription) ->
     let mut root = toml::Table::new();
     root.insert("name".into(), name.into());
     root.insert("robot".into(), robot_table(options, robot)?.into());
+    let mut actuators = toml::Table::new();
+    actuators.insert(TORQUE_LIMIT_FROM_URDF.into(), true.into());
+    root.insert("actuators".into(), actuators.into());
     let reference: toml::Table = toml::from_str(&format!(
         "com_amplitude = {amplitude:?}\ncom_frequency = {frequency:?}\n\
          com_direction = [0.0, 1.0, 0.0]\ncom_origin = \"initial\"\n"
