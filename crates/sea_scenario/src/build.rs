@@ -79,13 +79,12 @@ fn limit_torques_from_urdf(
              joint's: set one of them (a joint's own limit goes in `actuators.overrides`)",
         ));
     }
-    for (coordinate, name) in model.joint_names.iter().enumerate() {
-        let joint = &model.joints[model.body_of_coordinate[coordinate] - 1];
-        let actuator = overrides.get(name).copied().unwrap_or(default);
+    for joint in &model.joints {
+        let actuator = overrides.get(&joint.name).copied().unwrap_or(default);
         if let Actuator::Elastic(mut p) = actuator {
             if p.torque_limit.is_none() && joint.effort_limit.is_finite() {
                 p.torque_limit = Some(p.ratio * joint.effort_limit);
-                overrides.insert(name.clone(), Actuator::Elastic(p));
+                overrides.insert(joint.name.clone(), Actuator::Elastic(p));
             }
         }
     }

@@ -45,22 +45,20 @@ pub fn standing_torques(model: &Model, feet: [FrameId; 2], standing: &Standing) 
     sea_plant::equilibrium::static_torques(model, &q, &feet)
 }
 
-/// A warning per joint whose URDF effort limit is below the torque `torques` (coordinate
-/// order) it holds standing: under `actuators.torque_limit_from_urdf` its motor saturates
+/// A warning per joint (body order) whose URDF effort limit is below the torque `torques`
+/// (coordinate order) it holds standing: under `actuators.torque_limit_from_urdf` its motor saturates
 /// before the robot stands.
 pub fn effort_warnings(model: &Model, torques: &[f64]) -> Vec<String> {
     model
-        .joint_names
+        .joints
         .iter()
-        .zip(torques)
-        .enumerate()
-        .filter_map(|(coordinate, (name, torque))| {
-            let effort = model.joints[model.body_of_coordinate[coordinate] - 1].effort_limit;
-            (torque.abs() > effort).then(|| {
+        .filter_map(|joint| {
+            let (torque, effort) = (torques[joint.coordinate].abs(), joint.effort_limit);
+            (torque > effort).then(|| {
                 format!(
-                    "joint '{name}' holds {:.3} Nm standing, above its URDF effort limit \
+                    "joint '{}' holds {torque:.3} Nm standing, above its URDF effort limit \
                      {effort} Nm: its motor saturates (actuators.torque_limit_from_urdf)",
-                    torque.abs()
+                    joint.name
                 )
             })
         })
