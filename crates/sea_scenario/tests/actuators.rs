@@ -2,8 +2,8 @@
 //! effort limit, checked against the numbers of the iCub URDF the walking scenarios load, and
 //! bad combinations refused naming the key.
 
+use crate::walking::scenario as load;
 use sea_scenario::{build, Scenario};
-use std::path::Path;
 
 const WALK: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -11,11 +11,7 @@ const WALK: &str = concat!(
 );
 
 fn scenario(overrides: &[(&str, &str)]) -> sea_scenario::Result<Scenario> {
-    let pairs: Vec<(String, String)> = overrides
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    Scenario::from_file(Path::new(WALK), &pairs)
+    load(WALK, overrides)
 }
 
 /// Each elastic joint's motor torque limit in the walk built with `overrides`, by joint name.

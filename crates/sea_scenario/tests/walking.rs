@@ -15,7 +15,8 @@ const STEPS: &str = concat!(
     "/../../scenarios/walking/steps_in_place.toml"
 );
 
-fn scenario(path: &str, overrides: &[(&str, &str)]) -> sea_scenario::Result<Scenario> {
+/// The scenario file `path` with `overrides` (key, TOML value) applied.
+pub(crate) fn scenario(path: &str, overrides: &[(&str, &str)]) -> sea_scenario::Result<Scenario> {
     let pairs: Vec<(String, String)> = overrides
         .iter()
         .map(|(k, v)| (k.to_string(), v.to_string()))
