@@ -3,6 +3,7 @@
 //! bad combinations refused naming the key.
 
 use crate::walking::scenario as load;
+use sea_dyn::Actuator;
 use sea_scenario::{build, Scenario};
 
 const WALK: &str = concat!(
@@ -18,13 +19,12 @@ fn scenario(overrides: &[(&str, &str)]) -> sea_scenario::Result<Scenario> {
 fn torque_limits(overrides: &[(&str, &str)]) -> Vec<(String, Option<f64>)> {
     let setup = build(&scenario(overrides).unwrap()).unwrap();
     let plant = &setup.plant;
-    let names = &plant.model.joint_names;
-    let actuation = &plant.actuation;
-    actuation
-        .elastic_joints
-        .iter()
-        .zip(&actuation.elastic)
-        .map(|(&coordinate, p)| (names[coordinate].clone(), p.torque_limit))
+    (plant.model.joint_names.iter())
+        .zip(&plant.actuation.actuators)
+        .filter_map(|(name, actuator)| match actuator {
+            Actuator::Elastic(p) => Some((name.clone(), p.torque_limit)),
+            Actuator::Rigid => None,
+        })
         .collect()
 }
 

@@ -338,10 +338,11 @@ fn the_written_motors_are_limited_by_the_urdf_efforts_and_a_weak_joint_is_named(
         let report = init(&options).unwrap();
         assert!(report.warnings.iter().all(|w| !w.contains("effort")));
         let setup = build(&Scenario::from_file(&options.out, &[]).unwrap()).unwrap();
-        let actuation = &setup.plant.actuation;
         let knee = setup.model.joint_index("l_knee").unwrap();
-        let k = actuation.elastic_joints.iter().position(|&j| j == knee);
-        let limit = actuation.elastic[k.unwrap()].torque_limit.unwrap();
+        let sea_dyn::Actuator::Elastic(p) = setup.plant.actuation.actuators[knee] else {
+            panic!("the knee is elastic");
+        };
+        let limit = p.torque_limit.unwrap();
         assert!((limit - 0.37).abs() < 1e-12, "{limit}");
     }
     let urdf = dir.join("weak_knee.urdf");
