@@ -67,6 +67,26 @@ def test_type_error_names_the_key_not_the_value():
     assert "scenario key '3'" not in str(info.value)
 
 
+def test_a_numpy_array_override_is_read_as_its_list():
+    direction = sm.Scenario.load(TRACKING, {"reference.com_direction": np.array([0.0, 1.0, 0.0])})
+    listed = sm.Scenario.load(TRACKING, {"reference.com_direction": [0.0, 1.0, 0.0]})
+    assert np.allclose(direction.controller.com_reference(0.3), listed.controller.com_reference(0.3))
+    with pytest.raises(sm.ScenarioError) as info:
+        sm.Scenario.load(TRACKING, {"reference.com_direction": np.array([0.0, 1.0])})
+    assert info.value.key == "reference.com_direction", str(info.value)
+
+
+def test_a_single_folder_as_package_dirs_is_a_type_error_naming_it():
+    with pytest.raises(TypeError, match="package_dirs"):
+        sm.run_scenario(TRACKING, {"simulation.duration_s": 0.002}, package_dirs="/tmp")
+
+
+def test_an_empty_urdf_key_names_it():
+    with pytest.raises(sm.ScenarioError) as info:
+        _native.scenario_urdf(TRACKING, {"robot.urdf": ""})
+    assert info.value.key == "robot.urdf", str(info.value)
+
+
 def test_all_nan_initial_posture_names_the_key():
     with pytest.raises(sm.ScenarioError, match=r"robot\.initial_posture\[0\]"):
         sm.run_scenario(TRACKING, {"robot.initial_posture": [float("nan")] * 25})
@@ -169,6 +189,7 @@ ONE_LEG_URDF = """<robot name="one_leg">
         ("icub", ("l_sloe", "r_sole"), None, "unknown frame 'l_sloe'", None),
         ("icub", ("nolink:0,0,0", "r_sole"), None, "unknown link 'nolink'", None),
         ("icub", ICUB_SOLES, (0.1, 0.0, -0.02, 0.02), "x0 < x1", "foot"),
+        ("icub", ICUB_SOLES, (-1e300, 1e300, -1e300, 1e300), "within 1 m", "foot"),
         ("one_leg", ("toe_a", "toe_b"), (-0.05, 0.1, -0.02, 0.02), "cannot stand", None),
         ("package://no_such_robot/robots/robot.urdf", ICUB_SOLES, None, "no_such_robot", "urdf"),
         ("icub", ("l_sole", "r_ankle_2:0,0,1e"), None, "'1e' is not a finite number", None),

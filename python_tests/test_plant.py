@@ -300,6 +300,14 @@ def test_divergence_stops_with_status_and_keeps_the_data():
     assert np.isfinite(run.x).all()
 
 
+def test_a_first_step_that_fails_keeps_the_initial_state():
+    model, plant, x0, _ = standing_icub()
+    run = plant.simulate(x0, np.full(model.n_joints, 1e300), 1e-3, 3)
+    assert run.status == "diverged" and run.message
+    assert run.x.shape == (1, plant.nx) and run.time[0] == 0.0
+    assert np.array_equal(run.x[0], x0)
+
+
 def test_results_are_dataclasses_with_the_documented_dtypes_and_shapes():
     model, plant, x0, gravity = standing_icub()
     n_e, n_contacts = len(plant.elastic_joints), len(plant.contact_frames)

@@ -71,6 +71,12 @@ def test_a_push_at_a_phase_of_a_swing_starts_there():
     assert sm.push_table(STANDING, "left", impulses=[0.0]).start_s == 1.0
 
 
+def test_a_run_that_ends_soon_after_the_push_is_warned_of():
+    # 0.1 s of run after the push: a push that fells the robot may not have fallen yet.
+    with pytest.warns(UserWarning, match=r"ends 0\.100 s after the push.*about 1 s"):
+        sm.push_table(STANDING, "left", impulses=[0.0], overrides={"simulation.duration_s": 1.2})
+
+
 @pytest.mark.parametrize(
     ("kwargs", "named"),
     [

@@ -47,6 +47,11 @@ def test_a_bad_state_is_refused_naming_it_and_the_command_is_kept(scenario) -> N
     bad[12] = np.inf
     with pytest.raises(ValueError, match=r"x\[12\]"):
         controller.inner_tick(bad)
+    for quaternion in ([1.5, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]):
+        bad = x.copy()
+        bad[3:7] = quaternion
+        with pytest.raises(ValueError, match=r"x\[3:7\].*unit quaternion"):
+            controller.tick(0.01, bad)
     with pytest.raises(ValueError, match="t"):
         controller.tick(float("nan"), x)
     with pytest.raises(ValueError, match="t: expected a finite time"):

@@ -39,6 +39,7 @@ def test_fixed_pushes_report_each_outcome_and_the_bisection_agrees():
         ({"phase": 0.5, "directions": []}, "directions"),
         ({"phase": 0.5, "directions": ["left", "left"]}, "directions"),
         ({"phase": 0.5, "duration_s": 0.0}, "duration_s"),
+        ({"phase": 0.5, "duration_s": 1e-300}, "duration_s"),
         ({"phase": 0.5, "tolerance_n_s": -1.0}, "tolerance_n_s"),
         ({"phase": 0.5, "impulses": [1.0, float("nan")]}, "impulses"),
     ],

@@ -520,8 +520,8 @@ class Controller:
         raises ``SolverError``; ``command`` keeps the last command.
 
         Bad input (docs/guide/robot_rate.md, the per-tick contract): a non-finite ``t``, an
-        ``x`` of another length or with a NaN or infinite entry raises ``ValueError`` naming it
-        (``x[12]``) and changes nothing. The clock is not checked (``t`` is the references'
+        ``x`` of another length, with a NaN or infinite entry or a base quaternion ``x[3:7]``
+        not of unit norm raises ``ValueError`` naming it (``x[12]``) and changes nothing. The clock is not checked (``t`` is the references'
         time): a tick called twice at the same ``(t, x)`` returns the same command; a late tick
         evaluates at its own ``t`` and state, the estimators skipping the missed periods."""
     def inner_tick(self, x: ArrayLike) -> FloatArray:

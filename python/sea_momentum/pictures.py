@@ -24,6 +24,7 @@ import numpy as np
 
 from ._native import PICTURE_TRIANGLE_BUDGET, Model, link_meshes, scenario_urdf
 from .arrays import FloatArray
+from .scenario import package_folders
 from .extras import require_plots
 
 if TYPE_CHECKING:
@@ -95,7 +96,7 @@ def _mesh_visuals(
     urdf: str | os.PathLike[str], package_dirs: Sequence[str | os.PathLike[str]], triangle_budget: int
 ) -> list[Visual]:
     """The mesh visuals, in their link frames, read by the native module."""
-    meshes, problems = link_meshes(os.fspath(urdf), [os.fspath(d) for d in package_dirs], triangle_budget)
+    meshes, problems = link_meshes(os.fspath(urdf), package_folders(package_dirs), triangle_budget)
     for problem in problems:
         warnings.warn(f"{urdf}: {problem}", UserWarning, stacklevel=3)
     return [Visual(link, np.eye(4), "mesh", (), rgba, (vertices, triangles)) for link, vertices, triangles, rgba in meshes]

@@ -106,7 +106,8 @@ def push_table(
     largest recovered impulse is bisected to ``tolerance_n_s`` [N s] between 0 and twice the
     capture-point bound (doubled while recovered, up to 8 times); with ``impulses`` [N s], one
     run each (islands of recovery above a failure show). A run recovers when it completes (no
-    fall, no divergence).
+    fall, no divergence); a run that ends less than 1 s after the push's end warns
+    (``UserWarning``): a push that fells the robot may not have fallen by then.
 
     Raises ScenarioError for a bad scenario, override or direction name (naming it), SeaIOError
     for a scenario file that cannot be read, ValueError naming ``directions`` (none, or one
@@ -114,7 +115,8 @@ def push_table(
     the run, or given with ``phase``), ``phase`` (outside [0, 1], a scenario that does not
     walk, or a push at the phase that does not end within the run), ``step`` (beyond the
     walk's steps, negative, or given without ``phase``), ``link`` (not a link of the robot) or
-    ``impulses`` (none, or one not finite and non-negative), and TypeError for ``impulses``
+    ``impulses`` (none, or one not finite and non-negative), ``start_s`` or ``duration_s``
+    not a whole number of the scenario's plant steps, and TypeError for ``impulses``
     given as a string or ``step`` not an integer.
     """
     if isinstance(directions, str):

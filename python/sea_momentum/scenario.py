@@ -140,6 +140,17 @@ class ScenarioResult(Result):
         )
 
 
+def package_folders(package_dirs: Sequence[str | os.PathLike[str]]) -> list[str]:
+    """The folders of a ``package_dirs`` argument as strings; a single path (a ``str`` or path
+    object, not a sequence of them) raises ``TypeError`` naming ``package_dirs`` instead of
+    being read as a sequence of one-letter folders."""
+    if isinstance(package_dirs, (str, bytes, os.PathLike)):
+        raise TypeError(
+            f"package_dirs: expected a sequence of folders, got the single path {package_dirs!r} "
+            f"(write [{package_dirs!r}])"
+        )
+    return [os.fspath(d) for d in package_dirs]
+
 def run_scenario(
     path: str | os.PathLike[str],
     overrides: Mapping[str, Any] | None = None,
@@ -180,7 +191,7 @@ def run_scenario(
             dict(overrides or {}),
             None if mcap is None else os.fspath(mcap),
             progress,
-            [os.fspath(d) for d in package_dirs],
+            package_folders(package_dirs),
         )
     except (KeyboardInterrupt, SystemExit) as interrupt:
         partial = getattr(interrupt, "partial", None)

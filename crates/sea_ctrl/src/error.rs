@@ -47,6 +47,30 @@ impl Error {
     }
 }
 
+/// Checks that the setting `key`'s `value` is finite and `> 0`; otherwise
+/// [`Error::invalid`] naming the key, "must be positive and finite" and the value.
+pub fn require_positive(key: impl Into<String>, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(key, "must be positive and finite", value))
+    }
+}
+
+/// Checks that the setting `key`'s `value` is finite and `>= 0`; otherwise
+/// [`Error::invalid`] naming the key, "must be finite and non-negative" and the value.
+pub fn require_non_negative(key: impl Into<String>, value: f64) -> Result<()> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            key,
+            "must be finite and non-negative",
+            value,
+        ))
+    }
+}
+
 /// `setting 'key': rule, got value` (without the value part when there is none).
 fn setting_message(key: &str, rule: &str, value: Option<&str>) -> String {
     match value {
@@ -73,6 +97,23 @@ mod tests {
         assert_eq!(
             e.to_string(),
             "setting 'controller.contacts': needs one or two contact frames"
+        );
+    }
+
+    #[test]
+    fn sign_requirements_name_the_key_and_refuse_the_edges() {
+        assert!(require_positive("walking.com_height", 1e-9).is_ok());
+        assert!(require_non_negative("walking.swing_height", 0.0).is_ok());
+        let e = require_positive("walking.com_height", 0.0).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "setting 'walking.com_height': must be positive and finite, got 0"
+        );
+        assert!(require_positive("gravity", f64::INFINITY).is_err());
+        let e = require_non_negative("walking.swing_height", f64::NAN).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "setting 'walking.swing_height': must be finite and non-negative, got NaN"
         );
     }
 }

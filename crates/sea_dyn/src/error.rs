@@ -239,6 +239,30 @@ pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
+/// Checks that `value` is finite and `> 0`; otherwise an [`Error::InvalidArgument`] naming
+/// `argument`, "a positive finite number" and the value.
+pub fn check_positive(argument: impl Into<String>, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(argument, "a positive finite number", value))
+    }
+}
+
+/// Checks that `value` is finite and `>= 0`; otherwise an [`Error::InvalidArgument`] naming
+/// `argument`, "a non-negative finite number" and the value.
+pub fn check_non_negative(argument: impl Into<String>, value: f64) -> Result<()> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            "a non-negative finite number",
+            value,
+        ))
+    }
+}
+
 /// Checks that `values` has `expected` entries, all finite; names `argument` otherwise.
 pub fn check_vector(argument: &str, values: &[f64], expected: usize) -> Result<()> {
     if values.len() != expected {
@@ -302,5 +326,25 @@ mod tests {
         assert_eq!(e.to_string(), "nu[1]: expected a finite number, got NaN");
         let e = check_vector("nu", &[0.0], 2).unwrap_err();
         assert_eq!(e.to_string(), "nu: expected shape (2,), got 1 entries");
+    }
+
+    #[test]
+    fn sign_checks_name_the_argument_and_refuse_the_edges() {
+        assert!(check_positive("dt", 1e-300).is_ok());
+        assert!(check_non_negative("friction", 0.0).is_ok());
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let e = check_positive("dt", bad).unwrap_err();
+            assert_eq!(
+                e.to_string(),
+                format!("dt: expected a positive finite number, got {bad}")
+            );
+        }
+        for bad in [-1e-12, f64::NAN, f64::INFINITY] {
+            let e = check_non_negative("friction", bad).unwrap_err();
+            assert_eq!(
+                e.to_string(),
+                format!("friction: expected a non-negative finite number, got {bad}")
+            );
+        }
     }
 }

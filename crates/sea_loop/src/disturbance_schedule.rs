@@ -71,15 +71,20 @@ pub struct DisturbanceSchedule {
     step: f64,
 }
 
-/// `time / step` as a whole number of steps, or an error naming `key`.
-fn whole_steps(key: String, time: f64, step: f64) -> Result<u64> {
+/// `time / step` as a whole number of steps, or `None` when `time` is not one (beyond the
+/// rounding of a decimal time).
+pub fn whole_steps_of(time: f64, step: f64) -> Option<u64> {
     let steps = time / step;
     let whole = steps.round();
-    if (steps - whole).abs() > STEP_ALIGNMENT_TOLERANCE * whole.max(1.0) {
+    ((steps - whole).abs() <= STEP_ALIGNMENT_TOLERANCE * whole.max(1.0)).then_some(whole as u64)
+}
+
+/// `time / step` as a whole number of steps, or an error naming `key`, the rule and `time`.
+fn whole_steps(key: String, time: f64, step: f64) -> Result<u64> {
+    whole_steps_of(time, step).ok_or_else(|| {
         let rule = format!("must be a whole number of plant steps of {step} s");
-        return Err(Error::invalid(key, rule, time));
-    }
-    Ok(whole as u64)
+        Error::invalid(key, rule, time)
+    })
 }
 
 impl DisturbanceSchedule {
@@ -101,7 +106,7 @@ impl DisturbanceSchedule {
                 .frame_id(&d.link)
                 .map_err(|_| Error::invalid(key("link"), "must be a link of the robot", &d.link))?;
             let start = whole_steps(key("start_s"), d.start_s, step)?;
-            let end = whole_steps(key("duration_s"), d.start_s + d.duration_s, step)?;
+            let end = start + whole_steps(key("duration_s"), d.duration_s, step)?;
             windows.push((start, end));
             let [fx, fy, fz] = d.force;
             let [nx, ny, nz] = d.torque;

@@ -3,6 +3,7 @@
 
 use crate::error::{Error, Result};
 use nalgebra::Vector3;
+use sea_dyn::error::check_non_negative;
 
 /// A flat ground: the plane through `point` with upward unit `normal` (world axes), with the
 /// Coulomb friction coefficient `friction` between it and the soles.
@@ -47,13 +48,7 @@ impl Ground {
                 heading,
             ));
         }
-        if !(friction.is_finite() && friction >= 0.0) {
-            return Err(Error::invalid(
-                "ground.friction",
-                "a non-negative finite number",
-                friction,
-            ));
-        }
+        check_non_negative("ground.friction", friction)?;
         let (sin, cos) = incline.sin_cos();
         let normal = Vector3::new(-sin * heading.cos(), -sin * heading.sin(), cos);
         Ok(Self {

@@ -7,7 +7,8 @@
 //! torque) does not read it. Its stiffness and damping enter the implicit step's `W` on the
 //! joint's diagonal.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
+use sea_dyn::error::{check_non_negative, check_positive};
 
 /// The stops' law (the same for every joint).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,21 +44,8 @@ pub struct StopTorque {
 impl JointStops {
     /// Checks the law; errors name the key.
     pub fn validate(&self) -> Result<()> {
-        if !(self.stiffness.is_finite() && self.stiffness > 0.0) {
-            return Err(Error::invalid(
-                "plant.joint_stop_stiffness",
-                "a positive finite number",
-                self.stiffness,
-            ));
-        }
-        if !(self.dissipation.is_finite() && self.dissipation >= 0.0) {
-            return Err(Error::invalid(
-                "plant.joint_stop_dissipation",
-                "a non-negative finite number",
-                self.dissipation,
-            ));
-        }
-        Ok(())
+        check_positive("plant.joint_stop_stiffness", self.stiffness)?;
+        check_non_negative("plant.joint_stop_dissipation", self.dissipation)
     }
 
     /// The stop torque of a joint at position `s`, velocity `sdot`, with limits `[lower,

@@ -25,7 +25,7 @@ use crate::unilateral::{CompliantContact, UnilateralContacts};
 use nalgebra::Vector3;
 use sea_dyn::actuator::Actuation;
 use sea_dyn::data::Data;
-use sea_dyn::error::check_vector;
+use sea_dyn::error::{check_non_negative, check_positive, check_vector};
 use sea_dyn::kinematics::frame_placement;
 use sea_dyn::model::Model;
 use sea_dyn::StateLayout;
@@ -225,18 +225,10 @@ impl Plant {
             ),
         ];
         for (name, value) in gains {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(Error::invalid(name, "a non-negative finite number", value));
-            }
+            check_non_negative(name, value)?;
         }
         if let MotorInput::VelocityLoop { gain } = self.motor_input {
-            if !(gain.is_finite() && gain > 0.0) {
-                return Err(Error::invalid(
-                    "motor_velocity_gain",
-                    "a positive finite number",
-                    gain,
-                ));
-            }
+            check_positive("motor_velocity_gain", gain)?;
         }
         if let Some(stops) = &self.joint_stops {
             stops.validate()?;
@@ -250,7 +242,8 @@ impl Plant {
     /// Checks a state: size nx, finite, unit quaternion within [`sea_dyn::model::QUATERNION_TOLERANCE`].
     pub fn check_state(&self, x: &[f64]) -> Result<()> {
         check_vector("x", x, self.layout().nx())?;
-        self.model.check_configuration(&x[..self.model.nq()])
+        self.model
+            .check_configuration_named("x", &x[..self.model.nq()])
     }
 
     /// Checks an input: size n, finite.

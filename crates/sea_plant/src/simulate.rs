@@ -6,6 +6,7 @@ use crate::error::Result;
 use crate::evaluation::evaluate;
 use crate::integrator::{step, Method, PlantData};
 use crate::plant::Plant;
+use sea_dyn::error::check_positive;
 
 /// How a simulation ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -52,7 +53,9 @@ const DIVERGENCE_NORM: f64 = 1e8;
 /// Simulates `n_steps` of size `dt` from `x0` with `u` held, recording every
 /// `record_every`-th state (and the last one). `progress(k)` is called after each step and
 /// returns whether to go on: `false` records the state reached and ends the run with
-/// [`Status::Interrupted`]. A record that cannot be allocated is an error, not an abort.
+/// [`Status::Interrupted`]. A step that fails ends the run with [`Status::Diverged`], the
+/// state it started from recorded (when its outputs evaluate), so the initial state is always
+/// in a record that has a row. A record that cannot be allocated is an error, not an abort.
 #[allow(clippy::too_many_arguments)]
 pub fn simulate(
     plant: &Plant,
@@ -67,13 +70,7 @@ pub fn simulate(
 ) -> Result<SimulationLog> {
     plant.check_state(x0)?;
     plant.check_input(u)?;
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(crate::error::Error::invalid(
-            "dt",
-            "a positive finite number",
-            dt,
-        ));
-    }
+    check_positive("dt", dt)?;
     let record_every = record_every.max(1);
     let rows = (n_steps / record_every).saturating_add(2);
     let mut log = SimulationLog {
@@ -101,6 +98,10 @@ pub fn simulate(
                 time,
                 reason: error.to_string(),
             };
+            let recorded = log.time.last() == Some(&time);
+            if !recorded && evaluate(plant, &mut pd.workspace, &x, u, &mut pd.outputs).is_ok() {
+                push_row(&mut log, pd, time, &x);
+            }
             break;
         }
         if k % record_every == 0 || last {

@@ -23,6 +23,7 @@
 
 use crate::ground::Ground;
 use nalgebra::{Matrix3, Matrix6, Vector3};
+use sea_dyn::error::{check_non_negative, check_positive};
 
 /// The contact law's parameters (per point).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,23 +59,9 @@ impl CompliantContact {
 
     /// Checks the parameters; errors name the key.
     pub fn validate(&self) -> crate::Result<()> {
-        let keys = [
-            ("ground.stiffness_n_per_m", self.stiffness, true),
-            ("ground.dissipation_s_per_m", self.dissipation, false),
-            ("ground.stiction_velocity_m_s", self.stiction_velocity, true),
-        ];
-        for (key, value, positive) in keys {
-            let ok = value.is_finite() && if positive { value > 0.0 } else { value >= 0.0 };
-            if !ok {
-                let expected = if positive {
-                    "a positive finite number"
-                } else {
-                    "a non-negative finite number"
-                };
-                return Err(crate::Error::invalid(key, expected, value));
-            }
-        }
-        Ok(())
+        check_positive("ground.stiffness_n_per_m", self.stiffness)?;
+        check_non_negative("ground.dissipation_s_per_m", self.dissipation)?;
+        check_positive("ground.stiction_velocity_m_s", self.stiction_velocity)
     }
 }
 

@@ -302,7 +302,8 @@ impl PyController {
     /// command stays `command`.
     ///
     /// Bad input (the per-tick contract, docs/guide/robot_rate.md): a non-finite `t`, an `x` of
-    /// another length or with a NaN or infinite entry raises `ValueError` naming it (`x[12]`)
+    /// another length, with a NaN or infinite entry or a base quaternion `x[3:7]` not of unit
+    /// norm raises `ValueError` naming it (`x[12]`)
     /// and changes nothing (`command` stays the last). The clock is not checked: `t` is the
     /// references' time, so a tick called twice at the same `(t, x)` returns the same command,
     /// and a late tick (missed periods) evaluates the law at its own `t` and state; the
@@ -318,6 +319,10 @@ impl PyController {
         }
         let layout = self.robot.layout();
         vector_arg(x, "x", layout.nx(), &mut self.x)?;
+        let model = self.robot.controller().model();
+        model
+            .check_configuration_named("x", &self.x[..model.nq()])
+            .map_err(to_py)?;
         self.robot.tick(t, &self.x).map_err(to_py)?;
         self.period_open = true;
         self.ticked = true;

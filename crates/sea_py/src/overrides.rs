@@ -20,9 +20,17 @@ pub(crate) fn override_pairs(
 }
 
 /// A Python value as a TOML literal: str, bool, int, float (numpy scalars too: `numpy.bool_`
-/// is a bool, numpy integers are integers), lists of those; `key` names the override in
+/// is a bool, numpy integers are integers), lists, tuples and numpy arrays of those; `key`
+/// names the override in
 /// errors, including an integer outside the 64-bit range.
 pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<String> {
+    // A numpy array (not a numpy scalar, whose `ndim` is 0) is its list.
+    if value.hasattr("tolist")? && value.hasattr("ndim")? {
+        let ndim: usize = value.getattr("ndim")?.extract().unwrap_or(0);
+        if ndim > 0 {
+            return toml_literal(&value.call_method0("tolist")?, key);
+        }
+    }
     if let Ok(text) = value.extract::<String>() {
         return Ok(toml::Value::String(text).to_string());
     }

@@ -7,6 +7,7 @@ use crate::model::PyModel;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use sea_dyn::error::check_positive;
 use sea_dyn::{Actuation, Actuator};
 use sea_plant::{ContactLimits, Method, MotorInput, Plant, PlantData};
 use sea_sim::scenario::{ActuatorConfig, ActuatorKind, Setting};
@@ -127,9 +128,7 @@ fn check_surface_and_gravity(
         }
     }
     if let Some(mu) = friction {
-        if !(mu.is_finite() && mu > 0.0) {
-            return Err(argument_error("friction", "a positive finite number", mu));
-        }
+        check_positive("friction", mu).map_err(to_py)?;
     }
     for (name, rectangle) in [("foot_x", foot_x), ("foot_y", foot_y)] {
         if let Some((low, high)) = rectangle {
@@ -548,9 +547,7 @@ impl PyPlant {
         external: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let method = method_arg(method)?;
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(argument_error("dt", "a positive finite number", dt));
-        }
+        check_positive("dt", dt).map_err(to_py)?;
         self.load(x, u)?;
         self.load_external(external)?;
         let mut out = vec![0.0; self.x.len()];

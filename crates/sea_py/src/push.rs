@@ -3,7 +3,7 @@
 //! (no run starts, the runs under way stop at their next sample) and the rows done are
 //! returned with `interrupted = True`.
 
-use crate::errors::{argument_error, to_py};
+use crate::errors::{argument_error, to_py, warn_user};
 use crate::interrupt::run_interruptible;
 use crate::overrides::override_pairs;
 use crate::plant::count_arg;
@@ -58,6 +58,11 @@ pub fn push_table_native<'py>(
         tolerance_n_s,
     };
     options.check().map_err(python_names)?;
+    if let Ok(scenario) = sea_sim::scenario::Scenario::from_file(&path, &pairs) {
+        if let Some(warning) = options.short_run_warning(&scenario) {
+            warn_user(py, &format!("sea_momentum.push_table: {warning}"))?;
+        }
+    }
     let seen = RunsSeen::default();
     // Ctrl-C is consumed (the rows done are returned, marked interrupted), as in a sweep.
     let (table, raised) = run_interruptible(py, |cancel| {

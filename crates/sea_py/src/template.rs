@@ -8,6 +8,7 @@ use crate::plant::count_arg;
 use crate::push::parse_directions;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+use sea_dyn::error::check_positive;
 use sea_sim::analysis::push::{
     check_impulses, impulses_recovered_up_to, swing_push_start, SwingPhase, DEFAULT_PUSHED_STEP,
 };
@@ -41,9 +42,7 @@ pub fn template_push_native<'py>(
         None => DEFAULT_PUSHED_STEP,
     };
     for (name, value) in [("duration_s", duration_s), ("tolerance_n_s", tolerance_n_s)] {
-        if !(value.is_finite() && value > 0.0) {
-            return Err(crate::errors::argument_error(name, "finite and > 0", value));
-        }
+        check_positive(name, value).map_err(to_py)?;
     }
     if let Some(impulses) = &impulses {
         check_impulses(impulses).map_err(to_py)?;

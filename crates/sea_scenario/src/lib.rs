@@ -148,7 +148,9 @@ impl Scenario {
     }
 
     /// Replaces a `package://` or `file://` URI in `robot.urdf` by the file it names (the
-    /// scenario's `robot.package_dirs` first, then the environment's); an error names the key.
+    /// scenario's `robot.package_dirs` first, then the environment's); an error names the key
+    /// the URI came from (`robot.description.urdf` when the robot description gave it) and
+    /// where a scenario lists its folders.
     fn resolve_urdf_uri(&mut self) -> Result<()> {
         let uri = &self.robot.urdf;
         if !uri.contains("://") {
@@ -156,9 +158,15 @@ impl Scenario {
         }
         let user = self.robot.package_dirs.iter().map(|d| self.resolve(d));
         let dirs = sea_dyn::PackageDirs::from_environment(user);
-        let path = dirs
-            .resolve(uri, &self.base_dir)
-            .map_err(|e| Error::invalid("robot.urdf", e.to_string(), uri))?;
+        let key = if self.description.urdf.as_deref() == Some(uri.as_str()) {
+            "robot.description.urdf"
+        } else {
+            "robot.urdf"
+        };
+        let path = dirs.resolve(uri, &self.base_dir).map_err(|e| {
+            let rule = format!("{e}; a scenario lists its folders in robot.package_dirs");
+            Error::invalid(key, rule, uri)
+        })?;
         self.robot.urdf = path.display().to_string();
         Ok(())
     }
@@ -349,6 +357,16 @@ mod tests {
         assert!(err.to_string().contains("controller.kind"), "{err}");
         let err = Scenario::from_toml("[robot\n", &[], Path::new(".")).unwrap_err();
         assert!(err.to_string().contains("malformed TOML"), "{err}");
+        let err = Scenario::from_toml(
+            text,
+            &[("robot.urdf".into(), "\"\"".into())],
+            Path::new("."),
+        )
+        .unwrap_err();
+        assert!(
+            err.to_string().contains("'robot.urdf': must name a URDF"),
+            "{err}"
+        );
         let err = Scenario::from_toml(text, &[("plant.dt".into(), "-1".into())], Path::new("."))
             .unwrap_err();
         assert!(err.to_string().contains("plant.dt"), "{err}");

@@ -109,6 +109,33 @@ fn a_foot_rectangle_with_x0_not_below_x1_is_refused() {
     });
     let message = refused(&options);
     assert!(message.contains("x0 = 0.1, x1 = -0.05"), "{message}");
+    options.foot = Some(FootRectangle {
+        x: [-1e300, 1e300],
+        y: [-0.025, 0.025],
+    });
+    let message = refused(&options);
+    assert!(
+        message.contains("foot") && message.contains("within 1 m"),
+        "{message}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn a_scenario_written_over_its_own_urdf_is_refused_and_the_urdf_kept() {
+    let dir = folder("over_urdf");
+    let urdf = dir.join("robot.urdf");
+    std::fs::copy(icub_urdf(), &urdf).unwrap();
+    let before = std::fs::read(&urdf).unwrap();
+    let mut options = icub_options(&dir);
+    options.urdf = urdf.display().to_string();
+    options.out = urdf.clone();
+    let message = init(&options).unwrap_err().to_string();
+    assert!(
+        message.contains("the scenario written would overwrite the URDF"),
+        "{message}"
+    );
+    assert_eq!(std::fs::read(&urdf).unwrap(), before);
     std::fs::remove_dir_all(dir).unwrap();
 }
 

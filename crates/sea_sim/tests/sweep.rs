@@ -271,5 +271,26 @@ fn sea_sim_sweep_writes_the_csv() {
     assert_eq!(bad.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("controller.no_such_gain"));
     assert!(!dir.join("bad.csv").exists());
+    // More workers than a process can start is refused before any run, naming the flag.
+    let many = std::process::Command::new(env!("CARGO_BIN_EXE_sea-sim"))
+        .arg("sweep")
+        .arg(tracking_path())
+        .args([
+            "--grid",
+            "controller.rate_hz=1000",
+            "--jobs",
+            "100000",
+            "--out",
+        ])
+        .arg(dir.join("many.csv"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&many.stderr);
+    assert!(!many.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("--jobs") && stderr.contains("1024"),
+        "{stderr}"
+    );
+    assert!(!dir.join("many.csv").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

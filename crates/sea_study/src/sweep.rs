@@ -494,12 +494,22 @@ impl SweepJob<'_> {
     }
 }
 
+/// The most workers a sweep takes: each is an operating-system thread with its own stack, and
+/// tens of thousands of them exhaust the process's memory maps (a thread then fails to start
+/// inside the pool, which cannot be reported as an error).
+pub const MAX_WORKERS: usize = 1024;
+
 /// The number of workers: `workers`, or every core when `None`.
 ///
-/// Errors: [`Error::Scenario`] (key `workers`) for 0.
+/// Errors: [`Error::Scenario`] (key `workers`) for 0 or more than [`MAX_WORKERS`].
 pub fn worker_count(workers: Option<usize>) -> Result<usize> {
     match workers {
         Some(0) => Err(Error::invalid("workers", "at least 1", 0)),
+        Some(n) if n > MAX_WORKERS => Err(Error::invalid(
+            "workers",
+            format!("at most {MAX_WORKERS}"),
+            n,
+        )),
         Some(n) => Ok(n),
         None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
     }
@@ -510,7 +520,10 @@ pub fn worker_count(workers: Option<usize>) -> Result<usize> {
 /// module documentation. Rows are in the order of `points`; `progress` is called after each
 /// run, from the worker that did it.
 ///
-/// Errors: only for `workers = 0` or a pool that cannot start; a run's failure is its row.
+/// The pool has no more threads than points.
+///
+/// Errors: only for `workers` 0 or above [`MAX_WORKERS`], or a pool that cannot start; a run's
+/// failure is its row.
 pub fn run_points(
     source: &ScenarioSource,
     keys: &[String],
@@ -520,7 +533,7 @@ pub fn run_points(
     cancel: &AtomicBool,
     progress: &(dyn Fn(&SweepProgress<'_>) + Sync),
 ) -> Result<Vec<SweepRow>> {
-    let threads = worker_count(workers)?;
+    let threads = worker_count(workers)?.min(points.len().max(1));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .thread_name(|k| format!("sea-sweep-{k}"))
@@ -648,6 +661,16 @@ mod tests {
         assert_eq!(points[2], vec![1.0, 30.0]);
         assert_eq!(points[3], vec![2.0, 10.0]);
         assert_eq!(points[5], vec![2.0, 30.0]);
+    }
+
+    #[test]
+    fn worker_counts_outside_one_to_the_maximum_are_refused_naming_workers() {
+        assert_eq!(worker_count(Some(MAX_WORKERS)).unwrap(), MAX_WORKERS);
+        for bad in [0, MAX_WORKERS + 1, 100_000] {
+            let message = worker_count(Some(bad)).unwrap_err().to_string();
+            assert!(message.contains("workers"), "{message}");
+            assert!(message.contains(&bad.to_string()), "{message}");
+        }
     }
 
     #[test]

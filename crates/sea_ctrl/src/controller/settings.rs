@@ -7,7 +7,7 @@
 //! the rigid controller (remark1).
 
 use super::tuning::ControllerTuning;
-use crate::error::{Error, Result};
+use crate::error::{require_non_negative, require_positive, Error, Result};
 use crate::qp::ContactConstraints;
 // Named by the doc comments only.
 #[cfg(doc)]
@@ -127,9 +127,7 @@ impl ControllerSettings {
         .into_iter()
         .chain(joint_scales)
         {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Error::config(key, format!("must be positive, got {v}")));
-            }
+            require_positive(key, v)?;
         }
         Ok(())
     }
@@ -155,9 +153,8 @@ impl ControllerSettings {
             ),
         ];
         for (key, values) in gains {
-            if let Some(g) = values.iter().find(|g| !(g.is_finite() && **g >= 0.0)) {
-                let message = format!("must be finite and non-negative, got {g}");
-                return Err(Error::config(key, message));
+            for &g in values {
+                require_non_negative(key, g)?;
             }
         }
         Ok(())

@@ -75,7 +75,8 @@ pub fn adjust_step(
     let step = gait.footsteps.steps[index];
     let remaining = step.touchdown - t;
     let world_xi = lip.dcm(measured.world_p_com, measured.world_v_com);
-    let world_dcm_error = world_xi - gait.dcm.sample(t).world_xi.xy();
+    let world_xi_plan_now = gait.dcm.sample(t).world_xi.xy();
+    let world_dcm_error = world_xi - world_xi_plan_now;
     let phase = step.swing_fraction(t);
     let adjustable = phase >= 0.0 && phase < settings.step_adjustment_end_phase && remaining > 1e-6;
     if !adjustable || world_dcm_error.norm() <= settings.step_adjustment_threshold {
@@ -89,7 +90,10 @@ pub fn adjust_step(
         earliest: earliest_touchdown(settings, &step, t),
         omega: lip.omega,
         world_xi,
-        world_xi_plan: [t, step.touchdown].map(|time| gait.dcm.sample(time).world_xi.xy()),
+        world_xi_plan: [
+            world_xi_plan_now,
+            gait.dcm.sample(step.touchdown).world_xi.xy(),
+        ],
         world_p_landing: step.pose.world_p_sole,
         stance,
     };

@@ -9,7 +9,7 @@
 //!   `xdot = -omega (x - xi)` (Englsberger et al. 2015, eqs. of the DCM);
 //! - with `p` constant over `t`: `xi(t) = p + (xi(0) - p) e^(omega t)` ([`Lip::dcm_after`]).
 
-use crate::error::{Error, Result};
+use crate::error::{require_positive, Result};
 use nalgebra::Vector2;
 
 /// A linear inverted pendulum: its natural frequency `omega` and height.
@@ -25,20 +25,8 @@ impl Lip {
     /// The pendulum of height `com_height` (`walking.com_height`, > 0) under gravity of
     /// magnitude `gravity` [m/s^2] (> 0).
     pub fn new(gravity: f64, com_height: f64) -> Result<Self> {
-        if !(com_height.is_finite() && com_height > 0.0) {
-            return Err(Error::invalid(
-                "walking.com_height",
-                "must be positive and finite",
-                com_height,
-            ));
-        }
-        if !(gravity.is_finite() && gravity > 0.0) {
-            return Err(Error::invalid(
-                "gravity",
-                "must be positive and finite",
-                gravity,
-            ));
-        }
+        require_positive("walking.com_height", com_height)?;
+        require_positive("gravity", gravity)?;
         Ok(Self {
             omega: (gravity / com_height).sqrt(),
             com_height,

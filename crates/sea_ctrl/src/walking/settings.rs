@@ -8,7 +8,7 @@
 use super::footstep::{Foot, SolePose};
 use super::lip::Lip;
 use super::step_timing::StepTiming;
-use crate::error::{Error, Result};
+use crate::error::{require_positive, Result};
 use nalgebra::Vector2;
 
 /// The walking command: velocities of the walking frame (the frame midway between the feet)
@@ -452,13 +452,7 @@ impl WalkingSettings {
             ("leg_length", figures.leg_length),
             ("reach", figures.reach),
         ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(Error::invalid(
-                    format!("walking figures: {name}"),
-                    "must be positive and finite",
-                    value,
-                ));
-            }
+            require_positive(format!("walking figures: {name}"), value)?;
         }
         let icub = Self::default();
         let length_scale = figures.leg_length / ICUB_LEG_LENGTH;

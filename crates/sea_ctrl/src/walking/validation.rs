@@ -4,20 +4,14 @@
 
 use super::settings::{WalkingSettings, MAX_COMMAND_STEPS};
 use super::step_timing::StepTiming;
-use crate::error::{Error, Result};
+use crate::error::{require_non_negative, require_positive, Error, Result};
 
 impl WalkingSettings {
     /// Checks every setting for a controller whose whole-body period is `whole_body_period`
     /// [s] (no phase may be shorter than one tick); the error names the key, the rule and
     /// the value.
     pub fn validate(&self, whole_body_period: f64) -> Result<()> {
-        if !(whole_body_period.is_finite() && whole_body_period > 0.0) {
-            return Err(Error::invalid(
-                "whole_body_period",
-                "must be positive and finite",
-                whole_body_period,
-            ));
-        }
+        require_positive("whole_body_period", whole_body_period)?;
         self.validate_timing(whole_body_period)?;
         self.validate_geometry()?;
         self.validate_toe_off()?;
@@ -109,9 +103,7 @@ impl WalkingSettings {
             ("walking.min_step_width", self.min_step_width),
             ("walking.max_step_width", self.max_step_width),
         ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(Error::invalid(key, "must be positive and finite", value));
-            }
+            require_positive(key, value)?;
         }
         for (key, value) in [
             ("walking.swing_height", self.swing_height),
@@ -147,13 +139,7 @@ impl WalkingSettings {
             ),
             ("walking.touchdown_debounce", self.touchdown_debounce),
         ] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(Error::invalid(
-                    key,
-                    "must be non-negative and finite",
-                    value,
-                ));
-            }
+            require_non_negative(key, value)?;
         }
         let (min, max) = (self.min_step_width, self.max_step_width);
         let width = self.nominal_width;

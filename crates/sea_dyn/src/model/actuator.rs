@@ -8,7 +8,7 @@
 //! so `Gamma theta` is on the joint side; the reflected motor inertia is `I_m / Gamma^2`. Motor
 //! torques may be limited to `|tau_m| <= torque_limit`.
 
-use crate::error::{Error, Result};
+use crate::error::{check_non_negative, check_positive, Error, Result};
 use crate::model::Model;
 use std::collections::HashMap;
 
@@ -104,21 +104,12 @@ impl ElasticParameters {
             ("stiffness", self.stiffness),
         ];
         for (name, value) in positive {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(Error::invalid(
-                    format!("actuator of joint '{joint}': {name}"),
-                    "a positive finite number",
-                    value,
-                ));
-            }
+            check_positive(format!("actuator of joint '{joint}': {name}"), value)?;
         }
-        if !(self.damping.is_finite() && self.damping >= 0.0) {
-            return Err(Error::invalid(
-                format!("actuator of joint '{joint}': damping"),
-                "a non-negative finite number",
-                self.damping,
-            ));
-        }
+        check_non_negative(
+            format!("actuator of joint '{joint}': damping"),
+            self.damping,
+        )?;
         if let Some(limit) = self.torque_limit {
             if limit.is_nan() || limit <= 0.0 {
                 return Err(Error::invalid(

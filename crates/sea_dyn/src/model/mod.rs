@@ -184,11 +184,17 @@ impl Model {
     /// Checks a configuration: size `nq`, finite, quaternion of unit norm within
     /// [`QUATERNION_TOLERANCE`] (the algorithms normalise it).
     pub fn check_configuration(&self, q: &[f64]) -> Result<()> {
-        crate::error::check_vector("q", q, self.nq())?;
+        self.check_configuration_named("q", q)
+    }
+
+    /// [`Self::check_configuration`] of a configuration the caller calls `argument` (the
+    /// leading `nq` entries of a state `x`: the quaternion is then `x[3:7]`).
+    pub fn check_configuration_named(&self, argument: &str, q: &[f64]) -> Result<()> {
+        crate::error::check_vector(argument, q, self.nq())?;
         let norm = (q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]).sqrt();
         if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
             return Err(Error::invalid(
-                "q[3:7]",
+                format!("{argument}[3:7]"),
                 "a unit quaternion (w, x, y, z)",
                 format!("norm {norm}"),
             ));

@@ -91,8 +91,12 @@ pub fn against_model(scenario: &Scenario, mass_kg: f64, gravity_m_s2: f64) -> Re
 /// `value` as written in a message (`sea_dyn::bounded::shown`).
 pub(crate) use sea_dyn::bounded::shown;
 
-/// `[robot]`: one or two distinct contact frames.
+/// `[robot]`: a URDF named, one or two distinct contact frames.
 fn robot(scenario: &Scenario) -> Result<()> {
+    if scenario.robot.urdf.trim().is_empty() {
+        let rule = "must name a URDF file (a path or a package:// URI)";
+        return Err(Error::invalid("robot.urdf", rule, "\"\""));
+    }
     let contacts = &scenario.robot.contacts;
     if contacts.is_empty() || contacts.len() > 2 {
         return Err(Error::invalid(

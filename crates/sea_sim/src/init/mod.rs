@@ -98,9 +98,21 @@ pub fn parse_foot(text: &str) -> Result<FootRectangle> {
     })
 }
 
-/// `rectangle` when its minima are below its maxima.
+/// The farthest a foot rectangle's edge may lie from its contact frame [m]: a humanoid's sole
+/// is tens of centimetres long; an edge beyond this is a unit or sign mistake.
+pub const MAX_FOOT_EXTENT_M: f64 = 1.0;
+
+/// `rectangle` when its minima are below its maxima and every edge lies within
+/// [`MAX_FOOT_EXTENT_M`] of the contact frame.
 pub fn check_foot(rectangle: &FootRectangle) -> Result<FootRectangle> {
     for (axis, [min, max]) in [("x", rectangle.x), ("y", rectangle.y)] {
+        if min.abs() > MAX_FOOT_EXTENT_M || max.abs() > MAX_FOOT_EXTENT_M {
+            return Err(Error::argument(
+                "foot",
+                format!("edges within {MAX_FOOT_EXTENT_M} m of the contact frame"),
+                format!("{axis}0 = {min}, {axis}1 = {max}"),
+            ));
+        }
         // NaN compares to nothing: refused too.
         if min.partial_cmp(&max) != Some(std::cmp::Ordering::Less) {
             return Err(Error::argument(
@@ -129,6 +141,10 @@ pub fn init_unless_stopped(
     let stopped = || stop.load(std::sync::atomic::Ordering::SeqCst);
     let dirs = PackageDirs::from_environment(options.package_dirs.iter().cloned());
     let urdf_file = resolve_urdf(&options.urdf, &dirs)?;
+    crate::output::check_distinct(
+        &[("the URDF", &urdf_file)],
+        &[("the scenario written", &options.out)],
+    )?;
     let text = sea_dyn::files::read_text(&urdf_file).map_err(|e| Error::io(&urdf_file, e))?;
     if stopped() {
         return Ok(None);

@@ -363,10 +363,11 @@ fn per_direction<T>(
     let walk = TemplateWalk::of_scenario(path, overrides)?;
     let (start_s, duration_s) = window;
     let end = start_s + duration_s;
-    if !(start_s >= 0.0 && duration_s > 0.0 && end <= walk.duration_s) {
+    // `end > start_s`: a length lost in rounding the end would be a push never applied.
+    if !(start_s >= 0.0 && duration_s > 0.0 && end > start_s && end <= walk.duration_s) {
         let expected = format!(
-            "a push from 0 s on, of positive length, ending within the run's {} s \
-             (simulation.duration_s)",
+            "a push from 0 s on, of positive length (after its end is rounded), ending \
+             within the run's {} s (simulation.duration_s)",
             walk.duration_s
         );
         let actual = format!("from {start_s} s for {duration_s} s");

@@ -293,7 +293,7 @@ fn template_by_direction(
 }
 
 /// The library's push arguments as the command line's flags.
-fn flags(args: &PushArgs) -> [(&'static str, &'static str); 2] {
+fn flags(args: &PushArgs) -> [(&'static str, &'static str); 3] {
     let start = if args.phase.is_some() {
         "--phase"
     } else {
@@ -302,6 +302,7 @@ fn flags(args: &PushArgs) -> [(&'static str, &'static str); 2] {
     [
         ("PushOptions.link", "--link"),
         ("PushOptions.start_s", start),
+        ("PushOptions.duration_s", "--duration"),
     ]
 }
 
@@ -345,6 +346,9 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
         tolerance_n_s: args.tolerance,
     };
     options.check_within_run(&scenario).map_err(as_flag)?;
+    if let Some(warning) = options.short_run_warning(&scenario) {
+        say(format_args!("sea-sim: warning: {warning}"));
+    }
     // The bounds first: cheap, and their errors come before the runs, not after.
     let bounds = bounds_by_direction(args, swing.map(|(at, _)| at), &options, &directions)?;
     if !args.quiet {

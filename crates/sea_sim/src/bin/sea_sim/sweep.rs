@@ -20,9 +20,9 @@ pub(crate) struct SweepArgs {
     /// (repeatable; a grid key wins over the same key here).
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
     overrides: Vec<(String, String)>,
-    /// Runs in parallel [default: every core].
+    /// Runs in parallel, at most 1024 [default: every core].
     #[arg(long, short = 'j', value_name = "N",
-          value_parser = clap::value_parser!(u32).range(1..))]
+          value_parser = clap::value_parser!(u32).range(1..=sea_sim::sweep::MAX_WORKERS as i64))]
     jobs: Option<u32>,
     /// Write the results to FILE (CSV: the grid values, then status, message and every summary
     /// field; one row per run in grid order).
