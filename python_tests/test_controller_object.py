@@ -185,6 +185,10 @@ def test_tables_are_checked_as_in_a_scenario_file() -> None:
         sm.Controller(model, ["no_such_frame"], q0)
     with pytest.raises(ValueError, match="q0"):
         sm.Controller(model, ["l_sole"], q0[:-1])
+    not_unit = q0.copy()
+    not_unit[3:7] = 2.0
+    with pytest.raises(ValueError, match=r"q0\[3:7\]: expected a unit quaternion"):
+        sm.Controller(model, ["l_sole"], not_unit)
 
 
 #: The robust robot-rate design: 100 Hz / 1 kHz, stiffness estimate x0.5 identified online with

@@ -81,6 +81,14 @@ def test_a_single_folder_as_package_dirs_is_a_type_error_naming_it():
         sm.run_scenario(TRACKING, {"simulation.duration_s": 0.002}, package_dirs="/tmp")
 
 
+def test_a_control_period_longer_than_the_run_names_the_rate():
+    # A run of 0.05 s at 1 Hz would tick never and report the run completed.
+    sampled = {"simulation.duration_s": 0.05, "controller.sampling": "zero_order_hold"}
+    with pytest.raises(sm.ScenarioError) as info:
+        sm.run_scenario(TRACKING, {**sampled, "controller.rate_hz": 1.0})
+    assert info.value.key == "controller.rate_hz", str(info.value)
+
+
 def test_an_empty_urdf_key_names_it():
     with pytest.raises(sm.ScenarioError) as info:
         _native.scenario_urdf(TRACKING, {"robot.urdf": ""})

@@ -273,8 +273,14 @@ def test_bad_plant_settings_are_rejected():
         sm.Plant(model, contacts=["no_such_frame"], contact_q=q)
     with pytest.raises(ValueError, match="contact_q"):
         sm.Plant(model, contacts=["l_sole"])
-    with pytest.raises(ValueError, match="stiffness"):
+    with pytest.raises(ValueError, match=r"actuator\['stiffness'\]: expected a number, positive and finite"):
         sm.Plant(model, actuator={"stiffness": -1.0})
+    with pytest.raises(ValueError, match=r"actuator\['stiffness'\]: expected a number, got 'x'"):
+        sm.Plant(model, actuator={"stiffness": "x"})
+    not_unit = q.copy()
+    not_unit[3:7] = 0.0
+    with pytest.raises(ValueError, match=r"contact_q\[3:7\]: expected a unit quaternion"):
+        sm.Plant(model, contacts=["l_sole"], contact_q=not_unit)
     with pytest.raises(ValueError, match="motor_inertia"):
         sm.Plant(model, actuators={"l_knee": {"motor_inertia": 0.0}})
     with pytest.raises(ValueError, match="torque_limit"):

@@ -95,8 +95,9 @@ def test_bad_arguments_are_value_errors():
         sweep(TRACKING, {"controller.rate_hz": [1000.0, "fast"]})
     with pytest.raises(ValueError, match="backend"):
         sweep(TRACKING, {"controller.rate_hz": [1000.0]}, backend="dask")
-    with pytest.raises(ValueError, match="workers"):
-        sweep(TRACKING, {"controller.rate_hz": [1000.0]}, workers=0)
+    for workers in (0, sea_momentum._native.MAX_SWEEP_WORKERS + 1, True, 2.0):
+        with pytest.raises(ValueError, match="workers"):
+            sweep(TRACKING, {"controller.rate_hz": [1000.0]}, workers=workers)
     with pytest.raises(ValueError, match="grid"):
         sweep(TRACKING, {})
 

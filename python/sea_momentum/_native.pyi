@@ -44,6 +44,7 @@ __all__ = [
     "__version__",
     "ICUB25_JOINTS",
     "PICTURE_TRIANGLE_BUDGET",
+    "MAX_SWEEP_WORKERS",
 ]
 
 __version__: str
@@ -51,6 +52,9 @@ ICUB25_JOINTS: tuple[str, ...]
 """The paper's 25 iCub joints in the original study's order (defined once, in Rust)."""
 PICTURE_TRIANGLE_BUDGET: int
 """Default triangles of all the robot's meshes in a picture (``link_meshes``)."""
+MAX_SWEEP_WORKERS: int
+"""The most threads a local sweep takes (``sweep``'s ``workers``; each is an operating-system
+thread)."""
 
 class SeaError(Exception):
     """Base of every sea_momentum error (MCAP logging failures other than I/O raise it as is)."""

@@ -142,7 +142,8 @@ def sweep(
     ``grid``: ``{key: [values]}`` or ``{key: "START:STOP:COUNT[:log]"}`` over numeric scenario
     keys (``controller.damping_estimate_scale``, ``controller.rate_hz``, ...); the runs are the
     cartesian product. ``overrides``: scenario values for every run (a grid key wins).
-    ``workers``: threads of the local backend (default: every core). ``backend``: ``"local"`` or
+    ``workers``: threads of the local backend, an integer (numpy's too) from 1 to
+    ``MAX_SWEEP_WORKERS`` (default: every core). ``backend``: ``"local"`` or
     ``"ray"`` (Ray tasks of ``batch_size`` runs each on the cluster of ``ray.init(address=...)``,
     or a local Ray when none is initialised; needs ``pip install 'sea-momentum[cluster]'``).
     ``progress``: a line on stderr per finished run (per batch with Ray).
@@ -154,8 +155,11 @@ def sweep(
     specs = grid_specs(grid)
     path = os.fspath(scenario)
     if backend == "local":
-        if workers is not None and (not isinstance(workers, int) or workers < 1):
-            raise ValueError(f"workers: expected an int of at least 1 or None, got {workers!r}")
+        integer = isinstance(workers, (int, np.integer)) and not isinstance(workers, (bool, np.bool_))
+        most = _native.MAX_SWEEP_WORKERS
+        if workers is not None and (not integer or not 1 <= workers <= most):
+            raise ValueError(f"workers: expected an int from 1 to {most} or None, got {workers!r}")
+        workers = None if workers is None else int(workers)
         native = _native.sweep(path, specs, overrides, workers, progress)
     elif backend == "ray":
         from .ray_backend import run_on_ray

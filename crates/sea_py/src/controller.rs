@@ -102,7 +102,7 @@ impl PyController {
     ) -> PyResult<Self> {
         let mut q = Vec::new();
         vector_arg(q0, "q0", model.nq(), &mut q)?;
-        model.check_configuration(&q).map_err(to_py)?;
+        model.check_configuration_named("q0", &q).map_err(to_py)?;
         let scenario = table_scenario(&contacts, &q[7..], tables)?;
         sea_sim::scenario::validate::against_model(
             &scenario,

@@ -116,5 +116,6 @@ fn add_module_contents(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "PICTURE_TRIANGLE_BUDGET",
         sea_sim::meshes::visuals::PICTURE_TRIANGLE_BUDGET,
     )?;
+    m.add("MAX_SWEEP_WORKERS", sea_sim::sweep::MAX_WORKERS)?;
     Ok(())
 }

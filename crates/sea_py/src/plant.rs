@@ -58,9 +58,15 @@ fn actuator_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<Actuat
             format!("unknown actuator key '{}'", error.key),
         )),
         Err(error) => {
-            let expected = match error.key.as_str() {
-                "kind" => format!("one of {}", ActuatorKind::allowed()),
-                _ => "a number".to_string(),
+            // A bound's rule ("must be positive and finite, got -100") says what is allowed;
+            // a type error's (serde's "invalid type: ...") does not.
+            let bound = error.rule.strip_prefix("must be ");
+            let expected = match (error.key.as_str(), bound) {
+                ("kind", _) => format!("one of {}", ActuatorKind::allowed()),
+                (_, Some(rule)) => {
+                    format!("a number, {}", rule.split(", got ").next().unwrap_or(rule))
+                }
+                (_, None) => "a number".to_string(),
             };
             let shown = match dict.get_item(&error.key)? {
                 Some(value) => value.repr()?.to_string(),
@@ -357,6 +363,10 @@ impl PyPlant {
             })?;
             let mut q = Vec::new();
             vector_arg(&contact_q, "contact_q", plant.model.nq(), &mut q)?;
+            plant
+                .model
+                .check_configuration_named("contact_q", &q)
+                .map_err(to_py)?;
             plant.set_contacts(&contacts, &q).map_err(to_py)?;
         }
         let data = PlantData::new(&plant);

@@ -288,15 +288,43 @@ fn torque_bandwidth_limit(c: &ControllerConfig, motor_velocity_gain: f64) -> Res
     ))
 }
 
+/// The error of a sampled controller whose period is longer than the run, naming the run's
+/// length when it is shorter than the default rate's period, else the rate.
+fn no_tick_in_the_run(scenario: &Scenario) -> Error {
+    let (duration, rate) = (
+        scenario.simulation.duration_s,
+        scenario.controller.rate_hz(),
+    );
+    if duration * scenario.controller.sampling.default_rate_hz() < 1.0 {
+        let rule = format!(
+            "must last one whole-body period at least (controller.rate_hz {})",
+            shown(rate)
+        );
+        Error::invalid("simulation.duration_s", rule, shown(duration))
+    } else {
+        let rule = format!(
+            "must give one whole-body tick within the run at least (simulation.duration_s {} s)",
+            shown(duration)
+        );
+        Error::invalid("controller.rate_hz", rule, shown(rate))
+    }
+}
+
 /// The run's plant steps (or controller samples, whichever are more) must not exceed
-/// [`MAX_RUN_STEPS`]; the key named is the one that makes the count huge.
+/// [`MAX_RUN_STEPS`]; the key named is the one that makes the count huge. A sampled
+/// controller ticks at least once within the run: a period longer than the run would run no
+/// tick and report the run completed.
 fn run_length(scenario: &Scenario) -> Result<()> {
     let duration = scenario.simulation.duration_s;
     let plant_steps = duration / scenario.plant.dt;
     let samples = match scenario.controller.sampling {
-        Sampling::Continuous => 0.0,
+        Sampling::Continuous => f64::INFINITY,
         Sampling::ZeroOrderHold | Sampling::MultiRate => duration * scenario.controller.rate_hz(),
     };
+    if samples < 1.0 - 1e-9 {
+        return Err(no_tick_in_the_run(scenario));
+    }
+    let samples = if samples.is_finite() { samples } else { 0.0 };
     if plant_steps.max(samples) <= MAX_RUN_STEPS {
         return Ok(());
     }

@@ -10,6 +10,7 @@ pub mod gait_bound;
 pub mod linearize;
 pub mod margin;
 pub mod push;
+mod push_options;
 pub mod step_bound;
 pub mod system;
 pub mod template_walk;
