@@ -525,9 +525,10 @@ class Controller:
 
         Bad input (docs/guide/robot_rate.md, the per-tick contract): a non-finite ``t``, an
         ``x`` of another length, with a NaN or infinite entry or a base quaternion ``x[3:7]``
-        not of unit norm raises ``ValueError`` naming it (``x[12]``) and changes nothing. The clock is not checked (``t`` is the references'
-        time): a tick called twice at the same ``(t, x)`` returns the same command; a late tick
-        evaluates at its own ``t`` and state, the estimators skipping the missed periods."""
+        not of unit norm raises ``ValueError`` naming it (``x[12]``) and changes nothing. The
+        clock is not checked (``t`` is the references' time): a tick called twice at the same
+        ``(t, x)`` returns the same command; a late tick evaluates at its own ``t`` and state,
+        the estimators skipping the missed periods."""
     def inner_tick(self, x: ArrayLike) -> FloatArray:
         """``multi_rate`` only: one joint torque loop tick at state ``x`` (nx) between two
         ticks, the plant input (n); ``ValueError`` for another sampling or a bad ``x``,

@@ -318,13 +318,13 @@ fn run_length(scenario: &Scenario) -> Result<()> {
     let duration = scenario.simulation.duration_s;
     let plant_steps = duration / scenario.plant.dt;
     let samples = match scenario.controller.sampling {
-        Sampling::Continuous => f64::INFINITY,
+        Sampling::Continuous => 0.0,
         Sampling::ZeroOrderHold | Sampling::MultiRate => duration * scenario.controller.rate_hz(),
     };
-    if samples < 1.0 - 1e-9 {
+    let sampled = scenario.controller.sampling != Sampling::Continuous;
+    if sampled && samples < 1.0 - 1e-9 {
         return Err(no_tick_in_the_run(scenario));
     }
-    let samples = if samples.is_finite() { samples } else { 0.0 };
     if plant_steps.max(samples) <= MAX_RUN_STEPS {
         return Ok(());
     }
