@@ -72,6 +72,10 @@ def test_margin_errors_name_the_key_or_the_range():
         sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 2.0, 1.0)
     assert inverted.value.argument == "lower, upper"
     assert not isinstance(inverted.value, sm.ScenarioError)
+    for points in (-3, 1):
+        with pytest.raises(ValueError, match="grid_points") as bad_points:
+            sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 0.5, 1.0, grid_points=points)
+        assert bad_points.value.argument == "grid_points"
     with pytest.raises(sm.ScenarioError, match="method"):
         sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 0.5, 1.0, method="x")
     with pytest.raises(ValueError, match="sampling"):

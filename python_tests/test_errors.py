@@ -108,6 +108,15 @@ def test_malformed_toml_names_file_and_line(tmp_path):
     assert str(info.value).startswith(f"{bad}:2:"), str(info.value)
 
 
+def test_a_bad_key_names_file_and_line(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[robot]\nurdf = "x.urdf"\n\n[simulation]\nduration_s = -1\n')
+    with pytest.raises(sm.ScenarioError) as info:
+        sm.run_scenario(bad)
+    assert info.value.key == "simulation.duration_s"
+    assert str(info.value).startswith(f"{bad}:5: scenario key"), str(info.value)
+
+
 def test_missing_scenario_is_an_oserror_with_errno_and_filename(tmp_path):
     missing = tmp_path / "missing.toml"
     with pytest.raises(sm.SeaIOError) as info:
@@ -116,6 +125,10 @@ def test_missing_scenario_is_an_oserror_with_errno_and_filename(tmp_path):
     assert info.value.errno == errno.ENOENT
     assert info.value.filename == str(missing)
     assert info.value.strerror == "No such file or directory"
+    with pytest.raises(sm.SeaIOError) as folder:
+        sm.run_scenario(tmp_path)
+    assert folder.value.errno == errno.EISDIR
+    assert folder.value.filename == str(tmp_path)
 
 
 def test_unparsable_urdf_names_the_file(tmp_path):

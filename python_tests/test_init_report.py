@@ -20,6 +20,7 @@ REPORT_KEYS = {
     "measured",
     "lowering_m",
     "residual",
+    "com_offset_m",
     "feet_rank",
     "warnings",
 }
@@ -34,6 +35,7 @@ def test_the_report_has_the_rank_of_the_feet_constraints(tmp_path):
     )
     assert set(icub) == REPORT_KEYS
     assert icub["feet_rank"] == 12
+    assert icub["com_offset_m"] == 0.0
     biped = sm.init_scenario(
         str(ROOT / "urdf" / "mini_biped.urdf"),
         SOLES,

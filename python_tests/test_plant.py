@@ -264,6 +264,11 @@ def test_bad_states_and_inputs_are_rejected(biped_plant):
         plant.step(x, u, -1e-3)
     with pytest.raises(ValueError, match="method"):
         plant.step(x, u, 1e-3, method="euler")
+    # Finite but beyond floating point once squared: said as a state that is not finite.
+    huge = x.copy()
+    huge[plant.nx - model.nv :] = 1e300
+    with pytest.raises(sm.SolverError, match="the state is not finite"):
+        plant.step(huge, u, 1e-3)
 
 
 def test_bad_plant_settings_are_rejected():
@@ -293,6 +298,17 @@ def test_bad_plant_settings_are_rejected():
         sm.Plant(model, baumgarte_kp=-5.0)
     with pytest.raises(ValueError, match="motor_velocity_gain"):
         sm.Plant(model, motor_velocity_gain=0.0)
+    with pytest.raises(ValueError, match=r"actuators\['l_knee'\]\['damping'\]: expected no such key with kind 'rigid'"):
+        sm.Plant(model, actuators={"l_knee": {"kind": "rigid", "damping": 3.0}})
+    with pytest.raises(ValueError, match=r"gravity: expected three finite numbers .*, got \(0, 0\)"):
+        sm.Plant(model, gravity=(0.0, 0.0))
+    with pytest.raises(ValueError, match=r"gravity: expected three finite numbers"):
+        sm.Plant(model, gravity="abc")
+    with pytest.raises(ValueError, match=r"foot_y: expected \(min, max\) .*, got \(0.1\)"):
+        sm.Plant(model, foot_y=[0.1])
+    with pytest.raises(ValueError, match=r"foot_x: expected \(min, max\)"):
+        sm.Plant(model, foot_x=(0.1, -0.1))
+    sm.Plant(model, gravity=np.array([0.0, 0.0, -3.0]), foot_x=[-0.1, 0.1])
 
 
 def test_divergence_stops_with_status_and_keeps_the_data():

@@ -80,6 +80,10 @@ def test_calls_out_of_order_raise_runtime_errors(scenario) -> None:
     # A refused reading does not end the period: the good call after it does.
     with pytest.raises(ValueError, match="start_joint_torques"):
         controller.end_period(wrenches, torques[:-1], wrenches, torques)
+    # A reading of the wrong shape is named with its shape as given.
+    cut = np.asarray(wrenches).reshape(-1, 6)[:, :5]
+    with pytest.raises(ValueError, match=r"end_wrenches: expected shape \(\d+, 6\) .*got shape \(\d+, 5\)"):
+        controller.end_period(wrenches, torques, cut, torques)
     controller.end_period(wrenches, torques, wrenches, torques)
     with pytest.raises(RuntimeError, match="end_period: called twice in one period"):
         controller.end_period(wrenches, torques, wrenches, torques)

@@ -98,6 +98,11 @@ def test_bad_arguments_are_value_errors():
     for workers in (0, sea_momentum._native.MAX_SWEEP_WORKERS + 1, True, 2.0):
         with pytest.raises(ValueError, match="workers"):
             sweep(TRACKING, {"controller.rate_hz": [1000.0]}, workers=workers)
+    # The module's own check too: a bad argument, not a scenario key.
+    with pytest.raises(ValueError, match="workers") as native:
+        sea_momentum._native.sweep(str(TRACKING), ["controller.rate_hz=1000"], None, 0, False)
+    assert native.value.argument == "workers"
+    assert not isinstance(native.value, sea_momentum.ScenarioError)
     with pytest.raises(ValueError, match="grid"):
         sweep(TRACKING, {})
 

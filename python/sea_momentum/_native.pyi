@@ -68,7 +68,8 @@ class ModelError(SeaError, ValueError):
 
 class ScenarioError(SeaError, ValueError):
     """A scenario value or controller setting breaks a rule (the message names the dotted key,
-    the rule and the value), or a scenario file is malformed TOML (file and line)."""
+    the rule and the value, after the file and the key's line when they are known), or a
+    scenario file is malformed TOML (file and line)."""
 
     key: str
     """The dotted key, e.g. ``"controller.postural_scale"`` (not set for TOML syntax errors)."""
@@ -189,15 +190,15 @@ class Plant:
         baumgarte_kd: float | None = None,
         motor_velocity_gain: float | None = None,
         joint_inertia_regularization: float = 0.0,
-        gravity: tuple[float, float, float] | None = None,
+        gravity: ArrayLike | None = None,
         friction: float | None = None,
-        foot_x: tuple[float, float] | None = None,
-        foot_y: tuple[float, float] | None = None,
+        foot_x: ArrayLike | None = None,
+        foot_y: ArrayLike | None = None,
     ) -> Plant:
         """``actuator``: default for every joint, "rigid" (default), "elastic" (the paper's
         iCub SEA: ratio 0.01, motor_inertia 1e-5, stiffness 350, damping 0.25) or a dict of
         those keys plus ``torque_limit`` and ``kind`` (a scenario's actuator table, read the
-        same way); ``actuators``: per-joint overrides by name.
+        same way; with kind "rigid" no other key); ``actuators``: per-joint overrides by name.
         ``contacts``: frame names held at their pose in ``contact_q`` (None: no contacts).
         ``baumgarte_kp``, ``baumgarte_kd``: contact stabilisation gains; None keeps the plant's
         default (the original study's K_p = 50 and K_d = 2 sqrt(K_p), its critical damping).
@@ -341,7 +342,9 @@ def init_scenario(
     ``urdf`` (a path or a ``package://`` / ``file://`` URI) standing on ``contacts`` (frame
     names or ``LINK:x,y,z``), the foot rectangle ``foot`` (x0, x1, y0, y1, contact frame, m)
     or measured on the collision geometry; returns ``out``, ``robot``, ``mass``, ``joints``,
-    ``foot_x``, ``foot_y``, ``measured``, ``lowering_m``, ``residual``, ``feet_rank`` (the
+    ``foot_x``, ``foot_y``, ``measured``, ``lowering_m``, ``residual``, ``com_offset_m``
+    (how far the CoM stands beside the middle of the rectangles' centres: 0, or the lateral
+    offset legs without a hip yaw cannot reach), ``feet_rank`` (the
     rank of the two feet's 12 contact constraints: 12 with legs of 6 joints, fewer with
     shorter legs, whose scenario then gets a larger ``controller.pinv_damping``),
     ``warnings``. A bad ``foot`` or a ``urdf`` that cannot be found or read raises

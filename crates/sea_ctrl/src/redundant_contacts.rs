@@ -43,7 +43,8 @@ use sea_dyn::{Data, FrameId, Model};
 pub const RANK_TOLERANCE: f64 = 1e-8;
 
 /// The equalities of a redundant two-feet contact set (see the module doc), rebuilt every tick
-/// by [`Self::update`]. The SVDs allocate (the full-rank path, without this, does not).
+/// by [`Self::update`]. The decompositions allocate (the full-rank path, without this, does
+/// not).
 #[derive(Clone, Debug)]
 pub struct RedundantContacts {
     /// `k - rank(Lambda)`: the dimension of `Lambda`'s left null space.
@@ -68,15 +69,45 @@ fn rank(matrix: &DMatrix<f64>) -> usize {
         .count()
 }
 
+/// The eigenvectors of the symmetric `gram` (columns) and its eigenvalues, both in the order
+/// of the eigenvalues, ascending.
+fn sorted_eigen(gram: DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>) {
+    let eigen = SymmetricEigen::new(gram);
+    let mut order: Vec<usize> = (0..eigen.eigenvalues.len()).collect();
+    order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+    let vectors = DMatrix::from_fn(eigen.eigenvectors.nrows(), order.len(), |r, c| {
+        eigen.eigenvectors[(r, order[c])]
+    });
+    (
+        vectors,
+        order.iter().map(|&i| eigen.eigenvalues[i]).collect(),
+    )
+}
+
 /// Orthonormal eigenvectors of the symmetric `gram` for its `count` smallest eigenvalues
 /// (k x count).
 fn smallest_eigenvectors(gram: &DMatrix<f64>, count: usize) -> DMatrix<f64> {
-    let eigen = SymmetricEigen::new(gram.clone());
-    let mut order: Vec<usize> = (0..eigen.eigenvalues.len()).collect();
-    order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
-    DMatrix::from_fn(gram.nrows(), count, |r, c| {
-        eigen.eigenvectors[(r, order[c])]
-    })
+    sorted_eigen(gram.clone()).0.columns(0, count).into_owned()
+}
+
+/// The `count` leading left singular vectors of `matrix` (rows x count) and their singular
+/// values (descending), from the eigenvectors of `matrix matrix^T` (rows x rows, small here:
+/// 2 x 2 and 6 x 6). The leading singular values are far apart from the rest (a lost
+/// direction's is round-off), so the squared ones keep them apart.
+///
+/// Not nalgebra 0.33's `svd(true, true)`: on the wide, nearly rank-one matrix of
+/// [`RedundantContacts::consistency`] its factors are wrong for some round-off of the entries
+/// (mini_biped standing: `U S V^T` off the matrix by 0.42 of its norm 8.75, the leading
+/// singular value 8.762 for 8.752), and the consistency row built from them asks the QP for
+/// wrenches no torque produces (infeasible from the first tick).
+fn leading_left_singular(matrix: &DMatrix<f64>, count: usize) -> (DMatrix<f64>, Vec<f64>) {
+    let (vectors, values) = sorted_eigen(matrix * matrix.transpose());
+    let n = values.len();
+    let leading = DMatrix::from_fn(n, count, |r, c| vectors[(r, n - 1 - c)]);
+    let singular = (0..count)
+        .map(|c| values[n - 1 - c].max(0.0).sqrt())
+        .collect();
+    (leading, singular)
 }
 
 impl RedundantContacts {
@@ -160,13 +191,14 @@ impl RedundantContacts {
         // The rows of G seen from Lambda's left null space; the directions G sees are the
         // leading singular vectors (the others are J's own left null space).
         let seen = left_null.tr_mul(schur);
-        let svd = seen.svd(true, true);
-        let (u, v_t) = (svd.u.expect("asked"), svd.v_t.expect("asked"));
         let r = self.consistency_rows;
-        let rows = v_t.rows(0, r).into_owned();
-        let mut target = (left_null * u.columns(0, r)).tr_mul(task_bias);
-        for (i, value) in target.iter_mut().enumerate() {
-            *value /= svd.singular_values[i];
+        let (u, singular) = leading_left_singular(&seen, r);
+        // Row i: u_i^T seen / sigma_i = v_i^T (unit norm); its target likewise scaled.
+        let mut rows = u.tr_mul(&seen);
+        let mut target = (left_null * &u).tr_mul(task_bias);
+        for (i, sigma) in singular.iter().enumerate() {
+            rows.row_mut(i).unscale_mut(*sigma);
+            target[i] /= sigma;
         }
         (rows, target)
     }
@@ -185,8 +217,7 @@ impl RedundantContacts {
         let (c, d) = self.consistency(lambda_t, schur, task_bias);
         // A on the null space of C: its range is what the momentum rate can follow.
         let projected = momentum_map - momentum_map * c.transpose() * &c;
-        let u = projected.svd(true, false).u.expect("asked");
-        let controlled = u.columns(0, self.controlled_momentum);
+        let (controlled, _) = leading_left_singular(&projected, self.controlled_momentum);
         let m = self.controlled_momentum;
         self.equality
             .rows_mut(0, m)
@@ -198,5 +229,28 @@ impl RedundantContacts {
             .rows_mut(m, self.consistency_rows)
             .copy_from(&c);
         self.target.rows_mut(m, self.consistency_rows).copy_from(&d);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_leading_singular_direction_rebuilds_a_nearly_rank_one_wide_matrix() {
+        let v = DVector::from_fn(12, |i, _| (0.7 * i as f64).sin());
+        let u = DVector::from_vec(vec![0.6, -0.8]);
+        let mut matrix = &u * v.transpose() * 8.75;
+        matrix[(1, 3)] += 1e-14;
+        let (leading, singular) = leading_left_singular(&matrix, 1);
+        let largest = matrix.singular_values().max();
+        assert!(
+            (singular[0] - largest).abs() < 1e-12 * largest,
+            "{singular:?}"
+        );
+        let direction = leading.column(0);
+        let rebuilt = direction * (direction.transpose() * &matrix);
+        assert!((rebuilt - &matrix).norm() < 1e-12 * matrix.norm());
+        assert!((direction.dot(&u).abs() - 1.0).abs() < 1e-12);
     }
 }

@@ -22,12 +22,17 @@ pub const MAX_XML_DEPTH: usize = 256;
 
 /// The bytes of the regular file `path`, at most `limit` of them.
 ///
-/// Errors: the file cannot be opened or read; it is not a regular file
-/// ([`io::ErrorKind::InvalidInput`]); it holds more than `limit` bytes
+/// Errors: the file cannot be opened or read (a directory: the operating system's error of
+/// reading it, `EISDIR` on Unix); it is not a regular file ([`io::ErrorKind::InvalidInput`]); it holds more than `limit` bytes
 /// ([`io::ErrorKind::InvalidData`], the message naming both sizes).
 pub fn read_bounded(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
     // The kind first: opening a FIFO would wait for a writer.
     let metadata = std::fs::metadata(path)?;
+    if metadata.is_dir() {
+        // The operating system's own error for reading a directory (EISDIR on Unix), so that
+        // it carries its error number.
+        std::fs::File::open(path)?.read_exact(&mut [0u8; 1])?;
+    }
     if !metadata.is_file() {
         return Err(io::Error::new(
             io::ErrorKind::InvalidInput,
@@ -142,7 +147,9 @@ mod tests {
             "{error}"
         );
         let error = read_bounded(&dir, 10).unwrap_err();
-        assert_eq!(error.kind(), io::ErrorKind::InvalidInput, "{error}");
+        #[cfg(unix)]
+        assert_eq!(error.kind(), io::ErrorKind::IsADirectory, "{error}");
+        assert!(error.raw_os_error().is_some(), "{error}");
         let error = read_bounded(Path::new("/dev/zero"), 10).unwrap_err();
         assert!(error.to_string().contains("not a regular file"), "{error}");
         std::fs::write(&file, [0xff, 0xfe]).unwrap();

@@ -12,3 +12,4 @@ mod common;
 mod physics;
 mod tree_factor;
 mod urdf_errors;
+mod urdf_limits;

@@ -15,7 +15,7 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum Error {
     /// A scenario value is missing, unknown, of the wrong type or out of range.
-    #[error("{}", scenario_message(key, rule, value.as_deref()))]
+    #[error("{}", located_message(file.as_ref(), *line, &scenario_message(key, rule, value.as_deref())))]
     Scenario {
         /// Dotted key, e.g. `controller.postural_scale`.
         key: String,
@@ -23,6 +23,11 @@ pub enum Error {
         rule: String,
         /// The offending value, when there is one.
         value: Option<String>,
+        /// The scenario file, when the text came from one.
+        file: Option<PathBuf>,
+        /// 1-based line of the key in the scenario's text (of its table when the text does
+        /// not give the key); `None` when the text does not have it or an override set it.
+        line: Option<usize>,
     },
     /// A scenario file is not valid TOML.
     #[error("{}", sea_dyn::error::parse_message(file.as_ref(), *line, *column, message))]
@@ -54,6 +59,10 @@ pub enum Error {
     /// finished log, a stopped writer).
     #[error("MCAP log: {0}")]
     Log(String),
+    /// Writing an output other than the MCAP log failed for a reason other than I/O (the
+    /// Foxglove live view's server, a JSON summary); the message names the output.
+    #[error("{0}")]
+    Output(String),
 }
 
 impl Error {
@@ -63,6 +72,8 @@ impl Error {
             key: key.into(),
             rule: rule.into(),
             value: None,
+            file: None,
+            line: None,
         }
     }
 
@@ -72,6 +83,8 @@ impl Error {
             key: key.into(),
             rule: rule.into(),
             value: Some(value.to_string()),
+            file: None,
+            line: None,
         }
     }
 
@@ -116,10 +129,22 @@ impl Error {
         }
     }
 
-    /// Names the file a parse failure came from. Other errors pass through unchanged.
+    /// Names the file a parse failure or a scenario key's error came from. Other errors pass
+    /// through unchanged.
     pub fn in_file(mut self, path: impl Into<PathBuf>) -> Self {
-        if let Error::Parse { file, .. } = &mut self {
+        if let Error::Parse { file, .. } | Error::Scenario { file, .. } = &mut self {
             file.get_or_insert_with(|| path.into());
+        }
+        self
+    }
+
+    /// The same error with a scenario key's `line` in its text set by `line_of` (given the
+    /// key), unless it is set already. Other errors pass through unchanged.
+    pub fn at_line(mut self, line_of: impl FnOnce(&str) -> Option<usize>) -> Self {
+        if let Error::Scenario { key, line, .. } = &mut self {
+            if line.is_none() {
+                *line = line_of(key);
+            }
         }
         self
     }
@@ -131,6 +156,15 @@ fn scenario_message(key: &str, rule: &str, value: Option<&str>) -> String {
         Some(value) => format!("scenario key '{key}': {rule}, got {value}"),
         None => format!("scenario key '{key}': {rule}"),
     }
+}
+
+/// `message` after the file and line it is about (`file:line: message`, `<text>:line:` without
+/// a file, `file:` without a line), or alone when neither is known.
+fn located_message(file: Option<&PathBuf>, line: Option<usize>, message: &str) -> String {
+    if file.is_none() && line.is_none() {
+        return message.to_string();
+    }
+    sea_dyn::error::parse_message(file, line, None, message)
 }
 
 /// Result alias of this crate.

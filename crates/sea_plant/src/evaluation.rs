@@ -87,6 +87,26 @@ impl Workspace {
     }
 }
 
+/// The failure to factorise the mass matrix at the state `x`: a state or mass matrix that is
+/// not finite (a state too large for floating point, e.g. velocities of 1e300, or an implicit
+/// step's stage that diverged) said as such, else the factorisation's own reason.
+fn mass_factor_error(error: Error, x: &[f64], mass_matrix: &[f64]) -> Error {
+    const OPERATION: &str = "factorising the mass matrix";
+    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+        let detail = format!(
+            "the state is not finite (entry {i} is {}): the state or input is too large for \
+             floating point, or the step diverged",
+            x[i]
+        );
+        return Error::numerical(OPERATION, detail);
+    }
+    if mass_matrix.iter().any(|m| !m.is_finite()) {
+        let detail = "its entries are not finite: the state is too large for floating point";
+        return Error::numerical(OPERATION, detail);
+    }
+    error.during(OPERATION)
+}
+
 /// Evaluates the dynamics at `x` with input `u` into `out`: the tangent derivative `xdot`,
 /// the contact wrenches, joint and motor torques, saturation and drift; `ws` holds every
 /// intermediate. Sizes are not checked here (see [`Plant::check_state`]); a singular mass
@@ -115,7 +135,7 @@ pub fn evaluate(
     if !adopted_contacts {
         ws.mass_factor
             .factor(&ws.data.mass_matrix, &ws.diagonal)
-            .map_err(|e| e.during("factorising the mass matrix"))?;
+            .map_err(|e| mass_factor_error(e, x, ws.data.mass_matrix.as_slice()))?;
     }
 
     joint_and_motor_torques(plant, &layout, x, u, out);

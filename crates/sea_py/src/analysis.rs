@@ -7,6 +7,7 @@ use crate::interrupt::run_interruptible;
 use crate::overrides::override_pairs;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+use sea_sim::analysis::margin::MAX_SCAN_POINTS;
 use sea_sim::analysis::{
     linearize_with, stability_margin_report, ControlTiming, Linearization, LinearizeOptions,
     MarginMethod, MarginOptions, MarginWatch,
@@ -120,9 +121,13 @@ pub fn stability_margin_native<'py>(
     overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
     method: &str,
     sampling: Option<&str>,
-    grid_points: usize,
+    grid_points: i64,
     log_grid: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let grid_points = usize::try_from(grid_points).map_err(|_| {
+        let expected = format!("an integer from 2 to {MAX_SCAN_POINTS}");
+        argument_error("grid_points", &expected, grid_points)
+    })?;
     let pairs = override_pairs(overrides)?;
     let method = MarginMethod::parse(method).map_err(to_py)?;
     let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;

@@ -403,7 +403,17 @@ impl PyController {
             let flat = numpy
                 .call_method1("ravel", (value,))
                 .map_err(|_| argument_error(name, "an array of numbers", value))?;
-            vector_arg(&flat, name, reading.len(), &mut values)?;
+            let n = reading.len();
+            if flat.len()? != n {
+                // The shape as given, not as flattened.
+                let given = numpy.call_method1("shape", (value,))?.repr()?;
+                let expected = match name.ends_with("wrenches") {
+                    true => format!("shape ({}, 6) or ({n},)", n / 6),
+                    false => format!("shape ({n},)"),
+                };
+                return Err(argument_error(name, &expected, format!("shape {given}")));
+            }
+            vector_arg(&flat, name, n, &mut values)?;
             reading.copy_from_slice(&values);
         }
         let [start_wrench, start_torque, end_wrench, end_torque, mean_wrench] = &self.readings;

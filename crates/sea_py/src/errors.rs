@@ -74,8 +74,8 @@ fn create_classes(py: Python<'_>) -> PyResult<Classes> {
         "ScenarioError",
         &[base.clone(), py.get_type::<PyValueError>()],
         "A scenario value or controller setting breaks a rule: names the dotted key \
-         (attribute `key`), the rule and the value; or a scenario file is malformed TOML \
-         (file and line).",
+         (attribute `key`), the rule and the value, after the file and the key's line when \
+         they are known; or a scenario file is malformed TOML (file and line).",
     )?;
     let solver = new_class(
         py,

@@ -9,7 +9,8 @@ use sea_sim::scenario::robots::FootRectangle;
 use std::path::PathBuf;
 
 /// Writes the scenario of `sea-sim init` and returns what it found: `out`, `robot`, `mass`,
-/// `joints`, `foot_x`, `foot_y`, `measured`, `lowering_m`, `residual`, `feet_rank`, `warnings`.
+/// `joints`, `foot_x`, `foot_y`, `measured`, `lowering_m`, `residual`, `com_offset_m`,
+/// `feet_rank`, `warnings`.
 #[pyfunction]
 #[pyo3(signature = (urdf, contacts, out, foot=None, package_dirs=None))]
 pub fn init_scenario<'py>(
@@ -51,6 +52,7 @@ pub fn init_scenario<'py>(
     dict.set_item("measured", report.measured)?;
     dict.set_item("lowering_m", report.lowering_m)?;
     dict.set_item("residual", report.residual)?;
+    dict.set_item("com_offset_m", report.com_offset_m)?;
     dict.set_item("feet_rank", report.feet_rank)?;
     dict.set_item("warnings", report.warnings)?;
     Ok(dict)

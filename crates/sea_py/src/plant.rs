@@ -50,8 +50,16 @@ fn actuator_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<Actuat
             table.insert(key, value);
         }
     }
+    let keys: Vec<String> = table.keys().cloned().collect();
     match ActuatorConfig::from_table(table) {
-        Ok(config) => Ok(config.actuator()),
+        Ok(config) => match config.ignored_key(&keys) {
+            Some(key) => Err(argument_error(
+                &format!("{where_}['{key}']"),
+                "no such key with kind 'rigid': a rigid joint has no spring, damper or motor",
+                dict.get_item(key)?.map_or("?".into(), |v| v.to_string()),
+            )),
+            None => Ok(config.actuator()),
+        },
         Err(error) if error.rule.starts_with("unknown field") => Err(argument_error(
             where_,
             "keys among kind, ratio, motor_inertia, stiffness, damping, torque_limit",
@@ -114,33 +122,51 @@ fn method_arg(name: &str) -> PyResult<Method> {
     })
 }
 
-/// Checks the arguments of `Plant(...)` that the Rust plant does not check itself (its gains
-/// are checked by [`Plant::validate`]): finite gravity, a positive finite friction coefficient,
-/// foot rectangles `(min, max)` of finite numbers with `min < max`.
-fn check_surface_and_gravity(
-    gravity: Option<(f64, f64, f64)>,
-    friction: Option<f64>,
-    foot_x: Option<(f64, f64)>,
-    foot_y: Option<(f64, f64)>,
-) -> PyResult<()> {
-    if let Some((x, y, z)) = gravity {
-        if ![x, y, z].iter().all(|g| g.is_finite()) {
-            let actual = format!("({x}, {y}, {z})");
-            return Err(argument_error(
-                "gravity",
-                "three finite numbers [m/s^2]",
-                actual,
-            ));
-        }
+/// What `gravity` must be.
+const GRAVITY_RULE: &str = "three finite numbers [m/s^2]";
+/// What `foot_x` and `foot_y` must be.
+const RECTANGLE_RULE: &str = "(min, max) of finite numbers with min < max (sole frame) [m]";
+
+/// An optional argument of `N` finite numbers (a tuple, list or array), named `name` in the
+/// `ValueError` that says it must be `expected` and shows the value given.
+fn numbers_arg<const N: usize>(
+    value: Option<&Bound<'_, PyAny>>,
+    name: &str,
+    expected: &str,
+) -> PyResult<Option<[f64; N]>> {
+    let Some(value) = value else {
+        return Ok(None);
+    };
+    let numbers: Vec<f64> = value
+        .extract()
+        .map_err(|_| argument_error(name, expected, value))?;
+    let shown = numbers.iter().map(f64::to_string).collect::<Vec<_>>();
+    let shown = format!("({})", shown.join(", "));
+    if numbers.len() != N || !numbers.iter().all(|v| v.is_finite()) {
+        return Err(argument_error(name, expected, shown));
     }
+    Ok(Some(std::array::from_fn(|i| numbers[i])))
+}
+
+/// Checks the arguments of `Plant(...)` that the Rust plant does not check itself (its gains
+/// are checked by [`Plant::validate`]; the numbers' count and finiteness by [`numbers_arg`]):
+/// a positive finite friction coefficient, foot rectangles `(min, max)` with `min < max`.
+fn check_surface(
+    friction: Option<f64>,
+    foot_x: Option<[f64; 2]>,
+    foot_y: Option<[f64; 2]>,
+) -> PyResult<()> {
     if let Some(mu) = friction {
         check_positive("friction", mu).map_err(to_py)?;
     }
     for (name, rectangle) in [("foot_x", foot_x), ("foot_y", foot_y)] {
-        if let Some((low, high)) = rectangle {
-            if !(low.is_finite() && high.is_finite() && low < high) {
-                let expected = "(min, max) of finite numbers with min < max (sole frame) [m]";
-                return Err(argument_error(name, expected, format!("({low}, {high})")));
+        if let Some([low, high]) = rectangle {
+            if low >= high {
+                return Err(argument_error(
+                    name,
+                    RECTANGLE_RULE,
+                    format!("({low}, {high})"),
+                ));
             }
         }
     }
@@ -311,15 +337,18 @@ impl PyPlant {
         baumgarte_kd: Option<f64>,
         motor_velocity_gain: Option<f64>,
         joint_inertia_regularization: f64,
-        gravity: Option<(f64, f64, f64)>,
+        gravity: Option<Bound<'_, PyAny>>,
         friction: Option<f64>,
-        foot_x: Option<(f64, f64)>,
-        foot_y: Option<(f64, f64)>,
+        foot_x: Option<Bound<'_, PyAny>>,
+        foot_y: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        check_surface_and_gravity(gravity, friction, foot_x, foot_y)?;
+        let gravity = numbers_arg::<3>(gravity.as_ref(), "gravity", GRAVITY_RULE)?;
+        let foot_x = numbers_arg::<2>(foot_x.as_ref(), "foot_x", RECTANGLE_RULE)?;
+        let foot_y = numbers_arg::<2>(foot_y.as_ref(), "foot_y", RECTANGLE_RULE)?;
+        check_surface(friction, foot_x, foot_y)?;
         let mut rigid_model = model.model().clone();
-        if let Some((gx, gy, gz)) = gravity {
-            rigid_model.gravity = nalgebra::Vector3::new(gx, gy, gz);
+        if let Some(gravity) = gravity {
+            rigid_model.gravity = nalgebra::Vector3::from(gravity);
         }
         let default = match actuator {
             Some(actuator) => actuator_from_py(&actuator, "actuator")?,
@@ -347,8 +376,8 @@ impl PyPlant {
         let defaults = ContactLimits::default();
         plant.contact_limits = ContactLimits {
             friction: friction.unwrap_or(defaults.friction),
-            foot_x: foot_x.map_or(defaults.foot_x, |(low, high)| [low, high]),
-            foot_y: foot_y.map_or(defaults.foot_y, |(low, high)| [low, high]),
+            foot_x: foot_x.unwrap_or(defaults.foot_x),
+            foot_y: foot_y.unwrap_or(defaults.foot_y),
             ..defaults
         };
         plant.validate().map_err(to_py)?;

@@ -20,6 +20,7 @@
 pub use sea_dyn::bounded;
 pub mod build;
 pub mod ground;
+mod locate;
 /// `[[disturbances]]` (typed by the loop), at its former path.
 pub use sea_loop::disturbance_schedule as disturbances;
 pub mod parse;
@@ -122,13 +123,28 @@ fn paper_icub() -> Arc<RobotDescription> {
 }
 
 impl Scenario {
-    /// Parses TOML text with `overrides` (`key=value`).
+    /// Parses TOML text with `overrides` (`key=value`). A key's error gives its line in
+    /// `text` unless an override set it.
     pub fn from_toml(
         text: &str,
         overrides: &[(String, String)],
         base_dir: &Path,
     ) -> Result<Scenario> {
-        let mut root: toml::Table = toml::from_str(text).map_err(|e| syntax_error(&e, text))?;
+        let root: toml::Table = toml::from_str(text).map_err(|e| syntax_error(&e, text))?;
+        Self::from_tree(root, overrides, base_dir).map_err(|error| {
+            error.at_line(|key| {
+                let set = locate::overridden(key, overrides);
+                (!set).then(|| locate::line_of_key(text, key)).flatten()
+            })
+        })
+    }
+
+    /// [`Scenario::from_toml`] from the parsed text `root`.
+    fn from_tree(
+        mut root: toml::Table,
+        overrides: &[(String, String)],
+        base_dir: &Path,
+    ) -> Result<Scenario> {
         for (key, value) in overrides {
             apply_override(&mut root, key, value)?;
         }
@@ -426,6 +442,24 @@ mod tests {
         let default = &s.actuators.default.parameters;
         assert_eq!(default.damping, ElasticParameters::default().damping);
         assert_eq!(knee.ratio, default.ratio);
+    }
+
+    #[test]
+    fn a_rigid_override_given_an_elastic_key_is_refused_naming_it() {
+        let text = "[robot]\nurdf = \"x.urdf\"\n[actuators]\nstiffness = 100.0\n\
+                    [actuators.overrides.l_knee]\nkind = \"rigid\"\ndamping = 2.0\n";
+        let message = Scenario::from_toml(text, &[], Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("actuators.overrides.l_knee.damping")
+                && message.contains("given with kind = \"rigid\""),
+            "{message}"
+        );
+        // The default's keys stay the default's: a rigid override inherits them unread.
+        let inherits = "[robot]\nurdf = \"x.urdf\"\n[actuators]\nstiffness = 100.0\n\
+                        [actuators.overrides.l_knee]\nkind = \"rigid\"\n";
+        Scenario::from_toml(inherits, &[], Path::new(".")).unwrap();
     }
 
     #[test]

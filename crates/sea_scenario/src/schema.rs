@@ -5,7 +5,7 @@
 //! from the domain types' defaults and the robot description ([`super::robots::icub()`]).
 
 use super::bounded::{AtLeastOne, Finite, NonNegative, Positive};
-use super::parse::{table_as, take, TableResult};
+use super::parse::{table_as, take, TableError, TableResult};
 use super::robots::icub;
 use super::settings::{
     ActuatorKind, ComOrigin, ControllerKind, IdentificationWrenches, Method, Sampling, Setting,
@@ -100,6 +100,19 @@ impl ActuatorConfig {
         Ok(Self { kind, parameters })
     }
 
+    /// The first of an actuator table's own `keys` that this actuator ignores, when it is
+    /// rigid: any key but `kind` (a rigid joint has no spring, damper or motor). An override
+    /// of `[actuators]` or a Python actuator dict that gives one is refused.
+    pub fn ignored_key<'a>(
+        &self,
+        keys: impl IntoIterator<Item = &'a String>,
+    ) -> Option<&'a String> {
+        match self.kind {
+            ActuatorKind::Rigid => keys.into_iter().find(|key| *key != "kind"),
+            ActuatorKind::Elastic => None,
+        }
+    }
+
     /// The actuator this table describes.
     pub fn actuator(&self) -> Actuator {
         match self.kind {
@@ -108,6 +121,12 @@ impl ActuatorConfig {
         }
     }
 }
+
+/// The rule an elastic actuator's key given to a rigid one breaks
+/// ([`ActuatorConfig::ignored_key`]).
+pub const RIGID_IGNORES: &str =
+    "an elastic actuator's key, given with kind = \"rigid\" (a rigid joint has no spring, \
+     damper or motor)";
 
 /// The key of [`ActuatorsConfig::torque_limit_from_urdf`].
 pub const TORQUE_LIMIT_FROM_URDF: &str = "torque_limit_from_urdf";
@@ -157,10 +176,19 @@ impl<'de> Deserialize<'de> for ActuatorsConfig {
                     value.type_str()
                 )));
             };
+            let own_keys: Vec<String> = keys.keys().cloned().collect();
             let mut merged = table.clone();
             merged.extend(keys);
+            let within = format!("overrides.{name}.");
             let actuator = ActuatorConfig::from_table(merged)
-                .map_err(|e| D::Error::custom(e.within(&format!("overrides.{name}."))))?;
+                .map_err(|e| D::Error::custom(e.within(&within)))?;
+            if let Some(key) = actuator.ignored_key(&own_keys) {
+                let error = TableError {
+                    key: key.clone(),
+                    rule: RIGID_IGNORES.to_string(),
+                };
+                return Err(D::Error::custom(error.within(&within)));
+            }
             resolved.insert(name, actuator);
         }
         Ok(Self {

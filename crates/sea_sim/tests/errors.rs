@@ -112,6 +112,32 @@ fn malformed_toml_names_the_file_and_the_line() {
 }
 
 #[test]
+fn a_key_error_names_the_file_and_the_keys_line_unless_an_override_set_it() {
+    let path = std::env::temp_dir().join(format!("sea_sim_key_line_{}.toml", std::process::id()));
+    let read = |text: &str, overrides: &[(String, String)]| {
+        std::fs::write(&path, text).unwrap();
+        let (key, message) = scenario_key(Scenario::from_file(&path, overrides));
+        (key, message.replace(&path.display().to_string(), "FILE"))
+    };
+    let head = "[robot]\nurdf = \"x.urdf\"\n\n[controller]\n";
+    let (key, message) = read(&format!("{head}postural_scale = -1\n"), &[]);
+    assert_eq!(key, "controller.postural_scale");
+    assert!(message.starts_with("FILE:5: scenario key"), "{message}");
+    let (key, message) = read(&format!("{head}postural_scale = 1\ndampnig = 2\n"), &[]);
+    assert_eq!(key, "controller.dampnig");
+    assert!(message.starts_with("FILE:6: scenario key"), "{message}");
+    // A missing key: its table's header.
+    let (key, message) = read("[robot]\n\n[simulation]\nduration_s = 1.0\n", &[]);
+    assert_eq!(key, "robot.urdf");
+    assert!(message.starts_with("FILE:1: scenario key"), "{message}");
+    // The value came from the override: the file's line is not where it is.
+    let set = [("controller.postural_scale".to_string(), "-2".to_string())];
+    let (_, message) = read(&format!("{head}postural_scale = 1\n"), &set);
+    assert!(message.starts_with("FILE: scenario key"), "{message}");
+    std::fs::remove_file(&path).unwrap();
+}
+
+#[test]
 fn missing_scenario_file_is_an_io_error_with_path_and_cause() {
     let path = Path::new("/nonexistent/folder/scenario.toml");
     match Scenario::from_file(path, &[]) {

@@ -273,3 +273,21 @@ fn the_contact_points_and_their_check_reach_the_live_view() {
     assert!(contacts.iter().all(|c| c["violated"].is_null()), "{check}");
     let _ = socket.close(None);
 }
+
+#[test]
+fn a_port_in_use_is_refused_naming_the_live_view_and_the_port() {
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").expect("a free port");
+    let port = taken.local_addr().unwrap().port().to_string();
+    let output = Command::new(env!("CARGO_BIN_EXE_sea-sim"))
+        .args(["run", SCENARIO, "--live", "--port", &port, "--quiet"])
+        .args(["--set", "simulation.duration_s=0.01"])
+        .output()
+        .expect("sea-sim runs");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("Foxglove live view") && stderr.contains(&port),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("MCAP"), "{stderr}");
+}

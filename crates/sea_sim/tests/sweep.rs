@@ -287,10 +287,20 @@ fn sea_sim_sweep_writes_the_csv() {
         .unwrap();
     let stderr = String::from_utf8_lossy(&many.stderr);
     assert!(!many.status.success(), "{stderr}");
+    let most = sea_sim::sweep::MAX_WORKERS.to_string();
     assert!(
-        stderr.contains("--jobs") && stderr.contains("1024"),
+        stderr.contains("--jobs") && stderr.contains(&most),
         "{stderr}"
     );
     assert!(!dir.join("many.csv").exists());
+    // The help and the CLI reference give the same bound.
+    let help = std::process::Command::new(env!("CARGO_BIN_EXE_sea-sim"))
+        .args(["sweep", "--help"])
+        .output()
+        .unwrap();
+    let bound = format!("at most {most}");
+    assert!(String::from_utf8_lossy(&help.stdout).contains(&bound));
+    let reference = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/reference/cli.md");
+    assert!(std::fs::read_to_string(reference).unwrap().contains(&bound));
     std::fs::remove_dir_all(&dir).unwrap();
 }

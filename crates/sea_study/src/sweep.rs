@@ -501,13 +501,12 @@ pub const MAX_WORKERS: usize = 1024;
 
 /// The number of workers: `workers`, or every core when `None`.
 ///
-/// Errors: [`Error::Scenario`] (key `workers`) for 0 or more than [`MAX_WORKERS`].
+/// Errors: a bad argument ([`Error::argument`], `workers`) for 0 or more than [`MAX_WORKERS`].
 pub fn worker_count(workers: Option<usize>) -> Result<usize> {
     match workers {
-        Some(0) => Err(Error::invalid("workers", "at least 1", 0)),
-        Some(n) if n > MAX_WORKERS => Err(Error::invalid(
+        Some(n) if n == 0 || n > MAX_WORKERS => Err(Error::argument(
             "workers",
-            format!("at most {MAX_WORKERS}"),
+            format!("from 1 to {MAX_WORKERS}"),
             n,
         )),
         Some(n) => Ok(n),

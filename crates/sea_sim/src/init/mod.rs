@@ -65,6 +65,9 @@ pub struct InitReport {
     pub lowering_m: f64,
     /// The posture's largest task error [m or rad].
     pub residual: f64,
+    /// How far the CoM stands from above the middle of the foot rectangles' centres [m]: 0,
+    /// or the lateral offset legs without a hip yaw cannot reach ([`posture::standing_posture`]).
+    pub com_offset_m: f64,
     /// The rank of the two feet's 12 constraints at the standing posture (12 with legs of 6
     /// joints; 11 with legs of 5, whose contact set is redundant: [`two_feet_rank`]).
     pub feet_rank: usize,
@@ -195,6 +198,7 @@ pub fn init_unless_stopped(
         measured,
         lowering_m: standing.lowering_m,
         residual: standing.residual,
+        com_offset_m: standing.com_offset_m,
         feet_rank,
         warnings: (model.warnings.iter().map(|w| w.to_string()))
             .chain(actuators::effort_warnings(&model, &standing_torques))

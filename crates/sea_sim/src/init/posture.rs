@@ -1,6 +1,7 @@
 //! A standing posture on two feet, found by damped least-squares inverse kinematics on sea_dyn's
 //! frame and CoM Jacobians: both soles flat on the ground (z up, their yaw kept), the CoM above
-//! the middle of the two foot rectangles' centres, the base upright and lowered by
+//! the middle of the two foot rectangles' centres (or of their centres along the feet, see
+//! [`standing_posture`]), the base upright and lowered by
 //! [`LOWERING`] of its height above the soles with straight legs (so the knees bend away from
 //! the singular straight leg), every joint inside its limits by [`LIMIT_MARGIN`]. Only the
 //! base and the joints of the two legs move; the others stay at 0 (clamped into their limits).
@@ -36,9 +37,16 @@ pub struct Standing {
     pub residual: f64,
     /// Iterations used.
     pub iterations: usize,
+    /// How far the CoM stands from above the middle of the rectangles' centres [m]: 0, or the
+    /// lateral offset dropped for legs that cannot shift it sideways.
+    pub com_offset_m: f64,
 }
 
-/// The standing posture of `model` on the contacts `feet` with their `rectangles`.
+/// The standing posture of `model` on the contacts `feet` with their `rectangles`: the CoM
+/// above the middle of the rectangles' centres, else (legs of five joints, no hip yaw: bent at
+/// the hips, they yaw their feet when they shift the CoM sideways, so a rectangle off-centre
+/// sideways leaves no posture) above the middle of their centres along the feet, the lateral
+/// offsets dropped ([`Standing::com_offset_m`]).
 pub fn standing_posture(
     model: &Model,
     feet: [FrameId; 2],
@@ -55,30 +63,37 @@ pub fn standing_posture(
         position.z = ground;
         (position, yaw_only(&soles[k].rotation))
     });
-    let centre = [0, 1]
-        .map(|k| targets[k].0 + targets[k].1 * rectangle_centre(&rectangles[k]))
-        .iter()
-        .sum::<Vector3<f64>>()
-        / 2.0;
-    let moving = leg_columns(model, feet);
-    let mut q = seed(model, feet);
+    let middle = |lateral: f64| {
+        [0, 1]
+            .map(|k| {
+                let centre = rectangle_centre(&rectangles[k]);
+                let centre = Vector3::new(centre.x, lateral * centre.y, 0.0);
+                targets[k].0 + targets[k].1 * centre
+            })
+            .iter()
+            .sum::<Vector3<f64>>()
+            / 2.0
+    };
     let mut residual = f64::INFINITY;
-    for iteration in 0..MAX_ITERATIONS {
-        let (error, jacobian) = tasks(model, &mut data, &q, feet, &targets, &centre, -lowering);
-        residual = error.amax();
-        if residual < TOLERANCE {
-            return Ok(Standing {
-                joints: q[7..].to_vec(),
-                lowering_m: lowering,
-                residual,
-                iterations: iteration,
-            });
+    for centre in [middle(1.0), middle(0.0)] {
+        let goal = Goal {
+            feet,
+            targets,
+            centre,
+            base_height: -lowering,
+        };
+        match solve(model, &goal) {
+            Ok((joints, left, iterations)) => {
+                return Ok(Standing {
+                    joints,
+                    lowering_m: lowering,
+                    residual: left,
+                    iterations,
+                    com_offset_m: (centre - middle(1.0)).norm(),
+                })
+            }
+            Err(left) => residual = residual.min(left),
         }
-        let step = damped_step(&jacobian, &error, &moving);
-        let mut next = q.clone();
-        sea_dyn::integrate(model, &q, step.as_slice(), 1.0, &mut next);
-        clamp_to_limits(model, &mut next);
-        q = next;
     }
     Err(Error::config(
         "robot.contacts",
@@ -88,6 +103,40 @@ pub fn standing_posture(
              {MAX_ITERATIONS} iterations)"
         ),
     ))
+}
+
+/// What the posture is asked: the two soles' targets, the CoM's point on the ground and the
+/// base's height.
+struct Goal {
+    feet: [FrameId; 2],
+    /// Each sole's position and orientation.
+    targets: [(Vector3<f64>, Matrix3<f64>); 2],
+    /// The point the CoM stands above.
+    centre: Vector3<f64>,
+    /// The base's height [m].
+    base_height: f64,
+}
+
+/// Damped least-squares iterations towards `goal`: the joint angles, the task error left and
+/// the iterations used, or the task error left after [`MAX_ITERATIONS`].
+fn solve(model: &Model, goal: &Goal) -> std::result::Result<(Vec<f64>, f64, usize), f64> {
+    let mut data = Data::new(model);
+    let moving = leg_columns(model, goal.feet);
+    let mut q = seed(model, goal.feet);
+    let mut residual = f64::INFINITY;
+    for iteration in 0..MAX_ITERATIONS {
+        let (error, jacobian) = tasks(model, &mut data, &q, goal);
+        residual = error.amax();
+        if residual < TOLERANCE {
+            return Ok((q[7..].to_vec(), residual, iteration));
+        }
+        let step = damped_step(&jacobian, &error, &moving);
+        let mut next = q.clone();
+        sea_dyn::integrate(model, &q, step.as_slice(), 1.0, &mut next);
+        clamp_to_limits(model, &mut next);
+        q = next;
+    }
+    Err(residual)
 }
 
 /// The rotation about world z closest to `rotation` (its x axis projected on the ground).
@@ -167,24 +216,15 @@ fn clamp_to_limits(model: &Model, q: &mut [f64]) {
 
 /// The stacked task errors and Jacobians: each sole's position and orientation (6 + 6), the
 /// CoM's x, y (2), the base's orientation (3, upright) and height (1).
-#[allow(clippy::too_many_arguments)]
-fn tasks(
-    model: &Model,
-    data: &mut Data,
-    q: &[f64],
-    feet: [FrameId; 2],
-    targets: &[(Vector3<f64>, Matrix3<f64>); 2],
-    centre: &Vector3<f64>,
-    base_height: f64,
-) -> (DVector<f64>, DMatrix<f64>) {
+fn tasks(model: &Model, data: &mut Data, q: &[f64], goal: &Goal) -> (DVector<f64>, DMatrix<f64>) {
     let nv = model.nv();
     let mut error = DVector::zeros(18);
     let mut jacobian = DMatrix::zeros(18, nv);
-    for (k, &foot) in feet.iter().enumerate() {
+    for (k, &foot) in goal.feet.iter().enumerate() {
         let frame_jacobian = sea_dyn::frame_jacobian(model, data, q, foot).clone();
         sea_dyn::forward_kinematics(model, data, q);
         let placement = sea_dyn::frame_placement(model, data, foot);
-        let (position, rotation) = &targets[k];
+        let (position, rotation) = &goal.targets[k];
         error
             .rows_mut(6 * k, 3)
             .copy_from(&(position - placement.translation));
@@ -193,14 +233,14 @@ fn tasks(
         jacobian.rows_mut(6 * k, 6).copy_from(&frame_jacobian);
     }
     let com = sea_dyn::com(model, data, q);
-    error[12] = centre.x - com.x;
-    error[13] = centre.y - com.y;
+    error[12] = goal.centre.x - com.x;
+    error[13] = goal.centre.y - com.y;
     let com_jacobian = sea_dyn::centroidal::com_jacobian(model, data, q);
     jacobian.rows_mut(12, 2).copy_from(&com_jacobian.rows(0, 2));
     sea_dyn::forward_kinematics(model, data, q);
     let upright = rotation_error(&data.world_r_body[0].transpose());
     error.rows_mut(14, 3).copy_from(&upright);
-    error[17] = base_height - q[2];
+    error[17] = goal.base_height - q[2];
     for k in 0..3 {
         jacobian[(14 + k, 3 + k)] = 1.0;
     }

@@ -59,7 +59,7 @@ impl LiveServer {
     /// Starts the server on [`LIVE_HOST`]:`port` (0: any free port) and advertises every
     /// channel.
     ///
-    /// Errors: [`Error::Log`] when the server cannot start (e.g. the port is taken).
+    /// Errors: [`Error::Output`] when the server cannot start (e.g. the port is taken).
     pub fn start(port: u16) -> Result<Self> {
         let context = Context::new();
         let channel = |name: &str, topic: Topic| topic_channel(&context, name, topic);
@@ -73,13 +73,19 @@ impl LiveServer {
             .message_encoding(Log::get_message_encoding())
             .schema(Log::get_schema())
             .build_raw()
-            .map_err(|e| Error::Log(format!("live channel {EVENTS_TOPIC}: {e}")))?;
+            .map_err(|e| {
+                Error::Output(format!("Foxglove live view, channel {EVENTS_TOPIC}: {e}"))
+            })?;
         let server = WebSocketServer::new()
             .name("sea-sim")
             .context(&context)
             .bind(LIVE_HOST, port)
             .start_blocking()
-            .map_err(|e| Error::Log(format!("live server on {LIVE_HOST}:{port}: {e}")))?;
+            .map_err(|e| {
+                Error::Output(format!(
+                    "Foxglove live view, server on {LIVE_HOST}:{port}: {e}"
+                ))
+            })?;
         Ok(Self {
             context,
             server: Some(server),
@@ -93,7 +99,7 @@ impl LiveServer {
 
     /// Advertises `/contact_points` and `/contact_check` (unilateral contacts), once.
     ///
-    /// Errors: [`Error::Log`] when a channel cannot be built.
+    /// Errors: [`Error::Output`] when a channel cannot be built.
     fn add_contact_points(&mut self) -> Result<()> {
         let context = &self.context;
         for (slot, topic) in [
@@ -145,14 +151,14 @@ impl LiveServer {
 
 /// The SDK channel `name` of `topic` in `context`.
 ///
-/// Errors: [`Error::Log`] when the channel cannot be built.
+/// Errors: [`Error::Output`] when the channel cannot be built.
 fn topic_channel(context: &Arc<Context>, name: &str, topic: Topic) -> Result<Arc<RawChannel>> {
     ChannelBuilder::new(name)
         .context(context)
         .message_encoding(topic.message_encoding())
         .schema(topic.schema())
         .build_raw()
-        .map_err(|e| Error::Log(format!("live channel {name}: {e}")))
+        .map_err(|e| Error::Output(format!("Foxglove live view, channel {name}: {e}")))
 }
 
 impl Drop for LiveServer {
@@ -178,7 +184,7 @@ pub struct LiveSink {
 impl LiveSink {
     /// Starts the server on [`LIVE_HOST`]:`port` (0: any free port).
     ///
-    /// Errors: [`Error::Log`] when the server cannot start.
+    /// Errors: [`Error::Output`] when the server cannot start.
     pub fn start(port: u16) -> Result<Self> {
         Ok(Self {
             server: LiveServer::start(port)?,

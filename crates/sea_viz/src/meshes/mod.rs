@@ -120,6 +120,19 @@ impl TriangleMesh {
         }
     }
 
+    /// The first vertex or normal with a coordinate that is NaN or infinite, described (a
+    /// drawing of it would be garbage, and a bounding box of it NaN).
+    fn first_non_finite(&self) -> Option<String> {
+        let finite = |p: &[f32; 3]| p.iter().all(|c| c.is_finite());
+        let normals = self.normals.as_deref().unwrap_or_default();
+        for (what, points) in [("vertex", &self.positions[..]), ("normal", normals)] {
+            if let Some(i) = points.iter().position(|p| !finite(p)) {
+                return Some(format!("{what} {i} is not finite: {:?}", points[i]));
+            }
+        }
+        None
+    }
+
     /// Drops the triangles whose indices are out of range (a malformed file) and reports
     /// whether any was.
     fn drop_bad_triangles(&mut self) -> bool {
@@ -164,6 +177,9 @@ pub fn read_mesh(path: &Path) -> Result<TriangleMesh, MeshError> {
             "a triangle indexes a vertex that does not exist".into(),
         ));
     }
+    if let Some(message) = mesh.first_non_finite() {
+        return Err(format_error(message));
+    }
     Ok(mesh)
 }
 
@@ -196,7 +212,7 @@ mod tests {
     }
 
     #[test]
-    fn unknown_extensions_and_missing_files_are_named_errors() {
+    fn unknown_extensions_missing_files_and_non_finite_vertices_are_named_errors() {
         let dir = std::env::temp_dir().join(format!("sea_sim_meshes_{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let ply = dir.join("part.ply");
@@ -208,6 +224,32 @@ mod tests {
         );
         let message = read_mesh(&dir.join("none.stl")).unwrap_err().to_string();
         assert!(message.contains("none.stl"), "{message}");
+        // A binary STL (the ASCII reader refuses NaN itself): one facet, a NaN vertex.
+        let nan = dir.join("nan.stl");
+        let mut bytes = vec![0u8; 80];
+        bytes.extend(1u32.to_le_bytes());
+        let facet = [
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+            0.0,
+            f32::NAN,
+            0.0,
+        ];
+        bytes.extend(facet.iter().flat_map(|v: &f32| v.to_le_bytes()));
+        bytes.extend([0u8; 2]);
+        std::fs::write(&nan, bytes).unwrap();
+        let message = read_mesh(&nan).unwrap_err().to_string();
+        assert!(
+            message.contains("nan.stl") && message.contains("vertex 2 is not finite"),
+            "{message}"
+        );
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

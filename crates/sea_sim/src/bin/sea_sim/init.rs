@@ -87,6 +87,13 @@ pub(crate) fn run_init(args: &InitArgs, interrupts: &Interrupts) -> sea_sim::Res
             figures.com_height, figures.feet_distance, figures.leg_length, figures.reach
         ));
     }
+    if report.com_offset_m > 0.0 {
+        say(format_args!(
+            "sea-sim: the CoM stands {:.2} mm beside the middle of the foot rectangles' centres: \
+             these legs cannot shift it sideways (no hip yaw)",
+            1e3 * report.com_offset_m
+        ));
+    }
     let [left, _] = report.feet;
     say(format_args!(
         "sea-sim: {} written for '{name}' ({mass:.1} kg, {joints} joints): foot x {:?} y {:?} m \

@@ -110,7 +110,7 @@ pub(crate) fn run_margin(args: &MarginArgs, interrupts: &Interrupts) -> sea_sim:
         e.argument_named(&flags)
     })?;
     let text = serde_json::to_string_pretty(&margin_json(&report))
-        .map_err(|e| sea_sim::Error::Log(format!("margin JSON: {e}")))?;
+        .map_err(|e| sea_sim::Error::Output(format!("margin JSON: {e}")))?;
     if let Some(mut out) = out {
         out.write_all(text.as_bytes())?;
         out.write_all(b"\n")?;

@@ -382,7 +382,7 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
         });
     }
     let text = serde_json::to_string_pretty(&json)
-        .map_err(|e| sea_sim::Error::Log(format!("push JSON: {e}")))?;
+        .map_err(|e| sea_sim::Error::Output(format!("push JSON: {e}")))?;
     print_out(text);
     // A signal that came as the last run ended stopped nothing: the table is whole.
     Ok(match interrupts.received() {

@@ -147,7 +147,7 @@ pub(crate) fn run_scenario(args: &RunArgs, interrupts: &Interrupts) -> sea_sim::
         (result, _) => result?,
     };
     let json = serde_json::to_string_pretty(&summary.to_json())
-        .map_err(|e| sea_sim::Error::Log(format!("summary JSON: {e}")))?;
+        .map_err(|e| sea_sim::Error::Output(format!("summary JSON: {e}")))?;
     finish_outputs(outputs, &json)?;
     print_out(&json);
     Ok(match summary.status.as_str() {

@@ -20,8 +20,9 @@ pub(crate) struct SweepArgs {
     /// (repeatable; a grid key wins over the same key here).
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value)]
     overrides: Vec<(String, String)>,
-    /// Runs in parallel, at most 1024 [default: every core].
+    /// Runs in parallel, at most `sea_sim::sweep::MAX_WORKERS` [default: every core].
     #[arg(long, short = 'j', value_name = "N",
+          help = format!("Runs in parallel, at most {} [default: every core]", sea_sim::sweep::MAX_WORKERS),
           value_parser = clap::value_parser!(u32).range(1..=sea_sim::sweep::MAX_WORKERS as i64))]
     jobs: Option<u32>,
     /// Write the results to FILE (CSV: the grid values, then status, message and every summary
