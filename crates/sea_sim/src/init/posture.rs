@@ -74,8 +74,13 @@ pub fn standing_posture(
             .sum::<Vector3<f64>>()
             / 2.0
     };
+    // The second point only when it is another one (a rectangle off-centre sideways).
+    let mut centres = vec![middle(1.0)];
+    if middle(0.0) != centres[0] {
+        centres.push(middle(0.0));
+    }
     let mut residual = f64::INFINITY;
-    for centre in [middle(1.0), middle(0.0)] {
+    for centre in centres {
         let goal = Goal {
             feet,
             targets,

@@ -90,7 +90,7 @@ pub(crate) fn run_init(args: &InitArgs, interrupts: &Interrupts) -> sea_sim::Res
     if report.com_offset_m > 0.0 {
         say(format_args!(
             "sea-sim: the CoM stands {:.2} mm beside the middle of the foot rectangles' centres: \
-             these legs cannot shift it sideways (no hip yaw)",
+             no posture shifts it sideways (legs without a hip yaw cannot)",
             1e3 * report.com_offset_m
         ));
     }
