@@ -23,8 +23,9 @@ pub const MAX_XML_DEPTH: usize = 256;
 /// The bytes of the regular file `path`, at most `limit` of them.
 ///
 /// Errors: the file cannot be opened or read (a directory: the operating system's error of
-/// reading it, `EISDIR` on Unix); it is not a regular file ([`io::ErrorKind::InvalidInput`]); it holds more than `limit` bytes
-/// ([`io::ErrorKind::InvalidData`], the message naming both sizes).
+/// reading it, `EISDIR` on Unix); it is not a regular file ([`io::ErrorKind::InvalidInput`]);
+/// it holds more than `limit` bytes ([`io::ErrorKind::InvalidData`], the message naming both
+/// sizes).
 pub fn read_bounded(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
     // The kind first: opening a FIFO would wait for a writer.
     let metadata = std::fs::metadata(path)?;

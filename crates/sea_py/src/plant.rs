@@ -56,7 +56,10 @@ fn actuator_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<Actuat
             Some(key) => Err(argument_error(
                 &format!("{where_}['{key}']"),
                 "no such key with kind 'rigid': a rigid joint has no spring, damper or motor",
-                dict.get_item(key)?.map_or("?".into(), |v| v.to_string()),
+                match dict.get_item(key)? {
+                    Some(value) => value.repr()?.to_string(),
+                    None => "?".to_string(),
+                },
             )),
             None => Ok(config.actuator()),
         },
