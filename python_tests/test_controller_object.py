@@ -183,6 +183,10 @@ def test_tables_are_checked_as_in_a_scenario_file() -> None:
         sm.Controller(model, ["l_sole"], q0, contact={"friction": -1.0})
     with pytest.raises(sm.ScenarioError, match="robot.contacts"):
         sm.Controller(model, ["no_such_frame"], q0)
+    # The keys are the caller's arguments, not lines of a text: no place is given.
+    with pytest.raises(sm.ScenarioError) as three:
+        sm.Controller(model, ["l_sole", "r_sole", "l_sole"], q0)
+    assert str(three.value).startswith("scenario key 'robot.contacts'"), str(three.value)
     with pytest.raises(ValueError, match="q0"):
         sm.Controller(model, ["l_sole"], q0[:-1])
     not_unit = q0.copy()

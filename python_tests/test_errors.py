@@ -150,6 +150,8 @@ def test_bad_urdf_element_is_named(tmp_path):
     with pytest.raises(sm.ModelError) as info:
         sm.Model.from_urdf(str(path))
     assert info.value.element == "joint 'j'"
+    assert info.value.filename == str(path)
+    assert str(info.value).startswith(f"{path}: joint 'j': "), str(info.value)
     assert "zero axis" in str(info.value)
 
 

@@ -60,11 +60,14 @@ class SeaError(Exception):
     """Base of every sea_momentum error (MCAP logging failures other than I/O raise it as is)."""
 
 class ModelError(SeaError, ValueError):
-    """The robot description is unusable: the message names the URDF element and the condition,
-    or the file (and line, when known) of a parse failure; also an unknown frame name."""
+    """The robot description is unusable: the message names the URDF file, the element and the
+    condition, or the file (and line, when known) of a parse failure; also an unknown frame name."""
 
     element: str
     """The element, e.g. ``"joint 'r_knee'"`` or the unknown frame (not set for parse errors)."""
+    filename: str | None
+    """The URDF file of an unusable element, ``None`` when the description was given as text (not
+    set for parse errors and unknown frames)."""
 
 class ScenarioError(SeaError, ValueError):
     """A scenario value or controller setting breaks a rule (the message names the dotted key,

@@ -1,14 +1,14 @@
 //! The one error type of `sea_dyn`.
 //!
-//! Every variant carries fields, not only a message: the URDF element ([`Error::Model`]), the
-//! argument with the expected and the actual value ([`Error::InvalidArgument`]), the file and
+//! Every variant carries fields, not only a message: the URDF element and its file
+//! ([`Error::Model`]), the argument with the expected and the actual value ([`Error::InvalidArgument`]), the file and
 //! line of a parse failure ([`Error::Parse`]), the path and cause of an I/O failure
 //! ([`Error::Io`]). Numerical failures (a matrix that should be positive definite and is not)
 //! are [`Error::Numerical`], distinct from input errors: the input was well formed, the state
 //! it led to is not solvable. A description that loads but is physically doubtful (an inertia
 //! violating the triangle inequality, a massless moving subtree) yields [`Warning`]s, kept in
-//! the model, which strict loading turns into [`Error::Model`]. Bindings map each variant to one Python class, in one place
-//! (`sea_py/src/errors.rs`).
+//! the model, which strict loading turns into [`Error::Model`]. Bindings map each variant to one
+//! Python class, in one place (`sea_py/src/errors.rs`).
 
 use std::path::PathBuf;
 
@@ -19,12 +19,14 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum Error {
     /// The robot description is unusable.
-    #[error("{element}: {message}")]
+    #[error("{}{element}: {message}", file_prefix(file.as_ref()))]
     Model {
         /// The element, e.g. `link 'l_foot'`, `joint 'r_knee'`, `robot`.
         element: String,
         /// The violated condition.
         message: String,
+        /// The description's file, when the text came from one.
+        file: Option<PathBuf>,
     },
     /// An argument has the wrong size or holds a non-finite or out-of-range value.
     #[error("{argument}: expected {expected}, got {actual}")]
@@ -79,6 +81,7 @@ impl Error {
         Error::Model {
             element: element.into(),
             message: message.into(),
+            file: None,
         }
     }
 
@@ -121,9 +124,10 @@ impl Error {
         }
     }
 
-    /// Names the file a parse failure came from. Other errors pass through unchanged.
+    /// Names the file a parse failure or a model error came from. Other errors pass through
+    /// unchanged.
     pub fn in_file(mut self, path: impl Into<PathBuf>) -> Self {
-        if let Error::Parse { file, .. } = &mut self {
+        if let Error::Parse { file, .. } | Error::Model { file, .. } = &mut self {
             file.get_or_insert_with(|| path.into());
         }
         self
@@ -211,6 +215,12 @@ pub fn parse_message(
         }
     }
     format!("{place}: {message}")
+}
+
+/// `file: ` before a message about a file's content, or nothing when no file is known.
+fn file_prefix(file: Option<&PathBuf>) -> String {
+    file.map(|file| format!("{}: ", file.display()))
+        .unwrap_or_default()
 }
 
 /// The operating system's description of an I/O error without the trailing `(os error N)`,

@@ -125,6 +125,31 @@ fn missing_links_are_named() {
 }
 
 #[test]
+fn a_model_error_from_a_file_names_the_file() {
+    let parts = replace(
+        &valid_parts(),
+        r#"<joint name="knee""#,
+        joint("knee", "continuous", "phantom", "shin"),
+    );
+    let path = std::env::temp_dir().join(format!("sea_dyn_model_file_{}.urdf", std::process::id()));
+    std::fs::write(&path, robot(&parts)).unwrap();
+    let loaded = Model::from_urdf_file(&path, &LoadOptions::default());
+    std::fs::remove_file(&path).unwrap();
+    let Err(error @ Error::Model { .. }) = loaded else {
+        panic!("expected Error::Model, got {loaded:?}");
+    };
+    let message = error.to_string();
+    assert!(
+        message.starts_with(&format!("{}: joint 'knee'", path.display())),
+        "{message}"
+    );
+    let Error::Model { file, .. } = error else {
+        unreachable!()
+    };
+    assert_eq!(file.as_deref(), Some(path.as_path()));
+}
+
+#[test]
 fn loops_are_rejected() {
     // A link that is the child of two joints.
     let mut parts = valid_parts();

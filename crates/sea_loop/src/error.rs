@@ -4,7 +4,8 @@
 //! and the value; malformed TOML is [`Error::Parse`] with the file, line and column; reading or
 //! writing a file is [`Error::Io`] with the path and the operating system's cause. Model,
 //! argument and numerical failures come from `sea_dyn` ([`Error::Dynamics`]) and controller
-//! settings from `sea_ctrl` ([`Error::Control`]), unchanged.
+//! settings from `sea_ctrl` ([`Error::Control`]), unchanged (a scenario's read and build turn
+//! a controller setting's error into [`Error::Scenario`] with the file and line of its key).
 
 use std::path::PathBuf;
 
@@ -165,6 +166,16 @@ fn located_message(file: Option<&PathBuf>, line: Option<usize>, message: &str) -
         return message.to_string();
     }
     sea_dyn::error::parse_message(file, line, None, message)
+}
+
+/// The text of a panic's payload (a `&str` or a `String`; "unknown panic" otherwise), for an
+/// error that reports a panic caught on another thread.
+pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".to_string())
 }
 
 /// Result alias of this crate.

@@ -88,7 +88,7 @@ pub fn run_setup_with_sinks(
     let start = Instant::now();
     let mut engine = Engine::new(settings, setup, parts)?;
     let mut statistics = RunningStatistics::default();
-    let info = engine.info();
+    let info = engine.info(cancel);
     let outcome = sinks
         .iter_mut()
         .try_for_each(|sink| sink.begin(&info))

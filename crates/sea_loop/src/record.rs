@@ -11,6 +11,7 @@ use crate::settings::RunScene;
 use sea_ctrl::qp::QpStatus;
 use sea_ctrl::walking::Gait;
 use sea_dyn::{Model, StateLayout};
+use std::sync::atomic::AtomicBool;
 
 /// What a sink learns before the first sample.
 #[derive(Clone, Copy, Debug)]
@@ -34,6 +35,10 @@ pub struct RunInfo<'a> {
     /// times from the run's start), which the logs draw until the controller changes it
     /// ([`RecordSink::walking`]); `None` when the robot does not walk.
     pub walking: Option<&'a Gait>,
+    /// The run's cancellation flag: a sink whose `begin` waits on slow work (reading a large
+    /// mesh) gives that work up once it is raised; the run then ends "interrupted" at its
+    /// first sample.
+    pub cancel: &'a AtomicBool,
 }
 
 /// One recorded sample of a run: the plant state at `time_s`, the controller's evaluation

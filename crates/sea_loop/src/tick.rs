@@ -23,6 +23,7 @@ use sea_ctrl::MomentumController;
 use sea_dyn::{Data, Model};
 use sea_plant::integrator::step_with_feedback;
 use sea_plant::{Method, Plant, PlantData, PlantOutputs, StateLayout, Workspace};
+use std::sync::atomic::AtomicBool;
 
 /// The loop's feedback law: the setup's controller, borrowed (its counters are read after the
 /// run), with clones of its references.
@@ -435,8 +436,8 @@ impl<'a> Engine<'a> {
         })
     }
 
-    /// What the sinks learn before the first sample.
-    pub fn info(&self) -> RunInfo<'_> {
+    /// What the sinks learn before the first sample (`cancel`: the run's flag).
+    pub fn info<'s>(&'s self, cancel: &'s AtomicBool) -> RunInfo<'s> {
         RunInfo {
             model: self.model,
             layout: self.layout,
@@ -446,6 +447,7 @@ impl<'a> Engine<'a> {
             disturbance_links: &self.disturbance_links,
             contact_points: &self.contact_points,
             walking: self.robot.controller().gait(),
+            cancel,
         }
     }
 

@@ -172,32 +172,40 @@ fn output_object<'py>(
 }
 
 /// A scenario holding only the tables a controller needs: `[robot]` with `contacts` and the
-/// initial posture `s0`, and the given tables (dicts, nested dicts are sub-tables) applied as
-/// overrides, so every key is parsed and validated as in a scenario file and errors name it
-/// (`controller.postural_scale`).
+/// initial posture `s0`, and the given tables (dicts, nested dicts are sub-tables), every key
+/// an override of an empty text, so that it is parsed and validated as in a scenario file and
+/// its error names it (`controller.postural_scale`) with no line of a text the caller never
+/// wrote.
 fn table_scenario(
     contacts: &[String],
     s0: &[f64],
     tables: [(&str, Option<&Bound<'_, PyDict>>); 4],
 ) -> PyResult<Scenario> {
-    let mut robot = toml::Table::new();
-    // Never read: the model is given from Python (the scenario's build is not called).
-    robot.insert("urdf".into(), "(model given from Python)".into());
-    robot.insert("contacts".into(), contacts.to_vec().into());
-    robot.insert("initial_posture".into(), s0.to_vec().into());
-    let mut root = toml::Table::new();
-    root.insert("robot".into(), robot.into());
+    let literal = |value: toml::Value| value.to_string();
+    let mut pairs = vec![
+        // Never read: the model is given from Python (the scenario's build is not called).
+        (
+            "robot.urdf".to_string(),
+            literal("(model given from Python)".into()),
+        ),
+        (
+            "robot.contacts".to_string(),
+            literal(contacts.to_vec().into()),
+        ),
+        (
+            "robot.initial_posture".to_string(),
+            literal(s0.to_vec().into()),
+        ),
+    ];
     let walks = tables
         .iter()
         .any(|&(name, table)| name == "walking" && table.is_some());
     if walks {
         // The controller reads no plant key; a walk needs feet that can lift off the ground,
         // which the caller's robot (or plant) has.
-        let mut plant = toml::Table::new();
-        plant.insert("contact_model".into(), "unilateral".into());
-        root.insert("plant".into(), plant.into());
+        let unilateral = literal("unilateral".into());
+        pairs.push(("plant.contact_model".to_string(), unilateral));
     }
-    let mut pairs = Vec::new();
     for (name, table) in tables {
         match table {
             // An empty dict is the table with its defaults (`walking={}`: a walk, no command).
@@ -206,7 +214,7 @@ fn table_scenario(
             None => {}
         }
     }
-    Scenario::from_toml(&root.to_string(), &pairs, std::path::Path::new(".")).map_err(to_py)
+    Scenario::from_toml("", &pairs, std::path::Path::new(".")).map_err(to_py)
 }
 
 /// A dict's entries as `prefix.key=value` override pairs (TOML literals), nested dicts as

@@ -5,8 +5,8 @@
 //! | class                                  | raised for                                        |
 //! |----------------------------------------|---------------------------------------------------|
 //! | `SeaError(Exception)`                  | base of all below; also MCAP logging failures     |
-//! | `ModelError(SeaError, ValueError)`     | unusable URDF (element), unparsable URDF (file),  |
-//! |                                        | unknown frame name                                |
+//! | `ModelError(SeaError, ValueError)`     | unusable URDF (element, file), unparsable URDF    |
+//! |                                        | (file), unknown frame name                        |
 //! | `ScenarioError(SeaError, ValueError)`  | scenario key or controller setting (key, rule,    |
 //! |                                        | value), malformed TOML (file, line)               |
 //! | `SolverError(SeaError, RuntimeError)`  | numerical failure (operation): mass matrix not    |
@@ -16,7 +16,8 @@
 //! |                                        | filename)`                                        |
 //! | `ValueError`                           | a bad argument (name, expected, actual)           |
 //!
-//! Instances carry the Rust fields as attributes: `ModelError.element`, `ScenarioError.key`,
+//! Instances carry the Rust fields as attributes: `ModelError.element` (and `filename`, `None`
+//! when the description was not read from a file), `ScenarioError.key`,
 //! `SolverError.operation`, `ValueError.argument` (when the Rust error has them). Every error of
 //! the bindings goes through [`ToPyErr`] (Rust errors) or [`argument_error`] (checks done in the
 //! bindings themselves), so a class or a message format changes in this file only.
@@ -66,8 +67,8 @@ fn create_classes(py: Python<'_>) -> PyResult<Classes> {
         py,
         "ModelError",
         &[base.clone(), py.get_type::<PyValueError>()],
-        "The robot description is unusable: names the URDF element (attribute `element`) or \
-         the file and line of a parse failure.",
+        "The robot description is unusable: names the URDF element (attribute `element`) and \
+         its file (attribute `filename`), or the file and line of a parse failure.",
     )?;
     let scenario = new_class(
         py,
@@ -132,7 +133,7 @@ enum Kind {
 }
 
 /// An exception of `kind` with `message` and the attribute `name = value` (if any).
-fn raise(kind: Kind, message: String, attribute: Option<(&str, &str)>) -> PyErr {
+fn raise(kind: Kind, message: String, attributes: &[(&str, Option<&str>)]) -> PyErr {
     Python::attach(|py| {
         let c = classes(py);
         let class = match kind {
@@ -143,7 +144,7 @@ fn raise(kind: Kind, message: String, attribute: Option<(&str, &str)>) -> PyErr 
             Kind::Value => py.get_type::<PyValueError>(),
         };
         let made = class.call1((message.clone(),)).and_then(|instance| {
-            if let Some((name, value)) = attribute {
+            for &(name, value) in attributes {
                 instance.setattr(name, value)?;
             }
             Ok(PyErr::from_value(instance))
@@ -175,17 +176,24 @@ impl ToPyErr for sea_dyn::Error {
         use sea_dyn::Error as E;
         let message = self.to_string();
         match &self {
-            E::Model { element, .. } => raise(Kind::Model, message, Some(("element", element))),
-            E::Parse { .. } => raise(Kind::Model, message, None),
-            E::UnknownFrame { name } => raise(Kind::Model, message, Some(("element", name))),
+            E::Model { element, file, .. } => {
+                let file = file.as_ref().map(|f| f.display().to_string());
+                let attributes = [
+                    ("element", Some(element.as_str())),
+                    ("filename", file.as_deref()),
+                ];
+                raise(Kind::Model, message, &attributes)
+            }
+            E::Parse { .. } => raise(Kind::Model, message, &[]),
+            E::UnknownFrame { name } => raise(Kind::Model, message, &[("element", Some(name))]),
             E::InvalidArgument { argument, .. } => {
-                raise(Kind::Value, message, Some(("argument", argument)))
+                raise(Kind::Value, message, &[("argument", Some(argument))])
             }
             E::Io { path, source } => io_error(&path.display().to_string(), source),
             E::Numerical { operation, .. } => {
-                raise(Kind::Solver, message, Some(("operation", operation)))
+                raise(Kind::Solver, message, &[("operation", Some(operation))])
             }
-            _ => raise(Kind::Sea, message, None),
+            _ => raise(Kind::Sea, message, &[]),
         }
     }
 }
@@ -195,9 +203,9 @@ impl ToPyErr for sea_ctrl::Error {
         match self {
             sea_ctrl::Error::Dynamics(e) => e.to_py_err(),
             sea_ctrl::Error::Setting { ref key, .. } => {
-                raise(Kind::Scenario, self.to_string(), Some(("key", key)))
+                raise(Kind::Scenario, self.to_string(), &[("key", Some(key))])
             }
-            other => raise(Kind::Sea, other.to_string(), None),
+            other => raise(Kind::Sea, other.to_string(), &[]),
         }
     }
 }
@@ -209,11 +217,11 @@ impl ToPyErr for sea_sim::Error {
             E::Dynamics(e) => e.to_py_err(),
             E::Control(e) => e.to_py_err(),
             E::Scenario { ref key, .. } => {
-                raise(Kind::Scenario, self.to_string(), Some(("key", key)))
+                raise(Kind::Scenario, self.to_string(), &[("key", Some(key))])
             }
-            E::Parse { .. } => raise(Kind::Scenario, self.to_string(), None),
+            E::Parse { .. } => raise(Kind::Scenario, self.to_string(), &[]),
             E::Io { path, source } => io_error(&path, &source),
-            other => raise(Kind::Sea, other.to_string(), None),
+            other => raise(Kind::Sea, other.to_string(), &[]),
         }
     }
 }

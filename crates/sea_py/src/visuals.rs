@@ -44,7 +44,7 @@ pub fn link_meshes<'py>(
         .map_err(to_py)?;
     let warnings: Vec<String> = visuals.warnings.iter().map(ToString::to_string).collect();
     if strict && !warnings.is_empty() {
-        let error = sea_dyn::Error::model(urdf.display().to_string(), warnings.join("; "));
+        let error = sea_dyn::Error::model("robot", warnings.join("; ")).in_file(&urdf);
         return Err(to_py(error));
     }
     let mut meshes = Vec::new();

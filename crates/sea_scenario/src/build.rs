@@ -35,7 +35,9 @@ pub fn load_model(scenario: &Scenario) -> Result<Model> {
         ..Default::default()
     };
     let mut model = Model::from_urdf_file(&urdf, &options).map_err(|e| match e {
-        sea_dyn::Error::Model { element, message } if message == UNKNOWN_LISTED_JOINT => {
+        sea_dyn::Error::Model {
+            element, message, ..
+        } if message == UNKNOWN_LISTED_JOINT => {
             let rule = format!("names a joint that {} does not have", urdf.display());
             Error::invalid(key, rule, element)
         }
@@ -292,8 +294,14 @@ pub fn posture_reference(
     })
 }
 
-/// Builds the model, plant, controller and initial state of a scenario.
+/// Builds the model, plant, controller and initial state of a scenario; a key's error gives
+/// the scenario's file and the key's line ([`crate::Origin::locate`]).
 pub fn build(scenario: &Scenario) -> Result<Setup> {
+    build_setup(scenario).map_err(|e| scenario.origin.locate(e))
+}
+
+/// [`build`] without the key's place in the file.
+fn build_setup(scenario: &Scenario) -> Result<Setup> {
     let model = load_model(scenario)?;
     super::validate::against_model(scenario, model.total_mass(), model.gravity.norm())?;
     let actuation = actuation(scenario, &model)?;

@@ -21,6 +21,7 @@ pub use sea_dyn::bounded;
 pub mod build;
 pub mod ground;
 mod locate;
+pub use locate::Origin;
 /// `[[disturbances]]` (typed by the loop), at its former path.
 pub use sea_loop::disturbance_schedule as disturbances;
 pub mod parse;
@@ -111,6 +112,10 @@ pub struct Scenario {
     /// Folder of the scenario file (for relative paths).
     #[serde(skip)]
     pub base_dir: PathBuf,
+    /// The file, text and overrides the scenario was read from ([`Origin::locate`] gives a
+    /// key's error found later its file and line).
+    #[serde(skip)]
+    pub origin: Arc<Origin>,
     /// The robot description of `robot.description` (the paper's iCub by default), read
     /// before the tables: their defaults come from it.
     #[serde(skip, default = "paper_icub")]
@@ -131,12 +136,11 @@ impl Scenario {
         base_dir: &Path,
     ) -> Result<Scenario> {
         let root: toml::Table = toml::from_str(text).map_err(|e| syntax_error(&e, text))?;
-        Self::from_tree(root, overrides, base_dir).map_err(|error| {
-            error.at_line(|key| {
-                let set = locate::overridden(key, overrides);
-                (!set).then(|| locate::line_of_key(text, key)).flatten()
-            })
-        })
+        let origin = Origin::of_text(text, overrides);
+        let mut scenario =
+            Self::from_tree(root, overrides, base_dir).map_err(|e| origin.locate(e))?;
+        scenario.origin = Arc::new(origin);
+        Ok(scenario)
     }
 
     /// [`Scenario::from_toml`] from the parsed text `root`.
@@ -190,8 +194,20 @@ impl Scenario {
     /// Reads a scenario file with overrides.
     pub fn from_file(path: &Path, overrides: &[(String, String)]) -> Result<Scenario> {
         let text = sea_dyn::files::read_text(path).map_err(|source| Error::io(path, source))?;
+        Self::from_file_text(path, &text, overrides)
+    }
+
+    /// [`Scenario::from_file`] of `text`, already read from `path` (relative paths resolved
+    /// from its folder, errors naming it).
+    pub fn from_file_text(
+        path: &Path,
+        text: &str,
+        overrides: &[(String, String)],
+    ) -> Result<Scenario> {
         let base = path.parent().unwrap_or(Path::new("."));
-        Self::from_toml(&text, overrides, base).map_err(|e| e.in_file(path))
+        let mut scenario = Self::from_toml(text, overrides, base).map_err(|e| e.in_file(path))?;
+        Arc::make_mut(&mut scenario.origin).file = Some(path.to_path_buf());
+        Ok(scenario)
     }
 
     /// The robot's URDF file: `robot.urdf` (from the scenario or its robot description, a

@@ -3,8 +3,69 @@
 //! text gives (a missing key is shown at its table's header). Keys are the paths of the
 //! schema's errors, `controller.rate_hz` or `disturbances[0].duration_s`.
 
+use crate::error::Error;
 use std::ops::Range;
+use std::path::PathBuf;
 use toml_edit::{ImDocument, Item, Table, Value};
+
+/// Where a scenario was read from: its file (when it came from one), its text and the
+/// overrides applied to it, kept with the scenario so that an error found after the read (at
+/// build, e.g. `robot.initial_posture[0]`) gives the key's file and line too.
+#[derive(Clone, Default)]
+pub struct Origin {
+    /// The scenario file; `None` for text given directly.
+    pub file: Option<PathBuf>,
+    /// The scenario's TOML text, as read.
+    text: String,
+    /// The `key=value` overrides applied over `text`.
+    overrides: Vec<(String, String)>,
+}
+
+impl std::fmt::Debug for Origin {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Origin")
+            .field("file", &self.file)
+            .field("text_bytes", &self.text.len())
+            .field("overrides", &self.overrides)
+            .finish()
+    }
+}
+
+impl Origin {
+    /// The origin of `text` read with `overrides` (no file yet).
+    pub(crate) fn of_text(text: &str, overrides: &[(String, String)]) -> Self {
+        Origin {
+            file: None,
+            text: text.to_string(),
+            overrides: overrides.to_vec(),
+        }
+    }
+
+    /// A scenario key's `error` with the line of its key in the text (unless an override set
+    /// it) and the file; a controller setting's error (`sea_ctrl`'s, keyed by the same dotted
+    /// keys) becomes a scenario key's. Every other error passes through unchanged.
+    pub fn locate(&self, error: Error) -> Error {
+        let error = match error {
+            Error::Control(sea_ctrl::Error::Setting { key, rule, value }) => Error::Scenario {
+                key,
+                rule,
+                value,
+                file: None,
+                line: None,
+            },
+            Error::Scenario { .. } => error,
+            other => return other,
+        };
+        let located = error.at_line(|key| {
+            let set = overridden(key, &self.overrides);
+            (!set).then(|| line_of_key(&self.text, key)).flatten()
+        });
+        match &self.file {
+            Some(file) => located.in_file(file),
+            None => located,
+        }
+    }
+}
 
 /// One step of a dotted key.
 #[derive(Debug, PartialEq)]

@@ -106,11 +106,14 @@ pub fn run_setup_with_sinks(
     cancel: &AtomicBool,
     progress: impl FnMut(f64, f64),
 ) -> Result<Summary> {
-    let settings = scenario.loop_settings()?;
+    let located = |e| scenario.origin.locate(e);
+    let settings = scenario.loop_settings().map_err(located)?;
     let multi_rate = settings.schedule.sampling == Sampling::MultiRate;
     let period = settings.schedule.period;
     let parts = scenario
         .controller
-        .stack_parts(&setup.controller, period, multi_rate)?;
+        .stack_parts(&setup.controller, period, multi_rate)
+        .map_err(located)?;
     sea_loop::run_setup_with_sinks((&settings, setup, parts), sinks, cancel, progress)
+        .map_err(located)
 }

@@ -93,7 +93,8 @@ fn a_listed_joint_the_urdf_lacks_names_the_list() {
     let joints = ("robot.joints", "[\"torso_pitch\", \"l_kneee\"]");
     let message = refused(&[joints]);
     assert!(
-        message.starts_with("scenario key 'robot.joints'") && message.contains("'l_kneee'"),
+        message.contains("push_two_feet.toml: scenario key 'robot.joints'")
+            && message.contains("'l_kneee'"),
         "{message}"
     );
     let dir = std::env::temp_dir().join(format!("sea_joint_list_{}", std::process::id()));
@@ -111,7 +112,7 @@ fn a_listed_joint_the_urdf_lacks_names_the_list() {
     let pairs: Vec<(&str, &str)> = overrides.iter().map(|(k, v)| (*k, v.as_str())).collect();
     let message = refused(&pairs);
     assert!(
-        message.starts_with("scenario key 'robot.description.joints'")
+        message.contains("push_two_feet.toml: scenario key 'robot.description.joints'")
             && message.contains("'l_kneee'"),
         "{message}"
     );

@@ -87,6 +87,64 @@ fn all_nan_initial_posture_names_the_key() {
     }
 }
 
+/// The tracking scenario's text with its URDF's absolute path, edited by `edit`, written to
+/// `scenario.toml` in a new folder of the temporary directory: (folder, file, text written).
+fn tracking_copy(tag: &str, edit: impl FnOnce(String) -> String) -> (PathBuf, PathBuf, String) {
+    let dir = std::env::temp_dir().join(format!("sea_sim_{tag}_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scenario.toml");
+    let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../urdf/icub25.urdf");
+    let text = std::fs::read_to_string(tracking())
+        .unwrap()
+        .replace("../../urdf/icub25.urdf", &urdf.display().to_string());
+    let text = edit(text);
+    std::fs::write(&path, &text).unwrap();
+    (dir, path, text)
+}
+
+#[test]
+fn a_key_error_found_at_build_names_the_file_and_the_keys_line() {
+    let nans = vec!["nan"; 25].join(", ");
+    let (dir, path, _) = tracking_copy("build_line", |text| {
+        text.replace("\"left_stance\"", &format!("[{nans}]"))
+    });
+    let built = |overrides: &[(String, String)]| {
+        let scenario = Scenario::from_file(&path, overrides).unwrap();
+        let error = build(&scenario).err().expect("an all-NaN posture refused");
+        error
+            .to_string()
+            .replace(&path.display().to_string(), "FILE")
+    };
+    let message = built(&[]);
+    assert!(
+        message.starts_with("FILE:9: scenario key 'robot.initial_posture[0]'"),
+        "{message}"
+    );
+    // The posture from an override: no line of the file is where it came from.
+    let set = [("robot.initial_posture".to_string(), format!("[{nans}]"))];
+    let message = built(&set);
+    assert!(message.starts_with("FILE: scenario key"), "{message}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_disturbance_error_found_at_the_runs_start_names_the_file_and_the_line() {
+    let disturbance = "[[disturbances]]\nlink = \"no_such_link\"\nforce = [1.0, 0.0, 0.0]\n";
+    let (dir, path, text) = tracking_copy("run_line", |text| {
+        format!("{text}\n{disturbance}start_s = 0.1\nduration_s = 0.1\n")
+    });
+    let line = text.lines().position(|l| l.starts_with("link = ")).unwrap() + 1;
+    let scenario = Scenario::from_file(&path, &[]).unwrap();
+    let run = sea_sim::scenario::run::run(&scenario, |_, _| ());
+    std::fs::remove_dir_all(&dir).unwrap();
+    let message = run.expect_err("an unknown link refused").to_string();
+    let expected = format!(
+        "{}:{line}: scenario key 'disturbances[0].link'",
+        path.display()
+    );
+    assert!(message.starts_with(&expected), "{message}");
+}
+
 #[test]
 fn malformed_toml_names_the_file_and_the_line() {
     let path = std::env::temp_dir().join(format!("sea_sim_malformed_{}.toml", std::process::id()));

@@ -570,3 +570,29 @@ fn scene_draws_the_urdf_on_tf_frames_and_the_urdf_is_attached() {
     let attached = mcap::read::attachment(&bytes, &attachment[0]).unwrap();
     assert_eq!(&attached.data[..], &std::fs::read(URDF).unwrap()[..]);
 }
+
+#[test]
+fn a_scene_given_up_by_the_runs_flag_leaves_a_log_without_the_robot() {
+    use std::sync::atomic::AtomicBool;
+    let model = model();
+    let log_with = |raised: bool, file: &TempFile| {
+        let mut logger = create(&model, &file.0);
+        let cancel = AtomicBool::new(raised);
+        let scene = logger
+            .set_scene_unless_cancelled(&SceneSource::new(URDF), &cancel)
+            .expect("scene");
+        for_each_sample(&model, 2, |sample| logger.log(sample).expect("log"));
+        logger.finish().expect("finish");
+        let bytes = std::fs::read(&file.0).unwrap();
+        check_file(&model, &bytes, 2);
+        let summary = mcap::read::Summary::read(&bytes).unwrap().unwrap();
+        let robot = mcap::MessageStream::new(&bytes)
+            .unwrap()
+            .map(Result::unwrap)
+            .any(|m| m.channel.topic == "/robot");
+        (scene, summary.attachment_indexes.len(), robot)
+    };
+    let (file_given_up, file_drawn) = (TempFile::new("given_up"), TempFile::new("drawn"));
+    assert_eq!(log_with(true, &file_given_up), (None, 0, false));
+    assert_eq!(log_with(false, &file_drawn), (Some(Vec::new()), 1, true));
+}

@@ -137,7 +137,9 @@ fn load_problem(text: &str) -> Option<String> {
             let mass = model.total_mass();
             (!(mass.is_finite() && mass > 0.0)).then(|| format!("loaded with total mass {mass}"))
         }
-        Err(Error::Model { element, message }) => element
+        Err(Error::Model {
+            element, message, ..
+        }) => element
             .trim()
             .is_empty()
             .then(|| format!("no element named: {message}")),

@@ -15,6 +15,7 @@
 //!   the status, the message and every other summary field.
 
 use crate::error::{Error, Result};
+use sea_loop::error::panic_message;
 use sea_loop::{RunEnd, RunTotals, RunningStatistics, Summary, NON_SCALAR_FIELDS};
 use sea_scenario::run::run_with_sinks;
 use sea_scenario::Scenario;
@@ -183,8 +184,7 @@ impl ScenarioSource {
 
     /// The scenario with `overrides` (errors name the file and the key).
     pub fn load(&self, overrides: &[(String, String)]) -> Result<Scenario> {
-        let base = self.path.parent().unwrap_or(Path::new("."));
-        Scenario::from_toml(&self.text, overrides, base).map_err(|e| e.in_file(&self.path))
+        Scenario::from_file_text(&self.path, &self.text, overrides)
     }
 }
 
@@ -443,15 +443,6 @@ struct SweepJob<'a> {
     keys: &'a [String],
     overrides: &'a [(String, String)],
     cancel: &'a AtomicBool,
-}
-
-/// The text of a panic's payload.
-fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    payload
-        .downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown panic".to_string())
 }
 
 impl SweepJob<'_> {

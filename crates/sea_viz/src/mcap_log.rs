@@ -50,6 +50,7 @@ use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 mod threaded;
 pub use threaded::ThreadedMcapLogger;
 
@@ -244,11 +245,29 @@ impl McapLogger {
     /// [`Error::Log`] when the URDF does not parse, the log is finished, or (strict source) a
     /// mesh cannot be drawn.
     pub fn set_scene(&mut self, source: &SceneSource) -> Result<Vec<MeshWarning>> {
-        let mut scene = StaticScene::build(
-            source,
-            &self.encoder.link_frames(),
-            self.encoder.contact_names(),
-        )?;
+        let frames = self.encoder.link_frames();
+        let scene = StaticScene::build(source, &frames, self.encoder.contact_names())?;
+        self.attach_scene(scene)
+    }
+
+    /// [`McapLogger::set_scene`] given up when `cancel` is raised while the meshes are read:
+    /// the log then has no robot drawn (and no URDF attached); `Ok(None)`.
+    pub fn set_scene_unless_cancelled(
+        &mut self,
+        source: &SceneSource,
+        cancel: &AtomicBool,
+    ) -> Result<Option<Vec<MeshWarning>>> {
+        let frames = self.encoder.link_frames();
+        let contacts = self.encoder.contact_names();
+        match StaticScene::build_unless_cancelled(source, &frames, contacts, cancel)? {
+            Some(scene) => self.attach_scene(scene).map(Some),
+            None => Ok(None),
+        }
+    }
+
+    /// Attaches the URDF of `scene`, its mesh warnings as metadata, and keeps its robot and
+    /// support polygon for the next sample. Returns the mesh visuals not drawn.
+    fn attach_scene(&mut self, mut scene: StaticScene) -> Result<Vec<MeshWarning>> {
         let (writer, path) = self.out.open()?;
         writer
             .attach(&Attachment {
@@ -618,7 +637,8 @@ impl RecordSink for McapSink {
         if let Some(gait) = run.walking {
             logger.set_walking(gait, source.foot);
         }
-        self.warnings = logger.set_scene(&source)?;
+        let warnings = logger.set_scene_unless_cancelled(&source, run.cancel)?;
+        self.warnings = warnings.unwrap_or_default();
         self.logger = Some(ThreadedMcapLogger::spawn(logger));
         Ok(())
     }

@@ -1,5 +1,6 @@
 //! Building a [`Model`] from URDF (parsed by `urdf-rs`), with every unusable description
-//! reported as [`Error::Model`] naming the link or joint and the violated condition, and every
+//! reported as [`Error::Model`] naming the link or joint and the violated condition (and the
+//! file, [`Model::from_urdf_file`]), and every
 //! physically doubtful but computable one as a [`Warning`] kept in [`Model::warnings`]
 //! (refused in strict mode, [`LoadOptions::strict`]; the checks are in `inertia_check.rs`).
 //!

@@ -220,13 +220,14 @@ impl LiveSink {
 impl RecordSink for LiveSink {
     fn begin(&mut self, run: &RunInfo<'_>) -> Result<()> {
         let mut encoder = SampleEncoder::new(run.model, run.elastic_joints, run.contacts);
-        let mut scene = StaticScene::build(
-            &SceneSource::of_run(run.scene).with_package_dirs(&self.package_dirs),
-            &encoder.link_frames(),
-            run.contacts,
-        )?;
-        self.robot = Some((std::mem::take(&mut scene.robot), None));
-        encoder.set_scene(scene);
+        let source = SceneSource::of_run(run.scene).with_package_dirs(&self.package_dirs);
+        let frames = encoder.link_frames();
+        let built =
+            StaticScene::build_unless_cancelled(&source, &frames, run.contacts, run.cancel)?;
+        if let Some(mut scene) = built {
+            self.robot = Some((std::mem::take(&mut scene.robot), None));
+            encoder.set_scene(scene);
+        }
         encoder.set_disturbance_links(run.disturbance_links);
         encoder.set_contact_points(run.contact_points);
         if let Some(gait) = run.walking {

@@ -37,6 +37,12 @@ use sea_dyn::resources::PackageDirs;
 use sea_dyn::spatial::quaternion_from_rotation;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{sync_channel, RecvTimeoutError};
+use std::time::Duration;
+
+/// How often a scene built on its own thread looks at the run's cancellation flag.
+const CANCEL_POLL: Duration = Duration::from_millis(50);
 
 /// Where the scene comes from: the URDF (visuals and the MCAP attachment), where its meshes
 /// are, and the contact surface of each foot.
@@ -184,6 +190,49 @@ impl StaticScene {
             warnings: visuals.warnings,
             visuals_drawn: visuals.visuals.len(),
         })
+    }
+
+    /// [`StaticScene::build`] on a thread of its own, given up when `cancel` is raised before
+    /// it ends: `Ok(None)` (the thread is left to finish its read and is dropped; a mesh
+    /// reader cannot be interrupted, and a mesh of a hundred megabytes takes seconds).
+    pub fn build_unless_cancelled(
+        source: &SceneSource,
+        link_frames: &[String],
+        contacts: &[String],
+        cancel: &AtomicBool,
+    ) -> Result<Option<Self>> {
+        if cancel.load(Ordering::Relaxed) {
+            return Ok(None);
+        }
+        let (source, frames, contacts) = (source.clone(), link_frames.to_vec(), contacts.to_vec());
+        let (sender, receiver) = sync_channel(1);
+        std::thread::Builder::new()
+            .name("scene".into())
+            .spawn(move || {
+                let build = || Self::build(&source, &frames, &contacts);
+                let built = std::panic::catch_unwind(std::panic::AssertUnwindSafe(build))
+                    .unwrap_or_else(|panic| {
+                        let what = sea_loop::error::panic_message(panic.as_ref());
+                        Err(Error::Output(format!(
+                            "the robot's scene: building it panicked: {what}"
+                        )))
+                    });
+                // The receiver is gone when the run gave the scene up: nothing to hand over.
+                let _ = sender.send(built);
+            })
+            .map_err(|e| Error::Output(format!("the robot's scene: starting its thread: {e}")))?;
+        loop {
+            match receiver.recv_timeout(CANCEL_POLL) {
+                Ok(built) => return built.map(Some),
+                Err(RecvTimeoutError::Timeout) if cancel.load(Ordering::Relaxed) => {
+                    return Ok(None)
+                }
+                Err(RecvTimeoutError::Timeout) => {}
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err(Error::Output("the robot's scene: its thread ended".into()))
+                }
+            }
+        }
     }
 }
 
