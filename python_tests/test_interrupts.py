@@ -219,3 +219,18 @@ def test_ctrl_c_while_a_large_mesh_is_read_stops_the_run_at_once(tmp_path):
         summary = mcap.make_reader(stream).get_summary()
     assert summary is not None and summary.statistics.message_count > 0
     assert not summary.attachment_indexes, "the scene was read, not given up"
+
+
+def test_an_interrupt_before_the_run_began_has_no_partial_result(monkeypatch):
+    # Ctrl-C while the scenario is built (before any sample) raises KeyboardInterrupt with no
+    # result: `interrupt.partial` is None, so the documented idiom does not fail on it.
+    import sea_momentum as sm
+    import sea_momentum.scenario as scenario_module
+
+    def interrupted_in_build(*args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(scenario_module, "run_scenario_native", interrupted_in_build)
+    with pytest.raises(KeyboardInterrupt) as interrupt:
+        sm.run_scenario(TRACKING)
+    assert interrupt.value.partial is None

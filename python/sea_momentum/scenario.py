@@ -173,7 +173,8 @@ def run_scenario(
 
     Ctrl-C stops the run within a fraction of a second (the MCAP log is finished) and raises
     ``KeyboardInterrupt``; what was computed is its ``partial`` attribute, a
-    :class:`ScenarioResult` with ``status == "interrupted"``::
+    :class:`ScenarioResult` with ``status == "interrupted"`` (``None`` when the signal came
+    while the scenario was still being built, before the run began)::
 
         try:
             result = run_scenario(path)
@@ -195,8 +196,8 @@ def run_scenario(
         )
     except (KeyboardInterrupt, SystemExit) as interrupt:
         partial = getattr(interrupt, "partial", None)
-        if isinstance(partial, dict):
-            interrupt.partial = ScenarioResult.from_native(partial)  # type: ignore[attr-defined]
+        result = ScenarioResult.from_native(partial) if isinstance(partial, dict) else None
+        interrupt.partial = result  # type: ignore[attr-defined]
         raise
     return ScenarioResult.from_native(raw)
 

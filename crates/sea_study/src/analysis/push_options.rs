@@ -113,9 +113,10 @@ pub const SETTLE_AFTER_PUSH_S: f64 = 1.0;
 
 /// `link` names a link of the `scenario`'s robot (its model loaded, nothing run).
 ///
-/// Errors: [`sea_dyn::Error::InvalidArgument`] naming `PushOptions.link`, and the scenario's.
+/// Errors: [`sea_dyn::Error::InvalidArgument`] naming `PushOptions.link`, and the scenario's
+/// (a key's with its file and line).
 pub fn check_pushed_link(scenario: &Scenario, link: &str) -> Result<()> {
-    let model = build::load_model(scenario)?;
+    let model = build::load_model(scenario).map_err(|e| scenario.origin.locate(e))?;
     if model.frame_id(link).is_err() {
         let expected = "a link of the scenario's robot";
         return Err(sea_dyn::Error::invalid("PushOptions.link", expected, link).into());
