@@ -24,10 +24,10 @@ pub use sea_loop::Setup;
 pub fn load_model(scenario: &Scenario) -> Result<Model> {
     let urdf = scenario.urdf_path();
     let (joints, key) = match &scenario.robot.joints {
-        Some(joints) => (joints.clone(), "robot.joints"),
+        Some(joints) => (joints.clone(), "robot.joints".to_string()),
         None => (
             scenario.description.joints.clone(),
-            "robot.description.joints",
+            scenario.description_key("joints"),
         ),
     };
     let options = LoadOptions {

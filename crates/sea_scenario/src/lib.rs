@@ -116,6 +116,10 @@ pub struct Scenario {
     /// key's error found later its file and line).
     #[serde(skip)]
     pub origin: Arc<Origin>,
+    /// The file of the robot description, when `robot.description` names one (its keys'
+    /// errors name it, [`Scenario::description_key`]).
+    #[serde(skip)]
+    pub description_file: Option<PathBuf>,
     /// The robot description of `robot.description` (the paper's iCub by default), read
     /// before the tables: their defaults come from it.
     #[serde(skip, default = "paper_icub")]
@@ -162,6 +166,7 @@ impl Scenario {
         scenario.walking_given = walking_given;
         scenario.base_dir = base_dir.to_path_buf();
         scenario.description = Arc::new(source.description);
+        scenario.description_file = source.file;
         scenario.resolve_urdf_uri()?;
         scenario.validate()?;
         Ok(scenario)
@@ -169,8 +174,8 @@ impl Scenario {
 
     /// Replaces a `package://` or `file://` URI in `robot.urdf` by the file it names (the
     /// scenario's `robot.package_dirs` first, then the environment's); an error names the key
-    /// the URI came from (`robot.description.urdf` when the robot description gave it) and
-    /// where a scenario lists its folders.
+    /// the URI came from (the robot description's `urdf`, [`Scenario::description_key`], when
+    /// the description gave it) and where a scenario lists its folders.
     fn resolve_urdf_uri(&mut self) -> Result<()> {
         let uri = &self.robot.urdf;
         if !uri.contains("://") {
@@ -179,9 +184,9 @@ impl Scenario {
         let user = self.robot.package_dirs.iter().map(|d| self.resolve(d));
         let dirs = sea_dyn::PackageDirs::from_environment(user);
         let key = if self.description.urdf.as_deref() == Some(uri.as_str()) {
-            "robot.description.urdf"
+            self.description_key("urdf")
         } else {
-            "robot.urdf"
+            "robot.urdf".to_string()
         };
         let path = dirs.resolve(uri, &self.base_dir).map_err(|e| {
             let rule = format!("{e}; a scenario lists its folders in robot.package_dirs");
@@ -189,6 +194,16 @@ impl Scenario {
         })?;
         self.robot.urdf = path.display().to_string();
         Ok(())
+    }
+
+    /// The key of the robot description's `name` in an error: `robot description FILE: name`
+    /// when the description is a file of its own (as its own errors say when it is read),
+    /// else `robot.description.name` (built in, or inline in the scenario).
+    pub fn description_key(&self, name: &str) -> String {
+        match &self.description_file {
+            Some(file) => format!("robot description {}: {name}", file.display()),
+            None => format!("robot.description.{name}"),
+        }
     }
 
     /// Reads a scenario file with overrides.

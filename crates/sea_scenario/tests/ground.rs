@@ -87,7 +87,7 @@ fn bad_grounds_are_refused_naming_the_key() {
 }
 
 /// A joint list naming a joint the URDF lacks is the list's key's error, in the scenario
-/// (`robot.joints`) or in the robot description (`robot.description.joints`).
+/// (`robot.joints`) or in the robot description's file (`robot description FILE: joints`).
 #[test]
 fn a_listed_joint_the_urdf_lacks_names_the_list() {
     let joints = ("robot.joints", "[\"torso_pitch\", \"l_kneee\"]");
@@ -112,8 +112,10 @@ fn a_listed_joint_the_urdf_lacks_names_the_list() {
     let pairs: Vec<(&str, &str)> = overrides.iter().map(|(k, v)| (*k, v.as_str())).collect();
     let message = refused(&pairs);
     assert!(
-        message.contains("push_two_feet.toml: scenario key 'robot.description.joints'")
-            && message.contains("'l_kneee'"),
+        message.contains(&format!(
+            "push_two_feet.toml: scenario key 'robot description {}: joints'",
+            description.display()
+        )) && message.contains("'l_kneee'"),
         "{message}"
     );
     std::fs::remove_dir_all(dir).unwrap();

@@ -129,6 +129,7 @@ mod tests {
         DescriptionSource {
             description,
             dir: "descriptions".into(),
+            file: None,
         }
     }
 

@@ -19,6 +19,8 @@ pub struct DescriptionSource {
     pub description: RobotDescription,
     /// The folder of its file; the scenario's folder for a built-in or inline description.
     pub dir: PathBuf,
+    /// Its file; `None` for a built-in or inline description.
+    pub file: Option<PathBuf>,
 }
 
 /// The description `value` (the value of `robot.description`, `None` when absent) names, for a
@@ -30,6 +32,7 @@ pub fn load_description(
     let of = |description| DescriptionSource {
         description,
         dir: scenario_dir.to_path_buf(),
+        file: None,
     };
     match value {
         None => Ok(of(icub().clone())),
@@ -65,7 +68,11 @@ fn from_file(path: &str, scenario_dir: &Path) -> Result<DescriptionSource> {
     })?;
     let description = RobotDescription::from_toml(&text, &file.display().to_string())?;
     let dir = file.parent().unwrap_or(Path::new(".")).to_path_buf();
-    Ok(DescriptionSource { description, dir })
+    Ok(DescriptionSource {
+        description,
+        dir,
+        file: Some(file),
+    })
 }
 
 #[cfg(test)]
