@@ -80,3 +80,10 @@ def test_margin_errors_name_the_key_or_the_range():
         sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 0.5, 1.0, method="x")
     with pytest.raises(ValueError, match="sampling"):
         sm.linearize(TRACKING, sampling="sometimes")
+
+
+def test_a_time_before_the_start_is_refused_naming_t():
+    # The references start at t = 0; -1e3 s used to spin on a reference that is not finite.
+    for t in (-1e3, -0.1, float("nan")):
+        with pytest.raises(ValueError, match="t: expected a non-negative finite number"):
+            sm.linearize(TRACKING, t=t)

@@ -54,9 +54,39 @@ def test_a_bad_state_is_refused_naming_it_and_the_command_is_kept(scenario) -> N
             controller.tick(0.01, bad)
     with pytest.raises(ValueError, match="t"):
         controller.tick(float("nan"), x)
-    with pytest.raises(ValueError, match="t: expected a finite time"):
+    with pytest.raises(ValueError, match="t: expected a non-negative finite number"):
         controller.com_reference(float("nan"))
+    # The references start at t = 0 (before it the smooth start's envelope grows without bound).
+    with pytest.raises(ValueError, match="t: expected a non-negative finite number, got -1000"):
+        controller.tick(-1e3, x)
+    with pytest.raises(ValueError, match="t: expected a non-negative"):
+        controller.com_reference(-1.25)
     assert np.array_equal(controller.command, command)
+
+
+def test_a_command_that_is_not_finite_is_a_solver_error_and_the_command_is_kept(scenario) -> None:
+    controller, x = scenario.controller, scenario.initial_state
+    command = controller.tick(0.0, x).input.copy()
+    assert np.all(np.isfinite(command))
+    controller.set_external_wrench([1e308] * 6)
+    with pytest.raises(sm.SolverError, match="whole-body tick: the command is not finite"):
+        controller.tick(0.01, x)
+    # The joint loops keep the last tick's torques.
+    assert np.array_equal(controller.command, command)
+
+
+def test_a_controller_ticks_on_another_thread_than_the_one_that_made_it(scenario) -> None:
+    # The controller and the scenario are not bound to their thread (a robot's control
+    # thread is rarely the one that set it up); the same tick gives the same command.
+    from concurrent.futures import ThreadPoolExecutor
+
+    controller, x = scenario.controller, scenario.initial_state
+    here = controller.tick(0.0, x).input.copy()
+    with ThreadPoolExecutor(1) as pool:
+        there = pool.submit(lambda: controller.tick(0.0, x).input.copy()).result()
+        plant_dt = pool.submit(lambda: scenario.plant_dt).result()
+    assert np.array_equal(here, there)
+    assert plant_dt == scenario.plant_dt
 
 
 def test_a_tick_called_twice_returns_the_same_command(scenario) -> None:

@@ -529,12 +529,16 @@ class Controller:
         identification's excitation) and ``input`` is their first inner tick's. A failed tick
         raises ``SolverError``; ``command`` keeps the last command.
 
-        Bad input (docs/guide/robot_rate.md, the per-tick contract): a non-finite ``t``, an
+        Bad input (docs/guide/robot_rate.md, the per-tick contract): a ``t`` negative or not
+        finite, an
         ``x`` of another length, with a NaN or infinite entry or a base quaternion ``x[3:7]``
         not of unit norm raises ``ValueError`` naming it (``x[12]``) and changes nothing. The
         clock is not checked (``t`` is the references' time): a tick called twice at the same
         ``(t, x)`` returns the same command; a late tick evaluates at its own ``t`` and state,
-        the estimators skipping the missed periods."""
+        the estimators skipping the missed periods. A command with a non-finite entry (e.g.
+        from an external wrench of 1e308 N) raises ``SolverError`` instead of being returned
+        (``multi_rate``: the joint loops keep the last torques, ``command`` the last
+        command)."""
     def inner_tick(self, x: ArrayLike) -> FloatArray:
         """``multi_rate`` only: one joint torque loop tick at state ``x`` (nx) between two
         ticks, the plant input (n); ``ValueError`` for another sampling or a bad ``x``,
@@ -586,8 +590,8 @@ class Controller:
         ``ValueError`` for another shape or a non-finite value. With the scenario's observer
         (``controller.external_wrench = "generalized"``), ``end_period`` replaces it."""
     def com_reference(self, t: float) -> FloatArray:
-        """The CoM reference at ``t`` [s], (3,) world [m]; ``ValueError`` for a ``t`` not
-        finite."""
+        """The CoM reference at ``t`` [s], (3,) world [m]; ``ValueError`` for a ``t`` negative
+        or not finite."""
     @property
     def kind(self) -> str:
         """"sea" or "rigid"."""

@@ -96,7 +96,7 @@ def linearize(
     sampling: str | None = None,
 ) -> Linearization:
     """Linearises the closed loop of a scenario file about its equilibrium with the references
-    frozen at ``t`` (default 0), GIL released.
+    frozen at ``t`` (default 0; ``ValueError`` when negative or not finite), GIL released.
 
     ``overrides`` are scenario keys, e.g. ``{"controller.damping_estimate_scale": 0.4}``;
     ``sampling`` is None (the scenario's ``controller.sampling``), ``"continuous"`` or

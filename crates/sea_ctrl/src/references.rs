@@ -46,8 +46,15 @@ impl ComTrajectory {
         }
     }
 
-    /// The reference at time `t` [s].
+    /// The reference at time `t` [s]; before the start (`t < 0`) it rests at `origin`.
     pub fn sample(&self, t: f64) -> ComSample {
+        if t < 0.0 {
+            return ComSample {
+                position: self.origin,
+                velocity: Vector3::zeros(),
+                acceleration: Vector3::zeros(),
+            };
+        }
         let w = 2.0 * std::f64::consts::PI * self.frequency;
         let (sin, cos) = (w * t).sin_cos();
         // Envelope e(t) = 1 - exp(-t/T) and its derivatives.
@@ -95,15 +102,20 @@ impl PostureReference {
 mod tests {
     use super::*;
 
-    #[test]
-    fn derivatives_match_finite_differences() {
-        let traj = ComTrajectory {
+    /// A 1 cm lateral sway at 0.2 Hz with a 1 s smooth start.
+    fn sway() -> ComTrajectory {
+        ComTrajectory {
             origin: Vector3::new(0.1, 0.0, 0.5),
             amplitude: 0.01,
             frequency: 0.2,
             direction: Vector3::y(),
             smooth_start: 1.0,
-        };
+        }
+    }
+
+    #[test]
+    fn derivatives_match_finite_differences() {
+        let traj = sway();
         let eps = 1e-6;
         // Central differences away from t = 0 (the envelope starts there).
         for &t in &[0.3, 1.7, 4.0] {
@@ -117,5 +129,17 @@ mod tests {
         assert!(((a.position - s.position) / eps - s.velocity).norm() < 1e-6);
         assert!(((a.velocity - s.velocity) / eps - s.acceleration).norm() < 1e-4);
         assert!((traj.sample(0.0).position - traj.origin).norm() < 1e-15);
+    }
+
+    #[test]
+    fn before_the_start_the_reference_rests_at_its_origin() {
+        let traj = sway();
+        // The envelope 1 - exp(-t / T) grows without bound for t < 0 (NaN at -1e3 s).
+        for t in [-1e-9, -1.25, -1e3, -1e9, f64::NEG_INFINITY] {
+            let s = traj.sample(t);
+            assert_eq!(s.position, traj.origin, "t = {t}");
+            assert_eq!(s.velocity, Vector3::zeros(), "t = {t}");
+            assert_eq!(s.acceleration, Vector3::zeros(), "t = {t}");
+        }
     }
 }

@@ -86,9 +86,7 @@ pub fn linearize_native<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let pairs = override_pairs(overrides)?;
     let time = t.unwrap_or(0.0);
-    if !time.is_finite() {
-        return Err(argument_error("t", "a finite time", time));
-    }
+    sea_dyn::error::check_non_negative("t", time).map_err(to_py)?;
     let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
     let options = LinearizeOptions {
         time,

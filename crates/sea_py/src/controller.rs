@@ -35,7 +35,7 @@ use std::path::PathBuf;
 /// only; a rigid robot has x = [q, nu]). Build it from a `Model` with the keys of a scenario's
 /// `[controller]` table (`Controller(model, contacts, q0, **settings)` or
 /// `Controller.from_table`), or take a scenario's (`Scenario.load(path).controller`).
-#[pyclass(name = "Controller", module = "sea_momentum._native", unsendable)]
+#[pyclass(name = "Controller", module = "sea_momentum._native")]
 pub struct PyController {
     /// The controller stack: the whole-body law (the controller, its references and the last
     /// tick's outputs), the joint loops, the identification and the observers.
@@ -322,9 +322,7 @@ impl PyController {
         t: f64,
         x: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        if !t.is_finite() {
-            return Err(argument_error("t", "a finite time [s]", t));
-        }
+        sea_dyn::error::check_non_negative("t", t).map_err(to_py)?;
         let layout = self.robot.layout();
         vector_arg(x, "x", layout.nx(), &mut self.x)?;
         let model = self.robot.controller().model();
@@ -519,9 +517,7 @@ impl PyController {
         py: Python<'py>,
         t: f64,
     ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
-        if !t.is_finite() {
-            return Err(argument_error("t", "a finite time [s]", t));
-        }
+        sea_dyn::error::check_non_negative("t", t).map_err(to_py)?;
         let reference = self.robot.law().com_reference().sample(t);
         Ok(vector_out(py, reference.position.as_slice()))
     }
@@ -559,7 +555,7 @@ impl PyController {
 
 /// A scenario file built: the model, the plant configured as the scenario says, the
 /// controller with its references, the initial state and the time grid of its closed loop.
-#[pyclass(name = "Scenario", module = "sea_momentum._native", unsendable)]
+#[pyclass(name = "Scenario", module = "sea_momentum._native")]
 pub struct PyScenario {
     name: String,
     model: Py<PyModel>,

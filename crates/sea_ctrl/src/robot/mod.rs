@@ -175,9 +175,16 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
     }
 
     /// The whole-body tick at time `time` [s] and measured state `measured` (nx): returns the
-    /// motor command (n) (module doc, step 1). On `Err` nothing is held from this tick.
+    /// motor command (n) (module doc, step 1). On `Err` nothing is held from this tick: a law
+    /// that fails, or a command with an entry that is not finite (an
+    /// [`sea_dyn::Error::Numerical`]; the joint loops keep the last torques).
     pub fn tick(&mut self, time: f64, measured: &[f64]) -> Result<&[f64]> {
         self.law.tick(time, measured)?;
+        let input = &self.law.last().output.input;
+        if let Some(k) = input.iter().position(|u| !u.is_finite()) {
+            let detail = format!("the command is not finite (entry {k}) at t = {time} s");
+            return Err(sea_dyn::Error::numerical("the whole-body tick", detail).into());
+        }
         self.hold(time, measured);
         Ok(self.command())
     }
