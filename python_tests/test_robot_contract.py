@@ -64,14 +64,18 @@ def test_a_bad_state_is_refused_naming_it_and_the_command_is_kept(scenario) -> N
     assert np.array_equal(controller.command, command)
 
 
-def test_a_command_that_is_not_finite_is_a_solver_error_and_the_command_is_kept(scenario) -> None:
+@pytest.mark.parametrize("sampling", ["multi_rate", "zero_order_hold"])
+def test_a_command_that_is_not_finite_is_a_solver_error_and_the_command_is_kept(sampling) -> None:
+    # With the joint loops (multi_rate) or without them (one rate: the law's input is held).
+    one_rate = {"controller.sampling": sampling, "controller.stiffness_identification": False}
+    scenario = sm.Scenario.load(MULTI_RATE, DESIGN if sampling == "multi_rate" else one_rate)
     controller, x = scenario.controller, scenario.initial_state
     command = controller.tick(0.0, x).input.copy()
     assert np.all(np.isfinite(command))
     controller.set_external_wrench([1e308] * 6)
     with pytest.raises(sm.SolverError, match="whole-body tick: the command is not finite"):
         controller.tick(0.01, x)
-    # The joint loops keep the last tick's torques.
+    # The joint loops keep the last tick's torques; without them the last tick's input is kept.
     assert np.array_equal(controller.command, command)
 
 

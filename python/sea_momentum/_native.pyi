@@ -92,7 +92,9 @@ class SeaIOError(SeaError, OSError):
 class Model:
     """A floating-base robot model loaded from URDF, with the buffers of its algorithms.
 
-    Not thread-safe: use one Model per thread.
+    The functions of ``nu`` raise ``SolverError`` when their result overflows float64 (finite
+    velocities of 1e200 or more), instead of returning NaN. Not thread-safe: use one Model per
+    thread.
     """
 
     @staticmethod
@@ -335,7 +337,7 @@ def scenario_urdf(path: str | PathLike[str], overrides: Mapping[str, object] | N
     is not built. Raises ScenarioError naming the key."""
 
 def init_scenario(
-    urdf: str,
+    urdf: str | PathLike[str],
     contacts: tuple[str, str],
     out: str | PathLike[str],
     foot: tuple[float, float, float, float] | None = None,
@@ -594,7 +596,9 @@ class Controller:
         or not finite."""
     @property
     def kind(self) -> str:
-        """"sea" or "rigid"."""
+        """"sea" or "rigid": ``controller.kind``. On a robot whose every joint is rigid
+        (``actuators={"kind": "rigid"}``) both laws give the same command: the SEA law's
+        additions act on elastic joints only."""
     @property
     def contacts(self) -> list[str]:
         """Contact frames, the rows of ``ControlOutput.wrenches``."""

@@ -43,11 +43,16 @@ def grid_specs(grid: Mapping[str, GridValues]) -> list[str]:
         if isinstance(values, str):
             specs.append(f"{key}={values}")
             continue
-        items = np.atleast_1d(np.asarray(values, dtype=object)).ravel().tolist()
+        axis = np.asarray(values, dtype=object)
+        if axis.ndim > 1:
+            raise ValueError(
+                f"grid['{key}']: expected a flat list of numbers, got shape {axis.shape}"
+            )
         texts = []
-        for item in items:
-            if isinstance(item, (bool, np.bool_)) or not isinstance(item, (int, float, np.number)):
-                raise ValueError(f"grid['{key}']: every value must be a number, got {item!r}")
+        for item in np.atleast_1d(axis).tolist():
+            real = isinstance(item, (int, float, np.integer, np.floating))
+            if isinstance(item, (bool, np.bool_)) or not real:
+                raise ValueError(f"grid['{key}']: every value must be a real number, got {item!r}")
             texts.append(repr(float(item)))
         specs.append(f"{key}={','.join(texts)}")
     return specs

@@ -29,7 +29,11 @@ pub enum Error {
         file: Option<PathBuf>,
     },
     /// An argument has the wrong size or holds a non-finite or out-of-range value.
-    #[error("{argument}: expected {expected}, got {actual}")]
+    #[error(
+        "{}: expected {expected}, got {}",
+        shortened(argument),
+        shortened(actual)
+    )]
     InvalidArgument {
         /// The argument, e.g. `q`, `q[3]`, `dt`.
         argument: String,
@@ -39,7 +43,7 @@ pub enum Error {
         actual: String,
     },
     /// A frame name that the model does not have.
-    #[error("unknown frame '{name}'")]
+    #[error("unknown frame '{}'", shortened(name))]
     UnknownFrame {
         /// The name asked for.
         name: String,
@@ -217,6 +221,21 @@ pub fn parse_message(
     format!("{place}: {message}")
 }
 
+/// The longest text a message shows whole; longer text (a frame name of megabytes from a
+/// hostile caller) shows its start and its length.
+const SHOWN_CHARACTERS: usize = 200;
+
+/// `text` as a message shows it: whole up to 200 characters, else its first characters and its
+/// length, e.g. `xxxx... (10000000 characters)`.
+pub fn shortened(text: &str) -> std::borrow::Cow<'_, str> {
+    let count = text.chars().count();
+    if count <= SHOWN_CHARACTERS {
+        return text.into();
+    }
+    let start: String = text.chars().take(SHOWN_CHARACTERS - 40).collect();
+    format!("{start}... ({count} characters)").into()
+}
+
 /// `file: ` before a message about a file's content, or nothing when no file is known.
 fn file_prefix(file: Option<&PathBuf>) -> String {
     file.map(|file| format!("{}: ", file.display()))
@@ -305,6 +324,21 @@ mod tests {
         let e = Error::numerical("pivot", "tree pivot 3").during("factorising the mass matrix");
         assert_eq!(e.to_string(), "factorising the mass matrix: tree pivot 3");
         assert!(matches!(e, Error::Numerical { .. }));
+    }
+
+    #[test]
+    fn a_long_name_or_value_is_shown_by_its_start_and_length() {
+        let name = "x".repeat(1_000_000);
+        let text = Error::UnknownFrame { name: name.clone() }.to_string();
+        assert!(text.len() < 250, "{} bytes", text.len());
+        assert!(text.ends_with("x... (1000000 characters)'"), "{text}");
+        let text = Error::invalid(format!("external['{name}']"), "a link", &name).to_string();
+        assert!(text.len() < 500, "{} bytes", text.len());
+        assert!(text.starts_with("external['xxx"), "{text}");
+        // Up to the limit a text is shown whole, multi-byte characters counted as one.
+        let whole = "é".repeat(SHOWN_CHARACTERS);
+        assert_eq!(shortened(&whole), whole);
+        assert!(shortened(&format!("{whole}é")).ends_with("(201 characters)"));
     }
 
     #[test]

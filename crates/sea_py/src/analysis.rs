@@ -4,6 +4,7 @@
 use crate::arrays::{matrix_out, vector_out};
 use crate::errors::{argument_error, to_py};
 use crate::interrupt::run_interruptible;
+use crate::numbers::{real_or_none, Integer, Real};
 use crate::overrides::override_pairs;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -80,12 +81,12 @@ fn linearization_fields<'py>(py: Python<'py>, lin: &Linearization) -> PyResult<B
 pub fn linearize_native<'py>(
     py: Python<'py>,
     path: PathBuf,
-    t: Option<f64>,
+    t: Option<Real>,
     overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
     sampling: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let pairs = override_pairs(overrides)?;
-    let time = t.unwrap_or(0.0);
+    let time = real_or_none(t).unwrap_or(0.0);
     sea_dyn::error::check_non_negative("t", time).map_err(to_py)?;
     let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
     let options = LinearizeOptions {
@@ -108,20 +109,24 @@ pub fn linearize_native<'py>(
 /// growth_rate or None)). Ctrl-C (or SIGTERM) stops the scan, a simulation under way at its
 /// next sample, and raises.
 #[pyfunction]
-#[pyo3(signature = (path, parameter, lower, upper, overrides=None, method="eigen", sampling=None, grid_points=9, log_grid=false))]
+#[pyo3(
+    text_signature = "(path, parameter, lower, upper, overrides=None, method=\"eigen\", sampling=None, grid_points=9, log_grid=False)"
+)]
+#[pyo3(signature = (path, parameter, lower, upper, overrides=None, method="eigen", sampling=None, grid_points=Integer(9), log_grid=false))]
 #[allow(clippy::too_many_arguments)] // the Python signature, keyword arguments with defaults
 pub fn stability_margin_native<'py>(
     py: Python<'py>,
     path: PathBuf,
     parameter: &str,
-    lower: f64,
-    upper: f64,
+    lower: Real,
+    upper: Real,
     overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
     method: &str,
     sampling: Option<&str>,
-    grid_points: i64,
+    grid_points: Integer,
     log_grid: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let (Real(lower), Real(upper), Integer(grid_points)) = (lower, upper, grid_points);
     let grid_points = usize::try_from(grid_points).map_err(|_| {
         let expected = format!("an integer from 2 to {MAX_SCAN_POINTS}");
         argument_error("grid_points", &expected, grid_points)

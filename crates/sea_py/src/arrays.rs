@@ -1,7 +1,6 @@
 //! numpy <-> Rust conversions with argument checking.
 
 use crate::errors::argument_error;
-use nalgebra::Vector6;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -87,14 +86,18 @@ fn as_float64_array<'py>(
         .map_err(|_| argument_error(name, "an array of floats", value))
 }
 
+/// `names` as Python shows a list of str, `['l_sole', 'r_sole']` (for a `__repr__`).
+pub fn python_list(names: &[String]) -> String {
+    let quoted: Vec<String> = names
+        .iter()
+        .map(|n| format!("{n:?}").replace('"', "'"))
+        .collect();
+    format!("[{}]", quoted.join(", "))
+}
+
 /// A 1-D numpy array copied from a slice.
 pub fn vector_out<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>> {
     PyArray1::from_slice(py, values)
-}
-
-/// A 1-D numpy array of a 6-vector.
-pub fn vector6_out<'py>(py: Python<'py>, values: &Vector6<f64>) -> Bound<'py, PyArray1<f64>> {
-    PyArray1::from_slice(py, values.as_slice())
 }
 
 /// A C-ordered 2-D numpy array copied from a column-major matrix (any view).

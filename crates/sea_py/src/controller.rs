@@ -12,6 +12,7 @@
 use crate::arrays::{matrix_rows_out, vector_arg, vector_out};
 use crate::errors::{argument_error, to_py, warn_user};
 use crate::model::PyModel;
+use crate::numbers::Real;
 use crate::overrides::toml_literal;
 use crate::plant::PyPlant;
 use pyo3::prelude::*;
@@ -319,9 +320,10 @@ impl PyController {
     fn tick<'py>(
         &mut self,
         py: Python<'py>,
-        t: f64,
+        t: Real,
         x: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let Real(t) = t;
         sea_dyn::error::check_non_negative("t", t).map_err(to_py)?;
         let layout = self.robot.layout();
         vector_arg(x, "x", layout.nx(), &mut self.x)?;
@@ -515,8 +517,9 @@ impl PyController {
     fn com_reference<'py>(
         &self,
         py: Python<'py>,
-        t: f64,
+        t: Real,
     ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        let Real(t) = t;
         sea_dyn::error::check_non_negative("t", t).map_err(to_py)?;
         let reference = self.robot.law().com_reference().sample(t);
         Ok(vector_out(py, reference.position.as_slice()))
@@ -550,6 +553,16 @@ impl PyController {
     #[getter]
     fn qp_failures(&self) -> usize {
         self.robot.controller().qp_failures()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Controller(kind='{}', model='{}', contacts={}, nx={})",
+            self.kind(),
+            self.robot.controller().model().name,
+            crate::arrays::python_list(&self.contacts),
+            self.nx(),
+        )
     }
 }
 
@@ -690,5 +703,12 @@ impl PyScenario {
     #[getter]
     fn duration(&self) -> f64 {
         self.duration
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scenario(name='{}', duration={:?}, plant_dt={:?}, control_period={:?})",
+            self.name, self.duration, self.schedule.step, self.schedule.period,
+        )
     }
 }

@@ -153,12 +153,33 @@ fn raise(kind: Kind, message: String, attributes: &[(&str, Option<&str>)]) -> Py
     })
 }
 
-/// `SeaIOError(errno, strerror, filename)`: errno is None for errors not from the OS.
+/// The errno of `source`: the operating system's code, or for an error found by our own checks
+/// (`is a folder`) the code of its kind, as Python's `errno` module gives it on this platform;
+/// None for a kind without one.
+fn errno_of(py: Python<'_>, source: &std::io::Error) -> Option<i32> {
+    use std::io::ErrorKind as K;
+    if let Some(code) = source.raw_os_error() {
+        return Some(code);
+    }
+    let name = match source.kind() {
+        K::NotFound => "ENOENT",
+        K::PermissionDenied => "EACCES",
+        K::AlreadyExists => "EEXIST",
+        K::IsADirectory => "EISDIR",
+        K::NotADirectory => "ENOTDIR",
+        K::InvalidInput => "EINVAL",
+        _ => return None,
+    };
+    let module = py.import("errno").ok()?;
+    module.getattr(name).ok()?.extract().ok()
+}
+
+/// `SeaIOError(errno, strerror, filename)`: errno is None for an error without one.
 fn io_error(path: &str, source: &std::io::Error) -> PyErr {
     let strerror = sea_dyn::error::io_message(source);
     Python::attach(|py| {
         let class = classes(py).io.bind(py).clone();
-        match class.call1((source.raw_os_error(), strerror, path)) {
+        match class.call1((errno_of(py, source), strerror, path)) {
             Ok(instance) => PyErr::from_value(instance),
             Err(e) => e,
         }

@@ -2,6 +2,7 @@
 //! a new robot, written to a file).
 
 use crate::errors::{argument_error, to_py};
+use crate::numbers::Real;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sea_sim::init::{check_foot, init, InitOptions};
@@ -15,16 +16,27 @@ use std::path::PathBuf;
 #[pyo3(signature = (urdf, contacts, out, foot=None, package_dirs=None))]
 pub fn init_scenario<'py>(
     py: Python<'py>,
-    urdf: String,
+    urdf: PathBuf,
     contacts: &Bound<'py, PyAny>,
     out: PathBuf,
     foot: Option<&Bound<'py, PyAny>>,
     package_dirs: Option<Vec<PathBuf>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    // A path or a `package://` / `file://` URI, given as a str or a path-like object.
+    let urdf = match urdf.to_str() {
+        Some(text) => text.to_string(),
+        None => {
+            return Err(argument_error(
+                "urdf",
+                "a UTF-8 path or URI",
+                urdf.display(),
+            ))
+        }
+    };
     let contacts: [String; 2] = items(contacts, "contacts", CONTACTS_EXPECTED)?;
-    let foot: Option<[f64; 4]> = foot.map(|f| items(f, "foot", FOOT_EXPECTED)).transpose()?;
+    let foot: Option<[Real; 4]> = foot.map(|f| items(f, "foot", FOOT_EXPECTED)).transpose()?;
     let foot = foot
-        .map(|[x0, x1, y0, y1]| {
+        .map(|[Real(x0), Real(x1), Real(y0), Real(y1)]| {
             check_foot(&FootRectangle {
                 x: [x0, x1],
                 y: [y0, y1],

@@ -8,6 +8,7 @@
 
 use pyo3::prelude::*;
 
+mod actuators;
 mod analysis;
 mod arrays;
 mod controller;
@@ -15,6 +16,7 @@ mod errors;
 mod init;
 mod interrupt;
 mod model;
+mod numbers;
 mod overrides;
 mod plant;
 mod push;

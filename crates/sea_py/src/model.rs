@@ -1,7 +1,8 @@
 //! `sea_momentum.Model`: a robot model with its workspace.
 
-use crate::arrays::{matrix_out, vector6_out, vector_arg, vector_out};
+use crate::arrays::{matrix_out, vector_arg, vector_out};
 use crate::errors::to_py;
+use crate::numbers::Real;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use sea_dyn::{Data, LoadOptions, Model};
@@ -54,6 +55,17 @@ impl PyModel {
     }
 }
 
+/// `values`, the result of `operation`, when every entry is finite; else a numerical error
+/// (`SolverError`): finite velocities can be large enough for the result to overflow float64
+/// (1e200 rad/s squared is beyond it, and 1e308 rad/s times a mass).
+fn finite<'a>(operation: &str, values: &'a [f64]) -> PyResult<&'a [f64]> {
+    if values.iter().all(|v| v.is_finite()) {
+        return Ok(values);
+    }
+    let detail = "the result is not finite: the velocities are too large for float64";
+    Err(to_py(sea_dyn::Error::numerical(operation, detail)))
+}
+
 /// One Python `UserWarning` per load warning, prefixed with the file (an error if the warnings
 /// filter turns warnings into errors).
 fn warn_each(
@@ -83,12 +95,16 @@ impl PyModel {
         py: Python<'_>,
         path: PathBuf,
         joints: Option<Vec<String>>,
-        locked: Option<HashMap<String, f64>>,
+        locked: Option<HashMap<String, Real>>,
         strict: bool,
     ) -> PyResult<Self> {
         let options = LoadOptions {
             joints,
-            locked: locked.unwrap_or_default(),
+            locked: locked
+                .unwrap_or_default()
+                .into_iter()
+                .map(|(name, Real(value))| (name, value))
+                .collect(),
             strict,
         };
         let model = Model::from_urdf_file(&path, &options).map_err(to_py)?;
@@ -173,7 +189,7 @@ impl PyModel {
         self.load_q(q)?;
         self.load_nu(nu)?;
         let h = sea_dyn::bias_forces(&self.model, &mut self.data, &self.q, &self.nu);
-        Ok(vector_out(py, h.as_slice()))
+        Ok(vector_out(py, finite("bias_forces", h.as_slice())?))
     }
 
     /// Gravity forces G(q) (nv).
@@ -199,7 +215,7 @@ impl PyModel {
         self.load_nu(nu)?;
         vector_arg(nudot, "nudot", self.model.nv(), &mut self.nudot)?;
         let tau = sea_dyn::rnea(&self.model, &mut self.data, &self.q, &self.nu, &self.nudot);
-        Ok(vector_out(py, tau.as_slice()))
+        Ok(vector_out(py, finite("inverse_dynamics", tau.as_slice())?))
     }
 
     /// world_H_frame (4 x 4) of a link.
@@ -244,7 +260,10 @@ impl PyModel {
         self.load_q(q)?;
         self.load_nu(nu)?;
         let a = sea_dyn::frame_jacobian_dot_v(&self.model, &mut self.data, &self.q, &self.nu, id);
-        Ok(vector6_out(py, &a))
+        Ok(vector_out(
+            py,
+            finite("frame_jacobian_dot_v", a.as_slice())?,
+        ))
     }
 
     /// Centre of mass in world (3).
@@ -294,7 +313,7 @@ impl PyModel {
         self.load_q(q)?;
         self.load_nu(nu)?;
         let h = sea_dyn::centroidal_momentum(&self.model, &mut self.data, &self.q, &self.nu);
-        Ok(vector6_out(py, &h))
+        Ok(vector_out(py, finite("centroidal_momentum", h.as_slice())?))
     }
 
     /// Adot_G nu (6): rate of the centroidal momentum at nudot = 0.
@@ -307,7 +326,10 @@ impl PyModel {
         self.load_q(q)?;
         self.load_nu(nu)?;
         let h = sea_dyn::centroidal_momentum_bias(&self.model, &mut self.data, &self.q, &self.nu);
-        Ok(vector6_out(py, &h))
+        Ok(vector_out(
+            py,
+            finite("centroidal_momentum_bias", h.as_slice())?,
+        ))
     }
 
     fn __repr__(&self) -> String {

@@ -24,12 +24,13 @@ pub(crate) fn override_pairs(
 /// names the override in
 /// errors, including an integer outside the 64-bit range.
 pub(crate) fn toml_literal(value: &Bound<'_, PyAny>, key: &str) -> PyResult<String> {
-    // A numpy array (not a numpy scalar, whose `ndim` is 0) is its list.
-    if value.hasattr("tolist")? && value.hasattr("ndim")? {
-        let ndim: usize = value.getattr("ndim")?.extract().unwrap_or(0);
-        if ndim > 0 {
-            return toml_literal(&value.call_method0("tolist")?, key);
-        }
+    // A numpy array is its list, and a 0-d array (or a numpy scalar) its Python number: numpy
+    // gives a 0-d float array an `__index__` that refuses it, so it must not reach the
+    // integers' test below as itself.
+    // Only numpy's own types: another type's `tolist` could return itself again and again.
+    let module = value.get_type().getattr("__module__")?;
+    if module.extract::<String>().is_ok_and(|m| m == "numpy") && value.hasattr("tolist")? {
+        return toml_literal(&value.call_method0("tolist")?, key);
     }
     if let Ok(text) = value.extract::<String>() {
         return Ok(toml::Value::String(text).to_string());

@@ -1,118 +1,20 @@
 //! `sea_momentum.Plant`: the SEA plant with rigid contacts and its integrators.
 
+use crate::actuators::actuator_from_py;
 use crate::arrays::{matrix_rows_out, result_object, table_out, vector_arg, vector_out};
 use crate::errors::{argument_error, to_py};
 use crate::interrupt::run_interruptible;
 use crate::model::PyModel;
+use crate::numbers::{real_or_none, Real};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sea_dyn::error::check_positive;
 use sea_dyn::{Actuation, Actuator};
 use sea_plant::{ContactLimits, Method, MotorInput, Plant, PlantData};
-use sea_sim::scenario::{ActuatorConfig, ActuatorKind, Setting};
+use sea_sim::scenario::Setting;
 use std::collections::HashMap;
 use std::sync::atomic::Ordering;
-
-/// A Python value of an actuator dict as TOML: a number (NaN and infinities included) or a
-/// string (`kind`); `None` is `None` (the key is left out: no torque limit).
-fn actuator_value(
-    value: &Bound<'_, PyAny>,
-    key: &str,
-    where_: &str,
-) -> PyResult<Option<toml::Value>> {
-    if value.is_none() {
-        return Ok(None);
-    }
-    if let Ok(text) = value.extract::<String>() {
-        return Ok(Some(toml::Value::String(text)));
-    }
-    match value.extract::<f64>() {
-        Ok(number) => Ok(Some(toml::Value::Float(number))),
-        Err(_) => Err(argument_error(
-            &format!("{where_}['{key}']"),
-            "a number",
-            value,
-        )),
-    }
-}
-
-/// An actuator from a dict of the keys of a scenario's actuator table (`kind`, ratio,
-/// motor_inertia, stiffness, damping, torque_limit; defaults: the paper's iCub SEA), read by
-/// the scenario schema ([`ActuatorConfig::from_table`]); `where_` names the dict in errors.
-fn actuator_from_dict(dict: &Bound<'_, PyDict>, where_: &str) -> PyResult<Actuator> {
-    let mut table = toml::Table::new();
-    for (key, value) in dict.iter() {
-        let key: String = key
-            .extract()
-            .map_err(|_| argument_error(where_, "a dict with str keys", &key))?;
-        if let Some(value) = actuator_value(&value, &key, where_)? {
-            table.insert(key, value);
-        }
-    }
-    let keys: Vec<String> = table.keys().cloned().collect();
-    match ActuatorConfig::from_table(table) {
-        Ok(config) => match config.ignored_key(&keys) {
-            Some(key) => Err(argument_error(
-                &format!("{where_}['{key}']"),
-                "no such key with kind 'rigid': a rigid joint has no spring, damper or motor",
-                match dict.get_item(key)? {
-                    Some(value) => value.repr()?.to_string(),
-                    None => "?".to_string(),
-                },
-            )),
-            None => Ok(config.actuator()),
-        },
-        Err(error) if error.rule.starts_with("unknown field") => Err(argument_error(
-            where_,
-            "keys among kind, ratio, motor_inertia, stiffness, damping, torque_limit",
-            format!("unknown actuator key '{}'", error.key),
-        )),
-        Err(error) => {
-            // A bound's rule ("must be positive and finite, got -100") says what is allowed;
-            // a type error's (serde's "invalid type: ...") does not.
-            let bound = error.rule.strip_prefix("must be ");
-            let expected = match (error.key.as_str(), bound) {
-                ("kind", _) => format!("one of {}", ActuatorKind::allowed()),
-                (_, Some(rule)) => {
-                    format!("a number, {}", rule.split(", got ").next().unwrap_or(rule))
-                }
-                (_, None) => "a number".to_string(),
-            };
-            let shown = match dict.get_item(&error.key)? {
-                Some(value) => value.repr()?.to_string(),
-                None => "?".to_string(),
-            };
-            Err(argument_error(
-                &format!("{where_}['{}']", error.key),
-                &expected,
-                shown,
-            ))
-        }
-    }
-}
-
-/// An actuator from a kind ("rigid", "elastic": the paper's iCub SEA) or a dict of parameters.
-fn actuator_from_py(value: &Bound<'_, PyAny>, where_: &str) -> PyResult<Actuator> {
-    if let Ok(text) = value.extract::<String>() {
-        let kind = ActuatorKind::from_name(&text).ok_or_else(|| {
-            argument_error(
-                where_,
-                &format!("one of {} or a dict of parameters", ActuatorKind::allowed()),
-                format!("'{text}'"),
-            )
-        })?;
-        let config = ActuatorConfig {
-            kind,
-            ..ActuatorConfig::default()
-        };
-        return Ok(config.actuator());
-    }
-    let dict = value
-        .cast::<PyDict>()
-        .map_err(|_| argument_error(where_, "'rigid', 'elastic' or a dict", value))?;
-    actuator_from_dict(dict, where_)
-}
 
 /// The integrator called `name` ("ros2", "implicit_euler" or "rk4").
 fn method_arg(name: &str) -> PyResult<Method> {
@@ -140,9 +42,10 @@ fn numbers_arg<const N: usize>(
     let Some(value) = value else {
         return Ok(None);
     };
-    let numbers: Vec<f64> = value
+    let numbers: Vec<Real> = value
         .extract()
         .map_err(|_| argument_error(name, expected, value))?;
+    let numbers: Vec<f64> = numbers.into_iter().map(|Real(number)| number).collect();
     let shown = numbers.iter().map(f64::to_string).collect::<Vec<_>>();
     let shown = format!("({})", shown.join(", "));
     if numbers.len() != N || !numbers.iter().all(|v| v.is_finite()) {
@@ -323,10 +226,13 @@ impl PyPlant {
     /// `friction`, `foot_x`, `foot_y`: the sole's friction coefficient and rectangle (sole
     /// frame) for the wrench margins; unset, the default contact surface.
     #[new]
+    #[pyo3(
+        text_signature = "(model, *, actuator=None, actuators=None, contacts=None, contact_q=None, baumgarte_kp=None, baumgarte_kd=None, motor_velocity_gain=None, joint_inertia_regularization=0.0, gravity=None, friction=None, foot_x=None, foot_y=None)"
+    )]
     #[pyo3(signature = (
         model, *, actuator=None, actuators=None,
         contacts=None, contact_q=None, baumgarte_kp=None, baumgarte_kd=None,
-        motor_velocity_gain=None, joint_inertia_regularization=0.0, gravity=None,
+        motor_velocity_gain=None, joint_inertia_regularization=Real(0.0), gravity=None,
         friction=None, foot_x=None, foot_y=None
     ))]
     #[allow(clippy::too_many_arguments)]
@@ -336,15 +242,19 @@ impl PyPlant {
         actuators: Option<Bound<'_, PyDict>>,
         contacts: Option<Vec<String>>,
         contact_q: Option<Bound<'_, PyAny>>,
-        baumgarte_kp: Option<f64>,
-        baumgarte_kd: Option<f64>,
-        motor_velocity_gain: Option<f64>,
-        joint_inertia_regularization: f64,
+        baumgarte_kp: Option<Real>,
+        baumgarte_kd: Option<Real>,
+        motor_velocity_gain: Option<Real>,
+        joint_inertia_regularization: Real,
         gravity: Option<Bound<'_, PyAny>>,
-        friction: Option<f64>,
+        friction: Option<Real>,
         foot_x: Option<Bound<'_, PyAny>>,
         foot_y: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let (baumgarte_kp, baumgarte_kd) = (real_or_none(baumgarte_kp), real_or_none(baumgarte_kd));
+        let motor_velocity_gain = real_or_none(motor_velocity_gain);
+        let Real(joint_inertia_regularization) = joint_inertia_regularization;
+        let friction = real_or_none(friction);
         let gravity = numbers_arg::<3>(gravity.as_ref(), "gravity", GRAVITY_RULE)?;
         let foot_x = numbers_arg::<2>(foot_x.as_ref(), "foot_x", RECTANGLE_RULE)?;
         let foot_y = numbers_arg::<2>(foot_y.as_ref(), "foot_y", RECTANGLE_RULE)?;
@@ -461,6 +371,16 @@ impl PyPlant {
     #[getter]
     fn contact_point_counts(&self) -> Vec<usize> {
         self.plant.contact_point_counts()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Plant(model='{}', nx={}, elastic_joints={}, contacts={})",
+            self.plant.model.name,
+            self.plant.layout().nx(),
+            self.plant.actuation.elastic_joints.len(),
+            crate::arrays::python_list(&self.contact_frames()),
+        )
     }
 
     /// A state from its parts: theta defaults to s / Gamma (springs at rest), velocities to 0.
@@ -584,10 +504,11 @@ impl PyPlant {
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
-        dt: f64,
+        dt: Real,
         method: &str,
         external: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let Real(dt) = dt;
         let method = method_arg(method)?;
         check_positive("dt", dt).map_err(to_py)?;
         self.load(x, u)?;
@@ -632,11 +553,12 @@ impl PyPlant {
         py: Python<'py>,
         x0: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
-        dt: f64,
+        dt: Real,
         n_steps: &Bound<'py, PyAny>,
         method: &str,
         record_every: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let Real(dt) = dt;
         let method = method_arg(method)?;
         let n_steps = count_arg("n_steps", n_steps, 0)?;
         let record_every = match record_every {

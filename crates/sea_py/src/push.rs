@@ -5,6 +5,7 @@
 
 use crate::errors::{argument_error, to_py, warn_user};
 use crate::interrupt::run_interruptible;
+use crate::numbers::{real_or_none, Real};
 use crate::overrides::override_pairs;
 use crate::plant::count_arg;
 use pyo3::prelude::*;
@@ -31,21 +32,27 @@ type RunsSeen = Mutex<Vec<(PushDirection, f64, String)>>;
 /// list of (impulse, status) in the order given, or the bisection's in the order run),
 /// `interrupted`) and `interrupted`.
 #[pyfunction]
-#[pyo3(signature = (path, directions, overrides=None, impulses=None, link="root_link", start_s=None, duration_s=0.1, tolerance_n_s=0.1, phase=None, step=None))]
+#[pyo3(
+    text_signature = "(path, directions, overrides=None, impulses=None, link=\"root_link\", start_s=None, duration_s=0.1, tolerance_n_s=0.1, phase=None, step=None)"
+)]
+#[pyo3(signature = (path, directions, overrides=None, impulses=None, link="root_link", start_s=None, duration_s=Real(0.1), tolerance_n_s=Real(0.1), phase=None, step=None))]
 #[allow(clippy::too_many_arguments)] // the Python signature, keyword arguments with defaults
 pub fn push_table_native<'py>(
     py: Python<'py>,
     path: PathBuf,
     directions: Vec<String>,
     overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
-    impulses: Option<Vec<f64>>,
+    impulses: Option<Vec<Real>>,
     link: &str,
-    start_s: Option<f64>,
-    duration_s: f64,
-    tolerance_n_s: f64,
-    phase: Option<f64>,
+    start_s: Option<Real>,
+    duration_s: Real,
+    tolerance_n_s: Real,
+    phase: Option<Real>,
     step: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let impulses = impulses.map(|list| list.into_iter().map(|Real(v)| v).collect::<Vec<f64>>());
+    let (start_s, phase) = (real_or_none(start_s), real_or_none(phase));
+    let (Real(duration_s), Real(tolerance_n_s)) = (duration_s, tolerance_n_s);
     let pairs = override_pairs(overrides)?;
     let directions = parse_directions(&directions)?;
     let start_s = push_start(&path, &pairs, start_s, phase, step)?;

@@ -3,6 +3,7 @@
 //! out) from Python, the GIL released. A template run takes milliseconds; nothing to stop.
 
 use crate::errors::to_py;
+use crate::numbers::Real;
 use crate::overrides::override_pairs;
 use crate::plant::count_arg;
 use crate::push::parse_directions;
@@ -22,19 +23,24 @@ use std::path::PathBuf;
 /// start), `rows` (one dict per direction: `direction`, `recovered_impulse_n_s`, `pushes` (a
 /// list of (impulse, recovered) in the order given; empty when bisected)).
 #[pyfunction]
-#[pyo3(signature = (path, directions, phase, step=None, overrides=None, impulses=None, duration_s=0.1, tolerance_n_s=0.01))]
+#[pyo3(
+    text_signature = "(path, directions, phase, step=None, overrides=None, impulses=None, duration_s=0.1, tolerance_n_s=0.01)"
+)]
+#[pyo3(signature = (path, directions, phase, step=None, overrides=None, impulses=None, duration_s=Real(0.1), tolerance_n_s=Real(0.01)))]
 #[allow(clippy::too_many_arguments)] // the Python signature, keyword arguments with defaults
 pub fn template_push_native<'py>(
     py: Python<'py>,
     path: PathBuf,
     directions: Vec<String>,
-    phase: f64,
+    phase: Real,
     step: Option<&Bound<'py, PyAny>>,
     overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
-    impulses: Option<Vec<f64>>,
-    duration_s: f64,
-    tolerance_n_s: f64,
+    impulses: Option<Vec<Real>>,
+    duration_s: Real,
+    tolerance_n_s: Real,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let impulses = impulses.map(|list| list.into_iter().map(|Real(v)| v).collect::<Vec<f64>>());
+    let (Real(phase), Real(duration_s), Real(tolerance_n_s)) = (phase, duration_s, tolerance_n_s);
     let pairs = override_pairs(overrides)?;
     let directions = parse_directions(&directions)?;
     let step = match step {

@@ -1,6 +1,7 @@
 //! The URDF's mesh visuals for the pictures: `link_meshes`.
 
 use crate::errors::{argument_error, to_py};
+use crate::numbers::Integer;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
 use pyo3::prelude::*;
@@ -26,14 +27,16 @@ type LinkMesh<'py> = (
 /// then the environment's package directories, then above the URDF. `strict=True` raises
 /// `ModelError` instead of warning.
 #[pyfunction]
-#[pyo3(signature = (urdf, package_dirs=None, triangle_budget=4000, strict=false))]
+#[pyo3(text_signature = "(urdf, package_dirs=None, triangle_budget=4000, strict=False)")]
+#[pyo3(signature = (urdf, package_dirs=None, triangle_budget=Integer(4000), strict=false))]
 pub fn link_meshes<'py>(
     py: Python<'py>,
     urdf: PathBuf,
     package_dirs: Option<Vec<PathBuf>>,
-    triangle_budget: i64,
+    triangle_budget: Integer,
     strict: bool,
 ) -> PyResult<(Vec<LinkMesh<'py>>, Vec<String>)> {
+    let Integer(triangle_budget) = triangle_budget;
     let budget = usize::try_from(triangle_budget)
         .ok()
         .filter(|b| *b > 0)

@@ -96,7 +96,7 @@ fn check_target(target: &Path) -> Result<()> {
         ));
     }
     if target.is_dir() {
-        return Err(io_error(target, ErrorKind::InvalidInput, "is a folder"));
+        return Err(io_error(target, ErrorKind::IsADirectory, "is a folder"));
     }
     Ok(())
 }

@@ -84,6 +84,9 @@ pub struct RobotController<C = MomentumController> {
     period: f64,
     /// The measured state of the last tick (nx), which the estimators read after the period.
     measured_at_tick: Vec<f64>,
+    /// Without joint loops, the last held tick's motor command (n): a tick that fails leaves
+    /// it, while the law's own output is the failed evaluation's.
+    held_input: Vec<f64>,
 }
 
 impl<C: BorrowMut<MomentumController>> RobotController<C> {
@@ -99,11 +102,13 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
             "the stiffness identification and its excitation need the joint loops"
         );
         let nx = law.layout().nx();
+        let held_input = law.last().output.input.clone();
         Self {
             law,
             parts,
             period,
             measured_at_tick: vec![0.0; nx],
+            held_input,
         }
     }
 
@@ -166,11 +171,12 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
         }
     }
 
-    /// The motor command (n): the joint loops' last, or the whole-body law's last input.
+    /// The motor command (n): the joint loops' last, or the whole-body law's input at the last
+    /// tick held (a tick that failed is not).
     pub fn command(&self) -> &[f64] {
         match &self.parts.joint_loop {
             Some(joint_loop) => joint_loop.input(),
-            None => &self.law.last().output.input,
+            None => &self.held_input,
         }
     }
 
@@ -201,6 +207,8 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
                 joint_loop.excite(excitation, time);
             }
             joint_loop.tick(&layout, measured);
+        } else {
+            self.held_input.clone_from(&self.law.last().output.input);
         }
         self.measured_at_tick.copy_from_slice(measured);
     }
@@ -211,7 +219,7 @@ impl<C: BorrowMut<MomentumController>> RobotController<C> {
         let layout = self.law.layout();
         match &mut self.parts.joint_loop {
             Some(joint_loop) => joint_loop.tick(&layout, measured),
-            None => &self.law.last().output.input,
+            None => &self.held_input,
         }
     }
 
