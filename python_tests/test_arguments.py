@@ -35,10 +35,12 @@ def standing(model):
 
 #: Values that are not real numbers, and the words of their TypeError.
 NOT_REAL = [
-    (True, "bool True"),
-    (np.True_, "bool np.True_"),
+    (True, "the bool"),
+    (np.True_, "the bool"),
+    (np.array(True), "the bool"),
     (1 + 2j, "complex number"),
     (np.complex128(1.0), "complex number"),
+    (np.array(1.0 + 0j), "complex number"),
     (10**400, "int of 1329 bits"),
     (-(10**400), "negative int of 1329 bits"),
 ]
@@ -69,9 +71,30 @@ def test_an_integer_argument_refuses_bools_and_ints_beyond_64_bits():
         _native.link_meshes(ICUB, triangle_budget=2**70)
     with pytest.raises(TypeError, match="argument 'grid_points': .*negative int of 71 bits"):
         _native.stability_margin_native(TRACKING, "controller.postural_scale", 0.1, 1.0, grid_points=-(2**70))
+    with pytest.raises(TypeError, match="argument 'triangle_budget': .*int of 64 bits, beyond"):
+        _native.link_meshes(ICUB, triangle_budget=np.uint64(2**64 - 1))
     # A numpy integer is an integer.
     meshes, _ = _native.link_meshes(ICUB, triangle_budget=np.int32(100))
     assert isinstance(meshes, list)
+
+
+@pytest.mark.parametrize("value", [True, np.True_, 2.5])
+def test_a_count_argument_names_itself_when_given_no_integer(standing, value):
+    plant, x, _ = standing
+    u = np.zeros(plant.nu_input)
+    with pytest.raises(TypeError, match="argument 'n_steps': "):
+        plant.simulate(x, u, 1e-3, value)
+    with pytest.raises(TypeError, match="argument 'record_every': "):
+        plant.simulate(x, u, 1e-3, 2, record_every=value)
+
+
+def test_the_python_wrappers_leave_the_check_to_the_native_arguments():
+    with pytest.raises(TypeError, match="argument 'lower': expected a real number, got the complex"):
+        sm.stability_margin(TRACKING, "controller.postural_scale", 1 + 0j, 2.0)
+    with pytest.raises(TypeError, match="argument 'tolerance_n_s': expected a real number, got the bool"):
+        sm.push_table(TRACKING, "forward", tolerance_n_s=True)
+    with pytest.raises(TypeError, match="argument 'impulses': expected a real number"):
+        sm.push_table(TRACKING, "forward", impulses=[1.0, True])
 
 
 def test_numbers_in_dicts_and_tuples_refuse_bools(model):
@@ -101,7 +124,7 @@ def test_a_sweep_axis_must_be_a_flat_list_of_real_numbers():
     with pytest.raises(ValueError, match=r"grid\['simulation.duration_s'\]: expected a flat list.*\(1, 1\)"):
         sm.sweep(TRACKING, {"simulation.duration_s": [[0.01]]})
     with pytest.raises(ValueError, match="every value must be a real number, got .*1j"):
-        sm.sweep(TRACKING, {"simulation.duration_s": [0.01 + 1j]})
+        sm.sweep(TRACKING, {"simulation.duration_s": [np.complex128(0.01 + 1j)]})
 
 
 @pytest.mark.parametrize(

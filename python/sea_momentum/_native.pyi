@@ -92,8 +92,8 @@ class SeaIOError(SeaError, OSError):
 class Model:
     """A floating-base robot model loaded from URDF, with the buffers of its algorithms.
 
-    The functions of ``nu`` raise ``SolverError`` when their result overflows float64 (finite
-    velocities of 1e200 or more), instead of returning NaN. Not thread-safe: use one Model per
+    The functions of ``nu`` raise ``SolverError`` when their result overflows float64 (e.g.
+    ``bias_forces`` at finite velocities of 1e200), instead of returning inf or NaN. Not thread-safe: use one Model per
     thread.
     """
 

@@ -135,8 +135,8 @@ def stability_margin(
     report = stability_margin_native(
         os.fspath(scenario),
         parameter,
-        float(lower),
-        float(upper),
+        lower,
+        upper,
         dict(overrides or {}),
         method,
         sampling,

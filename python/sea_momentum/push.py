@@ -128,12 +128,12 @@ def push_table(
         os.fspath(scenario),
         directions,
         dict(overrides or {}),
-        None if impulses is None else [float(i) for i in impulses],
+        None if impulses is None else list(impulses),
         link,
-        None if start_s is None else float(start_s),
-        float(duration_s),
-        float(tolerance_n_s),
-        None if phase is None else float(phase),
+        start_s,
+        duration_s,
+        tolerance_n_s,
+        phase,
         step,
     )
     rows = [
@@ -213,12 +213,12 @@ def template_push_table(
     native = template_push_native(
         os.fspath(scenario),
         list(directions),
-        float(phase),
+        phase,
         step,
         dict(overrides or {}),
-        None if impulses is None else [float(i) for i in impulses],
-        float(duration_s),
-        float(tolerance_n_s),
+        None if impulses is None else list(impulses),
+        duration_s,
+        tolerance_n_s,
     )
     return [
         TemplateRow(

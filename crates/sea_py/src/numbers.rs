@@ -10,9 +10,10 @@
 //! functions with one write their `text_signature` out (`test_stub.py` compares it with the
 //! stub).
 
+use crate::errors::argument_error;
 use pyo3::exceptions::{PyOverflowError, PyTypeError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyComplex};
+use pyo3::types::{PyBool, PyComplex, PyFloat, PyInt};
 
 /// A real-number argument: a Python `float` or `int`, a numpy floating or integer scalar, a
 /// 0-d array or anything with `__float__`; not a bool (Python's or numpy's) nor a complex
@@ -26,14 +27,23 @@ pub struct Real(pub f64);
 pub struct Integer(pub i64);
 
 /// The `TypeError` for a bool or a complex number given where `what` ("a real number") is
-/// expected.
+/// expected: Python's, numpy's scalars (numpy's complex scalars convert to float by dropping
+/// the imaginary part, with a warning only) and 0-d arrays of those (by their dtype's kind).
 fn not_bool_nor_complex(value: &Bound<'_, PyAny>, what: &str) -> PyResult<()> {
-    // numpy's bool (`numpy.bool` in numpy 2, `numpy.bool_` before) is no Python bool, and its
-    // complex scalars convert to float by dropping the imaginary part (a warning only).
-    let type_name = value.get_type().name()?.to_string();
-    let kind = if value.is_instance_of::<PyBool>() || type_name == "bool" || type_name == "bool_" {
+    // The common case at once (a tick's `t` in a Python loop): a float or an int, not a bool.
+    if value.is_exact_instance_of::<PyFloat>() || value.is_exact_instance_of::<PyInt>() {
+        return Ok(());
+    }
+    let dtype_kind = match value.getattr("dtype") {
+        Ok(dtype) => dtype
+            .getattr("kind")?
+            .extract::<String>()
+            .unwrap_or_default(),
+        Err(_) => String::new(),
+    };
+    let kind = if value.is_instance_of::<PyBool>() || dtype_kind == "b" {
         "the bool"
-    } else if value.is_instance_of::<PyComplex>() || type_name.starts_with("complex") {
+    } else if value.is_instance_of::<PyComplex>() || dtype_kind == "c" {
         "the complex number"
     } else {
         return Ok(());
@@ -44,16 +54,48 @@ fn not_bool_nor_complex(value: &Bound<'_, PyAny>, what: &str) -> PyResult<()> {
     )))
 }
 
-/// The `TypeError` naming the range of `what` for an `int` beyond it (`error`, the conversion's
-/// `OverflowError`, is its cause); the int is shown by its size (its digits could be more than
-/// Python converts to text).
+/// The `TypeError` naming the range of `what` for an integer beyond it (`error`, the
+/// conversion's `OverflowError`, is its cause); the integer is shown by its size (its digits
+/// could be more than Python converts to text), when it has one (`operator.index`).
 fn beyond_range(value: &Bound<'_, PyAny>, what: &str, error: PyErr) -> PyResult<PyErr> {
-    let bits: u64 = value.call_method0("bit_length")?.extract()?;
-    let sign = if value.lt(0)? { "a negative" } else { "an" };
-    let message = format!("expected {what}, got {sign} int of {bits} bits, beyond its range");
+    let py = value.py();
+    let index = py.import("operator")?.call_method1("index", (value,));
+    let size = index.and_then(|integer| {
+        let bits: u64 = integer.call_method0("bit_length")?.extract()?;
+        let sign = if integer.lt(0)? { "a negative" } else { "an" };
+        Ok(format!("{sign} int of {bits} bits"))
+    });
+    let given = match size {
+        Ok(size) => size,
+        Err(_) => format!("a {}", value.get_type().name()?),
+    };
+    let message = format!("expected {what}, got {given}, beyond its range");
     let type_error = PyTypeError::new_err(message);
-    type_error.set_cause(value.py(), Some(error));
+    type_error.set_cause(py, Some(error));
     Ok(type_error)
+}
+
+/// A whole-number argument `value` from `min` to `usize::MAX`, named `argument` in the
+/// `ValueError` when it is an integer out of that range (of any size) and in the `TypeError`
+/// when it is no integer (a bool, a float).
+pub(crate) fn count_arg(argument: &str, value: &Bound<'_, PyAny>, min: usize) -> PyResult<usize> {
+    let py = value.py();
+    let named = |error: PyErr| {
+        let message = format!("argument '{argument}': {}", error.value(py));
+        PyTypeError::new_err(message)
+    };
+    let out_of_range = || {
+        let expected = format!("an integer from {min} to {}", usize::MAX);
+        argument_error(argument, &expected, value)
+    };
+    not_bool_nor_complex(value, "an integer").map_err(named)?;
+    match value.extract::<usize>() {
+        Ok(count) if count >= min => Ok(count),
+        Ok(_) => Err(out_of_range()),
+        Err(error) if error.is_instance_of::<PyOverflowError>(py) => Err(out_of_range()),
+        Err(error) if error.is_instance_of::<PyTypeError>(py) => Err(named(error)),
+        Err(error) => Err(error),
+    }
 }
 
 /// `value` as a `T` (`f64` or `i64`), `what` it must be ("a real number"), refused as the

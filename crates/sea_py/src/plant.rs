@@ -5,7 +5,7 @@ use crate::arrays::{matrix_rows_out, result_object, table_out, vector_arg, vecto
 use crate::errors::{argument_error, to_py};
 use crate::interrupt::run_interruptible;
 use crate::model::PyModel;
-use crate::numbers::{real_or_none, Real};
+use crate::numbers::{count_arg, real_or_none, Real};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -612,24 +612,6 @@ const MAX_SIMULATE_STEPS: f64 = sea_sim::scenario::validate::MAX_RUN_STEPS;
 
 /// Largest record `Plant.simulate` allocates [bytes]; the numpy copy doubles it at the end.
 const MAX_RECORD_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
-
-/// A whole-number argument `value` from `min` to `usize::MAX`, named `argument` in the
-/// `ValueError` when it is an integer out of that range (of any size); not an integer: the
-/// `TypeError` of its conversion.
-pub(crate) fn count_arg(argument: &str, value: &Bound<'_, PyAny>, min: usize) -> PyResult<usize> {
-    let out_of_range = || {
-        let expected = format!("an integer from {min} to {}", usize::MAX);
-        argument_error(argument, &expected, value)
-    };
-    match value.extract::<usize>() {
-        Ok(count) if count >= min => Ok(count),
-        Ok(_) => Err(out_of_range()),
-        Err(error) if error.is_instance_of::<pyo3::exceptions::PyOverflowError>(value.py()) => {
-            Err(out_of_range())
-        }
-        Err(error) => Err(error),
-    }
-}
 
 /// Checks `n_steps` and the record it needs before anything is allocated: a `ValueError`
 /// naming the argument and, for the record, the memory it would need.

@@ -5,9 +5,9 @@
 
 use crate::errors::{argument_error, to_py, warn_user};
 use crate::interrupt::run_interruptible;
+use crate::numbers::count_arg;
 use crate::numbers::{real_or_none, Real};
 use crate::overrides::override_pairs;
-use crate::plant::count_arg;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_sim::analysis::push::{

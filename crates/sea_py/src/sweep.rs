@@ -8,6 +8,7 @@
 
 use crate::errors::to_py;
 use crate::interrupt::run_interruptible;
+use crate::numbers::Integer;
 use crate::overrides::override_pairs;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -105,6 +106,18 @@ pub fn sweep_grid<'py>(
     Ok(dict)
 }
 
+/// `workers` as a thread count; a negative one is refused naming it (the range is checked by
+/// [`sea_sim::sweep::worker_count`]).
+fn worker_arg(workers: Option<Integer>) -> PyResult<Option<usize>> {
+    workers
+        .map(|Integer(n)| {
+            usize::try_from(n).map_err(|_| {
+                crate::errors::argument_error("workers", "a positive integer or None", n)
+            })
+        })
+        .transpose()
+}
+
 /// Runs every point of `grid` (see `sweep_grid`) on `workers` threads (None: every core), the
 /// GIL released. Returns a dict: `keys`, `columns`, `rows` (list of dicts in grid order),
 /// `total` (points in the grid) and `interrupted` (Ctrl-C stopped it; `rows` holds the runs
@@ -116,9 +129,10 @@ pub fn sweep<'py>(
     path: PathBuf,
     grid: Vec<String>,
     overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
-    workers: Option<usize>,
+    workers: Option<Integer>,
     progress: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let workers = worker_arg(workers)?;
     let overrides = override_pairs(overrides)?;
     let grid = Grid::parse(&grid).map_err(to_py)?;
     sea_sim::sweep::worker_count(workers).map_err(to_py)?;
@@ -150,15 +164,17 @@ pub fn sweep<'py>(
 /// released. Returns the rows (list of dicts, in the order given); Ctrl-C returns the rows
 /// done. The points are not checked again: a bad value is that row's failure.
 #[pyfunction]
-#[pyo3(signature = (path, keys, points, overrides=None, workers=1))]
+#[pyo3(signature = (path, keys, points, overrides=None, workers=Integer(1)))]
+#[pyo3(text_signature = "(path, keys, points, overrides=None, workers=1)")]
 pub fn sweep_batch<'py>(
     py: Python<'py>,
     path: PathBuf,
     keys: Vec<String>,
     points: Vec<(usize, Vec<f64>)>,
     overrides: Option<HashMap<String, Bound<'py, PyAny>>>,
-    workers: Option<usize>,
+    workers: Option<Integer>,
 ) -> PyResult<Bound<'py, PyList>> {
+    let workers = worker_arg(workers)?;
     if let Some((index, values)) = points.iter().find(|(_, v)| v.len() != keys.len()) {
         return Err(crate::errors::argument_error(
             &format!("points[{index}]"),

@@ -3,9 +3,9 @@
 //! out) from Python, the GIL released. A template run takes milliseconds; nothing to stop.
 
 use crate::errors::to_py;
+use crate::numbers::count_arg;
 use crate::numbers::Real;
 use crate::overrides::override_pairs;
-use crate::plant::count_arg;
 use crate::push::parse_directions;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
