@@ -231,6 +231,14 @@ fn finished_mcap_messages(path: &Path) -> u64 {
 const LONG_RUN: &str = "simulation.duration_s=300";
 const SHORT_RUN: &str = "simulation.duration_s=0.3";
 
+/// `sea-sim run` of the workspace's scenario for [`SHORT_RUN`], quiet, with `options` after.
+fn short_run(ws: &Workspace, options: &[&str]) -> Output {
+    let scenario = ws.scenario();
+    let mut args = vec!["run", scenario.as_str(), "--set", SHORT_RUN, "--quiet"];
+    args.extend_from_slice(options);
+    sea_sim(&args)
+}
+
 #[test]
 fn help_lists_subcommands_and_each_subcommand_documents_its_options() {
     let top = sea_sim(&["--help"]);
@@ -584,15 +592,7 @@ fn a_full_disk_is_an_error_naming_the_file_and_the_cause() {
     }
     let ws = Workspace::new("full");
     for option in ["--summary", "--mcap"] {
-        let out = sea_sim(&[
-            "run",
-            &ws.scenario(),
-            "--set",
-            SHORT_RUN,
-            "--quiet",
-            option,
-            "/dev/full",
-        ]);
+        let out = short_run(&ws, &[option, "/dev/full"]);
         let message = text(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{option}: {message}");
         assert!(message.contains("/dev/full"), "{option}: {message}");
@@ -601,6 +601,18 @@ fn a_full_disk_is_an_error_naming_the_file_and_the_cause() {
             "{option}: {message}"
         );
     }
+    // The run is done when the summary cannot be written: its log is kept, its summary printed.
+    let log = ws.path("kept.mcap");
+    let out = short_run(
+        &ws,
+        &["--summary", "/dev/full", "--mcap", log.to_str().unwrap()],
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("\"status\": \"completed\""));
+    assert!(
+        std::fs::metadata(&log).is_ok_and(|m| m.len() > 0),
+        "no log kept"
+    );
 }
 
 #[test]

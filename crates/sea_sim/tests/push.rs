@@ -564,3 +564,35 @@ fn a_raised_cancellation_flag_starts_no_push() {
     }
     assert_eq!(told.into_inner(), 0, "no run was told of");
 }
+
+/// A tolerance finer than the floats' spacing at the bound ends the bisection when the bracket
+/// can shrink no further (it ran the same midpoint again and again).
+#[test]
+fn a_tolerance_below_the_floats_spacing_ends_the_bisection() {
+    let path = push_two_feet();
+    let options = PushOptions {
+        start_s: 0.05,
+        duration_s: 0.01,
+        tolerance_n_s: 1e-300,
+        ..Default::default()
+    };
+    let overrides = [("simulation.duration_s".to_string(), "0.3".to_string())];
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let on_run = |_: &PushProgress<'_>| {};
+    let table = push_table(
+        &path,
+        &overrides,
+        &options,
+        &[PushDirection::Left],
+        &on_run,
+        &cancel,
+    )
+    .unwrap();
+    let row = &table[0];
+    let failed = row.failed_impulse.expect("the bracket has a failed end");
+    // The ends are neighbouring floats, reached in about as many runs as a float has bits.
+    assert!(failed > row.recovered_impulse, "{row:?}");
+    assert_eq!(failed, row.recovered_impulse.next_up(), "{row:?}");
+    assert!(row.runs < 80, "{} runs", row.runs);
+    assert!(!row.interrupted);
+}

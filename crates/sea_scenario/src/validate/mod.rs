@@ -23,15 +23,54 @@ pub use sea_ctrl::qp::{MAX_FRICTION_FACETS, MIN_FRICTION_FACETS};
 /// time; more is a typo (a step of 1e-300 s, a rate of 1e300 Hz) that would hang the run.
 pub const MAX_RUN_STEPS: f64 = 1e10;
 
+/// Shortest plant step a run takes [s]: the impact report keeps the last 50 ms of steps, so a
+/// step of 1 ps would ask for hundreds of GB; the scenarios step at 0.25 to 1 ms with an
+/// L-stable integrator.
+pub const MIN_PLANT_STEP_S: f64 = 1e-6;
+
 /// Checks every value of `scenario` that does not need the robot model.
 pub fn scenario(scenario: &Scenario) -> Result<()> {
     robot(scenario)?;
     actuators(scenario)?;
+    // Before the controller's checks, which derive bounds from the rates.
+    plant_step(scenario)?;
     controller(scenario)?;
     super::disturbances::validate(&scenario.disturbances)?;
     sensing(scenario)?;
     walking(scenario)?;
     run_length(scenario)
+}
+
+/// The plant step the run takes, at most `plant.dt` and one per joint-loop tick (multi-rate)
+/// or per whole-body tick (sampled), must be at least [`MIN_PLANT_STEP_S`]; the key named is
+/// the one that sets the step. A value that gives no positive finite step is left to its own
+/// check.
+fn plant_step(scenario: &Scenario) -> Result<()> {
+    let c = &scenario.controller;
+    let mut candidates = vec![("plant.dt", scenario.plant.dt, scenario.plant.dt)];
+    match c.sampling {
+        Sampling::MultiRate => candidates.push((
+            "controller.inner_rate_hz",
+            c.inner_rate_hz,
+            1.0 / c.inner_rate_hz,
+        )),
+        Sampling::ZeroOrderHold => {
+            candidates.push(("controller.rate_hz", c.rate_hz(), 1.0 / c.rate_hz()))
+        }
+        Sampling::Continuous => {}
+    }
+    let shortest = candidates
+        .into_iter()
+        .filter(|&(_, _, step)| step > 0.0 && step.is_finite())
+        .min_by(|a, b| a.2.total_cmp(&b.2));
+    let Some((key, value, step)) = shortest.filter(|&(_, _, step)| step < MIN_PLANT_STEP_S) else {
+        return Ok(());
+    };
+    let rule = format!(
+        "must give plant steps of {MIN_PLANT_STEP_S:e} s or more (the plant steps at least \
+         once per tick; this gives {step:.3e} s)"
+    );
+    Err(Error::invalid(key, rule, shown(value)))
 }
 
 /// `[walking]`: two feet on unilateral contacts whose wrench may reach zero, and the
@@ -316,7 +355,12 @@ fn no_tick_in_the_run(scenario: &Scenario) -> Error {
 /// tick and report the run completed.
 fn run_length(scenario: &Scenario) -> Result<()> {
     let duration = scenario.simulation.duration_s;
-    let plant_steps = duration / scenario.plant.dt;
+    // The joint loops tick on plant steps: a faster inner rate shortens the step below plant.dt.
+    let inner_rate_hz = match scenario.controller.sampling {
+        Sampling::MultiRate => scenario.controller.inner_rate_hz,
+        _ => 0.0,
+    };
+    let plant_steps = duration * (1.0 / scenario.plant.dt).max(inner_rate_hz);
     let samples = match scenario.controller.sampling {
         Sampling::Continuous => 0.0,
         Sampling::ZeroOrderHold | Sampling::MultiRate => duration * scenario.controller.rate_hz(),
@@ -346,6 +390,11 @@ fn run_length(scenario: &Scenario) -> Result<()> {
             "controller.rate_hz",
             scenario.controller.rate_hz(),
             samples / duration / default_rate,
+        ),
+        (
+            "controller.inner_rate_hz",
+            inner_rate_hz,
+            inner_rate_hz * defaults.1.dt,
         ),
     ];
     let key = candidates

@@ -247,6 +247,7 @@ fn accepted_nonsense_of_the_issue_is_refused() {
             "0",
         ),
         ("plant.dt", "1e-300", "plant.dt", "1e-300"),
+        ("plant.dt", "1e-9", "plant.dt", "1e-9"),
         ("controller.rate_hz", "1e300", "controller.rate_hz", "1e300"),
         (
             "simulation.duration_s",
@@ -413,4 +414,22 @@ fn the_minimum_normal_force_must_be_carried_by_the_weight() {
         message.contains("controller.contact.min_normal_force") && message.contains("323.7"),
         "{message}"
     );
+}
+
+#[test]
+fn a_joint_loop_rate_whose_plant_steps_are_below_a_microsecond_is_refused_naming_it() {
+    let multi_rate = ("controller.sampling", "\"multi_rate\"");
+    for rate in ["1e12", "1e10", "2e6"] {
+        let shown = format!("{}", rate.parse::<f64>().unwrap());
+        let overrides = [multi_rate, ("controller.inner_rate_hz", rate)];
+        assert_refused(&overrides, "controller.inner_rate_hz", &shown);
+    }
+    // A short run does not hide it (its step count is small, its steps are not).
+    let short = [
+        multi_rate,
+        ("controller.inner_rate_hz", "1e11"),
+        ("simulation.duration_s", "0.05"),
+    ];
+    assert_refused(&short, "controller.inner_rate_hz", "100000000000");
+    assert!(error_of(&[multi_rate, ("controller.inner_rate_hz", "1e6")]).is_none());
 }

@@ -360,11 +360,26 @@ pub fn recoverable_impulse(
         result.interrupted = true;
         return Ok(result);
     }
+    bisect(&mut result, options.tolerance_n_s, &run)?;
+    Ok(result)
+}
+
+/// Halves the bracket of `result` (recovered, failed) with `run` until it is at most
+/// `tolerance` [N s] wide, or a run is stopped (`result.interrupted`), or the floats hold no
+/// impulse between its ends (a tolerance finer than their spacing there).
+fn bisect(
+    result: &mut PushResult,
+    tolerance: f64,
+    run: &dyn Fn(f64) -> Result<Option<Summary>>,
+) -> Result<()> {
     while let Some(failed) = result.failed_impulse {
-        if failed - result.recovered_impulse <= options.tolerance_n_s {
+        if failed - result.recovered_impulse <= tolerance {
             break;
         }
         let middle = 0.5 * (result.recovered_impulse + failed);
+        if middle <= result.recovered_impulse || middle >= failed {
+            break;
+        }
         let Some(summary) = run(middle)? else {
             result.interrupted = true;
             break;
@@ -377,7 +392,7 @@ pub fn recoverable_impulse(
             result.failed_summary = Some(summary);
         }
     }
-    Ok(result)
+    Ok(())
 }
 
 /// The first bracket of [`recoverable_impulse`] in `result`: `run` at twice the capture-point

@@ -70,18 +70,17 @@ pub(crate) fn open_outputs(args: &RunArgs, scenario: &Scenario) -> sea_sim::Resu
     })
 }
 
-/// Writes the summary, then replaces both targets.
+/// Replaces the MCAP log's target, then writes the summary and replaces its target: each is
+/// kept whatever happens to the other (a full disk under the summary keeps the finished log).
+/// The first error is returned.
 pub(crate) fn finish_outputs(outputs: Outputs, json: &str) -> sea_sim::Result<()> {
-    if let Some(mut summary) = outputs.summary {
+    let mcap = outputs.mcap.map_or(Ok(()), OutputFile::commit);
+    let summary = outputs.summary.map_or(Ok(()), |mut summary| {
         summary.write_all(json.as_bytes())?;
         summary.write_all(b"\n")?;
-        if let Some(mcap) = outputs.mcap {
-            mcap.commit()?;
-        }
         summary.commit()
-    } else {
-        outputs.mcap.map_or(Ok(()), OutputFile::commit)
-    }
+    });
+    mcap.and(summary)
 }
 
 /// Starts the live server of `--live` and says where it listens (also under `--quiet`: the
@@ -148,8 +147,10 @@ pub(crate) fn run_scenario(args: &RunArgs, interrupts: &Interrupts) -> sea_sim::
     };
     let json = serde_json::to_string_pretty(&summary.to_json())
         .map_err(|e| sea_sim::Error::Output(format!("summary JSON: {e}")))?;
-    finish_outputs(outputs, &json)?;
+    // The summary is printed even when an output fails: the run is done, and it says how.
+    let finished = finish_outputs(outputs, &json);
     print_out(&json);
+    finished?;
     Ok(match summary.status.as_str() {
         "completed" => Outcome::Completed,
         "interrupted" => Outcome::Interrupted(interrupts.received().unwrap_or(SIGINT)),
