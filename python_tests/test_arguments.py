@@ -113,6 +113,20 @@ def test_numbers_in_dicts_and_tuples_refuse_bools(model):
     assert plant.nx == model.nq + model.nv
 
 
+class _ForeignScalar:
+    """A 0-d value of another array library: a ``dtype`` without numpy's ``kind``."""
+
+    dtype = object()
+
+    def __float__(self) -> float:
+        return 0.5
+
+
+def test_a_scalar_of_another_array_library_is_taken_by_its_float(model):
+    plant = sm.Plant(model, baumgarte_kp=_ForeignScalar())
+    assert plant.nx == model.nq + model.nv
+
+
 def test_a_0d_array_override_is_its_number():
     scenario = sm.Scenario.load(TRACKING, {"simulation.duration_s": np.array(0.5)})
     assert scenario.duration == 0.5

@@ -34,13 +34,12 @@ fn not_bool_nor_complex(value: &Bound<'_, PyAny>, what: &str) -> PyResult<()> {
     if value.is_exact_instance_of::<PyFloat>() || value.is_exact_instance_of::<PyInt>() {
         return Ok(());
     }
-    let dtype_kind = match value.getattr("dtype") {
-        Ok(dtype) => dtype
-            .getattr("kind")?
-            .extract::<String>()
-            .unwrap_or_default(),
-        Err(_) => String::new(),
-    };
+    // numpy's dtype kind; another library's dtype (torch's) has none, and is left to `__float__`.
+    let dtype_kind = value
+        .getattr("dtype")
+        .and_then(|dtype| dtype.getattr("kind"))
+        .and_then(|kind| kind.extract::<String>())
+        .unwrap_or_default();
     let kind = if value.is_instance_of::<PyBool>() || dtype_kind == "b" {
         "the bool"
     } else if value.is_instance_of::<PyComplex>() || dtype_kind == "c" {
