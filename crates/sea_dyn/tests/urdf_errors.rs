@@ -107,6 +107,15 @@ fn the_valid_reference_robot_loads() {
     assert!((model.total_mass() - 3.0).abs() < 1e-15);
 }
 
+/// The reference robot with the knee's parent a link that does not exist (`phantom`).
+fn phantom_parent() -> Vec<String> {
+    replace(
+        &valid_parts(),
+        r#"<joint name="knee""#,
+        joint("knee", "continuous", "phantom", "shin"),
+    )
+}
+
 #[test]
 fn missing_links_are_named() {
     let parts = replace(
@@ -116,21 +125,12 @@ fn missing_links_are_named() {
     );
     // `shin` then has no parent either; the missing child must be reported, by name.
     expect_error(&parts, &["ghost_link", "knee"]);
-    let parts = replace(
-        &valid_parts(),
-        r#"<joint name="knee""#,
-        joint("knee", "continuous", "phantom", "shin"),
-    );
-    expect_error(&parts, &["phantom", "knee"]);
+    expect_error(&phantom_parent(), &["phantom", "knee"]);
 }
 
 #[test]
 fn a_model_error_from_a_file_names_the_file() {
-    let parts = replace(
-        &valid_parts(),
-        r#"<joint name="knee""#,
-        joint("knee", "continuous", "phantom", "shin"),
-    );
+    let parts = phantom_parent();
     let path = std::env::temp_dir().join(format!("sea_dyn_model_file_{}.urdf", std::process::id()));
     std::fs::write(&path, robot(&parts)).unwrap();
     let loaded = Model::from_urdf_file(&path, &LoadOptions::default());
