@@ -3,6 +3,8 @@ kind of failure raises its class with the key, element or path in the message an
 attribute."""
 
 import errno
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -178,14 +180,45 @@ def test_bad_arguments_are_plain_value_errors_naming_the_argument():
 
 
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
-def test_full_disk_is_an_oserror_naming_the_file_and_the_cause():
+def test_a_device_as_the_log_is_an_oserror_naming_it():
+    """The MCAP writer seeks back over each chunk: a device is refused as the run starts."""
     overrides = {"simulation.duration_s": 0.05}
     with pytest.raises(OSError) as info:
         sm.run_scenario(TRACKING, overrides, mcap="/dev/full")
     assert isinstance(info.value, sm.SeaError)
-    assert info.value.errno == errno.ENOSPC, str(info.value)
-    assert info.value.strerror == "No space left on device"
+    assert info.value.errno == errno.EINVAL, str(info.value)
+    assert "must be a regular file" in info.value.strerror
     assert info.value.filename == "/dev/full"
+
+
+FILE_SIZE_LIMIT = """
+import errno, resource, signal, sys
+import sea_momentum as sm
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+resource.setrlimit(resource.RLIMIT_FSIZE, (20000, resource.getrlimit(resource.RLIMIT_FSIZE)[1]))
+try:
+    sm.run_scenario(sys.argv[1], {"simulation.duration_s": 0.5}, mcap=sys.argv[2])
+except sm.SeaIOError as e:
+    print(e.errno, e.filename, e.strerror, sep="|")
+"""
+
+
+def test_a_write_refused_by_the_os_is_an_oserror_naming_the_file_and_the_earlier_log_stays(tmp_path):
+    """A log that outgrows what the OS lets the process write (as a full disk would: the file
+    size limit here, EFBIG) is a SeaIOError naming the path given, and an earlier file there
+    is left as it was."""
+    target = tmp_path / "run.mcap"
+    target.write_bytes(b"an earlier log")
+    out = subprocess.run(
+        [sys.executable, "-c", FILE_SIZE_LIMIT, str(TRACKING), str(target)],
+        capture_output=True, text=True, timeout=300, check=True,
+    )
+    code, filename, strerror = out.stdout.strip().split("|")
+    assert int(code) == errno.EFBIG, out.stdout
+    assert filename.startswith(str(target)), filename
+    assert strerror == "File too large"
+    assert target.read_bytes() == b"an earlier log"
+    assert not (tmp_path / ".run.mcap.partial").exists()
 
 
 # ---- sea_momentum.init_scenario (sea-sim init): bad input names the element, writes nothing ----

@@ -204,3 +204,28 @@ def test_the_unilateral_channels_validate_against_their_schemas(tmp_path):
     checks = [e for e in events if e.name == "sea_sim.contact_check"]
     assert [e.level for e in checks] == [3, 3, 2, 2]  # WARNING, WARNING, INFO, INFO
     assert all("normal_force" in e.message for e in checks[:2])
+
+
+def test_the_log_replaces_its_target_at_the_end_and_refuses_devices_and_inputs(tmp_path):
+    """The log is written beside its path and renamed over it when the run ends (no partial
+    file left); a device, or the scenario file itself, is refused before the run, the scenario
+    untouched."""
+    path = tmp_path / "run.mcap"
+    path.write_bytes(b"an earlier file")
+    sm.run_scenario(TRACKING, {"simulation.duration_s": 0.05}, mcap=path)
+    assert path.read_bytes()[:8] == b"\x89MCAP0\r\n"
+    assert not (tmp_path / ".run.mcap.partial").exists()
+    with pytest.raises(sm.SeaIOError, match="must be a regular file"):
+        sm.run_scenario(TRACKING, {"simulation.duration_s": 0.05}, mcap="/dev/null")
+    copy = tmp_path / "tracking.toml"
+    text = TRACKING.read_text().replace("../../urdf/icub25.urdf", str(URDF))
+    copy.write_text(text)
+    with pytest.raises(sm.SeaIOError, match="would overwrite the scenario file"):
+        sm.run_scenario(copy, {"simulation.duration_s": 0.05}, mcap=copy)
+    assert copy.read_text() == text
+
+
+def test_a_disturbance_after_the_runs_end_is_a_warning_naming_it():
+    push = ROOT / "scenarios" / "robot_rate" / "push_two_feet.toml"
+    with pytest.warns(UserWarning, match=r"disturbances\[0\]\.start_s .* never acts"):
+        sm.run_scenario(push, {"simulation.duration_s": 0.05})

@@ -311,6 +311,8 @@ def run_scenario_native(
 ) -> dict[str, object]:
     """Runs a TOML scenario natively (GIL released); use ``sea_momentum.run_scenario``.
     ``package_dirs`` are searched first for the URDF's ``package://`` meshes of the log.
+    ``mcap`` is written as ``.NAME.partial`` beside it and renamed over it when the run ends
+    (completed, diverged or interrupted); an error leaves an earlier file untouched.
 
     Returns float64 arrays (m recorded ticks): ``time`` (m,), ``x`` (m, nx),
     ``thetadot_desired`` (m, n_e), ``com`` (m, 3), ``com_reference`` (m, 3), ``momentum``

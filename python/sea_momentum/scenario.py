@@ -163,7 +163,11 @@ def run_scenario(
     ``overrides`` maps dotted keys to values, e.g. ``{"controller.kind": "rigid",
     "controller.damping_estimate_scale": 1.45, "simulation.duration_s": 5}``; unknown keys raise
     ``ValueError`` naming the key. ``mcap`` writes a Foxglove-ready log (finished even when the
-    run diverges). A diverged run is not an error: see ``result.status`` and ``result.summary``
+    run diverges), written beside its path as ``.NAME.partial`` and renamed over it when the
+    run ends, so that a run that fails leaves an earlier file at the path untouched; the path
+    must be a regular file (not ``/dev/null``), and neither the scenario nor its URDF (a
+    ``SeaIOError`` naming it). A disturbance that starts at or after the run's end is a
+    ``UserWarning`` naming it. A diverged run is not an error: see ``result.status`` and ``result.summary``
     (a :class:`~sea_momentum.results.RunSummary`). ``package_dirs`` are searched first for the
     URDF's ``package://`` meshes drawn in the log (as ``sea-sim run --package-dir``); a mesh
     the log cannot draw is a ``UserWarning`` naming the link and the URI (the log draws a box).

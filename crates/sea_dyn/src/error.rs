@@ -163,6 +163,9 @@ pub enum WarningKind {
     TriangleInequality,
     /// A moving joint whose subtree carries neither mass nor inertia: `M(q)` is singular.
     MasslessSubtree,
+    /// A revolute or prismatic joint's limit with `lower > upper` (the joint is taken as
+    /// unlimited).
+    InvertedLimits,
 }
 
 /// A doubtful but usable part of a robot description, found while loading it.

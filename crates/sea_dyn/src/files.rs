@@ -11,6 +11,12 @@ use std::path::Path;
 /// real robots' URDFs (example-robot-data's Talos: 0.11 MB; its meshes are files of their own).
 pub const MAX_TEXT_BYTES: u64 = 32 << 20;
 
+/// The largest TOML file read (a scenario, a robot description), in bytes: 4 MiB, some four
+/// hundred times the largest shipped scenario (Talos walking, 10 kB). A TOML array of numbers
+/// takes about twenty times its text's size once parsed, so this bounds a file's memory to
+/// about 100 MB.
+pub const MAX_TOML_BYTES: u64 = 4 << 20;
+
 /// The largest mesh file read, in bytes: 256 MiB, about nine times the largest mesh of
 /// example-robot-data (Go1's `trunk.dae`, 28.8 MB).
 pub const MAX_MESH_BYTES: u64 = 256 << 20;
@@ -54,9 +60,17 @@ pub fn read_bounded(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
 
 /// The text of the regular file `path`, at most [`MAX_TEXT_BYTES`] bytes of UTF-8.
 ///
-/// Errors: as [`read_bounded`], and [`io::ErrorKind::InvalidData`] when the text is not UTF-8.
+/// Errors: as [`read_text_within`].
 pub fn read_text(path: &Path) -> io::Result<String> {
-    let bytes = read_bounded(path, MAX_TEXT_BYTES)?;
+    read_text_within(path, MAX_TEXT_BYTES)
+}
+
+/// The text of the regular file `path`, at most `limit` bytes of UTF-8 (e.g.
+/// [`MAX_TOML_BYTES`]).
+///
+/// Errors: as [`read_bounded`], and [`io::ErrorKind::InvalidData`] when the text is not UTF-8.
+pub fn read_text_within(path: &Path, limit: u64) -> io::Result<String> {
+    let bytes = read_bounded(path, limit)?;
     String::from_utf8(bytes).map_err(|e| {
         io::Error::new(
             io::ErrorKind::InvalidData,

@@ -214,6 +214,23 @@ fn unusable_masses_and_inertias_are_named() {
             link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.1", "inf 0 0"),
             "non-finite",
         ),
+        (
+            "a mass of 1e308 kg (finite, but M(q) overflows)",
+            link_with(
+                "thigh", "1e308", "0.1", "0", "0", "0.1", "0", "0.1", "0 0 0",
+            ),
+            "beyond the 1e9",
+        ),
+        (
+            "an inertia of 1e200",
+            link_with("thigh", "1", "1e200", "0", "0", "0.1", "0", "0.1", "0 0 0"),
+            "beyond the 1e9",
+        ),
+        (
+            "an inertial origin 1e12 m away",
+            link_with("thigh", "1", "0.1", "0", "0", "0.1", "0", "0.1", "1e12 0 0"),
+            "beyond the 1e9",
+        ),
     ];
     for (what, new, reason) in cases {
         let parts = replace(&base, key, new);
@@ -801,4 +818,37 @@ fn hostile_files_are_refused_quickly_and_named() {
         message.contains("link 'shin' <mass value=\"abc\">: 'abc' is not a number"),
         "{message}"
     );
+}
+
+/// A limit with lower above upper loads as an unlimited joint, with a warning naming the
+/// joint (refused under strict loading); URDF's default of no limit (0, 0) stays silent.
+#[test]
+fn inverted_joint_limits_warn_naming_the_joint() {
+    let swapped = valid_parts()
+        .iter()
+        .map(|part| part.replace(r#"lower="-1" upper="1""#, r#"lower="1" upper="-1""#))
+        .collect::<Vec<_>>();
+    let text = robot(&swapped);
+    let model = Model::from_urdf_str(&text, &LoadOptions::default()).unwrap();
+    let [warning] = model.warnings.as_slice() else {
+        panic!("expected one warning, got {:?}", model.warnings);
+    };
+    assert_eq!(warning.kind, WarningKind::InvertedLimits);
+    assert_eq!(warning.element, "joint 'hip'");
+    let hip = model.joint_names.iter().position(|n| n == "hip").unwrap();
+    assert_eq!(
+        model.joints[hip].position_limits,
+        [f64::NEG_INFINITY, f64::INFINITY]
+    );
+    let strict = LoadOptions {
+        strict: true,
+        ..Default::default()
+    };
+    expect_model_error(&text, &strict, &["hip", "lower 1 is above upper -1"]);
+    let unset = valid_parts()
+        .iter()
+        .map(|part| part.replace(r#"lower="-1" upper="1""#, r#"lower="0" upper="0""#))
+        .collect::<Vec<_>>();
+    let model = Model::from_urdf_str(&robot(&unset), &LoadOptions::default()).unwrap();
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
 }

@@ -8,8 +8,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sea_sim::closed_loop::{build, run_setup_with_sinks, RecordSink, RunRecord};
 use sea_sim::mcap_log::McapSink;
+use sea_sim::output::{check_distinct, OutputFile};
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Runs the scenario file `path` with `overrides` ({"controller.kind": "rigid", ...}; values
 /// are TOML literals or bare strings), optionally writing an MCAP log. Returns a dict of arrays
@@ -43,15 +44,22 @@ pub fn run_scenario_native<'py>(
         return Err(error);
     }
     let mut setup = built.map_err(to_py)?;
+    // The log is written beside its target and replaced at the end, as `sea-sim run` does: a
+    // run that fails leaves an earlier log at the path untouched.
+    let output = mcap
+        .as_deref()
+        .map(|target| open_log(&scenario, &path, target))
+        .transpose()
+        .map_err(to_py)?;
     // What the build let pass (e.g. a walking command the step limits clip), before the run.
     for warning in &setup.warnings {
         warn_user(py, warning)?;
     }
     let (outcome, interrupt) = run_interruptible(py, |cancel| {
         let mut record = RunRecord::default();
-        let mut log = mcap
-            .as_deref()
-            .map(|path| McapSink::new(path).with_package_dirs(&package_dirs));
+        let mut log = output
+            .as_ref()
+            .map(|output| McapSink::new(output.path()).with_package_dirs(&package_dirs));
         let mut sinks: Vec<&mut dyn RecordSink> = vec![&mut record];
         if let Some(log) = log.as_mut() {
             sinks.push(log);
@@ -66,7 +74,14 @@ pub fn run_scenario_native<'py>(
         let warnings = log.map(|log| log.warnings().to_vec()).unwrap_or_default();
         summary.map(|summary| (record, summary, warnings))
     })?;
-    let (record, summary, warnings) = outcome.map_err(to_py)?;
+    let (record, summary, warnings) = match (outcome, &output) {
+        (Err(e), Some(output)) => return Err(to_py(output.explain(e))),
+        (outcome, _) => outcome.map_err(to_py)?,
+    };
+    // Completed, diverged or interrupted: the log is finished and replaces its target.
+    if let Some(output) = output {
+        output.commit().map_err(to_py)?;
+    }
     // The meshes the log could not draw, as Python warnings (the run and its log are kept).
     for warning in warnings {
         warn_user(py, &format!("MCAP log: {warning}"))?;
@@ -81,6 +96,24 @@ pub fn run_scenario_native<'py>(
         }
         None => Ok(dict),
     }
+}
+
+/// The MCAP log's output file for `target`, checked to be neither the scenario file nor its
+/// URDF, opened beside the target ([`OutputFile`]).
+fn open_log(
+    scenario: &sea_sim::scenario::Scenario,
+    scenario_file: &Path,
+    target: &Path,
+) -> sea_sim::Result<OutputFile> {
+    let urdf = scenario.urdf_path();
+    check_distinct(
+        &[
+            ("the scenario file", scenario_file),
+            ("the URDF", urdf.as_path()),
+        ],
+        &[("mcap", target)],
+    )?;
+    OutputFile::create(target)
 }
 
 /// The record's arrays into a new dict: `time`, `x`, `thetadot_desired`, `com`,

@@ -313,7 +313,8 @@ fn build_setup(scenario: &Scenario) -> Result<Setup> {
     let settings = scenario.controller_settings(&model.joint_names)?;
     let controller_model = scenario.controller_model(&model)?;
     let mut controller = MomentumController::new(&controller_model, &actuation, settings, &q)?;
-    let warnings = crate::walking::set_up(scenario, &model, &contacts, &q, &mut controller)?;
+    let mut warnings = crate::walking::set_up(scenario, &model, &contacts, &q, &mut controller)?;
+    warnings.extend(disturbances_after_the_end(scenario));
     let com_reference = com_reference(scenario, &model, &q, contacts[0])?;
     let posture = posture_reference(scenario, &model, s0)?;
     let elastic_names = actuation
@@ -331,4 +332,23 @@ fn build_setup(scenario: &Scenario) -> Result<Setup> {
         elastic_names,
         warnings,
     })
+}
+
+/// A warning for each disturbance that starts at or after the run's end: it never acts (a
+/// run shortened by an override keeps its file's pushes; an error would refuse that run).
+fn disturbances_after_the_end(scenario: &Scenario) -> Vec<String> {
+    let end = scenario.simulation.duration_s;
+    scenario
+        .disturbances
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| d.start_s >= end)
+        .map(|(i, d)| {
+            format!(
+                "disturbances[{i}].start_s = {} s is at or after the run's end \
+                 (simulation.duration_s = {end} s): that disturbance never acts",
+                d.start_s
+            )
+        })
+        .collect()
 }

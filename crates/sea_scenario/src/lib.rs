@@ -55,6 +55,7 @@ pub use std::sync::Arc;
 use parse::{schema_error, syntax_error};
 use sea_ctrl::controller::ControllerSettings;
 use sea_ctrl::qp::ContactConstraints;
+use sea_dyn::files::{read_text_within, MAX_TOML_BYTES};
 #[cfg(doc)]
 use sea_dyn::ElasticParameters;
 use sea_dyn::{critical_damping, Model};
@@ -208,7 +209,8 @@ impl Scenario {
 
     /// Reads a scenario file with overrides.
     pub fn from_file(path: &Path, overrides: &[(String, String)]) -> Result<Scenario> {
-        let text = sea_dyn::files::read_text(path).map_err(|source| Error::io(path, source))?;
+        let text =
+            read_text_within(path, MAX_TOML_BYTES).map_err(|source| Error::io(path, source))?;
         Self::from_file_text(path, &text, overrides)
     }
 

@@ -12,16 +12,33 @@ use serde::de::DeserializeOwned;
 /// The result of reading a table on its own.
 pub type TableResult<T> = std::result::Result<T, TableError>;
 
-/// Parses `value` of an override as TOML (number, bool, array, quoted string), else as a bare
-/// string.
-fn override_value(value: &str) -> toml::Value {
+/// Parses `value` of an override of `key` as TOML (number, bool, array, quoted string), else as
+/// a bare string. An integer beyond TOML's (a 64-bit signed integer) is an error naming the
+/// key, not a string that the key's reader would call a wrong type.
+fn override_value(key: &str, value: &str) -> Result<toml::Value> {
     let wrapped = format!("v = {value}");
     match toml::from_str::<toml::Table>(&wrapped) {
-        Ok(mut table) => table
+        Ok(mut table) => Ok(table
             .remove("v")
-            .unwrap_or(toml::Value::String(value.into())),
-        Err(_) => toml::Value::String(value.into()),
+            .unwrap_or(toml::Value::String(value.into()))),
+        Err(_) if is_integer_literal(value) => Err(Error::invalid(
+            key,
+            format!(
+                "must be an integer TOML can hold, from {} to {}",
+                i64::MIN,
+                i64::MAX
+            ),
+            value,
+        )),
+        Err(_) => Ok(toml::Value::String(value.into())),
     }
+}
+
+/// Whether `text` reads as a decimal integer (a sign, then digits with `_` between them).
+fn is_integer_literal(text: &str) -> bool {
+    let digits = text.strip_prefix(['+', '-']).unwrap_or(text);
+    digits.starts_with(|c: char| c.is_ascii_digit())
+        && digits.chars().all(|c| c.is_ascii_digit() || c == '_')
 }
 
 /// Applies `key.path=value` to a TOML tree, creating tables as needed.
@@ -39,7 +56,10 @@ pub fn apply_override(root: &mut toml::Table, key: &str, value: &str) -> Result<
             .as_table_mut()
             .ok_or_else(|| Error::config(key, format!("'{part}' is not a table")))?;
     }
-    table.insert(parts[parts.len() - 1].to_string(), override_value(value));
+    table.insert(
+        parts[parts.len() - 1].to_string(),
+        override_value(key, value)?,
+    );
     Ok(())
 }
 
@@ -345,5 +365,26 @@ mod tests {
         };
         assert_eq!(top.within(""), "invalid type");
         assert_eq!(top.within("overrides.x."), "in `overrides.x`: invalid type");
+    }
+
+    #[test]
+    fn an_override_integer_beyond_tomls_range_is_an_error_naming_the_key() {
+        let mut root = toml::Table::new();
+        let message = apply_override(&mut root, "sensing.seed", "18446744073709551615")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("sensing.seed") && message.contains("9223372036854775807"),
+            "{message}"
+        );
+        apply_override(&mut root, "sensing.seed", "9223372036854775807").unwrap();
+        assert_eq!(
+            root["sensing"]["seed"],
+            toml::Value::Integer(i64::MAX),
+            "the largest integer TOML holds"
+        );
+        // Text that is not an integer stays a bare string for the key's reader to judge.
+        apply_override(&mut root, "robot.name", "12ab").unwrap();
+        assert_eq!(root["robot"]["name"], toml::Value::String("12ab".into()));
     }
 }

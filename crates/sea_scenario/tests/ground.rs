@@ -120,3 +120,22 @@ fn a_listed_joint_the_urdf_lacks_names_the_list() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn a_push_that_starts_after_the_runs_end_is_a_warning_naming_it() {
+    // The push starts at 1 s: a run cut to 0.5 s warns that it never acts, a run of 3 s does not.
+    let short = build(&scenario(&[("simulation.duration_s", "0.5")]).unwrap()).unwrap();
+    let warned: Vec<&String> = short
+        .warnings
+        .iter()
+        .filter(|w| w.starts_with("disturbances[0].start_s"))
+        .collect();
+    assert_eq!(warned.len(), 1, "{:?}", short.warnings);
+    assert!(warned[0].contains("never acts"), "{}", warned[0]);
+    let whole = build(&scenario(&[]).unwrap()).unwrap();
+    assert!(
+        whole.warnings.iter().all(|w| !w.contains("disturbances")),
+        "{:?}",
+        whole.warnings
+    );
+}

@@ -270,3 +270,25 @@ fn margin_input_errors_name_the_problem() {
         "{message}"
     );
 }
+
+#[test]
+fn a_margin_at_a_value_whose_linearisation_overflows_is_a_numerical_error_naming_it() {
+    // A damping near 1e308 N m s/rad makes the closed loop's differences infinite: the eigen
+    // method used to spin forever balancing the matrix; it is now an error naming the value
+    // (the scan's first such value, here 2.125e307).
+    let message = stability_margin(
+        &tracking(),
+        &[],
+        "actuators.damping",
+        1e307,
+        1e308,
+        MarginMethod::Eigen,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        message.contains("at actuators.damping = 2.125e307")
+            && message.contains("non-finite entry"),
+        "{message}"
+    );
+}

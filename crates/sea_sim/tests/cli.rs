@@ -591,14 +591,19 @@ fn a_full_disk_is_an_error_naming_the_file_and_the_cause() {
         return;
     }
     let ws = Workspace::new("full");
-    for option in ["--summary", "--mcap"] {
-        let out = short_run(&ws, &[option, "/dev/full"]);
+    let out = short_run(&ws, &["--summary", "/dev/full"]);
+    let message = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{message}");
+    assert!(message.contains("/dev/full"), "{message}");
+    assert!(message.contains("No space left on device"), "{message}");
+    // A log is written with seeks: a device is refused as the run starts, before any step.
+    for device in ["/dev/full", "/dev/null"] {
+        let out = short_run(&ws, &["--mcap", device]);
         let message = text(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{option}: {message}");
-        assert!(message.contains("/dev/full"), "{option}: {message}");
+        assert_eq!(out.status.code(), Some(1), "{device}: {message}");
         assert!(
-            message.contains("No space left on device"),
-            "{option}: {message}"
+            message.contains(device) && message.contains("must be a regular file"),
+            "{device}: {message}"
         );
     }
     // The run is done when the summary cannot be written: its log is kept, its summary printed.
@@ -613,6 +618,43 @@ fn a_full_disk_is_an_error_naming_the_file_and_the_cause() {
         std::fs::metadata(&log).is_ok_and(|m| m.len() > 0),
         "no log kept"
     );
+}
+
+#[test]
+fn a_sweep_or_margin_whose_out_cannot_be_written_prints_its_results() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("no /dev/full here; skipped");
+        return;
+    }
+    let ws = Workspace::new("full_out");
+    let scenario = ws.scenario();
+    let grid = ["--grid", "actuators.damping=0.5,1", "--set", SHORT_RUN];
+    let mut args = vec!["sweep", scenario.as_str(), "--out", "/dev/full", "-q"];
+    args.extend_from_slice(&grid);
+    let out = sea_sim(&args);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("No space left on device"), "{stderr}");
+    let rows = text(&out.stdout);
+    assert_eq!(rows.lines().count(), 3, "a header and two rows: {rows}");
+    assert!(rows.starts_with("actuators.damping,status"), "{rows}");
+    let out = sea_sim(&[
+        "margin",
+        &scenario,
+        "--param",
+        "actuators.damping",
+        "--range",
+        "0.5:1",
+        "--points",
+        "2",
+        "--out",
+        "/dev/full",
+        "--json",
+        "-q",
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("stdout JSON");
+    assert_eq!(printed["parameter"], "actuators.damping");
 }
 
 #[test]
@@ -643,6 +685,38 @@ fn closed_stdout_and_stderr_do_not_abort_the_run() {
     };
     assert_eq!(status.code(), Some(0));
     assert_eq!(summary(&summary_path)["status"], "completed");
+}
+
+/// A report that cannot be written on stdout (redirected to a full disk) is an error: it is the
+/// command's product. A file name with a terminal escape is echoed escaped.
+#[test]
+fn a_full_stdout_is_an_error_and_control_characters_are_echoed_escaped() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("no /dev/full here; skipped");
+        return;
+    }
+    let ws = Workspace::new("stdout_full");
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let out = Command::new(BIN)
+        .args(["run", &ws.scenario(), "--set", SHORT_RUN, "--quiet"])
+        .stdout(full)
+        .output()
+        .unwrap();
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("stdout: No space left on device"),
+        "{stderr}"
+    );
+    let out = sea_sim(&["run", "no_such\u{1b}[31m.toml"]);
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("no_such\\u{1b}[31m.toml") && !stderr.contains('\u{1b}'),
+        "{stderr:?}"
+    );
 }
 
 /// A tiny tmpfs mounted on a folder, unmounted on drop; `None` where mounting is not allowed.
@@ -890,6 +964,14 @@ fn push_refuses_a_bad_start_link_or_direction_naming_the_flag() {
     assert!(
         stderr.contains("'up'") && stderr.contains("--directions") && stderr.contains("left"),
         "{stderr}"
+    );
+    let output = sea_sim(&["push", &scenario, "--directions", "left,right,left"]);
+    let stderr = text(&output.stderr);
+    assert!(
+        output.status.code() == Some(1)
+            && stderr.contains("--directions")
+            && stderr.contains("'left' given twice"),
+        "a direction twice: {stderr}"
     );
 }
 

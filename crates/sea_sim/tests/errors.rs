@@ -233,3 +233,48 @@ fn unparsable_urdf_is_a_parse_error_naming_the_file() {
         Ok(_) => panic!("accepted an unparsable URDF"),
     }
 }
+
+/// A scenario file larger than `MAX_TOML_BYTES` (4 MiB) is refused before it is parsed: a
+/// 30 MB array of numbers used to take about 0.5 GB to read.
+#[test]
+fn a_scenario_file_over_the_toml_limit_is_refused_naming_the_sizes() {
+    let limit = sea_dyn::files::MAX_TOML_BYTES as usize;
+    let (dir, path, _) = tracking_copy("toml_limit", |text| {
+        let count = limit / 12 + 1;
+        format!(
+            "extra = [{}]\n{text}",
+            vec!["0.123456789"; count].join(", ")
+        )
+    });
+    let message = Scenario::from_file(&path, &[]).unwrap_err().to_string();
+    std::fs::remove_dir_all(dir).unwrap();
+    assert!(
+        message.contains("scenario.toml") && message.contains(&format!("limit of {limit} bytes")),
+        "{message}"
+    );
+}
+
+/// An error inside a scenario's inline `[robot.description]` names the scenario's key and the
+/// line of the scenario file it is on (it named line 218 of a re-serialised copy).
+#[test]
+fn an_error_in_an_inline_robot_description_names_its_key_and_line() {
+    let talos =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/robots/talos_two_feet.toml");
+    let text = std::fs::read_to_string(talos).unwrap();
+    let line = 1 + text
+        .lines()
+        .position(|l| l.starts_with("stance_leg = ["))
+        .expect("the stance leg's stiffness");
+    let text = text.replacen("stance_leg = [", "stance_leg = [\"x\", ", 1);
+    let dir = std::env::temp_dir().join(format!("sea_sim_inline_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("talos.toml");
+    std::fs::write(&path, text).unwrap();
+    let message = Scenario::from_file(&path, &[]).unwrap_err().to_string();
+    std::fs::remove_dir_all(dir).unwrap();
+    assert!(
+        message.contains(&format!("talos.toml:{line}:"))
+            && message.contains("'robot.description.postural_stiffness.stance_leg'"),
+        "line {line}: {message}"
+    );
+}

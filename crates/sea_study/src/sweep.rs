@@ -15,6 +15,7 @@
 //!   the status, the message and every other summary field.
 
 use crate::error::{Error, Result};
+use sea_dyn::files::{read_text_within, MAX_TOML_BYTES};
 use sea_loop::error::panic_message;
 use sea_loop::{RunEnd, RunTotals, RunningStatistics, Summary, NON_SCALAR_FIELDS};
 use sea_scenario::run::run_with_sinks;
@@ -170,7 +171,8 @@ impl ScenarioSource {
     ///
     /// Errors: [`Error::Io`] naming the file.
     pub fn read(path: &Path) -> Result<ScenarioSource> {
-        let text = sea_dyn::files::read_text(path).map_err(|source| Error::io(path, source))?;
+        let text =
+            read_text_within(path, MAX_TOML_BYTES).map_err(|source| Error::io(path, source))?;
         Ok(ScenarioSource {
             path: path.to_path_buf(),
             text,

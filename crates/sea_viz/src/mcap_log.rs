@@ -165,6 +165,27 @@ impl Output {
     }
 }
 
+/// Refuses a log target that is not a regular file, before anything is written: the MCAP
+/// writer seeks back over each chunk it finishes, which a device or a pipe cannot do (the run
+/// would fail at its first chunk, a second of simulation in).
+fn check_regular_file(file: &File, path: &Path) -> Result<()> {
+    let metadata = file.metadata().map_err(|source| Error::Io {
+        path: path.display().to_string(),
+        source,
+    })?;
+    if metadata.is_file() {
+        return Ok(());
+    }
+    Err(Error::Io {
+        path: path.display().to_string(),
+        source: std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "an MCAP log must be a regular file (its writer seeks back over each chunk), not a \
+             device or a pipe; to run without a log, give no log path",
+        ),
+    })
+}
+
 /// Adds the schema and channel of every topic; returns the channel ids in [`Topic::ALL`] order.
 fn add_channels(out: &mut Output) -> Result<[u16; Topic::ALL.len()]> {
     let mut channels = [0; Topic::ALL.len()];
@@ -198,8 +219,9 @@ impl McapLogger {
     /// theta entries, `contact_names` the wrenches (contacts beyond the names are called
     /// `contact_<k>`).
     ///
-    /// Errors: [`Error::Io`] when writing fails, [`Error::Log`] when MCAP writing fails
-    /// otherwise.
+    /// Errors: [`Error::Io`] when `file` is not a regular file (a device such as `/dev/null`,
+    /// a pipe: the writer seeks back to finish each chunk) or when writing fails,
+    /// [`Error::Log`] when MCAP writing fails otherwise.
     pub fn from_file(
         file: File,
         path: &Path,
@@ -207,6 +229,7 @@ impl McapLogger {
         elastic_joint_names: &[String],
         contact_names: &[String],
     ) -> Result<Self> {
+        check_regular_file(&file, path)?;
         let options = WriteOptions::new()
             .compression(Some(Compression::Lz4))
             .profile("")

@@ -11,7 +11,7 @@
 //! `<inertial>`, or with zero mass and zero inertia, is massless: a frame of its body (as in
 //! Pinocchio and MuJoCo). A massless link on a moving joint keeps its joint (zero inertia).
 
-use crate::error::{Error, Result, Warning};
+use crate::error::{Error, Result, Warning, WarningKind};
 use crate::model::inertia_check::{check_link_inertia, massless_subtree_warnings};
 use crate::model::urdf_numbers::first_bad_number;
 use crate::model::{joint_motion, Frame, Joint, JointKind, Model};
@@ -185,19 +185,35 @@ fn empty_texture_span(rest: &str) -> Option<usize> {
     Some(close + rest[close..].find('>')? + 1)
 }
 
-fn check_finite(what: &str, values: &[f64]) -> Result<()> {
+/// Largest magnitude of a URDF mass [kg], inertia [kg m^2], origin [m] or angle [rad] the
+/// loader takes: far above any robot's, and far enough below the float range that the
+/// algorithms' products (a mass times a squared lever arm, times a velocity) cannot overflow.
+/// A larger number is a corrupt or hostile file.
+pub const MAX_URDF_MAGNITUDE: f64 = 1e9;
+
+/// Every number of `values` must be finite and at most [`MAX_URDF_MAGNITUDE`] in magnitude.
+fn check_numbers(what: &str, values: &[f64]) -> Result<()> {
     if values.iter().any(|v| !v.is_finite()) {
         return Err(Error::model(
             what,
             format!("has a non-finite number: {values:?}"),
         ));
     }
+    if let Some(huge) = values.iter().find(|v| v.abs() > MAX_URDF_MAGNITUDE) {
+        return Err(Error::model(
+            what,
+            format!(
+                "has the number {huge:e}, beyond the {MAX_URDF_MAGNITUDE:e} a robot's masses, \
+                 inertias and lengths stay far below: {values:?}"
+            ),
+        ));
+    }
     Ok(())
 }
 
 fn check_pose(what: &str, pose: &urdf_rs::Pose) -> Result<()> {
-    check_finite(&format!("{what} origin xyz"), &pose.xyz.0)?;
-    check_finite(&format!("{what} origin rpy"), &pose.rpy.0)
+    check_numbers(&format!("{what} origin xyz"), &pose.xyz.0)?;
+    check_numbers(&format!("{what} origin rpy"), &pose.rpy.0)
 }
 
 fn to_pose(pose: &urdf_rs::Pose) -> Pose {
@@ -211,7 +227,7 @@ fn link_inertia(link: &urdf_rs::Link, warnings: &mut Vec<Warning>) -> Result<Opt
     let i = &inertial.inertia;
     let what = format!("link '{}'", link.name);
     check_pose(&format!("{what} inertial"), &inertial.origin)?;
-    check_finite(
+    check_numbers(
         &format!("{what} inertial"),
         &[
             inertial.mass.value,
@@ -256,7 +272,7 @@ fn joint_axis(joint: &urdf_rs::Joint) -> Result<Vector3<f64>> {
     let what = format!("joint '{}'", joint.name);
     check_pose(&what, &joint.origin)?;
     let axis = Vector3::from(joint.axis.xyz.0);
-    check_finite(&format!("{what} axis"), &joint.axis.xyz.0)?;
+    check_numbers(&format!("{what} axis"), &joint.axis.xyz.0)?;
     if joint.limit.lower.is_nan() || joint.limit.upper.is_nan() || joint.limit.effort.is_nan() {
         return Err(Error::model(what, "limit has a NaN"));
     }
@@ -478,6 +494,7 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
         frames_and_inertias(robot, &tree, &link_index, &dfs, &inertias, &walk);
     let (body_of_coordinate, joint_names, support_paths) = coordinate_maps(&walk.joints);
     warnings.extend(massless_subtree_warnings(&walk.joints, &body_inertias));
+    warnings.extend(robot.joints.iter().filter_map(inverted_limit_warning));
     if let (true, Some(first)) = (options.strict, warnings.first()) {
         return Err(first.clone().into_error());
     }
@@ -567,6 +584,25 @@ fn walk_bodies(
 }
 
 /// A moving joint with its limits (infinite where the URDF gives none).
+/// A revolute or prismatic joint whose `limit` has `lower > upper` is taken as unlimited, as
+/// one with no limit (URDF's default, `lower = upper = 0`); unlike that default it is likely a
+/// typo or swapped ends, so it is reported.
+fn inverted_limit_warning(joint: &urdf_rs::Joint) -> Option<Warning> {
+    use urdf_rs::JointType::{Prismatic, Revolute};
+    let limit = &joint.limit;
+    let limited = matches!(joint.joint_type, Revolute | Prismatic);
+    (limited && limit.lower > limit.upper).then(|| {
+        Warning::new(
+            WarningKind::InvertedLimits,
+            format!("joint '{}'", joint.name),
+            format!(
+                "limit lower {} is above upper {}: the joint is taken as unlimited",
+                limit.lower, limit.upper
+            ),
+        )
+    })
+}
+
 fn moving_joint(
     urdf_joint: &urdf_rs::Joint,
     kind: JointKind,

@@ -226,10 +226,28 @@ impl RobotDescription {
         Ok(description)
     }
 
+    /// Reads a description from the table inline in a scenario (`[robot.description]`);
+    /// errors name the scenario's key, `robot.description.NAME`, whose line the scenario's
+    /// errors then give.
+    pub fn from_table(table: toml::Table) -> Result<Self> {
+        let key = |name: &str| match name {
+            "" => source::DESCRIPTION_KEY.to_string(),
+            name => format!("{}.{name}", source::DESCRIPTION_KEY),
+        };
+        let description: Self = crate::parse::read_value(toml::Value::Table(table))
+            .map_err(|e| Error::config(key(&e.key), e.rule))?;
+        description.check_named(key)?;
+        Ok(description)
+    }
+
     /// Checks the lengths that tie its tables together: one angle per joint in every
     /// posture, one stiffness per leg joint, one or two contacts, a known initial posture.
     pub fn check(&self, origin: &str) -> Result<()> {
-        let key = |name: &str| format!("robot description {origin}: {name}");
+        self.check_named(|name: &str| format!("robot description {origin}: {name}"))
+    }
+
+    /// [`Self::check`], its errors naming the key `NAME` as `key(NAME)`.
+    fn check_named(&self, key: impl Fn(&str) -> String) -> Result<()> {
         for (name, posture) in &self.postures {
             if posture.angles.len() != self.joints.len() {
                 return Err(Error::invalid(

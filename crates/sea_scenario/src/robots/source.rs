@@ -6,6 +6,7 @@
 use super::icub::{icub, ICUB_PAPER};
 use super::RobotDescription;
 use crate::error::{Error, Result};
+use sea_dyn::files::{read_text_within, MAX_TOML_BYTES};
 use std::path::{Path, PathBuf};
 
 /// The scenario key naming the description.
@@ -38,11 +39,7 @@ pub fn load_description(
         None => Ok(of(icub().clone())),
         Some(toml::Value::String(name)) if name == ICUB_PAPER => Ok(of(icub().clone())),
         Some(toml::Value::String(path)) => from_file(&path, scenario_dir),
-        Some(toml::Value::Table(table)) => {
-            let text = toml::to_string(&table)
-                .map_err(|e| Error::config(DESCRIPTION_KEY, e.to_string()))?;
-            Ok(of(RobotDescription::from_toml(&text, "(inline)")?))
-        }
+        Some(toml::Value::Table(table)) => Ok(of(RobotDescription::from_table(table)?)),
         Some(other) => Err(Error::invalid(
             DESCRIPTION_KEY,
             format!("must be \"{ICUB_PAPER}\", the path of a robot description file or a table"),
@@ -59,7 +56,7 @@ fn from_file(path: &str, scenario_dir: &Path) -> Result<DescriptionSource> {
     } else {
         PathBuf::from(path)
     };
-    let text = sea_dyn::files::read_text(&file).map_err(|e| {
+    let text = read_text_within(&file, MAX_TOML_BYTES).map_err(|e| {
         Error::invalid(
             DESCRIPTION_KEY,
             format!("cannot read the robot description ({e}); built in: \"{ICUB_PAPER}\""),

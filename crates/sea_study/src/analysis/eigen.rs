@@ -1,7 +1,13 @@
 //! Eigenvalues and eigenvectors of a real square matrix: balancing (Parlett and Reinsch), the
 //! real Schur form of nalgebra, and inverse iteration for one eigenvector.
 
-use nalgebra::{Complex, DMatrix, DVector};
+use crate::error::{Error, Result};
+use nalgebra::{Complex, DMatrix, DVector, Schur};
+
+/// Sweeps of the real Schur iteration allowed per row of the matrix before it is called
+/// unconverged (LAPACK's `dhseqr` allows 30 per eigenvalue; the iteration is unbounded in
+/// nalgebra's `complex_eigenvalues`).
+pub const SCHUR_SWEEPS_PER_ROW: usize = 60;
 
 /// Balances `a` in place by a diagonal similarity of powers of two (Parlett and Reinsch,
 /// Numer. Math. 13, 1969): row and column norms are made comparable, so the Schur iteration
@@ -44,10 +50,36 @@ pub fn balance(a: &mut DMatrix<f64>) -> Vec<f64> {
 }
 
 /// The eigenvalues of `a` (real Schur form of the balanced matrix).
-pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
+///
+/// A matrix with an infinite or NaN entry (a linearisation whose differences overflowed), and
+/// one whose Schur iteration does not converge within [`SCHUR_SWEEPS_PER_ROW`] sweeps per row,
+/// is a numerical error: neither has a spectrum to report, and both would otherwise keep the
+/// balancing or the iteration running forever.
+pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex<f64>>> {
+    const OPERATION: &str = "the eigenvalues of the linearisation";
+    if let Some(bad) = a.iter().find(|entry| !entry.is_finite()) {
+        let detail = format!(
+            "its {}x{} matrix has a non-finite entry ({bad}): the closed loop's differences \
+             overflowed at this value",
+            a.nrows(),
+            a.ncols()
+        );
+        return Err(Error::Dynamics(sea_dyn::Error::numerical(
+            OPERATION, detail,
+        )));
+    }
     let mut balanced = a.clone();
     balance(&mut balanced);
-    balanced.complex_eigenvalues().iter().copied().collect()
+    let sweeps = SCHUR_SWEEPS_PER_ROW * a.nrows().max(1);
+    match Schur::try_new(balanced, f64::EPSILON, sweeps) {
+        Some(schur) => Ok(schur.complex_eigenvalues().iter().copied().collect()),
+        None => {
+            let detail = format!("the real Schur iteration did not converge in {sweeps} sweeps");
+            Err(Error::Dynamics(sea_dyn::Error::numerical(
+                OPERATION, detail,
+            )))
+        }
+    }
 }
 
 /// A unit eigenvector of `a` for the eigenvalue `lambda` by inverse iteration with a slightly
@@ -117,7 +149,7 @@ mod tests {
             3,
             &[-1.0, 2.0e-3, 0.0, -2.0e3, -1.0, 5.0e2, 0.0, 0.0, -1.0e4],
         );
-        let mut values = eigenvalues(&a);
+        let mut values = eigenvalues(&a).unwrap();
         values.sort_by(|p, q| q.re.total_cmp(&p.re).then(q.im.total_cmp(&p.im)));
         assert!(
             (values[0] - Complex::new(-1.0, 2.0)).norm() < 1e-9,
@@ -132,6 +164,15 @@ mod tests {
             let ac = a.map(|e| Complex::new(e, 0.0));
             let residual = (&ac * &v - v.map(|c| c * lambda)).norm();
             assert!(residual < 1e-8 * lambda.norm(), "{lambda}: {residual}");
+        }
+    }
+
+    #[test]
+    fn a_matrix_with_an_infinite_or_nan_entry_is_a_numerical_error_not_a_hang() {
+        for bad in [f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+            let a = DMatrix::from_row_slice(2, 2, &[-1.0, bad, 1.0, -2.0]);
+            let message = eigenvalues(&a).unwrap_err().to_string();
+            assert!(message.contains("non-finite entry"), "{message}");
         }
     }
 }

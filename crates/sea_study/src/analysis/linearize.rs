@@ -285,13 +285,13 @@ fn growth_rate(lambda: Complex<f64>, period: Option<f64>) -> f64 {
 }
 
 /// The eigenvalues sorted least stable first, with their growth rates.
-fn sorted_spectrum(a: &DMatrix<f64>, period: Option<f64>) -> (Vec<Complex<f64>>, Vec<f64>) {
-    let mut pairs: Vec<(Complex<f64>, f64)> = eigenvalues(a)
+fn sorted_spectrum(a: &DMatrix<f64>, period: Option<f64>) -> Result<(Vec<Complex<f64>>, Vec<f64>)> {
+    let mut pairs: Vec<(Complex<f64>, f64)> = eigenvalues(a)?
         .into_iter()
         .map(|l| (l, growth_rate(l, period)))
         .collect();
     pairs.sort_by(|p, q| q.1.total_cmp(&p.1).then(q.0.im.total_cmp(&p.0.im)));
-    pairs.into_iter().unzip()
+    Ok(pairs.into_iter().unzip())
 }
 
 /// The dominant states of a mode: entries of the eigenvector made comparable (motor angles and
@@ -365,11 +365,11 @@ pub fn linearize_system(
         None => None,
     };
     let matrix = jacobian(system, &z, options.step)?;
-    let (values, rates) = sorted_spectrum(&matrix, period);
+    let (values, rates) = sorted_spectrum(&matrix, period)?;
     let step_check = match options.check_step {
         Some(check) => {
             let other = jacobian(system, &z, check)?;
-            let (other_values, other_rates) = sorted_spectrum(&other, period);
+            let (other_values, other_rates) = sorted_spectrum(&other, period)?;
             Some(StepCheck {
                 step: check,
                 eigenvalue_change: spectrum_distance(&values, &other_values)

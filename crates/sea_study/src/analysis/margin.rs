@@ -370,6 +370,18 @@ struct Judge<'a> {
 }
 
 impl Judge<'_> {
+    /// A numerical failure of the evaluation at `value`, its operation naming the key and the
+    /// value (a scan's other errors pass through unchanged).
+    fn at_value(&self, error: Error, value: f64) -> Error {
+        match error {
+            Error::Dynamics(sea_dyn::Error::Numerical { operation, detail }) => {
+                let operation = format!("{operation} at {} = {value:e}", self.parameter);
+                Error::Dynamics(sea_dyn::Error::numerical(operation, detail))
+            }
+            other => other,
+        }
+    }
+
     /// Evaluates stability at `value`; returns a signed indicator (negative = stable), or
     /// `None` when the cancellation flag kept the evaluation from its end.
     fn indicator(&mut self, value: f64) -> Result<Option<f64>> {
@@ -384,7 +396,8 @@ impl Judge<'_> {
         let scenario = scenario_with(self.path, self.overrides, self.parameter, literal)?;
         let (stable, growth_rate) = match self.options.method {
             MarginMethod::Eigen => {
-                let lin = linearize_with(&scenario, &self.options.linearize)?;
+                let lin = linearize_with(&scenario, &self.options.linearize)
+                    .map_err(|e| self.at_value(e, value))?;
                 (lin.stable, Some(lin.growth_rate))
             }
             MarginMethod::Simulate => {

@@ -51,13 +51,13 @@ pub(crate) fn run_bench(args: &BenchArgs) -> sea_sim::Result<()> {
         for (key, value) in &result.figures {
             map.insert((*key).into(), (*value).into());
         }
-        print_out(serde_json::Value::Object(map));
+        print_out(serde_json::Value::Object(map))?;
     } else {
         let mut table = format!("{urdf} (nv = {}), frame {}:", model.nv(), result.frame);
         for (key, value) in &result.figures {
             table += &format!("\n  {key:<32} {value:8.3}");
         }
-        print_out(table);
+        print_out(table)?;
     }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! What every command shares: value parsers of the flags, exit statuses, how runs end, and
 //! the lines written on stdout and stderr (never an abort on a closed pipe).
 
+use std::borrow::Cow;
 use std::fmt::Display;
 use std::io::Write;
 
@@ -47,28 +48,89 @@ pub(crate) fn parse_key_value(text: &str) -> Result<(String, String), String> {
     Ok((key.trim().to_string(), value.trim().to_string()))
 }
 
+/// `value` as Rust writes it, or in exponent notation when that takes more than 16 characters
+/// (`1e300` rather than 301 digits, `1.5e-12`).
+pub(crate) fn readable_number(value: f64) -> String {
+    let plain = format!("{value}");
+    if plain.len() > 16 {
+        format!("{value:e}")
+    } else {
+        plain
+    }
+}
+
+/// `value` with `decimals` decimals, or in exponent notation with as many when its size would
+/// make the fixed form longer than `width` characters.
+pub(crate) fn fixed_number(value: f64, width: usize, decimals: usize) -> String {
+    let fixed = format!("{value:width$.decimals$}");
+    if fixed.len() > width {
+        format!("{value:width$.decimals$e}")
+    } else {
+        fixed
+    }
+}
+
 /// Exit status of a run that diverged (distinct from errors).
 pub(crate) const EXIT_DIVERGED: u8 = 3;
 
 /// Exit status of an error.
 pub(crate) const EXIT_ERROR: u8 = 1;
 
+/// `text` with its control characters other than newline and tab escaped (`\u{1b}` for
+/// ESC, `\0` for NUL): a file name or key from the command line or a file is echoed in
+/// messages, and must not drive the terminal.
+pub(crate) fn visible(text: &str) -> Cow<'_, str> {
+    if !text.chars().any(is_hidden_control) {
+        return Cow::Borrowed(text);
+    }
+    let mut shown = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if is_hidden_control(c) {
+            shown.extend(c.escape_debug());
+        } else {
+            shown.push(c);
+        }
+    }
+    Cow::Owned(shown)
+}
+
+/// A control character a terminal acts on rather than shows (newline and tab are kept).
+fn is_hidden_control(c: char) -> bool {
+    c.is_control() && c != '\n' && c != '\t'
+}
+
 /// Writes a line on stderr; a closed or full stderr loses the line, never the run.
 pub(crate) fn say(message: impl Display) {
-    let _ = writeln!(std::io::stderr().lock(), "{message}");
+    let text = message.to_string();
+    let _ = writeln!(std::io::stderr().lock(), "{}", visible(&text));
 }
 
-/// Writes `text` as it is on stdout (no newline added); a closed stdout loses the text, never
-/// the run.
-pub(crate) fn print_text(text: impl Display) {
+/// Writes `text` on stdout (no newline added, control characters escaped as by [`visible`]).
+///
+/// Errors: [`sea_sim::Error::Io`] on `stdout` when the text cannot be written (a full disk
+/// behind a redirection): the text is the command's product, so the exit status says so. A
+/// closed pipe (`| head -c1`) is no error: the reader chose to stop, and only the text is lost.
+pub(crate) fn print_text(text: impl Display) -> sea_sim::Result<()> {
+    let text = text.to_string();
     let mut out = std::io::stdout().lock();
-    let _ = write!(out, "{text}").and_then(|()| out.flush());
+    let written = write!(out, "{}", visible(&text)).and_then(|()| out.flush());
+    stdout_result(written)
 }
 
-/// Writes text on stdout; a closed stdout (`| head -c1`) loses the text, never the run.
-pub(crate) fn print_out(text: impl Display) {
-    let mut out = std::io::stdout().lock();
-    let _ = writeln!(out, "{text}").and_then(|()| out.flush());
+/// Writes text and a newline on stdout, as [`print_text`].
+pub(crate) fn print_out(text: impl Display) -> sea_sim::Result<()> {
+    print_text(format_args!("{text}\n"))
+}
+
+/// A write on stdout as a result: a closed pipe is no error, anything else names stdout.
+fn stdout_result(written: std::io::Result<()>) -> sea_sim::Result<()> {
+    match written {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(sea_sim::Error::Io {
+            path: "stdout".to_string(),
+            source: e,
+        }),
+        _ => Ok(()),
+    }
 }
 
 /// How a run ended.
@@ -76,4 +138,15 @@ pub(crate) enum Outcome {
     Completed,
     Diverged,
     Interrupted(i32),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn control_characters_are_escaped_but_newlines_and_tabs_kept() {
+        assert_eq!(visible("plain\tline\nnext"), "plain\tline\nnext");
+        assert_eq!(visible("a\u{1b}[31mb\0c\rd"), "a\\u{1b}[31mb\\0c\\rd");
+    }
 }

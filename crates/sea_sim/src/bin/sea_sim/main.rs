@@ -14,7 +14,9 @@
 //! `.NAME.partial`, renamed over the target when the run ends (completed, diverged or
 //! interrupted: all three leave a finished, readable log). A run killed outright or stopped by
 //! an error never replaces the target. Nothing written to stdout or stderr can abort a run: a
-//! closed pipe only loses the text.
+//! closed pipe only loses the text. A summary or report that cannot be written on stdout for
+//! another reason (a full disk behind a redirection) makes the exit status 1 once the work is
+//! done. Control characters of file names and keys are echoed escaped (`\u{1b}`).
 
 mod bench;
 mod common;
@@ -104,10 +106,10 @@ fn main() -> ExitCode {
         Command::Margin(args) => with_interrupts(|interrupts| margin::run_margin(args, interrupts)),
         Command::Init(args) => with_interrupts(|interrupts| init::run_init(args, interrupts)),
         Command::Push(args) => with_interrupts(|interrupts| push::run_push(args, interrupts)),
-        Command::Schema(args) => {
-            schema::print_schema(args);
-            (Ok(Outcome::Completed), None)
-        }
+        Command::Schema(args) => (
+            schema::print_schema(args).map(|()| Outcome::Completed),
+            None,
+        ),
     };
     let finished = match cli.command {
         Command::Sweep(_) => "the rows of the runs done written",

@@ -1,6 +1,8 @@
 //! `sea-sim margin`: where the closed loop's stability changes along one key.
 
-use crate::common::{parse_key_value, parse_range, print_out, say, Outcome};
+use crate::common::{
+    fixed_number, parse_key_value, parse_range, print_out, readable_number, say, Outcome,
+};
 use crate::signals::Interrupts;
 use clap::Args;
 use sea_sim::analysis::margin::{
@@ -53,12 +55,12 @@ pub(crate) struct MarginArgs {
 /// The progress line of an evaluation that ended: the value and its verdict.
 fn sample_line(parameter: &str, sample: &MarginSample) -> String {
     let verdict = if sample.stable { "stable" } else { "unstable" };
-    let growth = sample
-        .growth_rate
-        .map_or(String::new(), |g| format!(" (growth {g:.4} 1/s)"));
+    let growth = sample.growth_rate.map_or(String::new(), |g| {
+        format!(" (growth {} 1/s)", fixed_number(g, 12, 4).trim_start())
+    });
     format!(
         "sea-sim: margin {parameter} = {}: {verdict}{growth}",
-        sample.value
+        readable_number(sample.value)
     )
 }
 
@@ -111,16 +113,18 @@ pub(crate) fn run_margin(args: &MarginArgs, interrupts: &Interrupts) -> sea_sim:
     })?;
     let text = serde_json::to_string_pretty(&margin_json(&report))
         .map_err(|e| sea_sim::Error::Output(format!("margin JSON: {e}")))?;
+    // Printed first: a report that cannot be written to `--out` (a full disk) is not lost.
+    let printed = print_out(if args.json {
+        text.clone()
+    } else {
+        margin_table(&report)
+    });
     if let Some(mut out) = out {
         out.write_all(text.as_bytes())?;
         out.write_all(b"\n")?;
         out.commit()?;
     }
-    print_out(if args.json {
-        text
-    } else {
-        margin_table(&report)
-    });
+    printed?;
     // A signal that came as the last evaluation ended stopped nothing: the scan is whole.
     Ok(match interrupts.received() {
         Some(sig) if report.interrupted => Outcome::Interrupted(sig),
@@ -156,6 +160,7 @@ fn margin_json(report: &MarginReport) -> serde_json::Value {
 pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -> String {
     use sea_sim::analysis::margin::{IslandEnd, MarginConclusion};
     let [lower, upper] = report.range;
+    let (lower_text, upper_text) = (readable_number(lower), readable_number(upper));
     let mut text = match report.conclusion() {
         MarginConclusion::Boundaries if report.integer => {
             let between: Vec<String> = report
@@ -166,20 +171,26 @@ pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -
             format!("stability changes {}", between.join(", "))
         }
         MarginConclusion::Boundaries => {
-            let boundaries: Vec<String> =
-                report.boundaries.iter().map(|b| format!("{b}")).collect();
+            let boundaries: Vec<String> = report
+                .boundaries
+                .iter()
+                .map(|&b| readable_number(b))
+                .collect();
             format!("stability changes at [{}]", boundaries.join(", "))
         }
-        MarginConclusion::StableOverRange => format!("stable over [{lower}, {upper}]"),
+        MarginConclusion::StableOverRange => format!("stable over [{lower_text}, {upper_text}]"),
         MarginConclusion::UnstableOverRange => {
-            format!("unstable over the whole scanned range [{lower}, {upper}]")
+            format!("unstable over the whole scanned range [{lower_text}, {upper_text}]")
         }
         MarginConclusion::Interrupted if report.boundaries.is_empty() => {
             "stopped before the scan's end, no boundary bisected yet".to_string()
         }
         MarginConclusion::Interrupted => {
-            let boundaries: Vec<String> =
-                report.boundaries.iter().map(|b| format!("{b}")).collect();
+            let boundaries: Vec<String> = report
+                .boundaries
+                .iter()
+                .map(|&b| readable_number(b))
+                .collect();
             format!(
                 "stopped before the scan's end; stability changes at [{}] and maybe elsewhere",
                 boundaries.join(", ")
@@ -187,22 +198,23 @@ pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -
         }
     };
     let end = |end: IslandEnd| match end {
-        IslandEnd::Boundary(value) => format!("{value}"),
-        IslandEnd::RangeEnd(value) => format!("{value} (range end)"),
+        IslandEnd::Boundary(value) => readable_number(value),
+        IslandEnd::RangeEnd(value) => format!("{} (range end)", readable_number(value)),
     };
+    let own_text = report.own_value.map(readable_number);
+    let own = own_text.as_deref().unwrap_or("NaN");
     text += &match (report.own_value, report.own_value_stable(), report.island()) {
         (_, _, Some([low, high])) => format!(
-            "; the scenario's own value {} lies in the stable island [{}, {}]",
-            report.own_value.unwrap_or(f64::NAN),
+            "; the scenario's own value {own} lies in the stable island [{}, {}]",
             end(low),
             end(high)
         ),
-        (Some(own), Some(false), _) => format!("; the scenario's own value {own} is unstable"),
-        (Some(own), Some(true), _) => format!("; the scenario's own value {own} is stable"),
-        (Some(own), None, _) if report.interrupted && (lower..=upper).contains(&own) => {
+        (Some(_), Some(false), _) => format!("; the scenario's own value {own} is unstable"),
+        (Some(_), Some(true), _) => format!("; the scenario's own value {own} is stable"),
+        (Some(value), None, _) if report.interrupted && (lower..=upper).contains(&value) => {
             format!("; the scenario's own value {own} was not evaluated")
         }
-        (Some(own), _, _) => format!("; the scenario's own value {own} is outside the range"),
+        (Some(_), _, _) => format!("; the scenario's own value {own} is outside the range"),
         (None, _, _) => "; the scenario's own value is not a readable number".to_string(),
     };
     text
@@ -220,11 +232,12 @@ pub(crate) fn margin_table(report: &sea_sim::analysis::margin::MarginReport) -> 
     let mut samples: Vec<_> = report.samples.iter().collect();
     samples.sort_by(|a, b| a.value.total_cmp(&b.value));
     for sample in samples {
-        let growth = sample
-            .growth_rate
-            .map_or(String::new(), |g| format!("  growth {g:10.4} 1/s"));
+        let growth = sample.growth_rate.map_or(String::new(), |g| {
+            format!("  growth {} 1/s", fixed_number(g, 10, 4))
+        });
         let verdict = if sample.stable { "stable" } else { "unstable" };
-        table += &format!("\n  {:14.6}  {verdict:<8}{growth}", sample.value);
+        let value = fixed_number(sample.value, 14, 6);
+        table += &format!("\n  {value}  {verdict:<8}{growth}");
     }
     table
 }

@@ -21,7 +21,7 @@ pub(crate) struct PushArgs {
     /// `[[disturbances]]` are replaced by the push.
     scenario: PathBuf,
     /// Directions, comma-separated: forward, backward, left, right (the first contact's sole
-    /// axes).
+    /// axes), each at most once.
     #[arg(
         long,
         value_delimiter = ',',
@@ -338,6 +338,18 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
         .iter()
         .map(|name| PushDirection::parse(name))
         .collect::<sea_sim::Result<Vec<_>>>()?;
+    if let Some(twice) = args
+        .directions
+        .iter()
+        .enumerate()
+        .find_map(|(i, name)| args.directions[..i].contains(name).then_some(name))
+    {
+        return Err(sea_sim::Error::argument(
+            "--directions",
+            "each direction at most once",
+            format!("'{twice}' given twice"),
+        ));
+    }
     let swing = pushed_swing(args)?;
     let options = PushOptions {
         link: args.link.clone(),
@@ -383,7 +395,7 @@ pub(crate) fn run_push(args: &PushArgs, interrupts: &Interrupts) -> sea_sim::Res
     }
     let text = serde_json::to_string_pretty(&json)
         .map_err(|e| sea_sim::Error::Output(format!("push JSON: {e}")))?;
-    print_out(text);
+    print_out(text)?;
     // A signal that came as the last run ended stopped nothing: the table is whole.
     Ok(match interrupts.received() {
         Some(sig) if interrupted => Outcome::Interrupted(sig),

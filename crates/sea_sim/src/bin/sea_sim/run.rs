@@ -149,8 +149,9 @@ pub(crate) fn run_scenario(args: &RunArgs, interrupts: &Interrupts) -> sea_sim::
         .map_err(|e| sea_sim::Error::Output(format!("summary JSON: {e}")))?;
     // The summary is printed even when an output fails: the run is done, and it says how.
     let finished = finish_outputs(outputs, &json);
-    print_out(&json);
+    let printed = print_out(&json);
     finished?;
+    printed?;
     Ok(match summary.status.as_str() {
         "completed" => Outcome::Completed,
         "interrupted" => Outcome::Interrupted(interrupts.received().unwrap_or(SIGINT)),

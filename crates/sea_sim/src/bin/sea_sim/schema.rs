@@ -13,11 +13,13 @@ pub(crate) struct SchemaArgs {
 }
 
 /// `sea-sim schema`: the scenario file's JSON Schema, or its reference page, on stdout.
-pub(crate) fn print_schema(args: &SchemaArgs) {
+///
+/// Errors: [`sea_sim::Error::Io`] on `stdout` when it cannot be written.
+pub(crate) fn print_schema(args: &SchemaArgs) -> sea_sim::Result<()> {
     if args.markdown {
         let schema = sea_sim::scenario::schema::json_schema();
-        print_text(sea_sim::scenario::reference::markdown(&schema));
+        print_text(sea_sim::scenario::reference::markdown(&schema))
     } else {
-        print_text(sea_sim::scenario::schema::json_schema_text());
+        print_text(sea_sim::scenario::schema::json_schema_text())
     }
 }

@@ -1,6 +1,6 @@
 //! `sea-sim sweep`: a scenario over a grid of values, runs in parallel, rows to a CSV.
 
-use crate::common::{parse_key_value, say, Outcome};
+use crate::common::{parse_key_value, print_text, say, Outcome};
 use crate::signals::Interrupts;
 use clap::Args;
 use sea_sim::output::{check_distinct, OutputFile};
@@ -100,8 +100,15 @@ pub(crate) fn run_sweep_command(
     )?;
     let mut csv = Vec::new();
     write_csv(&mut csv, &args.out, &keys, &rows)?;
-    out.write_all(&csv)?;
-    out.commit()?;
+    // A CSV that cannot be written (a full disk) is printed instead: the runs are not lost.
+    if let Err(e) = out.write_all(&csv).and_then(|()| out.commit()) {
+        say(format_args!(
+            "sea-sim: the CSV could not be written to {}; its rows follow on stdout",
+            args.out.display()
+        ));
+        let _ = print_text(String::from_utf8_lossy(&csv));
+        return Err(e);
+    }
     let count = |status: &str| rows.iter().filter(|r| r.status == status).count();
     let (completed, interrupted) = (count("completed"), count("interrupted"));
     if !quiet {
