@@ -7,7 +7,7 @@ use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sea_sim::closed_loop::{build, run_setup_with_sinks, RecordSink, RunRecord};
-use sea_sim::mcap_log::McapSink;
+use sea_sim::mcap_log::{McapSink, LOG_NEEDS_A_FILE};
 use sea_sim::output::{check_distinct, OutputFile};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -113,7 +113,7 @@ fn open_log(
         ],
         &[("mcap", target)],
     )?;
-    OutputFile::create(target)
+    OutputFile::create_regular(target, LOG_NEEDS_A_FILE)
 }
 
 /// The record's arrays into a new dict: `time`, `x`, `thetadot_desired`, `com`,

@@ -34,11 +34,15 @@ fn override_value(key: &str, value: &str) -> Result<toml::Value> {
     }
 }
 
-/// Whether `text` reads as a decimal integer (a sign, then digits with `_` between them).
+/// Whether `text` is a TOML decimal integer by its syntax (a sign, then digits without a
+/// leading zero, a single `_` only between digits): TOML refuses such text only when its value
+/// is beyond the range. Other text (`007`, `1_`) stays a bare string.
 fn is_integer_literal(text: &str) -> bool {
     let digits = text.strip_prefix(['+', '-']).unwrap_or(text);
-    digits.starts_with(|c: char| c.is_ascii_digit())
-        && digits.chars().all(|c| c.is_ascii_digit() || c == '_')
+    digits.starts_with(|c: char| ('1'..='9').contains(&c))
+        && digits
+            .split('_')
+            .all(|group| !group.is_empty() && group.bytes().all(|b| b.is_ascii_digit()))
 }
 
 /// Applies `key.path=value` to a TOML tree, creating tables as needed.
@@ -383,8 +387,11 @@ mod tests {
             toml::Value::Integer(i64::MAX),
             "the largest integer TOML holds"
         );
-        // Text that is not an integer stays a bare string for the key's reader to judge.
-        apply_override(&mut root, "robot.name", "12ab").unwrap();
-        assert_eq!(root["robot"]["name"], toml::Value::String("12ab".into()));
+        apply_override(&mut root, "sensing.seed", "-9_223_372_036_854_775_809").unwrap_err();
+        // Text that is not a TOML integer stays a bare string for the key's reader to judge.
+        for text in ["12ab", "007", "1_", "1__2", "+", "-_1"] {
+            apply_override(&mut root, "robot.name", text).unwrap();
+            assert_eq!(root["robot"]["name"], toml::Value::String(text.into()));
+        }
     }
 }

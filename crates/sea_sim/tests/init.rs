@@ -371,6 +371,37 @@ fn a_missing_or_unresolvable_mesh_is_named() {
     }
 }
 
+/// The scenario written must not replace a mesh the URDF names (it used to overwrite a foot's
+/// collision mesh given as `--out`, and the next `init` could not read the foot).
+#[test]
+fn a_scenario_written_over_a_mesh_of_the_urdf_is_refused_and_the_mesh_kept() {
+    let text = std::fs::read_to_string(icub_urdf()).unwrap();
+    let dir = folder("over_mesh");
+    let chest = text.find("<link name=\"chest\">").expect("the chest link");
+    let at = chest
+        + text[chest..]
+            .find("<visual")
+            .expect("a visual of the chest");
+    let visual = "<visual><geometry><mesh filename=\"part.stl\"/></geometry></visual>";
+    let urdf = dir.join("icub_mesh.urdf");
+    std::fs::write(&urdf, format!("{}{visual}{}", &text[..at], &text[at..])).unwrap();
+    let mesh = dir.join("part.stl");
+    std::fs::write(&mesh, "solid part\nendsolid part\n").unwrap();
+    let mut options = icub_options(&dir);
+    options.urdf = urdf.display().to_string();
+    options.out = mesh.clone();
+    let message = init(&options).unwrap_err().to_string();
+    assert!(
+        message.contains("would overwrite the link 'chest' visual mesh"),
+        "{message}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(&mesh).unwrap(),
+        "solid part\nendsolid part\n"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// `init --walking` for the iCub: the `[walking]` written is the scaled rule's
 /// (`WalkingSettings::scaled_to` of the figures `init` reports, rounded to 1 mm and 1 ms; the
 /// iCub's own legs give `k` = 1, so the durations are the defaults'), the scenario builds, and
@@ -494,4 +525,90 @@ fn the_written_motors_are_limited_by_the_urdf_efforts_and_a_weak_joint_is_named(
         named[0]
     );
     std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A robot lighter than the iCub gets the QP's minimum normal force scaled down with its mass:
+/// the mini biped at a fifth of its masses (1.7 kg, 16.7 N) could not carry the default 10 N
+/// on each foot, and its written scenario was refused by `run`.
+#[test]
+fn a_light_robot_gets_a_minimum_normal_force_its_weight_can_carry() {
+    let dir = folder("light_biped");
+    // Every mass and moment of inertia a fifth: the same shapes, a fifth of the weight.
+    let options = edited_mini_biped(&dir, |text| scale_masses(text, 0.2));
+    init(&options).unwrap();
+    let scenario = Scenario::from_file(&options.out, &[]).unwrap();
+    let setup = build(&scenario).expect("the written scenario builds");
+    let weight = setup.model.total_mass() * 9.81;
+    let force = scenario.controller.contact.min_normal_force;
+    assert!(
+        force > 0.0 && 2.0 * force < weight,
+        "{force} N for a weight of {weight} N"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `text` with every `value`, `ixx` ... `izz` attribute of its `<mass>` and `<inertia>`
+/// elements multiplied by `factor`.
+fn scale_masses(text: &str, factor: f64) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    let names = ["value", "ixx", "ixy", "ixz", "iyy", "iyz", "izz"];
+    while let Some(at) = rest.find("=\"") {
+        let name_start = rest[..at].rfind(char::is_whitespace).map_or(0, |k| k + 1);
+        let name = &rest[name_start..at];
+        let value_end = at + 2 + rest[at + 2..].find('"').unwrap();
+        let value = &rest[at + 2..value_end];
+        out.push_str(&rest[..at + 2]);
+        match value.parse::<f64>() {
+            Ok(number) if names.contains(&name) => out.push_str(&format!("{}", number * factor)),
+            _ => out.push_str(value),
+        }
+        rest = &rest[value_end..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// `--walking` on two soles that coincide standing (both hips on the body's plane) names
+/// `--contacts` and the distance; it named an internal figure (`walking figures:
+/// feet_distance`).
+#[test]
+fn walking_on_soles_that_coincide_is_refused_naming_the_contacts() {
+    let dir = folder("feet_same");
+    let options = InitOptions {
+        walking: true,
+        ..edited_mini_biped(&dir, |text| {
+            let same = text
+                .replace("<origin xyz=\"0 0.06 -0.05\"", "<origin xyz=\"0 0 -0.05\"")
+                .replace("<origin xyz=\"0 -0.06 -0.05\"", "<origin xyz=\"0 0 -0.05\"");
+            assert_ne!(same, text, "the hips moved");
+            same
+        })
+    };
+    let message = init(&options).unwrap_err().to_string();
+    assert!(
+        message.contains("--contacts") && message.contains("0.0000 m apart"),
+        "{message}"
+    );
+    assert!(!options.out.exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Options for the mini biped's URDF edited by `edit`, written as `robot.urdf` into `dir`, on
+/// soles of the rectangle its feet hold.
+fn edited_mini_biped(dir: &Path, edit: impl FnOnce(&str) -> String) -> InitOptions {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../urdf/mini_biped.urdf"),
+    )
+    .unwrap();
+    let urdf = dir.join("robot.urdf");
+    std::fs::write(&urdf, edit(&text)).unwrap();
+    let foot = FootRectangle {
+        x: [-0.06, 0.1],
+        y: [-0.04, 0.04],
+    };
+    InitOptions {
+        urdf: urdf.display().to_string(),
+        ..mini_biped_options(dir, foot)
+    }
 }

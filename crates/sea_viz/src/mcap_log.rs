@@ -165,6 +165,9 @@ impl Output {
     }
 }
 
+/// Why an MCAP log must be a regular file, said in the errors that refuse another target.
+pub const LOG_NEEDS_A_FILE: &str = "an MCAP log's writer seeks back over each chunk";
+
 /// Refuses a log target that is not a regular file, before anything is written: the MCAP
 /// writer seeks back over each chunk it finishes, which a device or a pipe cannot do (the run
 /// would fail at its first chunk, a second of simulation in).
@@ -180,8 +183,7 @@ fn check_regular_file(file: &File, path: &Path) -> Result<()> {
         path: path.display().to_string(),
         source: std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
-            "an MCAP log must be a regular file (its writer seeks back over each chunk), not a \
-             device or a pipe; to run without a log, give no log path",
+            format!("must be a regular file ({LOG_NEEDS_A_FILE}), not a device or a pipe"),
         ),
     })
 }

@@ -188,6 +188,24 @@ impl OutputFile {
         })
     }
 
+    /// [`OutputFile::create`] for an output that must be a regular file (an MCAP log, whose
+    /// writer seeks): a device, a pipe or a socket at `target` is refused before it is opened
+    /// (opening a FIFO without a reader would block), the error saying `why` it must be a file.
+    ///
+    /// Errors: as [`OutputFile::create`], and [`Error::Io`] (`InvalidInput`) naming the target
+    /// when it is not a regular file.
+    pub fn create_regular(target: &Path, why: &str) -> Result<Self> {
+        check_target(target)?;
+        if is_special(target) {
+            return Err(io_error(
+                target,
+                ErrorKind::InvalidInput,
+                format!("must be a regular file ({why}), not a device or a pipe"),
+            ));
+        }
+        Self::create(target)
+    }
+
     /// The final path.
     pub fn target(&self) -> &Path {
         &self.target

@@ -583,7 +583,6 @@ fn walk_bodies(
     BodyWalk { joints, link_body }
 }
 
-/// A moving joint with its limits (infinite where the URDF gives none).
 /// A revolute or prismatic joint whose `limit` has `lower > upper` is taken as unlimited, as
 /// one with no limit (URDF's default, `lower = upper = 0`); unlike that default it is likely a
 /// typo or swapped ends, so it is reported.
@@ -603,6 +602,7 @@ fn inverted_limit_warning(joint: &urdf_rs::Joint) -> Option<Warning> {
     })
 }
 
+/// A moving joint with its limits (infinite where the URDF gives none).
 fn moving_joint(
     urdf_joint: &urdf_rs::Joint,
     kind: JointKind,

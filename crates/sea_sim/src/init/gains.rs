@@ -3,7 +3,9 @@
 //! gains on two feet carry over unchanged; the postural stiffness of each joint is its
 //! inertia in the standing posture (the diagonal of `M`) times [`POSTURAL_FREQUENCY`] squared,
 //! so every joint's postural task has the same bandwidth; the joint inertia regularisation
-//! scales with the robot's mass from the iCub's (0.1 kg m^2 for 33 kg).
+//! scales with the robot's mass from the iCub's (0.1 kg m^2 for 33 kg), and so does the QP's
+//! minimum normal force for a robot lighter than the iCub (10 N for 33 kg: a 1.7 kg robot
+//! weighs 16.7 N, and two feet could not carry 10 N each at rest).
 
 use crate::scenario::robots::icub;
 use sea_dyn::{Data, Model};
@@ -31,4 +33,31 @@ pub fn postural_stiffness(model: &Model, q: &[f64], regularization: f64) -> Vec<
 pub fn joint_inertia_regularization(mass: f64) -> f64 {
     let scaled = icub().joint_inertia_regularization * mass / ICUB_MASS;
     (scaled * 1e3).round() / 1e3
+}
+
+/// The QP's minimum normal force per contact for a robot of `mass` [N]: the default (the
+/// original study's 10 N, for the iCub) scaled down with the mass for a lighter robot, kept for
+/// a heavier one; `None` when it is the default.
+pub fn min_normal_force(mass: f64) -> Option<f64> {
+    let default = sea_ctrl::qp::ContactConstraints::default().min_normal_force;
+    let scaled = (default * mass / ICUB_MASS * 100.0).floor() / 100.0;
+    (scaled < default).then_some(scaled.max(0.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_minimum_normal_force_scales_down_for_a_lighter_robot_only() {
+        assert_eq!(
+            min_normal_force(ICUB_MASS),
+            None,
+            "the iCub keeps the default"
+        );
+        assert_eq!(min_normal_force(90.0), None, "Talos keeps the default");
+        let light = min_normal_force(1.7).expect("scaled");
+        assert!((light - 10.0 * 1.7 / ICUB_MASS).abs() < 0.01, "{light}");
+        assert_eq!(min_normal_force(0.0), Some(0.0));
+    }
 }

@@ -6,13 +6,19 @@
 
 use crate::error::{Error, Result};
 use sea_dyn::PackageDirs;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 // `PackageDirs::resolve` returns only existing files: an error covers both cases.
 
 /// Checks every mesh of the URDF `urdf_text` (file in `urdf_dir`) against `dirs`; the first
-/// missing or unresolvable one is an error naming its link and URI.
-pub fn check_mesh_files(urdf_text: &str, urdf_dir: &Path, dirs: &PackageDirs) -> Result<()> {
+/// missing or unresolvable one is an error naming its link and URI. Returns each mesh's file
+/// with what it is (`link 'l_foot' collision mesh`), inputs the scenario written must not
+/// replace.
+pub fn check_mesh_files(
+    urdf_text: &str,
+    urdf_dir: &Path,
+    dirs: &PackageDirs,
+) -> Result<Vec<(String, PathBuf)>> {
     let robot = sea_dyn::urdf::parse_urdf(urdf_text).map_err(|e| {
         Error::argument(
             "urdf",
@@ -20,6 +26,7 @@ pub fn check_mesh_files(urdf_text: &str, urdf_dir: &Path, dirs: &PackageDirs) ->
             format!("{e} (in {})", urdf_dir.display()),
         )
     })?;
+    let mut meshes = Vec::new();
     for link in &robot.links {
         let visuals = link.visual.iter().map(|v| (&v.geometry, "visual"));
         let collisions = link.collision.iter().map(|c| (&c.geometry, "collision"));
@@ -27,11 +34,12 @@ pub fn check_mesh_files(urdf_text: &str, urdf_dir: &Path, dirs: &PackageDirs) ->
             let urdf_rs::Geometry::Mesh { filename, .. } = geometry else {
                 continue;
             };
-            dirs.resolve(filename, urdf_dir).map_err(|e| {
+            let file = dirs.resolve(filename, urdf_dir).map_err(|e| {
                 let mesh = format!("link '{}' {kind} mesh '{filename}': {e}", link.name);
                 Error::argument("urdf", "meshes that can be found", mesh)
             })?;
+            meshes.push((format!("the link '{}' {kind} mesh", link.name), file));
         }
     }
-    Ok(())
+    Ok(meshes)
 }

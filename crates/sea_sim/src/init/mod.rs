@@ -134,6 +134,10 @@ pub fn init(options: &InitOptions) -> Result<InitReport> {
     Ok(init_unless_stopped(options, &never)?.expect("never stopped"))
 }
 
+/// The shortest distance between the two soles standing for `--walking` [m]: the steps' widths
+/// scale with it, and soles that coincide (both hips on the body's plane) cannot alternate.
+pub const MIN_WALKING_FEET_DISTANCE: f64 = 0.01;
+
 /// [`init`], unless `stop` is raised before the scenario is written (checked after reading
 /// the URDF, after building the model, before the standing posture and before writing): then
 /// nothing is written and the result is `None` (a stop signal while a large robot loads).
@@ -167,7 +171,12 @@ pub fn init_unless_stopped(
         .map(|name| model.frame_id(&name).expect("added above"));
     one_contact_per_leg(&model, feet, &options.contacts)?;
     let urdf_dir = urdf_file.parent().unwrap_or(Path::new("."));
-    mesh_files::check_mesh_files(&text, urdf_dir, &dirs)?;
+    let meshes = mesh_files::check_mesh_files(&text, urdf_dir, &dirs)?;
+    let inputs: Vec<(&str, &Path)> = meshes
+        .iter()
+        .map(|(role, file)| (role.as_str(), file.as_path()))
+        .collect();
+    crate::output::check_distinct(&inputs, &[("the scenario written", &options.out)])?;
     let (rectangles, measured) = feet_rectangles(options, &model, feet, &text, urdf_dir, &dirs)?;
     if stopped() {
         return Ok(None);
@@ -176,6 +185,19 @@ pub fn init_unless_stopped(
     let standing_torques = actuators::standing_torques(&model, feet, &standing);
     let feet_rank = two_feet_rank(&model, feet, &standing);
     let walking_figures = walking::walking_figures(&model, feet, &standing);
+    if options.walking
+        && (walking_figures.feet_distance.is_nan()
+            || walking_figures.feet_distance < MIN_WALKING_FEET_DISTANCE)
+    {
+        return Err(Error::argument(
+            "--contacts",
+            format!("two soles at least {MIN_WALKING_FEET_DISTANCE} m apart standing, to walk on"),
+            format!(
+                "'{}' and '{}' {:.4} m apart",
+                options.contacts[0], options.contacts[1], walking_figures.feet_distance
+            ),
+        ));
+    }
     let settings = options
         .walking
         .then(|| walking::walking_settings(&walking_figures))

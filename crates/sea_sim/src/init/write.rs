@@ -57,7 +57,7 @@ pub fn write_scenario(options: &InitOptions, model: &Model, body: &Body<'_>) -> 
         .clone()
         .unwrap_or_else(|| format!("{}_{suffix}", model.name));
     let text = match body.walking {
-        None => scenario_text(options, &name, &description)?,
+        None => scenario_text(options, &name, &description, model.total_mass())?,
         Some(settings) => walking_text(options, &name, &description, settings)?,
     };
     let mut file = OutputFile::create(&options.out)?;
@@ -160,8 +160,13 @@ fn relative(file: &Path, dir: &Path) -> Option<PathBuf> {
     Some(out)
 }
 
-/// The scenario's TOML text.
-fn scenario_text(options: &InitOptions, name: &str, robot: &RobotDescription) -> Result<String> {
+/// The scenario's TOML text, for a robot of `robot_mass` [kg].
+fn scenario_text(
+    options: &InitOptions,
+    name: &str,
+    robot: &RobotDescription,
+    robot_mass: f64,
+) -> Result<String> {
     let (amplitude, frequency, duration) = COM_SINUSOID;
     let mut root = toml::Table::new();
     root.insert("name".into(), name.into());
@@ -179,6 +184,13 @@ fn scenario_text(options: &InitOptions, name: &str, robot: &RobotDescription) ->
     let mut plant = toml::Table::new();
     plant.insert("contact_model".into(), "unilateral".into());
     root.insert("plant".into(), plant.into());
+    if let Some(force) = gains::min_normal_force(robot_mass) {
+        let mut contact = toml::Table::new();
+        contact.insert("min_normal_force".into(), force.into());
+        let mut controller = toml::Table::new();
+        controller.insert("contact".into(), contact.into());
+        root.insert("controller".into(), controller.into());
+    }
     let mut simulation = toml::Table::new();
     simulation.insert("duration_s".into(), duration.into());
     root.insert("simulation".into(), simulation.into());
@@ -250,6 +262,20 @@ fn walking_header(options: &InitOptions, settings: &WalkingSettings) -> String {
 }
 
 /// The comment on top of the file: how it was made.
+/// `text` as it may stand in a TOML comment: its control characters (a newline in a file
+/// name would end the comment and make the rest TOML) escaped as `\n`, `\u{1b}`.
+fn in_comment(text: &str) -> String {
+    let mut shown = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c.is_control() {
+            shown.extend(c.escape_debug());
+        } else {
+            shown.push(c);
+        }
+    }
+    shown
+}
+
 fn header(options: &InitOptions) -> String {
     let foot = match &options.foot {
         Some(f) => format!(" --foot {},{},{},{}", f.x[0], f.x[1], f.y[0], f.y[1]),
@@ -262,13 +288,25 @@ fn header(options: &InitOptions) -> String {
          # {}, gains scaled to the robot (docs/guide/your_robot.md).\n\
          # The run: the CoM follows a lateral sinusoid (1 cm, 0.2 Hz) for 5 s, the feet on the\n\
          # ground (unilateral contacts with friction, joint stops at the URDF's limits).\n\n",
-        options.urdf,
-        options.contacts[0],
-        options.contacts[1],
+        in_comment(&options.urdf),
+        in_comment(&options.contacts[0]),
+        in_comment(&options.contacts[1]),
         if options.foot.is_some() {
             "given"
         } else {
             "measured on the feet's collision geometry"
         }
     )
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn control_characters_are_escaped_in_comments() {
+        assert_eq!(
+            super::in_comment("odd/a\n[controller]\nrate_hz = 5.urdf"),
+            "odd/a\\n[controller]\\nrate_hz = 5.urdf"
+        );
+        assert_eq!(super::in_comment("plain é.urdf"), "plain é.urdf");
+    }
 }

@@ -9,6 +9,10 @@ use nalgebra::{Complex, DMatrix, DVector, Schur};
 /// nalgebra's `complex_eigenvalues`).
 pub const SCHUR_SWEEPS_PER_ROW: usize = 60;
 
+/// Passes of the balancing over every row at most: it converges in a few (Parlett and
+/// Reinsch), the bound only keeps a pathological matrix from cycling.
+const MAX_BALANCE_PASSES: usize = 100;
+
 /// Balances `a` in place by a diagonal similarity of powers of two (Parlett and Reinsch,
 /// Numer. Math. 13, 1969): row and column norms are made comparable, so the Schur iteration
 /// sees entries of one scale although the state mixes positions, motor angles and accelerations.
@@ -17,12 +21,16 @@ pub fn balance(a: &mut DMatrix<f64>) -> Vec<f64> {
     let n = a.nrows();
     let mut d = vec![1.0; n];
     let mut changed = true;
-    while changed {
+    let mut passes = 0;
+    while changed && passes < MAX_BALANCE_PASSES {
         changed = false;
+        passes += 1;
         for i in 0..n {
             let column: f64 = (0..n).filter(|&k| k != i).map(|k| a[(k, i)].abs()).sum();
             let row: f64 = (0..n).filter(|&k| k != i).map(|k| a[(i, k)].abs()).sum();
-            if column == 0.0 || row == 0.0 {
+            // A sum that overflows (finite entries near the float range) has no balance: the
+            // halvings below would never end on an infinite norm.
+            if column == 0.0 || row == 0.0 || !(column + row).is_finite() {
                 continue;
             }
             let mut f = 1.0;
@@ -70,6 +78,13 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex<f64>>> {
     }
     let mut balanced = a.clone();
     balance(&mut balanced);
+    if balanced.iter().any(|entry| !entry.is_finite()) {
+        let detail = "its entries overflow once balanced: the closed loop's differences are \
+                      near the float range at this value";
+        return Err(Error::Dynamics(sea_dyn::Error::numerical(
+            OPERATION, detail,
+        )));
+    }
     let sweeps = SCHUR_SWEEPS_PER_ROW * a.nrows().max(1);
     match Schur::try_new(balanced, f64::EPSILON, sweeps) {
         Some(schur) => Ok(schur.complex_eigenvalues().iter().copied().collect()),
@@ -164,6 +179,17 @@ mod tests {
             let ac = a.map(|e| Complex::new(e, 0.0));
             let residual = (&ac * &v - v.map(|c| c * lambda)).norm();
             assert!(residual < 1e-8 * lambda.norm(), "{lambda}: {residual}");
+        }
+    }
+
+    #[test]
+    fn a_matrix_whose_row_sums_overflow_is_an_error_or_a_spectrum_not_a_hang() {
+        // Finite entries whose row and column sums overflow: the balancing used to halve an
+        // infinite norm forever.
+        let big = 0.9 * f64::MAX;
+        let a = DMatrix::from_row_slice(3, 3, &[-1.0, big, big, 1.0, -2.0, 0.0, 1.0, 0.0, -3.0]);
+        if let Err(e) = eigenvalues(&a) {
+            assert!(e.to_string().contains("the eigenvalues"), "{e}");
         }
     }
 

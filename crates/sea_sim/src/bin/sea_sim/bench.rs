@@ -5,6 +5,13 @@ use clap::Args;
 use sea_dyn::{LoadOptions, Model};
 use std::path::PathBuf;
 
+/// Most timed batches: a median of 100000 batch means is as good as it gets, and each batch
+/// keeps its mean (`--batches 4294967295` asked for 34 GB before the first call).
+const MAX_BATCHES: i64 = 100_000;
+
+/// Most calls per batch: ten million calls of the fastest algorithm take seconds per batch.
+const MAX_CALLS: i64 = 10_000_000;
+
 /// Options of `sea-sim bench`.
 #[derive(Args, Debug)]
 pub(crate) struct BenchArgs {
@@ -14,13 +21,13 @@ pub(crate) struct BenchArgs {
     /// Joints to keep, comma separated [default: every joint of the URDF].
     #[arg(long, value_name = "A,B,C", value_delimiter = ',')]
     joints: Option<Vec<String>>,
-    /// Timed batches (the median is reported).
+    /// Timed batches (the median is reported), 1 to 100000.
     #[arg(long, value_name = "N", default_value_t = 31,
-          value_parser = clap::value_parser!(u32).range(1..))]
+          value_parser = clap::value_parser!(u32).range(1..=MAX_BATCHES))]
     batches: u32,
-    /// Calls per batch (the controller tick uses CALLS / 20 + 1).
+    /// Calls per batch (the controller tick uses CALLS / 20 + 1), 1 to 10000000.
     #[arg(long, value_name = "N", default_value_t = 2000,
-          value_parser = clap::value_parser!(u32).range(1..))]
+          value_parser = clap::value_parser!(u32).range(1..=MAX_CALLS))]
     calls: u32,
     /// Print one JSON object instead of a table.
     #[arg(long)]

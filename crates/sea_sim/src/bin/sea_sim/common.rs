@@ -48,14 +48,15 @@ pub(crate) fn parse_key_value(text: &str) -> Result<(String, String), String> {
     Ok((key.trim().to_string(), value.trim().to_string()))
 }
 
-/// `value` as Rust writes it, or in exponent notation when that takes more than 16 characters
-/// (`1e300` rather than 301 digits, `1.5e-12`).
+/// `value` as Rust writes it, or in exponent notation when it is so large or so small that
+/// the plain form would spell out its zeros (|value| >= 1e16: `1e300` rather than 301 digits;
+/// 0 < |value| < 1e-6: `1.5e-12`). Ordinary values (`0.46406250000000004`) stay plain.
 pub(crate) fn readable_number(value: f64) -> String {
-    let plain = format!("{value}");
-    if plain.len() > 16 {
+    let size = value.abs();
+    if size >= 1e16 || (size > 0.0 && size < 1e-6) {
         format!("{value:e}")
     } else {
-        plain
+        format!("{value}")
     }
 }
 
@@ -105,15 +106,15 @@ pub(crate) fn say(message: impl Display) {
     let _ = writeln!(std::io::stderr().lock(), "{}", visible(&text));
 }
 
-/// Writes `text` on stdout (no newline added, control characters escaped as by [`visible`]).
+/// Writes `text` on stdout as it is (no newline added): stdout carries machine-readable JSON
+/// and CSV, which escape their own strings.
 ///
 /// Errors: [`sea_sim::Error::Io`] on `stdout` when the text cannot be written (a full disk
 /// behind a redirection): the text is the command's product, so the exit status says so. A
 /// closed pipe (`| head -c1`) is no error: the reader chose to stop, and only the text is lost.
 pub(crate) fn print_text(text: impl Display) -> sea_sim::Result<()> {
-    let text = text.to_string();
     let mut out = std::io::stdout().lock();
-    let written = write!(out, "{}", visible(&text)).and_then(|()| out.flush());
+    let written = write!(out, "{text}").and_then(|()| out.flush());
     stdout_result(written)
 }
 

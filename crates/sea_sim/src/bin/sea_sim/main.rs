@@ -91,10 +91,16 @@ enum Command {
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
+        Err(e) if e.use_stderr() => {
+            // A bad command line (exit 1): clap's message, with the control characters of
+            // the values it echoes escaped as every message is.
+            say(e.render().to_string().trim_end());
+            return ExitCode::from(EXIT_ERROR);
+        }
         Err(e) => {
-            // --help and --version are not errors; everything else is (exit 1).
+            // --help and --version are not errors.
             let _ = e.print();
-            return ExitCode::from(if e.use_stderr() { EXIT_ERROR } else { 0 });
+            return ExitCode::SUCCESS;
         }
     };
     let (outcome, stopped_by) = match &cli.command {

@@ -5,7 +5,7 @@ use crate::progress::Progress;
 use crate::signals::Interrupts;
 use clap::Args;
 use sea_sim::closed_loop::{build, run_setup_with_sinks, RecordSink};
-use sea_sim::mcap_log::McapSink;
+use sea_sim::mcap_log::{McapSink, LOG_NEEDS_A_FILE};
 use sea_sim::output::{check_distinct, OutputFile};
 use sea_sim::scenario::Scenario;
 use signal_hook::consts::SIGINT;
@@ -61,7 +61,11 @@ pub(crate) fn open_outputs(args: &RunArgs, scenario: &Scenario) -> sea_sim::Resu
         .collect();
     check_distinct(&inputs, &outputs)?;
     Ok(Outputs {
-        mcap: args.mcap.as_deref().map(OutputFile::create).transpose()?,
+        mcap: args
+            .mcap
+            .as_deref()
+            .map(|path| OutputFile::create_regular(path, LOG_NEEDS_A_FILE))
+            .transpose()?,
         summary: args
             .summary
             .as_deref()
