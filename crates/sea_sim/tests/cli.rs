@@ -372,6 +372,9 @@ fn a_signal_stops_a_sweep_with_the_rows_done_written() {
         Stdio::null(),
     );
     sweep.wait_for_line("sweep 1/3");
+    // The second run (300 s) builds and starts once the first has ended: signal it under way,
+    // not in between (a signal between runs stops the sweep with no run part-way).
+    std::thread::sleep(Duration::from_millis(1500));
     sweep.signal("INT");
     let (status, stderr) = sweep.wait();
     assert_eq!(status, Some(130), "{stderr}");
