@@ -239,6 +239,26 @@ pub fn shortened(text: &str) -> std::borrow::Cow<'_, str> {
     format!("{start}... ({count} characters)").into()
 }
 
+/// `text` with its control characters escaped as Rust writes them (`\u{1b}` for ESC, `\0`,
+/// `\n`), so that a name from a file or a command line shown in a message or a comment cannot
+/// drive a terminal or end a line; the characters of `kept` (e.g. `['\n', '\t']` for a
+/// message's own line breaks) stay as they are.
+pub fn escaped_controls<'a>(text: &'a str, kept: &[char]) -> std::borrow::Cow<'a, str> {
+    let hidden = |c: char| c.is_control() && !kept.contains(&c);
+    if !text.chars().any(hidden) {
+        return text.into();
+    }
+    let mut shown = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if hidden(c) {
+            shown.extend(c.escape_debug());
+        } else {
+            shown.push(c);
+        }
+    }
+    shown.into()
+}
+
 /// `file: ` before a message about a file's content, or nothing when no file is known.
 fn file_prefix(file: Option<&PathBuf>) -> String {
     file.map(|file| format!("{}: ", file.display()))
@@ -316,6 +336,20 @@ pub fn check_vector(argument: &str, values: &[f64], expected: usize) -> Result<(
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn control_characters_are_escaped_except_the_kept_ones() {
+        let kept = ['\n', '\t'];
+        assert_eq!(
+            escaped_controls("plain\tline\nnext", &kept),
+            "plain\tline\nnext"
+        );
+        assert_eq!(
+            escaped_controls("a\u{1b}[31mb\0c\rd", &kept),
+            "a\\u{1b}[31mb\\0c\\rd"
+        );
+        assert_eq!(escaped_controls("a\nb", &[]), "a\\nb");
+    }
+
     use super::*;
 
     #[test]

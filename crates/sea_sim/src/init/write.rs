@@ -264,16 +264,8 @@ fn walking_header(options: &InitOptions, settings: &WalkingSettings) -> String {
 /// The comment on top of the file: how it was made.
 /// `text` as it may stand in a TOML comment: its control characters (a newline in a file
 /// name would end the comment and make the rest TOML) escaped as `\n`, `\u{1b}`.
-fn in_comment(text: &str) -> String {
-    let mut shown = String::with_capacity(text.len());
-    for c in text.chars() {
-        if c.is_control() {
-            shown.extend(c.escape_debug());
-        } else {
-            shown.push(c);
-        }
-    }
-    shown
+fn in_comment(text: &str) -> std::borrow::Cow<'_, str> {
+    sea_dyn::error::escaped_controls(text, &[])
 }
 
 fn header(options: &InitOptions) -> String {

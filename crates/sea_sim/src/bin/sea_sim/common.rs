@@ -1,7 +1,6 @@
 //! What every command shares: value parsers of the flags, exit statuses, how runs end, and
 //! the lines written on stdout and stderr (never an abort on a closed pipe).
 
-use std::borrow::Cow;
 use std::fmt::Display;
 use std::io::Write;
 
@@ -77,33 +76,13 @@ pub(crate) const EXIT_DIVERGED: u8 = 3;
 /// Exit status of an error.
 pub(crate) const EXIT_ERROR: u8 = 1;
 
-/// `text` with its control characters other than newline and tab escaped (`\u{1b}` for
-/// ESC, `\0` for NUL): a file name or key from the command line or a file is echoed in
-/// messages, and must not drive the terminal.
-pub(crate) fn visible(text: &str) -> Cow<'_, str> {
-    if !text.chars().any(is_hidden_control) {
-        return Cow::Borrowed(text);
-    }
-    let mut shown = String::with_capacity(text.len() + 8);
-    for c in text.chars() {
-        if is_hidden_control(c) {
-            shown.extend(c.escape_debug());
-        } else {
-            shown.push(c);
-        }
-    }
-    Cow::Owned(shown)
-}
-
-/// A control character a terminal acts on rather than shows (newline and tab are kept).
-fn is_hidden_control(c: char) -> bool {
-    c.is_control() && c != '\n' && c != '\t'
-}
-
 /// Writes a line on stderr; a closed or full stderr loses the line, never the run.
 pub(crate) fn say(message: impl Display) {
+    // Control characters escaped (a hostile name cannot drive the terminal); the message's
+    // own line breaks and tabs kept.
     let text = message.to_string();
-    let _ = writeln!(std::io::stderr().lock(), "{}", visible(&text));
+    let shown = sea_dyn::error::escaped_controls(&text, &['\n', '\t']);
+    let _ = writeln!(std::io::stderr().lock(), "{shown}");
 }
 
 /// Writes `text` on stdout as it is (no newline added): stdout carries machine-readable JSON
@@ -139,15 +118,4 @@ pub(crate) enum Outcome {
     Completed,
     Diverged,
     Interrupted(i32),
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn control_characters_are_escaped_but_newlines_and_tabs_kept() {
-        assert_eq!(visible("plain\tline\nnext"), "plain\tline\nnext");
-        assert_eq!(visible("a\u{1b}[31mb\0c\rd"), "a\\u{1b}[31mb\\0c\\rd");
-    }
 }
