@@ -1,5 +1,6 @@
 """Linearisation and stability margins from Python."""
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -53,14 +54,28 @@ def test_damping_x04_at_1khz_is_unstable_in_the_ankle_roll_motor():
 
 
 def test_margin_of_the_damping_estimate_at_1khz():
-    boundaries = sm.stability_margin(
-        TRACKING, "controller.damping_estimate_scale", 0.3, 1.0, SAMPLED_1KHZ, grid_points=5
-    )
+    with warnings.catch_warnings():
+        # The feet welded: every equilibrium converges, no warning.
+        warnings.simplefilter("error")
+        boundaries = sm.stability_margin(
+            TRACKING, "controller.damping_estimate_scale", 0.3, 1.0, SAMPLED_1KHZ, grid_points=5
+        )
     assert len(boundaries) == 1 and 0.44 < boundaries[0] < 0.49
     stable_range = sm.stability_margin(
         TRACKING, "controller.damping_estimate_scale", 0.8, 1.5, SAMPLED_1KHZ
     )
     assert stable_range == []
+
+
+def test_a_margin_on_the_ground_warns_that_its_equilibria_did_not_converge():
+    # A loaded sole creeps on the compliant ground: Newton's method finds no equilibrium, and
+    # the growth rates about the point it stopped at do not judge stability.
+    ground = {"plant.contact_model": "unilateral"}
+    assert not sm.linearize(TRACKING, overrides=ground, sampling="continuous").converged
+    with pytest.warns(RuntimeWarning, match=r"controller.damping_estimate_scale: .*did not converge"):
+        sm.stability_margin(
+            TRACKING, "controller.damping_estimate_scale", 0.8, 1.0, ground, grid_points=2
+        )
 
 
 def test_margin_errors_name_the_key_or_the_range():

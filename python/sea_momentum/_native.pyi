@@ -410,7 +410,8 @@ def stability_margin_native(
     ``conclusion`` ("boundaries" | "stable_over_range" | "unstable_over_range"), ``own_value``
     (the scenario's value, or None), ``own_value_stable``, ``stable_island`` ((low, high)
     containing the own value, or None), ``method``, ``evaluations`` and ``samples`` (list of
-    (value, stable, growth_rate or None)). Ctrl-C stops the scan and raises
+    (value, stable, growth_rate or None)) and ``unconverged`` (list of (value, residual): the
+    eigen evaluations whose equilibrium did not converge: Newton's residual above 1e-6). Ctrl-C stops the scan and raises
     ``KeyboardInterrupt``."""
 
 def push_table_native(

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import warnings
 from collections.abc import Mapping
 from typing import Any, cast
 
@@ -130,7 +131,9 @@ def stability_margin(
     non-numeric key raises ``ScenarioError`` naming it; an empty or inverted range a
     ``ValueError`` whose ``argument`` is ``"lower, upper"``, a bad ``grid_points`` one naming it.
     Ctrl-C stops the scan (a simulation under way at its next sample) and raises
-    ``KeyboardInterrupt``.
+    ``KeyboardInterrupt``. A ``RuntimeWarning`` names the eigen evaluations whose equilibrium
+    did not converge: their verdicts do not judge stability (feet on the compliant ground
+    creep and have none; weld them with ``{"plant.contact_model": "bilateral"}``).
     """
     report = stability_margin_native(
         os.fspath(scenario),
@@ -143,4 +146,14 @@ def stability_margin(
         grid_points,
         log_grid,
     )
+    unconverged = cast("list[tuple[float, float]]", report["unconverged"])
+    if unconverged:
+        values = ", ".join(f"{value:g} (residual {residual:.3g})" for value, residual in unconverged)
+        warnings.warn(
+            f"{parameter}: the linearisations at {values} are about an equilibrium that did not "
+            "converge, so their verdicts do not judge stability (feet on the compliant ground creep "
+            "and have none: weld them with plant.contact_model = 'bilateral')",
+            RuntimeWarning,
+            stacklevel=2,
+        )
     return list(cast("list[float]", report["boundaries"]))

@@ -167,5 +167,10 @@ pub fn stability_margin_native<'py>(
         samples.append((s.value, s.stable, s.growth_rate))?;
     }
     d.set_item("samples", samples)?;
+    let unconverged: Vec<(f64, f64)> = report
+        .unconverged()
+        .filter_map(|s| s.unconverged_residual.map(|residual| (s.value, residual)))
+        .collect();
+    d.set_item("unconverged", unconverged)?;
     Ok(d)
 }

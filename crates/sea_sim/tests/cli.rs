@@ -809,6 +809,9 @@ fn margin_reports_the_damping_boundary_as_json() {
         "{stderr}"
     );
     assert_eq!(printed["interrupted"], false);
+    // The feet welded: every linearisation is about a converged equilibrium.
+    assert_eq!(printed["unconverged_evaluations"].as_u64(), Some(0));
+    assert!(samples.iter().all(|s| s["unconverged_residual"].is_null()));
     // Unstable at the low end of the scan, stable at the high end: one boundary between.
     assert_eq!(samples[0]["stable"], false);
     assert_eq!(samples[2]["stable"], true);
@@ -834,6 +837,32 @@ fn margin_reports_the_damping_boundary_as_json() {
     let table = text(&table.stdout);
     assert!(
         table.starts_with("actuators.damping (eigen method") && table.contains("unstable"),
+        "{table}"
+    );
+
+    // On the compliant ground a sole creeps and Newton finds no equilibrium: each evaluation
+    // and the verdict say so.
+    let ground = sea_sim(&[
+        "margin",
+        &ws.scenario(),
+        "--param",
+        "actuators.damping",
+        "--range",
+        "0.5:1",
+        "--points",
+        "2",
+        "--set",
+        "plant.contact_model=unilateral",
+    ]);
+    assert_eq!(ground.status.code(), Some(0), "{}", text(&ground.stderr));
+    let (table, stderr) = (text(&ground.stdout), text(&ground.stderr));
+    assert!(
+        stderr.contains("1/s; equilibrium not converged (residual "),
+        "{stderr}"
+    );
+    assert!(
+        table.contains("but 2 of 2 linearisations are about an equilibrium that did not converge")
+            && table.contains("--set plant.contact_model=bilateral"),
         "{table}"
     );
 

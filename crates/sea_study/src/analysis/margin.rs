@@ -4,6 +4,9 @@
 //! Two judges of stability: [`MarginMethod::Eigen`] (the growth rate of the linearisation,
 //! negative = stable; the bisection follows the sign of that continuous function) and
 //! [`MarginMethod::Simulate`] (the scenario run completes without diverging or falling).
+//! The eigen judge's linearisation is about the loop's equilibrium; where Newton's method
+//! finds none (feet on the compliant ground creep) each such evaluation is marked
+//! ([`MarginReport::unconverged`]) and its verdict is no judgement of stability.
 //!
 //! The scan includes the scenario's own value of the parameter when it lies in the range
 //! ([`scenario_value`]), so that a stable island narrower than the grid's spacing around it
@@ -110,6 +113,14 @@ impl<'a> MarginWatch<'a> {
     }
 }
 
+/// The residual `|f|_inf` of Newton's method [units of the tangent derivative] above which the
+/// eigen judge's linearisation is taken as about no equilibrium
+/// ([`MarginSample::unconverged_residual`]). Newton's own tolerance is 1e-8
+/// ([`LinearizeOptions::tolerance`](super::LinearizeOptions)); its line search can stop a
+/// little above it at round-off (1.15e-8 measured with the feet welded), which is still the
+/// equilibrium, where a creeping sole leaves 88 to 4.1e3.
+pub const NO_EQUILIBRIUM_RESIDUAL: f64 = 1e-6;
+
 /// One evaluation of the judge.
 #[derive(Clone, Copy, Debug)]
 pub struct MarginSample {
@@ -119,6 +130,10 @@ pub struct MarginSample {
     pub stable: bool,
     /// Growth rate [1/s] (method `Eigen`).
     pub growth_rate: Option<f64>,
+    /// `|f|_inf` at the equilibrium the linearisation is about, when it is above
+    /// [`NO_EQUILIBRIUM_RESIDUAL`] (method `Eigen`; `None` below it, and for `Simulate`). Such a growth rate does not judge the loop's stability: a sole that creeps
+    /// on the compliant ground (`plant.contact_model = "unilateral"`) has no equilibrium.
+    pub unconverged_residual: Option<f64>,
 }
 
 /// The result of a margin search.
@@ -194,6 +209,14 @@ impl MarginReport {
     /// Number of evaluations (linearisations or simulations).
     pub fn evaluations(&self) -> usize {
         self.samples.len()
+    }
+
+    /// The evaluations whose linearisation is about an equilibrium that did not converge
+    /// ([`MarginSample::unconverged_residual`]): their verdicts are no judgement of stability.
+    pub fn unconverged(&self) -> impl Iterator<Item = &MarginSample> {
+        self.samples
+            .iter()
+            .filter(|s| s.unconverged_residual.is_some())
     }
 
     /// Whether every evaluation was stable, every one unstable, or stability changes; or that
@@ -394,24 +417,27 @@ impl Judge<'_> {
             toml::Value::Float(value)
         };
         let scenario = scenario_with(self.path, self.overrides, self.parameter, literal)?;
-        let (stable, growth_rate) = match self.options.method {
+        let (stable, growth_rate, unconverged_residual) = match self.options.method {
             MarginMethod::Eigen => {
                 let lin = linearize_with(&scenario, &self.options.linearize)
                     .map_err(|e| self.at_value(e, value))?;
-                (lin.stable, Some(lin.growth_rate))
+                let residual = lin.equilibrium.residual;
+                let unconverged = (residual > NO_EQUILIBRIUM_RESIDUAL).then_some(residual);
+                (lin.stable, Some(lin.growth_rate), unconverged)
             }
             MarginMethod::Simulate => {
                 let summary = run_with_sinks(&scenario, &mut [], self.watch.cancel, |_, _| {})?;
                 if summary.interrupted() {
                     return Ok(None);
                 }
-                (summary.completed(), None)
+                (summary.completed(), None, None)
             }
         };
         let sample = MarginSample {
             value,
             stable,
             growth_rate,
+            unconverged_residual,
         };
         (self.watch.on_sample)(&sample);
         self.samples.push(sample);

@@ -55,13 +55,46 @@ pub(crate) struct MarginArgs {
 /// The progress line of an evaluation that ended: the value and its verdict.
 fn sample_line(parameter: &str, sample: &MarginSample) -> String {
     let verdict = if sample.stable { "stable" } else { "unstable" };
+    let unconverged = unconverged_note(sample, "; ");
     let growth = sample.growth_rate.map_or(String::new(), |g| {
-        format!(" (growth {} 1/s)", fixed_number(g, 12, 4).trim_start())
+        format!(
+            " (growth {} 1/s{unconverged})",
+            fixed_number(g, 12, 4).trim_start()
+        )
     });
     format!(
         "sea-sim: margin {parameter} = {}: {verdict}{growth}",
         readable_number(sample.value)
     )
+}
+
+/// `separator` and "equilibrium not converged (residual R)" for an evaluation whose
+/// linearisation had no converged equilibrium; empty otherwise.
+fn unconverged_note(sample: &MarginSample, separator: &str) -> String {
+    sample
+        .unconverged_residual
+        .map_or(String::new(), |residual| {
+            format!("{separator}equilibrium not converged (residual {residual:.2e})")
+        })
+}
+
+/// The warning that closes the verdict when some linearisations had no converged equilibrium:
+/// how many, and what to do about the ground.
+fn unconverged_warning(report: &MarginReport) -> Option<String> {
+    let count = report.unconverged().count();
+    let largest = report
+        .unconverged()
+        .filter_map(|s| s.unconverged_residual)
+        .fold(0.0_f64, f64::max);
+    (count > 0).then(|| {
+        format!(
+            "; but {count} of {} linearisations are about an equilibrium that did not converge \
+             (residual up to {largest:.2e}), so their verdicts do not judge stability (feet on \
+             the compliant ground creep and have none: weld them with --set \
+             plant.contact_model=bilateral)",
+            report.evaluations(),
+        )
+    })
 }
 
 /// `sea-sim margin`: the report as a table or (`--json`) JSON on stdout; JSON in `--out`.
@@ -137,7 +170,14 @@ fn margin_json(report: &MarginReport) -> serde_json::Value {
     let samples: Vec<serde_json::Value> = report
         .samples
         .iter()
-        .map(|s| serde_json::json!({"value": s.value, "stable": s.stable, "growth_rate": s.growth_rate}))
+        .map(|s| {
+            serde_json::json!({
+                "value": s.value,
+                "stable": s.stable,
+                "growth_rate": s.growth_rate,
+                "unconverged_residual": s.unconverged_residual,
+            })
+        })
         .collect();
     serde_json::json!({
         "parameter": report.parameter,
@@ -150,6 +190,7 @@ fn margin_json(report: &MarginReport) -> serde_json::Value {
         "own_value_stable": report.own_value_stable(),
         "stable_island": report.island().map(|ends| ends.map(|end| end.value())),
         "evaluations": report.evaluations(),
+        "unconverged_evaluations": report.unconverged().count(),
         "samples": samples,
         "interrupted": report.interrupted,
     })
@@ -217,6 +258,7 @@ pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -
         (Some(_), _, _) => format!("; the scenario's own value {own} is outside the range"),
         (None, _, _) => "; the scenario's own value is not a readable number".to_string(),
     };
+    text += &unconverged_warning(report).unwrap_or_default();
     text
 }
 
@@ -237,7 +279,8 @@ pub(crate) fn margin_table(report: &sea_sim::analysis::margin::MarginReport) -> 
         });
         let verdict = if sample.stable { "stable" } else { "unstable" };
         let value = fixed_number(sample.value, 14, 6);
-        table += &format!("\n  {value}  {verdict:<8}{growth}");
+        let unconverged = unconverged_note(sample, "  ");
+        table += &format!("\n  {value}  {verdict:<8}{growth}{unconverged}");
     }
     table
 }
