@@ -594,6 +594,51 @@ fn walking_on_soles_that_coincide_is_refused_naming_the_contacts() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// A foot measured from a collision box without width is refused naming the contact and the
+/// measured rectangle (it named `--foot` with the rectangles' debug text), and a NaN size
+/// names the link (it said the link had no collision geometry).
+#[test]
+fn a_measured_sole_without_area_or_with_a_nan_size_is_named() {
+    let with_left_box = |size: &'static str| {
+        move |text: &str| {
+            let collision = format!(
+                "<collision><origin xyz=\"0.02 0 -0.03\" rpy=\"0 0 0\"/><geometry><box \
+                 size=\"{size}\"/></geometry></collision>\n  </link>\n\n  <joint \
+                 name=\"l_sole_fixed_joint\""
+            );
+            let edited = text.replacen(
+                "</link>\n\n  <joint name=\"l_sole_fixed_joint\"",
+                &collision,
+                1,
+            );
+            assert_ne!(edited, text, "the left foot's link end moved");
+            edited
+        }
+    };
+    for (size, expected) in [
+        (
+            "0.16 0 0.03",
+            "cannot measure the foot of 'l_sole': its sole (the collision points within 0.01 m \
+             of the lowest) measures x [-0.06, 0.1] y [0, 0] m, no area",
+        ),
+        (
+            "nan 0.08 0.03",
+            "cannot measure the foot of 'l_sole': link 'l_foot': a collision box of size [NaN, \
+             0.08, 0.03]: finite, non-negative numbers expected",
+        ),
+    ] {
+        let dir = folder("foot_without_area");
+        let options = InitOptions {
+            foot: None,
+            ..edited_mini_biped(&dir, with_left_box(size))
+        };
+        let message = init(&options).unwrap_err().to_string();
+        assert!(message.contains(expected), "{message}");
+        assert!(!options.out.exists());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}
+
 /// Options for the mini biped's URDF edited by `edit`, written as `robot.urdf` into `dir`, on
 /// soles of the rectangle its feet hold.
 fn edited_mini_biped(dir: &Path, edit: impl FnOnce(&str) -> String) -> InitOptions {

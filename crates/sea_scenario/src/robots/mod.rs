@@ -83,6 +83,21 @@ pub struct FootRectangle {
     pub y: [f64; 2],
 }
 
+impl std::fmt::Display for FootRectangle {
+    /// `x [x0, x1] y [y0, y1] m`, each edge to 0.1 mm.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let edge = |value: f64| (value * 1e4).round() / 1e4 + 0.0;
+        write!(
+            f,
+            "x [{}, {}] y [{}, {}] m",
+            edge(self.x[0]),
+            edge(self.x[1]),
+            edge(self.y[0]),
+            edge(self.y[1])
+        )
+    }
+}
+
 /// A named posture: joint angles in `unit`.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]

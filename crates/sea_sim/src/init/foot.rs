@@ -54,15 +54,23 @@ pub fn foot_rectangle(
                 dirs,
                 &mut points,
             )
-            .map_err(|rule| no_geometry(contact, &rule))?;
+            .map_err(|rule| no_geometry(contact, &format!("link '{}': {rule}", link.name)))?;
         }
     }
-    rectangle_of(&points).ok_or_else(|| {
+    let (rectangle, lowest) = rectangle_of(&points).ok_or_else(|| {
         no_geometry(
             contact,
             "its link has no collision geometry to measure the sole on",
         )
-    })
+    })?;
+    if rectangle.x[0] >= rectangle.x[1] || rectangle.y[0] >= rectangle.y[1] {
+        let rule = format!(
+            "its sole (the collision points within {SOLE_BAND} m of the lowest) measures \
+             {rectangle}, no area"
+        );
+        return Err(no_geometry(contact, &rule));
+    }
+    Ok((rectangle, lowest))
 }
 
 /// The error of a foot that cannot be measured.
@@ -105,6 +113,7 @@ fn shape_points(
     dirs: &PackageDirs,
     points: &mut Vec<Vector3<f64>>,
 ) -> std::result::Result<(), String> {
+    check_shape_size(geometry)?;
     let mut local = Vec::new();
     match geometry {
         urdf_rs::Geometry::Box { size } => box_corners(size.0, &mut local),
@@ -140,6 +149,32 @@ fn shape_points(
     Ok(())
 }
 
+/// `Err` naming the shape when one of its sizes is negative or not finite (a NaN would pass
+/// every comparison of the sole's band and bounds unseen).
+fn check_shape_size(geometry: &urdf_rs::Geometry) -> std::result::Result<(), String> {
+    let (shape, sizes): (&str, Vec<f64>) = match geometry {
+        urdf_rs::Geometry::Box { size } => ("box of size", size.0.to_vec()),
+        urdf_rs::Geometry::Cylinder { radius, length } => {
+            ("cylinder of radius and length", vec![*radius, *length])
+        }
+        urdf_rs::Geometry::Capsule { radius, length } => {
+            ("capsule of radius and length", vec![*radius, *length])
+        }
+        urdf_rs::Geometry::Sphere { radius } => ("sphere of radius", vec![*radius]),
+        // A negative scale mirrors the mesh.
+        urdf_rs::Geometry::Mesh { scale, .. } => {
+            let scale = scale.map_or(vec![1.0], |s| s.0.iter().map(|v| v.abs()).collect());
+            ("mesh of scale", scale)
+        }
+    };
+    if sizes.iter().all(|v| v.is_finite() && *v >= 0.0) {
+        return Ok(());
+    }
+    Err(format!(
+        "a collision {shape} {sizes:?}: finite, non-negative numbers expected"
+    ))
+}
+
 /// The 8 corners of a box of `size` centred at the origin.
 fn box_corners(size: [f64; 3], out: &mut Vec<Vector3<f64>>) {
     for corner in 0..8 {
@@ -155,6 +190,35 @@ fn box_corners(size: [f64; 3], out: &mut Vec<Vector3<f64>>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_shape_size_that_is_not_a_finite_non_negative_number_is_named() {
+        let boxed = |size: [f64; 3]| urdf_rs::Geometry::Box {
+            size: urdf_rs::Vec3(size),
+        };
+        assert!(check_shape_size(&boxed([0.16, 0.08, 0.03])).is_ok());
+        let nan = check_shape_size(&boxed([f64::NAN, 0.08, 0.03])).unwrap_err();
+        assert_eq!(
+            nan,
+            "a collision box of size [NaN, 0.08, 0.03]: finite, non-negative numbers expected"
+        );
+        let sphere = urdf_rs::Geometry::Sphere { radius: -0.01 };
+        assert!(check_shape_size(&sphere)
+            .unwrap_err()
+            .contains("sphere of radius [-0.01]"));
+        let mirrored = urdf_rs::Geometry::Mesh {
+            filename: "foot.stl".into(),
+            scale: Some(urdf_rs::Vec3([-1.0, 1.0, 1.0])),
+        };
+        assert!(check_shape_size(&mirrored).is_ok());
+        let infinite = urdf_rs::Geometry::Mesh {
+            filename: "foot.stl".into(),
+            scale: Some(urdf_rs::Vec3([f64::INFINITY, 1.0, 1.0])),
+        };
+        assert!(check_shape_size(&infinite)
+            .unwrap_err()
+            .contains("mesh of scale [inf, 1.0, 1.0]"));
+    }
 
     #[test]
     fn the_sole_is_the_band_above_the_lowest_point() {

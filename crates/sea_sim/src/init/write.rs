@@ -125,7 +125,7 @@ fn common_rectangle(rectangles: [FootRectangle; 2]) -> Result<FootRectangle> {
             "foot",
             "a rectangle given (X0,X1,Y0,Y1): the two measured ones do not overlap in their \
              contact frames",
-            format!("none, measured {left:?}, {right:?}"),
+            format!("none, measured {left} and {right}"),
         )
     })
 }
