@@ -410,9 +410,10 @@ def stability_margin_native(
     ``conclusion`` ("boundaries" | "stable_over_range" | "unstable_over_range"), ``own_value``
     (the scenario's value, or None), ``own_value_stable``, ``stable_island`` ((low, high)
     containing the own value, or None), ``method``, ``evaluations`` and ``samples`` (list of
-    (value, stable, growth_rate or None)) and ``unconverged`` (list of (value, residual): the
-    eigen evaluations whose equilibrium did not converge: Newton's residual above 1e-6). Ctrl-C stops the scan and raises
-    ``KeyboardInterrupt``."""
+    (value, stable, growth_rate or None)), ``no_equilibrium`` (list of (value, residual): the
+    eigen evaluations where Newton's method found no equilibrium, residual above 1e-3) and
+    ``boundaries_beside_no_equilibrium`` (the boundaries next to one of those). Ctrl-C stops
+    the scan and raises ``KeyboardInterrupt``."""
 
 def push_table_native(
     path: str,

@@ -131,9 +131,11 @@ def stability_margin(
     non-numeric key raises ``ScenarioError`` naming it; an empty or inverted range a
     ``ValueError`` whose ``argument`` is ``"lower, upper"``, a bad ``grid_points`` one naming it.
     Ctrl-C stops the scan (a simulation under way at its next sample) and raises
-    ``KeyboardInterrupt``. A ``RuntimeWarning`` names the eigen evaluations whose equilibrium
-    did not converge: their verdicts do not judge stability (feet on the compliant ground
-    creep and have none; weld them with ``{"plant.contact_model": "bilateral"}``).
+    ``KeyboardInterrupt``. A ``RuntimeWarning`` names the eigen evaluations where Newton's
+    method found no equilibrium (its residual above 1e-3), whose verdicts do not judge
+    stability, and the boundaries next to them, which may be the edge of the equilibria (feet
+    creeping on the compliant ground have none: where the scenario allows, weld them with
+    ``{"plant.contact_model": "bilateral"}``, or use ``method="simulate"``).
     """
     report = stability_margin_native(
         os.fspath(scenario),
@@ -146,14 +148,33 @@ def stability_margin(
         grid_points,
         log_grid,
     )
-    unconverged = cast("list[tuple[float, float]]", report["unconverged"])
-    if unconverged:
-        values = ", ".join(f"{value:g} (residual {residual:.3g})" for value, residual in unconverged)
-        warnings.warn(
-            f"{parameter}: the linearisations at {values} are about an equilibrium that did not "
-            "converge, so their verdicts do not judge stability (feet on the compliant ground creep "
-            "and have none: weld them with plant.contact_model = 'bilateral')",
-            RuntimeWarning,
-            stacklevel=2,
-        )
+    _warn_without_equilibrium(parameter, report)
     return list(cast("list[float]", report["boundaries"]))
+
+
+def _exponent(value: float) -> str:
+    """``value`` to three digits in the exponent form ``sea-sim`` prints (``4.14e3``)."""
+    mantissa, exponent = f"{value:.2e}".split("e")
+    return f"{mantissa}e{int(exponent)}"
+
+
+def _warn_without_equilibrium(parameter: str, report: Mapping[str, object]) -> None:
+    """The ``RuntimeWarning`` of a margin scan with evaluations about no equilibrium."""
+    points = cast("list[tuple[float, float]]", report["no_equilibrium"])
+    if not points:
+        return
+    at = ", ".join(f"{value!r} (residual {_exponent(residual)})" for value, residual in points)
+    beside = cast("list[float]", report["boundaries_beside_no_equilibrium"])
+    edges = (
+        f"; the boundaries {beside!r} lie next to them and may be the edge of the equilibria"
+        if beside
+        else ""
+    )
+    warnings.warn(
+        f"{parameter}: Newton's method found no equilibrium at {at}, so the verdicts there do "
+        f"not judge stability{edges} (feet creeping on the compliant ground have none: where the "
+        "scenario allows, weld them with plant.contact_model = 'bilateral', or use "
+        "method='simulate')",
+        RuntimeWarning,
+        stacklevel=3,
+    )

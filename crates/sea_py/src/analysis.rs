@@ -167,10 +167,17 @@ pub fn stability_margin_native<'py>(
         samples.append((s.value, s.stable, s.growth_rate))?;
     }
     d.set_item("samples", samples)?;
-    let unconverged: Vec<(f64, f64)> = report
-        .unconverged()
-        .filter_map(|s| s.unconverged_residual.map(|residual| (s.value, residual)))
+    let no_equilibrium: Vec<(f64, f64)> = report
+        .without_equilibrium()
+        .filter_map(|s| {
+            s.no_equilibrium_residual
+                .map(|residual| (s.value, residual))
+        })
         .collect();
-    d.set_item("unconverged", unconverged)?;
+    d.set_item("no_equilibrium", no_equilibrium)?;
+    d.set_item(
+        "boundaries_beside_no_equilibrium",
+        report.boundaries_beside_no_equilibrium.clone(),
+    )?;
     Ok(d)
 }

@@ -663,9 +663,9 @@ pub struct SimulationConfig {
     #[schemars(with = "Positive")]
     pub fall_tilt_rad: f64,
     /// A joint of the true state outside its URDF position limits ends the run as diverged
-    /// (`joint_outside_limits`; default `false`: the paper's plant has no joint limits, and
-    /// the tracking scenarios are bounded by the joint error norm). The push scenarios set it:
-    /// a recovery that bends the robot past its limits is no recovery.
+    /// (`joint_outside_limits`; default `false`: under bilateral contacts the paper's plant
+    /// has no joint limits, and the tracking scenarios are bounded by the joint error norm;
+    /// under unilateral contacts the joints rest on stops at those limits).
     pub stop_at_joint_limits: bool,
 }
 

@@ -809,9 +809,15 @@ fn margin_reports_the_damping_boundary_as_json() {
         "{stderr}"
     );
     assert_eq!(printed["interrupted"], false);
-    // The feet welded: every linearisation is about a converged equilibrium.
-    assert_eq!(printed["unconverged_evaluations"].as_u64(), Some(0));
-    assert!(samples.iter().all(|s| s["unconverged_residual"].is_null()));
+    // The feet welded: every linearisation is about an equilibrium.
+    assert_eq!(printed["evaluations_without_equilibrium"].as_u64(), Some(0));
+    assert!(samples
+        .iter()
+        .all(|s| s["no_equilibrium_residual"].is_null()));
+    assert_eq!(
+        printed["boundaries_beside_no_equilibrium"],
+        serde_json::json!([])
+    );
     // Unstable at the low end of the scan, stable at the high end: one boundary between.
     assert_eq!(samples[0]["stable"], false);
     assert_eq!(samples[2]["stable"], true);
@@ -840,8 +846,9 @@ fn margin_reports_the_damping_boundary_as_json() {
         "{table}"
     );
 
-    // On the compliant ground a sole creeps and Newton finds no equilibrium: each evaluation
-    // and the verdict say so.
+    // On the compliant ground a sole creeps and Newton finds no equilibrium: each evaluation,
+    // the JSON and the verdict say so.
+    let ground_json = ws.path("ground.json");
     let ground = sea_sim(&[
         "margin",
         &ws.scenario(),
@@ -853,18 +860,26 @@ fn margin_reports_the_damping_boundary_as_json() {
         "2",
         "--set",
         "plant.contact_model=unilateral",
+        "--out",
+        ground_json.to_str().unwrap(),
     ]);
     assert_eq!(ground.status.code(), Some(0), "{}", text(&ground.stderr));
     let (table, stderr) = (text(&ground.stdout), text(&ground.stderr));
     assert!(
-        stderr.contains("1/s; equilibrium not converged (residual "),
+        stderr.contains("1/s; no equilibrium found (residual "),
         "{stderr}"
     );
     assert!(
-        table.contains("but 2 of 2 linearisations are about an equilibrium that did not converge")
+        table.contains("but at 2 of 2 evaluations Newton's method found no equilibrium")
             && table.contains("--set plant.contact_model=bilateral"),
         "{table}"
     );
+    let report = summary(&ground_json);
+    assert_eq!(report["evaluations_without_equilibrium"].as_u64(), Some(2));
+    for sample in report["samples"].as_array().unwrap() {
+        let residual = sample["no_equilibrium_residual"].as_f64().unwrap();
+        assert!(residual > 1e-3, "{sample}");
+    }
 
     let bad = sea_sim(&["margin", &ws.scenario(), "--param", "x", "--range", "1"]);
     assert_eq!(bad.status.code(), Some(1));

@@ -5,8 +5,11 @@
 //! negative = stable; the bisection follows the sign of that continuous function) and
 //! [`MarginMethod::Simulate`] (the scenario run completes without diverging or falling).
 //! The eigen judge's linearisation is about the loop's equilibrium; where Newton's method
-//! finds none (feet on the compliant ground creep) each such evaluation is marked
-//! ([`MarginReport::unconverged`]) and its verdict is no judgement of stability.
+//! finds none (e.g. feet creeping on the compliant ground, or a controller that cannot hold
+//! its reference) each such evaluation is marked ([`MarginReport::without_equilibrium`]), its
+//! verdict is no judgement of stability, and a boundary next to one is marked too
+//! ([`MarginReport::boundaries_beside_no_equilibrium`]): it may be the edge of the
+//! equilibria rather than a change of stability.
 //!
 //! The scan includes the scenario's own value of the parameter when it lies in the range
 //! ([`scenario_value`]), so that a stable island narrower than the grid's spacing around it
@@ -115,11 +118,11 @@ impl<'a> MarginWatch<'a> {
 
 /// The residual `|f|_inf` of Newton's method [units of the tangent derivative] above which the
 /// eigen judge's linearisation is taken as about no equilibrium
-/// ([`MarginSample::unconverged_residual`]). Newton's own tolerance is 1e-8
-/// ([`LinearizeOptions::tolerance`](super::LinearizeOptions)); its line search can stop a
-/// little above it at round-off (1.15e-8 measured with the feet welded), which is still the
-/// equilibrium, where a creeping sole leaves 88 to 4.1e3.
-pub const NO_EQUILIBRIUM_RESIDUAL: f64 = 1e-6;
+/// ([`MarginSample::no_equilibrium_residual`]). Newton's own tolerance is 1e-8
+/// ([`LinearizeOptions::tolerance`](super::LinearizeOptions)); round-off stops its line search
+/// above it at some real equilibria (measured on the shipped scenarios: up to 7.8e-6, the
+/// paper's tracking at a damping of 1e-4), where no equilibrium left 10.9 to 3.8e5.
+pub const NO_EQUILIBRIUM_RESIDUAL: f64 = 1e-3;
 
 /// One evaluation of the judge.
 #[derive(Clone, Copy, Debug)]
@@ -130,10 +133,11 @@ pub struct MarginSample {
     pub stable: bool,
     /// Growth rate [1/s] (method `Eigen`).
     pub growth_rate: Option<f64>,
-    /// `|f|_inf` at the equilibrium the linearisation is about, when it is above
-    /// [`NO_EQUILIBRIUM_RESIDUAL`] (method `Eigen`; `None` below it, and for `Simulate`). Such a growth rate does not judge the loop's stability: a sole that creeps
-    /// on the compliant ground (`plant.contact_model = "unilateral"`) has no equilibrium.
-    pub unconverged_residual: Option<f64>,
+    /// Newton's residual `|f|_inf` where it stopped, when it is above
+    /// [`NO_EQUILIBRIUM_RESIDUAL`] (or NaN): no equilibrium was found, and the growth rate
+    /// about that point does not judge the loop's stability (method `Eigen`; `None` at an
+    /// equilibrium, and for `Simulate`).
+    pub no_equilibrium_residual: Option<f64>,
 }
 
 /// The result of a margin search.
@@ -150,6 +154,10 @@ pub struct MarginReport {
     pub own_value: Option<f64>,
     /// Values where stability changes, ascending.
     pub boundaries: Vec<f64>,
+    /// The boundaries (also in [`Self::boundaries`]) whose final bracket has an evaluation
+    /// about no equilibrium at one end: the edge of the equilibria may be what was found,
+    /// not a change of stability.
+    pub boundaries_beside_no_equilibrium: Vec<f64>,
     /// Whether the key takes whole numbers (each boundary then lies halfway between two).
     pub integer: bool,
     /// Every evaluation, in the order done.
@@ -211,12 +219,13 @@ impl MarginReport {
         self.samples.len()
     }
 
-    /// The evaluations whose linearisation is about an equilibrium that did not converge
-    /// ([`MarginSample::unconverged_residual`]): their verdicts are no judgement of stability.
-    pub fn unconverged(&self) -> impl Iterator<Item = &MarginSample> {
+    /// The evaluations whose linearisation is about no equilibrium
+    /// ([`MarginSample::no_equilibrium_residual`]): their verdicts are no judgement of
+    /// stability.
+    pub fn without_equilibrium(&self) -> impl Iterator<Item = &MarginSample> {
         self.samples
             .iter()
-            .filter(|s| s.unconverged_residual.is_some())
+            .filter(|s| s.no_equilibrium_residual.is_some())
     }
 
     /// Whether every evaluation was stable, every one unstable, or stability changes; or that
@@ -405,6 +414,13 @@ impl Judge<'_> {
         }
     }
 
+    /// Whether the evaluation at `a` or at `b` was about no equilibrium.
+    fn without_equilibrium_at(&self, a: f64, b: f64) -> bool {
+        self.samples
+            .iter()
+            .any(|s| (s.value == a || s.value == b) && s.no_equilibrium_residual.is_some())
+    }
+
     /// Evaluates stability at `value`; returns a signed indicator (negative = stable), or
     /// `None` when the cancellation flag kept the evaluation from its end.
     fn indicator(&mut self, value: f64) -> Result<Option<f64>> {
@@ -417,13 +433,14 @@ impl Judge<'_> {
             toml::Value::Float(value)
         };
         let scenario = scenario_with(self.path, self.overrides, self.parameter, literal)?;
-        let (stable, growth_rate, unconverged_residual) = match self.options.method {
+        let (stable, growth_rate, no_equilibrium_residual) = match self.options.method {
             MarginMethod::Eigen => {
                 let lin = linearize_with(&scenario, &self.options.linearize)
                     .map_err(|e| self.at_value(e, value))?;
                 let residual = lin.equilibrium.residual;
-                let unconverged = (residual > NO_EQUILIBRIUM_RESIDUAL).then_some(residual);
-                (lin.stable, Some(lin.growth_rate), unconverged)
+                // A NaN residual is no equilibrium either.
+                let none = !(residual <= NO_EQUILIBRIUM_RESIDUAL);
+                (lin.stable, Some(lin.growth_rate), none.then_some(residual))
             }
             MarginMethod::Simulate => {
                 let summary = run_with_sinks(&scenario, &mut [], self.watch.cancel, |_, _| {})?;
@@ -437,7 +454,7 @@ impl Judge<'_> {
             value,
             stable,
             growth_rate,
-            unconverged_residual,
+            no_equilibrium_residual,
         };
         (self.watch.on_sample)(&sample);
         self.samples.push(sample);
@@ -524,12 +541,19 @@ pub fn stability_margin_report(
     let width = options.relative_tolerance * (upper - lower);
     let mut boundaries = Vec::new();
     let done = find_boundaries(&mut judge, &values, width, &mut boundaries)?;
+    let (boundaries, beside): (Vec<_>, Vec<_>) = boundaries.into_iter().unzip();
+    let boundaries_beside_no_equilibrium = boundaries
+        .iter()
+        .zip(beside)
+        .filter_map(|(&boundary, beside)| beside.then_some(boundary))
+        .collect();
     Ok(MarginReport {
         parameter: parameter.to_string(),
         method: options.method,
         range: [lower, upper],
         own_value,
         boundaries,
+        boundaries_beside_no_equilibrium,
         integer,
         samples: judge.samples,
         interrupted: !done,
@@ -537,13 +561,13 @@ pub fn stability_margin_report(
 }
 
 /// Scans `values` (ascending) with `judge` and bisects every change of stability down to
-/// `width`, each boundary found pushed onto `boundaries`; `Ok(false)` when the judge was
-/// cancelled before the end.
+/// `width`, each boundary found pushed onto `boundaries` with whether an end of its final
+/// bracket had no equilibrium; `Ok(false)` when the judge was cancelled before the end.
 fn find_boundaries(
     judge: &mut Judge<'_>,
     values: &[f64],
     width: f64,
-    boundaries: &mut Vec<f64>,
+    boundaries: &mut Vec<(f64, bool)>,
 ) -> Result<bool> {
     let mut signs = Vec::with_capacity(values.len());
     for &value in values {
@@ -572,7 +596,7 @@ fn find_boundaries(
                 b = middle;
             }
         }
-        boundaries.push(0.5 * (a + b));
+        boundaries.push((0.5 * (a + b), judge.without_equilibrium_at(a, b)));
     }
     Ok(true)
 }

@@ -3,7 +3,7 @@
 //! `sea-sim --help` lists the subcommands, `sea-sim SUBCOMMAND --help` their options and
 //! defaults.
 //!
-//! Exit status: 0 completed, 3 diverged, 1 error (including a bad command line), and after
+//! Exit status: 0 completed, 3 diverged or fell, 1 error (including a bad command line), and after
 //! SIGINT, SIGTERM or SIGHUP 128 + the signal (130, 143, 129): the run stopped at the next
 //! tick, its MCAP log was finished and its summary written with status "interrupted". A second
 //! signal exits at once, leaving any earlier output file untouched. A signal ignored when
@@ -47,7 +47,7 @@ struct Cli {
 enum Command {
     /// Run a scenario: the closed loop of controller and plant, with an MCAP log and a summary.
     ///
-    /// Exit status: 0 completed, 3 diverged, 1 error, 130/143/129 stopped by
+    /// Exit status: 0 completed, 3 diverged or fell, 1 error, 130/143/129 stopped by
     /// SIGINT/SIGTERM/SIGHUP (log finished, summary status "interrupted").
     Run(run::RunArgs),
     /// Benchmark the dynamics algorithms and the controller tick on a URDF.
@@ -58,7 +58,7 @@ enum Command {
     /// signal (the rows done are written).
     Sweep(sweep::SweepArgs),
     /// Find the values of one numeric scenario key where the closed loop's stability changes
-    /// (grid scan, then bisection); prints a JSON report.
+    /// (grid scan, then bisection); prints a report (a table, or JSON with `--json`).
     ///
     /// Exit status: 0 done, 1 error, 130/143/129 stopped by a signal (the evaluations done
     /// reported, conclusion "interrupted").

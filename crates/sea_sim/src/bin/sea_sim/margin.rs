@@ -55,10 +55,10 @@ pub(crate) struct MarginArgs {
 /// The progress line of an evaluation that ended: the value and its verdict.
 fn sample_line(parameter: &str, sample: &MarginSample) -> String {
     let verdict = if sample.stable { "stable" } else { "unstable" };
-    let unconverged = unconverged_note(sample, "; ");
+    let no_equilibrium = no_equilibrium_note(sample, "; ");
     let growth = sample.growth_rate.map_or(String::new(), |g| {
         format!(
-            " (growth {} 1/s{unconverged})",
+            " (growth {} 1/s{no_equilibrium})",
             fixed_number(g, 12, 4).trim_start()
         )
     });
@@ -68,30 +68,41 @@ fn sample_line(parameter: &str, sample: &MarginSample) -> String {
     )
 }
 
-/// `separator` and "equilibrium not converged (residual R)" for an evaluation whose
-/// linearisation had no converged equilibrium; empty otherwise.
-fn unconverged_note(sample: &MarginSample, separator: &str) -> String {
+/// `separator` and "no equilibrium found (residual R)" for an evaluation whose
+/// linearisation is about no equilibrium; empty otherwise.
+fn no_equilibrium_note(sample: &MarginSample, separator: &str) -> String {
     sample
-        .unconverged_residual
+        .no_equilibrium_residual
         .map_or(String::new(), |residual| {
-            format!("{separator}equilibrium not converged (residual {residual:.2e})")
+            format!("{separator}no equilibrium found (residual {residual:.2e})")
         })
 }
 
-/// The warning that closes the verdict when some linearisations had no converged equilibrium:
-/// how many, and what to do about the ground.
-fn unconverged_warning(report: &MarginReport) -> Option<String> {
-    let count = report.unconverged().count();
+/// The warning that closes the verdict when Newton's method found no equilibrium at some
+/// evaluations: how many, the boundaries beside them, and what to try.
+fn no_equilibrium_warning(report: &MarginReport) -> Option<String> {
+    let count = report.without_equilibrium().count();
     let largest = report
-        .unconverged()
-        .filter_map(|s| s.unconverged_residual)
+        .without_equilibrium()
+        .filter_map(|s| s.no_equilibrium_residual)
         .fold(0.0_f64, f64::max);
+    let beside = match report.boundaries_beside_no_equilibrium.as_slice() {
+        [] => String::new(),
+        values => {
+            let values: Vec<String> = values.iter().map(|&v| readable_number(v)).collect();
+            format!(
+                "; the boundaries at [{}] lie next to such an evaluation and may be the edge of \
+                 the equilibria rather than of stability",
+                values.join(", ")
+            )
+        }
+    };
     (count > 0).then(|| {
         format!(
-            "; but {count} of {} linearisations are about an equilibrium that did not converge \
-             (residual up to {largest:.2e}), so their verdicts do not judge stability (feet on \
-             the compliant ground creep and have none: weld them with --set \
-             plant.contact_model=bilateral)",
+            "; but at {count} of {} evaluations Newton's method found no equilibrium (residual \
+             up to {largest:.2e}), so their verdicts do not judge stability{beside} (feet \
+             creeping on the compliant ground have none: where the scenario allows, weld them \
+             with --set plant.contact_model=bilateral, or judge with --method simulate)",
             report.evaluations(),
         )
     })
@@ -175,7 +186,7 @@ fn margin_json(report: &MarginReport) -> serde_json::Value {
                 "value": s.value,
                 "stable": s.stable,
                 "growth_rate": s.growth_rate,
-                "unconverged_residual": s.unconverged_residual,
+                "no_equilibrium_residual": s.no_equilibrium_residual,
             })
         })
         .collect();
@@ -190,7 +201,8 @@ fn margin_json(report: &MarginReport) -> serde_json::Value {
         "own_value_stable": report.own_value_stable(),
         "stable_island": report.island().map(|ends| ends.map(|end| end.value())),
         "evaluations": report.evaluations(),
-        "unconverged_evaluations": report.unconverged().count(),
+        "evaluations_without_equilibrium": report.without_equilibrium().count(),
+        "boundaries_beside_no_equilibrium": report.boundaries_beside_no_equilibrium,
         "samples": samples,
         "interrupted": report.interrupted,
     })
@@ -258,7 +270,7 @@ pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -
         (Some(_), _, _) => format!("; the scenario's own value {own} is outside the range"),
         (None, _, _) => "; the scenario's own value is not a readable number".to_string(),
     };
-    text += &unconverged_warning(report).unwrap_or_default();
+    text += &no_equilibrium_warning(report).unwrap_or_default();
     text
 }
 
@@ -279,8 +291,8 @@ pub(crate) fn margin_table(report: &sea_sim::analysis::margin::MarginReport) -> 
         });
         let verdict = if sample.stable { "stable" } else { "unstable" };
         let value = fixed_number(sample.value, 14, 6);
-        let unconverged = unconverged_note(sample, "  ");
-        table += &format!("\n  {value}  {verdict:<8}{growth}{unconverged}");
+        let no_equilibrium = no_equilibrium_note(sample, "  ");
+        table += &format!("\n  {value}  {verdict:<8}{growth}{no_equilibrium}");
     }
     table
 }
