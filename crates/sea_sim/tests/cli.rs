@@ -660,6 +660,44 @@ fn a_sweep_or_margin_whose_out_cannot_be_written_prints_its_results() {
     assert_eq!(printed["parameter"], "actuators.damping");
 }
 
+/// A summary into a FIFO: with no reader the run is refused at once naming it (the open used to
+/// wait for a reader forever, deaf to SIGTERM); with one the summary is read from it.
+#[cfg(unix)]
+#[test]
+fn a_summary_into_a_pipe_needs_its_reader() {
+    let ws = Workspace::new("fifo");
+    let fifo = ws.path("summary.fifo");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|status| status.success()) {
+        eprintln!("no mkfifo here; skipped");
+        return;
+    }
+    let fifo_arg = fifo.to_str().unwrap();
+    let out = short_run(&ws, &["--summary", fifo_arg]);
+    let message = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{message}");
+    assert!(
+        message.contains(fifo_arg) && message.contains("with no reader"),
+        "{message}"
+    );
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    // The reader opens the FIFO first; the run retries until it has.
+    let mut out = short_run(&ws, &["--summary", fifo_arg]);
+    for _ in 0..50 {
+        if out.status.code() == Some(0) {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        out = short_run(&ws, &["--summary", fifo_arg]);
+    }
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let read: serde_json::Value = serde_json::from_str(&reader.join().unwrap()).unwrap();
+    assert_eq!(read["status"], "completed");
+}
+
 #[test]
 fn closed_stdout_and_stderr_do_not_abort_the_run() {
     let ws = Workspace::new("pipes");

@@ -106,6 +106,48 @@ fn is_special(path: &Path) -> bool {
     std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
 }
 
+/// Opens the device, FIFO or socket `target` for writing. A FIFO is opened without waiting for
+/// a reader (which could never come, and a blocked `open` ignores the stop signals): with none
+/// it is an error naming the target, with one it is written as usual (blocking writes).
+#[cfg(unix)]
+fn open_special(target: &Path) -> Result<File> {
+    use rustix::fs::{fcntl_getfl, fcntl_setfl, OFlags};
+    use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
+    let fifo = std::fs::metadata(target).is_ok_and(|m| m.file_type().is_fifo());
+    let mut options = OpenOptions::new();
+    options.write(true);
+    if fifo {
+        options.custom_flags(OFlags::NONBLOCK.bits() as i32);
+    }
+    let file = options.open(target).map_err(|error| {
+        // ENXIO: a FIFO with no reader, or a socket.
+        if error.raw_os_error() == Some(rustix::io::Errno::NXIO.raw_os_error()) {
+            io_error(
+                target,
+                ErrorKind::NotConnected,
+                "a pipe or socket with no reader: start its reader first, or write a file",
+            )
+        } else {
+            with_path(target)(error)
+        }
+    })?;
+    if fifo {
+        let blocking = fcntl_getfl(&file)
+            .map(|flags| flags - OFlags::NONBLOCK)
+            .and_then(|flags| fcntl_setfl(&file, flags));
+        blocking.map_err(|errno| with_path(target)(errno.into()))?;
+    }
+    Ok(file)
+}
+
+#[cfg(not(unix))]
+fn open_special(target: &Path) -> Result<File> {
+    OpenOptions::new()
+        .write(true)
+        .open(target)
+        .map_err(with_path(target))
+}
+
 /// Whether `file` is still the file at `path` (another writer may have renamed it between our
 /// open and our lock).
 #[cfg(unix)]
@@ -165,10 +207,7 @@ impl OutputFile {
     pub fn create(target: &Path) -> Result<Self> {
         check_target(target)?;
         if is_special(target) {
-            let file = OpenOptions::new()
-                .write(true)
-                .open(target)
-                .map_err(with_path(target))?;
+            let file = open_special(target)?;
             return Ok(Self {
                 target: target.to_path_buf(),
                 writing: target.to_path_buf(),
