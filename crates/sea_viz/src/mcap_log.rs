@@ -179,13 +179,7 @@ fn check_regular_file(file: &File, path: &Path) -> Result<()> {
     if metadata.is_file() {
         return Ok(());
     }
-    Err(Error::Io {
-        path: path.display().to_string(),
-        source: std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            format!("must be a regular file ({LOG_NEEDS_A_FILE}), not a device or a pipe"),
-        ),
-    })
+    Err(crate::output::not_a_regular_file(path, LOG_NEEDS_A_FILE))
 }
 
 /// Adds the schema and channel of every topic; returns the channel ids in [`Topic::ALL`] order.

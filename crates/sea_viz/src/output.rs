@@ -101,6 +101,15 @@ fn check_target(target: &Path) -> Result<()> {
     Ok(())
 }
 
+/// The error of an output at `path` that must be a regular file (`why`) and is not.
+pub(crate) fn not_a_regular_file(path: &Path, why: &str) -> Error {
+    io_error(
+        path,
+        ErrorKind::InvalidInput,
+        format!("must be a regular file ({why}), not a device or a pipe"),
+    )
+}
+
 /// Whether `path` exists and is something a rename must not replace (device, FIFO, socket).
 fn is_special(path: &Path) -> bool {
     std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
@@ -236,11 +245,7 @@ impl OutputFile {
     pub fn create_regular(target: &Path, why: &str) -> Result<Self> {
         check_target(target)?;
         if is_special(target) {
-            return Err(io_error(
-                target,
-                ErrorKind::InvalidInput,
-                format!("must be a regular file ({why}), not a device or a pipe"),
-            ));
+            return Err(not_a_regular_file(target, why));
         }
         Self::create(target)
     }

@@ -439,7 +439,7 @@ impl Judge<'_> {
                     .map_err(|e| self.at_value(e, value))?;
                 let residual = lin.equilibrium.residual;
                 // A NaN residual is no equilibrium either.
-                let none = !(residual <= NO_EQUILIBRIUM_RESIDUAL);
+                let none = residual.is_nan() || residual > NO_EQUILIBRIUM_RESIDUAL;
                 (lin.stable, Some(lin.growth_rate), none.then_some(residual))
             }
             MarginMethod::Simulate => {
