@@ -232,6 +232,16 @@ const LONG_RUN: &str = "simulation.duration_s=300";
 const SHORT_RUN: &str = "simulation.duration_s=0.3";
 
 /// `sea-sim run` of the workspace's scenario for [`SHORT_RUN`], quiet, with `options` after.
+/// `out` is exit status 1 with an error naming `path` and saying `why`.
+fn assert_refused(out: &Output, path: &str, why: &str) {
+    let message = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{path}: {message}");
+    assert!(
+        message.contains(path) && message.contains(why),
+        "{path}: {message}"
+    );
+}
+
 fn short_run(ws: &Workspace, options: &[&str]) -> Output {
     let scenario = ws.scenario();
     let mut args = vec!["run", scenario.as_str(), "--set", SHORT_RUN, "--quiet"];
@@ -602,12 +612,7 @@ fn a_full_disk_is_an_error_naming_the_file_and_the_cause() {
     // A log is written with seeks: a device is refused as the run starts, before any step.
     for device in ["/dev/full", "/dev/null"] {
         let out = short_run(&ws, &["--mcap", device]);
-        let message = text(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{device}: {message}");
-        assert!(
-            message.contains(device) && message.contains("must be a regular file"),
-            "{device}: {message}"
-        );
+        assert_refused(&out, device, "must be a regular file");
     }
     // The run is done when the summary cannot be written: its log is kept, its summary printed.
     let log = ws.path("kept.mcap");
@@ -674,12 +679,7 @@ fn a_summary_into_a_pipe_needs_its_reader() {
     }
     let fifo_arg = fifo.to_str().unwrap();
     let out = short_run(&ws, &["--summary", fifo_arg]);
-    let message = text(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{message}");
-    assert!(
-        message.contains(fifo_arg) && message.contains("with no reader"),
-        "{message}"
-    );
+    assert_refused(&out, fifo_arg, "with no reader");
     let reader = {
         let fifo = fifo.clone();
         std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
@@ -816,21 +816,32 @@ fn a_full_file_system_keeps_the_earlier_log_and_names_the_file() {
 fn margin_reports_the_damping_boundary_as_json() {
     let ws = Workspace::new("margin");
     let out_path = ws.path("margin.json");
-    let out = sea_sim(&[
-        "margin",
-        &ws.scenario(),
-        "--param",
-        "actuators.damping",
-        "--range",
+    let scenario = ws.scenario();
+    // `sea-sim margin` of the damping over `range`, with `extra` flags.
+    let damping_margin = |range: &str, extra: &[&str]| {
+        let mut args = vec![
+            "margin",
+            scenario.as_str(),
+            "--param",
+            "actuators.damping",
+            "--range",
+            range,
+        ];
+        args.extend_from_slice(extra);
+        sea_sim(&args)
+    };
+    let out = damping_margin(
         "0.01:1",
-        "--points",
-        "3",
-        "--tolerance",
-        "0.1",
-        "--out",
-        out_path.to_str().unwrap(),
-        "--json",
-    ]);
+        &[
+            "--points",
+            "3",
+            "--tolerance",
+            "0.1",
+            "--out",
+            out_path.to_str().unwrap(),
+            "--json",
+        ],
+    );
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("stdout JSON");
     assert_eq!(printed, summary(&out_path), "--out holds what was printed");
@@ -865,18 +876,7 @@ fn margin_reports_the_damping_boundary_as_json() {
     assert!((0.01..0.505).contains(&boundary), "{boundary}");
 
     // Without --json: a table naming the parameter and the boundary.
-    let table = sea_sim(&[
-        "margin",
-        &ws.scenario(),
-        "--param",
-        "actuators.damping",
-        "--range",
-        "0.01:1",
-        "--points",
-        "2",
-        "--tolerance",
-        "0.5",
-    ]);
+    let table = damping_margin("0.01:1", &["--points", "2", "--tolerance", "0.5"]);
     assert_eq!(table.status.code(), Some(0), "{}", text(&table.stderr));
     let table = text(&table.stdout);
     assert!(
@@ -887,20 +887,17 @@ fn margin_reports_the_damping_boundary_as_json() {
     // On the compliant ground a sole creeps and Newton finds no equilibrium: each evaluation,
     // the JSON and the verdict say so.
     let ground_json = ws.path("ground.json");
-    let ground = sea_sim(&[
-        "margin",
-        &ws.scenario(),
-        "--param",
-        "actuators.damping",
-        "--range",
+    let ground = damping_margin(
         "0.5:1",
-        "--points",
-        "2",
-        "--set",
-        "plant.contact_model=unilateral",
-        "--out",
-        ground_json.to_str().unwrap(),
-    ]);
+        &[
+            "--points",
+            "2",
+            "--set",
+            "plant.contact_model=unilateral",
+            "--out",
+            ground_json.to_str().unwrap(),
+        ],
+    );
     assert_eq!(ground.status.code(), Some(0), "{}", text(&ground.stderr));
     let (table, stderr) = (text(&ground.stdout), text(&ground.stderr));
     assert!(
