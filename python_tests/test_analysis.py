@@ -85,6 +85,12 @@ def test_a_margin_on_the_ground_warns_that_newton_found_no_equilibrium():
     assert warning.filename == __file__  # the caller's line
 
 
+def test_a_nan_residual_reads_as_nan_in_the_warning():
+    from sea_momentum.analysis import _exponent
+
+    assert (_exponent(4139.93), _exponent(1.15e-8), _exponent(float("nan"))) == ("4.14e3", "1.15e-8", "nan")
+
+
 def test_a_real_equilibrium_that_newton_leaves_above_its_tolerance_is_no_warning():
     # At a damping of 1e-4 N m s/rad round-off stops Newton's line search above its tolerance
     # of 1e-8 (measured 7.8e-6), yet the point is the equilibrium: the margin does not flag it.

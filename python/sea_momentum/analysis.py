@@ -15,6 +15,7 @@ completes (``"simulate"``).
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 import warnings
 from collections.abc import Mapping
@@ -153,7 +154,10 @@ def stability_margin(
 
 
 def _exponent(value: float) -> str:
-    """``value`` to three digits in the exponent form ``sea-sim`` prints (``4.14e3``)."""
+    """``value`` to three digits in the exponent form ``sea-sim`` prints (``4.14e3``; a NaN
+    residual, which counts as no equilibrium, as ``nan``)."""
+    if not math.isfinite(value):
+        return f"{value}"
     mantissa, exponent = f"{value:.2e}".split("e")
     return f"{mantissa}e{int(exponent)}"
 
