@@ -88,7 +88,8 @@ def test_a_margin_on_the_ground_warns_that_newton_found_no_equilibrium():
 def test_a_nan_residual_reads_as_nan_in_the_warning():
     from sea_momentum.analysis import _exponent
 
-    assert (_exponent(4139.93), _exponent(1.15e-8), _exponent(float("nan"))) == ("4.14e3", "1.15e-8", "nan")
+    readings = (_exponent(4139.93), _exponent(1.15e-8), _exponent(float("nan")))
+    assert readings == ("4.14e3", "1.15e-8", "nan")
 
 
 def test_a_real_equilibrium_that_newton_leaves_above_its_tolerance_is_no_warning():
