@@ -139,16 +139,12 @@ fn a_scenario_written_over_its_own_urdf_is_refused_and_the_urdf_kept() {
     let dir = folder("over_urdf");
     let urdf = dir.join("robot.urdf");
     std::fs::copy(icub_urdf(), &urdf).unwrap();
-    let before = std::fs::read(&urdf).unwrap();
-    let mut options = icub_options(&dir);
-    options.urdf = urdf.display().to_string();
-    options.out = urdf.clone();
-    let message = init(&options).unwrap_err().to_string();
-    assert!(
-        message.contains("the scenario written would overwrite the URDF"),
-        "{message}"
+    refused_over(
+        &dir,
+        &urdf,
+        &urdf,
+        "the scenario written would overwrite the URDF",
     );
-    assert_eq!(std::fs::read(&urdf).unwrap(), before);
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -342,23 +338,14 @@ fn a_link_point_with_a_bad_number_is_named() {
 /// setup before anything is written, naming the link and the URI.
 #[test]
 fn a_missing_or_unresolvable_mesh_is_named() {
-    let text = std::fs::read_to_string(icub_urdf()).unwrap();
     for (uri, why) in [
         ("meshes/no_such_part.stl", "no_such_part.stl"),
         ("package://no_such_pkg_xyz/part.stl", "no_such_pkg_xyz"),
     ] {
         let dir = folder("mesh");
         let urdf_dir = folder("mesh_urdf");
-        // Beside the chest's own visuals (urdf-rs wants a link's visuals together).
-        let chest = text.find("<link name=\"chest\">").expect("the chest link");
-        let at = chest
-            + text[chest..]
-                .find("<visual")
-                .expect("a visual of the chest");
-        let visual = format!("<visual><geometry><mesh filename=\"{uri}\"/></geometry></visual>");
-        let with_mesh = format!("{}{visual}{}", &text[..at], &text[at..]);
         let urdf = urdf_dir.join("icub_mesh.urdf");
-        std::fs::write(&urdf, with_mesh).unwrap();
+        write_icub_with_chest_mesh(&urdf, uri);
         let mut options = icub_options(&dir);
         options.urdf = urdf.display().to_string();
         let message = refused(&options);
@@ -375,31 +362,43 @@ fn a_missing_or_unresolvable_mesh_is_named() {
 /// collision mesh given as `--out`, and the next `init` could not read the foot).
 #[test]
 fn a_scenario_written_over_a_mesh_of_the_urdf_is_refused_and_the_mesh_kept() {
-    let text = std::fs::read_to_string(icub_urdf()).unwrap();
     let dir = folder("over_mesh");
+    let urdf = dir.join("icub_mesh.urdf");
+    write_icub_with_chest_mesh(&urdf, "part.stl");
+    let mesh = dir.join("part.stl");
+    std::fs::write(&mesh, "solid part\nendsolid part\n").unwrap();
+    refused_over(
+        &dir,
+        &urdf,
+        &mesh,
+        "would overwrite the link 'chest' visual mesh",
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Writes at `urdf` the iCub's URDF with one more visual mesh on the chest, `uri`, beside the
+/// chest's own visuals (urdf-rs wants a link's visuals together).
+fn write_icub_with_chest_mesh(urdf: &Path, uri: &str) {
+    let text = std::fs::read_to_string(icub_urdf()).unwrap();
     let chest = text.find("<link name=\"chest\">").expect("the chest link");
     let at = chest
         + text[chest..]
             .find("<visual")
             .expect("a visual of the chest");
-    let visual = "<visual><geometry><mesh filename=\"part.stl\"/></geometry></visual>";
-    let urdf = dir.join("icub_mesh.urdf");
-    std::fs::write(&urdf, format!("{}{visual}{}", &text[..at], &text[at..])).unwrap();
-    let mesh = dir.join("part.stl");
-    std::fs::write(&mesh, "solid part\nendsolid part\n").unwrap();
-    let mut options = icub_options(&dir);
+    let visual = format!("<visual><geometry><mesh filename=\"{uri}\"/></geometry></visual>");
+    std::fs::write(urdf, format!("{}{visual}{}", &text[..at], &text[at..])).unwrap();
+}
+
+/// `init` of the iCub options in `dir` with the URDF `urdf`, asked to write over `target`: the
+/// error says `expected` and `target` keeps its bytes.
+fn refused_over(dir: &Path, urdf: &Path, target: &Path, expected: &str) {
+    let before = std::fs::read(target).unwrap();
+    let mut options = icub_options(dir);
     options.urdf = urdf.display().to_string();
-    options.out = mesh.clone();
+    options.out = target.to_path_buf();
     let message = init(&options).unwrap_err().to_string();
-    assert!(
-        message.contains("would overwrite the link 'chest' visual mesh"),
-        "{message}"
-    );
-    assert_eq!(
-        std::fs::read_to_string(&mesh).unwrap(),
-        "solid part\nendsolid part\n"
-    );
-    std::fs::remove_dir_all(dir).unwrap();
+    assert!(message.contains(expected), "{message}");
+    assert_eq!(std::fs::read(target).unwrap(), before);
 }
 
 /// `init --walking` for the iCub: the `[walking]` written is the scaled rule's
