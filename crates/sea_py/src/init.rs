@@ -52,6 +52,7 @@ pub fn init_scenario<'py>(
         out,
         name: None,
         walking: false,
+        skip_walk_check: false,
     };
     let report = py.detach(|| init(&options)).map_err(to_py)?;
     let dict = PyDict::new(py);

@@ -401,6 +401,13 @@ fn refused_over(dir: &Path, urdf: &Path, target: &Path, expected: &str) {
     assert_eq!(std::fs::read(target).unwrap(), before);
 }
 
+/// Runs a walk `init` wrote: it completes, its 8 steps and the stop taken.
+fn walks_its_eight_steps_and_the_stop(scenario: &Scenario) {
+    let (_, summary) = sea_sim::scenario::run::run(scenario, |_, _| ()).unwrap();
+    assert_eq!(summary.status, "completed", "{}", summary.reason);
+    assert_eq!(summary.steps_taken, Some(9));
+}
+
 /// `init --walking` for the iCub: the `[walking]` written is the scaled rule's
 /// (`WalkingSettings::scaled_to` of the figures `init` reports, rounded to 1 mm and 1 ms; the
 /// iCub's own legs give `k` = 1, so the durations are the defaults'), the scenario builds, and
@@ -432,9 +439,93 @@ fn a_walking_scenario_is_written_scaled_to_the_robot_and_walks() {
     }
     assert!((written.step_duration - WalkingSettings::default().step_duration).abs() < 1e-3);
     assert_eq!(written.command.steps, Some(8));
-    let (_, summary) = sea_sim::scenario::run::run(&scenario, |_, _| ()).unwrap();
-    assert_eq!(summary.status, "completed", "{}", summary.reason);
-    assert_eq!(summary.steps_taken, Some(9));
+    let check = report.walk_check.expect("the walk checked");
+    assert_eq!(check.tries.len(), 1, "{:?}", check.tries);
+    assert_eq!(check.completed(), check.tries.first());
+    walks_its_eight_steps_and_the_stop(&scenario);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The walk check where no height walks: the mini biped falls at every `walking.com_height`
+/// tried, so `init` runs its walk at the standing CoM height and [`CHECK_LOWERING`] of it
+/// lower each time, [`CHECK_TRIES`] runs, and writes the standing height back;
+/// `skip_walk_check` writes without a run.
+#[test]
+fn a_walk_that_completes_at_no_height_is_written_at_the_standing_height() {
+    use sea_sim::init::walking::{CHECK_LOWERING, CHECK_TRIES};
+    let dir = folder("mini_walk");
+    let foot = FootRectangle {
+        x: [-0.05, 0.05],
+        y: [-0.03, 0.03],
+    };
+    let options = InitOptions {
+        walking: true,
+        out: dir.join("mini_walk.toml"),
+        ..mini_biped_options(&dir, foot)
+    };
+    let report = init(&options).unwrap();
+    let check = report.walk_check.expect("the walk checked");
+    assert_eq!(check.tries.len(), CHECK_TRIES, "{:?}", check.tries);
+    assert!(check.completed().is_none() && !check.interrupted());
+    let standing = report.walking_figures.com_height;
+    for (k, run) in check.tries.iter().enumerate() {
+        let lowered = standing * (1.0 - k as f64 * CHECK_LOWERING);
+        assert!((run.com_height - lowered).abs() <= 1e-3, "{run}: {lowered}");
+        assert!(run.status == "fell" || run.status == "diverged", "{run}");
+        assert!(!run.reason.is_empty() && run.to_string().contains(&run.reason));
+    }
+    let written = Scenario::from_file(&options.out, &[]).unwrap();
+    let written = written.walking.expect("[walking]").com_height;
+    assert!(
+        (written - standing).abs() <= 5e-4,
+        "{written} against {standing}"
+    );
+    let skipped = InitOptions {
+        skip_walk_check: true,
+        ..options
+    };
+    assert!(init(&skipped).unwrap().walk_check.is_none());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The walk check where the standing height does not walk: the G1 of example-robot-data
+/// diverges at its standing CoM height (its stance knee straight on its stop at mid-stance)
+/// and walks lower; `init` writes the first height that completed, and the file it wrote walks
+/// its 8 steps and the stop. Needs example-robot-data (without it, says so and checks nothing).
+#[test]
+fn the_walk_check_lowers_the_com_height_of_the_g1_until_it_walks() {
+    let Some(urdf) = crate::support::robot("g1_description/urdf/g1_29dof_rev_1_0.urdf") else {
+        eprintln!("example-robot-data is not installed: the G1 walk check is not tested");
+        return;
+    };
+    let dir = folder("g1_walk");
+    let options = InitOptions {
+        urdf: urdf.display().to_string(),
+        contacts: [
+            "left_ankle_roll_link:0,0,-0.035".into(),
+            "right_ankle_roll_link:0,0,-0.035".into(),
+        ],
+        package_dirs: urdf
+            .ancestors()
+            .skip(3)
+            .take(3)
+            .map(Path::to_path_buf)
+            .collect(),
+        walking: true,
+        out: dir.join("g1_walk.toml"),
+        ..Default::default()
+    };
+    let report = init(&options).unwrap();
+    let check = report.walk_check.expect("the walk checked");
+    let chosen = check.completed().expect("a height that walks").clone();
+    assert!(check.tries.len() >= 2, "{:?}", check.tries);
+    assert!(chosen.com_height < report.walking_figures.com_height);
+    let scenario = Scenario::from_file(&options.out, &[]).unwrap();
+    assert_eq!(
+        scenario.walking.as_ref().unwrap().com_height,
+        chosen.com_height
+    );
+    walks_its_eight_steps_and_the_stop(&scenario);
     std::fs::remove_dir_all(dir).unwrap();
 }
 

@@ -5,6 +5,7 @@
 //! `$VIRTUAL_ENV`; without it the test says so and checks nothing.
 //! `cargo test --release -p sea_sim --test integration mcap_meshes:: -- --nocapture` prints the sizes.
 
+use crate::support::robot;
 use sea_ctrl::qp::QpStatus;
 use sea_dyn::{LoadOptions, Model, StateLayout};
 use sea_sim::closed_loop::Sample;
@@ -14,36 +15,6 @@ use std::path::{Path, PathBuf};
 
 /// Samples of a 5 s run recorded every 2.5 ms (scenarios/paper/tracking.toml).
 const SAMPLES: usize = 2001;
-
-/// The `share` folders of the cmeel prefixes of the project's `.venv` and of `$VIRTUAL_ENV`.
-fn cmeel_shares() -> Vec<PathBuf> {
-    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let envs = [
-        Some(repo.join(".venv")),
-        std::env::var_os("VIRTUAL_ENV").map(PathBuf::from),
-    ];
-    let mut shares = Vec::new();
-    for env in envs.into_iter().flatten() {
-        let Ok(entries) = std::fs::read_dir(env.join("lib")) else {
-            continue;
-        };
-        for entry in entries.flatten() {
-            let share = entry.path().join("site-packages/cmeel.prefix/share");
-            if share.is_dir() {
-                shares.push(share);
-            }
-        }
-    }
-    shares
-}
-
-/// The robot file `relative` of example-robot-data, if installed.
-fn robot(relative: &str) -> Option<PathBuf> {
-    cmeel_shares()
-        .into_iter()
-        .map(|share| share.join("example-robot-data/robots").join(relative))
-        .find(|path| path.is_file())
-}
 
 /// Writes a 5 s log of `model` (with the scene of `urdf` when given) and returns its size.
 fn log_size(model: &Model, urdf: Option<&Path>, file: &Path) -> u64 {

@@ -1,6 +1,7 @@
 //! `sea-sim push` and `sea-sim margin` stopped by a signal: no run starts, the runs under way
 //! stop at their next sample, what was done is reported with `"interrupted": true`, and the
-//! exit status is the signal's. `sea-sim init` stopped while the robot loads writes nothing.
+//! exit status is the signal's. `sea-sim init` stopped while the robot loads writes nothing;
+//! stopped while it runs the walk it wrote, it leaves the walk at the standing CoM height.
 
 use super::cli::{Running, Workspace};
 use std::path::{Path, PathBuf};
@@ -168,4 +169,43 @@ fn a_signal_while_init_loads_the_robot_writes_nothing() {
         .filter(|name| name.contains("two_feet"))
         .collect();
     assert!(written.is_empty(), "{written:?}");
+}
+
+#[test]
+fn a_signal_while_init_runs_the_walk_leaves_it_written_unchecked() {
+    // The walk's run starts as the file appears and lasts most of a second; the signal comes
+    // within milliseconds of the file.
+    let ws = Workspace::new("init_walk_signal");
+    let out = ws.path("icub_walk.toml");
+    let args = [
+        "--contacts",
+        "l_sole",
+        "r_sole",
+        "--foot=-0.05,0.10,-0.025,0.025",
+        "--walking",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let urdf = format!("{REPO}/urdf/icub25.urdf");
+    let init = Running::start_command(("init", &urdf), &args, Stdio::null());
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while !out.exists() {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the walk was never written"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    init.signal("TERM");
+    let (code, stderr) = init.wait();
+    assert_eq!(code, Some(143), "{stderr}");
+    for said in [
+        "walk check: com_height 0.507 m: interrupted",
+        "walk check stopped: the walk is written at the standing CoM height, unchecked",
+        "stopped by SIGTERM; nothing written unless said above",
+    ] {
+        assert!(stderr.contains(said), "{said}: {stderr}");
+    }
+    let written: toml::Table = toml::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(written["walking"]["com_height"].as_float(), Some(0.507));
 }

@@ -48,6 +48,9 @@ pub struct InitOptions {
     pub name: Option<String>,
     /// Write a walking scenario ([`walking`]) instead of the CoM sinusoid.
     pub walking: bool,
+    /// With `walking`: write the scaled settings without running the walk
+    /// ([`walking::check_walk`]).
+    pub skip_walk_check: bool,
 }
 
 /// What `init` found, for the user.
@@ -76,6 +79,8 @@ pub struct InitReport {
     pub warnings: Vec<String>,
     /// The robot's figures the walking settings scale with ([`walking::walking_figures`]).
     pub walking_figures: sea_ctrl::walking::RobotWalkingFigures,
+    /// With `walking`, unless skipped: the runs of the written walk ([`walking::check_walk`]).
+    pub walk_check: Option<walking::WalkCheck>,
 }
 
 /// Reads `FOOT` as `X0,X1,Y0,Y1` (metres, contact frame) with `x0 < x1` and `y0 < y1`.
@@ -141,6 +146,8 @@ pub const MIN_WALKING_FEET_DISTANCE: f64 = 0.01;
 /// [`init`], unless `stop` is raised before the scenario is written (checked after reading
 /// the URDF, after building the model, before the standing posture and before writing): then
 /// nothing is written and the result is `None` (a stop signal while a large robot loads).
+/// With `walking` the written walk is then run ([`walking::check_walk`]; `stop` ends the run
+/// under way and leaves the walk written at the standing CoM height, the report saying so).
 pub fn init_unless_stopped(
     options: &InitOptions,
     stop: &std::sync::atomic::AtomicBool,
@@ -198,21 +205,33 @@ pub fn init_unless_stopped(
             ),
         ));
     }
-    let settings = options
+    let mut settings = options
         .walking
         .then(|| walking::walking_settings(&walking_figures))
         .transpose()?;
-    let body = write::Body {
-        rectangles,
-        standing: &standing,
-        standing_torques: &standing_torques,
-        feet_rank,
-        walking: settings.as_ref(),
+    let write = |walking: Option<&sea_ctrl::walking::WalkingSettings>| {
+        let body = write::Body {
+            rectangles,
+            standing: &standing,
+            standing_torques: &standing_torques,
+            feet_rank,
+            walking,
+        };
+        write::write_scenario(options, &model, &body)
     };
     if stopped() {
         return Ok(None);
     }
-    let written = write::write_scenario(options, &model, &body)?;
+    let written = write(settings.as_ref())?;
+    let walk_check = match settings.as_mut() {
+        Some(settings) if !options.skip_walk_check => Some(walking::check_walk(
+            &written,
+            settings,
+            |s| write(Some(s)).map(|_| ()),
+            stop,
+        )?),
+        _ => None,
+    };
     Ok(Some(InitReport {
         out: written,
         robot: (model.name.clone(), model.total_mass(), model.n_joints()),
@@ -226,6 +245,7 @@ pub fn init_unless_stopped(
             .chain(actuators::effort_warnings(&model, &standing_torques))
             .collect(),
         walking_figures,
+        walk_check,
     }))
 }
 

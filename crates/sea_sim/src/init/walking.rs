@@ -96,3 +96,97 @@ pub fn walking_duration(settings: &WalkingSettings) -> f64 {
     let walk = 2.0 * settings.transfer_duration + steps as f64 * settings.step_duration;
     ((walk + STANDING_AFTER_S) * 10.0).ceil() / 10.0
 }
+
+/// How much lower each try of the walk check ([`check_walk`]) puts `walking.com_height`, as a
+/// fraction of the standing CoM height: the G1 of example-robot-data diverges at its standing
+/// height (the stance knee straight onto its stop at mid-stance) and walks 3 % lower, while
+/// the iCub and Talos walk at theirs (docs/findings/walking_robots.md, "The walk check").
+pub const CHECK_LOWERING: f64 = 0.03;
+
+/// The most runs of the walk check: the standing CoM height, then down to 12 % below it.
+pub const CHECK_TRIES: usize = 5;
+
+/// One run of the walk check.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WalkTry {
+    /// `walking.com_height` of the run [m].
+    pub com_height: f64,
+    /// The run's status: "completed", "diverged", "fell" or "interrupted".
+    pub status: String,
+    /// Why it ended before its duration (empty when completed).
+    pub reason: String,
+    /// Simulated time reached [s].
+    pub duration_s: f64,
+}
+
+impl std::fmt::Display for WalkTry {
+    /// `com_height 0.660 m: diverged at 4.09 s (joint error ...)` or `... completed`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "com_height {:.3} m: {}", self.com_height, self.status)?;
+        if !self.reason.is_empty() && self.status != "interrupted" {
+            write!(f, " at {:.2} s ({})", self.duration_s, self.reason)?;
+        }
+        Ok(())
+    }
+}
+
+/// What the check of a written walk found ([`check_walk`]): its runs, in order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WalkCheck {
+    /// The runs; the last one completed, was interrupted, or none completed.
+    pub tries: Vec<WalkTry>,
+}
+
+impl WalkCheck {
+    /// The run that completed (its `com_height` is the one written), if any.
+    pub fn completed(&self) -> Option<&WalkTry> {
+        self.tries.iter().find(|t| t.status == "completed")
+    }
+
+    /// Whether a stop signal ended the check before a run completed.
+    pub fn interrupted(&self) -> bool {
+        self.tries.last().is_some_and(|t| t.status == "interrupted")
+    }
+}
+
+/// Runs the walk written at `out` ([`crate::scenario::run::run_with_sinks`], no record) at the
+/// standing CoM height of `settings`, then, while the run does not complete, at
+/// [`CHECK_LOWERING`] of it lower each time, [`CHECK_TRIES`] runs at most; `rewrite` writes
+/// the scenario again with the settings of the next run. The file ends with the height of the
+/// first run that completed, or with the standing height when none did or `stop` was raised
+/// (which ends the run under way).
+pub fn check_walk(
+    out: &std::path::Path,
+    settings: &mut WalkingSettings,
+    mut rewrite: impl FnMut(&WalkingSettings) -> Result<()>,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<WalkCheck> {
+    let standing = settings.com_height;
+    let mut check = WalkCheck::default();
+    for k in 0..CHECK_TRIES {
+        if k > 0 {
+            let lowered = standing * (1.0 - k as f64 * CHECK_LOWERING);
+            settings.com_height = (lowered * 1e3).round() / 1e3;
+            rewrite(settings)?;
+        }
+        let scenario = crate::scenario::Scenario::from_file(out, &[])?;
+        let summary = crate::scenario::run::run_with_sinks(&scenario, &mut [], stop, |_, _| {})?;
+        check.tries.push(WalkTry {
+            com_height: settings.com_height,
+            status: summary.status.clone(),
+            reason: summary.reason.clone(),
+            duration_s: summary.duration_s,
+        });
+        if summary.completed() {
+            return Ok(check);
+        }
+        if summary.interrupted() {
+            break;
+        }
+    }
+    if settings.com_height != standing {
+        settings.com_height = standing;
+        rewrite(settings)?;
+    }
+    Ok(check)
+}

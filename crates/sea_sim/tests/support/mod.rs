@@ -4,7 +4,7 @@
 #![allow(dead_code)]
 
 use sea_sim::scenario::Scenario;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The shipped robot-rate scenarios run the stiffness identification; the tests written for
 /// the fixed estimates (the identification as the override of a test) start with it off.
@@ -138,4 +138,35 @@ impl Drop for TempFile {
     fn drop(&mut self) {
         let _ = std::fs::remove_file(&self.0);
     }
+}
+
+/// The `share` folders of the cmeel prefixes of the project's `.venv` and of `$VIRTUAL_ENV`.
+pub fn cmeel_shares() -> Vec<PathBuf> {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let envs = [
+        Some(repo.join(".venv")),
+        std::env::var_os("VIRTUAL_ENV").map(PathBuf::from),
+    ];
+    let mut shares = Vec::new();
+    for env in envs.into_iter().flatten() {
+        let Ok(entries) = std::fs::read_dir(env.join("lib")) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let share = entry.path().join("site-packages/cmeel.prefix/share");
+            if share.is_dir() {
+                shares.push(share);
+            }
+        }
+    }
+    shares
+}
+
+/// The robot file `relative` of example-robot-data (the PyPI package, a test dependency) in
+/// the project's `.venv` or `$VIRTUAL_ENV`, if installed.
+pub fn robot(relative: &str) -> Option<PathBuf> {
+    cmeel_shares()
+        .into_iter()
+        .map(|share| share.join("example-robot-data/robots").join(relative))
+        .find(|path| path.is_file())
 }

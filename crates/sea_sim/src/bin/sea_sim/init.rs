@@ -29,6 +29,9 @@ pub(crate) struct InitArgs {
     /// forward and the stop) instead of the CoM sinusoid [default file: ROBOT_walk.toml].
     #[arg(long)]
     walking: bool,
+    /// With --walking: write the scaled settings without running the walk.
+    #[arg(long, requires = "walking")]
+    no_walk_check: bool,
 }
 
 /// `sea-sim init`: writes the scenario, says what it found on stderr. A stop signal before
@@ -59,6 +62,7 @@ pub(crate) fn run_init(args: &InitArgs, interrupts: &Interrupts) -> sea_sim::Res
         }),
         name: None,
         walking: args.walking,
+        skip_walk_check: args.no_walk_check,
     };
     let Some(report) = init_unless_stopped(&options, &interrupts.stop).map_err(as_flag)? else {
         let sig = interrupts
@@ -87,6 +91,14 @@ pub(crate) fn run_init(args: &InitArgs, interrupts: &Interrupts) -> sea_sim::Res
             figures.com_height, figures.feet_distance, figures.leg_length, figures.reach
         ));
     }
+    if let Some(check) = &report.walk_check {
+        if say_walk_check(check) {
+            let sig = interrupts
+                .received()
+                .unwrap_or(signal_hook::consts::SIGTERM);
+            return Ok(Outcome::Interrupted(sig));
+        }
+    }
     if report.com_offset_m > 0.0 {
         say(format_args!(
             "sea-sim: the CoM stands {:.2} mm beside the middle of the foot rectangles' centres: \
@@ -107,4 +119,30 @@ pub(crate) fn run_init(args: &InitArgs, interrupts: &Interrupts) -> sea_sim::Res
         started.elapsed().as_secs_f64()
     ));
     Ok(Outcome::Completed)
+}
+
+/// Prints each run of the walk check and what was written; whether a stop signal ended it.
+fn say_walk_check(check: &sea_sim::init::walking::WalkCheck) -> bool {
+    for run in &check.tries {
+        say(format_args!("sea-sim: walk check: {run}"));
+    }
+    if check.interrupted() {
+        say(format_args!(
+            "sea-sim: walk check stopped: the walk is written at the standing CoM height, \
+             unchecked"
+        ));
+        return true;
+    }
+    match check.completed() {
+        Some(run) if check.tries.len() > 1 => say(format_args!(
+            "sea-sim: walking.com_height {:.3} m written: the walk completed there",
+            run.com_height
+        )),
+        Some(_) => {}
+        None => say(format_args!(
+            "sea-sim: warning: the written walk completes at no walking.com_height tried; \
+             it is written at the standing CoM height (docs/guide/your_robot.md)"
+        )),
+    }
+    false
 }

@@ -67,10 +67,13 @@ enum Command {
     ///
     /// A two-feet balancing scenario (or with `--walking` a walk): SEA on every joint, a
     /// standing posture, the foot rectangle and gains, all scaled to the robot; `sea-sim run`
-    /// runs it with no edit.
+    /// runs it with no edit. A walk is run before `init` ends: where it does not complete at
+    /// the robot's standing CoM height, `walking.com_height` is lowered by 3 % steps (at most
+    /// 12 %) until it does; each run is printed.
     ///
     /// Exit status: 0 written, 1 error, 130/143/129 stopped by a signal before the scenario was
-    /// written (nothing written; a signal during the write lets it finish, status 0).
+    /// written (nothing written; a signal during the write lets it finish, status 0) or
+    /// during the walk's runs (the walk written at the standing CoM height, its run unfinished).
     Init(init::InitArgs),
     /// Find, per direction, the largest push the closed loop recovers from; prints a JSON report.
     ///
@@ -121,7 +124,7 @@ fn main() -> ExitCode {
         Command::Sweep(_) => "the rows of the runs done written",
         Command::Push(_) => "the pushes done reported",
         Command::Margin(_) => "the evaluations done reported",
-        Command::Init(_) => "nothing written",
+        Command::Init(_) => "nothing written unless said above",
         _ => "log and summary finished",
     };
     exit_code(outcome, stopped_by, finished)
