@@ -1,7 +1,8 @@
 """``sea_momentum.init_scenario``'s report is ``sea-sim init``'s: every field of the Rust
 report, among them the rank of the two feet's contact constraints (12 with legs of 6 joints,
 11 with the mini biped's legs of 5, whose written scenario then takes the larger pseudo-inverse
-damping)."""
+damping), the standing figures the walking settings scale with, and with ``walking=True`` the
+runs of the walk ``init`` wrote."""
 
 import pathlib
 import tomllib
@@ -23,7 +24,10 @@ REPORT_KEYS = {
     "com_offset_m",
     "feet_rank",
     "warnings",
+    "walking_figures",
+    "walk_check",
 }
+ICUB_FOOT = (-0.05, 0.10, -0.025, 0.025)
 
 
 def test_the_report_has_the_rank_of_the_feet_constraints(tmp_path):
@@ -31,9 +35,10 @@ def test_the_report_has_the_rank_of_the_feet_constraints(tmp_path):
         str(ROOT / "urdf" / "icub25.urdf"),
         SOLES,
         tmp_path / "icub.toml",
-        foot=(-0.05, 0.10, -0.025, 0.025),
+        foot=ICUB_FOOT,
     )
     assert set(icub) == REPORT_KEYS
+    assert icub["walk_check"] is None
     assert icub["feet_rank"] == 12
     assert icub["com_offset_m"] == 0.0
     biped = sm.init_scenario(
@@ -44,6 +49,24 @@ def test_the_report_has_the_rank_of_the_feet_constraints(tmp_path):
     )
     assert biped["feet_rank"] == 11
     assert pinv_damping(tmp_path / "biped.toml") > pinv_damping(tmp_path / "icub.toml")
+
+
+def test_a_walk_is_written_and_checked_by_running_it(tmp_path):
+    out = tmp_path / "icub_walk.toml"
+    icub = sm.init_scenario(str(ROOT / "urdf" / "icub25.urdf"), SOLES, out, foot=ICUB_FOOT, walking=True)
+    figures = icub["walking_figures"]
+    assert set(figures) == {"com_height", "feet_distance", "leg_length", "reach"}
+    [run] = icub["walk_check"]
+    assert run["status"] == "completed" and run["reason"] == ""
+    assert run["duration_s"] > 8.0
+    walking = tomllib.loads(out.read_text())["walking"]
+    assert walking["com_height"] == run["com_height"] == round(figures["com_height"], 3)
+    summary = sm.run_scenario(out).summary
+    assert summary.status == "completed" and summary.steps_taken == 9
+    unchecked = sm.init_scenario(
+        str(ROOT / "urdf" / "icub25.urdf"), SOLES, tmp_path / "b.toml", foot=ICUB_FOOT, walking=True, walk_check=False
+    )
+    assert unchecked["walk_check"] is None
 
 
 def pinv_damping(scenario: pathlib.Path) -> float:

@@ -130,6 +130,14 @@ def test_doubtful_inertias_warn_and_strict_refuses():
     assert sorted(massless) == sorted(
         f"{side}{chain}" for side in "LR" for chain in ("Hand", "Finger21", "Finger31", "Thumb1")
     ), model.warnings
+    # Panda's second finger mimics the first: both move on their own, the coupling named.
+    panda = next(p for p in CORPUS if p.name == "panda.urdf")
+    model, _ = load_ours(panda)
+    assert [w for w in model.warnings if "mimics" in w] == [
+        "joint 'panda_finger_joint2': mimics joint 'panda_finger_joint1' (multiplier 1, offset 0): "
+        "the coupling is not modelled, the joint moves on its own"
+    ]
+    assert {"panda_finger_joint1", "panda_finger_joint2"} <= set(model.joint_names)
     # A clean description loads without a warning, also strictly.
     genova04 = next(p for p in CORPUS if p.parent.name == "iCubGenova04")
     assert sea_momentum.Model.from_urdf(genova04, strict=True).warnings == []

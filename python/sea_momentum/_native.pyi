@@ -110,8 +110,10 @@ class Model:
         continuous and prismatic joint, depth-first tree order); every other movable joint is
         locked at ``locked[name]`` (default 0). Raises ModelError naming the bad element.
         Physically doubtful inertias (zero mass with inertia, a negative or zero principal
-        moment, the triangle inequality violated) and moving joints that carry no mass load
-        with one ``UserWarning`` each, also kept in ``warnings``; ``strict=True`` raises
+        moment, the triangle inequality violated), moving joints that carry no mass, limits
+        with lower above upper (taken as none) and moving joints with a ``<mimic>`` (the
+        coupling is not modelled: the joint moves on its own) load with one ``UserWarning``
+        each, also kept in ``warnings``; ``strict=True`` raises
         ModelError for them instead.
         """
     @property
@@ -344,8 +346,11 @@ def init_scenario(
     out: str | PathLike[str],
     foot: tuple[float, float, float, float] | None = None,
     package_dirs: list[str | PathLike[str]] | None = None,
+    walking: bool = False,
+    walk_check: bool = True,
 ) -> dict[str, object]:
-    """``sea-sim init`` from Python: writes a two-feet balancing scenario for the robot of
+    """``sea-sim init`` from Python: writes a two-feet balancing scenario (with ``walking`` a
+    walk, as ``sea-sim init --walking``) for the robot of
     ``urdf`` (a path or a ``package://`` / ``file://`` URI) standing on ``contacts`` (frame
     names or ``LINK:x,y,z``), the foot rectangle ``foot`` (x0, x1, y0, y1, contact frame, m)
     or measured on the collision geometry; returns ``out``, ``robot``, ``mass``, ``joints``,
@@ -354,7 +359,15 @@ def init_scenario(
     offset legs without a hip yaw cannot reach), ``feet_rank`` (the
     rank of the two feet's 12 contact constraints: 12 with legs of 6 joints, fewer with
     shorter legs, whose scenario then gets a larger ``controller.pinv_damping``),
-    ``warnings``. A bad ``foot`` or a ``urdf`` that cannot be found or read raises
+    ``warnings``, ``walking_figures`` (``com_height``, ``feet_distance``, ``leg_length``,
+    ``reach`` [m]: the standing figures the walking settings scale with) and ``walk_check``:
+    ``None`` without ``walking`` or with ``walk_check=False``, else the runs of the written
+    walk in order, each a dict of ``com_height``, ``status``, ``reason``, ``duration_s`` (where
+    the walk does not complete at the standing CoM height, ``walking.com_height`` is lowered
+    by 3 % of it per run, at most 12 %, and the first height that completes is written; the
+    standing one when none does). Ctrl-C raises ``KeyboardInterrupt``: before the file is
+    written nothing is, during the walk's runs the walk stays written at the standing CoM
+    height. A bad ``foot`` or a ``urdf`` that cannot be found or read raises
     ``ValueError`` with ``argument`` naming it; contacts the robot cannot stand on, or that
     name no frame or link, ``ScenarioError`` naming the element (nothing is written)."""
 

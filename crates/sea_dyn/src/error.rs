@@ -166,6 +166,10 @@ pub enum WarningKind {
     /// A revolute or prismatic joint's limit with `lower > upper` (the joint is taken as
     /// unlimited).
     InvertedLimits,
+    /// A moving joint with a `mimic` element: the coupling to the joint it mimics is not
+    /// modelled; the joint moves on its own (its own coordinate, as Pinocchio's default
+    /// URDF parser makes it).
+    MimicNotModelled,
 }
 
 /// A doubtful but usable part of a robot description, found while loading it.

@@ -852,3 +852,43 @@ fn inverted_joint_limits_warn_naming_the_joint() {
     let model = Model::from_urdf_str(&robot(&unset), &LoadOptions::default()).unwrap();
     assert!(model.warnings.is_empty(), "{:?}", model.warnings);
 }
+
+/// A moving joint that mimics another loads as a joint of its own, with a warning naming it,
+/// the joint it mimics and the coupling (refused under strict loading); a fixed joint's mimic
+/// stays silent.
+#[test]
+fn a_mimic_joint_warns_that_its_coupling_is_not_modelled() {
+    let mimic = r#"<mimic joint="hip" multiplier="-2" offset="0.5"/></joint>"#;
+    let with_mimic = |name: &str| {
+        valid_parts()
+            .iter()
+            .map(
+                |part| match part.contains(&format!("<joint name=\"{name}\"")) {
+                    true => part.replace("</joint>", mimic),
+                    false => part.clone(),
+                },
+            )
+            .collect::<Vec<_>>()
+    };
+    let text = robot(&with_mimic("knee"));
+    let model = Model::from_urdf_str(&text, &LoadOptions::default()).unwrap();
+    let [warning] = model.warnings.as_slice() else {
+        panic!("expected one warning, got {:?}", model.warnings);
+    };
+    assert_eq!(warning.kind, WarningKind::MimicNotModelled);
+    assert_eq!(warning.element, "joint 'knee'");
+    assert!(
+        warning
+            .message
+            .contains("mimics joint 'hip' (multiplier -2, offset 0.5)"),
+        "{warning}"
+    );
+    assert_eq!(model.n_joints(), 2);
+    let strict = LoadOptions {
+        strict: true,
+        ..Default::default()
+    };
+    expect_model_error(&text, &strict, &["knee", "mimics joint 'hip'"]);
+    let model = Model::from_urdf_str(&robot(&with_mimic("ankle_fixed")), &LoadOptions::default());
+    assert!(model.unwrap().warnings.is_empty());
+}

@@ -2,18 +2,24 @@
 //! a new robot, written to a file).
 
 use crate::errors::{argument_error, to_py};
+use crate::interrupt::run_interruptible;
 use crate::numbers::Real;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sea_sim::init::{check_foot, init, InitOptions};
+use sea_ctrl::walking::RobotWalkingFigures;
+use sea_sim::init::walking::WalkCheck;
+use sea_sim::init::{check_foot, init_unless_stopped, InitOptions};
 use sea_sim::scenario::robots::FootRectangle;
 use std::path::PathBuf;
 
-/// Writes the scenario of `sea-sim init` and returns what it found: `out`, `robot`, `mass`,
-/// `joints`, `foot_x`, `foot_y`, `measured`, `lowering_m`, `residual`, `com_offset_m`,
-/// `feet_rank`, `warnings`.
+/// Writes the scenario of `sea-sim init` (with `walking` a walk, run unless `walk_check` is
+/// false) and returns what it found: `out`, `robot`, `mass`, `joints`, `foot_x`, `foot_y`,
+/// `measured`, `lowering_m`, `residual`, `com_offset_m`, `feet_rank`, `warnings`,
+/// `walking_figures`, `walk_check`. Ctrl-C raises `KeyboardInterrupt` (nothing written before
+/// the file; during the walk's runs the walk stays at the standing CoM height).
 #[pyfunction]
-#[pyo3(signature = (urdf, contacts, out, foot=None, package_dirs=None))]
+#[pyo3(signature = (urdf, contacts, out, foot=None, package_dirs=None, walking=false, walk_check=true))]
+#[allow(clippy::too_many_arguments)]
 pub fn init_scenario<'py>(
     py: Python<'py>,
     urdf: PathBuf,
@@ -21,6 +27,8 @@ pub fn init_scenario<'py>(
     out: PathBuf,
     foot: Option<&Bound<'py, PyAny>>,
     package_dirs: Option<Vec<PathBuf>>,
+    walking: bool,
+    walk_check: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     // A path or a `package://` / `file://` URI, given as a str or a path-like object.
     let urdf = match urdf.to_str() {
@@ -51,10 +59,16 @@ pub fn init_scenario<'py>(
         package_dirs: package_dirs.unwrap_or_default(),
         out,
         name: None,
-        walking: false,
-        skip_walk_check: false,
+        walking,
+        skip_walk_check: !walk_check,
     };
-    let report = py.detach(|| init(&options)).map_err(to_py)?;
+    let (result, raised) = run_interruptible(py, |stop| init_unless_stopped(&options, stop))?;
+    if let Some(error) = raised {
+        return Err(error);
+    }
+    let report = result.map_err(to_py)?.ok_or_else(|| {
+        pyo3::exceptions::PyRuntimeError::new_err("init stopped without a signal raised")
+    })?;
     let dict = PyDict::new(py);
     dict.set_item("out", report.out.display().to_string())?;
     dict.set_item("robot", &report.robot.0)?;
@@ -68,7 +82,46 @@ pub fn init_scenario<'py>(
     dict.set_item("com_offset_m", report.com_offset_m)?;
     dict.set_item("feet_rank", report.feet_rank)?;
     dict.set_item("warnings", report.warnings)?;
+    dict.set_item(
+        "walking_figures",
+        figures_dict(py, &report.walking_figures)?,
+    )?;
+    let runs = report
+        .walk_check
+        .as_ref()
+        .map(|check| walk_check_list(py, check))
+        .transpose()?;
+    dict.set_item("walk_check", runs)?;
     Ok(dict)
+}
+
+/// The standing figures the walking settings scale with, as a dict [m].
+fn figures_dict<'py>(
+    py: Python<'py>,
+    figures: &RobotWalkingFigures,
+) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("com_height", figures.com_height)?;
+    dict.set_item("feet_distance", figures.feet_distance)?;
+    dict.set_item("leg_length", figures.leg_length)?;
+    dict.set_item("reach", figures.reach)?;
+    Ok(dict)
+}
+
+/// The walk check's runs, each a dict of `com_height`, `status`, `reason`, `duration_s`.
+fn walk_check_list<'py>(py: Python<'py>, check: &WalkCheck) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    check
+        .tries
+        .iter()
+        .map(|run| {
+            let dict = PyDict::new(py);
+            dict.set_item("com_height", run.com_height)?;
+            dict.set_item("status", &run.status)?;
+            dict.set_item("reason", &run.reason)?;
+            dict.set_item("duration_s", run.duration_s)?;
+            Ok(dict)
+        })
+        .collect()
 }
 
 /// What `contacts` must be, in its error message.

@@ -86,9 +86,10 @@ fn warn_each(
 impl PyModel {
     /// Loads a URDF file. `joints` lists the moving joints in coordinate order (default: every
     /// revolute, continuous and prismatic joint in depth-first tree order); the other joints are
-    /// locked at `locked[name]` (default 0). Physically doubtful inertias and massless moving
-    /// subtrees load with a `UserWarning` each (also kept in `warnings`); `strict=True` refuses
-    /// them with a `ModelError` instead.
+    /// locked at `locked[name]` (default 0). Physically doubtful inertias, massless moving
+    /// subtrees, inverted limits and moving joints with a `<mimic>` (its coupling not modelled)
+    /// load with a `UserWarning` each (also kept in `warnings`); `strict=True` refuses them
+    /// with a `ModelError` instead.
     #[staticmethod]
     #[pyo3(signature = (path, joints=None, locked=None, strict=false))]
     fn from_urdf(

@@ -488,6 +488,30 @@ fn a_walk_that_completes_at_no_height_is_written_at_the_standing_height() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// The walk check on a file that does not run: the run's error is the check's one run (status
+/// `error`, the file named), the check ends and the settings keep the standing height.
+#[test]
+fn a_walk_that_cannot_be_run_ends_the_check_with_its_error() {
+    use sea_sim::init::walking::{check_walk, RUN_FAILED};
+    let dir = folder("walk_check_error");
+    let out = dir.join("broken_walk.toml");
+    std::fs::write(&out, "[walking\n").unwrap();
+    let mut settings = sea_ctrl::walking::WalkingSettings::default();
+    let standing = settings.com_height;
+    let never = std::sync::atomic::AtomicBool::new(false);
+    let mut rewrites = 0;
+    let check = check_walk(&out, &mut settings, |_| Ok(rewrites += 1), &never).unwrap();
+    let [run] = check.tries.as_slice() else {
+        panic!("one run expected: {:?}", check.tries);
+    };
+    assert_eq!(run.status, RUN_FAILED);
+    assert!(run.reason.contains("broken_walk.toml"), "{run}");
+    assert_eq!(check.failed(), Some(run));
+    assert!(check.completed().is_none() && !check.interrupted());
+    assert_eq!((settings.com_height, rewrites), (standing, 0));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// The walk check where the standing height does not walk: the G1 of example-robot-data
 /// diverges at its standing CoM height (its stance knee straight on its stop at mid-stance)
 /// and walks lower; `init` writes the first height that completed, and the file it wrote walks

@@ -495,6 +495,7 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
     let (body_of_coordinate, joint_names, support_paths) = coordinate_maps(&walk.joints);
     warnings.extend(massless_subtree_warnings(&walk.joints, &body_inertias));
     warnings.extend(robot.joints.iter().filter_map(inverted_limit_warning));
+    warnings.extend(robot.joints.iter().filter_map(mimic_warning));
     if let (true, Some(first)) = (options.strict, warnings.first()) {
         return Err(first.clone().into_error());
     }
@@ -600,6 +601,29 @@ fn inverted_limit_warning(joint: &urdf_rs::Joint) -> Option<Warning> {
             ),
         )
     })
+}
+
+/// A moving joint that mimics another (`<mimic joint= multiplier= offset=>`) is a joint of its
+/// own here: the coupling `q = multiplier q_other + offset` is not a constraint of the
+/// dynamics, so the joint gets its own coordinate (and, in a scenario, its own actuator). A
+/// fixed joint's `mimic` changes nothing and is not reported.
+fn mimic_warning(joint: &urdf_rs::Joint) -> Option<Warning> {
+    use urdf_rs::JointType::{Fixed, Floating, Planar};
+    let mimic = joint.mimic.as_ref()?;
+    if matches!(joint.joint_type, Fixed | Floating | Planar) {
+        return None;
+    }
+    Some(Warning::new(
+        WarningKind::MimicNotModelled,
+        format!("joint '{}'", joint.name),
+        format!(
+            "mimics joint '{}' (multiplier {}, offset {}): the coupling is not modelled, the \
+             joint moves on its own",
+            mimic.joint,
+            mimic.multiplier.unwrap_or(1.0),
+            mimic.offset.unwrap_or(0.0)
+        ),
+    ))
 }
 
 /// A moving joint with its limits (infinite where the URDF gives none).

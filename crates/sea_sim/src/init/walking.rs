@@ -106,12 +106,16 @@ pub const CHECK_LOWERING: f64 = 0.03;
 /// The most runs of the walk check: the standing CoM height, then down to 12 % below it.
 pub const CHECK_TRIES: usize = 5;
 
+/// [`WalkTry::status`] of a run that could not be made: the written file did not build, or
+/// the run stopped on an error (its text is the reason); the check ends there.
+pub const RUN_FAILED: &str = "error";
+
 /// One run of the walk check.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WalkTry {
     /// `walking.com_height` of the run [m].
     pub com_height: f64,
-    /// The run's status: "completed", "diverged", "fell" or "interrupted".
+    /// The run's status: "completed", "diverged", "fell", "interrupted" or [`RUN_FAILED`].
     pub status: String,
     /// Why it ended before its duration (empty when completed).
     pub reason: String,
@@ -120,20 +124,23 @@ pub struct WalkTry {
 }
 
 impl std::fmt::Display for WalkTry {
-    /// `com_height 0.660 m: diverged at 4.09 s (joint error ...)` or `... completed`.
+    /// `com_height 0.660 m: diverged at 4.09 s (joint error ...)`, `... completed` or
+    /// `... error (the error)`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "com_height {:.3} m: {}", self.com_height, self.status)?;
-        if !self.reason.is_empty() && self.status != "interrupted" {
-            write!(f, " at {:.2} s ({})", self.duration_s, self.reason)?;
+        match self.status.as_str() {
+            "completed" | "interrupted" => Ok(()),
+            RUN_FAILED => write!(f, " ({})", self.reason),
+            _ => write!(f, " at {:.2} s ({})", self.duration_s, self.reason),
         }
-        Ok(())
     }
 }
 
 /// What the check of a written walk found ([`check_walk`]): its runs, in order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WalkCheck {
-    /// The runs; the last one completed, was interrupted, or none completed.
+    /// The runs; the last one completed, was interrupted or could not be made, or none
+    /// completed.
     pub tries: Vec<WalkTry>,
 }
 
@@ -147,14 +154,21 @@ impl WalkCheck {
     pub fn interrupted(&self) -> bool {
         self.tries.last().is_some_and(|t| t.status == "interrupted")
     }
+
+    /// The run that could not be made ([`RUN_FAILED`]), which ended the check.
+    pub fn failed(&self) -> Option<&WalkTry> {
+        self.tries.last().filter(|t| t.status == RUN_FAILED)
+    }
 }
 
 /// Runs the walk written at `out` ([`crate::scenario::run::run_with_sinks`], no record) at the
 /// standing CoM height of `settings`, then, while the run does not complete, at
 /// [`CHECK_LOWERING`] of it lower each time, [`CHECK_TRIES`] runs at most; `rewrite` writes
 /// the scenario again with the settings of the next run. The file ends with the height of the
-/// first run that completed, or with the standing height when none did or `stop` was raised
-/// (which ends the run under way).
+/// first run that completed, or with the standing height when none did, `stop` was raised
+/// (which ends the run under way) or a run could not be made ([`RUN_FAILED`]; the error is
+/// the run's reason, not this function's: the file is written either way). An error is
+/// returned only when the file cannot be written again.
 pub fn check_walk(
     out: &std::path::Path,
     settings: &mut WalkingSettings,
@@ -169,22 +183,32 @@ pub fn check_walk(
             settings.com_height = (lowered * 1e3).round() / 1e3;
             rewrite(settings)?;
         }
-        let scenario = crate::scenario::Scenario::from_file(out, &[])?;
-        let summary = crate::scenario::run::run_with_sinks(&scenario, &mut [], stop, |_, _| {})?;
+        let run = crate::scenario::Scenario::from_file(out, &[]).and_then(|scenario| {
+            crate::scenario::run::run_with_sinks(&scenario, &mut [], stop, |_, _| {})
+        });
+        let summary = match run {
+            Ok(summary) => summary,
+            Err(error) => {
+                check.tries.push(WalkTry {
+                    com_height: settings.com_height,
+                    status: RUN_FAILED.into(),
+                    reason: error.to_string(),
+                    duration_s: 0.0,
+                });
+                break;
+            }
+        };
         check.tries.push(WalkTry {
             com_height: settings.com_height,
             status: summary.status.clone(),
             reason: summary.reason.clone(),
             duration_s: summary.duration_s,
         });
-        if summary.completed() {
-            return Ok(check);
-        }
-        if summary.interrupted() {
+        if summary.completed() || summary.interrupted() {
             break;
         }
     }
-    if settings.com_height != standing {
+    if check.completed().is_none() && settings.com_height != standing {
         settings.com_height = standing;
         rewrite(settings)?;
     }

@@ -133,6 +133,13 @@ fn say_walk_check(check: &sea_sim::init::walking::WalkCheck) -> bool {
         ));
         return true;
     }
+    if check.failed().is_some() {
+        say(format_args!(
+            "sea-sim: warning: the written walk could not be run (above); it is written at the \
+             standing CoM height"
+        ));
+        return false;
+    }
     match check.completed() {
         Some(run) if check.tries.len() > 1 => say(format_args!(
             "sea-sim: walking.com_height {:.3} m written: the walk completed there",
