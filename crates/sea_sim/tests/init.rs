@@ -500,7 +500,16 @@ fn a_walk_that_cannot_be_run_ends_the_check_with_its_error() {
     let standing = settings.com_height;
     let never = std::sync::atomic::AtomicBool::new(false);
     let mut rewrites = 0;
-    let check = check_walk(&out, &mut settings, |_| Ok(rewrites += 1), &never).unwrap();
+    let check = check_walk(
+        &out,
+        &mut settings,
+        |_| {
+            rewrites += 1;
+            Ok(())
+        },
+        &never,
+    )
+    .unwrap();
     let [run] = check.tries.as_slice() else {
         panic!("one run expected: {:?}", check.tries);
     };
