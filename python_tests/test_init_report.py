@@ -53,7 +53,8 @@ def test_the_report_has_the_rank_of_the_feet_constraints(tmp_path):
 
 def test_a_walk_is_written_and_checked_by_running_it(tmp_path):
     out = tmp_path / "icub_walk.toml"
-    icub = sm.init_scenario(str(ROOT / "urdf" / "icub25.urdf"), SOLES, out, foot=ICUB_FOOT, walking=True)
+    icub25 = str(ROOT / "urdf" / "icub25.urdf")
+    icub = sm.init_scenario(icub25, SOLES, out, foot=ICUB_FOOT, walking=True)
     figures = icub["walking_figures"]
     assert set(figures) == {"com_height", "feet_distance", "leg_length", "reach"}
     [run] = icub["walk_check"]
@@ -64,7 +65,7 @@ def test_a_walk_is_written_and_checked_by_running_it(tmp_path):
     summary = sm.run_scenario(out).summary
     assert summary.status == "completed" and summary.steps_taken == 9
     unchecked = sm.init_scenario(
-        str(ROOT / "urdf" / "icub25.urdf"), SOLES, tmp_path / "b.toml", foot=ICUB_FOOT, walking=True, walk_check=False
+        icub25, SOLES, tmp_path / "b.toml", foot=ICUB_FOOT, walking=True, walk_check=False
     )
     assert unchecked["walk_check"] is None
 

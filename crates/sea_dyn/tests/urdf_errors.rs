@@ -854,8 +854,8 @@ fn inverted_joint_limits_warn_naming_the_joint() {
 }
 
 /// A moving joint that mimics another loads as a joint of its own, with a warning naming it,
-/// the joint it mimics and the coupling (refused under strict loading); a fixed joint's mimic
-/// stays silent.
+/// the joint it mimics and the coupling (refused under strict loading); a fixed or locked
+/// joint's mimic stays silent.
 #[test]
 fn a_mimic_joint_warns_that_its_coupling_is_not_modelled() {
     let mimic = r#"<mimic joint="hip" multiplier="-2" offset="0.5"/></joint>"#;
@@ -891,4 +891,12 @@ fn a_mimic_joint_warns_that_its_coupling_is_not_modelled() {
     expect_model_error(&text, &strict, &["knee", "mimics joint 'hip'"]);
     let model = Model::from_urdf_str(&robot(&with_mimic("ankle_fixed")), &LoadOptions::default());
     assert!(model.unwrap().warnings.is_empty());
+    // Locked (not among `joints`), the mimic joint is fixed: silent, also strictly.
+    let hip_only = LoadOptions {
+        joints: Some(vec!["hip".into()]),
+        strict: true,
+        ..Default::default()
+    };
+    let model = Model::from_urdf_str(&text, &hip_only).unwrap();
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
 }

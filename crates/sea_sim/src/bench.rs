@@ -216,6 +216,61 @@ pub fn bench_closed_loop(urdf: &str, runs: usize) -> Option<Vec<(&'static str, f
     Some(figures)
 }
 
+/// `controller_tick_us` of a scenario file: one tick of its controller as the scenario sets it
+/// up (its rate, sampling, QP and walking; a multi-rate controller's whole-body tick) at
+/// small random perturbations of its initial state, the median of `batches` batch means.
+/// An error when the scenario does not build or a tick fails.
+pub fn bench_scenario_controller(
+    scenario: &crate::scenario::Scenario,
+    batches: usize,
+    calls_per_batch: usize,
+) -> crate::Result<f64> {
+    let mut ticks = TickBench::try_new(scenario)?;
+    let mut failed = None;
+    let time = median_us(batches, calls_per_batch, |k| {
+        if !ticks.tick(k) {
+            failed.get_or_insert(k % STATES);
+        }
+    });
+    match failed {
+        None => Ok(time),
+        Some(state) => Err(crate::Error::config(
+            "controller",
+            format!("the controller failed on the benchmark's perturbed state {state}"),
+        )),
+    }
+}
+
+/// `scenario_second_ms`: the wall time [ms] of the first simulated second of `scenario` (its
+/// `simulation.duration_s` set to 1 s, nothing recorded), the median over `runs` runs. An
+/// error when a run does not complete (its reason named).
+pub fn bench_scenario_second(
+    path: &std::path::Path,
+    overrides: &[(String, String)],
+    runs: usize,
+) -> crate::Result<f64> {
+    let mut overrides = overrides.to_vec();
+    overrides.push(("simulation.duration_s".into(), "1.0".into()));
+    let scenario = crate::scenario::Scenario::from_file(path, &overrides)?;
+    let mut wall_ms = Vec::with_capacity(runs.max(1));
+    for _ in 0..runs.max(1) {
+        let cancel = std::sync::atomic::AtomicBool::new(false);
+        let summary = crate::closed_loop::run_with_sinks(&scenario, &mut [], &cancel, |_, _| {})?;
+        if !summary.completed() {
+            return Err(crate::Error::config(
+                "simulation",
+                format!(
+                    "the benchmark's first simulated second did not complete: {} at {:.3} s ({})",
+                    summary.status, summary.duration_s, summary.reason
+                ),
+            ));
+        }
+        wall_ms.push(summary.wall_time_s * 1e3);
+    }
+    wall_ms.sort_by(|a, b| a.total_cmp(b));
+    Ok(wall_ms[wall_ms.len() / 2])
+}
+
 /// How the benchmark tick solves its QP.
 #[derive(Clone, Copy, Debug)]
 pub enum TickQp {
@@ -240,9 +295,14 @@ pub struct TickBench {
 
 impl TickBench {
     /// The controller of `scenario` and `STATES` small random perturbations of its initial
-    /// state. `None` when the scenario does not build.
+    /// state. `None` when the scenario does not build ([`Self::try_new`] says why).
     pub fn new(scenario: &crate::scenario::Scenario) -> Option<TickBench> {
-        let setup = crate::closed_loop::build(scenario).ok()?;
+        Self::try_new(scenario).ok()
+    }
+
+    /// [`Self::new`], the error of a scenario that does not build.
+    pub fn try_new(scenario: &crate::scenario::Scenario) -> crate::Result<TickBench> {
+        let setup = crate::closed_loop::build(scenario)?;
         let layout = setup.plant.layout();
         let mut s_desired = vec![0.0; setup.model.n_joints()];
         setup.posture.at(0.0, &mut s_desired);
@@ -259,7 +319,7 @@ impl TickBench {
             .collect();
         let reference = setup.com_reference.sample(1.0);
         let output = setup.controller.new_output();
-        Some(TickBench {
+        Ok(TickBench {
             output,
             setup,
             layout,

@@ -63,7 +63,7 @@ impl Drop for Workspace {
 }
 
 /// `sea-sim ARGS` to completion (killed after [`TIMEOUT`]).
-fn sea_sim(args: &[&str]) -> Output {
+pub(crate) fn sea_sim(args: &[&str]) -> Output {
     let child = Command::new(BIN)
         .args(args)
         .stdin(Stdio::null())
@@ -85,7 +85,7 @@ fn sea_sim(args: &[&str]) -> Output {
     }
 }
 
-fn text(bytes: &[u8]) -> String {
+pub(crate) fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 

@@ -10,6 +10,7 @@
 mod support;
 
 mod analysis;
+mod bench_cli;
 mod cli;
 mod cli_docs;
 mod closed_loop;

@@ -201,7 +201,8 @@ fn a_signal_while_init_runs_the_walk_leaves_it_written_unchecked() {
     assert_eq!(code, Some(143), "{stderr}");
     for said in [
         "walk check: com_height 0.507 m: interrupted",
-        "walk check stopped: the walk is written at the standing CoM height, unchecked",
+        "walk check stopped: the walk is written at the standing CoM height 0.507 m, not \
+         confirmed to walk",
         "stopped by SIGTERM; nothing written unless said above",
     ] {
         assert!(stderr.contains(said), "{said}: {stderr}");

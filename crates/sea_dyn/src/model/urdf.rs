@@ -495,7 +495,11 @@ fn build(robot: &urdf_rs::Robot, options: &LoadOptions) -> Result<Model> {
     let (body_of_coordinate, joint_names, support_paths) = coordinate_maps(&walk.joints);
     warnings.extend(massless_subtree_warnings(&walk.joints, &body_inertias));
     warnings.extend(robot.joints.iter().filter_map(inverted_limit_warning));
-    warnings.extend(robot.joints.iter().filter_map(mimic_warning));
+    let coordinates = robot
+        .joints
+        .iter()
+        .filter(|j| joint_names.contains(&j.name));
+    warnings.extend(coordinates.filter_map(mimic_warning));
     if let (true, Some(first)) = (options.strict, warnings.first()) {
         return Err(first.clone().into_error());
     }
@@ -605,14 +609,11 @@ fn inverted_limit_warning(joint: &urdf_rs::Joint) -> Option<Warning> {
 
 /// A moving joint that mimics another (`<mimic joint= multiplier= offset=>`) is a joint of its
 /// own here: the coupling `q = multiplier q_other + offset` is not a constraint of the
-/// dynamics, so the joint gets its own coordinate (and, in a scenario, its own actuator). A
-/// fixed joint's `mimic` changes nothing and is not reported.
+/// dynamics, so the joint gets its own coordinate (and, in a scenario, its own actuator). Called
+/// for the model's moving joints only: a fixed or locked joint's `mimic` changes nothing and is
+/// not reported.
 fn mimic_warning(joint: &urdf_rs::Joint) -> Option<Warning> {
-    use urdf_rs::JointType::{Fixed, Floating, Planar};
     let mimic = joint.mimic.as_ref()?;
-    if matches!(joint.joint_type, Fixed | Floating | Planar) {
-        return None;
-    }
     Some(Warning::new(
         WarningKind::MimicNotModelled,
         format!("joint '{}'", joint.name),

@@ -205,33 +205,21 @@ pub fn init_unless_stopped(
             ),
         ));
     }
-    let mut settings = options
+    let settings = options
         .walking
         .then(|| walking::walking_settings(&walking_figures))
         .transpose()?;
-    let write = |walking: Option<&sea_ctrl::walking::WalkingSettings>| {
-        let body = write::Body {
-            rectangles,
-            standing: &standing,
-            standing_torques: &standing_torques,
-            feet_rank,
-            walking,
-        };
-        write::write_scenario(options, &model, &body)
+    let body = write::Body {
+        rectangles,
+        standing: &standing,
+        standing_torques: &standing_torques,
+        feet_rank,
+        walking: settings.as_ref(),
     };
     if stopped() {
         return Ok(None);
     }
-    let written = write(settings.as_ref())?;
-    let walk_check = match settings.as_mut() {
-        Some(settings) if !options.skip_walk_check => Some(walking::check_walk(
-            &written,
-            settings,
-            |s| write(Some(s)).map(|_| ()),
-            stop,
-        )?),
-        _ => None,
-    };
+    let (written, walk_check) = write_and_check(options, &model, &body, stop)?;
     Ok(Some(InitReport {
         out: written,
         robot: (model.name.clone(), model.total_mass(), model.n_joints()),
@@ -247,6 +235,33 @@ pub fn init_unless_stopped(
         walking_figures,
         walk_check,
     }))
+}
+
+/// Writes the scenario of `body` and, for a walk unless `options.skip_walk_check`, runs it
+/// ([`walking::check_walk`], rewriting the file at each lower height). A walk written to
+/// something other than a regular file (a device, a pipe, a link to one) is not checked: it
+/// cannot be read back or written again.
+fn write_and_check(
+    options: &InitOptions,
+    model: &Model,
+    body: &write::Body<'_>,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<(PathBuf, Option<walking::WalkCheck>)> {
+    let written = write::write_scenario(options, model, body)?;
+    let regular = std::fs::symlink_metadata(&written).is_ok_and(|m| m.file_type().is_file());
+    let Some(walk) = body.walking.filter(|_| !options.skip_walk_check && regular) else {
+        return Ok((written, None));
+    };
+    let mut settings = walk.clone();
+    let rewrite = |settings: &sea_ctrl::walking::WalkingSettings| {
+        let body = write::Body {
+            walking: Some(settings),
+            ..*body
+        };
+        write::write_scenario(options, model, &body).map(|_| ())
+    };
+    let check = walking::check_walk(&written, &mut settings, rewrite, stop)?;
+    Ok((written, Some(check)))
 }
 
 /// The two soles' rectangles, in the order of `options.contacts`, and whether they were

@@ -4,6 +4,7 @@
 //! with (scenarios/walking/walk_straight.toml, [`WALKING_CONTROLLER`]).
 
 use super::posture::Standing;
+use crate::closed_loop::{RunEnd, Summary};
 use crate::error::Result;
 use sea_ctrl::walking::{RobotWalkingFigures, WalkingSettings};
 use sea_dyn::{FrameId, Model};
@@ -123,15 +124,30 @@ pub struct WalkTry {
     pub duration_s: f64,
 }
 
+impl WalkTry {
+    /// Whether no lower height is tried after this run: it completed, was stopped by a signal
+    /// or could not be made; a run that diverged or fell goes on to the next height.
+    pub fn ends_the_check(&self) -> bool {
+        [
+            RunEnd::Completed.status(),
+            RunEnd::Interrupted.status(),
+            RUN_FAILED,
+        ]
+        .contains(&self.status.as_str())
+    }
+}
+
 impl std::fmt::Display for WalkTry {
     /// `com_height 0.660 m: diverged at 4.09 s (joint error ...)`, `... completed` or
     /// `... error (the error)`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "com_height {:.3} m: {}", self.com_height, self.status)?;
-        match self.status.as_str() {
-            "completed" | "interrupted" => Ok(()),
-            RUN_FAILED => write!(f, " ({})", self.reason),
-            _ => write!(f, " at {:.2} s ({})", self.duration_s, self.reason),
+        if self.status == RUN_FAILED {
+            write!(f, " ({})", self.reason)
+        } else if self.ends_the_check() {
+            Ok(())
+        } else {
+            write!(f, " at {:.2} s ({})", self.duration_s, self.reason)
         }
     }
 }
@@ -147,12 +163,14 @@ pub struct WalkCheck {
 impl WalkCheck {
     /// The run that completed (its `com_height` is the one written), if any.
     pub fn completed(&self) -> Option<&WalkTry> {
-        self.tries.iter().find(|t| t.status == "completed")
+        let completed = RunEnd::Completed.status();
+        self.tries.iter().find(|t| t.status == completed)
     }
 
     /// Whether a stop signal ended the check before a run completed.
     pub fn interrupted(&self) -> bool {
-        self.tries.last().is_some_and(|t| t.status == "interrupted")
+        let interrupted = RunEnd::Interrupted.status();
+        self.tries.last().is_some_and(|t| t.status == interrupted)
     }
 
     /// The run that could not be made ([`RUN_FAILED`]), which ended the check.
@@ -166,9 +184,9 @@ impl WalkCheck {
 /// [`CHECK_LOWERING`] of it lower each time, [`CHECK_TRIES`] runs at most; `rewrite` writes
 /// the scenario again with the settings of the next run. The file ends with the height of the
 /// first run that completed, or with the standing height when none did, `stop` was raised
-/// (which ends the run under way) or a run could not be made ([`RUN_FAILED`]; the error is
-/// the run's reason, not this function's: the file is written either way). An error is
-/// returned only when the file cannot be written again.
+/// (which ends the run under way) or a run could not be made ([`RUN_FAILED`]: the file did not
+/// build, a run failed, or the file could not be written for the next run; the error is the
+/// run's reason). An error is returned only when the standing height cannot be written back.
 pub fn check_walk(
     out: &std::path::Path,
     settings: &mut WalkingSettings,
@@ -181,30 +199,29 @@ pub fn check_walk(
         if k > 0 {
             let lowered = standing * (1.0 - k as f64 * CHECK_LOWERING);
             settings.com_height = (lowered * 1e3).round() / 1e3;
-            rewrite(settings)?;
         }
-        let run = crate::scenario::Scenario::from_file(out, &[]).and_then(|scenario| {
-            crate::scenario::run::run_with_sinks(&scenario, &mut [], stop, |_, _| {})
-        });
-        let summary = match run {
-            Ok(summary) => summary,
-            Err(error) => {
-                check.tries.push(WalkTry {
-                    com_height: settings.com_height,
-                    status: RUN_FAILED.into(),
-                    reason: error.to_string(),
-                    duration_s: 0.0,
-                });
-                break;
-            }
+        let run = match k {
+            0 => Ok(()),
+            _ => rewrite(settings),
+        }
+        .and_then(|()| walk_once(out, stop));
+        let tried = match run {
+            Ok(summary) => WalkTry {
+                com_height: settings.com_height,
+                status: summary.status.clone(),
+                reason: summary.reason.clone(),
+                duration_s: summary.duration_s,
+            },
+            Err(error) => WalkTry {
+                com_height: settings.com_height,
+                status: RUN_FAILED.into(),
+                reason: error.to_string(),
+                duration_s: 0.0,
+            },
         };
-        check.tries.push(WalkTry {
-            com_height: settings.com_height,
-            status: summary.status.clone(),
-            reason: summary.reason.clone(),
-            duration_s: summary.duration_s,
-        });
-        if summary.completed() || summary.interrupted() {
+        let ends = tried.ends_the_check();
+        check.tries.push(tried);
+        if ends {
             break;
         }
     }
@@ -213,4 +230,10 @@ pub fn check_walk(
         rewrite(settings)?;
     }
     Ok(check)
+}
+
+/// One run of the walk written at `out`, stopped by `stop`, nothing recorded.
+fn walk_once(out: &std::path::Path, stop: &std::sync::atomic::AtomicBool) -> Result<Summary> {
+    let scenario = crate::scenario::Scenario::from_file(out, &[])?;
+    crate::scenario::run::run_with_sinks(&scenario, &mut [], stop, |_, _| {})
 }

@@ -251,8 +251,8 @@ fn walking_header(options: &InitOptions, settings: &WalkingSettings) -> String {
     format!(
         "{first}\n\
          # with its robot description inline ([robot.description], docs/guide/your_robot.md).\n\
-         # [walking]: the defaults scaled to the robot (com_height its CoM's, or lower in 3 %\n\
-         # steps where init's run of this walk did not complete there, nominal_width its\n\
+         # [walking]: the defaults scaled to the robot (com_height its CoM's standing height\n\
+         # unless init's run of this walk lowered it, which init then printed, nominal_width its\n\
          # feet's distance, max_step_length 0.6 of the legs' reach, durations times sqrt(k) and\n\
          # swing_height times k, k = leg length / the iCub's: docs/explanation/walking.md), then\n\
          # {} steps forward of {:.3} m and the stop; the controller as the iCub walks\n\

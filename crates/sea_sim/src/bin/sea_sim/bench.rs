@@ -1,9 +1,10 @@
 //! `sea-sim bench`: the dynamics algorithms, the controller tick and the closed loop timed.
 
-use crate::common::print_out;
+use crate::common::{parse_key_value, print_out};
 use clap::Args;
 use sea_dyn::{LoadOptions, Model};
-use std::path::PathBuf;
+use sea_sim::bench::DynamicsBench;
+use std::path::{Path, PathBuf};
 
 /// Most timed batches: a median of 100000 batch means is as good as it gets, and each batch
 /// keeps its mean (`--batches 4294967295` asked for 34 GB before the first call).
@@ -15,12 +16,27 @@ const MAX_CALLS: i64 = 10_000_000;
 /// Options of `sea-sim bench`.
 #[derive(Args, Debug)]
 pub(crate) struct BenchArgs {
-    /// Robot URDF.
-    #[arg(long, value_name = "PATH")]
-    urdf: PathBuf,
+    /// Robot URDF: the dynamics, and for the paper's iCub the controller tick and the closed
+    /// loop of a two-feet benchmark scenario.
+    #[arg(long, value_name = "PATH", required_unless_present = "scenario")]
+    urdf: Option<PathBuf>,
     /// Joints to keep, comma separated [default: every joint of the URDF].
-    #[arg(long, value_name = "A,B,C", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "A,B,C",
+        value_delimiter = ',',
+        requires = "urdf",
+        conflicts_with = "scenario"
+    )]
     joints: Option<Vec<String>>,
+    /// A scenario file instead of --urdf (e.g. one `sea-sim init` wrote): the dynamics of its
+    /// robot, one tick of its controller and its first simulated second.
+    #[arg(long, value_name = "FILE", conflicts_with = "urdf")]
+    scenario: Option<PathBuf>,
+    /// Override a value of the --scenario, e.g. `--set controller.rate_hz=500` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_key_value,
+          requires = "scenario", conflicts_with = "urdf")]
+    overrides: Vec<(String, String)>,
     /// Timed batches (the median is reported), 1 to 100000.
     #[arg(long, value_name = "N", default_value_t = 31,
           value_parser = clap::value_parser!(u32).range(1..=MAX_BATCHES))]
@@ -34,15 +50,51 @@ pub(crate) struct BenchArgs {
     json: bool,
 }
 
+/// `sea-sim bench`: the figures of the --urdf or the --scenario, printed as a table or JSON.
 pub(crate) fn run_bench(args: &BenchArgs) -> sea_sim::Result<()> {
+    let (source, model, figures) = match (&args.scenario, &args.urdf) {
+        (Some(path), _) => bench_scenario(args, path)?,
+        (None, Some(urdf)) => bench_urdf(args, urdf)?,
+        (None, None) => unreachable!("clap requires --urdf or --scenario"),
+    };
+    if args.json {
+        let mut map = serde_json::Map::new();
+        map.insert(source.0.into(), source.1.clone().into());
+        map.insert("nv".into(), model.nv().into());
+        map.insert("frame".into(), figures.frame.clone().into());
+        for (key, value) in &figures.figures {
+            map.insert((*key).into(), (*value).into());
+        }
+        print_out(serde_json::Value::Object(map))?;
+    } else {
+        let mut table = format!(
+            "{} (nv = {}), frame {}:",
+            source.1,
+            model.nv(),
+            figures.frame
+        );
+        for (key, value) in &figures.figures {
+            table += &format!("\n  {key:<32} {value:8.3}");
+        }
+        print_out(table)?;
+    }
+    Ok(())
+}
+
+/// What was benchmarked (`("urdf" or "scenario", its path)`), its model and the figures.
+type Benched = ((&'static str, String), Model, DynamicsBench);
+
+/// The dynamics of `urdf` and, when it is the paper's iCub, the controller tick and the closed
+/// loop of the two-feet benchmark scenario.
+fn bench_urdf(args: &BenchArgs, urdf: &Path) -> sea_sim::Result<Benched> {
     let options = LoadOptions {
         joints: args.joints.clone(),
         ..Default::default()
     };
-    let model = Model::from_urdf_file(&args.urdf, &options)?;
+    let model = Model::from_urdf_file(urdf, &options)?;
     let (batches, calls) = (args.batches as usize, args.calls as usize);
     let mut result = sea_sim::bench::bench_dynamics(&model, batches, calls);
-    let urdf = args.urdf.display().to_string();
+    let urdf = urdf.display().to_string();
     if let Some(ticks) = sea_sim::bench::bench_controller(&urdf, batches, calls / 20 + 1) {
         result.figures.extend(ticks);
     }
@@ -50,21 +102,19 @@ pub(crate) fn run_bench(args: &BenchArgs) -> sea_sim::Result<()> {
     if let Some(loops) = sea_sim::bench::bench_closed_loop(&urdf, batches / 6 + 1) {
         result.figures.extend(loops);
     }
-    if args.json {
-        let mut map = serde_json::Map::new();
-        map.insert("urdf".into(), urdf.into());
-        map.insert("nv".into(), model.nv().into());
-        map.insert("frame".into(), result.frame.clone().into());
-        for (key, value) in &result.figures {
-            map.insert((*key).into(), (*value).into());
-        }
-        print_out(serde_json::Value::Object(map))?;
-    } else {
-        let mut table = format!("{urdf} (nv = {}), frame {}:", model.nv(), result.frame);
-        for (key, value) in &result.figures {
-            table += &format!("\n  {key:<32} {value:8.3}");
-        }
-        print_out(table)?;
-    }
-    Ok(())
+    Ok((("urdf", urdf), model, result))
+}
+
+/// The dynamics of the robot of the scenario at `path`, one tick of its controller and its
+/// first simulated second (`sea_sim::bench::bench_scenario_controller`, `bench_scenario_second`).
+fn bench_scenario(args: &BenchArgs, path: &Path) -> sea_sim::Result<Benched> {
+    let scenario = sea_sim::scenario::Scenario::from_file(path, &args.overrides)?;
+    let model = sea_sim::closed_loop::build(&scenario)?.model;
+    let (batches, calls) = (args.batches as usize, args.calls as usize);
+    let mut result = sea_sim::bench::bench_dynamics(&model, batches, calls);
+    let tick = sea_sim::bench::bench_scenario_controller(&scenario, batches, calls / 20 + 1)?;
+    result.figures.push(("controller_tick_us", tick));
+    let second = sea_sim::bench::bench_scenario_second(path, &args.overrides, batches / 6 + 1)?;
+    result.figures.push(("scenario_second_ms", second));
+    Ok((("scenario", path.display().to_string()), model, result))
 }

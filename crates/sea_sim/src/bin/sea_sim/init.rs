@@ -36,7 +36,9 @@ pub(crate) struct InitArgs {
 
 /// `sea-sim init`: writes the scenario, says what it found on stderr. A stop signal before
 /// the scenario is written (a large robot loading) writes nothing; one during the write lets
-/// it finish (the file is written whole, through a temporary file).
+/// it finish (the file is written whole, through a temporary file); one during a walk's runs
+/// (or during the write, which the runs then notice at once) ends them, the walk written at the
+/// standing CoM height.
 pub(crate) fn run_init(args: &InitArgs, interrupts: &Interrupts) -> sea_sim::Result<Outcome> {
     use sea_sim::init::{init_unless_stopped, parse_foot, InitOptions};
     let started = Instant::now();
@@ -91,13 +93,20 @@ pub(crate) fn run_init(args: &InitArgs, interrupts: &Interrupts) -> sea_sim::Res
             figures.com_height, figures.feet_distance, figures.leg_length, figures.reach
         ));
     }
-    if let Some(check) = &report.walk_check {
-        if say_walk_check(check) {
-            let sig = interrupts
-                .received()
-                .unwrap_or(signal_hook::consts::SIGTERM);
-            return Ok(Outcome::Interrupted(sig));
-        }
+    match &report.walk_check {
+        Some(check) => say_walk_check(check),
+        None if args.walking && !args.no_walk_check => say(format_args!(
+            "sea-sim: note: the walk is not checked: {} is not a regular file (init runs the \
+             walk from the file it wrote)",
+            report.out.display()
+        )),
+        None => {}
+    }
+    if report.walk_check.as_ref().is_some_and(|c| c.interrupted()) {
+        let sig = interrupts
+            .received()
+            .unwrap_or(signal_hook::consts::SIGTERM);
+        return Ok(Outcome::Interrupted(sig));
     }
     if report.com_offset_m > 0.0 {
         say(format_args!(
@@ -121,35 +130,34 @@ pub(crate) fn run_init(args: &InitArgs, interrupts: &Interrupts) -> sea_sim::Res
     Ok(Outcome::Completed)
 }
 
-/// Prints each run of the walk check and what was written; whether a stop signal ended it.
-fn say_walk_check(check: &sea_sim::init::walking::WalkCheck) -> bool {
+/// Prints each run of the walk check and what was written.
+fn say_walk_check(check: &sea_sim::init::walking::WalkCheck) {
     for run in &check.tries {
         say(format_args!("sea-sim: walk check: {run}"));
     }
+    let standing = check.tries.first().map_or(f64::NAN, |run| run.com_height);
     if check.interrupted() {
         say(format_args!(
-            "sea-sim: walk check stopped: the walk is written at the standing CoM height, \
-             unchecked"
+            "sea-sim: walk check stopped: the walk is written at the standing CoM height \
+             {standing:.3} m, not confirmed to walk"
         ));
-        return true;
-    }
-    if check.failed().is_some() {
+    } else if let Some(run) = check.failed() {
         say(format_args!(
-            "sea-sim: warning: the written walk could not be run (above); it is written at the \
-             standing CoM height"
-        ));
-        return false;
-    }
-    match check.completed() {
-        Some(run) if check.tries.len() > 1 => say(format_args!(
-            "sea-sim: walking.com_height {:.3} m written: the walk completed there",
+            "sea-sim: warning: the walk at walking.com_height {:.3} m could not be run (above); \
+             it is written at the standing CoM height {standing:.3} m",
             run.com_height
-        )),
-        Some(_) => {}
-        None => say(format_args!(
+        ));
+    } else if let Some(run) = check.completed() {
+        if check.tries.len() > 1 {
+            say(format_args!(
+                "sea-sim: walking.com_height {:.3} m written: the walk completed there",
+                run.com_height
+            ));
+        }
+    } else {
+        say(format_args!(
             "sea-sim: warning: the written walk completes at no walking.com_height tried; \
-             it is written at the standing CoM height (docs/guide/your_robot.md)"
-        )),
+             it is written at the standing CoM height {standing:.3} m (docs/guide/your_robot.md)"
+        ));
     }
-    false
 }

@@ -50,7 +50,12 @@ enum Command {
     /// Exit status: 0 completed, 3 diverged or fell, 1 error, 130/143/129 stopped by
     /// SIGINT/SIGTERM/SIGHUP (log finished, summary status "interrupted").
     Run(run::RunArgs),
-    /// Benchmark the dynamics algorithms and the controller tick on a URDF.
+    /// Benchmark the dynamics algorithms and the controller tick on a URDF or a scenario.
+    ///
+    /// Medians of batch means in microseconds (compare ratios measured in one run). With
+    /// `--scenario` (e.g. a file `sea-sim init` wrote): the dynamics of its robot,
+    /// `controller_tick_us` (one tick of its controller as the scenario sets it up) and
+    /// `scenario_second_ms` (the wall time of its first simulated second).
     Bench(bench::BenchArgs),
     /// Sweep a scenario over a grid of values of numeric keys, runs in parallel; writes a CSV.
     ///
@@ -73,7 +78,8 @@ enum Command {
     ///
     /// Exit status: 0 written, 1 error, 130/143/129 stopped by a signal before the scenario was
     /// written (nothing written; a signal during the write lets it finish, status 0) or
-    /// during the walk's runs (the walk written at the standing CoM height, its run unfinished).
+    /// during the walk's runs, or during a walk's write, which the runs then notice at once
+    /// (the walk written at the standing CoM height, not confirmed to walk).
     Init(init::InitArgs),
     /// Find, per direction, the largest push the closed loop recovers from; prints a JSON report.
     ///
