@@ -107,8 +107,9 @@ pub const CHECK_LOWERING: f64 = 0.03;
 /// The most runs of the walk check: the standing CoM height, then down to 12 % below it.
 pub const CHECK_TRIES: usize = 5;
 
-/// [`WalkTry::status`] of a run that could not be made: the written file did not build, or
-/// the run stopped on an error (its text is the reason); the check ends there.
+/// [`WalkTry::status`] of a run that could not be made: the file could not be written at its
+/// height, did not build, or the run stopped on an error (its text is the reason); the check
+/// ends there.
 pub const RUN_FAILED: &str = "error";
 
 /// One run of the walk check.
