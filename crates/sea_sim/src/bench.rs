@@ -200,32 +200,42 @@ pub fn bench_closed_loop(urdf: &str, runs: usize) -> Option<Vec<(&'static str, f
         ),
     ] {
         let scenario = two_feet_scenario_on(urdf, plant, controller, "duration_s = 1.0")?;
-        let mut wall_ms = Vec::with_capacity(runs);
-        for _ in 0..runs.max(1) {
-            let cancel = std::sync::atomic::AtomicBool::new(false);
-            let summary =
-                crate::closed_loop::run_with_sinks(&scenario, &mut [], &cancel, |_, _| {}).ok()?;
-            if !summary.completed() {
-                return None;
-            }
-            wall_ms.push(summary.wall_time_s * 1e3);
-        }
-        wall_ms.sort_by(|a, b| a.total_cmp(b));
-        figures.push((key, wall_ms[wall_ms.len() / 2]));
+        figures.push((key, median_run_ms(&scenario, runs).ok()?));
     }
     Some(figures)
 }
 
-/// `controller_tick_us` of a scenario file: one tick of its controller as the scenario sets it
-/// up (its rate, sampling, QP and walking; a multi-rate controller's whole-body tick) at
-/// small random perturbations of its initial state, the median of `batches` batch means.
-/// An error when the scenario does not build or a tick fails.
+/// The median wall time [ms] of `runs` runs (at least one) of `scenario`, nothing recorded. An
+/// error when a run fails or does not complete (its status, time and reason named).
+fn median_run_ms(scenario: &crate::scenario::Scenario, runs: usize) -> crate::Result<f64> {
+    let mut wall_ms = Vec::with_capacity(runs.max(1));
+    for _ in 0..runs.max(1) {
+        let cancel = std::sync::atomic::AtomicBool::new(false);
+        let summary = crate::closed_loop::run_with_sinks(scenario, &mut [], &cancel, |_, _| {})?;
+        if !summary.completed() {
+            return Err(crate::Error::config(
+                "simulation",
+                format!(
+                    "the benchmark's run did not complete: {} at {:.3} s ({})",
+                    summary.status, summary.duration_s, summary.reason
+                ),
+            ));
+        }
+        wall_ms.push(summary.wall_time_s * 1e3);
+    }
+    wall_ms.sort_by(|a, b| a.total_cmp(b));
+    Ok(wall_ms[wall_ms.len() / 2])
+}
+
+/// `controller_tick_us` of a scenario file: one tick of the controller of `ticks`
+/// ([`TickBench::try_new`]: as the scenario sets it up, its rate, sampling, QP and walking; a
+/// multi-rate controller's whole-body tick) at small random perturbations of its initial
+/// state, the median of `batches` batch means. An error when a tick fails.
 pub fn bench_scenario_controller(
-    scenario: &crate::scenario::Scenario,
+    ticks: &mut TickBench,
     batches: usize,
     calls_per_batch: usize,
 ) -> crate::Result<f64> {
-    let mut ticks = TickBench::try_new(scenario)?;
     let mut failed = None;
     let time = median_us(batches, calls_per_batch, |k| {
         if !ticks.tick(k) {
@@ -241,9 +251,9 @@ pub fn bench_scenario_controller(
     }
 }
 
-/// `scenario_second_ms`: the wall time [ms] of the first simulated second of `scenario` (its
-/// `simulation.duration_s` set to 1 s, nothing recorded), the median over `runs` runs. An
-/// error when a run does not complete (its reason named).
+/// `scenario_second_ms`: the wall time [ms] of the first simulated second of the scenario at
+/// `path` with `overrides` (its `simulation.duration_s` set to 1 s, nothing recorded), the
+/// median over `runs` runs. An error when a run does not complete (its reason named).
 pub fn bench_scenario_second(
     path: &std::path::Path,
     overrides: &[(String, String)],
@@ -252,23 +262,7 @@ pub fn bench_scenario_second(
     let mut overrides = overrides.to_vec();
     overrides.push(("simulation.duration_s".into(), "1.0".into()));
     let scenario = crate::scenario::Scenario::from_file(path, &overrides)?;
-    let mut wall_ms = Vec::with_capacity(runs.max(1));
-    for _ in 0..runs.max(1) {
-        let cancel = std::sync::atomic::AtomicBool::new(false);
-        let summary = crate::closed_loop::run_with_sinks(&scenario, &mut [], &cancel, |_, _| {})?;
-        if !summary.completed() {
-            return Err(crate::Error::config(
-                "simulation",
-                format!(
-                    "the benchmark's first simulated second did not complete: {} at {:.3} s ({})",
-                    summary.status, summary.duration_s, summary.reason
-                ),
-            ));
-        }
-        wall_ms.push(summary.wall_time_s * 1e3);
-    }
-    wall_ms.sort_by(|a, b| a.total_cmp(b));
-    Ok(wall_ms[wall_ms.len() / 2])
+    median_run_ms(&scenario, runs)
 }
 
 /// How the benchmark tick solves its QP.
@@ -339,6 +333,11 @@ impl TickBench {
             ),
         };
         TickBench::new(&two_feet_scenario(urdf, &controller, "")?)
+    }
+
+    /// The scenario's robot model.
+    pub fn model(&self) -> &Model {
+        &self.setup.model
     }
 
     /// One tick at state `k % STATES`; `false` when the controller failed.

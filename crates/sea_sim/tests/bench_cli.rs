@@ -25,7 +25,7 @@ fn a_scenario_is_benchmarked_with_its_controller_tick_and_its_first_second() {
     assert_eq!(out.status.code(), Some(1));
     let stderr = text(&out.stderr);
     assert!(
-        stderr.contains("first simulated second did not complete: diverged"),
+        stderr.contains("the benchmark's run did not complete: diverged"),
         "{stderr}"
     );
     // --set belongs to --scenario, --joints to --urdf.

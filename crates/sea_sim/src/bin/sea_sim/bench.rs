@@ -109,10 +109,11 @@ fn bench_urdf(args: &BenchArgs, urdf: &Path) -> sea_sim::Result<Benched> {
 /// first simulated second (`sea_sim::bench::bench_scenario_controller`, `bench_scenario_second`).
 fn bench_scenario(args: &BenchArgs, path: &Path) -> sea_sim::Result<Benched> {
     let scenario = sea_sim::scenario::Scenario::from_file(path, &args.overrides)?;
-    let model = sea_sim::closed_loop::build(&scenario)?.model;
+    let mut ticks = sea_sim::bench::TickBench::try_new(&scenario)?;
+    let model = ticks.model().clone();
     let (batches, calls) = (args.batches as usize, args.calls as usize);
     let mut result = sea_sim::bench::bench_dynamics(&model, batches, calls);
-    let tick = sea_sim::bench::bench_scenario_controller(&scenario, batches, calls / 20 + 1)?;
+    let tick = sea_sim::bench::bench_scenario_controller(&mut ticks, batches, calls / 20 + 1)?;
     result.figures.push(("controller_tick_us", tick));
     let second = sea_sim::bench::bench_scenario_second(path, &args.overrides, batches / 6 + 1)?;
     result.figures.push(("scenario_second_ms", second));
