@@ -231,7 +231,6 @@ fn finished_mcap_messages(path: &Path) -> u64 {
 const LONG_RUN: &str = "simulation.duration_s=300";
 const SHORT_RUN: &str = "simulation.duration_s=0.3";
 
-/// `sea-sim run` of the workspace's scenario for [`SHORT_RUN`], quiet, with `options` after.
 /// `out` is exit status 1 with an error naming `path` and saying `why`.
 fn assert_refused(out: &Output, path: &str, why: &str) {
     let message = text(&out.stderr);
@@ -242,6 +241,7 @@ fn assert_refused(out: &Output, path: &str, why: &str) {
     );
 }
 
+/// `sea-sim run` of the workspace's scenario for [`SHORT_RUN`], quiet, with `options` after.
 fn short_run(ws: &Workspace, options: &[&str]) -> Output {
     let scenario = ws.scenario();
     let mut args = vec!["run", scenario.as_str(), "--set", SHORT_RUN, "--quiet"];
