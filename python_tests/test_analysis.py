@@ -115,8 +115,10 @@ def test_margin_errors_name_the_key_or_the_range():
         with pytest.raises(ValueError, match="grid_points") as bad_points:
             sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 0.5, 1.0, grid_points=points)
         assert bad_points.value.argument == "grid_points"
-    with pytest.raises(sm.ScenarioError, match="method"):
+    with pytest.raises(ValueError, match="eigen") as bad_method:
         sm.stability_margin(TRACKING, "controller.damping_estimate_scale", 0.5, 1.0, method="x")
+    assert bad_method.value.argument == "method"
+    assert not isinstance(bad_method.value, sm.ScenarioError)
     with pytest.raises(ValueError, match="sampling"):
         sm.linearize(TRACKING, sampling="sometimes")
 

@@ -7,6 +7,8 @@ runs of the walk ``init`` wrote."""
 import pathlib
 import tomllib
 
+import pytest
+
 import sea_momentum as sm
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -68,6 +70,10 @@ def test_a_walk_is_written_and_checked_by_running_it(tmp_path):
         icub25, SOLES, tmp_path / "b.toml", foot=ICUB_FOOT, walking=True, walk_check=False
     )
     assert unchecked["walk_check"] is None
+    with pytest.raises(ValueError) as refused:
+        sm.init_scenario(icub25, SOLES, tmp_path / "c.toml", foot=ICUB_FOOT, walk_check=False)
+    assert refused.value.argument == "walk_check"
+    assert not (tmp_path / "c.toml").exists()
 
 
 def pinv_damping(scenario: pathlib.Path) -> float:

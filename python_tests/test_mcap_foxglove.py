@@ -208,8 +208,8 @@ def test_the_unilateral_channels_validate_against_their_schemas(tmp_path):
 
 def test_the_log_replaces_its_target_at_the_end_and_refuses_devices_and_inputs(tmp_path):
     """The log is written beside its path and renamed over it when the run ends (no partial
-    file left); a device, or the scenario file itself, is refused before the run, the scenario
-    untouched."""
+    file left); a device, the scenario file itself or its robot description's file is refused
+    before the run, the inputs untouched."""
     path = tmp_path / "run.mcap"
     path.write_bytes(b"an earlier file")
     sm.run_scenario(TRACKING, {"simulation.duration_s": 0.05}, mcap=path)
@@ -223,6 +223,12 @@ def test_the_log_replaces_its_target_at_the_end_and_refuses_devices_and_inputs(t
     with pytest.raises(sm.SeaIOError, match="would overwrite the scenario file"):
         sm.run_scenario(copy, {"simulation.duration_s": 0.05}, mcap=copy)
     assert copy.read_text() == text
+    description = tmp_path / "icub.toml"
+    description.write_text((ROOT / "robots" / "icub_paper.toml").read_text())
+    with pytest.raises(sm.SeaIOError, match="would overwrite the robot description file"):
+        sm.run_scenario(copy, {"simulation.duration_s": 0.05, "robot.description": "icub.toml"},
+                        mcap=description)
+    assert description.read_text() == (ROOT / "robots" / "icub_paper.toml").read_text()
 
 
 def test_a_disturbance_after_the_runs_end_is_a_warning_naming_it():

@@ -269,6 +269,11 @@ def test_bad_states_and_inputs_are_rejected(biped_plant):
     huge[plant.nx - model.nv :] = 1e300
     with pytest.raises(sm.SolverError, match="the state is not finite"):
         plant.step(huge, u, 1e-3)
+    for evaluate in (plant.dynamics, plant.outputs):
+        with pytest.raises(sm.SolverError, match="too large for float64"):
+            evaluate(huge, u)
+        with pytest.raises(sm.SolverError, match="too large for float64"):
+            evaluate(x, np.full(model.n_joints, 1e308))
 
 
 def test_bad_plant_settings_are_rejected():

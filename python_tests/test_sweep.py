@@ -93,11 +93,20 @@ def test_bad_grids_name_the_key(grid, key):
 def test_bad_arguments_are_value_errors():
     with pytest.raises(ValueError, match="controller.rate_hz"):
         sweep(TRACKING, {"controller.rate_hz": [1000.0, "fast"]})
-    with pytest.raises(ValueError, match="backend"):
+    with pytest.raises(ValueError, match="backend") as backend:
         sweep(TRACKING, {"controller.rate_hz": [1000.0]}, backend="dask")
+    assert backend.value.argument == "backend"
     for workers in (0, sea_momentum._native.MAX_SWEEP_WORKERS + 1, True, 2.0):
-        with pytest.raises(ValueError, match="workers"):
+        with pytest.raises(ValueError, match="workers") as bad:
             sweep(TRACKING, {"controller.rate_hz": [1000.0]}, workers=workers)
+        assert bad.value.argument == "workers"
+    # An argument of the other backend, which it would ignore.
+    with pytest.raises(ValueError, match="only with backend='ray'") as batch:
+        sweep(TRACKING, {"controller.rate_hz": [1000.0]}, batch_size=3)
+    assert batch.value.argument == "batch_size"
+    with pytest.raises(ValueError, match="only with backend='local'") as ray_workers:
+        sweep(TRACKING, {"controller.rate_hz": [1000.0]}, backend="ray", workers=2)
+    assert ray_workers.value.argument == "workers"
     # The module's own check too: a bad argument, not a scenario key.
     with pytest.raises(ValueError, match="workers") as native:
         sea_momentum._native.sweep(str(TRACKING), ["controller.rate_hz=1000"], None, 0, False)

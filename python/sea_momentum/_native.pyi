@@ -252,14 +252,16 @@ class Plant:
     def split_state(self, x: ArrayLike) -> dict[str, FloatArray]:
         """``{"q": (nq,), "theta": (n_e,), "nu": (nv,), "thetadot": (n_e,)}``, float64 copies."""
     def dynamics(self, x: ArrayLike, u: ArrayLike) -> FloatArray:
-        """dx/dt (nx), quaternion rate included: the right-hand side for scipy."""
+        """dx/dt (nx), quaternion rate included: the right-hand side for scipy. ``SolverError``
+        when a finite but huge state or input (velocities of 1e200) overflows float64."""
     def outputs(self, x: ArrayLike, u: ArrayLike) -> PlantOutputs:
         """The outputs at (x, u), float64: ``contact_wrenches`` (n_contacts, 6), ``joint_torques``
         (n,), ``motor_torques`` (n_e,), ``drift_position`` [m] and ``drift_rotation`` [rad]
         (floats), ``normal_force``, ``friction_margin``, ``cop_margin`` (n_contacts,) each (sole
         frame, negative when violated); under unilateral contacts also each contact point's
         ``contact_point_positions``, ``contact_point_forces`` (n_points, 3) and
-        ``contact_point_active`` (n_points,) bool; ``joint_stop_torques`` (n,)."""
+        ``contact_point_active`` (n_points,) bool; ``joint_stop_torques`` (n,). ``SolverError``
+        as :meth:`dynamics`."""
     def step_outputs(self) -> PlantOutputs:
         """The outputs of the last :meth:`step`: those at its start, with
         ``step_contact_wrenches`` the wrenches the step delivered (under unilateral contacts a
@@ -367,8 +369,8 @@ def init_scenario(
     by 3 % of it per run, at most 12 %, and the first height that completes is written; the
     standing one when none does). Ctrl-C raises ``KeyboardInterrupt``: before the file is
     written nothing is, during the walk's runs the walk stays written at the standing CoM
-    height. A bad ``foot`` or a ``urdf`` that cannot be found or read raises
-    ``ValueError`` with ``argument`` naming it; contacts the robot cannot stand on, or that
+    height. A bad ``foot``, a ``urdf`` that cannot be found or read, or ``walk_check=False``
+    without ``walking`` raises ``ValueError`` with ``argument`` naming it; contacts the robot cannot stand on, or that
     name no frame or link, ``ScenarioError`` naming the element (nothing is written)."""
 
 # --- The robot's meshes (sea_momentum.pictures) ---

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ._errors import argument_error
 from .arrays import BoolArray, FloatArray
 from .extras import require_plots
 
@@ -105,9 +106,10 @@ def contact_points_figure(result: ScenarioResult, instant: float | None = None) 
     import matplotlib.pyplot as plt
 
     if not result.contact_points:
-        raise ValueError(
-            "result: expected a run under unilateral contacts (plant.contact_model = "
-            '"unilateral"), got one without contact points'
+        raise argument_error(
+            "result",
+            'expected a run under unilateral contacts (plant.contact_model = "unilateral"), '
+            "got one without contact points",
         )
     time = result.time
     row = len(time) - 1 if instant is None else int(np.argmin(abs(time - instant)))

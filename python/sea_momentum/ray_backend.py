@@ -18,6 +18,7 @@ import sys
 from typing import Any, Mapping, Optional, Sequence, cast
 
 from . import _native
+from ._errors import argument_error
 
 #: Batches per CPU of the cluster when no batch size is given: a few per CPU balance uneven
 #: run times (diverging runs stop early) without paying the task overhead per run.
@@ -58,7 +59,7 @@ def _batch_size(ray: Any, runs: int, batch_size: Optional[int]) -> int:
     """``batch_size``, or enough batches for every CPU of the cluster to get a few."""
     if batch_size is not None:
         if not isinstance(batch_size, int) or batch_size < 1:
-            raise ValueError(f"batch_size: expected an int of at least 1, got {batch_size!r}")
+            raise argument_error("batch_size", f"expected an int of at least 1, got {batch_size!r}")
         return batch_size
     cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
     return max(1, math.ceil(runs / (BATCHES_PER_CPU * cpus)))

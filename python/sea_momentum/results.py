@@ -172,7 +172,7 @@ class RunSummary(Result):
     "com_error_over_bound", "joint_error_over_bound", "joint_outside_limits") or the fall's
     constraint ("normal_force", "friction", "center_of_pressure"); None when completed."""
     sampling: str
-    """Control sampling: "zero_order_hold" or "continuous"."""
+    """Control sampling: "zero_order_hold", "continuous" or "multi_rate"."""
     duration_s: float
     """Simulated time reached [s]."""
     com_error_rms_m: float

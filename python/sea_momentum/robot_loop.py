@@ -28,6 +28,7 @@ from typing import Callable, Mapping, Optional, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._errors import argument_error
 from ._native import Controller, Scenario
 from .arrays import FloatArray
 from .controller import ControlOutput
@@ -91,7 +92,7 @@ class PlantRobot:
         self.dt, self.method = scenario.plant_dt, scenario.method
         self.x: FloatArray = np.array(scenario.initial_state if x is None else x, dtype=float)
         if self.x.shape != (self.plant.nx,):
-            raise ValueError(f"x: expected shape ({self.plant.nx},), got shape {list(self.x.shape)}")
+            raise argument_error("x", f"expected shape ({self.plant.nx},), got shape {list(self.x.shape)}")
         if external is not None and not callable(external):
             raise TypeError(f"external: expected a function of the time or None, got {external!r}")
         self.external = external
@@ -132,7 +133,7 @@ def _count(value: object, name: str) -> int:
     except TypeError:
         raise TypeError(f"{name}: expected an integer, got {value!r}") from None
     if count < 1:
-        raise ValueError(f"{name}: expected at least 1, got {count}")
+        raise argument_error(name, f"expected at least 1, got {count}")
     return count
 
 
@@ -191,8 +192,9 @@ def run(scenario: Scenario, robot: Robot | None = None, controller: Controller |
     if not isinstance(sensors, bool):
         raise TypeError(f"sensors: expected True or False, got {sensors!r}")
     if scenario.sampling == "continuous":
-        raise ValueError('sampling = "continuous" evaluates the law at every integrator stage, '
-                         "which a loop of ticks does not; use zero_order_hold or multi_rate")
+        raise argument_error("scenario", 'sampling = "continuous" evaluates the law at every '
+                             "integrator stage, which a loop of ticks does not; use "
+                             "zero_order_hold or multi_rate")
     robot = robot if robot is not None else PlantRobot(scenario)
     controller = controller if controller is not None else scenario.controller
     steps, inner = scenario.steps_per_tick, scenario.steps_per_inner_tick

@@ -9,6 +9,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from ._errors import argument_error
 from ._native import run_scenario_native
 from .arrays import BoolArray, FloatArray
 from .results import Result, RunStatus, RunSummary
@@ -91,7 +92,7 @@ class ScenarioResult(Result):
         """The columns of contact ``contact``'s points in the contact point arrays (an empty
         slice under bilateral contacts); ``ValueError`` naming it when it is not a contact."""
         if contact not in self.contacts:
-            raise ValueError(f"contact: expected one of {self.contacts}, got {contact!r}")
+            raise argument_error("contact", f"expected one of {self.contacts}, got {contact!r}")
         if not self.contact_points:
             return slice(0, 0)
         k = self.contacts.index(contact)

@@ -19,6 +19,7 @@ from typing import Any, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
+from ._errors import argument_error
 from .arrays import AnyArray, BoolArray, FloatArray, IntArray
 from .results import Result
 
@@ -34,9 +35,9 @@ def grid_specs(grid: Mapping[str, GridValues]) -> list[str]:
     """The grid as ``KEY=V1,V2,...`` / ``KEY=START:STOP:COUNT[:log]`` specifications (the
     native parser checks them; numbers are written exactly, with ``repr``)."""
     if not isinstance(grid, Mapping) or not grid:
-        raise ValueError(
-            f"grid: expected a non-empty dict of key -> values or 'START:STOP:COUNT[:log]', "
-            f"got {grid!r}"
+        raise argument_error(
+            "grid",
+            f"expected a non-empty dict of key -> values or 'START:STOP:COUNT[:log]', got {grid!r}",
         )
     specs = []
     for key, values in grid.items():
@@ -45,14 +46,12 @@ def grid_specs(grid: Mapping[str, GridValues]) -> list[str]:
             continue
         axis = np.asarray(values, dtype=object)
         if axis.ndim > 1:
-            raise ValueError(
-                f"grid['{key}']: expected a flat list of numbers, got shape {axis.shape}"
-            )
+            raise argument_error(f"grid['{key}']", f"expected a flat list of numbers, got shape {axis.shape}")
         texts = []
         for item in np.atleast_1d(axis).tolist():
             real = isinstance(item, (int, float, np.integer, np.floating))
             if isinstance(item, (bool, np.bool_)) or not real:
-                raise ValueError(f"grid['{key}']: every value must be a real number, got {item!r}")
+                raise argument_error(f"grid['{key}']", f"every value must be a real number, got {item!r}")
             texts.append(repr(float(item)))
         specs.append(f"{key}={','.join(texts)}")
     return specs
@@ -155,15 +154,20 @@ def sweep(
 
     Raises ScenarioError naming the key and the value for bad grids (unknown or non-numeric
     keys, non-numeric values, COUNT below 1, empty or inverted ranges) before any run, and
-    ValueError for a bad backend or worker count. Runs that fail are rows, not exceptions.
+    ValueError naming the argument for a bad backend or worker count, ``workers`` with Ray or
+    ``batch_size`` without it. Runs that fail are rows, not exceptions.
     """
     specs = grid_specs(grid)
     path = os.fspath(scenario)
+    if backend == "local" and batch_size is not None:
+        raise argument_error("batch_size", f"only with backend='ray', got {batch_size!r} with 'local'")
+    if backend == "ray" and workers is not None:
+        raise argument_error("workers", f"only with backend='local' (Ray's cluster sets its own), got {workers!r}")
     if backend == "local":
         integer = isinstance(workers, (int, np.integer)) and not isinstance(workers, (bool, np.bool_))
         most = _native.MAX_SWEEP_WORKERS
         if workers is not None and (not integer or not 1 <= workers <= most):
-            raise ValueError(f"workers: expected an int from 1 to {most} or None, got {workers!r}")
+            raise argument_error("workers", f"expected an int from 1 to {most} or None, got {workers!r}")
         workers = None if workers is None else int(workers)
         native = _native.sweep(path, specs, overrides, workers, progress)
     elif backend == "ray":
@@ -171,7 +175,7 @@ def sweep(
 
         native = run_on_ray(path, specs, overrides, batch_size=batch_size, progress=progress)
     else:
-        raise ValueError(f"backend: expected 'local' or 'ray', got {backend!r}")
+        raise argument_error("backend", f"expected 'local' or 'ray', got {backend!r}")
     result = SweepResult.from_native(native)
     if result.interrupted:
         warnings.warn(

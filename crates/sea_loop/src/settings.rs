@@ -29,8 +29,9 @@ pub struct Setup {
     pub posture: PostureReference,
     /// Elastic joint names (order of theta).
     pub elastic_names: Vec<String>,
-    /// What the build let pass but the user should hear of (e.g. a walking command the step
-    /// limits clip), one message each naming its key; the run is unaffected.
+    /// What the build let pass but the user should hear of (a doubtful URDF element, a
+    /// walking command the step limits clip), one message each naming its element or key;
+    /// the run is unaffected.
     pub warnings: Vec<String>,
 }
 

@@ -220,7 +220,7 @@ pub struct Summary {
     pub reason: String,
     /// The reason's machine-readable kind ([`RunEnd::reason_kind`]): `None` when completed.
     pub reason_kind: Option<&'static str>,
-    /// Control sampling: "zero_order_hold" or "continuous".
+    /// Control sampling: "zero_order_hold", "continuous" or "multi_rate".
     pub sampling: String,
     /// Simulated time reached [s].
     pub duration_s: f64,

@@ -41,6 +41,13 @@ pub fn init_scenario<'py>(
             ))
         }
     };
+    if !walking && !walk_check {
+        return Err(argument_error(
+            "walk_check",
+            "True unless walking=True (the check runs the walk that walking writes)",
+            "False",
+        ));
+    }
     let contacts: [String; 2] = items(contacts, "contacts", CONTACTS_EXPECTED)?;
     let foot: Option<[Real; 4]> = foot.map(|f| items(f, "foot", FOOT_EXPECTED)).transpose()?;
     let foot = foot

@@ -210,7 +210,18 @@ impl PyPlant {
             &self.u,
             &mut self.data.outputs,
         )
-        .map_err(to_py)
+        .map_err(to_py)?;
+        let outputs = &self.data.outputs;
+        let finite = |v: &f64| v.is_finite();
+        if outputs.xdot.iter().all(finite) && outputs.contact_wrench.iter().all(finite) {
+            return Ok(());
+        }
+        // Finite but huge states or inputs (velocities of 1e200, torques of 1e308) overflow.
+        let detail = "the result is not finite: the state or the input is too large for float64";
+        Err(to_py(sea_dyn::Error::numerical(
+            "evaluating the plant",
+            detail,
+        )))
     }
 }
 

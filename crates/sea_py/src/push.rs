@@ -11,8 +11,8 @@ use crate::overrides::override_pairs;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_sim::analysis::push::{
-    fixed_push_table, push_table, swing_push_start, FixedPushRow, PushDirection, PushOptions,
-    PushProgress, PushResult, SwingPhase, DEFAULT_PUSHED_STEP,
+    check_impulses, fixed_push_table, push_table, swing_push_start, FixedPushRow, PushDirection,
+    PushOptions, PushProgress, PushResult, SwingPhase, DEFAULT_PUSHED_STEP,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -65,6 +65,9 @@ pub fn push_table_native<'py>(
         tolerance_n_s,
     };
     options.check().map_err(python_names)?;
+    if let Some(impulses) = &impulses {
+        check_impulses(impulses).map_err(to_py)?;
+    }
     if let Ok(scenario) = sea_sim::scenario::Scenario::from_file(&path, &pairs) {
         if let Some(warning) = options.short_run_warning(&scenario) {
             warn_user(py, &format!("sea_momentum.push_table: {warning}"))?;

@@ -48,7 +48,7 @@ pub fn run_scenario_native<'py>(
     // run that fails leaves an earlier log at the path untouched.
     let output = mcap
         .as_deref()
-        .map(|target| open_log(&scenario, &path, target))
+        .map(|target| open_log(&scenario, target))
         .transpose()
         .map_err(to_py)?;
     // What the build let pass (e.g. a walking command the step limits clip), before the run.
@@ -98,21 +98,10 @@ pub fn run_scenario_native<'py>(
     }
 }
 
-/// The MCAP log's output file for `target`, checked to be neither the scenario file nor its
-/// URDF, opened beside the target ([`OutputFile`]).
-fn open_log(
-    scenario: &sea_sim::scenario::Scenario,
-    scenario_file: &Path,
-    target: &Path,
-) -> sea_sim::Result<OutputFile> {
-    let urdf = scenario.urdf_path();
-    check_distinct(
-        &[
-            ("the scenario file", scenario_file),
-            ("the URDF", urdf.as_path()),
-        ],
-        &[("mcap", target)],
-    )?;
+/// The MCAP log's output file for `target`, checked to be none of the scenario's input files
+/// (the scenario, its robot description, its URDF), opened beside the target ([`OutputFile`]).
+fn open_log(scenario: &sea_sim::scenario::Scenario, target: &Path) -> sea_sim::Result<OutputFile> {
+    check_distinct(&scenario.input_files(), &[("mcap", target)])?;
     OutputFile::create_regular(target, LOG_NEEDS_A_FILE)
 }
 

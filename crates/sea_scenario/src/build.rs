@@ -12,9 +12,10 @@ use sea_ctrl::controller::MomentumController;
 use sea_ctrl::references::{ComTrajectory, PostureReference};
 use sea_dyn::spatial::quaternion_from_rotation;
 use sea_dyn::urdf::UNKNOWN_LISTED_JOINT;
-use sea_dyn::{Actuation, Actuator, Data, FrameId, LoadOptions, Model};
+use sea_dyn::{Actuation, Actuator, Data, FrameId, LoadOptions, Model, WarningKind};
 use sea_plant::{MotorInput, Plant};
 use std::collections::HashMap;
+use std::path::Path;
 
 /// A built scenario (typed by the loop, its input).
 pub use sea_loop::Setup;
@@ -300,6 +301,18 @@ pub fn build(scenario: &Scenario) -> Result<Setup> {
     build_setup(scenario).map_err(|e| scenario.origin.locate(e))
 }
 
+/// The warnings of the `model` loaded from `urdf` that a run reports, each naming the URDF:
+/// all but the point masses ([`WarningKind::SingularInertia`]: the sensor and tool frames'
+/// idealisation that most humanoids' URDFs have, e.g. Talos's five).
+pub fn model_warnings(urdf: &Path, model: &Model) -> Vec<String> {
+    model
+        .warnings
+        .iter()
+        .filter(|warning| warning.kind != WarningKind::SingularInertia)
+        .map(|warning| format!("{}: {warning}", urdf.display()))
+        .collect()
+}
+
 /// [`build`] without the key's place in the file.
 fn build_setup(scenario: &Scenario) -> Result<Setup> {
     let model = load_model(scenario)?;
@@ -313,7 +326,14 @@ fn build_setup(scenario: &Scenario) -> Result<Setup> {
     let settings = scenario.controller_settings(&model.joint_names)?;
     let controller_model = scenario.controller_model(&model)?;
     let mut controller = MomentumController::new(&controller_model, &actuation, settings, &q)?;
-    let mut warnings = crate::walking::set_up(scenario, &model, &contacts, &q, &mut controller)?;
+    let mut warnings = model_warnings(&scenario.urdf_path(), &model);
+    warnings.extend(crate::walking::set_up(
+        scenario,
+        &model,
+        &contacts,
+        &q,
+        &mut controller,
+    )?);
     warnings.extend(disturbances_after_the_end(scenario));
     let com_reference = com_reference(scenario, &model, &q, contacts[0])?;
     let posture = posture_reference(scenario, &model, s0)?;

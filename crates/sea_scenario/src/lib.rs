@@ -233,10 +233,33 @@ impl Scenario {
         self.resolve(&self.robot.urdf)
     }
 
-    /// Resolves a path of the scenario: relative to its folder if it exists there, else as is.
+    /// The files the scenario was read from, each with its role in an error message: the
+    /// scenario file (when it was read from one), the robot description's file (when
+    /// `robot.description` names one) and the URDF. An output must be none of them.
+    pub fn input_files(&self) -> Vec<(&'static str, PathBuf)> {
+        let scenario = self
+            .origin
+            .file
+            .clone()
+            .map(|file| ("the scenario file", file));
+        let description = self
+            .description_file
+            .clone()
+            .map(|file| ("the robot description file", file));
+        scenario
+            .into_iter()
+            .chain(description)
+            .chain([("the URDF", self.urdf_path())])
+            .collect()
+    }
+
+    /// Resolves a path of the scenario: relative to its folder if it exists there, else as is
+    /// if it exists so (from the working directory); a path found at neither is named from the
+    /// scenario's folder, where the scenario's relative paths belong (the error of a file not
+    /// found then says where it was looked for).
     pub fn resolve(&self, path: &str) -> PathBuf {
         let candidate = self.base_dir.join(path);
-        if candidate.exists() {
+        if candidate.exists() || !Path::new(path).exists() {
             candidate
         } else {
             PathBuf::from(path)

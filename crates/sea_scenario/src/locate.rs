@@ -41,6 +41,21 @@ impl Origin {
         }
     }
 
+    /// The value the text with the overrides gives the dotted table key `key` (e.g.
+    /// `actuators.damping`), as written; `None` when neither sets it (a default) or the text
+    /// does not parse.
+    pub fn given_value(&self, key: &str) -> Option<toml::Value> {
+        let mut root: toml::Table = self.text.parse().ok()?;
+        for (k, v) in &self.overrides {
+            crate::parse::apply_override(&mut root, k, v).ok()?;
+        }
+        let mut value = Some(toml::Value::Table(root));
+        for part in key.split('.') {
+            value = value.and_then(|v| v.get(part).cloned());
+        }
+        value
+    }
+
     /// A scenario key's `error` with the line of its key in the text (unless an override set
     /// it) and the file; a controller setting's error (`sea_ctrl`'s, keyed by the same dotted
     /// keys) becomes a scenario key's. Every other error passes through unchanged.

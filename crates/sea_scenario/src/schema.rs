@@ -367,7 +367,10 @@ pub struct PlantConfig {
     #[serde(deserialize_with = "NonNegative::read")]
     #[schemars(with = "NonNegative")]
     pub joint_inertia_regularization: f64,
-    /// Integration step [s].
+    /// The longest integration step [s]: the plant takes the longest step at most this long
+    /// that divides the joint loops' period (`controller.inner_rate_hz` under "multi_rate"),
+    /// the control period (`controller.rate_hz`, "zero_order_hold") or the run
+    /// (`simulation.duration_s`, "continuous") into whole steps.
     #[serde(deserialize_with = "Positive::read")]
     #[schemars(with = "Positive")]
     pub dt: f64,

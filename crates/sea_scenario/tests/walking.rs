@@ -558,6 +558,13 @@ fn bad_walking_settings_are_refused_naming_the_key() {
             "controller.identification_acceleration",
         ),
         (&[("walking.bogus", "1")], "walking.bogus"),
+        (
+            &[
+                ("walking.min_step_width", "0.3"),
+                ("walking.max_step_width", "0.2"),
+            ],
+            "'walking.max_step_width': must exceed walking.min_step_width = 0.3 m",
+        ),
     ];
     for (overrides, key) in cases {
         let message = refused(STEPS, overrides);

@@ -545,6 +545,103 @@ fn outputs_that_are_inputs_or_each_other_are_refused_before_the_run() {
     assert!(!same.exists());
 }
 
+/// Every command that writes refuses each of the scenario's input files as its output: the
+/// robot description's file and the URDF, in `run`, `sweep` and `margin` alike.
+#[test]
+fn no_output_overwrites_the_robot_description_or_the_urdf() {
+    let ws = Workspace::new("inputs");
+    let description = ws.path("desc.toml");
+    std::fs::copy(Path::new(REPO).join("robots/icub_paper.toml"), &description).unwrap();
+    let urdf = ws.path("robot.urdf");
+    std::fs::copy(Path::new(REPO).join("urdf/icub25.urdf"), &urdf).unwrap();
+    let text = std::fs::read_to_string(ws.scenario()).unwrap();
+    let icub = Path::new(REPO)
+        .join("urdf/icub25.urdf")
+        .canonicalize()
+        .unwrap();
+    let text = text.replace(
+        &format!("urdf = \"{}\"", icub.display()),
+        "urdf = \"robot.urdf\"\ndescription = \"desc.toml\"",
+    );
+    assert!(text.contains("desc.toml"), "description set");
+    std::fs::write(ws.path("described.toml"), text).unwrap();
+    let scenario = ws.path("described.toml").display().to_string();
+    let (description, urdf) = (
+        description.display().to_string(),
+        urdf.display().to_string(),
+    );
+    let before = [&description, &urdf].map(|f| std::fs::read(f).unwrap());
+    let margin = [
+        "--param",
+        "controller.damping_estimate_scale",
+        "--range",
+        "0.5:1.5",
+    ];
+    let grid = ["--grid", "controller.damping_estimate_scale=1,2"];
+    let cases: [(Vec<&str>, &str); 4] = [
+        (
+            vec!["run", &scenario, "--summary", &description],
+            "the robot description file",
+        ),
+        (vec!["run", &scenario, "--mcap", &urdf], "the URDF"),
+        (
+            [&["sweep", &scenario, "--out", &description][..], &grid].concat(),
+            "the robot description file",
+        ),
+        (
+            [&["margin", &scenario, "--out", &urdf][..], &margin].concat(),
+            "the URDF",
+        ),
+    ];
+    for (args, input) in cases {
+        let out = sea_sim(&args);
+        let path = args[args.iter().position(|a| a.starts_with("--")).unwrap() + 1];
+        assert_refused(&out, path, &format!("would overwrite {input}"));
+    }
+    let after = [&description, &urdf].map(|f| std::fs::read(f).unwrap());
+    assert!(before == after, "the inputs are untouched");
+}
+
+/// A doubtful URDF element the model loads anyway (the left elbow's limits inverted, so taken
+/// as unlimited) is a warning of `run` naming the URDF and the joint; the run goes on.
+#[test]
+fn a_run_warns_of_the_urdf_elements_the_model_doubts() {
+    let ws = Workspace::new("doubts");
+    let elbow = r#"lower="0.2617993877991494" upper="1.8500490071139892""#;
+    let urdf = std::fs::read_to_string(Path::new(REPO).join("urdf/icub25.urdf")).unwrap();
+    assert!(urdf.contains(elbow), "the elbow's limits");
+    let inverted = urdf.replace(elbow, r#"lower="1.85" upper="0.26""#);
+    std::fs::write(ws.path("inverted.urdf"), inverted).unwrap();
+    let scenario = std::fs::read_to_string(ws.scenario()).unwrap();
+    let icub = Path::new(REPO)
+        .join("urdf/icub25.urdf")
+        .canonicalize()
+        .unwrap();
+    let scenario = scenario.replace(&icub.display().to_string(), "inverted.urdf");
+    std::fs::write(ws.path("inverted.toml"), scenario).unwrap();
+    let out = sea_sim(&[
+        "run",
+        ws.path("inverted.toml").to_str().unwrap(),
+        "--set",
+        SHORT_RUN,
+        "--quiet",
+    ]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr.contains("warning: ")
+            && stderr.contains("inverted.urdf: joint 'l_elbow'")
+            && stderr.contains("taken as unlimited"),
+        "{stderr}"
+    );
+    let clean = short_run(&ws, &[]);
+    assert!(
+        !text(&clean.stderr).contains("warning"),
+        "{}",
+        text(&clean.stderr)
+    );
+}
+
 #[test]
 fn a_missing_summary_folder_is_refused_before_the_run() {
     let ws = Workspace::new("folder");
@@ -915,6 +1012,17 @@ fn margin_reports_the_damping_boundary_as_json() {
         let residual = sample["no_equilibrium_residual"].as_f64().unwrap();
         assert!(residual > 1e-3, "{sample}");
     }
+
+    // An [actuators] key's own value, as the file and --set give it, is evaluated too.
+    let given = damping_margin(
+        "0.5:1",
+        &["--points", "2", "--set", "actuators.damping=0.75", "--json"],
+    );
+    assert_eq!(given.status.code(), Some(0), "{}", text(&given.stderr));
+    let given: serde_json::Value = serde_json::from_slice(&given.stdout).expect("stdout JSON");
+    assert_eq!(given["own_value"].as_f64(), Some(0.75), "{given}");
+    assert_eq!(given["evaluations"].as_u64(), Some(3), "{given}");
+    assert_eq!(given["growth_unchanged"], false, "{given}");
 
     let bad = sea_sim(&["margin", &ws.scenario(), "--param", "x", "--range", "1"]);
     assert_eq!(bad.status.code(), Some(1));

@@ -182,6 +182,37 @@ fn a_robot_that_cannot_stand_is_refused() {
     std::fs::remove_dir_all(urdf_dir).unwrap();
 }
 
+/// A link whose inertia has a negative principal moment (the mini biped's torso with
+/// `ixx = -0.02`) is refused naming the link: its joints' inertias, which size the postural
+/// gains, could be negative, and the scenario written would not run.
+#[test]
+fn a_link_with_a_negative_principal_inertia_is_refused_naming_it() {
+    let dir = folder("negative_inertia");
+    let urdf_dir = folder("negative_inertia_urdf");
+    let urdf = urdf_dir.join("negative.urdf");
+    let foot = FootRectangle {
+        x: [-0.05, 0.08],
+        y: [-0.03, 0.03],
+    };
+    let text = std::fs::read_to_string(mini_biped_options(&dir, foot).urdf).unwrap();
+    let torso = r#"<inertia ixx="0.0213542" ixy="0" ixz="-0.0008""#;
+    assert!(text.contains(torso), "the torso's inertia");
+    std::fs::write(
+        &urdf,
+        text.replace(torso, r#"<inertia ixx="-0.02" ixy="0" ixz="-0.0008""#),
+    )
+    .unwrap();
+    let mut options = mini_biped_options(&dir, foot);
+    options.urdf = urdf.display().to_string();
+    let message = refused(&options);
+    assert!(
+        message.contains("link 'torso'") && message.contains("not positive semidefinite"),
+        "{message}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+    std::fs::remove_dir_all(urdf_dir).unwrap();
+}
+
 /// The mini biped's legs have 5 joints (no hip yaw): its two feet's 12 constraints have rank
 /// 11 and the controller's `Lambda` rank 10 (a redundant contact set). `init` writes its
 /// scenario (with the larger pseudo-inverse damping) and the written scenario, unedited,

@@ -357,10 +357,13 @@ fn same_file(a: &Path, b: &Path) -> bool {
 /// roles and the path.
 ///
 /// Errors: [`Error::Io`] with kind `InvalidInput`.
-pub fn check_distinct(inputs: &[(&str, &Path)], outputs: &[(&str, &Path)]) -> Result<()> {
+pub fn check_distinct<P: AsRef<Path>>(
+    inputs: &[(&str, P)],
+    outputs: &[(&str, &Path)],
+) -> Result<()> {
     for (k, (role, output)) in outputs.iter().enumerate() {
         for (input_role, input) in inputs {
-            if same_file(output, input) {
+            if same_file(output, input.as_ref()) {
                 return Err(io_error(
                     output,
                     ErrorKind::InvalidInput,

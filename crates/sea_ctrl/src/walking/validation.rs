@@ -141,18 +141,7 @@ impl WalkingSettings {
         ] {
             require_non_negative(key, value)?;
         }
-        let (min, max) = (self.min_step_width, self.max_step_width);
-        let width = self.nominal_width;
-        if !(width.is_finite() && min < width && width < max) {
-            return Err(Error::invalid(
-                "walking.nominal_width",
-                format!(
-                    "must lie between walking.min_step_width = {min} m and \
-                     walking.max_step_width = {max} m"
-                ),
-                width,
-            ));
-        }
+        self.validate_widths()?;
         fraction_of_swing(
             "walking.step_adjustment_end_phase",
             self.step_adjustment_end_phase,
@@ -163,6 +152,30 @@ impl WalkingSettings {
                 "walking.max_step_turn",
                 "must be in (0, pi/2] rad",
                 turn,
+            ));
+        }
+        Ok(())
+    }
+
+    /// The step widths' limits in order, and the nominal width between them.
+    fn validate_widths(&self) -> Result<()> {
+        let (min, max) = (self.min_step_width, self.max_step_width);
+        if min >= max {
+            return Err(Error::invalid(
+                "walking.max_step_width",
+                format!("must exceed walking.min_step_width = {min} m"),
+                max,
+            ));
+        }
+        let width = self.nominal_width;
+        if !(width.is_finite() && min < width && width < max) {
+            return Err(Error::invalid(
+                "walking.nominal_width",
+                format!(
+                    "must lie between walking.min_step_width = {min} m and \
+                     walking.max_step_width = {max} m"
+                ),
+                width,
             ));
         }
         Ok(())

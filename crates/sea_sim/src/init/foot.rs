@@ -77,7 +77,10 @@ pub fn foot_rectangle(
 fn no_geometry(contact: &str, rule: &str) -> Error {
     Error::config(
         "robot.contacts",
-        format!("cannot measure the foot of '{contact}': {rule}; give the rectangle with --foot X0,X1,Y0,Y1"),
+        format!(
+            "cannot measure the foot of '{contact}': {rule}; give the rectangle \
+             (sea-sim init --foot X0,X1,Y0,Y1; Python: foot=(x0, x1, y0, y1))"
+        ),
     )
 }
 

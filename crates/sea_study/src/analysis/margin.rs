@@ -44,9 +44,10 @@ impl MarginMethod {
         match name {
             "eigen" => Ok(MarginMethod::Eigen),
             "simulate" => Ok(MarginMethod::Simulate),
-            other => Err(Error::config(
+            other => Err(Error::argument(
                 "method",
-                format!("expected \"eigen\" or \"simulate\", got \"{other}\""),
+                "\"eigen\" or \"simulate\"",
+                format!("\"{other}\""),
             )),
         }
     }
@@ -228,6 +229,20 @@ impl MarginReport {
             .filter(|s| s.no_equilibrium_residual.is_some())
     }
 
+    /// Whether the eigen method's growth rate came out the same at every one of three or more
+    /// evaluations: the parameter then does not enter the linearisation about the standing
+    /// equilibrium (a `walking.*` key of a walk, a key read only while the robot moves), and
+    /// the verdict says nothing about it.
+    pub fn growth_unchanged(&self) -> bool {
+        let mut growths = self.samples.iter().filter_map(|s| s.growth_rate);
+        let Some(first) = growths.next() else {
+            return false;
+        };
+        self.samples.len() >= 3
+            && self.samples.iter().all(|s| s.growth_rate.is_some())
+            && growths.all(|g| g == first)
+    }
+
     /// Whether every evaluation was stable, every one unstable, or stability changes; or that
     /// the scan was stopped before its end.
     pub fn conclusion(&self) -> MarginConclusion {
@@ -283,12 +298,16 @@ struct ParsedSections<'a> {
     controller: toml::Table,
     reference: &'a sea_scenario::ReferenceConfig,
     simulation: &'a sea_scenario::SimulationConfig,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    walking: Option<&'a sea_ctrl::walking::WalkingSettings>,
 }
 
 /// The value of the numeric key `parameter` (dotted, e.g. `controller.stiffness_estimate_scale`)
 /// in the scenario at `path` with `overrides`, the schema's default when the file does not set
-/// it. Reads the keys of `[sensing]`, `[plant]`, `[controller]`, `[reference]` and
-/// `[simulation]`; `Ok(None)` for another key or one without a number.
+/// it. Reads the keys of `[sensing]`, `[plant]`, `[controller]`, `[reference]`,
+/// `[simulation]` and `[walking]` as parsed; any other key (`actuators.damping`) as the file
+/// and the overrides give it; `Ok(None)` for another key left to its default or one without a
+/// number.
 pub fn scenario_value(
     path: &Path,
     overrides: &[(String, String)],
@@ -302,7 +321,7 @@ pub fn scenario_value(
 }
 
 /// The parsed scenario's value of `parameter` as TOML (a float, an integer, or anything else
-/// the key holds); `None` when the sections read by [`scenario_value`] do not have it.
+/// the key holds); `None` when [`scenario_value`] finds no value.
 fn scenario_number(
     path: &Path,
     overrides: &[(String, String)],
@@ -318,6 +337,7 @@ fn scenario_number(
             .map_err(|e| Error::config(parameter, format!("reading the scenario's value: {e}")))?,
         reference: &scenario.reference,
         simulation: &scenario.simulation,
+        walking: scenario.walking.as_ref(),
     };
     let table = toml::Table::try_from(&sections)
         .map_err(|e| Error::config(parameter, format!("reading the scenario's value: {e}")))?;
@@ -325,7 +345,9 @@ fn scenario_number(
     for part in parameter.split('.') {
         value = value.and_then(|v| v.get(part));
     }
-    Ok(value.cloned())
+    Ok(value
+        .cloned()
+        .or_else(|| scenario.origin.given_value(parameter)))
 }
 
 /// The name the range's errors give it: the arguments of [`stability_margin_report`].
@@ -620,4 +642,47 @@ pub fn stability_margin(
     let report =
         stability_margin_report(path, overrides, parameter, lower, upper, &options, watch)?;
     Ok(report.boundaries)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A report of eigen evaluations with these growth rates (`None`: a simulation's verdict).
+    fn report_of(growths: &[Option<f64>]) -> MarginReport {
+        let samples = growths
+            .iter()
+            .enumerate()
+            .map(|(k, &growth_rate)| MarginSample {
+                value: k as f64,
+                stable: growth_rate.is_some_and(|g| g < 0.0),
+                growth_rate,
+                no_equilibrium_residual: None,
+            })
+            .collect();
+        MarginReport {
+            parameter: "walking.com_height".into(),
+            method: MarginMethod::Eigen,
+            range: [0.0, 1.0],
+            own_value: None,
+            boundaries: Vec::new(),
+            boundaries_beside_no_equilibrium: Vec::new(),
+            integer: false,
+            samples,
+            interrupted: false,
+        }
+    }
+
+    #[test]
+    fn a_growth_rate_the_same_at_three_evaluations_or_more_is_unchanged() {
+        let g = Some(4e-4);
+        assert!(report_of(&[g, g, g]).growth_unchanged());
+        assert!(!report_of(&[g, g]).growth_unchanged(), "two are too few");
+        assert!(!report_of(&[g, g, Some(4.000001e-4)]).growth_unchanged());
+        assert!(
+            !report_of(&[None, None, None]).growth_unchanged(),
+            "simulated"
+        );
+        assert!(!report_of(&[]).growth_unchanged());
+    }
 }

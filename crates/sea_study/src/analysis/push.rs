@@ -522,21 +522,26 @@ pub fn impulses_recovered_up_to(
     Some(up_to)
 }
 
-/// Checks fixed impulses: at least one, each finite and non-negative [N s]; the error names
-/// `impulses` and the value.
+/// The largest fixed impulse a push table takes [N s]: far beyond any humanoid's recovery (the
+/// iCub's capture-point bound is about 13 N s); near `f64::MAX` the pushing force (the
+/// impulse over the push's duration) would overflow to infinity.
+pub const MAX_IMPULSE: f64 = 1e6;
+
+/// Checks fixed impulses: at least one, each finite, non-negative and at most
+/// [`MAX_IMPULSE`] [N s]; the error names `impulses` and the value.
 pub fn check_impulses(impulses: &[f64]) -> Result<()> {
     if impulses.is_empty() {
         return Err(
             sea_dyn::Error::invalid("impulses", "at least one impulse [N s]", "none").into(),
         );
     }
-    match impulses.iter().find(|i| !(i.is_finite() && **i >= 0.0)) {
-        Some(bad) => {
-            Err(
-                sea_dyn::Error::invalid("impulses", "finite, non-negative impulses [N s]", *bad)
-                    .into(),
-            )
-        }
+    match impulses.iter().find(|i| !(0.0..=MAX_IMPULSE).contains(*i)) {
+        Some(bad) => Err(sea_dyn::Error::invalid(
+            "impulses",
+            "non-negative impulses of at most 1e6 N s",
+            *bad,
+        )
+        .into()),
         None => Ok(()),
     }
 }
@@ -670,12 +675,13 @@ mod tests {
 
     #[test]
     fn fixed_impulses_are_refused_when_none_negative_or_not_finite_naming_the_flag() {
-        assert!(check_impulses(&[0.0, 2.5]).is_ok());
+        assert!(check_impulses(&[0.0, 2.5, MAX_IMPULSE]).is_ok());
         for bad in [
             &[][..],
             &[1.0, -1.0][..],
             &[f64::NAN][..],
             &[f64::INFINITY][..],
+            &[1e308][..],
         ] {
             let message = check_impulses(bad).unwrap_err().to_string();
             assert!(message.contains("impulses"), "{bad:?}: {message}");

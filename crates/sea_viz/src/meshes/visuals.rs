@@ -144,6 +144,15 @@ pub fn robot_visuals(
                 urdf_rs::Geometry::Sphere { radius } => Shape::Sphere { radius: *radius },
                 urdf_rs::Geometry::Capsule { .. } => continue,
                 urdf_rs::Geometry::Mesh { filename, scale } => {
+                    let scale = scale.as_ref().map_or([1.0; 3], |s| s.0);
+                    if let Some(reason) = non_finite_placement(&visual.origin, scale) {
+                        found.warnings.push(MeshWarning {
+                            link: link.name.clone(),
+                            uri: filename.clone(),
+                            reason,
+                        });
+                        continue;
+                    }
                     match options.package_dirs.resolve(filename, options.urdf_dir) {
                         Ok(file) => pending.push(PendingMesh {
                             index: found.visuals.len(),
@@ -151,7 +160,7 @@ pub fn robot_visuals(
                             link: link.name.clone(),
                             uri: filename.clone(),
                             placement: Placement {
-                                scale: scale.as_ref().map_or([1.0; 3], |s| s.0),
+                                scale,
                                 ..link_placement
                             },
                         }),
@@ -230,6 +239,18 @@ fn fill_meshes(found: &mut RobotVisuals, pending: Vec<PendingMesh>, budget: usiz
         .extend(unreadable.into_iter().map(|(_, warning)| warning));
 }
 
+/// Why a mesh at `origin` with `scale` cannot be placed (a number of either not finite, which
+/// would make every vertex NaN); `None` when it can.
+fn non_finite_placement(origin: &urdf_rs::Pose, scale: [f64; 3]) -> Option<String> {
+    let mut numbers = origin.xyz.0.iter().chain(&origin.rpy.0).chain(&scale);
+    (!numbers.all(|v| v.is_finite())).then(|| {
+        format!(
+            "its origin (xyz {:?}, rpy {:?}) or scale {scale:?} is not finite",
+            origin.xyz.0, origin.rpy.0
+        )
+    })
+}
+
 /// The visual's `<origin>` as a placement (URDF rpy: fixed axes x, y, z).
 fn origin_placement(origin: &urdf_rs::Pose) -> Placement {
     let [roll, pitch, yaw] = origin.rpy.0;
@@ -302,7 +323,8 @@ mod tests {
     }
 
     /// A robot whose `base` has a box, the STL `pkg/meshes/a.stl` through `package://` (twice,
-    /// scaled by 2 the second time), a missing file and an unknown package.
+    /// scaled by 2 the second time), a missing file, an unknown package and the STL again with
+    /// a NaN scale.
     fn robot(dir: &Path) -> urdf_rs::Robot {
         std::fs::create_dir_all(dir.join("pkg/meshes")).unwrap();
         std::fs::write(dir.join("pkg/meshes/a.stl"), strip_stl(100)).unwrap();
@@ -314,11 +336,12 @@ mod tests {
         let text = format!(
             r#"<robot name="r"><link name="base">
             <visual><geometry><box size="1 2 3"/></geometry></visual>
-            {}{}{}{}</link></robot>"#,
+            {}{}{}{}{}</link></robot>"#,
             mesh("package://pkg/meshes/a.stl", "1 1 1"),
             mesh("package://pkg/meshes/a.stl", "2 2 2"),
             mesh("missing.stl", "1 1 1"),
             mesh("package://nowhere/a.stl", "1 1 1"),
+            mesh("package://pkg/meshes/a.stl", "nan 1 1"),
         );
         urdf_rs::read_from_string(&text).unwrap()
     }
@@ -353,12 +376,16 @@ mod tests {
             assert!(mesh.positions.iter().all(|p| p[2] == 1.0));
         }
         let warnings: Vec<String> = found.warnings.iter().map(ToString::to_string).collect();
-        assert_eq!(warnings.len(), 2, "{warnings:?}");
-        assert!(warnings[0].starts_with("link 'base': mesh 'missing.stl' not drawn: "));
-        assert!(warnings[1].contains("package://nowhere/a.stl"));
+        assert_eq!(warnings.len(), 3, "{warnings:?}");
+        let warned = |text: &str| warnings.iter().find(|w| w.contains(text)).unwrap();
+        assert!(warned("missing.stl").starts_with("link 'base': mesh 'missing.stl' not drawn: "));
         assert!(
-            warnings[1].contains(&dir.display().to_string()),
+            warned("package://nowhere/a.stl").contains(&dir.display().to_string()),
             "the dirs searched"
+        );
+        assert!(
+            warned("NaN").contains("'package://pkg/meshes/a.stl' not drawn: its origin"),
+            "{warnings:?}"
         );
         std::fs::remove_dir_all(dir).unwrap();
     }

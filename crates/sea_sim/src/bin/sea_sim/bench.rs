@@ -1,6 +1,6 @@
 //! `sea-sim bench`: the dynamics algorithms, the controller tick and the closed loop timed.
 
-use crate::common::{parse_key_value, print_out};
+use crate::common::{parse_key_value, print_out, say};
 use clap::Args;
 use sea_dyn::{LoadOptions, Model};
 use sea_sim::bench::DynamicsBench;
@@ -92,6 +92,7 @@ fn bench_urdf(args: &BenchArgs, urdf: &Path) -> sea_sim::Result<Benched> {
         ..Default::default()
     };
     let model = Model::from_urdf_file(urdf, &options)?;
+    warn_of_doubts(urdf, &model);
     let (batches, calls) = (args.batches as usize, args.calls as usize);
     let mut result = sea_sim::bench::bench_dynamics(&model, batches, calls);
     let urdf = urdf.display().to_string();
@@ -105,12 +106,21 @@ fn bench_urdf(args: &BenchArgs, urdf: &Path) -> sea_sim::Result<Benched> {
     Ok((("urdf", urdf), model, result))
 }
 
+/// Says on stderr each URDF element of `model` (from `urdf`) that a run warns of
+/// (`sea_sim::scenario::build::model_warnings`).
+fn warn_of_doubts(urdf: &Path, model: &Model) {
+    for warning in sea_sim::scenario::build::model_warnings(urdf, model) {
+        say(format_args!("warning: {warning}"));
+    }
+}
+
 /// The dynamics of the robot of the scenario at `path`, one tick of its controller and its
 /// first simulated second (`sea_sim::bench::bench_scenario_controller`, `bench_scenario_second`).
 fn bench_scenario(args: &BenchArgs, path: &Path) -> sea_sim::Result<Benched> {
     let scenario = sea_sim::scenario::Scenario::from_file(path, &args.overrides)?;
     let mut ticks = sea_sim::bench::TickBench::try_new(&scenario)?;
     let model = ticks.model().clone();
+    warn_of_doubts(&scenario.urdf_path(), &model);
     let (batches, calls) = (args.batches as usize, args.calls as usize);
     let mut result = sea_sim::bench::bench_dynamics(&model, batches, calls);
     let tick = sea_sim::bench::bench_scenario_controller(&mut ticks, batches, calls / 20 + 1)?;

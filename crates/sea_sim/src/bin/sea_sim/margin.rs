@@ -115,10 +115,8 @@ pub(crate) fn run_margin(args: &MarginArgs, interrupts: &Interrupts) -> sea_sim:
     use sea_sim::analysis::margin::{stability_margin_report, MarginMethod};
     let out = match &args.out {
         Some(path) => {
-            check_distinct(
-                &[("the scenario file", args.scenario.as_path())],
-                &[("--out", path)],
-            )?;
+            let scenario = sea_sim::scenario::Scenario::from_file(&args.scenario, &args.overrides)?;
+            check_distinct(&scenario.input_files(), &[("--out", path)])?;
             Some(OutputFile::create(path)?)
         }
         None => None,
@@ -203,6 +201,7 @@ fn margin_json(report: &MarginReport) -> serde_json::Value {
         "evaluations": report.evaluations(),
         "evaluations_without_equilibrium": report.without_equilibrium().count(),
         "boundaries_beside_no_equilibrium": report.boundaries_beside_no_equilibrium,
+        "growth_unchanged": report.growth_unchanged(),
         "samples": samples,
         "interrupted": report.interrupted,
     })
@@ -271,6 +270,13 @@ pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -
         (None, _, _) => "; the scenario's own value is not a readable number".to_string(),
     };
     text += &no_equilibrium_warning(report).unwrap_or_default();
+    if report.growth_unchanged() {
+        text += &format!(
+            "; but the growth rate is the same at every evaluation: {} does not enter the \
+             linearisation about the standing equilibrium (judge with --method simulate)",
+            report.parameter
+        );
+    }
     text
 }
 

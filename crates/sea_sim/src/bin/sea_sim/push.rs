@@ -67,7 +67,7 @@ pub(crate) struct PushArgs {
     #[arg(long, default_value_t = PushOptions::default().tolerance_n_s, value_parser = parse_positive)]
     tolerance: f64,
     /// Instead of the bisection, push once at each of these impulses [N s], comma-separated
-    /// (finite, non-negative), e.g. `--impulses 1,2,3,4`: every outcome is reported, so
+    /// (non-negative, at most 1e6 N s), e.g. `--impulses 1,2,3,4`: every outcome is reported, so
     /// islands of recovery above a failure show (all runs in parallel).
     #[arg(long, value_delimiter = ',', conflicts_with = "tolerance")]
     impulses: Option<Vec<f64>>,

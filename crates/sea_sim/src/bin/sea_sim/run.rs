@@ -50,11 +50,7 @@ pub(crate) struct Outputs {
 
 /// Checks that no output is an input or another output, then opens them.
 pub(crate) fn open_outputs(args: &RunArgs, scenario: &Scenario) -> sea_sim::Result<Outputs> {
-    let urdf = scenario.resolve(&scenario.robot.urdf);
-    let inputs = [
-        ("the scenario file", args.scenario.as_path()),
-        ("the URDF", urdf.as_path()),
-    ];
+    let inputs = scenario.input_files();
     let outputs: Vec<(&str, &Path)> = [("--mcap", &args.mcap), ("--summary", &args.summary)]
         .into_iter()
         .filter_map(|(role, path)| path.as_deref().map(|p| (role, p)))

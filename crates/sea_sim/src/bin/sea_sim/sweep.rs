@@ -68,14 +68,8 @@ pub(crate) fn run_sweep_command(
     use sea_sim::sweep::{run_sweep, write_csv, Grid};
     let grid = Grid::parse(&args.grid)?;
     let scenario = Scenario::from_file(&args.scenario, &args.overrides)?;
-    let urdf = scenario.resolve(&scenario.robot.urdf);
-    check_distinct(
-        &[
-            ("the scenario file", args.scenario.as_path()),
-            ("the URDF", urdf.as_path()),
-        ],
-        &[("--out", args.out.as_path())],
-    )?;
+    let inputs = scenario.input_files();
+    check_distinct(&inputs, &[("--out", args.out.as_path())])?;
     let mut out = OutputFile::create(&args.out)?;
     let keys = grid.keys();
     if !args.quiet {
