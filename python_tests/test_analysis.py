@@ -85,6 +85,13 @@ def test_a_margin_on_the_ground_warns_that_newton_found_no_equilibrium():
     assert warning.filename == __file__  # the caller's line
 
 
+def test_a_key_outside_the_linearisation_warns_that_the_growth_rate_never_changes():
+    # The noise's seed changes nothing about the noiseless standing equilibrium.
+    with pytest.warns(RuntimeWarning, match="sensing.seed: the growth rate is the same") as caught:
+        sm.stability_margin(TRACKING, "sensing.seed", 1.0, 5.0, grid_points=3)
+    assert caught[0].filename == __file__  # the caller's line
+
+
 def test_a_nan_residual_reads_as_nan_in_the_warning():
     from sea_momentum.analysis import _exponent
 

@@ -83,6 +83,32 @@ def test_a_single_folder_as_package_dirs_is_a_type_error_naming_it():
         sm.run_scenario(TRACKING, {"simulation.duration_s": 0.002}, package_dirs="/tmp")
 
 
+def test_a_package_dir_that_is_no_folder_is_a_value_error_naming_it(tmp_path):
+    a_file = tmp_path / "file.txt"
+    a_file.write_text("")
+    for bad, why in ((tmp_path / "missing", "No such file"), (a_file, "a file")):
+        with pytest.raises(ValueError, match=why) as run:
+            sm.run_scenario(TRACKING, {"simulation.duration_s": 0.002}, package_dirs=[bad])
+        assert run.value.argument == "package_dirs" and str(bad) in str(run.value)
+        with pytest.raises(ValueError, match=why) as meshes:
+            _native.link_meshes(str(ROOT / "urdf" / "icub25.urdf"), package_dirs=[bad])
+        assert meshes.value.argument == "package_dirs"
+
+
+def test_a_run_warns_of_the_urdf_elements_the_model_doubts(tmp_path):
+    elbow = 'lower="0.2617993877991494" upper="1.8500490071139892"'
+    text = (ROOT / "urdf" / "icub25.urdf").read_text()
+    assert elbow in text
+    urdf = tmp_path / "inverted.urdf"
+    urdf.write_text(text.replace(elbow, 'lower="1.85" upper="0.26"'))
+    inverted = {"simulation.duration_s": 0.002, "robot.urdf": str(urdf)}
+    pattern = r"inverted\.urdf: joint 'l_elbow': .* taken as unlimited"
+    with pytest.warns(UserWarning, match=pattern):
+        sm.Scenario.load(TRACKING, inverted)
+    with pytest.warns(UserWarning, match=pattern):
+        sm.run_scenario(TRACKING, inverted)
+
+
 def test_a_control_period_longer_than_the_run_names_the_rate():
     # A run of 0.05 s at 1 Hz would tick never and report the run completed.
     sampled = {"simulation.duration_s": 0.05, "controller.sampling": "zero_order_hold"}

@@ -11,6 +11,7 @@ import subprocess
 import sys
 import textwrap
 import time
+import warnings
 from pathlib import Path
 
 import pytest
@@ -75,6 +76,13 @@ def test_a_run_that_ends_soon_after_the_push_is_warned_of():
     # 0.1 s of run after the push: a push that fells the robot may not have fallen yet.
     with pytest.warns(UserWarning, match=r"ends 0\.100 s after the push.*about 1 s"):
         sm.push_table(STANDING, "left", impulses=[0.0], overrides={"simulation.duration_s": 1.2})
+    # Bad impulses are refused before that warning (and a 1e308 one named in exponent form).
+    for bad, shown in ((-1.0, "-1"), (1e308, "1e308")):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            with pytest.raises(ValueError, match=f"got {shown}") as refused:
+                sm.push_table(STANDING, "left", impulses=[bad], overrides={"simulation.duration_s": 1.2})
+        assert refused.value.argument == "impulses"
 
 
 @pytest.mark.parametrize(

@@ -314,7 +314,8 @@ def run_scenario_native(
     package_dirs: Sequence[str] | None = None,
 ) -> dict[str, object]:
     """Runs a TOML scenario natively (GIL released); use ``sea_momentum.run_scenario``.
-    ``package_dirs`` are searched first for the URDF's ``package://`` meshes of the log.
+    ``package_dirs`` (existing folders: a missing one or a file raises ``ValueError`` naming
+    ``package_dirs``) are searched first for the URDF's ``package://`` meshes of the log.
     ``mcap`` is written as ``.NAME.partial`` beside it and renamed over it when the run ends
     (completed, diverged or interrupted); an error leaves an earlier file untouched.
 
@@ -385,8 +386,9 @@ def link_meshes(
     triangles for the whole robot: ``(meshes, warnings)``, ``meshes`` a list of ``(link,
     vertices (n, 3) float64 in the link frame [m], triangles (m, 3) int64, rgba)``, ``warnings``
     one message per mesh not drawn (link, URI, why). ``package://`` URIs are looked up in
-    ``package_dirs``, then ROS_PACKAGE_PATH, AMENT/CMAKE_PREFIX_PATH, the Python environment's
-    cmeel prefix, then above the URDF. ``strict=True`` raises ``ModelError`` instead of
+    ``package_dirs`` (existing folders, as ``run_scenario_native``'s), then ROS_PACKAGE_PATH,
+    AMENT/CMAKE_PREFIX_PATH, the Python environment's cmeel prefix, then above the URDF; a
+    mesh's origin or scale that is not finite is a warning. ``strict=True`` raises ``ModelError`` instead of
     warning; an unreadable URDF raises ``SeaIOError`` or ``ModelError``."""
 
 def cpu_supports_x86_64_v3() -> bool:
@@ -427,8 +429,10 @@ def stability_margin_native(
     containing the own value, or None), ``method``, ``evaluations`` and ``samples`` (list of
     (value, stable, growth_rate or None)), ``no_equilibrium`` (list of (value, residual): the
     eigen evaluations where Newton's method found no equilibrium, residual above 1e-3) and
-    ``boundaries_beside_no_equilibrium`` (the boundaries next to one of those). Ctrl-C stops
-    the scan and raises ``KeyboardInterrupt``."""
+    ``boundaries_beside_no_equilibrium`` (the boundaries next to one of those), and
+    ``growth_unchanged`` (the growth rate the same at every one of three or more eigen
+    evaluations: the parameter does not enter the linearisation). Ctrl-C stops the scan and
+    raises ``KeyboardInterrupt``."""
 
 def push_table_native(
     path: str,
@@ -644,7 +648,8 @@ class Scenario:
     @staticmethod
     def load(path: str | PathLike[str], overrides: Mapping[str, object] | None = None) -> Scenario:
         """Builds the scenario file ``path`` with ``overrides`` ({"controller.kind": "rigid"}).
-        A walking command the step limits clip is a ``UserWarning`` naming the keys."""
+        A walking command the step limits clip is a ``UserWarning`` naming the keys, and so is
+        each URDF element the model doubts (as ``Model.from_urdf`` warns, not point masses)."""
     @property
     def name(self) -> str:
         """The scenario's name."""

@@ -136,7 +136,9 @@ def stability_margin(
     method found no equilibrium (its residual above 1e-3), whose verdicts do not judge
     stability, and the boundaries next to them, which may be the edge of the equilibria (feet
     creeping on the compliant ground have none: where the scenario allows, weld them with
-    ``{"plant.contact_model": "bilateral"}``, or use ``method="simulate"``).
+    ``{"plant.contact_model": "bilateral"}``, or use ``method="simulate"``); another, an eigen
+    scan whose growth rate is the same at every evaluation (three or more): the parameter
+    does not enter the linearisation about the standing equilibrium (a ``walking.*`` key).
     """
     report = stability_margin_native(
         os.fspath(scenario),
@@ -150,6 +152,7 @@ def stability_margin(
         log_grid,
     )
     _warn_without_equilibrium(parameter, report)
+    _warn_growth_unchanged(parameter, report)
     return list(cast("list[float]", report["boundaries"]))
 
 
@@ -160,6 +163,18 @@ def _exponent(value: float) -> str:
         return f"{value}"
     mantissa, exponent = f"{value:.2e}".split("e")
     return f"{mantissa}e{int(exponent)}"
+
+
+def _warn_growth_unchanged(parameter: str, report: Mapping[str, object]) -> None:
+    """The ``RuntimeWarning`` of an eigen scan whose growth rate is the same at every
+    evaluation: the parameter does not enter the linearisation (a ``walking.*`` key)."""
+    if report["growth_unchanged"]:
+        warnings.warn(
+            f"{parameter}: the growth rate is the same at every evaluation: the parameter does "
+            "not enter the linearisation about the standing equilibrium (use method='simulate')",
+            RuntimeWarning,
+            stacklevel=3,
+        )
 
 
 def _warn_without_equilibrium(parameter: str, report: Mapping[str, object]) -> None:

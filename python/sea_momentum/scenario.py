@@ -166,8 +166,10 @@ def run_scenario(
     ``ValueError`` naming the key. ``mcap`` writes a Foxglove-ready log (finished even when the
     run diverges), written beside its path as ``.NAME.partial`` and renamed over it when the
     run ends, so that a run that fails leaves an earlier file at the path untouched; the path
-    must be a regular file (not ``/dev/null``), and neither the scenario nor its URDF (a
-    ``SeaIOError`` naming it). A disturbance that starts at or after the run's end is a
+    must be a regular file (not ``/dev/null``), and none of the scenario's input files (the
+    scenario, its robot description's file, its URDF; a ``SeaIOError`` naming it). Each URDF
+    element the model doubts (as ``Model.from_urdf`` warns of them, not point masses) is a
+    ``UserWarning`` naming the URDF and the element. A disturbance that starts at or after the run's end is a
     ``UserWarning`` naming it. A diverged run is not an error: see ``result.status`` and ``result.summary``
     (a :class:`~sea_momentum.results.RunSummary`). ``package_dirs`` are searched first for the
     URDF's ``package://`` meshes drawn in the log (as ``sea-sim run --package-dir``); a mesh

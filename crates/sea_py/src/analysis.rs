@@ -179,5 +179,6 @@ pub fn stability_margin_native<'py>(
         "boundaries_beside_no_equilibrium",
         report.boundaries_beside_no_equilibrium.clone(),
     )?;
+    d.set_item("growth_unchanged", report.growth_unchanged())?;
     Ok(d)
 }

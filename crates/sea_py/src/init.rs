@@ -63,7 +63,7 @@ pub fn init_scenario<'py>(
         urdf,
         contacts,
         foot,
-        package_dirs: package_dirs.unwrap_or_default(),
+        package_dirs: crate::paths::package_dirs(package_dirs)?,
         out,
         name: None,
         walking,

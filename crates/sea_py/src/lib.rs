@@ -18,6 +18,7 @@ mod interrupt;
 mod model;
 mod numbers;
 mod overrides;
+mod paths;
 mod plant;
 mod push;
 mod scenario;

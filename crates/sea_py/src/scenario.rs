@@ -36,7 +36,7 @@ pub fn run_scenario_native<'py>(
     progress: bool,
     package_dirs: Option<Vec<PathBuf>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let package_dirs = package_dirs.unwrap_or_default();
+    let package_dirs = crate::paths::package_dirs(package_dirs)?;
     let pairs = crate::overrides::override_pairs(overrides)?;
     let scenario = sea_sim::scenario::Scenario::from_file(&path, &pairs).map_err(to_py)?;
     let (built, interrupt) = run_interruptible(py, |_| build(&scenario))?;

@@ -41,7 +41,7 @@ pub fn link_meshes<'py>(
         .ok()
         .filter(|b| *b > 0)
         .ok_or_else(|| argument_error("triangle_budget", "a positive integer", triangle_budget))?;
-    let dirs = package_dirs.unwrap_or_default();
+    let dirs = crate::paths::package_dirs(package_dirs)?;
     let visuals = py
         .detach(|| urdf_file_visuals(&urdf, &dirs, budget))
         .map_err(to_py)?;

@@ -49,11 +49,7 @@ impl Origin {
         for (k, v) in &self.overrides {
             crate::parse::apply_override(&mut root, k, v).ok()?;
         }
-        let mut value = Some(toml::Value::Table(root));
-        for part in key.split('.') {
-            value = value.and_then(|v| v.get(part).cloned());
-        }
-        value
+        crate::parse::lookup(&root, key).cloned()
     }
 
     /// A scenario key's `error` with the line of its key in the text (unless an override set

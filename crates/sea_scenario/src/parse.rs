@@ -106,7 +106,7 @@ pub fn read_value<T: DeserializeOwned>(value: toml::Value) -> TableResult<T> {
 }
 
 /// The value at the dotted `key` of `root`.
-fn lookup<'a>(root: &'a toml::Table, key: &str) -> Option<&'a toml::Value> {
+pub(crate) fn lookup<'a>(root: &'a toml::Table, key: &str) -> Option<&'a toml::Value> {
     let (tables, last) = match key.rsplit_once('.') {
         Some((tables, last)) => (Some(tables), last),
         None => (None, key),

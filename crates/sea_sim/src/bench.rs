@@ -335,6 +335,12 @@ impl TickBench {
         TickBench::new(&two_feet_scenario(urdf, &controller, "")?)
     }
 
+    /// What the scenario's build warns of (its URDF's doubtful elements, a walking command the
+    /// step limits clip), one message each, as `sea-sim run` prints them.
+    pub fn warnings(&self) -> &[String] {
+        &self.setup.warnings
+    }
+
     /// The scenario's robot model.
     pub fn model(&self) -> &Model {
         &self.setup.model

@@ -1024,6 +1024,28 @@ fn margin_reports_the_damping_boundary_as_json() {
     assert_eq!(given["evaluations"].as_u64(), Some(3), "{given}");
     assert_eq!(given["growth_unchanged"], false, "{given}");
 
+    // A walking key: its own value as parsed, and the linearisation about the standing
+    // equilibrium leaves it out, which the verdict says.
+    let walk = format!("{REPO}/scenarios/walking/walk_straight.toml");
+    let walking = sea_sim(&[
+        "margin",
+        &walk,
+        "--param",
+        "walking.com_height",
+        "--range",
+        "0.4:0.6",
+        "--points",
+        "3",
+        "-q",
+    ]);
+    let verdict = text(&walking.stdout);
+    assert_eq!(walking.status.code(), Some(0), "{}", text(&walking.stderr));
+    assert!(
+        verdict.contains("own value 0.53 ")
+            && verdict.contains("walking.com_height does not enter the linearisation"),
+        "{verdict}"
+    );
+
     let bad = sea_sim(&["margin", &ws.scenario(), "--param", "x", "--range", "1"]);
     assert_eq!(bad.status.code(), Some(1));
     assert!(text(&bad.stderr).contains("LOWER:UPPER"));

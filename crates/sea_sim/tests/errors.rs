@@ -278,3 +278,23 @@ fn an_error_in_an_inline_robot_description_names_its_key_and_line() {
         "line {line}: {message}"
     );
 }
+
+/// A relative URDF path found neither beside the scenario nor from the working directory is
+/// named from the scenario's folder, where a scenario's relative paths belong.
+#[test]
+fn a_urdf_found_nowhere_is_named_from_the_scenarios_folder() {
+    let dir = std::env::temp_dir().join(format!("sea_sim_nowhere_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("moved.toml");
+    let text = std::fs::read_to_string(tracking()).unwrap();
+    let text = text.replace("../../urdf/icub25.urdf", "../nowhere/robot.urdf");
+    std::fs::write(&path, text).unwrap();
+    let scenario = Scenario::from_file(&path, &[]).unwrap();
+    let message = build(&scenario).err().expect("no URDF").to_string();
+    let expected = dir.join("../nowhere/robot.urdf");
+    assert!(
+        message.starts_with(&format!("{}: No such file", expected.display())),
+        "{message}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

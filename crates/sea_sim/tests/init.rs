@@ -182,11 +182,11 @@ fn a_robot_that_cannot_stand_is_refused() {
     std::fs::remove_dir_all(urdf_dir).unwrap();
 }
 
-/// A link whose inertia has a negative principal moment (the mini biped's torso with
-/// `ixx = -0.02`) is refused naming the link: its joints' inertias, which size the postural
-/// gains, could be negative, and the scenario written would not run.
+/// A joint whose inertia standing is negative (it moves the mini biped's torso, given
+/// principal moments of -1 kg m^2) is refused naming it: its postural gain would be
+/// negative, and the scenario written would not run.
 #[test]
-fn a_link_with_a_negative_principal_inertia_is_refused_naming_it() {
+fn a_joint_whose_inertia_is_negative_is_refused_naming_it() {
     let dir = folder("negative_inertia");
     let urdf_dir = folder("negative_inertia_urdf");
     let urdf = urdf_dir.join("negative.urdf");
@@ -195,18 +195,15 @@ fn a_link_with_a_negative_principal_inertia_is_refused_naming_it() {
         y: [-0.03, 0.03],
     };
     let text = std::fs::read_to_string(mini_biped_options(&dir, foot).urdf).unwrap();
-    let torso = r#"<inertia ixx="0.0213542" ixy="0" ixz="-0.0008""#;
+    let torso = r#"ixx="0.0213542" ixy="0" ixz="-0.0008" iyy="0.0160208" iyz="0" izz="0.0113333""#;
     assert!(text.contains(torso), "the torso's inertia");
-    std::fs::write(
-        &urdf,
-        text.replace(torso, r#"<inertia ixx="-0.02" ixy="0" ixz="-0.0008""#),
-    )
-    .unwrap();
+    let negative = r#"ixx="-1" ixy="0" ixz="-0.0008" iyy="-1" iyz="0" izz="-1""#;
+    std::fs::write(&urdf, text.replace(torso, negative)).unwrap();
     let mut options = mini_biped_options(&dir, foot);
     options.urdf = urdf.display().to_string();
     let message = refused(&options);
     assert!(
-        message.contains("link 'torso'") && message.contains("not positive semidefinite"),
+        message.contains("joint 'torso_pitch'") && message.contains("negative principal inertia"),
         "{message}"
     );
     std::fs::remove_dir_all(dir).unwrap();

@@ -17,14 +17,31 @@ pub const POSTURAL_FREQUENCY: f64 = 3.0;
 pub const ICUB_MASS: f64 = 33.06;
 
 /// The postural stiffness of each joint at the configuration `q` [Nm/rad].
-pub fn postural_stiffness(model: &Model, q: &[f64], regularization: f64) -> Vec<f64> {
+///
+/// Errors: a joint whose inertia (with the regularisation) is not positive, naming it: a link
+/// it moves has a negative principal inertia (a model warning), and its gain would be too.
+pub fn postural_stiffness(
+    model: &Model,
+    q: &[f64],
+    regularization: f64,
+) -> sea_dyn::Result<Vec<f64>> {
     let mut data = Data::new(model);
     let mass_matrix = sea_dyn::crba(model, &mut data, q);
     let omega2 = POSTURAL_FREQUENCY * POSTURAL_FREQUENCY;
     (0..model.n_joints())
         .map(|k| {
             let inertia = mass_matrix[(6 + k, 6 + k)] + regularization;
-            (omega2 * inertia * 1e3).round() / 1e3
+            if inertia > 0.0 {
+                return Ok((omega2 * inertia * 1e3).round() / 1e3);
+            }
+            Err(sea_dyn::Error::model(
+                format!("joint '{}'", model.joint_names[k]),
+                format!(
+                    "its inertia standing is {inertia:.4} kg m^2: a link it moves has a \
+                     negative principal inertia (see the warnings), and its postural gain \
+                     would be negative"
+                ),
+            ))
         })
         .collect()
 }

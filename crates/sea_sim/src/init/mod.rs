@@ -26,7 +26,7 @@ use crate::error::{Error, Result};
 use crate::scenario::robots::{add_contact_frames, ContactSpec, FootRectangle};
 use nalgebra::DMatrix;
 use sea_ctrl::redundant_contacts::RANK_TOLERANCE;
-use sea_dyn::{Data, FrameId, LoadOptions, Model, PackageDirs, WarningKind};
+use sea_dyn::{Data, FrameId, LoadOptions, Model, PackageDirs};
 use std::path::{Path, PathBuf};
 
 /// What `sea-sim init` is given.
@@ -164,7 +164,6 @@ pub fn init_unless_stopped(
         return Ok(None);
     }
     let mut model = Model::from_urdf_str(&text, &LoadOptions::default())
-        .and_then(refuse_unphysical_inertia)
         .map_err(|e| Error::from(e.in_file(&urdf_file)))?;
     if stopped() {
         return Ok(None);
@@ -315,21 +314,6 @@ pub fn two_feet_rank(model: &Model, feet: [FrameId; 2], standing: &posture::Stan
         .iter()
         .filter(|&&s| s > RANK_TOLERANCE * largest)
         .count()
-}
-
-/// `model` unless a link's rotational inertia has a negative principal moment
-/// ([`WarningKind::InertiaNotPositiveSemidefinite`]): the joint inertias the postural gains
-/// are sized with could then be negative, and the written scenario would not run. The error
-/// names the link.
-fn refuse_unphysical_inertia(model: Model) -> sea_dyn::Result<Model> {
-    let unphysical = model
-        .warnings
-        .iter()
-        .find(|warning| warning.kind == WarningKind::InertiaNotPositiveSemidefinite);
-    match unphysical {
-        Some(warning) => Err(warning.clone().into_error()),
-        None => Ok(model),
-    }
 }
 
 /// The URDF file of `urdf` (a path or a URI); an error names the argument.

@@ -73,7 +73,7 @@ fn describe(options: &InitOptions, model: &Model, body: &Body<'_>) -> Result<Rob
     q[7..].copy_from_slice(&standing.joints);
     let elastic = actuators::scaled_actuators(body.standing_torques);
     let regularization = gains::joint_inertia_regularization(model.total_mass());
-    let stiffness = gains::postural_stiffness(model, &q, regularization);
+    let stiffness = gains::postural_stiffness(model, &q, regularization)?;
     let paper = icub();
     Ok(RobotDescription {
         urdf: Some(urdf_as_written(&options.urdf, &options.out)),

@@ -305,9 +305,9 @@ struct ParsedSections<'a> {
 /// The value of the numeric key `parameter` (dotted, e.g. `controller.stiffness_estimate_scale`)
 /// in the scenario at `path` with `overrides`, the schema's default when the file does not set
 /// it. Reads the keys of `[sensing]`, `[plant]`, `[controller]`, `[reference]`,
-/// `[simulation]` and `[walking]` as parsed; any other key (`actuators.damping`) as the file
-/// and the overrides give it; `Ok(None)` for another key left to its default or one without a
-/// number.
+/// `[simulation]` and (for the paper's iCub) `[walking]` as parsed; any other key
+/// (`actuators.damping`, another robot's `walking.*`) only as the file and the overrides give
+/// it; `Ok(None)` for such a key left to its default, or one without a number.
 pub fn scenario_value(
     path: &Path,
     overrides: &[(String, String)],
@@ -337,7 +337,12 @@ fn scenario_number(
             .map_err(|e| Error::config(parameter, format!("reading the scenario's value: {e}")))?,
         reference: &scenario.reference,
         simulation: &scenario.simulation,
-        walking: scenario.walking.as_ref(),
+        // Another robot's walking keys left out are scaled to it at build: only those the
+        // file gives are its own values then (read below, as given).
+        walking: scenario
+            .walking
+            .as_ref()
+            .filter(|_| scenario.walking_given.is_none()),
     };
     let table = toml::Table::try_from(&sections)
         .map_err(|e| Error::config(parameter, format!("reading the scenario's value: {e}")))?;

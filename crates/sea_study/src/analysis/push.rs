@@ -536,12 +536,16 @@ pub fn check_impulses(impulses: &[f64]) -> Result<()> {
         );
     }
     match impulses.iter().find(|i| !(0.0..=MAX_IMPULSE).contains(*i)) {
-        Some(bad) => Err(sea_dyn::Error::invalid(
-            "impulses",
-            "non-negative impulses of at most 1e6 N s",
-            *bad,
-        )
-        .into()),
+        Some(bad) => {
+            // 1e308 in exponent form, not as its 309 digits.
+            let bad = if bad.abs() >= 1e16 {
+                format!("{bad:e}")
+            } else {
+                bad.to_string()
+            };
+            let expected = "non-negative impulses of at most 1e6 N s";
+            Err(sea_dyn::Error::invalid("impulses", expected, bad).into())
+        }
         None => Ok(()),
     }
 }

@@ -324,7 +324,7 @@ mod tests {
 
     /// A robot whose `base` has a box, the STL `pkg/meshes/a.stl` through `package://` (twice,
     /// scaled by 2 the second time), a missing file, an unknown package and the STL again with
-    /// a NaN scale.
+    /// a NaN scale and with an infinite origin.
     fn robot(dir: &Path) -> urdf_rs::Robot {
         std::fs::create_dir_all(dir.join("pkg/meshes")).unwrap();
         std::fs::write(dir.join("pkg/meshes/a.stl"), strip_stl(100)).unwrap();
@@ -336,7 +336,9 @@ mod tests {
         let text = format!(
             r#"<robot name="r"><link name="base">
             <visual><geometry><box size="1 2 3"/></geometry></visual>
-            {}{}{}{}{}</link></robot>"#,
+            {}{}{}{}{}
+            <visual><origin xyz="0 inf 1"/><geometry><mesh filename="package://pkg/meshes/a.stl"/></geometry></visual>
+            </link></robot>"#,
             mesh("package://pkg/meshes/a.stl", "1 1 1"),
             mesh("package://pkg/meshes/a.stl", "2 2 2"),
             mesh("missing.stl", "1 1 1"),
@@ -376,7 +378,7 @@ mod tests {
             assert!(mesh.positions.iter().all(|p| p[2] == 1.0));
         }
         let warnings: Vec<String> = found.warnings.iter().map(ToString::to_string).collect();
-        assert_eq!(warnings.len(), 3, "{warnings:?}");
+        assert_eq!(warnings.len(), 4, "{warnings:?}");
         let warned = |text: &str| warnings.iter().find(|w| w.contains(text)).unwrap();
         assert!(warned("missing.stl").starts_with("link 'base': mesh 'missing.stl' not drawn: "));
         assert!(
@@ -387,6 +389,7 @@ mod tests {
             warned("NaN").contains("'package://pkg/meshes/a.stl' not drawn: its origin"),
             "{warnings:?}"
         );
+        assert!(warned("inf").contains("not finite"), "{warnings:?}");
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

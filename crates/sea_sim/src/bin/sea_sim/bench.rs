@@ -13,12 +13,13 @@ const MAX_BATCHES: i64 = 100_000;
 /// Most calls per batch: ten million calls of the fastest algorithm take seconds per batch.
 const MAX_CALLS: i64 = 10_000_000;
 
-/// Options of `sea-sim bench`.
+/// Options of `sea-sim bench`: `--urdf` or `--scenario` (one of them, required).
 #[derive(Args, Debug)]
+#[command(group(clap::ArgGroup::new("robot").required(true).args(["urdf", "scenario"])))]
 pub(crate) struct BenchArgs {
     /// Robot URDF: the dynamics, and for the paper's iCub the controller tick and the closed
     /// loop of a two-feet benchmark scenario.
-    #[arg(long, value_name = "PATH", required_unless_present = "scenario")]
+    #[arg(long, value_name = "PATH")]
     urdf: Option<PathBuf>,
     /// Joints to keep, comma separated [default: every joint of the URDF].
     #[arg(
@@ -92,7 +93,10 @@ fn bench_urdf(args: &BenchArgs, urdf: &Path) -> sea_sim::Result<Benched> {
         ..Default::default()
     };
     let model = Model::from_urdf_file(urdf, &options)?;
-    warn_of_doubts(urdf, &model);
+    // Each URDF element a run warns of (`sea_sim::scenario::build::model_warnings`).
+    for warning in sea_sim::scenario::build::model_warnings(urdf, &model) {
+        say(format_args!("warning: {warning}"));
+    }
     let (batches, calls) = (args.batches as usize, args.calls as usize);
     let mut result = sea_sim::bench::bench_dynamics(&model, batches, calls);
     let urdf = urdf.display().to_string();
@@ -106,21 +110,15 @@ fn bench_urdf(args: &BenchArgs, urdf: &Path) -> sea_sim::Result<Benched> {
     Ok((("urdf", urdf), model, result))
 }
 
-/// Says on stderr each URDF element of `model` (from `urdf`) that a run warns of
-/// (`sea_sim::scenario::build::model_warnings`).
-fn warn_of_doubts(urdf: &Path, model: &Model) {
-    for warning in sea_sim::scenario::build::model_warnings(urdf, model) {
-        say(format_args!("warning: {warning}"));
-    }
-}
-
 /// The dynamics of the robot of the scenario at `path`, one tick of its controller and its
 /// first simulated second (`sea_sim::bench::bench_scenario_controller`, `bench_scenario_second`).
 fn bench_scenario(args: &BenchArgs, path: &Path) -> sea_sim::Result<Benched> {
     let scenario = sea_sim::scenario::Scenario::from_file(path, &args.overrides)?;
     let mut ticks = sea_sim::bench::TickBench::try_new(&scenario)?;
     let model = ticks.model().clone();
-    warn_of_doubts(&scenario.urdf_path(), &model);
+    for warning in ticks.warnings() {
+        say(format_args!("warning: {warning}"));
+    }
     let (batches, calls) = (args.batches as usize, args.calls as usize);
     let mut result = sea_sim::bench::bench_dynamics(&model, batches, calls);
     let tick = sea_sim::bench::bench_scenario_controller(&mut ticks, batches, calls / 20 + 1)?;

@@ -36,6 +36,17 @@ fn parse_finite(text: &str, what: &str, accepts: impl Fn(f64) -> bool) -> Result
     }
 }
 
+/// An existing folder (`--package-dir`; clap names the flag in its error): a missing one, or a
+/// file, would be searched in vain.
+pub(crate) fn parse_folder(text: &str) -> Result<std::path::PathBuf, String> {
+    let path = std::path::PathBuf::from(text);
+    match std::fs::metadata(&path) {
+        Ok(meta) if meta.is_dir() => Ok(path),
+        Ok(_) => Err(format!("'{text}' is a file, not a folder")),
+        Err(e) => Err(format!("'{text}': {e}")),
+    }
+}
+
 /// `KEY=VALUE` of `--set`.
 pub(crate) fn parse_key_value(text: &str) -> Result<(String, String), String> {
     let (key, value) = text

@@ -1,6 +1,6 @@
 //! `sea-sim init`: a scenario for a new humanoid from its URDF.
 
-use crate::common::{say, Outcome};
+use crate::common::{parse_folder, say, Outcome};
 use crate::signals::Interrupts;
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -23,7 +23,7 @@ pub(crate) struct InitArgs {
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
     /// A folder searched first for package:// URIs (repeatable).
-    #[arg(long = "package-dir", value_name = "DIR")]
+    #[arg(long = "package-dir", value_name = "DIR", value_parser = parse_folder)]
     package_dirs: Vec<PathBuf>,
     /// Write a walking scenario ([walking] with the defaults scaled to the robot, 8 steps
     /// forward and the stop) instead of the CoM sinusoid [default file: ROBOT_walk.toml].

@@ -9,6 +9,7 @@ use sea_sim::analysis::margin::{
     MarginOptions, MarginReport, MarginSample, MarginWatch, MAX_SCAN_POINTS, MIN_RELATIVE_TOLERANCE,
 };
 use sea_sim::output::{check_distinct, OutputFile};
+use sea_sim::scenario::Scenario;
 use std::path::PathBuf;
 
 /// Options of `sea-sim margin`.
@@ -115,8 +116,12 @@ pub(crate) fn run_margin(args: &MarginArgs, interrupts: &Interrupts) -> sea_sim:
     use sea_sim::analysis::margin::{stability_margin_report, MarginMethod};
     let out = match &args.out {
         Some(path) => {
-            let scenario = sea_sim::scenario::Scenario::from_file(&args.scenario, &args.overrides)?;
-            check_distinct(&scenario.input_files(), &[("--out", path)])?;
+            // A scenario that does not parse is the analysis's error, after the range's.
+            let inputs = match Scenario::from_file(&args.scenario, &args.overrides) {
+                Ok(scenario) => scenario.input_files(),
+                Err(_) => vec![("the scenario file", args.scenario.clone())],
+            };
+            check_distinct(&inputs, &[("--out", path)])?;
             Some(OutputFile::create(path)?)
         }
         None => None,
@@ -270,14 +275,20 @@ pub(crate) fn margin_verdict(report: &sea_sim::analysis::margin::MarginReport) -
         (None, _, _) => "; the scenario's own value is not a readable number".to_string(),
     };
     text += &no_equilibrium_warning(report).unwrap_or_default();
-    if report.growth_unchanged() {
-        text += &format!(
+    text += &growth_unchanged_warning(report).unwrap_or_default();
+    text
+}
+
+/// The warning that closes the verdict when the growth rate is the same at every evaluation
+/// ([`MarginReport::growth_unchanged`]): the parameter does not enter the linearisation.
+fn growth_unchanged_warning(report: &MarginReport) -> Option<String> {
+    report.growth_unchanged().then(|| {
+        format!(
             "; but the growth rate is the same at every evaluation: {} does not enter the \
              linearisation about the standing equilibrium (judge with --method simulate)",
             report.parameter
-        );
-    }
-    text
+        )
+    })
 }
 
 /// The margin report for a reader: the verdict, then every evaluation in value order.

@@ -1,6 +1,6 @@
 //! `sea-sim run`: a scenario's closed loop with its MCAP log, summary and live view.
 
-use crate::common::{parse_key_value, print_out, say, Outcome};
+use crate::common::{parse_folder, parse_key_value, print_out, say, Outcome};
 use crate::progress::Progress;
 use crate::signals::Interrupts;
 use clap::Args;
@@ -38,7 +38,7 @@ pub(crate) struct RunArgs {
     port: u16,
     /// Look for the URDF's `package://` meshes in DIR first (repeatable; then ROS_PACKAGE_PATH,
     /// AMENT/CMAKE_PREFIX_PATH, the Python environment's cmeel prefix, then above the URDF).
-    #[arg(long = "package-dir", value_name = "DIR")]
+    #[arg(long = "package-dir", value_name = "DIR", value_parser = parse_folder)]
     package_dirs: Vec<PathBuf>,
 }
 
