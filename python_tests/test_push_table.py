@@ -81,7 +81,8 @@ def test_a_run_that_ends_soon_after_the_push_is_warned_of():
         with warnings.catch_warnings():
             warnings.simplefilter("error")
             with pytest.raises(ValueError, match=f"got {shown}") as refused:
-                sm.push_table(STANDING, "left", impulses=[bad], overrides={"simulation.duration_s": 1.2})
+                short = {"simulation.duration_s": 1.2}
+                sm.push_table(STANDING, "left", impulses=[bad], overrides=short)
         assert refused.value.argument == "impulses"
 
 

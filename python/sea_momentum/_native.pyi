@@ -371,8 +371,9 @@ def init_scenario(
     standing one when none does). Ctrl-C raises ``KeyboardInterrupt``: before the file is
     written nothing is, during the walk's runs the walk stays written at the standing CoM
     height. A bad ``foot``, a ``urdf`` that cannot be found or read, or ``walk_check=False``
-    without ``walking`` raises ``ValueError`` with ``argument`` naming it; contacts the robot cannot stand on, or that
-    name no frame or link, ``ScenarioError`` naming the element (nothing is written)."""
+    without ``walking`` raises ``ValueError`` with ``argument`` naming it; contacts the robot
+    cannot stand on, or that name no frame or link, ``ScenarioError`` naming the element
+    (nothing is written)."""
 
 # --- The robot's meshes (sea_momentum.pictures) ---
 
@@ -388,8 +389,9 @@ def link_meshes(
     one message per mesh not drawn (link, URI, why). ``package://`` URIs are looked up in
     ``package_dirs`` (existing folders, as ``run_scenario_native``'s), then ROS_PACKAGE_PATH,
     AMENT/CMAKE_PREFIX_PATH, the Python environment's cmeel prefix, then above the URDF; a
-    mesh's origin or scale that is not finite is a warning. ``strict=True`` raises ``ModelError`` instead of
-    warning; an unreadable URDF raises ``SeaIOError`` or ``ModelError``."""
+    mesh's origin or scale that is not finite is a warning. ``strict=True`` raises
+    ``ModelError`` instead of warning; an unreadable URDF raises ``SeaIOError`` or
+    ``ModelError``."""
 
 def cpu_supports_x86_64_v3() -> bool:
     """Whether this CPU and operating system run the x86-64-v3 build (AVX, AVX2, BMI1/2, F16C,

@@ -92,7 +92,8 @@ class PlantRobot:
         self.dt, self.method = scenario.plant_dt, scenario.method
         self.x: FloatArray = np.array(scenario.initial_state if x is None else x, dtype=float)
         if self.x.shape != (self.plant.nx,):
-            raise argument_error("x", f"expected shape ({self.plant.nx},), got shape {list(self.x.shape)}")
+            shape = list(self.x.shape)
+            raise argument_error("x", f"expected shape ({self.plant.nx},), got shape {shape}")
         if external is not None and not callable(external):
             raise TypeError(f"external: expected a function of the time or None, got {external!r}")
         self.external = external

@@ -169,8 +169,8 @@ def run_scenario(
     must be a regular file (not ``/dev/null``), and none of the scenario's input files (the
     scenario, its robot description's file, its URDF; a ``SeaIOError`` naming it). Each URDF
     element the model doubts (as ``Model.from_urdf`` warns of them, not point masses) is a
-    ``UserWarning`` naming the URDF and the element. A disturbance that starts at or after the run's end is a
-    ``UserWarning`` naming it. A diverged run is not an error: see ``result.status`` and ``result.summary``
+    ``UserWarning`` naming the URDF and the element. A disturbance that starts at or after the
+    run's end is a ``UserWarning`` naming it. A diverged run is not an error: see ``result.status`` and ``result.summary``
     (a :class:`~sea_momentum.results.RunSummary`). ``package_dirs`` are searched first for the
     URDF's ``package://`` meshes drawn in the log (as ``sea-sim run --package-dir``); a mesh
     the log cannot draw is a ``UserWarning`` naming the link and the URI (the log draws a box).

@@ -46,12 +46,16 @@ def grid_specs(grid: Mapping[str, GridValues]) -> list[str]:
             continue
         axis = np.asarray(values, dtype=object)
         if axis.ndim > 1:
-            raise argument_error(f"grid['{key}']", f"expected a flat list of numbers, got shape {axis.shape}")
+            raise argument_error(
+                f"grid['{key}']", f"expected a flat list of numbers, got shape {axis.shape}"
+            )
         texts = []
         for item in np.atleast_1d(axis).tolist():
             real = isinstance(item, (int, float, np.integer, np.floating))
             if isinstance(item, (bool, np.bool_)) or not real:
-                raise argument_error(f"grid['{key}']", f"every value must be a real number, got {item!r}")
+                raise argument_error(
+                    f"grid['{key}']", f"every value must be a real number, got {item!r}"
+                )
             texts.append(repr(float(item)))
         specs.append(f"{key}={','.join(texts)}")
     return specs
@@ -160,14 +164,20 @@ def sweep(
     specs = grid_specs(grid)
     path = os.fspath(scenario)
     if backend == "local" and batch_size is not None:
-        raise argument_error("batch_size", f"only with backend='ray', got {batch_size!r} with 'local'")
+        raise argument_error(
+            "batch_size", f"only with backend='ray', got {batch_size!r} with 'local'"
+        )
     if backend == "ray" and workers is not None:
-        raise argument_error("workers", f"only with backend='local' (Ray's cluster sets its own), got {workers!r}")
+        raise argument_error(
+            "workers", f"only with backend='local' (Ray's cluster sets its own), got {workers!r}"
+        )
     if backend == "local":
         integer = isinstance(workers, (int, np.integer)) and not isinstance(workers, (bool, np.bool_))
         most = _native.MAX_SWEEP_WORKERS
         if workers is not None and (not integer or not 1 <= workers <= most):
-            raise argument_error("workers", f"expected an int from 1 to {most} or None, got {workers!r}")
+            raise argument_error(
+                "workers", f"expected an int from 1 to {most} or None, got {workers!r}"
+            )
         workers = None if workers is None else int(workers)
         native = _native.sweep(path, specs, overrides, workers, progress)
     elif backend == "ray":
