@@ -59,3 +59,14 @@ def test_a_scenario_that_does_not_walk_is_refused_naming_phase():
         sm.template_push_table(WALK, 0.5, "left", impulses="1,2")
     with pytest.raises(TypeError):
         sm.template_push_table(WALK, 0.5, "left", step=3.0)
+
+
+def test_the_default_step_of_a_plan_of_three_steps_is_its_last():
+    # The fourth step by default; a plan of three steps in place has none, and its last is taken.
+    in_place = ROOT / "scenarios" / "walking" / "steps_in_place.toml"
+    default = sm.template_push_table(in_place, 0.5, "left", impulses=[1.0])
+    last = sm.template_push_table(in_place, 0.5, "left", impulses=[1.0], step=2)
+    assert default == last
+    with pytest.raises(ValueError, match="0 to 2") as beyond:
+        sm.template_push_table(in_place, 0.5, "left", impulses=[1.0], step=3)
+    assert beyond.value.argument == "step"

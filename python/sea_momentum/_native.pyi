@@ -466,7 +466,7 @@ def template_push_native(
     tolerance_n_s: float = 0.01,
 ) -> dict[str, object]:
     """Pushes on a walk's template (GIL released); use ``sea_momentum.template_push_table``
-    (``step`` None: the fourth, 3). Returns ``start_s`` and ``rows`` (one dict per direction: ``direction``,
+    (``step`` None: the fourth, 3, or the plan's last when it has fewer). Returns ``start_s`` and ``rows`` (one dict per direction: ``direction``,
     ``recovered_impulse_n_s``, ``pushes`` (list of (impulse, recovered); empty when
     bisected))."""
 

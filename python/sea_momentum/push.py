@@ -100,8 +100,8 @@ def push_table(
 
     A push of ``duration_s`` [s] on ``link`` from ``start_s`` [s] (1.0 by default), along each
     of ``directions``. On a walking scenario, ``phase`` starts it instead at that fraction of
-    the swing of step ``step`` (0-based, the fourth by default) of the scenario's walk, as
-    ``sea-sim push --phase``: 0 the swing foot's lift-off, 1 its planned touchdown, the time
+    the swing of step ``step`` (0-based; by default the fourth, the last of a shorter plan) of
+    the scenario's walk, as ``sea-sim push --phase``: 0 the swing foot's lift-off, 1 its planned touchdown, the time
     rounded to a plant step (``PushTable.start_s``). Without ``impulses``, each direction's
     largest recovered impulse is bisected to ``tolerance_n_s`` [N s] between 0 and twice the
     capture-point bound (doubled while recovered, up to 8 times); with ``impulses`` [N s], one
@@ -194,8 +194,8 @@ def template_push_table(
     the plan's support over each whole-body period; feet land where and when planned, no
     angular momentum, no joints, the push unknown to the law
     (``docs/findings/walking_template.md``). A push of ``duration_s`` [s] on the CoM starts at
-    fraction ``phase`` of the swing of step ``step`` (0-based, the fourth by default) of the
-    scenario's walk, and must
+    fraction ``phase`` of the swing of step ``step`` (0-based; by default the fourth, the last
+    of a shorter plan) of the scenario's walk, and must
     end within the run (``simulation.duration_s``). Without ``impulses`` each direction's largest recovered
     impulse is bisected to ``tolerance_n_s`` [N s]; with ``impulses`` [N s], one run each.
 

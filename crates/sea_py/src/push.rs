@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_sim::analysis::push::{
     check_impulses, fixed_push_table, push_table, swing_push_start, FixedPushRow, PushDirection,
-    PushOptions, PushProgress, PushResult, SwingPhase, DEFAULT_PUSHED_STEP,
+    PushOptions, PushProgress, PushResult, SwingPhase,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -163,7 +163,7 @@ fn python_names(error: sea_sim::Error, start: &str) -> PyErr {
 }
 
 /// The push's start [s]: `start_s` (default [`PushOptions`]'s), or with `phase` the time
-/// at that fraction of the swing of step `step` (default [`DEFAULT_PUSHED_STEP`]) of the
+/// at that fraction of the swing of step `step` (default: `pushed_step`'s) of the
 /// walk of the scenario at `path` with `overrides` (`swing_push_start`). Refused, naming the
 /// argument: `phase` with `start_s`, `step` without `phase`, and `swing_push_start`'s errors.
 fn push_start(
@@ -184,10 +184,7 @@ fn push_start(
         let expected = "no start_s with phase (the push starts at the phase)";
         return Err(argument_error("start_s", expected, start_s));
     }
-    let step = match step {
-        Some(step) => count_arg("step", step, 0)?,
-        None => DEFAULT_PUSHED_STEP,
-    };
+    let step = step.map(|step| count_arg("step", step, 0)).transpose()?;
     let at = SwingPhase { step, phase };
     let names = [("--phase", "phase"), ("--step", "step")];
     let (start, _) =

@@ -11,7 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sea_dyn::error::check_positive;
 use sea_sim::analysis::push::{
-    check_impulses, impulses_recovered_up_to, swing_push_start, SwingPhase, DEFAULT_PUSHED_STEP,
+    check_impulses, impulses_recovered_up_to, swing_push_start, SwingPhase,
 };
 use sea_sim::analysis::template_walk::{template_bisection, template_pushes};
 use std::collections::HashMap;
@@ -43,10 +43,7 @@ pub fn template_push_native<'py>(
     let (Real(phase), Real(duration_s), Real(tolerance_n_s)) = (phase, duration_s, tolerance_n_s);
     let pairs = override_pairs(overrides)?;
     let directions = parse_directions(&directions)?;
-    let step = match step {
-        Some(step) => count_arg("step", step, 0)?,
-        None => DEFAULT_PUSHED_STEP,
-    };
+    let step = step.map(|step| count_arg("step", step, 0)).transpose()?;
     for (name, value) in [("duration_s", duration_s), ("tolerance_n_s", tolerance_n_s)] {
         check_positive(name, value).map_err(to_py)?;
     }

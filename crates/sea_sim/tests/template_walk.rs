@@ -35,7 +35,10 @@ fn adjusted(with_env: bool) -> Vec<(String, String)> {
 
 /// The push's start and length at `phase` of the fourth swing (0.1 s pushes).
 fn window(overrides: &[(String, String)], phase: f64) -> (f64, f64) {
-    let at = SwingPhase { step: 3, phase };
+    let at = SwingPhase {
+        step: Some(3),
+        phase,
+    };
     (
         swing_push_start(&walk_push(), overrides, at).unwrap().0,
         0.1,
@@ -57,7 +60,10 @@ fn a_sideways_push_is_recovered_up_to_a_size_never_beyond_the_gaits_bound() {
     let overrides = adjusted(false);
     let directions = [PushDirection::Left, PushDirection::Right];
     for phase in [0.2, 0.5, 0.8] {
-        let at = SwingPhase { step: 3, phase };
+        let at = SwingPhase {
+            step: Some(3),
+            phase,
+        };
         let bounds = gait_bounds(&walk_push(), &overrides, at, 0.1, &directions).unwrap();
         let span = window(&overrides, phase);
         let found = template_bisection(&walk_push(), &overrides, span, &directions, 0.01).unwrap();
@@ -129,7 +135,10 @@ fn print_the_template_push_grid() {
                 .unwrap()[0];
             let text: String = cells.iter().map(|&o| if o { 'o' } else { 'x' }).collect();
             let up_to = cells.iter().take_while(|&&o| o).count();
-            let at = SwingPhase { step: 3, phase };
+            let at = SwingPhase {
+                step: Some(3),
+                phase,
+            };
             let bound = gait_bounds(&walk_push(), &overrides, at, 0.1, &[direction]).unwrap()[0];
             let bound = bound.map_or(f64::NAN, |b| b.adjusted);
             let found = template_bisection(&walk_push(), &overrides, span, &[direction], 0.01);

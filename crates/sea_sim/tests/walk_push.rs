@@ -47,7 +47,10 @@ fn the_phase_resolves_the_push_start_inside_the_chosen_swing() {
     let setup = build(&scenario).unwrap();
     let plan = &setup.controller.gait().unwrap().footsteps;
     for (step, phase) in [(3, 0.2), (3, 0.5), (3, 0.8), (5, 0.5)] {
-        let at = SwingPhase { step, phase };
+        let at = SwingPhase {
+            step: Some(step),
+            phase,
+        };
         let (start_s, [lift_off, touchdown]) = swing_push_start(&walk_push(), &[], at).unwrap();
         assert_eq!(
             [lift_off, touchdown],
@@ -73,7 +76,7 @@ fn the_phase_resolves_the_push_start_inside_the_chosen_swing() {
     // The plan's steps are the command's ten and the stop.
     assert_eq!(plan.steps.len(), 11);
     let beyond = SwingPhase {
-        step: 11,
+        step: Some(11),
         phase: 0.5,
     };
     let message = swing_push_start(&walk_push(), &[], beyond)
@@ -83,8 +86,25 @@ fn the_phase_resolves_the_push_start_inside_the_chosen_swing() {
         message.contains("--step") && message.contains("0 to 10"),
         "{message}"
     );
+    // By default the fourth step, or the last of a shorter plan (three steps in place).
+    let default = SwingPhase {
+        step: None,
+        phase: 0.0,
+    };
+    let (_, [lift_off, _]) = swing_push_start(&walk_push(), &[], default).unwrap();
+    assert_eq!(lift_off, plan.steps[3].lift_off);
+    let in_place =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/walking/steps_in_place.toml");
+    let last = SwingPhase {
+        step: Some(2),
+        ..default
+    };
+    assert_eq!(
+        swing_push_start(&in_place, &[], default).unwrap(),
+        swing_push_start(&in_place, &[], last).unwrap()
+    );
     let outside = SwingPhase {
-        step: 3,
+        step: Some(3),
         phase: 1.5,
     };
     let message = swing_push_start(&walk_push(), &[], outside)
@@ -94,7 +114,7 @@ fn the_phase_resolves_the_push_start_inside_the_chosen_swing() {
     let standing =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/robot_rate/push_two_feet.toml");
     let at = SwingPhase {
-        step: 0,
+        step: Some(0),
         phase: 0.5,
     };
     let message = swing_push_start(&standing, &[], at)
@@ -117,7 +137,7 @@ fn the_gait_bound_reads_the_walks_plan_and_maps_the_directions() {
         gait_bounds, lateral_gait_of_walk, GaitBounds, Landings, LateralSide,
     };
     use sea_sim::analysis::push::PushDirection;
-    let walk = lateral_gait_of_walk(&walk_push(), &[], 3, 0.1).unwrap();
+    let walk = lateral_gait_of_walk(&walk_push(), &[], Some(3), 0.1).unwrap();
     let (gait, world_axis) = (walk.gait, walk.world_axis);
     assert_eq!(walk.landings, Landings::Planned);
     let close = |a: f64, b: f64, tolerance: f64| (a - b).abs() <= tolerance;
@@ -137,7 +157,7 @@ fn the_gait_bound_reads_the_walks_plan_and_maps_the_directions() {
     );
     assert!(world_axis.y > 0.99, "{world_axis}");
     let at = SwingPhase {
-        step: 3,
+        step: Some(3),
         phase: 0.5,
     };
     let directions = [
@@ -161,16 +181,16 @@ fn the_gait_bound_reads_the_walks_plan_and_maps_the_directions() {
             "0.6".to_string(),
         ),
     ];
-    let walk = lateral_gait_of_walk(&walk_push(), &adjusting, 3, 0.1).unwrap();
+    let walk = lateral_gait_of_walk(&walk_push(), &adjusting, Some(3), 0.1).unwrap();
     assert_eq!(walk.landings, Landings::Adjusted { end_phase: 0.6 });
-    let left_swing = lateral_gait_of_walk(&walk_push(), &[], 4, 0.1).unwrap();
+    let left_swing = lateral_gait_of_walk(&walk_push(), &[], Some(4), 0.1).unwrap();
     let (left_swing, axis) = (left_swing.gait, left_swing.world_axis);
     assert!(axis.y < -0.99, "{axis}");
     assert!(
         close(left_swing.width_m, gait.width_m, 1e-3),
         "{left_swing:?}"
     );
-    let message = lateral_gait_of_walk(&walk_push(), &[], 11, 0.1)
+    let message = lateral_gait_of_walk(&walk_push(), &[], Some(11), 0.1)
         .unwrap_err()
         .to_string();
     assert!(
@@ -346,9 +366,16 @@ fn print_the_feet(record: &RunRecord, start: f64) {
 #[test]
 fn step_adjustment_recovers_pushes_the_planned_walk_does_not() {
     let plan_start = |phase: f64| {
-        swing_push_start(&walk_push(), &[], SwingPhase { step: 3, phase })
-            .unwrap()
-            .0
+        swing_push_start(
+            &walk_push(),
+            &[],
+            SwingPhase {
+                step: Some(3),
+                phase,
+            },
+        )
+        .unwrap()
+        .0
     };
     let on = ("walking.step_adjustment".to_string(), "true".to_string());
     let pushes: Vec<(f64, f64, f64)> = [7.0, 8.0, 9.0, 10.0]

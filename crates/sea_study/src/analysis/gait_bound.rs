@@ -33,7 +33,7 @@
 //! (docs/findings/stepping.md, "the gait's own bound"; `scripts/lateral_push_bound.py` is
 //! the same model written independently and checked against scipy's Radau).
 
-use super::push::{PushDirection, Stance, SwingPhase};
+use super::push::{pushed_step, PushDirection, Stance, SwingPhase};
 use crate::error::{Error, Result};
 use nalgebra::Vector2;
 use sea_ctrl::walking::WalkingSettings;
@@ -321,8 +321,8 @@ pub(crate) fn built_walk(
     Ok((scenario, setup, settings))
 }
 
-/// A walk's lateral figures at the lift-off of step `step` of its plan
-/// ([`LateralGait`]), the world (x, y) unit vector of its axis (from the swing foot
+/// A walk's lateral figures at the lift-off of step `step` of its plan (`None`: the
+/// default, [`pushed_step`]) ([`LateralGait`]), the world (x, y) unit vector of its axis (from the swing foot
 /// towards the stance foot, the stance sole's lateral axis) and the landings its controller
 /// moves ([`WalkLateral`]): the scenario at `path` with
 /// `overrides` built, the gait its controller plans, the robot's mass and pendulum, the swing
@@ -335,7 +335,7 @@ pub(crate) fn built_walk(
 pub fn lateral_gait_of_walk(
     path: &Path,
     overrides: &[(String, String)],
-    step: usize,
+    step: Option<usize>,
     push_duration_s: f64,
 ) -> Result<WalkLateral> {
     let (_, setup, settings) = built_walk(path, overrides)?;
@@ -345,6 +345,7 @@ pub fn lateral_gait_of_walk(
         return Err(sea_dyn::Error::invalid("--step", expected, path.display()).into());
     };
     let plan = &gait.footsteps;
+    let step = pushed_step(step, plan.steps.len());
     let Some(pushed) = plan.steps.get(step) else {
         let expected = format!("a step of the plan, 0 to {}", plan.steps.len() as isize - 1);
         return Err(sea_dyn::Error::invalid("--step", expected, step).into());

@@ -191,15 +191,23 @@ fn convex_hull(mut points: Vec<Vector2<f64>>) -> Vec<Vector2<f64>> {
 
 /// The step a push at a phase of a swing pushes by default (`sea-sim push --phase`, Python's
 /// `push_table(phase=...)` and `template_push_table`): the fourth (0-based 3), the walk under
-/// way.
+/// way ([`pushed_step`]: the plan's last on a shorter plan).
 pub const DEFAULT_PUSHED_STEP: usize = 3;
+
+/// The step `step` names in a plan of `planned` steps: `step` itself, or by default
+/// [`DEFAULT_PUSHED_STEP`], the plan's last when it has fewer (a plan of three steps in
+/// place).
+pub fn pushed_step(step: Option<usize>, planned: usize) -> usize {
+    step.unwrap_or(DEFAULT_PUSHED_STEP.min(planned.saturating_sub(1)))
+}
 
 /// A time in a walk: fraction `phase` of the swing (single support) of step `step` of the
 /// scenario's walking plan (0 the first step).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SwingPhase {
-    /// The step whose swing is meant, counted from 0 in the plan's order.
-    pub step: usize,
+    /// The step whose swing is meant, counted from 0 in the plan's order; `None`: the default
+    /// ([`pushed_step`]).
+    pub step: Option<usize>,
     /// The fraction of its swing in [0, 1]: 0 at lift-off, 1 at touchdown.
     pub phase: f64,
 }
@@ -233,9 +241,10 @@ pub fn swing_push_start(
         let actual = format!("{} (it plans no step)", path.display());
         return Err(sea_dyn::Error::invalid("--phase", expected, actual).into());
     }
-    let step = steps.get(at.step).ok_or_else(|| {
+    let index = pushed_step(at.step, steps.len());
+    let step = steps.get(index).ok_or_else(|| {
         let expected = format!("a step of the plan, 0 to {}", steps.len() - 1);
-        sea_dyn::Error::invalid("--step", expected, at.step)
+        sea_dyn::Error::invalid("--step", expected, index)
     })?;
     let start = step.lift_off + at.phase * (step.touchdown - step.lift_off);
     let start_s = (start / plant_dt).round() * plant_dt;
@@ -675,6 +684,18 @@ mod tests {
                 "{message}"
             );
         }
+    }
+
+    #[test]
+    fn the_pushed_step_is_the_fourth_by_default_or_a_shorter_plans_last() {
+        assert_eq!(pushed_step(None, 11), DEFAULT_PUSHED_STEP);
+        assert_eq!(pushed_step(None, 3), 2);
+        assert_eq!(
+            pushed_step(Some(7), 3),
+            7,
+            "a step given is kept (and refused later)"
+        );
+        assert_eq!(pushed_step(None, 0), 0);
     }
 
     #[test]

@@ -316,7 +316,7 @@ fn pushed_swing(args: &PushArgs) -> sea_sim::Result<Option<PushedSwing>> {
     args.phase
         .map(|phase| {
             let at = SwingPhase {
-                step: args.step,
+                step: Some(args.step),
                 phase,
             };
             swing_push_start(&args.scenario, &args.overrides, at).map(|found| (at, found))
