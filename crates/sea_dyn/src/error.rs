@@ -228,6 +228,18 @@ pub fn parse_message(
     format!("{place}: {message}")
 }
 
+/// `value` as Rust writes it, or in exponent notation when it is so large or so small that
+/// the plain form would spell out its zeros (|value| >= 1e16: `1e300` rather than 301 digits;
+/// 0 < |value| < 1e-6: `1.5e-12`). Ordinary values (`0.46406250000000004`) stay plain.
+pub fn readable_number(value: f64) -> String {
+    let size = value.abs();
+    if size >= 1e16 || (size > 0.0 && size < 1e-6) {
+        format!("{value:e}")
+    } else {
+        format!("{value}")
+    }
+}
+
 /// The longest text a message shows whole; longer text (a frame name of megabytes from a
 /// hostile caller) shows its start and its length.
 const SHOWN_CHARACTERS: usize = 200;

@@ -58,6 +58,16 @@ pub fn read_bounded(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
     Ok(bytes)
 }
 
+/// Why `path` is not an existing folder to search (a package directory): "a file", or the
+/// error reaching it (`No such file or directory (os error 2)`); `None` when it is one.
+pub fn not_a_folder(path: &Path) -> Option<String> {
+    match std::fs::metadata(path) {
+        Ok(meta) if meta.is_dir() => None,
+        Ok(_) => Some("a file".to_string()),
+        Err(e) => Some(e.to_string()),
+    }
+}
+
 /// The text of the regular file `path`, at most [`MAX_TEXT_BYTES`] bytes of UTF-8.
 ///
 /// Errors: as [`read_text_within`].

@@ -546,13 +546,8 @@ pub fn check_impulses(impulses: &[f64]) -> Result<()> {
     }
     match impulses.iter().find(|i| !(0.0..=MAX_IMPULSE).contains(*i)) {
         Some(bad) => {
-            // 1e308 in exponent form, not as its 309 digits.
-            let bad = if bad.abs() >= 1e16 {
-                format!("{bad:e}")
-            } else {
-                bad.to_string()
-            };
-            let expected = "non-negative impulses of at most 1e6 N s";
+            let bad = sea_dyn::error::readable_number(*bad);
+            let expected = format!("non-negative impulses of at most {MAX_IMPULSE:e} N s");
             Err(sea_dyn::Error::invalid("impulses", expected, bad).into())
         }
         None => Ok(()),

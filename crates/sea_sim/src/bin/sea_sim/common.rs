@@ -40,10 +40,9 @@ fn parse_finite(text: &str, what: &str, accepts: impl Fn(f64) -> bool) -> Result
 /// file, would be searched in vain.
 pub(crate) fn parse_folder(text: &str) -> Result<std::path::PathBuf, String> {
     let path = std::path::PathBuf::from(text);
-    match std::fs::metadata(&path) {
-        Ok(meta) if meta.is_dir() => Ok(path),
-        Ok(_) => Err(format!("'{text}' is a file, not a folder")),
-        Err(e) => Err(format!("'{text}': {e}")),
+    match sea_dyn::files::not_a_folder(&path) {
+        None => Ok(path),
+        Some(problem) => Err(format!("'{text}': not a folder ({problem})")),
     }
 }
 
@@ -58,17 +57,7 @@ pub(crate) fn parse_key_value(text: &str) -> Result<(String, String), String> {
     Ok((key.trim().to_string(), value.trim().to_string()))
 }
 
-/// `value` as Rust writes it, or in exponent notation when it is so large or so small that
-/// the plain form would spell out its zeros (|value| >= 1e16: `1e300` rather than 301 digits;
-/// 0 < |value| < 1e-6: `1.5e-12`). Ordinary values (`0.46406250000000004`) stay plain.
-pub(crate) fn readable_number(value: f64) -> String {
-    let size = value.abs();
-    if size >= 1e16 || (size > 0.0 && size < 1e-6) {
-        format!("{value:e}")
-    } else {
-        format!("{value}")
-    }
-}
+pub(crate) use sea_dyn::error::readable_number;
 
 /// `value` with `decimals` decimals, or in exponent notation with as many when its size would
 /// make the fixed form longer than `width` characters.
